@@ -1,0 +1,509 @@
+"""What each command does: immediate handlers and the actions queued commands leave.
+
+Immediate handlers take a Context and return the reply text (or None). Queued commands
+become one QueueEntry per addressed axis whose action runs when the queue reaches it;
+an action returns None when finished or a wait that holds the queue (see Axis.run_queue).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ..firmware_model import flags as F
+from ..firmware_model.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
+from ..firmware_model.board import Board
+from ..firmware_model.models import (
+    FIRMWARE_VERSION,
+    FPGA_VERSION,
+    POSITION_MAX,
+    POSITION_MIN,
+    SERIAL_NUMBER,
+    UPDATE_RATES_HZ,
+)
+from ..firmware_model.profiles import RampShape
+from ..firmware_model.queue import Action
+from .lexer import ParsedCommand
+
+
+class CommandError(Exception):
+    """The command is refused: the command-error flag is set and nothing changes."""
+
+
+@dataclass(slots=True)
+class Context:
+    board: Board
+    command: ParsedCommand
+    axes: list[Axis]  # addressed axes (current axis, or every axis / the filled slots)
+    values: list  # one operand value per addressed axis (None when there is none)
+
+    @property
+    def listing(self) -> bool:
+        """True in AA/AM mode, where reports answer one comma-separated field per axis."""
+        return self.board.mode != "single"
+
+    def per_axis(self, fn: Callable[[Axis], str]) -> str:
+        if self.listing:
+            return ",".join(fn(a) for a in self.board.axes)
+        return fn(self.axes[0])
+
+
+# ---- queued actions -------------------------------------------------------------------
+QueuedFactory = Callable[[object, Context], Action]
+
+
+def _set(attr: str) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            setattr(axis.config, attr, value)
+
+        return action
+
+    return factory
+
+
+def _velocity(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        if value <= axis.config.base_velocity:  # type: ignore[operator]
+            board.report_error(f"VL{value} is not above VB{axis.config.base_velocity}",
+                               f"A{axis.letter} VL{value}")
+            return
+        axis.config.velocity = value  # type: ignore[assignment]
+
+    return action
+
+
+def _base_velocity(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        if value >= axis.config.velocity:  # type: ignore[operator]
+            board.report_error(f"VB{value} is not below VL{axis.config.velocity}",
+                               f"A{axis.letter} VB{value}")
+            return
+        axis.config.base_velocity = value  # type: ignore[assignment]
+
+    return action
+
+
+def _acceleration(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.config.acceleration = value  # type: ignore[assignment]
+        axis.config.deceleration = value  # type: ignore[assignment]
+
+    return action
+
+
+def _ramp(shape: RampShape) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.config.ramp = shape
+            if value is not None:
+                axis.config.ramp_factor = value  # type: ignore[assignment]
+
+        return action
+
+    return factory
+
+
+def _move_absolute(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.pending_target = value  # type: ignore[assignment]
+
+    return action
+
+
+def _move_relative(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        target = axis.motor_position(board) + value  # type: ignore[operator]
+        if not POSITION_MIN <= target <= POSITION_MAX:
+            board.report_error(f"target {target} is outside the 32-bit position range",
+                               f"A{axis.letter} MR{value}")
+            return
+        axis.pending_target = target
+
+    return action
+
+
+def _go(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        target = axis.pending_target
+        if target is None:
+            return None
+        axis.pending_target = None
+        if axis.start_move(target, board) and axis.motion is not None:
+            return WAIT_MOTION
+        return None
+
+    return action
+
+
+def go_together(group: StartGroup) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        group.arrive(axis, board)
+        return group
+
+    return action
+
+
+def _jog(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        axis.start_jog(value, board)  # type: ignore[arg-type]
+        if axis.motion is not None and axis.ramp_end > board.tick:
+            return ("tick", axis.ramp_end)
+        return None
+
+    return action
+
+
+def _direction(sign: int) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.config.move_direction = sign
+
+        return action
+
+    return factory
+
+
+def _one_step(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        axis.step(axis.config.move_direction, board)
+        return ("tick", board.tick + 1)
+
+    return action
+
+
+def _load(motor: bool, encoder: bool) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.load_position(value, motor, encoder, board)  # type: ignore[arg-type]
+
+        return action
+
+    return factory
+
+
+def _wait(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        ticks = math.ceil(value / 1000.0 / board.period - 1e-9)  # type: ignore[operator]
+        return ("tick", board.tick + ticks) if ticks > 0 else None
+
+    return action
+
+
+def _done(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        board.set_axis_flag(axis, F.AXIS_DONE)
+
+    return action
+
+
+def _loop_start(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.queue.loop_start(value)  # type: ignore[arg-type]
+
+    return action
+
+
+def _loop_end(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.queue.loop_end()
+
+    return action
+
+
+def _axis_type(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.config.axis_type = value  # type: ignore[assignment]
+
+    return action
+
+
+def _limit_mode(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        c = axis.config
+        if value == "F":
+            c.limits_enabled = False
+        else:
+            c.limits_enabled = True
+            if value in ("H", "S"):
+                c.limit_hard_stop = value == "H"
+
+    return action
+
+
+def _const(attr: str, constant: object) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            setattr(axis.config, attr, constant)
+
+        return action
+
+    return factory
+
+
+def _limit_level(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.config.limit_active_high = value == "H"
+
+    return action
+
+
+QUEUED: dict[str, QueuedFactory] = {
+    "VL": _velocity,
+    "VB": _base_velocity,
+    "AC": _acceleration,
+    "DC": _set("deceleration"),
+    "LA": _ramp(RampShape.LINEAR),
+    "PF": _ramp(RampShape.LINEAR),
+    "PN": _ramp(RampShape.PARABOLIC),
+    "SC": _ramp(RampShape.SCURVE),
+    "CN": _ramp(RampShape.COSINE),
+    "SS": _set("ramp_factor"),
+    "PR": _set("ramp_factor"),
+    "MA": _move_absolute,
+    "MR": _move_relative,
+    "GO": _go,
+    "GD": _go,
+    "GN": _go,
+    "JG": _jog,
+    "MP": _direction(1),
+    "MM": _direction(-1),
+    "MO": _one_step,
+    "LP": _load(True, True),
+    "LO": _load(True, False),
+    "LPE": _load(False, True),
+    "WT": _wait,
+    "ID": _done,
+    "LS": _loop_start,
+    "LE": _loop_end,
+    "PS": _axis_type,
+    "LT": _limit_level,
+    "LH": _const("limit_active_high", True),
+    "LL": _const("limit_active_high", False),
+    "LM": _limit_mode,
+    "LN": _const("limits_enabled", True),
+    "LF": _const("limits_enabled", False),
+}
+
+GO_COMMANDS = frozenset({"GO", "GD", "GN"})
+
+
+def validate_queued(ctx: Context) -> None:
+    """Refusals that can be decided when the command arrives, before anything is queued."""
+    m = ctx.command.mnemonic
+    if m == "PS":
+        for value in ctx.values:
+            if value == "M":
+                raise CommandError("PSM: servo axes are not modelled yet (servo issue)")
+    elif m == "CL":
+        raise CommandError(
+            "CL0/CL1: closed-loop control needs a servo or encoder axis, not modelled yet"
+        )
+
+
+# ---- queries of queued settings (PS? LT? LM? CL?) --------------------------------------
+def _limit_mode_letter(axis: Axis) -> str:
+    c = axis.config
+    if not c.limits_enabled:
+        return "=f"
+    return "=h" if c.limit_hard_stop else "=s"
+
+
+SETTING_QUERIES: dict[str, Callable[[Axis], str]] = {
+    "PS": lambda a: "=" + a.config.axis_type,
+    "LT": lambda a: "=h" if a.config.limit_active_high else "=l",
+    "LM": _limit_mode_letter,
+    "CL": lambda a: "off",
+}
+
+
+# ---- immediate handlers ---------------------------------------------------------------
+def _stop(ctx: Context) -> None:
+    for axis in ctx.board.axes if ctx.listing else ctx.axes:
+        stop_axis(axis, ctx.board)
+
+
+def stop_axis(axis: Axis, board: Board) -> None:
+    """ST: flush, decelerate, and hold later entries until the axis is at rest."""
+    axis.flush()
+    axis.stop(board)
+    if axis.motion is not None:
+        axis.wait = WAIT_REST_RETRY
+
+
+def _stop_all(ctx: Context) -> None:
+    for axis in ctx.board.axes:
+        stop_axis(axis, ctx.board)
+
+
+def _kill_all(ctx: Context) -> None:
+    ctx.board.kill_all()
+
+
+def _kill_selected(ctx: Context) -> None:
+    board = ctx.board
+    if not ctx.listing:
+        targets = ctx.axes
+    else:
+        targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
+    for axis in targets:
+        axis.flush()
+        axis.kill(board)
+
+
+def _clear_done(ctx: Context) -> None:
+    for axis in ctx.board.axes if ctx.listing else ctx.axes:
+        ctx.board.clear_axis_flags(axis, F.AXIS_DONE)
+
+
+def _interrupt_clear(ctx: Context) -> None:
+    ctx.board.clear_interrupts()
+
+
+def _flush(ctx: Context) -> None:
+    for axis in ctx.board.axes if ctx.listing else ctx.axes:
+        axis.flush()
+
+
+def _report_position(ctx: Context) -> str:
+    board = ctx.board
+    return ctx.per_axis(lambda a: str(a.motor_position(board)))
+
+
+def _report_encoder(ctx: Context) -> str:
+    board = ctx.board
+    return ctx.per_axis(lambda a: str(a.encoder_position(board)))
+
+
+def _all_positions(ctx: Context) -> str:
+    board = ctx.board
+    return ",".join(str(a.motor_position(board)) for a in board.axes)
+
+
+def _all_encoders(ctx: Context) -> str:
+    board = ctx.board
+    return ",".join(str(a.encoder_position(board)) for a in board.axes)
+
+
+def _report_velocity(ctx: Context) -> str:
+    board = ctx.board
+    return ctx.per_axis(lambda a: str(round(a.velocity(board))))
+
+
+def _report_acceleration(ctx: Context) -> str:
+    return ctx.per_axis(lambda a: str(a.config.acceleration))
+
+
+def _query_axis(ctx: Context) -> str:
+    board = ctx.board
+    return ctx.per_axis(lambda a: a.status_string(board))
+
+
+def _report_axis(ctx: Context) -> str:
+    board = ctx.board
+    targets = board.axes if ctx.listing else ctx.axes
+    reply = ctx.per_axis(lambda a: a.status_string(board))
+    for axis in targets:
+        board.clear_axis_flags(axis, F.AXIS_DONE | F.AXIS_OVERTRAVEL | F.AXIS_SLIP)
+    return reply
+
+
+def _status_all(ctx: Context) -> str:
+    board = ctx.board
+    return ",".join(a.status_string(board) for a in board.axes)
+
+
+def _report_interrupts(ctx: Context) -> str:
+    board = ctx.board
+    reply = _status_all(ctx)
+    for axis in board.axes:
+        board.clear_axis_flags(axis, F.AXIS_DONE)
+    return reply
+
+
+def _queue_free(ctx: Context) -> str:
+    return ctx.per_axis(lambda a: str(a.queue.free_units))
+
+
+def _encoder_status(axis: Axis, board: Board) -> str:
+    # slip detection enabled, position maintenance enabled, slipped, in deadband, home
+    return "DDNN" + ("H" if board.home_active(axis) else "N")
+
+
+def _encoder_report(ctx: Context) -> str:
+    board = ctx.board
+    if ctx.listing:
+        return ",".join(_encoder_status(a, board) if a.has_encoder else "" for a in board.axes)
+    axis = ctx.axes[0]
+    if not axis.has_encoder:
+        raise CommandError(f"EA: axis {axis.letter} has no encoder (PSO)")
+    return _encoder_status(axis, board)
+
+
+def _limits_raw(ctx: Context) -> str:
+    return format(ctx.board.limit_inputs_raw(), "x")
+
+
+def _identify(ctx: Context) -> str:
+    return (f"{ctx.board.model.name}, ver:{FIRMWARE_VERSION}, S/N: {SERIAL_NUMBER}, "
+            f"FPGA:{FPGA_VERSION}")
+
+
+def _update_rate(ctx: Context) -> str | None:
+    board = ctx.board
+    if ctx.command.query:
+        return str(board.update_rate_hz)
+    rate = ctx.values[0]
+    if rate not in UPDATE_RATES_HZ:
+        raise CommandError(f"#UR{rate}: the update rate must be one of "
+                           + ", ".join(map(str, UPDATE_RATES_HZ)))
+    if any(a.motion is not None for a in board.axes):
+        raise CommandError("#UR: cannot change the update rate while an axis moves")
+    board.set_update_rate(rate)
+    return None
+
+
+def _no_servo(ctx: Context) -> str:
+    axis = ctx.axes[0]
+    raise CommandError(f"{ctx.command.mnemonic}: axis {axis.letter} has no servo loop")
+
+
+IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
+    "ST": _stop,
+    "SA": _stop_all,
+    "KL": _kill_all,
+    "KS": _kill_selected,
+    "CA": _clear_done,
+    "IC": _interrupt_clear,
+    "FL": _flush,
+    "RP": _report_position,
+    "RE": _report_encoder,
+    "PP": _all_positions,
+    "PE": _all_encoders,
+    "RV": _report_velocity,
+    "RC": _report_acceleration,
+    "QA": _query_axis,
+    "RA": _report_axis,
+    "RI": _report_interrupts,
+    "QI": _status_all,
+    "RQC": _queue_free,
+    "EA": _encoder_report,
+    "QL": _limits_raw,
+    "WY": _identify,
+    "#WS": lambda ctx: "=0",
+    "CC": lambda ctx: str(ctx.board.tick & 0x3FFF_FFFF),
+    "#UR": _update_rate,
+    "?UR": lambda ctx: str(ctx.board.update_rate_hz),
+    "?PS": lambda ctx: ctx.per_axis(SETTING_QUERIES["PS"]),
+    "?LS": lambda ctx: ctx.per_axis(SETTING_QUERIES["LT"]),
+    "?PM": lambda ctx: ctx.per_axis(lambda a: "=off"),
+    "?KA": _no_servo,
+    "?KP": _no_servo,
+}

@@ -1,0 +1,145 @@
+"""From parsed commands to the board: mode, operand checks, queueing, replies.
+
+Every refusal is decided before anything changes, so a bad command has no effect at all:
+it sets the command-error flag (doorbell bit 24), records why, and the stream goes on.
+"""
+
+from __future__ import annotations
+
+from ..firmware_model.axis import StartGroup
+from ..firmware_model.board import Board
+from ..firmware_model.queue import QueueEntry
+from .handlers import (
+    GO_COMMANDS,
+    IMMEDIATE,
+    QUEUED,
+    SETTING_QUERIES,
+    CommandError,
+    Context,
+    go_together,
+    validate_queued,
+)
+from .lexer import Lexer, LexError, ParsedCommand
+from .table import AA, Operand, Timing
+
+_MODE_NAMES = {"single": "single-axis", "AA": "AA", "AM": "AM"}
+
+
+class Interpreter:
+    """One command stream into a board. Several streams (doors) may share a board: the
+    command mode lives on the board, as on the real controller; each stream has its own
+    lexer so a half-sent command from one client never mixes with another's."""
+
+    def __init__(self, board: Board) -> None:
+        self.board = board
+        self.lexer = Lexer()
+
+    def write(self, data: str | bytes) -> list[str]:
+        """Feed host bytes; return the replies of the queries completed by them."""
+        replies: list[str] = []
+        for item in self.lexer.feed(data):
+            reply = self.execute(item)
+            if reply is not None:
+                replies.append(reply)
+        return replies
+
+    def execute(self, item: ParsedCommand | LexError) -> str | None:
+        board = self.board
+        if isinstance(item, LexError):
+            board.report_error(item.reason, item.text)
+            return None
+        try:
+            return _dispatch(board, item)
+        except CommandError as error:
+            board.report_error(str(error), item.text)
+            return None
+
+
+def _convert(cmd: ParsedCommand, slot: str) -> object:
+    spec = cmd.spec
+    if spec.operand is Operand.LETTER:
+        return slot
+    value = float(slot)
+    if spec.value_range is not None:
+        lo, hi = spec.value_range
+        if not lo <= value <= hi:
+            raise CommandError(f"{spec.mnemonic}{slot}: operand out of range "
+                               f"({_fmt(lo)} to {_fmt(hi)})")
+    return int(value) if spec.integer else value
+
+
+def _fmt(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() else str(x)
+
+
+def _set_mode(board: Board, cmd: ParsedCommand) -> None:
+    m = cmd.mnemonic
+    if m in ("AA", "AM"):
+        board.mode = m
+        return
+    letter = m[1]
+    index = board.model.axis_letters.find(letter)
+    if index < 0:
+        raise CommandError(f"{m}: {board.model.name} has no {letter} axis")
+    board.mode = "single"
+    board.current_axis = index
+
+
+def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
+    spec = cmd.spec
+    if spec.timing is Timing.MODE:
+        _set_mode(board, cmd)
+        return None
+    mode = board.mode
+    if mode not in spec.modes:
+        raise CommandError(f"{spec.mnemonic} is not allowed in {_MODE_NAMES[mode]} mode")
+    axes_all = board.axes
+    slots = cmd.slots
+    if mode == "single":
+        axes = [axes_all[board.current_axis]]
+        if len(slots) > 1:
+            raise CommandError(f"{spec.mnemonic}: one operand in single-axis mode, "
+                               f"got {len(slots)}")
+        values = [_convert(cmd, slots[0]) if slots and slots[0] is not None else None]
+    elif not slots:
+        axes = list(axes_all)
+        values = [None] * len(axes)
+    else:
+        if len(slots) > len(axes_all):
+            raise CommandError(f"{spec.mnemonic}: {len(slots)} operands for "
+                               f"{len(axes_all)} axes")
+        axes = []
+        values = []
+        for axis, slot in zip(axes_all, slots, strict=False):
+            if slot is not None:
+                axes.append(axis)
+                values.append(_convert(cmd, slot))
+        if not axes:
+            raise CommandError(f"{spec.mnemonic}: no operand given")
+    ctx = Context(board, cmd, axes, values)
+    if spec.timing is Timing.IMMEDIATE:
+        return IMMEDIATE[spec.mnemonic](ctx)
+    if cmd.query:
+        return ctx.per_axis(SETTING_QUERIES[spec.mnemonic])
+    return _enqueue(ctx)
+
+
+def _enqueue(ctx: Context) -> None:
+    board = ctx.board
+    spec = ctx.command.spec
+    validate_queued(ctx)
+    units = spec.units
+    short = [a.letter for a in ctx.axes if a.queue.free_units < units]
+    if short:
+        raise CommandError(f"{spec.mnemonic}: command queue full on axis {','.join(short)}")
+    text = ctx.command.text
+    if spec.mnemonic in GO_COMMANDS and board.mode == AA:
+        group = StartGroup(ctx.axes)
+        for axis in ctx.axes:
+            axis.queue.push(QueueEntry(spec.mnemonic, units, go_together(group), text, group))
+    else:
+        factory = QUEUED[spec.mnemonic]
+        for axis, value in zip(ctx.axes, ctx.values, strict=True):
+            axis.queue.push(QueueEntry(spec.mnemonic, units, factory(value, ctx), text))
+    board.run_queues(ctx.axes)
+    return None

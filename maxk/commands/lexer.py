@@ -1,0 +1,195 @@
+"""Incremental lexer: bytes in, commands out, greedy by known mnemonic.
+
+Hosts run operand-less commands together (`AXMA1000;GDID`, `AXHEHM0;ID`), so commands
+are split by the mnemonics the table knows, not by separators. An operand ends at a
+space, tab, CR, LF or `;`, or at the first character that cannot belong to it.
+
+The lexer is a state machine over the byte stream: it emits a command only once no
+further byte could change it (`LP` might still become `LPE`, `MA10` might become
+`MA100`), so a command split across writes at any byte gives the same result as one
+write. Garbage is reported once, as soon as it is known to be garbage, and skipped up
+to the next separator; the rest of the stream still runs.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .table import COMMANDS, CommandSpec, Operand
+
+SEPARATORS = frozenset(" \t\r\n;\0")
+MAX_OPERAND_LENGTH = 256
+"""An operand longer than this is malformed; the lexer stops buffering it."""
+
+_M3 = {m for m in COMMANDS if len(m) == 3}
+_M2 = {m for m in COMMANDS if len(m) == 2}
+_PREFIX_OF_M3 = {m[:2] for m in _M3}
+_PREFIXES = {m[:k] for m in COMMANDS for k in range(1, len(m) + 1)}
+_NUMBER_RUN = re.compile(r"[-+0-9.,]*")
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
+
+
+@dataclass(frozen=True, slots=True)
+class ParsedCommand:
+    """One command as the host wrote it: operand slots are raw text (None = empty slot)."""
+
+    spec: CommandSpec
+    slots: tuple[str | None, ...]
+    query: bool
+    text: str
+
+    @property
+    def mnemonic(self) -> str:
+        return self.spec.mnemonic
+
+
+@dataclass(frozen=True, slots=True)
+class LexError:
+    """Text that is not a command; the interpreter turns it into a command error."""
+
+    text: str
+    reason: str
+
+
+class Lexer:
+    """Feed it text as it arrives; it returns what is complete and keeps the rest."""
+
+    __slots__ = ("_buf", "_skipping")
+
+    def __init__(self) -> None:
+        self._buf = ""
+        self._skipping = False
+
+    @property
+    def pending(self) -> str:
+        """Text held back because more bytes could still change its meaning."""
+        return self._buf
+
+    def reset(self) -> None:
+        self._buf = ""
+        self._skipping = False
+
+    def feed(self, data: str | bytes) -> list[ParsedCommand | LexError]:
+        if isinstance(data, bytes | bytearray):
+            data = data.decode("latin-1")
+        buf = self._buf + data if self._buf else data
+        out: list[ParsedCommand | LexError] = []
+        n = len(buf)
+        i = 0
+        while i < n:
+            c = buf[i]
+            if self._skipping:
+                if c in SEPARATORS:
+                    self._skipping = False
+                i += 1
+                continue
+            if c in SEPARATORS:
+                i += 1
+                continue
+            # ---- mnemonic, greedy: three characters before two ----------------------
+            rem = n - i
+            head3 = buf[i : i + 3].upper()
+            if rem >= 3 and head3 in _M3:
+                mnemonic = head3
+            elif rem >= 2 and head3[:2] in _M2:
+                if rem == 2 and head3 in _PREFIX_OF_M3:
+                    break  # could still become a three-letter mnemonic
+                mnemonic = head3[:2]
+            elif head3 in _PREFIXES and rem < 3:
+                break  # a partial mnemonic: wait for more
+            else:
+                bad = head3[: self._unknown_length(head3)]
+                out.append(LexError(buf[i : i + len(bad)], f"unknown command {bad!r}"))
+                self._skipping = True
+                i += len(bad)
+                continue
+            spec = COMMANDS[mnemonic]
+            j = i + len(mnemonic)
+            # ---- operand --------------------------------------------------------------
+            kind = spec.operand
+            if kind is Operand.NONE:
+                out.append(ParsedCommand(spec, (), False, buf[i:j]))
+                i = j
+                continue
+            if j >= n:
+                break  # the operand (or a query mark) may still come
+            if spec.query and buf[j] == "?":
+                out.append(ParsedCommand(spec, (), True, buf[i : j + 1]))
+                i = j + 1
+                continue
+            if kind is Operand.NUMBER:
+                end = _NUMBER_RUN.match(buf, j).end()
+                if end - j > MAX_OPERAND_LENGTH:
+                    out.append(LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"))
+                    self._skipping = True
+                    i = end
+                    continue
+                if end >= n:
+                    break  # more digits may follow
+                run = buf[j:end]
+                text = buf[i:end]
+                i = end
+                if not run:
+                    if spec.operand_optional:
+                        out.append(ParsedCommand(spec, (), False, text))
+                    else:
+                        out.append(LexError(text, f"{mnemonic} needs an operand"))
+                    continue
+                slots = tuple(s if s else None for s in run.split(","))
+                bad_slot = next((s for s in slots if s is not None and not _NUMBER.match(s)),
+                                None)
+                if bad_slot is not None:
+                    out.append(LexError(text, f"{mnemonic}: malformed number {bad_slot!r}"))
+                    continue
+                out.append(ParsedCommand(spec, slots, False, text))
+                continue
+            # Operand.LETTER: one letter per axis, comma separated in AA/AM.
+            letters = spec.letters
+            k = j
+            slots_list: list[str | None] = []
+            complete = True
+            while True:
+                if k < n and buf[k].upper() in letters:
+                    slots_list.append(buf[k].upper())
+                    k += 1
+                else:
+                    slots_list.append(None)
+                if k >= n:
+                    complete = False  # a comma and another slot may follow
+                    break
+                if buf[k] != ",":
+                    break
+                k += 1
+                if k - j > MAX_OPERAND_LENGTH:
+                    break
+            if not complete:
+                if k - j > MAX_OPERAND_LENGTH:
+                    out.append(LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"))
+                    self._skipping = True
+                    i = k
+                    continue
+                break
+            text = buf[i:k]
+            i = k
+            if all(s is None for s in slots_list):
+                choices = "/".join(letters) + ("/?" if spec.query else "")
+                out.append(LexError(text or mnemonic, f"{mnemonic} needs one of {choices}"))
+                self._skipping = True
+                continue
+            out.append(ParsedCommand(spec, tuple(slots_list), False, text))
+        self._buf = buf[i:] if i < n else ""
+        if len(self._buf) > MAX_OPERAND_LENGTH + 8:
+            # Defensive bound: nothing legitimate is held this long.
+            out.append(LexError(self._buf[:16] + "...", "command too long"))
+            self._buf = ""
+            self._skipping = True
+        return out
+
+    @staticmethod
+    def _unknown_length(head: str) -> int:
+        """How many characters showed the text is no command (1, 2 or 3)."""
+        for k in (1, 2, 3):
+            if head[:k] not in _PREFIXES:
+                return k
+        return len(head)

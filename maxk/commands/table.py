@@ -1,0 +1,330 @@
+"""The command table: one declarative entry per mnemonic.
+
+The lexer, the interpreter, the REPL's help and completion and docs/commands.md all read
+this table. Each entry says where its behaviour comes from and how sure we are:
+
+- ``C`` certain: stated by the MAXk manual or seen literally in host code (evidence C);
+- ``I`` inferred: deduced from how host code uses the command (evidence I);
+- ``D`` decided: neither settles it; this is our choice, explained in ``notes``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+from ..firmware_model.models import (
+    MAX_ACCELERATION,
+    MAX_VELOCITY,
+    POSITION_MAX,
+    POSITION_MIN,
+    QUEUE_CAPACITY,
+)
+
+
+class Operand(Enum):
+    NONE = "none"
+    NUMBER = "#"  # signed decimal; one per axis (comma list) in AA/AM
+    LETTER = "letter"  # one letter of `letters` (or '?' when query=True); lists in AA/AM
+
+
+class Timing(Enum):
+    MODE = "mode"  # changes the command mode at once
+    IMMEDIATE = "immediate"  # acts the moment it is parsed
+    QUEUED = "queued"  # goes into the addressed axis queue(s)
+
+
+SINGLE = "single"
+AA = "AA"
+AM = "AM"
+ALL_MODES = frozenset({SINGLE, AA, AM})
+LIST_MODES = frozenset({AA, AM})
+
+
+@dataclass(frozen=True)
+class CommandSpec:
+    mnemonic: str
+    group: str
+    summary: str
+    timing: Timing
+    operand: Operand = Operand.NONE
+    modes: frozenset[str] = ALL_MODES
+    units: int = 0  # queue units per addressed axis
+    reply: str = ""  # what a query answers; "" = no reply
+    source: str = ""
+    confidence: str = "C"
+    notes: str = ""
+    letters: str = ""  # LETTER operand choices
+    query: bool = False  # accepts '?' in place of the operand (PS?, LT?, #UR?)
+    value_range: tuple[float, float] | None = None
+    integer: bool = True  # step quantities: decimals truncate toward zero
+    operand_optional: bool = False
+
+    @property
+    def syntax(self) -> str:
+        m = self.mnemonic
+        if self.operand is Operand.NUMBER:
+            form = f"{m}[#]" if self.operand_optional else f"{m}#"
+        elif self.operand is Operand.LETTER:
+            form = f"{m}{{{'|'.join(self.letters)}}}"
+        else:
+            form = m
+        if self.query:
+            form += f" / {m}?"
+        return form
+
+
+def _q(mnemonic: str, group: str, summary: str, *, units: int = 1, **kw) -> CommandSpec:
+    return CommandSpec(mnemonic, group, summary, Timing.QUEUED, units=units, **kw)
+
+
+def _i(mnemonic: str, group: str, summary: str, **kw) -> CommandSpec:
+    return CommandSpec(mnemonic, group, summary, Timing.IMMEDIATE, **kw)
+
+
+_VEL = (0.0, float(MAX_VELOCITY))
+_ACC = (1.0, float(MAX_ACCELERATION))
+_POS = (float(POSITION_MIN), float(POSITION_MAX))
+_SPAN = (float(POSITION_MIN) * 2, float(POSITION_MAX) * 2)
+
+_SPECS: list[CommandSpec] = [
+    # ---- axis and mode selection ------------------------------------------------------
+    *[
+        CommandSpec(
+            f"A{letter}", "mode", f"Single-axis mode on axis {letter}: later commands address it.",
+            Timing.MODE, source="evidence 2.1; manual Appendix C",
+            notes="An axis letter the model does not have is a command error and leaves the "
+            "mode unchanged.",
+        )
+        for letter in "XYZTUVRSWK"
+    ],
+    CommandSpec(
+        "AA", "mode", "All-axes mode: one comma-separated operand per axis; GO starts every "
+        "axis together.", Timing.MODE, source="evidence 2.1; manual Appendix C",
+        notes="A queued GO in AA mode waits until every axis's queue reaches it, then starts "
+        "all programmed axes on the same tick (decision D for the barrier mechanism).",
+    ),
+    CommandSpec(
+        "AM", "mode", "Multitasking mode: comma lists like AA, but each axis runs its own queue.",
+        Timing.MODE, source="evidence 2.1",
+    ),
+    # ---- motion parameters ------------------------------------------------------------
+    _q("VL", "motion", "Peak (slew) velocity, steps/s.", units=2, operand=Operand.NUMBER,
+       value_range=(1.0, float(MAX_VELOCITY)), source="manual 2.14 (factory 200,000); evidence 2.2",
+       notes="Range 1..4,176,000 (Appendix C). VL not above VB is a command error when it "
+       "executes (evidence: 'OMS errors if VB = VL')."),
+    _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2, operand=Operand.NUMBER,
+       value_range=_VEL, source="manual 2.14 (factory 0); evidence 2.2",
+       notes="Must stay below VL: VB >= VL is a command error when it executes."),
+    _q("AC", "motion", "Acceleration, steps/s^2; also sets the deceleration.", units=2,
+       operand=Operand.NUMBER, value_range=_ACC,
+       source="manual 2.14 (factory 2,000,000); evidence 2.2",
+       confidence="I", notes="AC sets both rates and DC afterwards overrides the deceleration "
+       "(SySal sends AC then DC). Range 1..8,000,000: hosts clamp to 1 (DLL-H)."),
+    _q("DC", "motion", "Deceleration, steps/s^2.", units=2, operand=Operand.NUMBER,
+       value_range=_ACC, source="evidence 2.2 (SySal usage)", confidence="I"),
+    _q("LA", "profile", "Linear ramps: trapezoid, or triangle on short moves (factory).",
+       source="evidence 2.7 (DLL SelectOmsLinearRamp)", confidence="I"),
+    _q("PN", "profile", "Parabolic ramps: acceleration highest at low speed.", units=2,
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 32767.0),
+       source="evidence 2.7 (DLL SelectOmsParabolicRamp(n) sends PN#)", confidence="I",
+       notes="The operand is stored but does not change the curve: its meaning is not in the "
+       "evidence (see docs/not-modelled.md)."),
+    _q("PF", "profile", "Parabolic ramps off: back to linear.", source="evidence 2.7",
+       confidence="I"),
+    _q("SC", "profile", "S-curve ramps: jerk-limited, acceleration peaks mid-ramp.",
+       source="evidence 2.7 (DLL SelectOmsSCurveRamp)", confidence="I"),
+    _q("SS", "profile", "S-curve parameter (DLL SelectOmsSCurveRamp(n) sends SS#).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 32767.0), source="evidence 2.7", confidence="I",
+       notes="Stored; the S-curve shape itself is fixed (docs/not-modelled.md)."),
+    _q("PR", "profile", "Ramp parameter sent by the DLL with parabolic/S-curve selection.",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 32767.0), source="evidence 2.7",
+       confidence="I", notes="Stored only, like SS."),
+    _q("CN", "profile", "Cosine ramps.", source="evidence 2.7 (DLL SelectOmsCosineRamp)",
+       confidence="I"),
+    # ---- moves ------------------------------------------------------------------------
+    _q("MA", "motion", "Prepare a move to an absolute position; GO starts it.", units=2,
+       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.2; manual Appendix C",
+       notes="Positions are signed 32-bit; a target outside +/-2,147,483,647 is a command error."),
+    _q("MR", "motion", "Prepare a relative move; GO starts it.", units=2, operand=Operand.NUMBER,
+       value_range=_SPAN, source="evidence 2.2",
+       notes="Decimals truncate toward zero (MR-200.9 moves -200): classic EPICS sends "
+       "n.9 for a move of n steps (decision D). A resulting target outside the 32-bit range is "
+       "a command error when it executes."),
+    _q("GO", "motion", "Start the prepared move(s): ramp up, slew, ramp down.", units=4,
+       source="evidence 2.2; manual 6.2 (GO expands into start, ramp up, slew, ramp down)",
+       notes="Costs 4 units (its expansion). The queue waits for the axis to be at rest, starts "
+       "the move, and holds the next entry until the move ends. Without a prepared move GO does "
+       "nothing (D)."),
+    _q("GD", "motion", "Go, as used by classic EPICS and the vendor DLL (MA#;GDID).", units=4,
+       source="evidence 2.2", confidence="I",
+       notes="The difference to GO is not recovered; modelled exactly as GO."),
+    _q("GN", "motion", "Go, as used by the VIPER MAXv client.", units=4, source="evidence 2.2",
+       confidence="I", notes="Modelled exactly as GO."),
+    _q("JG", "motion", "Jog at a signed velocity until stopped (no GO needed).", units=2,
+       operand=Operand.NUMBER, value_range=(-float(MAX_VELOCITY), float(MAX_VELOCITY)),
+       source="evidence 2.2, E4",
+       notes="Ramps from the present velocity (through zero when reversing) and slews. The queue "
+       "holds the next entry until the new speed is reached, so `JG0 ID` sets done at rest (D)."),
+    _q("MP", "motion", "Direction logic plus: MO steps forward.", source="evidence 2.2",
+       confidence="I"),
+    _q("MM", "motion", "Direction logic minus: MO steps backward.", source="evidence 2.2",
+       confidence="I"),
+    _q("MO", "motion", "Move one step in the MP/MM direction.", source="evidence 2.2 (DLL)",
+       confidence="I", notes="Waits for rest, then steps once; the next entry runs a tick later."),
+    _i("ST", "motion", "Stop with deceleration and flush the queue.",
+       source="evidence 2.2, E4 (`AX AC200000; ST ID;`)", confidence="I",
+       notes="Immediate: it acts on a running move. It flushes the queue (so an AC queued just "
+       "before it is dropped and the running deceleration is used), and entries queued after "
+       "it wait until the axis is at rest: `ST ID` sets done when stopped. AA/AM: all axes."),
+    _i("SA", "motion", "Stop all axes with deceleration, flushing every queue.",
+       source="evidence 2.2, E1 (`AM SA;`)"),
+    _i("KL", "motion", "Kill all motion at once, no deceleration; flush every queue.",
+       source="evidence 2.2 (direct command 'kill all motion')", confidence="I"),
+    _i("KS", "motion", "Kill selected axes at once and flush their queues (`KS1,,1`).",
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
+       source="evidence 2.2 (TRAJ comment)",
+       notes="Single-axis mode: KS kills the addressed axis. AA/AM: a 1 in an axis's slot "
+       "kills it."),
+    _q("LP", "position", "Load position: motor and encoder counters.", units=2,
+       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4"),
+    _q("LO", "position", "Load the motor (commanded) position only.", units=2,
+       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E3", confidence="I"),
+    _q("LPE", "position", "Load the encoder position only.", units=2, operand=Operand.NUMBER,
+       value_range=_POS, source="evidence 2.3, E4",
+       notes="Open-loop axes read an ideal encoder that follows the motor; LPE offsets it, so "
+       "RE then differs from RP by the loaded amount."),
+    _q("WT", "queue", "Wait a number of milliseconds before the next queued command.", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0), source="evidence 2.2 (SySal)",
+       confidence="D", notes="Milliseconds, rounded up to whole ticks. The evidence guesses "
+       "update ticks (I); older OMS boards documented WT in milliseconds, which we follow."),
+    _q("ID", "queue", "Set the axis done flag when the queue reaches this entry.",
+       source="evidence 2.2, 3.6; E3, E4",
+       notes="Sets the done bit in QA/RA/RI/QI, the doorbell (bits 0-7, 25/26 for W/K) and "
+       "raises a flag notification."),
+    _i("CA", "queue", "Clear the done flag of the addressed axis (or all in AA/AM).",
+       source="evidence 2.2 (drvMAXv: 'Clear done of addressed axis')", confidence="I",
+       notes="Immediate (D): hosts send it ahead of a move so an old done is not seen."),
+    _i("IC", "queue", "Interrupt clear: clears the command error and every done, overtravel "
+       "and slip flag.", source="evidence 2.2 (first command at every init)", confidence="I"),
+    _i("FL", "queue", "Flush the addressed axis queue(s); a running move continues.",
+       source="evidence 2.2 (manual type C, MAN-CMD p.1-86)"),
+    _q("LS", "queue", "Loop start: repeat the entries up to LE # times (loops nest).", units=2,
+       operand=Operand.NUMBER, value_range=(1.0, 2_147_483_647.0), source="manual 6.2",
+       notes="Entries inside a loop keep their queue units until the outermost loop ends."),
+    _q("LE", "queue", "Loop end: jump back to the latest LS until its count runs out.",
+       source="manual 6.2", notes="An LE without an open LS does nothing (D)."),
+    # ---- configuration ----------------------------------------------------------------
+    _q("PS", "config", "Axis type: O open-loop stepper, E stepper with encoder, M servo.",
+       operand=Operand.LETTER, letters="OEM", query=True, reply="=O | =E | =M",
+       source="evidence 2.4, E1",
+       notes="PS? answers immediately. PSM is refused (command error) until the servo loop is "
+       "modelled; PSE gives an ideal encoder (EA works, RE follows RP)."),
+    _i("?PS", "config", "Axis type query, firmware before 1.30.", reply="=O | =E | =M",
+       source="evidence 2.4"),
+    _q("LT", "limits", "Limit input true level: H active high, L active low (factory L).",
+       operand=Operand.LETTER, letters="HL", query=True, reply="=l | =h",
+       source="evidence 2.3, E1; manual 2.14"),
+    _i("?LS", "limits", "Limit level query, firmware before 1.30.", reply="=l | =h",
+       source="evidence 2.3"),
+    _q("LH", "limits", "Limit switches active high (same as LTH).", source="evidence 2.3",
+       confidence="I"),
+    _q("LL", "limits", "Limit switches active low (same as LTL).", source="evidence 2.3",
+       confidence="I"),
+    _q("LM", "limits", "Limit mode: H stop at once (hard), S decelerate (soft), F off, N on.",
+       operand=Operand.LETTER, letters="HSFN", query=True, reply="=h | =s | =f",
+       source="evidence 2.3, E5; manual 4.2 and 2.14 (factory hard, enabled)", confidence="I",
+       notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
+       "limits on with the last style. The letters S and the LM? letters other than f are our "
+       "decision (D)."),
+    _q("LN", "limits", "Limit (overtravel) detection on.", source="evidence 2.3",
+       confidence="I"),
+    _q("LF", "limits", "Limit (overtravel) detection off.", source="evidence 2.3",
+       confidence="I"),
+    CommandSpec("CL", "config", "Closed loop on (1) or off (0); CL? reports per axis.",
+                Timing.QUEUED, units=1, operand=Operand.LETTER, letters="01", query=True,
+                reply="on | off", source="evidence 2.4, E2", confidence="I",
+                notes="CL? answers `on`/`off` (EPICS compares the first two characters with "
+                "`on`). CL0/CL1 need an encoder or servo axis and come with the servo issue; "
+                "until then they are a command error."),
+    _i("?PM", "config", "Closed-loop query, firmware before 1.30.", reply="=on | =off",
+       source="evidence 2.4", confidence="I"),
+    _i("?KA", "config", "PID present probe: a command error means the axis has no servo loop.",
+       reply="gain value", source="evidence 2.4, E5"),
+    _i("?KP", "config", "PID present probe (PC68 form).", reply="gain value",
+       source="evidence 2.4, E7"),
+    _i("#UR", "config", "Update rate in Hz: 1024, 2048, 4096 or 8192 (976.6..122.1 us).",
+       operand=Operand.NUMBER, query=True, value_range=(1024.0, 8192.0), reply="#UR?: 8192",
+       source="evidence 2.5 (TRAJ); manual 2.13", confidence="I",
+       notes="Setting it resets the position counters (TRAJ reloads LP afterwards) and is "
+       "refused while an axis moves (D)."),
+    _i("?UR", "config", "Update rate query (SySal form).", reply="8192",
+       source="evidence 2.5, E8", confidence="I"),
+    # ---- reports ----------------------------------------------------------------------
+    _i("RP", "report", "Report motor (commanded) position.", reply="-123 | AA/AM: 1,2,...",
+       source="evidence 2.5, E1, E8"),
+    _i("RE", "report", "Report encoder position.", reply="-123 | AA/AM: list",
+       source="evidence 2.5, E3",
+       notes="Open-loop steppers read an ideal encoder: RE equals RP unless LPE offset it."),
+    _i("PP", "report", "Report every axis's motor position.", reply="1,2,3,...",
+       source="evidence 2.5, E1, E2"),
+    _i("PE", "report", "Report every axis's encoder position.", reply="1,2,3,...",
+       source="evidence 2.5, E2"),
+    _i("RV", "report", "Report the present velocity (0 at rest).", reply="5000 | list",
+       source="evidence 2.5, E2", confidence="I",
+       notes="Signed: negative while moving in the minus direction (D)."),
+    _i("RC", "report", "Report the programmed acceleration.", reply="2000000 | list",
+       source="evidence 2.5 (DLL GetOmsAxisAcceleration)", confidence="I"),
+    _i("QA", "report", "Query axis status without clearing: direction, done, limit, home.",
+       reply="PNNN", source="evidence 3.4; manual type Q",
+       notes="Four characters: P|M, D|N, L|N, H|N. QA leaves the done flag set."),
+    _i("RA", "report", "Report axis status, then clear its done, overtravel and slip flags.",
+       reply="PDNN", source="evidence 3.4", confidence="I",
+       notes="EPICS sends RA after a move to clear done (I); RA clears the latched flags "
+       "after reporting them."),
+    _i("RI", "report", "Report every axis's status, then clear the done flags.",
+       reply="MDNN,PNNN,...", source="evidence 3.4, E2",
+       notes="asyn: 'read all axis status values and reset done-field'. Groups of 4 characters "
+       "separated by commas, no trailing comma."),
+    _i("QI", "report", "Query every axis's status without clearing.", reply="MDNN,PNNN,...",
+       source="evidence 3.4, E9", confidence="I"),
+    _i("RQC", "report", "Report free command-queue units (of 2559).",
+       reply=f"{QUEUE_CAPACITY} | list", source="evidence 2.5; manual 6.2"),
+    _i("EA", "report", "Encoder status: slip enable, hold enable, slipped, in deadband, home.",
+       reply="DDNNN", source="evidence 3.4, E2, E5",
+       notes="A command error on an axis without an encoder (the classic `EA ID` probe). In "
+       "AA/AM lists such axes get an empty field. Letters for 'disabled' (D) and 'not' (N) are "
+       "our decision."),
+    _i("QL", "report", "Query limit inputs (raw levels) as hexadecimal.", reply="ffff",
+       source="evidence 3.4, E2",
+       notes="Bit i = minus limit, bit i+8 = plus limit for X..S; W/K use bits 16/17 and 24/25. "
+       "Raw levels: an inactive active-low input reads 1."),
+    _i("WY", "report", "Identify the controller.",
+       reply="MAXk-8000, ver:1.33, S/N: 000001, FPGA:20", source="manual 2.6; evidence 3.5",
+       notes="The manual's form with `ver:` in lower case and no space: asyn looks for the "
+       "case-sensitive `ver:` followed by major.minor (and needs 1.30+, 1.33+ for #WS), "
+       "SySal for `MAXk-`, classic drvMAXv reads the number after the first colon."),
+    _i("#WS", "report", "Watchdog status: =0 while healthy.", reply="=0",
+       source="evidence 2.5, E1, E2"),
+    _i("CC", "report", "Controller cycle counter (update ticks since power-up, 30 bits).",
+       reply="123456", source="evidence 2.5, E8 (SySal)", confidence="I",
+       notes="Plain decimal, wrapping at 2^30 (SySal checks 0..0x3FFFFFFF)."),
+]
+
+COMMANDS: dict[str, CommandSpec] = {spec.mnemonic: spec for spec in _SPECS}
+"""Every mnemonic the board understands, keyed by its upper-case spelling."""
+
+GROUP_TITLES = {
+    "mode": "Axis and mode selection",
+    "motion": "Motion parameters and moves",
+    "profile": "Velocity profiles (ramp selection)",
+    "position": "Position counters",
+    "queue": "Queue, flags and loops",
+    "config": "Axis configuration",
+    "limits": "Limit configuration",
+    "report": "Reports and queries",
+}
+
+
+def lookup(mnemonic: str) -> CommandSpec | None:
+    return COMMANDS.get(mnemonic.upper())

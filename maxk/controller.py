@@ -1,0 +1,135 @@
+"""The in-process door: a MAXk board you talk to from Python, in virtual time.
+
+    >>> from maxk import MAXk
+    >>> board = MAXk("MAXk-4000")
+    >>> board.send("AX; VL5000; AC50000; MA10000; GO; ID;")
+    []
+    >>> board.run_until_done("X", timeout=5.0)
+    True
+    >>> board.query("AX RP")
+    '10000'
+
+Nothing here reads the wall clock: time moves only when you advance it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .commands.interpreter import Interpreter
+from .commands.lexer import SEPARATORS
+from .firmware_model import flags as F
+from .firmware_model.board import Board, CommandErrorRecord
+from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+
+
+@dataclass(frozen=True)
+class AxisStatus:
+    """A snapshot of one axis for status lines and assertions."""
+
+    letter: str
+    position: int
+    encoder: int
+    velocity: int
+    done: bool
+    moving: bool
+    queued: int
+    status: str
+
+
+class MAXk:
+    """A board plus a command stream: the API the REPL, scripts and tests use."""
+
+    def __init__(self, model: str = DEFAULT_MODEL,
+                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ) -> None:
+        self.board = Board(model, update_rate_hz)
+        self.interpreter = Interpreter(self.board)
+
+    # ---- talking to the board ---------------------------------------------------------
+    def write(self, data: str | bytes) -> list[str]:
+        """Raw bytes as a host writes them; a trailing operand waits for its terminator."""
+        return self.interpreter.write(data)
+
+    def send(self, text: str) -> list[str]:
+        """A complete command line: adds a CR terminator when the text has none."""
+        if text and text[-1] not in SEPARATORS:
+            text += "\r"
+        return self.interpreter.write(text)
+
+    def query(self, text: str) -> str:
+        """Send a line that must produce exactly one reply, and return it."""
+        replies = self.send(text)
+        if len(replies) != 1:
+            error = self.board.last_error
+            detail = f" (last command error: {error})" if error else ""
+            raise ValueError(f"{text!r} gave {len(replies)} replies, expected 1{detail}")
+        return replies[0]
+
+    # ---- time -----------------------------------------------------------------------
+    @property
+    def tick(self) -> int:
+        return self.board.tick
+
+    @property
+    def time(self) -> float:
+        return self.board.time
+
+    def ticks(self, seconds: float) -> int:
+        return math.ceil(seconds / self.board.period - 1e-9)
+
+    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
+        """Advance virtual time by seconds and/or ticks."""
+        self.board.advance(self.ticks(seconds) + ticks)
+
+    def run_until_idle(self, timeout: float = 60.0) -> bool:
+        """Advance until no axis moves and no queue holds work; False on timeout."""
+        return self.board.run_until_idle(self.ticks(timeout))
+
+    def run_until_done(self, *letters: str, timeout: float = 60.0) -> bool:
+        """Advance until the done flag of every named axis (default: all) is set."""
+        axes = [self.board.axis(x) for x in letters] if letters else self.board.axes
+        return self.board.run_until(
+            lambda b: all(a.flags & F.AXIS_DONE for a in axes), self.ticks(timeout)
+        )
+
+    # ---- observing -------------------------------------------------------------------
+    def position(self, letter: str) -> int:
+        return self.board.axis(letter).motor_position(self.board)
+
+    def encoder(self, letter: str) -> int:
+        return self.board.axis(letter).encoder_position(self.board)
+
+    def velocity(self, letter: str) -> float:
+        return self.board.axis(letter).velocity(self.board)
+
+    def done(self, letter: str) -> bool:
+        return bool(self.board.axis(letter).flags & F.AXIS_DONE)
+
+    @property
+    def doorbell(self) -> int:
+        return self.board.doorbell
+
+    @property
+    def command_error(self) -> bool:
+        return self.board.command_error
+
+    @property
+    def last_error(self) -> CommandErrorRecord | None:
+        return self.board.last_error
+
+    def status(self) -> list[AxisStatus]:
+        board = self.board
+        return [
+            AxisStatus(
+                a.letter,
+                a.motor_position(board),
+                a.encoder_position(board),
+                round(a.velocity(board)),
+                bool(a.flags & F.AXIS_DONE),
+                a.motion is not None,
+                len(a.queue),
+                a.status_string(board),
+            )
+            for a in board.axes
+        ]

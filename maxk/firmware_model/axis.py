@@ -1,0 +1,276 @@
+"""One axis of the board: its parameters, its queue and its motion in closed form."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from . import flags as F
+from .profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
+from .queue import CommandQueue
+
+if TYPE_CHECKING:
+    from .board import Board
+
+
+# Waits a queue entry can leave the axis in. A tuple ("tick", t) waits for a tick.
+WAIT_MOTION = "motion"  # until the running motion has ended, then go on
+WAIT_REST_RETRY = "rest-retry"  # until the axis is at rest, then run the same entry again
+
+
+@dataclass
+class AxisConfig:
+    """The axis parameters that commands set; factory defaults from manual 2.14."""
+
+    velocity: int = 200_000  # VL, steps/s
+    base_velocity: int = 0  # VB
+    acceleration: int = 2_000_000  # AC (also sets the deceleration)
+    deceleration: int = 2_000_000  # DC
+    ramp: RampShape = RampShape.LINEAR
+    ramp_factor: int = 0  # PN#/SS#/PR# operand, stored and reported only
+    axis_type: str = "O"  # PSO open-loop stepper, PSE stepper with encoder, PSM servo
+    limit_active_high: bool = False  # LTL factory: active low
+    limits_enabled: bool = True  # LN/LF, LMN/LMF
+    limit_hard_stop: bool = True  # LMH stop at once (factory "hard"), LMS decelerate
+    soft_limits: bool = False  # SL/SF
+    home_active_high: bool = False  # manual 2.14: "Home Active 'Low'"
+    move_direction: int = 1  # MP / MM
+
+
+@dataclass
+class Axis:
+    index: int
+    letter: str
+    config: AxisConfig = field(default_factory=AxisConfig)
+    queue: CommandQueue = field(default_factory=CommandQueue)
+    position: int = 0  # motor position at rest, or the origin of the running motion
+    encoder_offset: int = 0  # encoder counter minus motor position (ideal encoder)
+    motion: Motion | None = None
+    motion_start: int = 0  # tick the motion started on
+    motion_end: int | None = None  # tick it ends on (None: endless jog)
+    ramp_end: int = 0  # tick the last speed change of the motion completes
+    pending_target: int | None = None  # set by MA/MR, consumed by GO
+    direction: int = 1  # direction of the last or current motion (QA: P/M)
+    flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
+    wait: object = None  # what the queue is blocked on
+
+    # ---- position and velocity at the board's current tick -------------------------
+    def _t(self, board: Board) -> float:
+        return (board.tick - self.motion_start) * board.period
+
+    def motor_position(self, board: Board) -> int:
+        m = self.motion
+        if m is None:
+            return self.position
+        if self.motion_end is not None and board.tick >= self.motion_end:
+            return self.position + m.final_offset
+        return self.position + int(m.offset(self._t(board)))
+
+    def encoder_position(self, board: Board) -> int:
+        return self.motor_position(board) + self.encoder_offset
+
+    def velocity(self, board: Board) -> float:
+        m = self.motion
+        if m is None or (self.motion_end is not None and board.tick >= self.motion_end):
+            return 0.0
+        return m.velocity(self._t(board))
+
+    @property
+    def has_encoder(self) -> bool:
+        return self.config.axis_type in ("E", "M")
+
+    @property
+    def moving(self) -> bool:
+        return self.motion is not None
+
+    # ---- motion control --------------------------------------------------------------
+    def _start(self, motion: Motion, board: Board) -> None:
+        self.motion = motion
+        self.motion_start = board.tick
+        period = board.period
+        if motion.end_time is None:
+            self.motion_end = None
+        else:
+            self.motion_end = board.tick + math.ceil(motion.end_time / period - 1e-9)
+        self.ramp_end = board.tick + math.ceil(motion.ramp_end_time / period - 1e-9)
+        self.direction = motion.direction
+        if self.motion_end is not None and self.motion_end <= board.tick:
+            self.finish_motion()
+
+    def _rebase(self, board: Board) -> tuple[float, float]:
+        """Freeze the running motion at this tick; return (fractional residual, velocity)."""
+        m = self.motion
+        if m is None:
+            return 0.0, 0.0
+        t = self._t(board)
+        exact = m.offset(t)
+        velocity = m.velocity(t)
+        whole = int(exact)
+        self.position += whole
+        self.motion = None
+        self.motion_end = None
+        return exact - whole, velocity
+
+    def start_move(self, target: int, board: Board) -> bool:
+        """GO: a point-to-point move from rest to target. False if nothing to do."""
+        distance = target - self.position
+        if distance == 0:
+            return False
+        c = self.config
+        motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
+                           c.deceleration, c.ramp)
+        self._start(motion, board)
+        return True
+
+    def start_jog(self, velocity: int, board: Board) -> None:
+        """JG: ramp from the present velocity to a signed jog velocity and slew."""
+        residual, current = self._rebase(board)
+        c = self.config
+        motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
+                          c.deceleration, c.ramp)
+        self._start(motion, board)
+
+    def stop(self, board: Board) -> None:
+        """ST/SA: decelerate to VB at the deceleration rate, then stop."""
+        if self.motion is None:
+            return
+        residual, current = self._rebase(board)
+        c = self.config
+        self._start(plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp), board)
+
+    def kill(self, board: Board) -> None:
+        """KL/KS: stop at once, no deceleration; the position keeps the whole steps made."""
+        if self.motion is None:
+            return
+        self._rebase(board)
+
+    def finish_motion(self) -> None:
+        m = self.motion
+        if m is not None:
+            self.position += m.final_offset
+        self.motion = None
+        self.motion_end = None
+
+    def step(self, direction: int, board: Board) -> None:
+        """MO: one step in the MP/MM direction."""
+        self.position += direction
+        self.direction = direction
+
+    def load_position(self, value: int, motor: bool, encoder: bool, board: Board) -> None:
+        """LP (both), LO (motor only), LPE (encoder only)."""
+        encoder_now = self.encoder_position(board)
+        current = self.motor_position(board)
+        if motor:
+            self.position += value - current
+        if encoder:
+            self.encoder_offset = value - self.motor_position(board)
+        elif motor:
+            self.encoder_offset = encoder_now - self.motor_position(board)
+
+    # ---- queue -----------------------------------------------------------------------
+    def next_event(self) -> int | None:
+        """The next tick at which something changes for this axis, if any."""
+        best = self.motion_end
+        wait = self.wait
+        if type(wait) is tuple and wait[0] == "tick":
+            t = wait[1]
+            if best is None or t < best:
+                best = t
+        return best
+
+    def run_queue(self, board: Board) -> bool:
+        """Execute queue entries at the current tick until one blocks. True if progress."""
+        progressed = False
+        queue = self.queue
+        while True:
+            wait = self.wait
+            if wait is not None:
+                if wait == WAIT_MOTION:
+                    if self.motion is not None:
+                        return progressed
+                    self.wait = None
+                    queue.advance()
+                elif wait == WAIT_REST_RETRY:
+                    if self.motion is not None:
+                        return progressed
+                    self.wait = None
+                elif type(wait) is tuple:
+                    if board.tick < wait[1]:
+                        return progressed
+                    self.wait = None
+                    queue.advance()
+                else:  # a synchronisation group (AA-mode GO)
+                    if not wait.ready(board):  # type: ignore[attr-defined]
+                        return progressed
+                    self.wait = WAIT_MOTION
+                    continue
+                progressed = True
+            entry = queue.peek()
+            if entry is None:
+                return progressed
+            result = entry.action(self, board)
+            progressed = True
+            if result is None:
+                queue.advance()
+            else:
+                self.wait = result
+
+    def flush(self) -> None:
+        queue = self.queue
+        for entry in queue.entries[queue.pc :]:
+            if entry.sync is not None:
+                entry.sync.withdraw(self)
+        if isinstance(self.wait, StartGroup):
+            self.wait.withdraw(self)
+        queue.flush()
+        self.wait = None
+        self.pending_target = None
+
+    # ---- flags -----------------------------------------------------------------------
+    def status_string(self, board: Board) -> str:
+        """QA/RA: direction P|M, done D|N, overtravel L|N, home H|N (evidence 3.4)."""
+        return (
+            ("P" if self.direction >= 0 else "M")
+            + ("D" if self.flags & F.AXIS_DONE else "N")
+            + ("L" if board.on_limit(self) or self.flags & F.AXIS_OVERTRAVEL else "N")
+            + ("H" if board.home_active(self) else "N")
+        )
+
+
+class StartGroup:
+    """An AA-mode GO: every member's queue must reach it, then all start on one tick.
+
+    Used as the queue wait of the members that arrived first. An axis whose queue is
+    flushed before it arrives withdraws, so the others are not held forever.
+    """
+
+    __slots__ = ("members", "arrived", "fired")
+
+    def __init__(self, members: list[Axis]) -> None:
+        self.members = {a.index for a in members}
+        self.arrived: set[int] = set()
+        self.fired = False
+
+    def ready(self, board: Board) -> bool:
+        self._maybe_fire(board)
+        return self.fired
+
+    def arrive(self, axis: Axis, board: Board) -> None:
+        self.arrived.add(axis.index)
+        self._maybe_fire(board)
+
+    def withdraw(self, axis: Axis) -> None:
+        self.members.discard(axis.index)
+        self.arrived.discard(axis.index)
+
+    def _maybe_fire(self, board: Board) -> None:
+        if self.fired or not self.arrived >= self.members:
+            return
+        self.fired = True
+        for index in sorted(self.members):
+            member = board.axes[index]
+            target = member.pending_target
+            member.pending_target = None
+            if target is not None:
+                member.start_move(target, board)

@@ -1,0 +1,237 @@
+"""The board: axes, flags and the tick engine. No sockets, threads or wall clock here.
+
+Time is an integer tick counter at the update period (1/8192 s = 122.07 us by default).
+The engine is event driven: stepper motions are closed-form, so advancing jumps from
+one event (a motion ending, a wait expiring) to the next and runs the queues there.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from . import flags as F
+from .axis import Axis
+from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
+
+
+@dataclass(frozen=True)
+class CommandErrorRecord:
+    """Why the command-error flag was set: shown by the REPL and kept for tests."""
+
+    tick: int
+    command: str
+    reason: str
+
+    def __str__(self) -> str:
+        return f"{self.command!r}: {self.reason}" if self.command else self.reason
+
+
+FlagListener = Callable[[int], None]
+"""Called with the MAXnet-style flag word whenever a done/overtravel/slip/error flag sets."""
+
+
+class Board:
+    """A MAXk board model in virtual time."""
+
+    def __init__(self, model: str | BoardModel = DEFAULT_MODEL,
+                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ) -> None:
+        self.model = model if isinstance(model, BoardModel) else model_by_name(model)
+        self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
+        self.tick = 0
+        self.update_rate_hz = update_rate_hz
+        self.period = 1.0 / update_rate_hz
+        # Command mode: ("single", axis index) after AX..AK, or "AA" / "AM".
+        self.mode: str = "single"
+        self.current_axis = 0
+        self.command_error = False
+        self.errors: deque[CommandErrorRecord] = deque(maxlen=200)
+        self._listeners: list[FlagListener] = []
+
+    # ---- lookup ----------------------------------------------------------------------
+    def axis(self, letter: str) -> Axis:
+        index = self.model.axis_letters.find(letter.upper())
+        if index < 0 or len(letter) != 1:
+            raise KeyError(f"{self.model.name} has no axis {letter!r}")
+        return self.axes[index]
+
+    @property
+    def time(self) -> float:
+        """Virtual seconds since power-up."""
+        return self.tick * self.period
+
+    # ---- time ------------------------------------------------------------------------
+    def run_queues(self, axes: Iterable[Axis] | None = None) -> None:
+        """Run queues at the current tick until none can progress (AA-mode GO barriers
+        need another pass once the last member arrives)."""
+        targets = list(axes) if axes is not None else self.axes
+        while True:
+            progressed = False
+            for axis in targets:
+                if axis.run_queue(self):
+                    progressed = True
+            if not progressed:
+                return
+            targets = self.axes
+
+    def next_event(self) -> int | None:
+        best: int | None = None
+        for axis in self.axes:
+            t = axis.next_event()
+            if t is not None and (best is None or t < best):
+                best = t
+        return best
+
+    def advance_to(self, tick: int) -> None:
+        """Advance virtual time to an absolute tick, processing every event on the way."""
+        if tick < self.tick:
+            raise ValueError("time only moves forward")
+        self.run_queues()
+        while True:
+            event = self.next_event()
+            if event is None or event > tick:
+                break
+            self.tick = max(event, self.tick)
+            for axis in self.axes:
+                if axis.motion_end is not None and axis.motion_end <= self.tick:
+                    axis.finish_motion()
+            self.run_queues()
+        self.tick = tick
+
+    def advance(self, ticks: int) -> None:
+        self.advance_to(self.tick + int(ticks))
+
+    def advance_seconds(self, seconds: float) -> None:
+        self.advance(math.ceil(seconds / self.period - 1e-9))
+
+    def is_idle(self) -> bool:
+        """No axis moving and no queue holding work."""
+        return all(a.motion is None and a.wait is None and len(a.queue) == 0 for a in self.axes)
+
+    def run_until(self, predicate: Callable[[Board], bool], timeout_ticks: int) -> bool:
+        """Advance event by event until predicate holds; False on timeout (time then stops
+        at the timeout). Predicates are checked at events, so they should depend on
+        board state that changes at events (done flags, idleness, queue waits)."""
+        deadline = self.tick + timeout_ticks
+        self.run_queues()
+        while not predicate(self):
+            event = self.next_event()
+            if event is None or event > deadline:
+                self.advance_to(deadline)
+                return predicate(self)
+            self.advance_to(max(event, self.tick))
+        return True
+
+    def run_until_idle(self, timeout_ticks: int) -> bool:
+        return self.run_until(Board.is_idle, timeout_ticks)
+
+    # ---- flags -----------------------------------------------------------------------
+    def add_flag_listener(self, listener: FlagListener) -> None:
+        self._listeners.append(listener)
+
+    def remove_flag_listener(self, listener: FlagListener) -> None:
+        if listener in self._listeners:
+            self._listeners.remove(listener)
+
+    def _notify(self) -> None:
+        if self._listeners:
+            word = self.flag_word
+            for listener in list(self._listeners):
+                listener(word)
+
+    def set_axis_flag(self, axis: Axis, bit: int) -> None:
+        if not axis.flags & bit:
+            axis.flags |= bit
+            self._notify()
+
+    def clear_axis_flags(self, axis: Axis, bits: int) -> None:
+        axis.flags &= ~bits
+
+    def report_error(self, reason: str, command: str = "") -> None:
+        """Set the command-error flag (doorbell bit 24) and remember why."""
+        self.errors.append(CommandErrorRecord(self.tick, command, reason))
+        was_set = self.command_error
+        self.command_error = True
+        if not was_set:
+            self._notify()
+
+    @property
+    def last_error(self) -> CommandErrorRecord | None:
+        return self.errors[-1] if self.errors else None
+
+    @property
+    def doorbell(self) -> int:
+        """The outbound doorbell register (ODBR) image."""
+        return F.doorbell_word([a.flags for a in self.axes], self.command_error)
+
+    @property
+    def flag_word(self) -> int:
+        """The MAXnet `%000 SSSSSSSS` flag word (W and K spelled out)."""
+        return F.maxnet_word([a.flags for a in self.axes], self.command_error)
+
+    def write_doorbell(self, mask: int) -> None:
+        """Host writes ones to clear doorbell bits (write-one-to-clear)."""
+        for axis in self.axes[:8]:
+            i = axis.index
+            if mask & (1 << (F.DONE_SHIFT + i)):
+                axis.flags &= ~F.AXIS_DONE
+            if mask & (1 << (F.OVERTRAVEL_SHIFT + i)):
+                axis.flags &= ~F.AXIS_OVERTRAVEL
+            if mask & (1 << (F.SLIP_SHIFT + i)):
+                axis.flags &= ~F.AXIS_SLIP
+        for axis, bit in zip(self.axes[8:], (F.W_NOTIFY, F.K_NOTIFY), strict=False):
+            if mask & bit:
+                axis.flags = 0
+        if mask & F.COMMAND_ERROR:
+            self.command_error = False
+
+    def clear_interrupts(self) -> None:
+        """IC: clear the command-error flag and every latched done/overtravel/slip flag."""
+        self.command_error = False
+        for axis in self.axes:
+            axis.flags = 0
+
+    # ---- the world (switches come with the I/O issue; nothing is wired by default) ---
+    def on_limit(self, axis: Axis) -> bool:
+        return False
+
+    def home_active(self, axis: Axis) -> bool:
+        return False
+
+    def limit_inputs_raw(self) -> int:
+        """QL: raw limit input levels (evidence 3.4 layout). An inactive active-low input
+        reads high, which is what hosts XOR with the LT? level."""
+        word = 0
+        for axis in self.axes:
+            level = 0 if axis.config.limit_active_high else 1  # inactive level
+            if not level:
+                continue
+            i = axis.index
+            if i < 8:
+                word |= (1 << i) | (1 << (i + 8))
+            else:
+                word |= (1 << (i + 8)) | (1 << (i + 16))
+        return word
+
+    # ---- whole-board actions ---------------------------------------------------------
+    def set_update_rate(self, rate_hz: int) -> None:
+        """#UR: a new update rate resets the position counters (evidence 2.5, TRAJ)."""
+        self.update_rate_hz = rate_hz
+        self.period = 1.0 / rate_hz
+        for axis in self.axes:
+            axis.position = 0
+            axis.encoder_offset = 0
+
+    def stop_all(self) -> None:
+        for axis in self.axes:
+            axis.flush()
+            axis.stop(self)
+            if axis.motion is not None:
+                axis.wait = None
+
+    def kill_all(self) -> None:
+        for axis in self.axes:
+            axis.flush()
+            axis.kill(self)

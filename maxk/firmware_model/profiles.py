@@ -1,0 +1,265 @@
+"""Stepper velocity profiles in closed form.
+
+A motion is a short list of phases (ramp or constant velocity). Position and velocity
+are functions of time, so the tick engine can jump straight to the next event instead
+of stepping every tick, and a point-to-point move lands exactly on its target.
+
+Ramp shapes: the velocity during a ramp from v1 to v2 over a time T is
+``v1 + (v2 - v1) * f(t / T)`` for a normalised shape ``f`` with ``f(0) = 0`` and
+``f(1) = 1``. The programmed acceleration is the *peak* acceleration of the ramp, so a
+ramp lasts ``T = k * |v2 - v1| / a`` where ``k = max f'``. The manual names the shapes
+(linear, parabolic, S-curve, cosine/custom) but not their curves; these are our choices,
+recorded in docs/not-modelled.md and the command table:
+
+- linear: ``f = u`` (k = 1): trapezoid or triangle;
+- parabolic: ``f = 1 - (1 - u)^2`` (k = 2): the acceleration is highest at low speed and
+  falls to zero at the top, the way a stepper's torque falls with speed; a deceleration
+  ramp is the mirror image in time;
+- S-curve: ``f = 2u^2`` then ``1 - 2(1 - u)^2`` (k = 2): jerk-limited, acceleration peaks
+  mid-ramp;
+- cosine: ``f = (1 - cos(pi u)) / 2`` (k = pi / 2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+
+
+class RampShape(Enum):
+    """Velocity ramp selected per axis (LA, PN, SC, CN)."""
+
+    LINEAR = "linear"
+    PARABOLIC = "parabolic"
+    SCURVE = "s-curve"
+    COSINE = "cosine"
+
+
+# (peak slope k, integral of f over [0, 1])
+_SHAPE_CONSTANTS: dict[RampShape, tuple[float, float]] = {
+    RampShape.LINEAR: (1.0, 0.5),
+    RampShape.PARABOLIC: (2.0, 2.0 / 3.0),
+    RampShape.SCURVE: (2.0, 0.5),
+    RampShape.COSINE: (math.pi / 2.0, 0.5),
+}
+
+
+def shape_f(shape: RampShape, u: float) -> float:
+    """Normalised velocity fraction at normalised time u in [0, 1]."""
+    if shape is RampShape.LINEAR:
+        return u
+    if shape is RampShape.PARABOLIC:
+        return 1.0 - (1.0 - u) ** 2
+    if shape is RampShape.SCURVE:
+        return 2.0 * u * u if u < 0.5 else 1.0 - 2.0 * (1.0 - u) ** 2
+    return (1.0 - math.cos(math.pi * u)) / 2.0
+
+
+def shape_integral(shape: RampShape, u: float) -> float:
+    """Integral of shape_f from 0 to u."""
+    if shape is RampShape.LINEAR:
+        return u * u / 2.0
+    if shape is RampShape.PARABOLIC:
+        return u * u - u**3 / 3.0
+    if shape is RampShape.SCURVE:
+        return 2.0 * u**3 / 3.0 if u < 0.5 else _scurve_upper(u)
+    return u / 2.0 - math.sin(math.pi * u) / (2.0 * math.pi)
+
+
+def _scurve_upper(u: float) -> float:
+    """Integral of the S-curve for u >= 1/2: F(1/2) + (u - 1/2) - 2/3 * (1/8 - (1 - u)^3)."""
+    w = 1.0 - u
+    return 1.0 / 12.0 + (u - 0.5) - 2.0 * (0.125 - w**3) / 3.0
+
+
+def ramp_time(shape: RampShape, dv: float, accel: float) -> float:
+    """Seconds to change speed by dv at peak acceleration accel."""
+    return _SHAPE_CONSTANTS[shape][0] * abs(dv) / accel
+
+
+@dataclass(frozen=True, slots=True)
+class Phase:
+    """One piece of a motion: speeds are magnitudes, direction is +1 or -1."""
+
+    t0: float  # seconds from the motion's start
+    duration: float  # math.inf for an endless jog slew
+    s0: float  # signed offset at t0 (steps from the motion's origin)
+    v1: float  # speed at start (>= 0)
+    v2: float  # speed at end (>= 0)
+    direction: int
+    shape: RampShape
+    mirrored: bool = False  # deceleration ramps mirror the parabolic shape in time
+
+    def speed(self, tau: float) -> float:
+        if self.v1 == self.v2 or self.duration == 0.0:
+            return self.v1
+        u = min(max(tau / self.duration, 0.0), 1.0)
+        if self.mirrored:
+            return self.v2 + (self.v1 - self.v2) * shape_f(self.shape, 1.0 - u)
+        return self.v1 + (self.v2 - self.v1) * shape_f(self.shape, u)
+
+    def distance(self, tau: float) -> float:
+        """Unsigned distance travelled tau seconds into the phase."""
+        if self.v1 == self.v2:
+            return self.v1 * tau
+        T = self.duration
+        u = min(max(tau / T, 0.0), 1.0)
+        if self.mirrored:
+            full = shape_integral(self.shape, 1.0)
+            return self.v2 * tau + (self.v1 - self.v2) * T * (
+                full - shape_integral(self.shape, 1.0 - u)
+            )
+        return self.v1 * tau + (self.v2 - self.v1) * T * shape_integral(self.shape, u)
+
+    @property
+    def length(self) -> float:
+        return self.distance(self.duration)
+
+
+@dataclass(slots=True)
+class Motion:
+    """A planned motion relative to an integer origin position.
+
+    ``end_time`` is None for a jog that slews until told otherwise. ``final_offset`` is
+    the exact integer offset the motion ends on (a move's distance, or a rounded stop).
+    ``ramp_end_time`` is when the last speed change completes (what a queued JG waits for).
+    """
+
+    phases: list[Phase]
+    end_time: float | None
+    final_offset: int
+    ramp_end_time: float
+    residual: float = 0.0  # fractional step carried in from the motion this one replaced
+    direction: int = 1
+    kind: str = "move"
+    peak_speed: float = 0.0
+    _last: int = field(default=0, repr=False)
+
+    def _phase_at(self, t: float) -> Phase | None:
+        phases = self.phases
+        if not phases:
+            return None
+        i = self._last
+        if i >= len(phases) or phases[i].t0 > t:
+            i = 0
+        while i + 1 < len(phases) and phases[i + 1].t0 <= t:
+            i += 1
+        self._last = i
+        return phases[i]
+
+    def offset(self, t: float) -> float:
+        """Signed offset from the origin at time t (exact float, not yet whole steps)."""
+        if self.end_time is not None and t >= self.end_time:
+            return float(self.final_offset)
+        phase = self._phase_at(t)
+        if phase is None:
+            return float(self.final_offset)
+        return phase.s0 + phase.direction * phase.distance(t - phase.t0)
+
+    def velocity(self, t: float) -> float:
+        """Signed velocity at time t, steps/s."""
+        if self.end_time is not None and t >= self.end_time:
+            return 0.0
+        phase = self._phase_at(t)
+        if phase is None:
+            return 0.0
+        return phase.direction * phase.speed(t - phase.t0)
+
+    def acceleration(self, t: float) -> float:
+        """Signed acceleration at time t (numerical, for status and traces only)."""
+        h = 1e-6
+        return (self.velocity(t + h) - self.velocity(max(t - h, 0.0))) / (2 * h if t > h else h)
+
+
+def _ramp(t0: float, s0: float, v1: float, v2: float, accel: float, direction: int,
+          shape: RampShape) -> Phase:
+    duration = ramp_time(shape, v2 - v1, accel)
+    mirrored = v2 < v1 and shape is RampShape.PARABOLIC
+    return Phase(t0, duration, s0, v1, v2, direction, shape, mirrored)
+
+
+def _append(phases: list[Phase], phase: Phase) -> tuple[float, float]:
+    """Append a phase; return the time and signed offset where it ends."""
+    phases.append(phase)
+    return phase.t0 + phase.duration, phase.s0 + phase.direction * phase.length
+
+
+def plan_move(distance: int, base: float, peak: float, accel: float, decel: float,
+              shape: RampShape) -> Motion:
+    """A point-to-point move from rest: jump to VB, ramp to VL, slew, ramp to VB, stop.
+
+    Short moves become triangles: the peak speed is solved so that both ramps meet.
+    """
+    direction = 1 if distance >= 0 else -1
+    d = abs(distance)
+    if d == 0:
+        return Motion([], 0.0, 0, 0.0, direction=direction)
+    k, integral = _SHAPE_CONSTANTS[shape]
+    base = min(base, peak)
+    x = peak - base
+    up = k * x / accel * (base + integral * x)
+    down = k * x / decel * (base + integral * x)
+    if up + down > d:
+        # Triangle: integral*x^2 + base*x = d / (k * (1/a + 1/d)).
+        c = d / (k * (1.0 / accel + 1.0 / decel))
+        x = (-base + math.sqrt(base * base + 4.0 * integral * c)) / (2.0 * integral)
+        peak = base + x
+    phases: list[Phase] = []
+    t, s = 0.0, 0.0
+    if peak > base:
+        t, s = _append(phases, _ramp(t, s, base, peak, accel, direction, shape))
+    ramp_end = t
+    down_phase = _ramp(0.0, 0.0, peak, base, decel, direction, shape) if peak > base else None
+    down_length = down_phase.length if down_phase else 0.0
+    slew = d - abs(s) - down_length
+    if slew > 1e-9 and peak > 0:
+        t, s = _append(phases, Phase(t, slew / peak, s, peak, peak, direction, shape))
+    if down_phase is not None:
+        t, s = _append(phases, _ramp(t, s, peak, base, decel, direction, shape))
+    if not phases:  # peak == base == 0 cannot happen (VL >= 1); guard anyway
+        phases.append(Phase(0.0, d / max(peak, 1.0), 0.0, peak, peak, direction, shape))
+        t = d / max(peak, 1.0)
+    return Motion(phases, t, direction * d, ramp_end, direction=direction, peak_speed=peak)
+
+
+def plan_stop(residual: float, velocity: float, base: float, decel: float,
+              shape: RampShape) -> Motion:
+    """Decelerate from the current signed velocity to VB, then stop; final step rounded."""
+    direction = 1 if velocity >= 0 else -1
+    speed = abs(velocity)
+    phases: list[Phase] = []
+    t, s = 0.0, residual
+    if speed > base and decel > 0:
+        t, s = _append(phases, _ramp(0.0, residual, speed, base, decel, direction, shape))
+    final = round(s)
+    return Motion(phases, t, final, t, residual=residual, direction=direction, kind="stop",
+                  peak_speed=speed)
+
+
+def plan_jog(residual: float, velocity: float, target: float, base: float, accel: float,
+             decel: float, shape: RampShape) -> Motion:
+    """Change speed toward a signed jog velocity, then slew forever (or stop at 0)."""
+    if target == 0:
+        motion = plan_stop(residual, velocity, base, decel, shape)
+        motion.kind = "jog"
+        return motion
+    direction = 1 if target > 0 else -1
+    phases: list[Phase] = []
+    t, s = 0.0, residual
+    speed = abs(velocity)
+    if velocity != 0 and (velocity > 0) != (target > 0):
+        # Reverse: decelerate to rest in the old direction first.
+        old = 1 if velocity > 0 else -1
+        t, s = _append(phases, _ramp(0.0, s, speed, 0.0, decel, old, shape))
+        speed = 0.0
+    goal = abs(target)
+    if speed == 0.0:
+        speed = min(base, goal)  # a stepper starts at its base velocity
+    if goal > speed:
+        t, s = _append(phases, _ramp(t, s, speed, goal, accel, direction, shape))
+    elif goal < speed:
+        t, s = _append(phases, _ramp(t, s, speed, goal, decel, direction, shape))
+    phases.append(Phase(t, math.inf, s, goal, goal, direction, shape))
+    return Motion(phases, None, 0, t, residual=residual, direction=direction, kind="jog",
+                  peak_speed=max(goal, abs(velocity)))

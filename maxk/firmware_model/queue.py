@@ -1,0 +1,102 @@
+"""Per-axis FIFO command queue with LS/LE loops (manual 6.2, theory of operation).
+
+The firmware keeps a command queue of addresses and an argument queue; LS pushes its
+count and its own address on a loop stack, LE decrements and jumps back. Entries inside
+a loop cannot be released until the outermost loop ends, so the queue is a list with a
+program counter; consumed entries are dropped (and their units freed) only when no loop
+is open.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from .models import QUEUE_CAPACITY
+
+if TYPE_CHECKING:
+    from .axis import Axis
+    from .board import Board
+
+
+Action = Callable[["Axis", "Board"], Any]
+"""A queued command's effect. Returns None when finished, or a wait (see Axis.run_queue)."""
+
+
+@dataclass(slots=True)
+class QueueEntry:
+    mnemonic: str
+    units: int
+    action: Action
+    text: str = ""  # the command as the host sent it, for traces and the REPL
+    sync: Any = None  # the StartGroup of an AA-mode GO, so a flush can withdraw from it
+
+
+class QueueFull(Exception):
+    """The command does not fit: the board refuses it with a command error."""
+
+
+class CommandQueue:
+    __slots__ = ("capacity", "entries", "pc", "loops", "used_units")
+
+    def __init__(self, capacity: int = QUEUE_CAPACITY) -> None:
+        self.capacity = capacity
+        self.entries: list[QueueEntry] = []
+        self.pc = 0
+        self.loops: list[list[int]] = []  # [loop body start index, remaining count]
+        self.used_units = 0
+
+    @property
+    def free_units(self) -> int:
+        return self.capacity - self.used_units
+
+    def __len__(self) -> int:
+        return len(self.entries) - self.pc
+
+    def push(self, entry: QueueEntry) -> None:
+        if entry.units > self.free_units:
+            raise QueueFull(f"queue full ({self.free_units} units free, {entry.units} needed)")
+        self.entries.append(entry)
+        self.used_units += entry.units
+
+    def peek(self) -> QueueEntry | None:
+        return self.entries[self.pc] if self.pc < len(self.entries) else None
+
+    def advance(self) -> None:
+        """Move past the entry just executed; release consumed entries outside loops."""
+        self.pc += 1
+        if not self.loops:
+            self._release()
+
+    def _release(self) -> None:
+        if self.pc:
+            self.used_units -= sum(e.units for e in self.entries[: self.pc])
+            del self.entries[: self.pc]
+            self.pc = 0
+
+    def loop_start(self, count: int) -> None:
+        """LS: remember where the body starts (the entry after LS) and how often to run it."""
+        self.loops.append([self.pc + 1, count])
+
+    def loop_end(self) -> bool:
+        """LE: jump back while the count lasts. Returns True when it jumped."""
+        if not self.loops:
+            return False  # an LE without LS is a no-op, like a jump target that is gone
+        frame = self.loops[-1]
+        frame[1] -= 1
+        if frame[1] > 0:
+            self.pc = frame[0] - 1  # advance() will step onto the body start
+            return True
+        self.loops.pop()
+        return False
+
+    def flush(self) -> None:
+        """FL / ST / KL: drop every pending entry and any open loop."""
+        self.entries.clear()
+        self.pc = 0
+        self.loops.clear()
+        self.used_units = 0
+
+    def pending_text(self) -> list[str]:
+        return [e.text or e.mnemonic for e in self.entries[self.pc :]]
