@@ -1,0 +1,123 @@
+"""The `maxk` command: repl, run, commands, --version."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from . import __version__
+from .firmware_model.models import DEFAULT_MODEL, MODELS, UPDATE_RATES_HZ
+
+
+def _model(text: str) -> str:
+    from .firmware_model.models import model_by_name
+
+    try:
+        return model_by_name(text).name
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="maxk", description="An emulator of the OMS MAXk motion controller.")
+    parser.add_argument("--version", action="version", version=f"maxk {__version__}")
+    sub = parser.add_subparsers(dest="command")
+
+    repl = sub.add_parser("repl", help="interactive terminal, like MAXkComm (the default)")
+    repl.add_argument("--model", type=_model, default=DEFAULT_MODEL,
+                      help=f"board model, MAXk-1000..MAXk-A000 (default {DEFAULT_MODEL})")
+    repl.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=8192,
+                      help="update rate in Hz (default 8192: 122.07 us)")
+    clock = repl.add_mutually_exclusive_group()
+    clock.add_argument("--manual-time", action="store_true",
+                       help="virtual time moves only on :advance / :run (default: follows "
+                       "the wall clock)")
+    clock.add_argument("--speed", type=float, default=1.0,
+                       help="with the wall clock: K times faster than real time")
+    repl.add_argument("--history", type=Path, default=None,
+                      help="history file (default ~/.maxk_history)")
+
+    run = sub.add_parser("run", help="run a command script in virtual time, print replies")
+    run.add_argument("script", type=Path)
+    run.add_argument("--model", type=_model, default=None,
+                     help="board model (overrides the script's @board)")
+    run.add_argument("--verbose", "-v", action="store_true",
+                     help="show each command line with its tick before its replies")
+
+    cmds = sub.add_parser("commands", help="list the command table")
+    cmds.add_argument("--markdown", action="store_true",
+                      help="print the generated reference (docs/commands.md)")
+    cmds.add_argument("mnemonic", nargs="?", help="show one command in full")
+
+    sub.add_parser("models", help="list the board models")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.command in (None, "repl"):
+        from .repl import run_repl
+
+        if args.command is None:
+            return run_repl()
+        return run_repl(model=args.model, rate=args.rate, manual_time=args.manual_time,
+                        speed=args.speed, history=args.history)
+    if args.command == "run":
+        return _run(args)
+    if args.command == "commands":
+        return _commands(args)
+    if args.command == "models":
+        for name, model in MODELS.items():
+            print(f"{name}  {model.axes} axes  {model.axis_letters}")
+        return 0
+    return 2
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .script import ScriptError, load_script, run_script
+
+    try:
+        script = load_script(args.script)
+    except (OSError, ScriptError) as error:
+        print(f"maxk run: {error}", file=sys.stderr)
+        return 2
+    transcript = run_script(script, model=args.model)
+    for _line, tick, text, replies in transcript.entries:
+        if args.verbose:
+            print(f"[{tick:>8}] > {text.strip()}")
+        for reply in replies:
+            print(reply)
+    board = transcript.board
+    if board is not None and board.board.errors:
+        for record in board.board.errors:
+            print(f"maxk run: command error at tick {record.tick}: {record}", file=sys.stderr)
+    if transcript.failures:
+        for failure in transcript.failures:
+            print(f"FAIL {args.script}:{failure}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _commands(args: argparse.Namespace) -> int:
+    from .commands.reference import help_text, render_markdown
+    from .commands.table import COMMANDS, lookup
+
+    if args.markdown:
+        sys.stdout.write(render_markdown())
+        return 0
+    if args.mnemonic:
+        spec = lookup(args.mnemonic)
+        if spec is None:
+            print(f"maxk commands: no command {args.mnemonic!r}", file=sys.stderr)
+            return 1
+        print(help_text(spec))
+        return 0
+    for spec in COMMANDS.values():
+        print(f"{spec.syntax:<16} {spec.summary}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,253 @@
+"""The interactive terminal: MAXkComm, but with help, completion, history and a status line.
+
+Type controller commands as on the real board (`AX; VL5000; MR1000; GO; ID;`); each
+line is sent with a CR. Words the board never understands are the REPL's own:
+`help [XX]`, `quit`, and `:`-prefixed meta-commands (`:status`, `:advance 0.5 s`, ...).
+No MAX command starts with `:`, and `help`/`quit`/`exit` are not valid command
+sequences, so nothing meant for the board is ever taken by the REPL.
+
+Virtual time follows the wall clock by default (a move takes as long as on the real
+board); `--manual-time` or `:clock manual` stops it, and `:advance` / `:run` move it.
+The session logic lives in ReplSession so it can be tested without a terminal.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from .commands.reference import help_text
+from .commands.table import COMMANDS, lookup
+from .controller import MAXk
+from .firmware_model.flags import describe_doorbell
+from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from .script import parse_duration
+
+META_HELP = """\
+REPL words (everything else goes to the board):
+  help              this text          help XX      one command from the table
+  :status           every axis         :errors      recent command errors and why
+  :time             virtual time       :clock realtime|manual
+  :advance 0.5 s    move virtual time (also ms, ticks)
+  :run [10 s]       advance until every axis is idle (timeout, default 60 s)
+  :doorbell         doorbell flags     :clear       write ones to clear every doorbell bit
+  :commands         list mnemonics     quit / exit / Ctrl-D
+"""
+
+
+class ReplSession:
+    """One REPL session on one board: turns typed lines into output lines."""
+
+    def __init__(self, model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
+                 manual_time: bool = False, speed: float = 1.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.maxk = MAXk(model, rate)
+        self.manual_time = manual_time
+        self.speed = speed
+        self._clock = clock
+        self._epoch = clock()
+        self._tick_at_epoch = 0
+        self._errors_seen = 0
+        self.finished = False
+
+    # ---- time -----------------------------------------------------------------------
+    def sync(self) -> None:
+        """Bring virtual time up to the wall clock (realtime mode only)."""
+        if self.manual_time:
+            return
+        board = self.maxk.board
+        elapsed = (self._clock() - self._epoch) * self.speed
+        target = self._tick_at_epoch + int(elapsed * board.update_rate_hz)
+        if target > board.tick:
+            board.advance_to(target)
+
+    def set_clock(self, manual: bool) -> None:
+        self.sync()
+        self.manual_time = manual
+        self._epoch = self._clock()
+        self._tick_at_epoch = self.maxk.board.tick
+
+    # ---- lines ----------------------------------------------------------------------
+    def handle(self, line: str) -> list[str]:
+        self.sync()
+        text = line.strip()
+        word = text.lower()
+        if word in ("quit", "exit", ":quit", ":exit", ":q"):
+            self.finished = True
+            return []
+        if word == "help" or word.startswith("help ") or text.startswith(":"):
+            out = self._meta(text)
+        else:
+            out = list(self.maxk.send(line))
+        return out + self._new_errors()
+
+    def _new_errors(self) -> list[str]:
+        errors = list(self.maxk.board.errors)
+        total = len(errors)
+        # The deque keeps the newest 200; count what appeared since the last line.
+        new = errors[-(total - self._errors_seen):] if total > self._errors_seen else []
+        self._errors_seen = total
+        return [f"! command error: {record}" for record in new]
+
+    def _meta(self, text: str) -> list[str]:
+        body = text[1:] if text.startswith(":") else text
+        word, _, rest = body.strip().partition(" ")
+        word = word.lower()
+        rest = rest.strip()
+        if word == "help":
+            if not rest:
+                return META_HELP.rstrip("\n").splitlines()
+            spec = lookup(rest)
+            if spec is None:
+                return [f"no command {rest!r}; try :commands"]
+            return help_text(spec).splitlines()
+        if word == "status":
+            return self.status_lines()
+        if word == "errors":
+            errors = list(self.maxk.board.errors)[-20:]
+            if not errors:
+                return ["no command errors"]
+            return [f"tick {e.tick}: {e}" for e in errors]
+        if word == "time":
+            b = self.maxk.board
+            mode = "manual" if self.manual_time else f"realtime x{self.speed:g}"
+            return [f"tick {b.tick}, {b.time:.6f} s virtual ({mode}; "
+                    f"{b.period * 1e6:.2f} us per tick)"]
+        if word == "clock":
+            if rest not in ("realtime", "manual"):
+                return ["say :clock realtime or :clock manual"]
+            self.set_clock(rest == "manual")
+            return [f"clock: {rest}"]
+        if word == "advance":
+            try:
+                ticks = parse_duration(rest or "0", self.maxk.board.update_rate_hz)
+            except ValueError as error:
+                return [str(error)]
+            self.maxk.board.advance(ticks)
+            self._tick_at_epoch += ticks
+            return [f"tick {self.maxk.board.tick}"]
+        if word == "run":
+            try:
+                ticks = parse_duration(rest or "60 s", self.maxk.board.update_rate_hz)
+            except ValueError as error:
+                return [str(error)]
+            start = self.maxk.board.tick
+            idle = self.maxk.board.run_until_idle(ticks)
+            self._tick_at_epoch += self.maxk.board.tick - start
+            return [("idle" if idle else "still busy") + f" at tick {self.maxk.board.tick}"]
+        if word == "doorbell":
+            b = self.maxk.board
+            return [f"0x{b.doorbell:08x}: {describe_doorbell(b.doorbell, b.model.axis_letters)}"]
+        if word == "clear":
+            self.maxk.board.write_doorbell(0xFFFF_FFFF)
+            return ["doorbell cleared"]
+        if word == "commands":
+            return [f"{s.syntax:<16} {s.summary}" for s in COMMANDS.values()]
+        return [f"unknown REPL word :{word}; type help"]
+
+    # ---- display --------------------------------------------------------------------
+    def status_lines(self) -> list[str]:
+        lines = ["axis  position   encoder  velocity  status  queue"]
+        for s in self.maxk.status():
+            lines.append(f"{s.letter:>4} {s.position:>9} {s.encoder:>9} {s.velocity:>9}  "
+                         f"{s.status}    {s.queued}")
+        b = self.maxk.board
+        flags = describe_doorbell(b.doorbell, b.model.axis_letters)
+        lines.append(f"doorbell 0x{b.doorbell:08x} ({flags})")
+        return lines
+
+    def prompt(self) -> str:
+        b = self.maxk.board
+        mode = f"A{b.model.axis_letters[b.current_axis]}" if b.mode == "single" else b.mode
+        return f"{b.model.name} {mode}> "
+
+    def toolbar(self) -> str:
+        self.sync()
+        b = self.maxk.board
+        parts = []
+        for s in self.maxk.status():
+            mark = "D" if s.done else ("~" if s.moving else " ")
+            parts.append(f"{s.letter}{s.position}{mark}")
+        flags = describe_doorbell(b.doorbell, b.model.axis_letters)
+        return f" t={b.time:.3f}s  {' '.join(parts)}  flags: {flags}"
+
+
+def _history_path(path: Path | None) -> Path:
+    if path is not None:
+        return path
+    return Path(os.environ.get("MAXK_HISTORY", Path.home() / ".maxk_history"))
+
+
+def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
+             manual_time: bool = False, speed: float = 1.0,
+             history: Path | None = None) -> int:
+    session = ReplSession(model, rate, manual_time, speed)
+    if not sys.stdin.isatty():
+        return _run_piped(session, sys.stdin)
+    try:
+        from prompt_toolkit import PromptSession
+        from prompt_toolkit.history import FileHistory
+    except ImportError:  # pragma: no cover - prompt_toolkit is a dependency
+        return _run_piped(session, sys.stdin, prompt=True)
+    prompt_session: PromptSession[str] = PromptSession(
+        history=FileHistory(str(_history_path(history))),
+        completer=MnemonicCompleter(),
+        complete_while_typing=False,
+        bottom_toolbar=session.toolbar,
+        refresh_interval=None if manual_time else 0.25,
+    )
+    print(f"maxk: {session.maxk.board.model.name} emulator. Type help for REPL words, "
+          "help XX for a command, Ctrl-D to leave.")
+    while not session.finished:
+        try:
+            line = prompt_session.prompt(session.prompt)
+        except KeyboardInterrupt:
+            continue
+        except EOFError:
+            break
+        for out in session.handle(line):
+            print(out)
+    return 0
+
+
+def _run_piped(session: ReplSession, lines: Iterable[str], prompt: bool = False) -> int:
+    """Without a terminal (a pipe, a test), read lines and print what the REPL would."""
+    for line in lines:
+        if prompt:
+            print(session.prompt(), end="", flush=True)
+        for out in session.handle(line.rstrip("\n")):
+            print(out, flush=True)
+        if session.finished:
+            break
+    return 0
+
+
+try:
+    from prompt_toolkit.completion import Completer, Completion
+
+    class MnemonicCompleter(Completer):
+        """Tab completion from the command table (and the REPL's own words)."""
+
+        def get_completions(self, document, complete_event):  # type: ignore[no-untyped-def]
+            text = document.text_before_cursor
+            if text.lstrip().startswith(":") or text.lstrip().lower().startswith("help "):
+                return
+            word = ""
+            for ch in reversed(text):
+                if ch.isalpha() or ch in "#?":
+                    word = ch + word
+                else:
+                    break
+            if not word:
+                return
+            key = word.upper()
+            for spec in COMMANDS.values():
+                if spec.mnemonic.startswith(key):
+                    yield Completion(spec.mnemonic, start_position=-len(word),
+                                     display_meta=spec.summary)
+
+except ImportError:  # pragma: no cover
+    MnemonicCompleter = None  # type: ignore[assignment,misc]

@@ -1,0 +1,274 @@
+"""Command scripts: controller commands, expected replies and waits in virtual time.
+
+A script is plain text, one item per line (format in docs/scripts.md):
+
+    // comment                      (blank lines too)
+    @board MAXk-4000                 (before the first command; default MAXk-8000)
+    @rate 4096                       (update rate in Hz, before the first command)
+    AX; VL5000; AC50000; MA10000; GO; ID;
+    @wait 0.5 s                      (also: ms, ticks)
+    @wait until X done within 5 s    (also: until idle, until all done)
+    AX RP
+    < 10000                          (the reply the previous command line must give)
+    @expect X position 10000         (also: encoder, velocity, done, not done,
+                                      error, no error, doorbell 0x...)
+
+Controller commands are sent exactly as written, each line ended by a CR as a terminal
+would. Directives start with `@`, expected replies with `<`, comments with `//`: no
+MAX command starts with any of these, so they can never be mistaken for one.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .controller import MAXk
+from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
+
+
+class ScriptError(Exception):
+    """A script line that cannot be understood (names the line)."""
+
+    def __init__(self, path: str, line: int, message: str) -> None:
+        super().__init__(f"{path}:{line}: {message}")
+        self.path = path
+        self.line = line
+        self.message = message
+
+
+@dataclass(frozen=True)
+class Step:
+    line: int
+    kind: str  # "send", "expect-reply", "wait", "wait-until", "expect"
+    text: str
+    args: tuple = ()
+
+
+@dataclass
+class Script:
+    path: str
+    steps: list[Step]
+    model: str = DEFAULT_MODEL
+    update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ
+    lines: list[str] = field(default_factory=list)
+
+
+_DURATION = re.compile(r"^(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|sec|ms|us|ticks?)?$", re.I)
+_UNTIL = re.compile(
+    r"^until\s+(?P<what>idle|all\s+done|(?P<axes>[A-Za-z]+)\s+done)"
+    r"(?:\s+within\s+(?P<timeout>.+))?$",
+    re.I,
+)
+DEFAULT_TIMEOUT_S = 60.0
+
+
+def parse_duration(text: str, update_rate_hz: int) -> int:
+    """A duration to ticks: '0.5 s', '250 ms', '100 ticks' (a bare number is seconds)."""
+    m = _DURATION.match(text.strip())
+    if not m:
+        raise ValueError(f"not a duration: {text!r} (say e.g. 0.5 s, 250 ms or 100 ticks)")
+    value = float(m["value"])
+    unit = (m["unit"] or "s").lower()
+    if unit.startswith("tick"):
+        if not value.is_integer():
+            raise ValueError(f"ticks must be whole: {text!r}")
+        return int(value)
+    seconds = value * {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6}[unit]
+    return int(-(-round(seconds * update_rate_hz * 1e9) // 10**9))  # ceil without float fuzz
+
+
+def parse_script(text: str, path: str = "<script>") -> Script:
+    lines = text.splitlines()
+    script = Script(path, [], lines=lines)
+    seen_command = False
+    for number, raw in enumerate(lines, start=1):
+        line = raw.strip()
+        if not line or line.startswith("//"):
+            continue
+        if line.startswith("<"):
+            if not script.steps or script.steps[-1].kind not in ("send", "expect-reply"):
+                raise ScriptError(path, number, "an expected reply must follow a command line")
+            script.steps.append(Step(number, "expect-reply", line[1:].strip()))
+            continue
+        if line.startswith("@"):
+            word, _, rest = line[1:].partition(" ")
+            word = word.lower()
+            rest = rest.strip()
+            try:
+                if word == "board":
+                    if seen_command:
+                        raise ValueError("@board must come before the first command")
+                    script.model = model_by_name(rest).name
+                elif word == "rate":
+                    if seen_command:
+                        raise ValueError("@rate must come before the first command")
+                    rate = int(rest)
+                    if rate not in (1024, 2048, 4096, 8192):
+                        raise ValueError("@rate takes 1024, 2048, 4096 or 8192 (Hz)")
+                    script.update_rate_hz = rate
+                elif word == "wait":
+                    script.steps.append(_parse_wait(number, rest))
+                elif word == "expect":
+                    script.steps.append(_parse_expect(number, rest))
+                else:
+                    raise ValueError(f"unknown directive @{word}")
+            except ValueError as error:
+                raise ScriptError(path, number, str(error)) from None
+            continue
+        seen_command = True
+        script.steps.append(Step(number, "send", raw.rstrip("\r\n")))
+    return script
+
+
+def _parse_wait(line: int, rest: str) -> Step:
+    m = _UNTIL.match(rest)
+    if m:
+        timeout = m["timeout"] or f"{DEFAULT_TIMEOUT_S} s"
+        if m["axes"]:
+            what = ("done", m["axes"].upper())
+        elif m["what"].lower() == "idle":
+            what = ("idle", "")
+        else:
+            what = ("done", "")
+        return Step(line, "wait-until", rest, (what, timeout))
+    if not rest:
+        raise ValueError("@wait needs a duration or 'until ...'")
+    if not _DURATION.match(rest):
+        raise ValueError(f"not a duration: {rest!r} (say e.g. 0.5 s, 250 ms, 100 ticks, "
+                         "or until X done)")
+    return Step(line, "wait", rest)
+
+
+_EXPECT = re.compile(
+    r"^(?:(?P<axis>[A-Za-z])\s+(?P<field>position|encoder|velocity)\s+(?P<value>-?\d+)"
+    r"|(?P<axis2>[A-Za-z])\s+(?P<done>not\s+done|done)"
+    r"|(?P<error>no\s+error|error)"
+    r"|doorbell\s+(?P<doorbell>0x[0-9a-fA-F]+|\d+))$",
+    re.I,
+)
+
+
+def _parse_expect(line: int, rest: str) -> Step:
+    m = _EXPECT.match(rest.strip())
+    if not m:
+        raise ValueError(
+            f"cannot read @expect {rest!r}: say e.g. 'X position 1000', 'X done', "
+            "'X not done', 'error', 'no error' or 'doorbell 0x1'"
+        )
+    return Step(line, "expect", rest, tuple(m.groupdict().items()))
+
+
+# ---- running -------------------------------------------------------------------------
+@dataclass
+class Failure:
+    line: int
+    command: str
+    expected: str
+    actual: str
+    tick: int
+
+    def __str__(self) -> str:
+        return (f"line {self.line} (tick {self.tick}): {self.command}\n"
+                f"  expected: {self.expected}\n  actual:   {self.actual}")
+
+
+@dataclass
+class Transcript:
+    """What a run produced: each command line with its replies, and any failures."""
+
+    entries: list[tuple[int, int, str, list[str]]] = field(default_factory=list)
+    failures: list[Failure] = field(default_factory=list)
+    board: MAXk | None = None
+
+    @property
+    def replies(self) -> list[str]:
+        return [r for _, _, _, replies in self.entries for r in replies]
+
+
+def run_script(script: Script, *, model: str | None = None,
+               update_rate_hz: int | None = None) -> Transcript:
+    """Run a script on a fresh board; the same script always gives the same transcript."""
+    board = MAXk(model or script.model, update_rate_hz or script.update_rate_hz)
+    transcript = Transcript(board=board)
+    pending: list[str] = []  # replies of the last command line not yet matched
+    last_command, last_line = "", 0
+    strict = any(step.kind == "expect-reply" for step in script.steps)
+    for step in script.steps:
+        if strict and pending and step.kind != "expect-reply":
+            transcript.failures.append(
+                Failure(last_line, last_command, "(no more replies)", pending.pop(0), board.tick))
+            pending.clear()
+        if step.kind == "send":
+            replies = board.send(step.text)
+            transcript.entries.append((step.line, board.tick, step.text, replies))
+            pending = list(replies)
+            last_command, last_line = step.text, step.line
+        elif step.kind == "expect-reply":
+            actual = pending.pop(0) if pending else "(no reply)"
+            if actual != step.text:
+                transcript.failures.append(
+                    Failure(step.line, last_command, step.text, actual, board.tick))
+        elif step.kind == "wait":
+            board.board.advance(parse_duration(step.text, board.board.update_rate_hz))
+        elif step.kind == "wait-until":
+            (what, axes), timeout_text = step.args
+            timeout = parse_duration(timeout_text, board.board.update_rate_hz)
+            if what == "idle":
+                ok = board.board.run_until_idle(timeout)
+            else:
+                ok = board.run_until_done(*axes, timeout=timeout * board.board.period)
+            if not ok:
+                transcript.failures.append(Failure(
+                    step.line, f"@wait {step.text}", f"{what} {axes}".strip(),
+                    "timed out", board.tick))
+        elif step.kind == "expect":
+            failure = _check_expect(board, step)
+            if failure:
+                transcript.failures.append(failure)
+    if strict and pending:
+        transcript.failures.append(
+            Failure(last_line, last_command, "(no more replies)", pending[0], board.tick))
+    return transcript
+
+
+def _check_expect(board: MAXk, step: Step) -> Failure | None:
+    g = dict(step.args)
+    try:
+        if g["field"]:
+            letter = g["axis"].upper()
+            fieldname = g["field"].lower()
+            actual_value = {
+                "position": lambda: board.position(letter),
+                "encoder": lambda: board.encoder(letter),
+                "velocity": lambda: round(board.velocity(letter)),
+            }[fieldname]()
+            ok = actual_value == int(g["value"])
+            actual = f"{letter} {fieldname} {actual_value}"
+        elif g["done"]:
+            letter = g["axis2"].upper()
+            want = g["done"].lower() == "done"
+            ok = board.done(letter) == want
+            actual = f"{letter} {'done' if board.done(letter) else 'not done'}"
+        elif g["error"]:
+            want = g["error"].lower() == "error"
+            ok = board.command_error == want
+            actual = "error" if board.command_error else "no error"
+            if board.last_error:
+                actual += f" (last: {board.last_error})"
+        else:
+            want_word = int(g["doorbell"], 0)
+            ok = board.doorbell == want_word
+            actual = f"doorbell 0x{board.doorbell:08x}"
+    except KeyError as error:
+        return Failure(step.line, f"@expect {step.text}", step.text, str(error), board.tick)
+    if ok:
+        return None
+    return Failure(step.line, f"@expect {step.text}", step.text, actual, board.tick)
+
+
+def load_script(path: str | Path) -> Script:
+    p = Path(path)
+    return parse_script(p.read_text(encoding="utf-8"), str(p))
+
