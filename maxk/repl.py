@@ -60,7 +60,7 @@ class ReplSession:
             return
         board = self.maxk.board
         elapsed = (self._clock() - self._epoch) * self.speed
-        target = self._tick_at_epoch + int(elapsed * board.update_rate_hz)
+        target = self._tick_at_epoch + int(elapsed * board.update_rate_hz + 1e-6)
         if target > board.tick:
             board.advance_to(target)
 

@@ -135,6 +135,7 @@ class Lexer:
                         out.append(ParsedCommand(spec, (), False, text))
                     else:
                         out.append(LexError(text, f"{mnemonic} needs an operand"))
+                        self._skipping = True  # `VLabc` is one bad token, not two
                     continue
                 slots = tuple(s if s else None for s in run.split(","))
                 bad_slot = next((s for s in slots if s is not None and not _NUMBER.match(s)),

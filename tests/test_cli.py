@@ -1,0 +1,72 @@
+"""The maxk command as a user runs it (in-process main(), and once as a real process)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+from maxk import __version__
+from maxk.cli import main
+
+ROOT = Path(__file__).parent.parent
+
+
+def test_version(capsys):
+    try:
+        main(["--version"])
+    except SystemExit as exit_:
+        assert exit_.code == 0
+    assert capsys.readouterr().out.strip() == f"maxk {__version__}"
+
+
+def test_run_prints_replies(tmp_path, capsys):
+    script = tmp_path / "move.maxk"
+    script.write_text("AX; VL5000; AC50000; MA10000; GO; ID;\n@wait until X done\nAX RP\nWY\n")
+    assert main(["run", str(script)]) == 0
+    assert capsys.readouterr().out == "10000\nMAXk-8000, ver:1.33, S/N: 000001, FPGA:20\n"
+
+
+def test_run_model_override_and_verbose(tmp_path, capsys):
+    script = tmp_path / "m.maxk"
+    script.write_text("AA RP\n")
+    assert main(["run", "-v", "--model", "MAXk-3000", str(script)]) == 0
+    assert capsys.readouterr().out == "[       0] > AA RP\n0,0,0\n"
+
+
+def test_run_failure_exit_code_and_diff(tmp_path, capsys):
+    script = tmp_path / "f.maxk"
+    script.write_text("AX RP\n< 5\n")
+    assert main(["run", str(script)]) == 1
+    err = capsys.readouterr().err
+    assert "f.maxk:line 2" in err and "expected: 5" in err and "actual:   0" in err
+
+
+def test_run_malformed_script_is_a_clear_error(tmp_path, capsys):
+    script = tmp_path / "bad.maxk"
+    script.write_text("@wait whenever\n")
+    assert main(["run", str(script)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.maxk:1: not a duration" in err
+    assert "Traceback" not in err
+
+
+def test_commands_listing_and_single_help(capsys):
+    assert main(["commands", "VL"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("VL#  —  Peak (slew) velocity")
+    assert main(["commands", "NOPE"]) == 1
+
+
+def test_generated_reference_is_up_to_date(capsys):
+    assert main(["commands", "--markdown"]) == 0
+    generated = capsys.readouterr().out
+    on_disk = (ROOT / "docs" / "commands.md").read_text()
+    assert generated == on_disk, "run: maxk commands --markdown > docs/commands.md"
+
+
+def test_console_script_runs_as_a_process(tmp_path):
+    script = tmp_path / "s.maxk"
+    script.write_text("AXMR10;GDID\n@wait until X done\nAXRP\n")
+    result = subprocess.run([sys.executable, "-m", "maxk", "run", str(script)],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == "10\n"
