@@ -332,7 +332,7 @@ def _stop(ctx: Context) -> None:
 
 def stop_axis(axis: Axis, board: Board) -> None:
     """ST: flush, decelerate, and hold later entries until the axis is at rest."""
-    axis.flush()
+    axis.flush(board)
     axis.stop(board)
     if axis.motion is not None:
         axis.wait = WAIT_REST_RETRY
@@ -354,7 +354,7 @@ def _kill_selected(ctx: Context) -> None:
     else:
         targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
     for axis in targets:
-        axis.flush()
+        axis.flush(board)
         axis.kill(board)
 
 
@@ -369,7 +369,7 @@ def _interrupt_clear(ctx: Context) -> None:
 
 def _flush(ctx: Context) -> None:
     for axis in ctx.board.axes if ctx.listing else ctx.axes:
-        axis.flush()
+        axis.flush(ctx.board)
 
 
 def _report_position(ctx: Context) -> str:

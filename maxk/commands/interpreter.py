@@ -118,7 +118,10 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
             raise CommandError(f"{spec.mnemonic}: no operand given")
     ctx = Context(board, cmd, axes, values)
     if spec.timing is Timing.IMMEDIATE:
-        return IMMEDIATE[spec.mnemonic](ctx)
+        reply = IMMEDIATE[spec.mnemonic](ctx)
+        if board.cross_axis_event:  # a flush released an AA start group
+            board.run_queues()
+        return reply
     if cmd.query:
         return ctx.per_axis(SETTING_QUERIES[spec.mnemonic])
     return _enqueue(ctx)

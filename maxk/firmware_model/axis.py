@@ -216,13 +216,16 @@ class Axis:
             else:
                 self.wait = result
 
-    def flush(self) -> None:
+    def flush(self, board: Board) -> None:
+        """Drop every pending entry. An AA start group this axis had not yet joined no
+        longer waits for it: the remaining members may start on this very tick."""
         queue = self.queue
-        for entry in queue.entries[queue.pc :]:
-            if entry.sync is not None:
-                entry.sync.withdraw(self)
+        groups = [e.sync for e in queue.pending() if e.sync is not None]
         if isinstance(self.wait, StartGroup):
-            self.wait.withdraw(self)
+            groups.append(self.wait)
+        for group in groups:
+            group.withdraw(self, board)
+            board.cross_axis_event = True
         queue.flush()
         self.wait = None
         self.pending_target = None
@@ -258,9 +261,10 @@ class StartGroup:
 
     def arrive(self, axis: Axis, board: Board) -> None:
         self.arrived.add(axis.index)
+        board.cross_axis_event = True  # other members' queues may now move
         self._maybe_fire(board)
 
-    def withdraw(self, axis: Axis) -> None:
+    def withdraw(self, axis: Axis, board: Board) -> None:
         self.members.discard(axis.index)
         self.arrived.discard(axis.index)
 

@@ -47,6 +47,7 @@ class Board:
         self.mode: str = "single"
         self.current_axis = 0
         self.command_error = False
+        self.cross_axis_event = False  # set when one axis's queue can unblock another's
         self.errors: deque[CommandErrorRecord] = deque(maxlen=200)
         self._listeners: list[FlagListener] = []
 
@@ -64,17 +65,14 @@ class Board:
 
     # ---- time ------------------------------------------------------------------------
     def run_queues(self, axes: Iterable[Axis] | None = None) -> None:
-        """Run queues at the current tick until none can progress (AA-mode GO barriers
-        need another pass once the last member arrives)."""
-        targets = list(axes) if axes is not None else self.axes
-        while True:
-            progressed = False
-            for axis in targets:
-                if axis.run_queue(self):
-                    progressed = True
-            if not progressed:
-                return
-            targets = self.axes
+        """Run queues at the current tick until none can progress. Queues are independent
+        except at AA-mode GO barriers: only then is every axis given another pass."""
+        for axis in self.axes if axes is None else axes:
+            axis.run_queue(self)
+        while self.cross_axis_event:
+            self.cross_axis_event = False
+            for axis in self.axes:
+                axis.run_queue(self)
 
     def next_event(self) -> int | None:
         best: int | None = None
@@ -226,12 +224,12 @@ class Board:
 
     def stop_all(self) -> None:
         for axis in self.axes:
-            axis.flush()
+            axis.flush(self)
             axis.stop(self)
             if axis.motion is not None:
                 axis.wait = None
 
     def kill_all(self) -> None:
         for axis in self.axes:
-            axis.flush()
+            axis.flush(self)
             axis.kill(self)

@@ -9,6 +9,7 @@ is open.
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -42,7 +43,7 @@ class CommandQueue:
 
     def __init__(self, capacity: int = QUEUE_CAPACITY) -> None:
         self.capacity = capacity
-        self.entries: list[QueueEntry] = []
+        self.entries: deque[QueueEntry] = deque()
         self.pc = 0
         self.loops: list[list[int]] = []  # [loop body start index, remaining count]
         self.used_units = 0
@@ -70,10 +71,10 @@ class CommandQueue:
             self._release()
 
     def _release(self) -> None:
-        if self.pc:
-            self.used_units -= sum(e.units for e in self.entries[: self.pc])
-            del self.entries[: self.pc]
-            self.pc = 0
+        entries = self.entries
+        while self.pc:
+            self.used_units -= entries.popleft().units
+            self.pc -= 1
 
     def loop_start(self, count: int) -> None:
         """LS: remember where the body starts (the entry after LS) and how often to run it."""
@@ -98,5 +99,6 @@ class CommandQueue:
         self.loops.clear()
         self.used_units = 0
 
-    def pending_text(self) -> list[str]:
-        return [e.text or e.mnemonic for e in self.entries[self.pc :]]
+    def pending(self) -> list[QueueEntry]:
+        """Entries not yet executed (inside an open loop, the ones after the pc)."""
+        return [self.entries[i] for i in range(self.pc, len(self.entries))]

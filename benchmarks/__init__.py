@@ -1,0 +1,1 @@
+"""Benchmarks: `python -m benchmarks [--json]` prints ratios, never asserts wall time."""

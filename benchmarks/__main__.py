@@ -1,0 +1,149 @@
+"""Run every benchmark and print a table, or one JSON object per figure with --json.
+
+Figures are ratios (simulated seconds per wall second, commands per second) measured
+on one core; targets are printed beside them for the reader, not enforced.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import tracemalloc
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from maxk import MAXk
+
+
+@dataclass
+class Figure:
+    name: str
+    value: float
+    unit: str
+    target: float | None = None
+    note: str = ""
+
+
+def _best_of(runs: int, fn: Callable[[], tuple[float, float]]) -> tuple[float, float]:
+    """Run fn (returning work, wall seconds) a few times; keep the fastest rate."""
+    best = (0.0, float("inf"))
+    for _ in range(runs):
+        work, wall = fn()
+        if work / wall > best[0] / best[1]:
+            best = (work, wall)
+    return best
+
+
+def steppers_back_to_back(poll_hz: float | None, sim_seconds: float = 600.0) -> Figure:
+    """10 stepper axes, each running an endless loop of back-to-back moves."""
+
+    def run() -> tuple[float, float]:
+        board = MAXk("MAXk-A000")
+        board.send("AA; VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;")
+        board.send("AC500000,400000,300000,200000,100000,500000,400000,300000,200000,100000;")
+        board.send("AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
+                   "1000000,1000000; MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777; "
+                   "GO; MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777; GO; LE;")
+        start = time.perf_counter()
+        if poll_hz is None:
+            board.advance(sim_seconds)
+        else:
+            step = board.ticks(1.0 / poll_hz)
+            end = board.tick + board.ticks(sim_seconds)
+            while board.tick < end:
+                board.advance(ticks=step)
+                board.send("AM;RI;")
+                board.send("AM PP;")
+        wall = time.perf_counter() - start
+        assert board.board.axes[0].motion is not None or board.board.axes[0].wait is not None
+        return sim_seconds, wall
+
+    work, wall = _best_of(3, run)
+    label = "no host polling" if poll_hz is None else f"host polling RI+PP at {poll_hz:g} Hz"
+    return Figure(f"steppers_10_axes_{'free' if poll_hz is None else 'polled'}",
+                  work / wall, "simulated s per wall s", 500.0, label)
+
+
+def command_throughput(n_lines: int = 4000) -> Figure:
+    """Commands per second through lexer, interpreter and queues (executing as they go)."""
+    line = ("AX;VL5000;AC50000;VB100;MR1000;LP0;ID;RP;AY;VL6000;MA-250;LPE5;CA;"
+            "AA;VL1000,2000,3000,4000,5000,6000,7000,8000;MR1,,3;LP0,0,0;RQC;")
+    per_line = 23
+
+    def run() -> tuple[float, float]:
+        board = MAXk()
+        start = time.perf_counter()
+        for _ in range(n_lines):
+            board.write(line)
+        wall = time.perf_counter() - start
+        assert not board.command_error, board.last_error
+        return n_lines * per_line, wall
+
+    work, wall = _best_of(3, run)
+    return Figure("commands_per_second", work / wall, "commands/s", 200_000.0,
+                  "mixed queued, immediate and AA-list commands")
+
+
+def lexer_throughput(n_lines: int = 4000) -> Figure:
+    from maxk.commands.lexer import Lexer
+
+    line = "AX;VL5000;AC50000;MR1000;GO;ID;AM;RI;AM PP;AXMA1000;GDID;LMH,H,H,H;"
+    per_line = 14
+
+    def run() -> tuple[float, float]:
+        lexer = Lexer()
+        start = time.perf_counter()
+        for _ in range(n_lines):
+            lexer.feed(line)
+        return n_lines * per_line, time.perf_counter() - start
+
+    work, wall = _best_of(3, run)
+    return Figure("lexer_commands_per_second", work / wall, "commands/s", None,
+                  "lexer alone")
+
+
+def memory_per_board() -> Figure:
+    tracemalloc.start()
+    boards = [MAXk("MAXk-A000") for _ in range(16)]
+    for b in boards:
+        b.send("AA; MR1,2,3,4,5,6,7,8,9,10; GO; ID;")
+    current, _ = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return Figure("memory_per_10_axis_board", current / len(boards) / 1024, "KiB", None,
+                  "16 boards, each with one queued move per axis")
+
+
+BENCHMARKS: dict[str, Callable[[], Figure]] = {
+    "steppers_free": lambda: steppers_back_to_back(None),
+    "steppers_polled": lambda: steppers_back_to_back(10.0, sim_seconds=120.0),
+    "commands": command_throughput,
+    "lexer": lexer_throughput,
+    "memory": memory_per_board,
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks")
+    parser.add_argument("--json", action="store_true", help="one JSON object per figure")
+    parser.add_argument("names", nargs="*", help=f"which of {', '.join(BENCHMARKS)} "
+                        "(default: all)")
+    args = parser.parse_args(argv)
+    unknown = [n for n in args.names if n not in BENCHMARKS]
+    if unknown:
+        parser.error(f"unknown benchmark {unknown[0]!r}; choose from {', '.join(BENCHMARKS)}")
+    names = args.names or list(BENCHMARKS)
+    if not args.json:
+        print(f"{'figure':<34} {'value':>14}  {'unit':<24} {'target':>10}  note")
+    for name in names:
+        fig = BENCHMARKS[name]()
+        if args.json:
+            print(json.dumps({"name": fig.name, "value": round(fig.value, 3), "unit": fig.unit}))
+        else:
+            target = f">= {fig.target:,.0f}" if fig.target else ""
+            print(f"{fig.name:<34} {fig.value:>14,.1f}  {fig.unit:<24} {target:>10}  {fig.note}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
