@@ -65,6 +65,29 @@ def steppers_back_to_back(poll_hz: float | None, sim_seconds: float = 600.0) -> 
                   work / wall, "simulated s per wall s", 500.0, label)
 
 
+def steppers_varied(moves_per_axis: int = 400) -> Figure:
+    """10 axes, every move a different length and speed (no plan is ever reused)."""
+    import random
+
+    def run() -> tuple[float, float]:
+        rng = random.Random(1234)
+        board = MAXk("MAXk-A000")
+        for letter in "XYZTUVRSWK":
+            parts = [f"A{letter}"]
+            for _ in range(moves_per_axis):
+                parts.append(f"VL{rng.randint(1000, 200_000)};AC{rng.randint(10_000, 2_000_000)};"
+                             f"MR{rng.randint(-50_000, 50_000)};GO")
+            board.send(";".join(parts) + ";")
+        start = time.perf_counter()
+        board.run_until_idle(timeout=10_000)
+        wall = time.perf_counter() - start
+        return board.time, wall
+
+    work, wall = _best_of(3, run)
+    return Figure("steppers_10_axes_varied", work / wall, "simulated s per wall s", 500.0,
+                  f"{moves_per_axis} different moves per axis, nothing reused")
+
+
 def command_throughput(n_lines: int = 4000) -> Figure:
     """Commands per second through lexer, interpreter and queues (executing as they go)."""
     line = ("AX;VL5000;AC50000;VB100;MR1000;LP0;ID;RP;AY;VL6000;MA-250;LPE5;CA;"
@@ -117,6 +140,7 @@ def memory_per_board() -> Figure:
 BENCHMARKS: dict[str, Callable[[], Figure]] = {
     "steppers_free": lambda: steppers_back_to_back(None),
     "steppers_polled": lambda: steppers_back_to_back(10.0, sim_seconds=120.0),
+    "steppers_varied": steppers_varied,
     "commands": command_throughput,
     "lexer": lexer_throughput,
     "memory": memory_per_board,

@@ -132,17 +132,33 @@ def _enqueue(ctx: Context) -> None:
     spec = ctx.command.spec
     validate_queued(ctx)
     units = spec.units
+    mnemonic = spec.mnemonic
     short = [a.letter for a in ctx.axes if a.queue.free_units < units]
     if short:
-        raise CommandError(f"{spec.mnemonic}: command queue full on axis {','.join(short)}")
+        raise CommandError(f"{mnemonic}: command queue full on axis {','.join(short)}")
     text = ctx.command.text
-    if spec.mnemonic in GO_COMMANDS and board.mode == AA:
+    if mnemonic in GO_COMMANDS and board.mode == AA:
         group = StartGroup(ctx.axes)
         for axis in ctx.axes:
-            axis.queue.push(QueueEntry(spec.mnemonic, units, go_together(group), text, group))
-    else:
-        factory = QUEUED[spec.mnemonic]
-        for axis, value in zip(ctx.axes, ctx.values, strict=True):
-            axis.queue.push(QueueEntry(spec.mnemonic, units, factory(value, ctx), text))
-    board.run_queues(ctx.axes)
+            axis.queue.push(QueueEntry(mnemonic, units, go_together(group), text, group))
+        board.run_queues(ctx.axes)
+        return None
+    factory = QUEUED[mnemonic]
+    direct = mnemonic != "LS"  # LS must sit in the queue: LE jumps back to it
+    for axis, value in zip(ctx.axes, ctx.values, strict=True):
+        action = factory(value, ctx)
+        queue = axis.queue
+        if direct and axis.wait is None and not queue.entries:
+            # An idle axis with an empty queue reaches this entry at once: run it now,
+            # exactly as push-then-pop would, and queue it only if it has to wait.
+            result = action(axis, board)
+            if result is None:
+                continue
+            queue.push(QueueEntry(mnemonic, units, action, text))
+            axis.wait = result
+        else:
+            queue.push(QueueEntry(mnemonic, units, action, text))
+        axis.run_queue(board)
+    if board.cross_axis_event:
+        board.run_queues()
     return None

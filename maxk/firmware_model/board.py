@@ -87,15 +87,23 @@ class Board:
         if tick < self.tick:
             raise ValueError("time only moves forward")
         self.run_queues()
+        axes = self.axes
         while True:
             event = self.next_event()
             if event is None or event > tick:
                 break
-            self.tick = max(event, self.tick)
-            for axis in self.axes:
-                if axis.motion_end is not None and axis.motion_end <= self.tick:
+            now = self.tick = max(event, self.tick)
+            due = []
+            for axis in axes:
+                end = axis.motion_end
+                if end is not None and end <= now:
                     axis.finish_motion()
-            self.run_queues()
+                    due.append(axis)
+                else:
+                    wait = axis.wait
+                    if type(wait) is tuple and wait[1] <= now:
+                        due.append(axis)
+            self.run_queues(due)
         self.tick = tick
 
     def advance(self, ticks: int) -> None:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum
+from functools import lru_cache
 
 
 class RampShape(Enum):
@@ -185,11 +186,14 @@ def _append(phases: list[Phase], phase: Phase) -> tuple[float, float]:
     return phase.t0 + phase.duration, phase.s0 + phase.direction * phase.length
 
 
+@lru_cache(maxsize=4096)
 def plan_move(distance: int, base: float, peak: float, accel: float, decel: float,
               shape: RampShape) -> Motion:
     """A point-to-point move from rest: jump to VB, ramp to VL, slew, ramp to VB, stop.
 
     Short moves become triangles: the peak speed is solved so that both ramps meet.
+    Memoised: scans repeat the same moves, and a plan is never modified once made
+    (Motion's phase cursor is only a lookup hint, safe to share).
     """
     direction = 1 if distance >= 0 else -1
     d = abs(distance)
