@@ -65,12 +65,14 @@ def test_query_forms():
 
 
 def test_garbage_is_one_error_and_the_rest_still_runs():
-    assert names("XX;RP") == ["error:unknown command 'X'", "RP"]
-    assert names("QQQ RP") == ["error:unknown command 'QQ'", "RP"]
+    assert names("XX;RP") == ["error:unknown command 'XX'", "RP"]
+    assert names("QQQ RP") == ["error:unknown command 'QQQ'", "RP"]
     assert names("MA RP") == ["error:MA needs an operand", "RP"]
     assert names("MA1.2.3;RP") == ["error:MA: malformed number '1.2.3'", "RP"]
     assert names("PSX RP") == ["error:PS needs one of O/E/M/?", "RP"]
     assert names("RQX;RP") == ["error:unknown command 'RQX'", "RP"]
+    assert names("AXQQ;RP") == ["AX", "error:unknown command 'QQ'", "RP"]
+    assert names("X" * 1000 + ";RP") == ["error:unknown command '" + "X" * 32 + "...'", "RP"]
 
 
 def test_partial_input_is_held_until_it_cannot_change():
@@ -87,6 +89,13 @@ def lexer_spec(m):
     from maxk.commands.table import COMMANDS
 
     return COMMANDS[m]
+
+
+def test_unknown_token_is_reported_when_it_ends():
+    lexer = Lexer()
+    assert lexer.feed("ZZ") == []
+    assert lexer.feed("Z RP;") == [LexError("ZZZ", "unknown command 'ZZZ'"),
+                                   ParsedCommand(lexer_spec("RP"), (), False, "RP")]
 
 
 def test_unterminated_garbage_is_bounded():

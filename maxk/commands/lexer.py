@@ -55,11 +55,13 @@ class LexError:
 class Lexer:
     """Feed it text as it arrives; it returns what is complete and keeps the rest."""
 
-    __slots__ = ("_buf", "_skipping")
+    __slots__ = ("_buf", "_skipping", "_bad", "_bad_count")
 
     def __init__(self) -> None:
         self._buf = ""
         self._skipping = False
+        self._bad: str | None = None  # an unknown token being skipped, reported at its end
+        self._bad_count = 0
 
     @property
     def pending(self) -> str:
@@ -69,6 +71,14 @@ class Lexer:
     def reset(self) -> None:
         self._buf = ""
         self._skipping = False
+        self._bad = None
+        self._bad_count = 0
+
+    def _report_bad(self, out: list[ParsedCommand | LexError]) -> None:
+        bad = self._bad or ""
+        shown = bad if self._bad_count <= len(bad) else bad + "..."
+        out.append(LexError(shown, f"unknown command {shown!r}"))
+        self._bad = None
 
     def feed(self, data: str | bytes) -> list[ParsedCommand | LexError]:
         if isinstance(data, bytes | bytearray):
@@ -82,6 +92,14 @@ class Lexer:
             if self._skipping:
                 if c in SEPARATORS:
                     self._skipping = False
+                    if self._bad is not None:
+                        self._report_bad(out)
+                elif self._bad is not None:
+                    self._bad_count += 1
+                    if len(self._bad) < 32:
+                        self._bad += c
+                    if self._bad_count >= MAX_OPERAND_LENGTH:
+                        self._report_bad(out)  # do not wait forever for a separator
                 i += 1
                 continue
             if c in SEPARATORS:
@@ -99,10 +117,10 @@ class Lexer:
             elif head3 in _PREFIXES and rem < 3:
                 break  # a partial mnemonic: wait for more
             else:
-                bad = head3[: self._unknown_length(head3)]
-                out.append(LexError(buf[i : i + len(bad)], f"unknown command {bad!r}"))
+                # Unknown: skip to the next separator, then report the whole token.
                 self._skipping = True
-                i += len(bad)
+                self._bad = ""
+                self._bad_count = 0
                 continue
             spec = COMMANDS[mnemonic]
             j = i + len(mnemonic)
@@ -187,10 +205,3 @@ class Lexer:
             self._skipping = True
         return out
 
-    @staticmethod
-    def _unknown_length(head: str) -> int:
-        """How many characters showed the text is no command (1, 2 or 3)."""
-        for k in (1, 2, 3):
-            if head[:k] not in _PREFIXES:
-                return k
-        return len(head)

@@ -22,6 +22,10 @@ def _timing(spec: CommandSpec) -> str:
     return spec.timing.value
 
 
+def _number(x: float) -> str:
+    return f"{int(x):,}" if float(x).is_integer() else f"{x:,}"
+
+
 def help_text(spec: CommandSpec) -> str:
     """The REPL's `help XX` text."""
     lines = [
@@ -32,7 +36,7 @@ def help_text(spec: CommandSpec) -> str:
         lines.append(f"  reply: {spec.reply}")
     if spec.value_range is not None:
         lo, hi = spec.value_range
-        lines.append(f"  range: {lo:g} to {hi:g}")
+        lines.append(f"  range: {_number(lo)} to {_number(hi)}")
     lines.append(f"  source: {spec.source}; confidence: {_CONFIDENCE[spec.confidence]}")
     if spec.notes:
         lines.append(f"  notes: {spec.notes}")
