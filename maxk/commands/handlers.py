@@ -295,17 +295,19 @@ QUEUED: dict[str, QueuedFactory] = {
 GO_COMMANDS = frozenset({"GO", "GD", "GN"})
 
 
+NOT_MODELLED_YET: dict[str, str] = {
+    "CL": "CL0/CL1: closed-loop control needs a servo or encoder axis, not modelled yet",
+}
+"""Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""
+
+
 def validate_queued(ctx: Context) -> None:
     """Refusals that can be decided when the command arrives, before anything is queued."""
     m = ctx.command.mnemonic
-    if m == "PS":
-        for value in ctx.values:
-            if value == "M":
-                raise CommandError("PSM: servo axes are not modelled yet (servo issue)")
-    elif m == "CL":
-        raise CommandError(
-            "CL0/CL1: closed-loop control needs a servo or encoder axis, not modelled yet"
-        )
+    if m in NOT_MODELLED_YET:
+        raise CommandError(NOT_MODELLED_YET[m])
+    if m == "PS" and "M" in ctx.values:
+        raise CommandError("PSM: servo axes are not modelled yet (servo issue)")
 
 
 # ---- queries of queued settings (PS? LT? LM? CL?) --------------------------------------
