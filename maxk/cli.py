@@ -43,8 +43,16 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("script", type=Path)
     run.add_argument("--model", type=_model, default=None,
                      help="board model (overrides the script's @board)")
+    run.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=None,
+                     help="update rate in Hz (overrides the script's @rate)")
     run.add_argument("--verbose", "-v", action="store_true",
                      help="show each command line with its tick before its replies")
+    run.add_argument("--record", action="store_true",
+                     help="write the replies into the script as expected replies (< lines)")
+    run.add_argument("--trace", type=Path, metavar="CSV",
+                     help="write positions, velocities and flags to a CSV file")
+    run.add_argument("--trace-every", metavar="DURATION", default=None,
+                     help="trace every DURATION (e.g. 1 ms, 10 ticks) instead of per event")
 
     cmds = sub.add_parser("commands", help="list the command table")
     cmds.add_argument("--markdown", action="store_true",
@@ -76,23 +84,50 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .script import ScriptError, load_script, run_script
+    from .controller import MAXk
+    from .script import ScriptError, load_script, parse_duration, record, run_script
+    from .trace import TraceWriter
 
     try:
         script = load_script(args.script)
     except (OSError, ScriptError) as error:
         print(f"maxk run: {error}", file=sys.stderr)
         return 2
-    transcript = run_script(script, model=args.model)
+    board = MAXk(args.model or script.model, args.rate or script.update_rate_hz)
+    trace_file = None
+    on_step = None
+    if args.trace:
+        every = None
+        if args.trace_every:
+            try:
+                every = max(1, parse_duration(args.trace_every, board.board.update_rate_hz))
+            except ValueError as error:
+                print(f"maxk run: --trace-every: {error}", file=sys.stderr)
+                return 2
+        trace_file = open(args.trace, "w", encoding="utf-8", newline="")  # noqa: SIM115
+        tracer = TraceWriter(trace_file, board.board, every)
+        tracer.attach()
+
+        def on_step(step):  # type: ignore[no-untyped-def]
+            tracer.sample(f"line {step.line}")
+
+    try:
+        transcript = run_script(script, board=board, check=not args.record, on_step=on_step)
+    finally:
+        if trace_file is not None:
+            trace_file.close()
     for _line, tick, text, replies in transcript.entries:
         if args.verbose:
             print(f"[{tick:>8}] > {text.strip()}")
         for reply in replies:
             print(reply)
-    board = transcript.board
-    if board is not None and board.board.errors:
-        for record in board.board.errors:
-            print(f"maxk run: command error at tick {record.tick}: {record}", file=sys.stderr)
+    for error in board.board.errors:
+        print(f"maxk run: command error at tick {error.tick}: {error}", file=sys.stderr)
+    if args.record:
+        args.script.write_text(record(script, transcript), encoding="utf-8")
+        print(f"maxk run: recorded {len(transcript.replies)} replies into {args.script}",
+              file=sys.stderr)
+        return 0
     if transcript.failures:
         for failure in transcript.failures:
             print(f"FAIL {args.script}:{failure}", file=sys.stderr)

@@ -3,8 +3,10 @@
 A script is plain text, one item per line (format in docs/scripts.md):
 
     // comment                      (blank lines too)
-    @board MAXk-4000                 (before the first command; default MAXk-8000)
-    @rate 4096                       (update rate in Hz, before the first command)
+    @board MAXk-4000                 (before the first command; default MAXk-8000;
+                                      several models make one test per model)
+    @rate 4096                       (update rate in Hz, before the first command;
+                                      several rates make one test per rate)
     AX; VL5000; AC50000; MA10000; GO; ID;
     @wait 0.5 s                      (also: ms, ticks)
     @wait until X done within 5 s    (also: until idle, until all done)
@@ -21,6 +23,7 @@ MAX command starts with any of these, so they can never be mistaken for one.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,9 +53,22 @@ class Step:
 class Script:
     path: str
     steps: list[Step]
-    model: str = DEFAULT_MODEL
-    update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ
+    models: list[str] = field(default_factory=lambda: [DEFAULT_MODEL])
+    update_rates_hz: list[int] = field(default_factory=lambda: [DEFAULT_UPDATE_RATE_HZ])
     lines: list[str] = field(default_factory=list)
+
+    @property
+    def model(self) -> str:
+        return self.models[0]
+
+    @property
+    def update_rate_hz(self) -> int:
+        return self.update_rates_hz[0]
+
+    @property
+    def checks_replies(self) -> bool:
+        """A script with any expected reply is a regression: every reply must match."""
+        return any(step.kind == "expect-reply" for step in self.steps)
 
 
 _DURATION = re.compile(r"^(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|sec|ms|us|ticks?)?$", re.I)
@@ -100,14 +116,18 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                 if word == "board":
                     if seen_command:
                         raise ValueError("@board must come before the first command")
-                    script.model = model_by_name(rest).name
+                    names = rest.replace(",", " ").split()
+                    if not names:
+                        raise ValueError("@board needs a model, e.g. @board MAXk-4000")
+                    script.models = [model_by_name(n).name for n in names]
                 elif word == "rate":
                     if seen_command:
                         raise ValueError("@rate must come before the first command")
-                    rate = int(rest)
-                    if rate not in (1024, 2048, 4096, 8192):
+                    rates = rest.replace(",", " ").split()
+                    if not rates or any(r not in ("1024", "2048", "4096", "8192")
+                                        for r in rates):
                         raise ValueError("@rate takes 1024, 2048, 4096 or 8192 (Hz)")
-                    script.update_rate_hz = rate
+                    script.update_rates_hz = [int(r) for r in rates]
                 elif word == "wait":
                     script.steps.append(_parse_wait(number, rest))
                 elif word == "expect":
@@ -168,10 +188,28 @@ class Failure:
     expected: str
     actual: str
     tick: int
+    state: list[str] = field(default_factory=list)  # the board when it failed
 
     def __str__(self) -> str:
         return (f"line {self.line} (tick {self.tick}): {self.command}\n"
                 f"  expected: {self.expected}\n  actual:   {self.actual}")
+
+    def report(self) -> str:
+        """The failure with the board's state at that moment, for pytest."""
+        return "\n".join([str(self), "  board state:", *("    " + s for s in self.state)])
+
+
+def board_state(board: MAXk) -> list[str]:
+    """A compact picture of the board: what a failure report shows."""
+    b = board.board
+    lines = [f"tick {b.tick} ({b.time:.6f} s), {b.model.name} at {b.update_rate_hz} Hz, "
+             f"mode {b.mode if b.mode != 'single' else 'A' + b.axes[b.current_axis].letter}"]
+    for s in board.status():
+        lines.append(f"{s.letter}: position {s.position}, encoder {s.encoder}, "
+                     f"velocity {s.velocity}, {s.status}, {s.queued} queued")
+    lines.append(f"doorbell 0x{b.doorbell:08x}"
+                 + (f", last command error: {b.last_error}" if b.command_error else ""))
+    return lines
 
 
 @dataclass
@@ -188,17 +226,29 @@ class Transcript:
 
 
 def run_script(script: Script, *, model: str | None = None,
-               update_rate_hz: int | None = None) -> Transcript:
-    """Run a script on a fresh board; the same script always gives the same transcript."""
-    board = MAXk(model or script.model, update_rate_hz or script.update_rate_hz)
+               update_rate_hz: int | None = None, check: bool = True,
+               board: MAXk | None = None,
+               on_step: Callable[[Step], None] | None = None) -> Transcript:
+    """Run a script on a fresh board; the same script always gives the same transcript.
+
+    With check=False nothing is compared (what `--record` uses). A caller may pass its
+    own fresh board, e.g. one with a trace observer attached, and an on_step callback
+    that runs after every step.
+    """
+    if board is None:
+        board = MAXk(model or script.model, update_rate_hz or script.update_rate_hz)
     transcript = Transcript(board=board)
     pending: list[str] = []  # replies of the last command line not yet matched
     last_command, last_line = "", 0
-    strict = any(step.kind == "expect-reply" for step in script.steps)
+    strict = check and script.checks_replies
+
+    def fail(line: int, command: str, expected: str, actual: str) -> None:
+        transcript.failures.append(
+            Failure(line, command, expected, actual, board.tick, board_state(board)))
+
     for step in script.steps:
         if strict and pending and step.kind != "expect-reply":
-            transcript.failures.append(
-                Failure(last_line, last_command, "(no more replies)", pending.pop(0), board.tick))
+            fail(last_line, last_command, "(no more replies)", pending[0])
             pending.clear()
         if step.kind == "send":
             replies = board.send(step.text)
@@ -206,69 +256,85 @@ def run_script(script: Script, *, model: str | None = None,
             pending = list(replies)
             last_command, last_line = step.text, step.line
         elif step.kind == "expect-reply":
+            if not check:
+                continue
             actual = pending.pop(0) if pending else "(no reply)"
             if actual != step.text:
-                transcript.failures.append(
-                    Failure(step.line, last_command, step.text, actual, board.tick))
+                fail(step.line, last_command, step.text, actual)
         elif step.kind == "wait":
             board.board.advance(parse_duration(step.text, board.board.update_rate_hz))
         elif step.kind == "wait-until":
             (what, axes), timeout_text = step.args
             timeout = parse_duration(timeout_text, board.board.update_rate_hz)
-            if what == "idle":
-                ok = board.board.run_until_idle(timeout)
-            else:
-                ok = board.run_until_done(*axes, timeout=timeout * board.board.period)
-            if not ok:
-                transcript.failures.append(Failure(
-                    step.line, f"@wait {step.text}", f"{what} {axes}".strip(),
-                    "timed out", board.tick))
-        elif step.kind == "expect":
-            failure = _check_expect(board, step)
-            if failure:
-                transcript.failures.append(failure)
+            try:
+                if what == "idle":
+                    ok = board.board.run_until_idle(timeout)
+                else:
+                    ok = board.run_until_done(*axes, timeout=timeout * board.board.period)
+            except KeyError as error:  # an axis this model does not have
+                fail(step.line, f"@wait {step.text}", step.text, str(error.args[0]))
+                continue
+            if not ok and check:
+                fail(step.line, f"@wait {step.text}", f"{what} {axes}".strip(),
+                     f"timed out after {timeout_text}")
+        elif step.kind == "expect" and check:
+            problem = _check_expect(board, step)
+            if problem is not None:
+                fail(step.line, f"@expect {step.text}", step.text, problem)
+        if on_step is not None:
+            on_step(step)
     if strict and pending:
-        transcript.failures.append(
-            Failure(last_line, last_command, "(no more replies)", pending[0], board.tick))
+        fail(last_line, last_command, "(no more replies)", pending[0])
     return transcript
 
 
-def _check_expect(board: MAXk, step: Step) -> Failure | None:
+def _check_expect(board: MAXk, step: Step) -> str | None:
+    """None when the expectation holds, else what was found instead."""
     g = dict(step.args)
     try:
         if g["field"]:
             letter = g["axis"].upper()
             fieldname = g["field"].lower()
-            actual_value = {
-                "position": lambda: board.position(letter),
-                "encoder": lambda: board.encoder(letter),
-                "velocity": lambda: round(board.velocity(letter)),
-            }[fieldname]()
-            ok = actual_value == int(g["value"])
-            actual = f"{letter} {fieldname} {actual_value}"
-        elif g["done"]:
+            value = {
+                "position": board.position,
+                "encoder": board.encoder,
+                "velocity": lambda x: round(board.velocity(x)),
+            }[fieldname](letter)
+            return None if value == int(g["value"]) else f"{letter} {fieldname} {value}"
+        if g["done"]:
             letter = g["axis2"].upper()
-            want = g["done"].lower() == "done"
-            ok = board.done(letter) == want
-            actual = f"{letter} {'done' if board.done(letter) else 'not done'}"
-        elif g["error"]:
-            want = g["error"].lower() == "error"
-            ok = board.command_error == want
-            actual = "error" if board.command_error else "no error"
-            if board.last_error:
-                actual += f" (last: {board.last_error})"
-        else:
-            want_word = int(g["doorbell"], 0)
-            ok = board.doorbell == want_word
-            actual = f"doorbell 0x{board.doorbell:08x}"
-    except KeyError as error:
-        return Failure(step.line, f"@expect {step.text}", step.text, str(error), board.tick)
-    if ok:
-        return None
-    return Failure(step.line, f"@expect {step.text}", step.text, actual, board.tick)
+            done = board.done(letter)
+            return None if done == (g["done"].lower() == "done") else (
+                f"{letter} {'done' if done else 'not done'}")
+        if g["error"]:
+            error = board.command_error
+            if error == (g["error"].lower() == "error"):
+                return None
+            return f"error (last: {board.last_error})" if error else "no error"
+        word = board.doorbell
+        return None if word == int(g["doorbell"], 0) else f"doorbell 0x{word:08x}"
+    except KeyError as error:  # an axis the board does not have
+        return str(error.args[0])
 
 
 def load_script(path: str | Path) -> Script:
     p = Path(path)
     return parse_script(p.read_text(encoding="utf-8"), str(p))
 
+
+
+def record(script: Script, transcript: Transcript) -> str:
+    """The script's text with every command line followed by the replies it gave.
+
+    Existing expected replies are replaced; everything else (comments, waits,
+    directives, blank lines) is kept as written. Running the result reproduces it.
+    """
+    replies_by_line = {line: replies for line, _tick, _text, replies in transcript.entries}
+    out: list[str] = []
+    for number, raw in enumerate(script.lines, start=1):
+        if raw.strip().startswith("<"):
+            continue
+        out.append(raw)
+        for reply in replies_by_line.get(number, []):
+            out.append(f"< {reply}")
+    return "\n".join(out) + "\n"

@@ -2,6 +2,8 @@ import pytest
 
 from maxk import MAXk
 
+pytest_plugins = ["pytester"]
+
 
 @pytest.fixture
 def board() -> MAXk:

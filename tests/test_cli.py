@@ -70,3 +70,34 @@ def test_console_script_runs_as_a_process(tmp_path):
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stderr
     assert result.stdout == "10\n"
+
+
+def test_record_then_run_passes(tmp_path, capsys):
+    script = tmp_path / "rec.maxk"
+    script.write_text("AY; MR-25; GO; ID;\n@wait until Y done\nAY RP\n< 0\nQI\n")
+    assert main(["run", str(script)]) == 1
+    assert main(["run", "--record", str(script)]) == 0
+    assert script.read_text() == ("AY; MR-25; GO; ID;\n@wait until Y done\nAY RP\n< -25\nQI\n"
+                                  "< PNNN,MDNN,PNNN,PNNN,PNNN,PNNN,PNNN,PNNN\n")
+    assert main(["run", str(script)]) == 0
+
+
+def test_trace_csv_per_event_and_per_period(tmp_path):
+    import csv
+
+    script = tmp_path / "t.maxk"
+    script.write_text("@board MAXk-1000\nAX; VL1000; AC10000; MR500; GO; ID;\n"
+                      "@wait until X done\n")
+    trace = tmp_path / "t.csv"
+    assert main(["run", "--trace", str(trace), str(script)]) == 0
+    rows = list(csv.DictReader(trace.open()))
+    assert rows[0]["note"] == "start"
+    assert [r["note"] for r in rows[1:]] == ["line 2", "event", "line 3"]
+    assert rows[2]["X_position"] == "500" and rows[2]["X_done"] == "1"
+    assert main(["run", "--trace", str(trace), "--trace-every", "0.1 s", str(script)]) == 0
+    rows = list(csv.DictReader(trace.open()))
+    samples = [r for r in rows if r["note"] == "sample"]
+    assert [r["tick"] for r in samples[:3]] == ["820", "1640", "2460"]
+    positions = [int(r["X_position"]) for r in samples]
+    assert positions == sorted(positions) == [50, 150, 250, 350, 450]
+    assert rows[-1]["note"] == "line 3" and rows[-1]["X_position"] == "500"

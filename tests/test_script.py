@@ -31,7 +31,7 @@ def test_plain_script_without_expectations_only_collects_replies():
 
 def test_wait_until_timeout_fails():
     t = run("AX; VL1; MR100; GO; ID;\n@wait until X done within 1 s\n")
-    assert t.failures and t.failures[0].actual == "timed out"
+    assert t.failures and t.failures[0].actual == "timed out after 1 s"
 
 
 def test_expectations():
@@ -74,3 +74,31 @@ def test_durations():
     assert parse_duration("0.1", 8192) == 820  # rounded up to whole ticks
     with pytest.raises(ValueError):
         parse_duration("1.5 ticks", 8192)
+
+
+def test_same_script_same_bytes():
+    text = "AA; VL5000,6000; MR1000,-2000; GO; ID;\n@wait 0.1 s\nAA RP\nRV\n@wait until idle\nRI\n"
+    first = run(text)
+    second = run(text)
+    assert first.entries == second.entries
+    assert first.replies == ["494,-591,0,0,0,0,0,0", "5000,-6000,0,0,0,0,0,0",
+                             "PDNN,MDNN,PDNN,PDNN,PDNN,PDNN,PDNN,PDNN"]
+
+
+def test_record_round_trip(tmp_path):
+    from maxk.script import load_script, record
+
+    path = tmp_path / "r.maxk"
+    path.write_text("// keep me\nAX; MR5; GO; ID;\n@wait until X done\nAX RP RE\n< stale\n"
+                    "\n@expect X done\nWY\n")
+    script = load_script(path)
+    recorded = record(script, run_script(script, check=False))
+    assert recorded == ("// keep me\nAX; MR5; GO; ID;\n@wait until X done\nAX RP RE\n< 5\n< 5\n"
+                        "\n@expect X done\nWY\n< MAXk-8000, ver:1.33, S/N: 000001, FPGA:20\n")
+    path.write_text(recorded)
+    assert not run_script(load_script(path)).failures
+
+
+def test_wait_for_an_axis_the_model_lacks_fails_cleanly():
+    t = run_script(parse_script("@board MAXk-1000\n@wait until K done\n"))
+    assert t.failures and "no axis 'K'" in t.failures[0].actual

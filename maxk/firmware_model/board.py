@@ -50,6 +50,8 @@ class Board:
         self.cross_axis_event = False  # set when one axis's queue can unblock another's
         self.errors: deque[CommandErrorRecord] = deque(maxlen=200)
         self._listeners: list[FlagListener] = []
+        # Observers for traces: [every_ticks or None, next tick due, callback].
+        self._observers: list[list] = []
 
     # ---- lookup ----------------------------------------------------------------------
     def axis(self, letter: str) -> Axis:
@@ -80,7 +82,31 @@ class Board:
             t = axis.next_event()
             if t is not None and (best is None or t < best):
                 best = t
+        for _every, due, _callback in self._observers:
+            if due is not None and (best is None or due < best):
+                best = due
         return best
+
+    def add_observer(self, callback: Callable[[Board], None],
+                     every_ticks: int | None = None) -> None:
+        """Call back at every event tick, or every N ticks (traces; never in hot paths
+        unless asked for). The callback sees the board after the tick's events ran."""
+        if every_ticks is not None and every_ticks < 1:
+            raise ValueError("every_ticks must be at least 1")
+        due = None if every_ticks is None else self.tick + every_ticks
+        self._observers.append([every_ticks, due, callback])
+
+    def remove_observer(self, callback: Callable[[Board], None]) -> None:
+        self._observers = [o for o in self._observers if o[2] is not callback]
+
+    def _observe(self, now: int) -> None:
+        for observer in self._observers:
+            every, due = observer[0], observer[1]
+            if every is None:
+                observer[2](self)
+            elif due is not None and due <= now:
+                observer[2](self)
+                observer[1] = due + every
 
     def advance_to(self, tick: int) -> None:
         """Advance virtual time to an absolute tick, processing every event on the way."""
@@ -104,6 +130,8 @@ class Board:
                     if type(wait) is tuple and wait[1] <= now:
                         due.append(axis)
             self.run_queues(due)
+            if self._observers:
+                self._observe(now)
         self.tick = tick
 
     def advance(self, ticks: int) -> None:

@@ -1,0 +1,92 @@
+"""pytest plugin: command scripts (`*.maxk`) collected and run as tests.
+
+Registered through the `pytest11` entry point, so installing maxk is enough: pytest
+collects every `*.maxk` file under its test paths (pytest's pattern for non-Python test
+files). Each script runs on a fresh board in virtual time; a script naming several
+models (`@board MAXk-4000 MAXk-A000`) or rates (`@rate 1024 8192`) becomes one test per
+combination, and `--maxk-model` / `--maxk-rate` override what the scripts say.
+"""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from .firmware_model.models import UPDATE_RATES_HZ, model_by_name
+from .script import Script, ScriptError, Transcript, load_script, run_script
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("maxk", "MAXk command scripts")
+    group.addoption("--maxk-model", action="append", default=None, metavar="MODEL",
+                    help="run every .maxk script on this board model (repeatable)")
+    group.addoption("--maxk-rate", action="append", default=None, type=int, metavar="HZ",
+                    help=f"run every .maxk script at this update rate {UPDATE_RATES_HZ} "
+                    "(repeatable)")
+    parser.addini("maxk_suffix", "file suffix of MAXk command scripts", default=".maxk")
+
+
+def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Collector | None:
+    if file_path.suffix == parent.config.getini("maxk_suffix"):
+        return MaxkScriptFile.from_parent(parent, path=file_path)
+    return None
+
+
+class MaxkScriptFile(pytest.File):
+    """One script file: one test per (model, update rate) it asks for."""
+
+    def collect(self) -> Any:
+        try:
+            script = load_script(self.path)
+        except ScriptError as error:
+            # A malformed script is a collection error naming the line, not a traceback.
+            raise self.CollectError(str(error)) from None
+        config = self.config
+        models = config.getoption("maxk_model") or script.models
+        rates = config.getoption("maxk_rate") or script.update_rates_hz
+        try:
+            models = [model_by_name(m).name for m in models]
+        except ValueError as error:
+            raise self.CollectError(f"--maxk-model: {error}") from None
+        bad = [r for r in rates if r not in UPDATE_RATES_HZ]
+        if bad:
+            raise self.CollectError(f"--maxk-rate {bad[0]}: choose from {UPDATE_RATES_HZ}")
+        combos = list(itertools.product(models, rates))
+        for model, rate in combos:
+            name = "script" if len(combos) == 1 else f"{model}-{rate}Hz"
+            yield MaxkScriptItem.from_parent(self, name=name, script=script, model=model,
+                                             rate=rate)
+
+
+class ScriptFailed(Exception):
+    def __init__(self, transcript: Transcript) -> None:
+        super().__init__(f"{len(transcript.failures)} failure(s)")
+        self.transcript = transcript
+
+
+class MaxkScriptItem(pytest.Item):
+    def __init__(self, *, script: Script, model: str, rate: int, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.script = script
+        self.model = model
+        self.rate = rate
+
+    def runtest(self) -> None:
+        transcript = run_script(self.script, model=self.model, update_rate_hz=self.rate)
+        if transcript.failures:
+            raise ScriptFailed(transcript)
+
+    def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException],
+                     style: Any = None) -> str:
+        if isinstance(excinfo.value, ScriptFailed):
+            failures = excinfo.value.transcript.failures
+            head = (f"{self.path.name} on {self.model} at {self.rate} Hz: "
+                    f"{len(failures)} failure(s)")
+            return "\n".join([head, *(f.report() for f in failures)])
+        return str(super().repr_failure(excinfo))
+
+    def reportinfo(self) -> tuple[Path, int | None, str]:
+        return self.path, 0, f"maxk script {self.path.name} [{self.model} {self.rate} Hz]"
