@@ -53,10 +53,17 @@ class Context:
 QueuedFactory = Callable[[object, Context], Action]
 
 
-def _set(attr: str) -> QueuedFactory:
+_OPERAND = object()
+
+
+def _set(attr: str, constant: object = _OPERAND) -> QueuedFactory:
+    """A queued setting: the axis parameter `attr` takes the operand (or a constant)."""
+
     def factory(value: object, ctx: Context) -> Action:
+        new = value if constant is _OPERAND else constant
+
         def action(axis: Axis, board: Board) -> None:
-            setattr(axis.config, attr, value)
+            setattr(axis.config, attr, new)
 
         return action
 
@@ -159,16 +166,6 @@ def _jog(value: object, ctx: Context) -> Action:
     return action
 
 
-def _direction(sign: int) -> QueuedFactory:
-    def factory(value: object, ctx: Context) -> Action:
-        def action(axis: Axis, board: Board) -> None:
-            axis.config.move_direction = sign
-
-        return action
-
-    return factory
-
-
 def _one_step(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
         if axis.motion is not None:
@@ -218,13 +215,6 @@ def _loop_end(value: object, ctx: Context) -> Action:
     return action
 
 
-def _axis_type(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> None:
-        axis.config.axis_type = value  # type: ignore[assignment]
-
-    return action
-
-
 def _limit_mode(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         c = axis.config
@@ -236,16 +226,6 @@ def _limit_mode(value: object, ctx: Context) -> Action:
                 c.limit_hard_stop = value == "H"
 
     return action
-
-
-def _const(attr: str, constant: object) -> QueuedFactory:
-    def factory(value: object, ctx: Context) -> Action:
-        def action(axis: Axis, board: Board) -> None:
-            setattr(axis.config, attr, constant)
-
-        return action
-
-    return factory
 
 
 def _limit_level(value: object, ctx: Context) -> Action:
@@ -273,8 +253,8 @@ QUEUED: dict[str, QueuedFactory] = {
     "GD": _go,
     "GN": _go,
     "JG": _jog,
-    "MP": _direction(1),
-    "MM": _direction(-1),
+    "MP": _set("move_direction", 1),
+    "MM": _set("move_direction", -1),
     "MO": _one_step,
     "LP": _load(True, True),
     "LO": _load(True, False),
@@ -283,13 +263,13 @@ QUEUED: dict[str, QueuedFactory] = {
     "ID": _done,
     "LS": _loop_start,
     "LE": _loop_end,
-    "PS": _axis_type,
+    "PS": _set("axis_type"),
     "LT": _limit_level,
-    "LH": _const("limit_active_high", True),
-    "LL": _const("limit_active_high", False),
+    "LH": _set("limit_active_high", True),
+    "LL": _set("limit_active_high", False),
     "LM": _limit_mode,
-    "LN": _const("limits_enabled", True),
-    "LF": _const("limits_enabled", False),
+    "LN": _set("limits_enabled", True),
+    "LF": _set("limits_enabled", False),
 }
 
 GO_COMMANDS = frozenset({"GO", "GD", "GN"})
