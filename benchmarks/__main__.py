@@ -65,7 +65,7 @@ def steppers_back_to_back(poll_hz: float | None, sim_seconds: float = 600.0) -> 
                   work / wall, "simulated s per wall s", 500.0, label)
 
 
-def steppers_varied(moves_per_axis: int = 400) -> Figure:
+def steppers_varied(moves_per_axis: int = 250) -> Figure:
     """10 axes, every move a different length and speed (no plan is ever reused)."""
     import random
 
@@ -78,6 +78,7 @@ def steppers_varied(moves_per_axis: int = 400) -> Figure:
                 parts.append(f"VL{rng.randint(1000, 200_000)};AC{rng.randint(10_000, 2_000_000)};"
                              f"MR{rng.randint(-50_000, 50_000)};GO")
             board.send(";".join(parts) + ";")
+        assert not board.command_error, board.last_error  # 250 moves x 10 units fit the queue
         start = time.perf_counter()
         board.run_until_idle(timeout=10_000)
         wall = time.perf_counter() - start

@@ -90,6 +90,10 @@ def _run(args: argparse.Namespace) -> int:
 
     try:
         script = load_script(args.script)
+    except UnicodeDecodeError as error:
+        print(f"maxk run: {args.script}: not UTF-8 text ({error.reason} at byte "
+              f"{error.start})", file=sys.stderr)
+        return 2
     except (OSError, ScriptError) as error:
         print(f"maxk run: {error}", file=sys.stderr)
         return 2
@@ -104,7 +108,11 @@ def _run(args: argparse.Namespace) -> int:
             except ValueError as error:
                 print(f"maxk run: --trace-every: {error}", file=sys.stderr)
                 return 2
-        trace_file = open(args.trace, "w", encoding="utf-8", newline="")  # noqa: SIM115
+        try:
+            trace_file = open(args.trace, "w", encoding="utf-8", newline="")  # noqa: SIM115
+        except OSError as error:
+            print(f"maxk run: --trace: {error}", file=sys.stderr)
+            return 2
         tracer = TraceWriter(trace_file, board.board, every)
         tracer.attach()
 

@@ -22,8 +22,9 @@ def test_ramp_selection(cmd, shape):
 
 def test_ramp_parameters_are_stored():
     b = MAXk()
-    b.send("AX; SC; SS30; PR40;")
-    assert b.board.axes[0].config.ramp_factor == 40
+    b.send("AX; SC; SS30; PR40; PN7;")
+    c = b.board.axes[0].config
+    assert (c.scurve_factor, c.ramp_parameter, c.ramp_factor) == (30, 40, 7)
     assert not b.command_error
 
 
@@ -77,14 +78,20 @@ def test_manual_tuning_check_on_an_open_loop_stepper():
 
 
 def test_every_table_entry_has_a_behaviour():
-    from maxk.commands.handlers import IMMEDIATE, NOT_MODELLED_YET, QUEUED, SETTING_QUERIES
+    from maxk.commands.handlers import (
+        IMMEDIATE,
+        LINEAR_MOVES,
+        NOT_MODELLED_YET,
+        QUEUED,
+        SETTING_QUERIES,
+    )
     from maxk.commands.table import Timing
 
     for m, spec in COMMANDS.items():
         if spec.timing is Timing.IMMEDIATE:
             assert m in IMMEDIATE, m
         elif spec.timing is Timing.QUEUED:
-            assert m in QUEUED or m in NOT_MODELLED_YET, m
+            assert m in QUEUED or m in NOT_MODELLED_YET or m in LINEAR_MOVES, m
             if spec.query:
                 assert m in SETTING_QUERIES, m
         assert spec.confidence in "CID", m

@@ -77,14 +77,12 @@ def test_aa_mode_starts_every_axis_on_the_same_tick(board):
     board.advance(1.0)
     # AA GO waits for Y: nothing else has started yet
     assert board.query("PP").split(",")[:3] == ["0", board.query("AY RP"), "0"]
-    board.send("AA")
-    assert board.run_until_done("X", "Y", "Z", timeout=30)
-    board.send("AA")
-    starts = {}
-    for letter in "XZ":
-        axis = board.board.axis(letter)
-        starts[letter] = axis.motion_start
+    y_end = board.board.axis("Y").motion_end
+    board.advance(10.0)
     assert board.query("PP").split(",")[:3] == ["1000", "7000", "3000"]
+    # X and Z started on the tick Y's first move ended, when Y reached the AA GO
+    x_start = board.board.axis("X").motion_start
+    assert x_start == board.board.axis("Z").motion_start == y_end
 
 
 def test_aa_go_starts_together_when_idle(board):
@@ -121,13 +119,14 @@ def test_stop_decelerates_flushes_and_id_waits_for_rest(board):
     board.send("AX; VL10000; AC100000; MR100000; GO; MR5; GO;")
     board.advance(1.0)
     board.send("AX AC200000; ST ID;")
-    assert board.query("RQC") == str(2559 - 1)  # ST flushed MR5/GO (and the AC); ID queued
+    assert board.query("RQC") == str(2559 - 1)  # ST flushed MR5/GO; ID queued
+    assert board.query("RC") == "200000"  # the AC queued just before ST was applied first
     assert not board.done("X")
     assert board.velocity("X") > 0
     tick0 = board.tick
     assert board.run_until_done("X", timeout=1)
-    # deceleration at the move's own rate (100000): 0.1 s
-    assert board.tick - tick0 == pytest.approx(0.1 * 8192, abs=1)
+    # decelerates at the host's AC200000 (evidence E4): 10000 / 200000 = 0.05 s
+    assert board.tick - tick0 == pytest.approx(0.05 * 8192, abs=1)
     assert board.query("RV") == "0"
     assert 9400 <= board.position("X") <= 10100
 
@@ -256,3 +255,72 @@ def test_ten_axis_board(board):
     assert b.run_until_done()
     assert b.query("PP") == "1,2,3,4,5,6,7,8,9,10"
     assert b.doorbell == 0xFF | (1 << 25) | (1 << 26)
+
+
+def test_aa_go_inside_a_loop_starts_together_on_every_pass():
+    b = MAXk("MAXk-2000")
+    b.send("AA; LS3,3; MR100,100; GO; LE; ID;")
+    assert b.run_until_idle()
+    assert b.query("PP") == "300,300"
+    assert all(a.pending_target is None for a in b.board.axes)
+
+
+def test_a_zero_time_loop_cannot_freeze_the_board():
+    b = MAXk()
+    b.send("AX; LS2147483647; LE;")  # returns at once: each jump back takes a tick
+    b.advance(1.0)
+    # the first jump back happens on tick 0, then one per tick
+    assert b.board.axes[0].queue.loops[0][1] == 2147483647 - 8193
+    b.send("KL")
+    assert b.query("RQC") == "2559"
+
+
+def test_loop_of_ids_takes_a_tick_per_pass():
+    b = MAXk()
+    b.send("AX; LS1000; ID; LE; WT0;")
+    assert b.run_until_idle()
+    assert b.tick == 999  # 999 jumps back, one tick each
+
+
+def test_counters_wrap_at_32_bits():
+    b = MAXk()
+    b.send("AX; LP2147483647; MO;")
+    b.advance(ticks=1)
+    assert b.query("RP") == "-2147483648"
+    b.send("LP2147483000; JG4000000;")
+    b.advance(1.0)
+    assert -2147483648 <= int(b.query("RP")) < -2146000000
+    b.send("KL; LP-2147483647; MM; MO; MO;")
+    b.advance(ticks=2)
+    assert b.query("RP") == "2147483647"
+    assert not b.command_error
+
+
+def test_jog_reversal_with_base_velocity_stops_at_vb_not_zero():
+    b = MAXk()
+    b.send("AX; VB1000; AC100000; JG5000;")
+    b.advance(0.5)
+    b.send("JG-5000")
+    speeds = []
+    for _ in range(200):  # 0.098 s: 0.04 s down to VB, turn, 0.04 s up to 5000
+        b.advance(ticks=4)
+        speeds.append(b.velocity("X"))
+    assert min(abs(v) for v in speeds) >= 1000 - 1e-6  # never crawls below VB
+    assert speeds[-1] == -5000
+
+
+def test_update_rate_is_refused_while_busy_and_time_stays_continuous():
+    b = MAXk()
+    b.send("AX; WT1000; ID;")
+    b.send("#UR1024")
+    assert b.command_error and "idle" in b.last_error.reason
+    b.send("IC")
+    assert b.run_until_done("X")
+    assert b.time == pytest.approx(1.0, abs=1 / 8192)
+    t0 = b.time
+    b.send("#UR1024")
+    assert not b.command_error
+    assert b.time == t0
+    b.advance(1.0)
+    assert b.time == pytest.approx(t0 + 1.0)
+    assert b.tick == 8192 + 1024

@@ -94,17 +94,28 @@ def test_parabolic_deceleration_mirrors_the_acceleration():
     assert top < 100_000 * 2e-3
 
 
-@given(st.floats(-0.99, 0.99), st.integers(-100_000, 100_000), st.integers(0, 500),
-       accels, shapes)
-def test_stop_ends_at_rest_on_a_whole_step(residual, velocity, base, decel, shape):
+@given(st.floats(-0.99, 0.99), st.integers(-100_000, 100_000).filter(lambda v: v != 0),
+       st.integers(0, 500), accels, shapes)
+def test_stop_decelerates_to_vb_and_ends_on_the_nearest_step(residual, velocity, base, decel,
+                                                              shape):
     m = plan_stop(residual, velocity, base, decel, shape)
-    assert isinstance(m.final_offset, int)
-    assert m.velocity(m.end_time) == 0
-    direction = 1 if velocity >= 0 else -1
-    assert direction * (m.final_offset - residual) >= -0.5
+    speed, direction = abs(velocity), (1 if velocity > 0 else -1)
+    # the analytic stopping distance from speed to VB, plus the residual carried in
+    _k, integral = {RampShape.LINEAR: (1, 0.5), RampShape.PARABOLIC: (2, 2 / 3),
+                    RampShape.SCURVE: (2, 0.5), RampShape.COSINE: (math.pi / 2, 0.5)}[shape]
+    if speed > base:
+        duration = _k * (speed - base) / decel
+        distance = duration * (base + integral * (speed - base))
+    else:
+        duration = distance = 0.0
+    assert m.end_time == pytest.approx(duration)
+    assert abs(m.final_offset - (residual + direction * distance)) <= 0.5 + 1e-6
+    if m.phases:
+        assert m.velocity(0.0) == pytest.approx(velocity)
+        assert abs(m.velocity(m.end_time * (1 - 1e-9))) == pytest.approx(max(base, 0), abs=1)
 
 
-def test_jog_reversal_passes_through_zero():
+def test_jog_reversal_without_base_velocity_passes_through_zero():
     m = plan_jog(0.0, 5_000, -5_000, 0, 50_000, 50_000, RampShape.LINEAR)
     assert m.end_time is None
     assert m.velocity(0.05) == pytest.approx(2_500)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from ..firmware_model import flags as F
 from ..firmware_model.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
 from ..firmware_model.board import Board
+from ..firmware_model.coordinated import LinearMove
 from ..firmware_model.models import (
     FIRMWARE_VERSION,
     FPGA_VERSION,
@@ -37,6 +38,11 @@ class Context:
     command: ParsedCommand
     axes: list[Axis]  # addressed axes (current axis, or every axis / the filled slots)
     values: list  # one operand value per addressed axis (None when there is none)
+
+    @property
+    def addressed(self) -> list[Axis]:
+        """Axes an operand-less command acts on: the current axis, or all in AA/AM."""
+        return self.board.axes if self.listing else self.axes
 
     @property
     def listing(self) -> bool:
@@ -115,6 +121,21 @@ def _ramp(shape: RampShape) -> QueuedFactory:
 def _move_absolute(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         axis.pending_target = value  # type: ignore[assignment]
+        axis.pending_linear = None
+
+    return action
+
+
+def linear_target(move: LinearMove, value: int, relative: bool) -> Action:
+    """MT/ML on one axis: record its target in the shared linear move."""
+
+    def action(axis: Axis, board: Board) -> None:
+        target = axis.motor_position(board) + value if relative else value
+        if not POSITION_MIN <= target <= POSITION_MAX:
+            board.report_error(f"target {target} is outside the 32-bit position range",
+                               f"A{axis.letter} {'ML' if relative else 'MT'}{value}")
+            return
+        move.set_target(axis, target)
 
     return action
 
@@ -127,6 +148,7 @@ def _move_relative(value: object, ctx: Context) -> Action:
                                f"A{axis.letter} MR{value}")
             return
         axis.pending_target = target
+        axis.pending_linear = None
 
     return action
 
@@ -135,6 +157,9 @@ def _go(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
         if axis.motion is not None:
             return WAIT_REST_RETRY
+        if axis.pending_linear is not None:
+            # An MT/ML move starts when every axis in it has reached its GO (AM mode).
+            return axis.pending_linear.group.arrive(axis, board)
         target = axis.pending_target
         if target is None:
             return None
@@ -150,8 +175,7 @@ def go_together(group: StartGroup) -> Action:
     def action(axis: Axis, board: Board) -> object:
         if axis.motion is not None:
             return WAIT_REST_RETRY
-        group.arrive(axis, board)
-        return group
+        return group.arrive(axis, board)
 
     return action
 
@@ -209,8 +233,9 @@ def _loop_start(value: object, ctx: Context) -> Action:
 
 
 def _loop_end(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> None:
-        axis.queue.loop_end()
+    def action(axis: Axis, board: Board) -> object:
+        # Jumping back takes one update cycle, so no loop can spin within a tick.
+        return ("tick", board.tick + 1) if axis.queue.loop_end() else None
 
     return action
 
@@ -245,8 +270,8 @@ QUEUED: dict[str, QueuedFactory] = {
     "PN": _ramp(RampShape.PARABOLIC),
     "SC": _ramp(RampShape.SCURVE),
     "CN": _ramp(RampShape.COSINE),
-    "SS": _set("ramp_factor"),
-    "PR": _set("ramp_factor"),
+    "SS": _set("scurve_factor"),
+    "PR": _set("ramp_parameter"),
     "MA": _move_absolute,
     "MR": _move_relative,
     "GO": _go,
@@ -273,6 +298,7 @@ QUEUED: dict[str, QueuedFactory] = {
 }
 
 GO_COMMANDS = frozenset({"GO", "GD", "GN"})
+LINEAR_MOVES = {"MT": False, "ML": True}  # mnemonic -> relative
 
 
 NOT_MODELLED_YET: dict[str, str] = {
@@ -308,21 +334,12 @@ SETTING_QUERIES: dict[str, Callable[[Axis], str]] = {
 
 # ---- immediate handlers ---------------------------------------------------------------
 def _stop(ctx: Context) -> None:
-    for axis in ctx.board.axes if ctx.listing else ctx.axes:
-        stop_axis(axis, ctx.board)
-
-
-def stop_axis(axis: Axis, board: Board) -> None:
-    """ST: flush, decelerate, and hold later entries until the axis is at rest."""
-    axis.flush(board)
-    axis.stop(board)
-    if axis.motion is not None:
-        axis.wait = WAIT_REST_RETRY
+    for axis in ctx.addressed:
+        axis.stop_and_flush(ctx.board)
 
 
 def _stop_all(ctx: Context) -> None:
-    for axis in ctx.board.axes:
-        stop_axis(axis, ctx.board)
+    ctx.board.stop_all()
 
 
 def _kill_all(ctx: Context) -> None:
@@ -331,17 +348,19 @@ def _kill_all(ctx: Context) -> None:
 
 def _kill_selected(ctx: Context) -> None:
     board = ctx.board
-    if not ctx.listing:
-        targets = ctx.axes
-    else:
+    if ctx.listing and not ctx.command.slots:
+        raise CommandError("KS in AA/AM mode names the axes to kill: KS1,,1")
+    if ctx.listing or ctx.values[0] is not None:
         targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
+    else:
+        targets = ctx.axes  # bare KS in single-axis mode: the addressed axis
     for axis in targets:
         axis.flush(board)
         axis.kill(board)
 
 
 def _clear_done(ctx: Context) -> None:
-    for axis in ctx.board.axes if ctx.listing else ctx.axes:
+    for axis in ctx.addressed:
         ctx.board.clear_axis_flags(axis, F.AXIS_DONE)
 
 
@@ -350,7 +369,7 @@ def _interrupt_clear(ctx: Context) -> None:
 
 
 def _flush(ctx: Context) -> None:
-    for axis in ctx.board.axes if ctx.listing else ctx.axes:
+    for axis in ctx.addressed:
         axis.flush(ctx.board)
 
 
@@ -364,14 +383,14 @@ def _report_encoder(ctx: Context) -> str:
     return ctx.per_axis(lambda a: str(a.encoder_position(board)))
 
 
-def _all_positions(ctx: Context) -> str:
-    board = ctx.board
-    return ",".join(str(a.motor_position(board)) for a in board.axes)
+def _every_axis(fn: Callable[[Axis, Board], object]) -> Callable[[Context], str]:
+    """PP, PE, QI: a report that always lists every axis, whatever the mode."""
 
+    def handler(ctx: Context) -> str:
+        board = ctx.board
+        return ",".join(str(fn(a, board)) for a in board.axes)
 
-def _all_encoders(ctx: Context) -> str:
-    board = ctx.board
-    return ",".join(str(a.encoder_position(board)) for a in board.axes)
+    return handler
 
 
 def _report_velocity(ctx: Context) -> str:
@@ -390,16 +409,13 @@ def _query_axis(ctx: Context) -> str:
 
 def _report_axis(ctx: Context) -> str:
     board = ctx.board
-    targets = board.axes if ctx.listing else ctx.axes
     reply = ctx.per_axis(lambda a: a.status_string(board))
-    for axis in targets:
+    for axis in ctx.addressed:
         board.clear_axis_flags(axis, F.AXIS_DONE | F.AXIS_OVERTRAVEL | F.AXIS_SLIP)
     return reply
 
 
-def _status_all(ctx: Context) -> str:
-    board = ctx.board
-    return ",".join(a.status_string(board) for a in board.axes)
+_status_all = _every_axis(Axis.status_string)
 
 
 def _report_interrupts(ctx: Context) -> str:
@@ -446,8 +462,9 @@ def _update_rate(ctx: Context) -> str | None:
     if rate not in UPDATE_RATES_HZ:
         raise CommandError(f"#UR{rate}: the update rate must be one of "
                            + ", ".join(map(str, UPDATE_RATES_HZ)))
-    if any(a.motion is not None for a in board.axes):
-        raise CommandError("#UR: cannot change the update rate while an axis moves")
+    if not board.is_idle():
+        raise CommandError("#UR: the update rate can only change while every axis is idle "
+                           "(no motion, nothing queued)")
     board.set_update_rate(rate)
     return None
 
@@ -467,8 +484,8 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "FL": _flush,
     "RP": _report_position,
     "RE": _report_encoder,
-    "PP": _all_positions,
-    "PE": _all_encoders,
+    "PP": _every_axis(Axis.motor_position),
+    "PE": _every_axis(Axis.encoder_position),
     "RV": _report_velocity,
     "RC": _report_acceleration,
     "QA": _query_axis,

@@ -8,15 +8,18 @@ from __future__ import annotations
 
 from ..firmware_model.axis import StartGroup
 from ..firmware_model.board import Board
+from ..firmware_model.coordinated import LinearMove
 from ..firmware_model.queue import QueueEntry
 from .handlers import (
     GO_COMMANDS,
     IMMEDIATE,
+    LINEAR_MOVES,
     QUEUED,
     SETTING_QUERIES,
     CommandError,
     Context,
     go_together,
+    linear_target,
     validate_queued,
 )
 from .lexer import Lexer, LexError, ParsedCommand
@@ -105,7 +108,7 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         axes = list(axes_all)
         values = [None] * len(axes)
     else:
-        if len(slots) > len(axes_all):
+        if any(slot is not None for slot in slots[len(axes_all):]):
             raise CommandError(f"{spec.mnemonic}: {len(slots)} operands for "
                                f"{len(axes_all)} axes")
         axes = []
@@ -143,10 +146,15 @@ def _enqueue(ctx: Context) -> None:
             axis.queue.push(QueueEntry(mnemonic, units, go_together(group), text, group))
         board.run_queues(ctx.axes)
         return None
-    factory = QUEUED[mnemonic]
+    sync = None
+    if mnemonic in LINEAR_MOVES:
+        sync = LinearMove(StartGroup(ctx.axes))  # a flush of one axis withdraws it
+        actions = [linear_target(sync, v, LINEAR_MOVES[mnemonic]) for v in ctx.values]
+    else:
+        factory = QUEUED[mnemonic]
+        actions = [factory(value, ctx) for value in ctx.values]
     direct = mnemonic != "LS"  # LS must sit in the queue: LE jumps back to it
-    for axis, value in zip(ctx.axes, ctx.values, strict=True):
-        action = factory(value, ctx)
+    for axis, action in zip(ctx.axes, actions, strict=True):
         queue = axis.queue
         if direct and axis.wait is None and not queue.entries:
             # An idle axis with an empty queue reaches this entry at once: run it now,
@@ -154,10 +162,10 @@ def _enqueue(ctx: Context) -> None:
             result = action(axis, board)
             if result is None:
                 continue
-            queue.push(QueueEntry(mnemonic, units, action, text))
+            queue.push(QueueEntry(mnemonic, units, action, text, sync))
             axis.wait = result
         else:
-            queue.push(QueueEntry(mnemonic, units, action, text))
+            queue.push(QueueEntry(mnemonic, units, action, text, sync))
         axis.run_queue(board)
     if board.cross_axis_event:
         board.run_queues()

@@ -27,6 +27,24 @@ _M2 = {m for m in COMMANDS if len(m) == 2}
 _PREFIX_OF_M3 = {m[:2] for m in _M3}
 _PREFIXES = {m[:k] for m in COMMANDS for k in range(1, len(m) + 1)}
 _NUMBER_RUN = re.compile(r"[-+0-9.,]*")
+_BLANKS = re.compile(r"[ \t]*")
+_NUMBER_START = frozenset("+-0123456789.,")
+_HOLD = "hold"
+
+
+def _mnemonic_at(buf: str, i: int, n: int) -> str | None:
+    """The mnemonic starting at i (greedy), None if none can, _HOLD if more input decides."""
+    rem = n - i
+    head3 = buf[i : i + 3].upper()
+    if rem >= 3 and head3 in _M3:
+        return head3
+    if rem >= 2 and head3[:2] in _M2:
+        if rem == 2 and head3 in _PREFIX_OF_M3:
+            return _HOLD  # could still become a three-letter mnemonic
+        return head3[:2]
+    if rem < 3 and head3 in _PREFIXES:
+        return _HOLD
+    return None
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
 
 
@@ -106,17 +124,10 @@ class Lexer:
                 i += 1
                 continue
             # ---- mnemonic, greedy: three characters before two ----------------------
-            rem = n - i
-            head3 = buf[i : i + 3].upper()
-            if rem >= 3 and head3 in _M3:
-                mnemonic = head3
-            elif rem >= 2 and head3[:2] in _M2:
-                if rem == 2 and head3 in _PREFIX_OF_M3:
-                    break  # could still become a three-letter mnemonic
-                mnemonic = head3[:2]
-            elif head3 in _PREFIXES and rem < 3:
+            mnemonic = _mnemonic_at(buf, i, n)
+            if mnemonic is _HOLD:
                 break  # a partial mnemonic: wait for more
-            else:
+            if mnemonic is None:
                 # Unknown: skip to the next separator, then report the whole token.
                 self._skipping = True
                 self._bad = ""
@@ -137,6 +148,15 @@ class Lexer:
                 i = j + 1
                 continue
             if kind is Operand.NUMBER:
+                blanks = 0
+                if not spec.operand_optional and buf[j] in " \t":
+                    # `LP 10,20,30` (evidence 1.4): blanks may stand before an operand.
+                    k = _BLANKS.match(buf, j).end()
+                    if k >= n:
+                        break
+                    if buf[k] in _NUMBER_START:
+                        blanks = k - j
+                        j = k
                 end = _NUMBER_RUN.match(buf, j).end()
                 if end - j > MAX_OPERAND_LENGTH:
                     out.append(LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"))
@@ -146,14 +166,27 @@ class Lexer:
                 if end >= n:
                     break  # more digits may follow
                 run = buf[j:end]
+                if run and buf[end] not in SEPARATORS:
+                    # What follows the number must start a command (`MA1000GO`);
+                    # anything else makes the whole token malformed (`MA1e5`, `VL5000abc`).
+                    follower = _mnemonic_at(buf, end, n)
+                    if follower is _HOLD:
+                        break
+                    if follower is None:
+                        out.append(LexError(buf[i : end + 1],
+                                            f"{mnemonic}: malformed operand {buf[j : end + 1]!r}"))
+                        self._skipping = True
+                        i = end
+                        continue
                 text = buf[i:end]
                 i = end
                 if not run:
                     if spec.operand_optional:
                         out.append(ParsedCommand(spec, (), False, text))
                     else:
-                        out.append(LexError(text, f"{mnemonic} needs an operand"))
-                        self._skipping = True  # `VLabc` is one bad token, not two
+                        out.append(LexError(text.rstrip(), f"{mnemonic} needs an operand"))
+                        # `VLabc` is one bad token, not two; `MA RP` runs RP.
+                        self._skipping = blanks == 0 and buf[j] not in SEPARATORS
                     continue
                 slots = tuple(s if s else None for s in run.split(","))
                 bad_slot = next((s for s in slots if s is not None and not _NUMBER.match(s)),

@@ -111,8 +111,9 @@ _SPECS: list[CommandSpec] = [
     # ---- motion parameters ------------------------------------------------------------
     _q("VL", "motion", "Peak (slew) velocity, steps/s.", units=2, operand=Operand.NUMBER,
        value_range=(1.0, float(MAX_VELOCITY)), source="manual 2.14 (factory 200,000); evidence 2.2",
-       notes="Range 1..4,176,000 (Appendix C). VL not above VB is a command error when it "
-       "executes (evidence: 'OMS errors if VB = VL')."),
+       notes="Range 1..4,176,000 (Appendix C): VL0 is refused, since VL must stay above VB "
+       "(evidence: 'OMS errors if VB = VL'); VL not above VB is a command error when it "
+       "executes."),
     _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2, operand=Operand.NUMBER,
        value_range=_VEL, source="manual 2.14 (factory 0); evidence 2.2",
        notes="Must stay below VL: VB >= VL is a command error when it executes."),
@@ -151,6 +152,17 @@ _SPECS: list[CommandSpec] = [
        notes="Decimals truncate toward zero (MR-200.9 moves -200): classic EPICS sends "
        "n.9 for a move of n steps (decision D). A resulting target outside the 32-bit range is "
        "a command error when it executes."),
+    _q("MT", "motion", "Linear move to absolute positions: the axes move on a straight line and "
+       "arrive together; GO starts it.", units=2, operand=Operand.NUMBER, modes=LIST_MODES,
+       value_range=_POS, source="manual Appendix C (AM; ... MT1000,2000,3000; GO; ID;); "
+       "evidence 2.2 (DLL AAMT/AMMT)",
+       notes="AA/AM only: a command error in single-axis mode. One reference profile for the "
+       "longest distance, scaled per axis: each axis stays within its own VL/AC/DC/VB and all "
+       "end on the same tick, exactly on target; the ramp shape is the first axis's (D). In AM "
+       "mode the move starts when every axis in it has reached its GO."),
+    _q("ML", "motion", "Linear move by relative distances (see MT).", units=2,
+       operand=Operand.NUMBER, modes=LIST_MODES, value_range=_SPAN,
+       source="evidence 2.2 (DLL AAML/AMML)", confidence="I", notes="As MT, relative."),
     _q("GO", "motion", "Start the prepared move(s): ramp up, slew, ramp down.", units=4,
        source="evidence 2.2; manual 6.2 (GO expands into start, ramp up, slew, ramp down)",
        notes="Costs 4 units (its expansion). The queue waits for the axis to be at rest, starts "
@@ -174,9 +186,10 @@ _SPECS: list[CommandSpec] = [
        confidence="I", notes="Waits for rest, then steps once; the next entry runs a tick later."),
     _i("ST", "motion", "Stop with deceleration and flush the queue.",
        source="evidence 2.2, E4 (`AX AC200000; ST ID;`)", confidence="I",
-       notes="Immediate: it acts on a running move. It flushes the queue (so an AC queued just "
-       "before it is dropped and the running deceleration is used), and entries queued after "
-       "it wait until the axis is at rest: `ST ID` sets done when stopped. AA/AM: all axes."),
+       notes="Immediate: it acts on a running move. It flushes the queue, applying first any "
+       "AC/DC still waiting there, so `AX AC200000; ST ID;` stops at 200000 (D). Entries "
+       "queued after it wait until the axis is at rest: `ST ID` sets done when stopped. "
+       "AA/AM: all axes."),
     _i("SA", "motion", "Stop all axes with deceleration, flushing every queue.",
        source="evidence 2.2, E1 (`AM SA;`)"),
     _i("KL", "motion", "Kill all motion at once, no deceleration; flush every queue.",
@@ -184,8 +197,8 @@ _SPECS: list[CommandSpec] = [
     _i("KS", "motion", "Kill selected axes at once and flush their queues (`KS1,,1`).",
        operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
        source="evidence 2.2 (TRAJ comment)",
-       notes="Single-axis mode: KS kills the addressed axis. AA/AM: a 1 in an axis's slot "
-       "kills it."),
+       notes="Single-axis mode: KS (or KS1) kills the addressed axis, KS0 nothing. AA/AM: a 1 "
+       "in an axis's slot kills it; a bare KS is refused (D)."),
     _q("LP", "position", "Load position: motor and encoder counters.", units=2,
        operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4"),
     _q("LO", "position", "Load the motor (commanded) position only.", units=2,
@@ -211,9 +224,11 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.2 (manual type C, MAN-CMD p.1-86)"),
     _q("LS", "queue", "Loop start: repeat the entries up to LE # times (loops nest).", units=2,
        operand=Operand.NUMBER, value_range=(1.0, 2_147_483_647.0), source="manual 6.2",
-       notes="Entries inside a loop keep their queue units until the outermost loop ends."),
+       notes="Entries inside a loop keep their queue units until the outermost loop ends (an "
+       "LS never closed by LE keeps them until a flush)."),
     _q("LE", "queue", "Loop end: jump back to the latest LS until its count runs out.",
-       source="manual 6.2", notes="An LE without an open LS does nothing (D)."),
+       source="manual 6.2", notes="Each jump back takes one update cycle (D), so no loop "
+       "spins within a tick. An LE without an open LS does nothing (D)."),
     # ---- configuration ----------------------------------------------------------------
     _q("PS", "config", "Axis type: O open-loop stepper, E stepper with encoder, M servo.",
        operand=Operand.LETTER, letters="OEM", query=True, reply="=O | =E | =M",
@@ -256,8 +271,8 @@ _SPECS: list[CommandSpec] = [
     _i("#UR", "config", "Update rate in Hz: 1024, 2048, 4096 or 8192 (976.6..122.1 us).",
        operand=Operand.NUMBER, query=True, value_range=(1024.0, 8192.0), reply="#UR?: 8192",
        source="evidence 2.5 (TRAJ); manual 2.13", confidence="I",
-       notes="Setting it resets the position counters (TRAJ reloads LP afterwards) and is "
-       "refused while an axis moves (D)."),
+       notes="Setting it resets the position counters (TRAJ reloads LP afterwards). Refused "
+       "unless every axis is idle, with nothing queued (D); virtual time stays continuous."),
     _i("?UR", "config", "Update rate query (SySal form).", reply="8192",
        source="evidence 2.5, E8", confidence="I"),
     # ---- reports ----------------------------------------------------------------------

@@ -12,6 +12,12 @@ from .queue import CommandQueue
 
 if TYPE_CHECKING:
     from .board import Board
+    from .coordinated import LinearMove
+
+
+def wrap32(value: int) -> int:
+    """Position counters are signed 32-bit registers: they wrap, as the hardware's do."""
+    return ((value + 0x8000_0000) & 0xFFFF_FFFF) - 0x8000_0000
 
 
 # Waits a queue entry can leave the axis in. A tuple ("tick", t) waits for a tick.
@@ -28,7 +34,9 @@ class AxisConfig:
     acceleration: int = 2_000_000  # AC (also sets the deceleration)
     deceleration: int = 2_000_000  # DC
     ramp: RampShape = RampShape.LINEAR
-    ramp_factor: int = 0  # PN#/SS#/PR# operand, stored and reported only
+    ramp_factor: int = 0  # PN# operand, stored only (its meaning is not in the evidence)
+    scurve_factor: int = 0  # SS#, stored only
+    ramp_parameter: int = 0  # PR#, stored only
     axis_type: str = "O"  # PSO open-loop stepper, PSE stepper with encoder, PSM servo
     limit_active_high: bool = False  # LTL factory: active low
     limits_enabled: bool = True  # LN/LF, LMN/LMF
@@ -51,6 +59,7 @@ class Axis:
     motion_end: int | None = None  # tick it ends on (None: endless jog)
     ramp_end: int = 0  # tick the last speed change of the motion completes
     pending_target: int | None = None  # set by MA/MR, consumed by GO
+    pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     direction: int = 1  # direction of the last or current motion (QA: P/M)
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
@@ -64,11 +73,11 @@ class Axis:
         if m is None:
             return self.position
         if self.motion_end is not None and board.tick >= self.motion_end:
-            return self.position + m.final_offset
-        return self.position + int(m.offset(self._t(board)))
+            return wrap32(self.position + m.final_offset)
+        return wrap32(self.position + int(m.offset(self._t(board))))
 
     def encoder_position(self, board: Board) -> int:
-        return self.motor_position(board) + self.encoder_offset
+        return wrap32(self.motor_position(board) + self.encoder_offset)
 
     def velocity(self, board: Board) -> float:
         m = self.motion
@@ -85,7 +94,7 @@ class Axis:
         return self.motion is not None
 
     # ---- motion control --------------------------------------------------------------
-    def _start(self, motion: Motion, board: Board) -> None:
+    def start_motion(self, motion: Motion, board: Board) -> None:
         self.motion = motion
         self.motion_start = board.tick
         period = board.period
@@ -107,7 +116,7 @@ class Axis:
         exact = m.offset(t)
         velocity = m.velocity(t)
         whole = int(exact)
-        self.position += whole
+        self.position = wrap32(self.position + whole)
         self.motion = None
         self.motion_end = None
         return exact - whole, velocity
@@ -120,7 +129,7 @@ class Axis:
         c = self.config
         motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
                            c.deceleration, c.ramp)
-        self._start(motion, board)
+        self.start_motion(motion, board)
         return True
 
     def start_jog(self, velocity: int, board: Board) -> None:
@@ -129,15 +138,30 @@ class Axis:
         c = self.config
         motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
                           c.deceleration, c.ramp)
-        self._start(motion, board)
+        self.start_motion(motion, board)
+
+    def stop_and_flush(self, board: Board) -> None:
+        """ST/SA: flush the queue and decelerate; later entries wait until the axis rests.
+
+        An AC or DC the host queued just before the stop (`AX AC200000; ST ID;`, evidence
+        E4) is applied first, so the stop uses the deceleration the host asked for.
+        """
+        for entry in self.queue.pending():
+            if entry.mnemonic in ("AC", "DC"):
+                entry.action(self, board)
+        self.flush(board)
+        self.stop(board)
+        if self.motion is not None:
+            self.wait = WAIT_REST_RETRY
 
     def stop(self, board: Board) -> None:
-        """ST/SA: decelerate to VB at the deceleration rate, then stop."""
+        """Decelerate to VB at the deceleration rate, then stop."""
         if self.motion is None:
             return
         residual, current = self._rebase(board)
         c = self.config
-        self._start(plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp), board)
+        motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)
+        self.start_motion(motion, board)
 
     def kill(self, board: Board) -> None:
         """KL/KS: stop at once, no deceleration; the position keeps the whole steps made."""
@@ -148,13 +172,13 @@ class Axis:
     def finish_motion(self) -> None:
         m = self.motion
         if m is not None:
-            self.position += m.final_offset
+            self.position = wrap32(self.position + m.final_offset)
         self.motion = None
         self.motion_end = None
 
     def step(self, direction: int, board: Board) -> None:
         """MO: one step in the MP/MM direction."""
-        self.position += direction
+        self.position = wrap32(self.position + direction)
         self.direction = direction
 
     def load_position(self, value: int, motor: bool, encoder: bool, board: Board) -> None:
@@ -220,9 +244,12 @@ class Axis:
         """Drop every pending entry. An AA start group this axis had not yet joined no
         longer waits for it: the remaining members may start on this very tick."""
         queue = self.queue
+        if self.pending_linear is not None:
+            self.pending_linear.withdraw(self, board)
+            self.pending_linear = None
         groups = [e.sync for e in queue.pending() if e.sync is not None]
-        if isinstance(self.wait, StartGroup):
-            groups.append(self.wait)
+        if isinstance(self.wait, GroupWait):
+            groups.append(self.wait.group)
         for group in groups:
             group.withdraw(self, board)
             board.cross_axis_event = True
@@ -244,37 +271,52 @@ class Axis:
 class StartGroup:
     """An AA-mode GO: every member's queue must reach it, then all start on one tick.
 
-    Used as the queue wait of the members that arrived first. An axis whose queue is
-    flushed before it arrives withdraws, so the others are not held forever.
+    Inside an LS/LE loop the same GO is reached again on every pass, so the group fires
+    in rounds: round r fires when every member has arrived r + 1 times. An axis whose
+    queue is flushed withdraws, so the others are not held forever.
     """
 
-    __slots__ = ("members", "arrived", "fired")
+    __slots__ = ("members", "arrivals", "fired")
 
     def __init__(self, members: list[Axis]) -> None:
         self.members = {a.index for a in members}
-        self.arrived: set[int] = set()
-        self.fired = False
+        self.arrivals: dict[int, int] = {}
+        self.fired = 0  # rounds fired so far
 
-    def ready(self, board: Board) -> bool:
-        self._maybe_fire(board)
-        return self.fired
-
-    def arrive(self, axis: Axis, board: Board) -> None:
-        self.arrived.add(axis.index)
+    def arrive(self, axis: Axis, board: Board) -> GroupWait:
+        round_ = self.arrivals.get(axis.index, 0)
+        self.arrivals[axis.index] = round_ + 1
         board.cross_axis_event = True  # other members' queues may now move
         self._maybe_fire(board)
+        return GroupWait(self, round_)
 
     def withdraw(self, axis: Axis, board: Board) -> None:
         self.members.discard(axis.index)
-        self.arrived.discard(axis.index)
+        self.arrivals.pop(axis.index, None)
+        board.cross_axis_event = True
 
     def _maybe_fire(self, board: Board) -> None:
-        if self.fired or not self.arrived >= self.members:
-            return
-        self.fired = True
-        for index in sorted(self.members):
-            member = board.axes[index]
-            target = member.pending_target
-            member.pending_target = None
-            if target is not None:
-                member.start_move(target, board)
+        while self.members and all(self.arrivals.get(m, 0) > self.fired for m in self.members):
+            self.fired += 1
+            for index in sorted(self.members):
+                member = board.axes[index]
+                if member.pending_linear is not None:
+                    member.pending_linear.start(board)  # starts all its axes at once
+                target = member.pending_target
+                member.pending_target = None
+                if target is not None:
+                    member.start_move(target, board)
+
+
+class GroupWait:
+    """The queue wait of an axis standing at an AA-mode GO, for one round."""
+
+    __slots__ = ("group", "round")
+
+    def __init__(self, group: StartGroup, round_: int) -> None:
+        self.group = group
+        self.round = round_
+
+    def ready(self, board: Board) -> bool:
+        self.group._maybe_fire(board)
+        return self.group.fired > self.round

@@ -43,6 +43,9 @@ class Board:
         self.tick = 0
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
+        # Virtual time stays continuous across #UR: time = origin + (tick - tick origin) * period
+        self._time_origin = 0.0
+        self._tick_origin = 0
         # Command mode: ("single", axis index) after AX..AK, or "AA" / "AM".
         self.mode: str = "single"
         self.current_axis = 0
@@ -62,8 +65,13 @@ class Board:
 
     @property
     def time(self) -> float:
-        """Virtual seconds since power-up."""
-        return self.tick * self.period
+        """Virtual seconds since power-up (continuous across update-rate changes)."""
+        return self._time_origin + (self.tick - self._tick_origin) * self.period
+
+    def tick_at(self, seconds: float) -> int:
+        """The last tick at or before a virtual time (at the present update rate)."""
+        return self._tick_origin + int((seconds - self._time_origin) * self.update_rate_hz
+                                       + 1e-6)
 
     # ---- time ------------------------------------------------------------------------
     def run_queues(self, axes: Iterable[Axis] | None = None) -> None:
@@ -252,6 +260,8 @@ class Board:
     # ---- whole-board actions ---------------------------------------------------------
     def set_update_rate(self, rate_hz: int) -> None:
         """#UR: a new update rate resets the position counters (evidence 2.5, TRAJ)."""
+        self._time_origin = self.time
+        self._tick_origin = self.tick
         self.update_rate_hz = rate_hz
         self.period = 1.0 / rate_hz
         for axis in self.axes:
@@ -259,11 +269,9 @@ class Board:
             axis.encoder_offset = 0
 
     def stop_all(self) -> None:
+        """SA: every axis stops as ST stops one."""
         for axis in self.axes:
-            axis.flush(self)
-            axis.stop(self)
-            if axis.motion is not None:
-                axis.wait = None
+            axis.stop_and_flush(self)
 
     def kill_all(self) -> None:
         for axis in self.axes:

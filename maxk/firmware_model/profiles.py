@@ -131,9 +131,7 @@ class Motion:
     end_time: float | None
     final_offset: int
     ramp_end_time: float
-    residual: float = 0.0  # fractional step carried in from the motion this one replaced
     direction: int = 1
-    kind: str = "move"
     peak_speed: float = 0.0
     _last: int = field(default=0, repr=False)
 
@@ -166,11 +164,6 @@ class Motion:
         if phase is None:
             return 0.0
         return phase.direction * phase.speed(t - phase.t0)
-
-    def acceleration(self, t: float) -> float:
-        """Signed acceleration at time t (numerical, for status and traces only)."""
-        h = 1e-6
-        return (self.velocity(t + h) - self.velocity(max(t - h, 0.0))) / (2 * h if t > h else h)
 
 
 def _ramp(t0: float, s0: float, v1: float, v2: float, accel: float, direction: int,
@@ -237,25 +230,24 @@ def plan_stop(residual: float, velocity: float, base: float, decel: float,
     if speed > base and decel > 0:
         t, s = _append(phases, _ramp(0.0, residual, speed, base, decel, direction, shape))
     final = round(s)
-    return Motion(phases, t, final, t, residual=residual, direction=direction, kind="stop",
-                  peak_speed=speed)
+    return Motion(phases, t, final, t, direction=direction, peak_speed=speed)
 
 
 def plan_jog(residual: float, velocity: float, target: float, base: float, accel: float,
              decel: float, shape: RampShape) -> Motion:
     """Change speed toward a signed jog velocity, then slew forever (or stop at 0)."""
     if target == 0:
-        motion = plan_stop(residual, velocity, base, decel, shape)
-        motion.kind = "jog"
-        return motion
+        return plan_stop(residual, velocity, base, decel, shape)
     direction = 1 if target > 0 else -1
     phases: list[Phase] = []
     t, s = 0.0, residual
     speed = abs(velocity)
     if velocity != 0 and (velocity > 0) != (target > 0):
-        # Reverse: decelerate to rest in the old direction first.
+        # Reverse: decelerate to VB in the old direction, then stop and turn, as a
+        # stepper does (it never crawls below its base velocity).
         old = 1 if velocity > 0 else -1
-        t, s = _append(phases, _ramp(0.0, s, speed, 0.0, decel, old, shape))
+        if speed > base:
+            t, s = _append(phases, _ramp(0.0, s, speed, base, decel, old, shape))
         speed = 0.0
     goal = abs(target)
     if speed == 0.0:
@@ -265,5 +257,4 @@ def plan_jog(residual: float, velocity: float, target: float, base: float, accel
     elif goal < speed:
         t, s = _append(phases, _ramp(t, s, speed, goal, decel, direction, shape))
     phases.append(Phase(t, math.inf, s, goal, goal, direction, shape))
-    return Motion(phases, None, 0, t, residual=residual, direction=direction, kind="jog",
-                  peak_speed=max(goal, abs(velocity)))
+    return Motion(phases, None, 0, t, direction=direction, peak_speed=max(goal, abs(velocity)))

@@ -31,7 +31,7 @@ class QueueEntry:
     units: int
     action: Action
     text: str = ""  # the command as the host sent it, for traces and the REPL
-    sync: Any = None  # the StartGroup of an AA-mode GO, so a flush can withdraw from it
+    sync: Any = None  # an AA GO's StartGroup or an MT/ML LinearMove: a flush withdraws
 
 
 class QueueFull(Exception):
