@@ -22,6 +22,7 @@ from .commands.lexer import SEPARATORS
 from .firmware_model import flags as F
 from .firmware_model.board import Board, CommandErrorRecord
 from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from .firmware_model.world import FAULTS, AxisWorld, InputSource
 
 
 @dataclass(frozen=True)
@@ -92,6 +93,56 @@ class MAXk:
         return self.board.run_until(
             lambda b: all(a.flags & F.AXIS_DONE for a in axes), self.ticks(timeout)
         )
+
+    # ---- the world around the board ---------------------------------------------------
+    def stage(self, letter: str) -> AxisWorld:
+        """The stage of one axis (switch positions in physical steps since power-up).
+        Change it through the set_* methods so a running motion sees the change."""
+        return self.board.world.axes[self.board.axis(letter).index]
+
+    def set_limits(self, letter: str, *, plus: float | None | str = "keep",
+                   minus: float | None | str = "keep") -> None:
+        """Place the limit switches (None: no switch on that side)."""
+        stage = self.stage(letter)
+        if plus != "keep":
+            stage.set_plus_limit(plus)  # type: ignore[arg-type]
+        if minus != "keep":
+            stage.set_minus_limit(minus)  # type: ignore[arg-type]
+        self.board.world_changed()
+
+    def set_home(self, letter: str, low: float | None, high: float | None) -> None:
+        """The home switch is active from low to high (None, None: no home switch)."""
+        self.stage(letter).set_home(low, high)
+        self.board.world_changed()
+
+    def set_index(self, letter: str, period: int, width: int = 4, offset: int = 0) -> None:
+        """Encoder index marks every `period` counts, `width` counts wide, one at `offset`."""
+        stage = self.stage(letter)
+        stage.index_period, stage.index_width, stage.index_offset = period, width, offset
+        self.board.world_changed()
+
+    def fault(self, letter: str, switch: str, state: str | None) -> None:
+        """Stick a switch ('plus', 'minus' or 'home') 'active' or 'inactive'; None clears."""
+        if state not in FAULTS:
+            raise ValueError(f"fault state must be one of {FAULTS}")
+        stage = self.stage(letter)
+        attr = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}[switch]
+        getattr(stage, attr).fault = state
+        self.board.world_changed()
+
+    def set_input(self, bit: int, level: bool | InputSource) -> None:
+        """A general purpose input's level: a constant, or a function of the board."""
+        if not 0 <= bit <= 15:
+            raise ValueError("general purpose bits are 0..15")
+        self.board.world.digital[bit] = level
+        self.board.world_changed()
+
+    def set_analog(self, channel: int, volts: float | InputSource) -> None:
+        """An analog input (0..3) in volts (+/-10 V), constant or a function of the board."""
+        if not 0 <= channel <= 3:
+            raise ValueError("analog inputs are 0..3")
+        self.board.world.analog[channel] = volts
+        self.board.world_changed()
 
     # ---- observing -------------------------------------------------------------------
     def position(self, letter: str) -> int:

@@ -102,7 +102,8 @@ def test_every_mnemonic_is_accepted_by_the_lexer_in_both_cases():
     from maxk.commands.lexer import Lexer, ParsedCommand
 
     for m, spec in COMMANDS.items():
-        operand = {"none": "", "#": "1", "letter": spec.letters[:1]}[spec.operand.value]
+        operand = {"none": "", "#": "1", "letter": spec.letters[:1],
+                   "pattern": spec.letters[:1] * 4}[spec.operand.value]
         for text in (m + operand, (m + operand).lower()):
             out = Lexer().feed(text + ";")
             assert len(out) == 1 and isinstance(out[0], ParsedCommand), (text, out)

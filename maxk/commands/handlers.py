@@ -253,9 +253,36 @@ def _limit_mode(value: object, ctx: Context) -> Action:
     return action
 
 
-def _limit_level(value: object, ctx: Context) -> Action:
+def _limit_level_for(attr: str) -> QueuedFactory:
+    """LT/HT: an active level given as H or L."""
+
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            setattr(axis.config, attr, value == "H")
+
+        return action
+
+    return factory
+
+
+def _home(direction: int, load: bool) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> object:
+            if axis.motion is not None:
+                return WAIT_REST_RETRY
+            load_value = (value if value is not None else 0) if load else None
+            if board.start_homing(axis, direction, load_value):  # type: ignore[arg-type]
+                return WAIT_MOTION
+            return WAIT_REST_RETRY if axis.motion is not None else None
+
+        return action
+
+    return factory
+
+
+def _home_encoder_mode(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
-        axis.config.limit_active_high = value == "H"
+        axis.config.home_encoder = value != 0
 
     return action
 
@@ -289,10 +316,23 @@ QUEUED: dict[str, QueuedFactory] = {
     "LS": _loop_start,
     "LE": _loop_end,
     "PS": _set("axis_type"),
-    "LT": _limit_level,
+    "LT": _limit_level_for("limit_active_high"),
     "LH": _set("limit_active_high", True),
     "LL": _set("limit_active_high", False),
     "LM": _limit_mode,
+    "HM": _home(1, True),
+    "HR": _home(-1, True),
+    "KM": _home(1, False),
+    "KR": _home(-1, False),
+    "HS": _set("home_encoder", False),
+    "HE": _set("home_encoder", True),
+    "HI": _home_encoder_mode,
+    "HT": _limit_level_for("home_active_high"),
+    "HH": _set("home_active_high", True),
+    "HL": _set("home_active_high", False),
+    "EH": _set("home_pattern"),
+    "SL": _set("limit_hard_stop", False),
+    "SF": _set("limit_hard_stop", True),
     "LN": _set("limits_enabled", True),
     "LF": _set("limits_enabled", False),
 }
@@ -327,6 +367,7 @@ def _limit_mode_letter(axis: Axis) -> str:
 SETTING_QUERIES: dict[str, Callable[[Axis], str]] = {
     "PS": lambda a: "=" + a.config.axis_type,
     "LT": lambda a: "=h" if a.config.limit_active_high else "=l",
+    "HT": lambda a: "=h" if a.config.home_active_high else "=l",
     "LM": _limit_mode_letter,
     "CL": lambda a: "off",
 }

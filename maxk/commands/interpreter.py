@@ -60,7 +60,7 @@ class Interpreter:
 
 def _convert(cmd: ParsedCommand, slot: str) -> object:
     spec = cmd.spec
-    if spec.operand is Operand.LETTER:
+    if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
     value = float(slot)
     if spec.value_range is not None:

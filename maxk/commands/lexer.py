@@ -196,6 +196,22 @@ class Lexer:
                     continue
                 out.append(ParsedCommand(spec, slots, False, text))
                 continue
+            if kind is Operand.PATTERN:
+                k = j
+                while k < n and k - j < 4 and buf[k].upper() in spec.letters:
+                    k += 1
+                if k >= n and k - j < 4:
+                    break  # the rest of the pattern may follow
+                text = buf[i:k]
+                if k - j < 4:
+                    out.append(LexError(buf[i : k + 1],
+                                        f"{mnemonic} needs four of {'/'.join(spec.letters)}"))
+                    self._skipping = True
+                    i = k
+                    continue
+                out.append(ParsedCommand(spec, (buf[j:k].upper(),), False, text))
+                i = k
+                continue
             # Operand.LETTER: one letter per axis, comma separated in AA/AM.
             letters = spec.letters
             k = j

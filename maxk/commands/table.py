@@ -26,6 +26,7 @@ class Operand(Enum):
     NONE = "none"
     NUMBER = "#"  # signed decimal; one per axis (comma list) in AA/AM
     LETTER = "letter"  # one letter of `letters` (or '?' when query=True); lists in AA/AM
+    PATTERN = "pattern"  # exactly four characters of `letters` (EH1111)
 
 
 class Timing(Enum):
@@ -67,6 +68,8 @@ class CommandSpec:
             form = f"{m}[#]" if self.operand_optional else f"{m}#"
         elif self.operand is Operand.LETTER:
             form = f"{m}{{{'|'.join(self.letters)}}}"
+        elif self.operand is Operand.PATTERN:
+            form = f"{m}pppp"
         else:
             form = m
         if self.query:
@@ -229,6 +232,49 @@ _SPECS: list[CommandSpec] = [
     _q("LE", "queue", "Loop end: jump back to the latest LS until its count runs out.",
        source="manual 6.2", notes="Each jump back takes one update cycle (D), so no loop "
        "spins within a tick. An LE without an open LS does nothing (D)."),
+    # ---- homing -----------------------------------------------------------------------
+    _q("HM", "homing", "Home forward: search for home, load the counter with # (0) there.",
+       units=2, operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
+       source="evidence 2.3, E4, E5; manual 4.3, 4.8, Appendix C (HM0)",
+       notes="The search is documented in docs/homing.md: jog at VL toward home, load the "
+       "counter on the update cycle home is seen, ramp to a stop at DC. Already on home: "
+       "found at once. A limit stops it (overtravel) and home is not found. The queue holds "
+       "the next entry until the axis is at rest."),
+    _q("HR", "homing", "Home reverse: as HM, searching in the minus direction.", units=2,
+       operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
+       source="evidence 2.3, E4, E5"),
+    _q("KM", "homing", "Find home forward without resetting the position counter.", units=2,
+       operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
+       source="evidence 2.3 (VIPER comment)", confidence="I",
+       notes="An operand is accepted (the evidence shows one) but has no known meaning and is "
+       "not used."),
+    _q("KR", "homing", "Find home in reverse without resetting the position counter.",
+       units=2, operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
+       source="evidence 2.3", confidence="I", notes="As KM."),
+    _q("HS", "homing", "Home on the home switch alone (factory).", source="evidence 2.3 (DLL "
+       "HomeOmsAxis*UseSwitch sends HSHM#); manual 4.8"),
+    _q("HE", "homing", "Home on the encoder logic: Phase +A * Phase -B * Index * Home switch.",
+       source="evidence 2.3 (DLL ...UseEncoder sends HEHM#); manual 4.8",
+       notes="Each term is selected by the EH pattern; the quadrant is x4 count mod 4 = 0 "
+       "(A high, B low)."),
+    _q("HI", "homing", "Home Encoder mode on (HI, HI1) or off (HI0), the manual's 'HI' mode.",
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
+       source="manual 4.8 ('Home Encoder (HI) mode'); evidence 2.4 (MXA `HI1 EH1111`)",
+       confidence="I", notes="Modelled as HE (HI, HI1) and HS (HI0)."),
+    _q("HT", "homing", "Home switch true level: H active high, L active low (factory L).",
+       operand=Operand.LETTER, letters="HL", query=True, reply="=l | =h",
+       source="evidence 2.3 (VIPER HTH); manual 2.14 (Home Active 'Low')", confidence="I",
+       notes="Switches are taken to be wired to match: the level decides what QA's H and the "
+       "home status word read electrically, not where home is."),
+    _q("HH", "homing", "Home switch active high (same as HTH).", source="evidence 2.3 (DLL "
+       "DefineOmsHomeAsSwitchClosed)", confidence="I"),
+    _q("HL", "homing", "Home switch active low (same as HTL).", source="evidence 2.3",
+       confidence="I"),
+    CommandSpec("EH", "homing", "Encoder home pattern: +A, -B, Index, Home (1 true, 0 false, "
+                "X ignored).", Timing.QUEUED, units=2, operand=Operand.PATTERN, letters="01X",
+                source="manual 4.8 (HT and EH create patterns); evidence 2.4 (MXA EH1111)",
+                confidence="D", notes="Factory EH1111 is the manual's default logic. The "
+                "digit meanings and X for 'ignore' are our decision."),
     # ---- configuration ----------------------------------------------------------------
     _q("PS", "config", "Axis type: O open-loop stepper, E stepper with encoder, M servo.",
        operand=Operand.LETTER, letters="OEM", query=True, reply="=O | =E | =M",
@@ -252,6 +298,13 @@ _SPECS: list[CommandSpec] = [
        notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
        "limits on with the last style. The letters S and the LM? letters other than f are our "
        "decision (D)."),
+    _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (same as LMS).",
+       source="manual 2.14 ('Over travel limit (soft limit or hard limit); Factory Default = "
+       "Hard limit'); evidence 2.3 (DLL SetOmsSoftLimitsMode)", confidence="I",
+       notes="Read as the manual's soft/hard limit choice, not software travel bounds: no "
+       "command for bounds appears in the manual or the host code (docs/not-modelled.md)."),
+    _q("SF", "limits", "Soft limits off: stop at once when a limit trips (factory, same as LMH).",
+       source="manual 2.14; evidence 2.3", confidence="I"),
     _q("LN", "limits", "Limit (overtravel) detection on.", source="evidence 2.3",
        confidence="I"),
     _q("LF", "limits", "Limit (overtravel) detection off.", source="evidence 2.3",
@@ -337,6 +390,7 @@ GROUP_TITLES = {
     "queue": "Queue, flags and loops",
     "config": "Axis configuration",
     "limits": "Limit configuration",
+    "homing": "Homing",
     "report": "Reports and queries",
 }
 

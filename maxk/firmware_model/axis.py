@@ -13,6 +13,7 @@ from .queue import CommandQueue
 if TYPE_CHECKING:
     from .board import Board
     from .coordinated import LinearMove
+    from .homing import Homing
 
 
 def wrap32(value: int) -> int:
@@ -41,8 +42,9 @@ class AxisConfig:
     limit_active_high: bool = False  # LTL factory: active low
     limits_enabled: bool = True  # LN/LF, LMN/LMF
     limit_hard_stop: bool = True  # LMH stop at once (factory "hard"), LMS decelerate
-    soft_limits: bool = False  # SL/SF
-    home_active_high: bool = False  # manual 2.14: "Home Active 'Low'"
+    home_active_high: bool = False  # manual 2.14: "Home Active 'Low'" (HT/HH/HL)
+    home_encoder: bool = False  # HE: encoder home logic; HS (factory): home switch alone
+    home_pattern: str = "1111"  # EH: +A, -B, Index, Home switch (1 true, 0 false, X ignore)
     move_direction: int = 1  # MP / MM
 
 
@@ -52,14 +54,19 @@ class Axis:
     letter: str
     config: AxisConfig = field(default_factory=AxisConfig)
     queue: CommandQueue = field(default_factory=CommandQueue)
-    position: int = 0  # motor position at rest, or the origin of the running motion
-    encoder_offset: int = 0  # encoder counter minus motor position (ideal encoder)
+    # Physical position in steps since power-up (what the switches see), at rest or at the
+    # origin of the running motion. The counters the host reads are offsets from it.
+    steps: int = 0
+    counter_offset: int = 0  # motor counter = steps + counter_offset, 32-bit wrapped
+    encoder_offset: int = 0  # encoder counter = steps + encoder_offset (ideal encoder)
     motion: Motion | None = None
     motion_start: int = 0  # tick the motion started on
     motion_end: int | None = None  # tick it ends on (None: endless jog)
     ramp_end: int = 0  # tick the last speed change of the motion completes
+    switch_tick: int | None = None  # next tick a switch or home condition may change
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
+    homing: Homing | None = None  # a running HM/HR/KM/KR search
     direction: int = 1  # direction of the last or current motion (QA: P/M)
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
@@ -68,16 +75,23 @@ class Axis:
     def _t(self, board: Board) -> float:
         return (board.tick - self.motion_start) * board.period
 
-    def motor_position(self, board: Board) -> int:
+    def steps_at_tick(self, tick: int, period: float) -> int:
+        """Physical position at any tick of the running motion (or at rest)."""
         m = self.motion
         if m is None:
-            return self.position
-        if self.motion_end is not None and board.tick >= self.motion_end:
-            return wrap32(self.position + m.final_offset)
-        return wrap32(self.position + int(m.offset(self._t(board))))
+            return self.steps
+        if self.motion_end is not None and tick >= self.motion_end:
+            return self.steps + m.final_offset
+        return self.steps + int(m.offset((tick - self.motion_start) * period))
+
+    def steps_now(self, board: Board) -> int:
+        return self.steps_at_tick(board.tick, board.period)
+
+    def motor_position(self, board: Board) -> int:
+        return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
 
     def encoder_position(self, board: Board) -> int:
-        return wrap32(self.motor_position(board) + self.encoder_offset)
+        return wrap32(self.steps_at_tick(board.tick, board.period) + self.encoder_offset)
 
     def velocity(self, board: Board) -> float:
         m = self.motion
@@ -94,7 +108,12 @@ class Axis:
         return self.motion is not None
 
     # ---- motion control --------------------------------------------------------------
-    def start_motion(self, motion: Motion, board: Board) -> None:
+    def start_motion(self, motion: Motion, board: Board, *, stopping: bool = False) -> bool:
+        """Start a planned motion now. A motion into an active limit switch is refused
+        (the overtravel flag is set instead); a stop is never refused."""
+        if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
+            board.refuse_into_limit(self)
+            return False
         self.motion = motion
         self.motion_start = board.tick
         period = board.period
@@ -106,6 +125,8 @@ class Axis:
         self.direction = motion.direction
         if self.motion_end is not None and self.motion_end <= board.tick:
             self.finish_motion()
+        board.schedule_switches(self)
+        return True
 
     def _rebase(self, board: Board) -> tuple[float, float]:
         """Freeze the running motion at this tick; return (fractional residual, velocity)."""
@@ -116,29 +137,29 @@ class Axis:
         exact = m.offset(t)
         velocity = m.velocity(t)
         whole = int(exact)
-        self.position = wrap32(self.position + whole)
+        self.steps += whole
         self.motion = None
         self.motion_end = None
+        self.switch_tick = None
         return exact - whole, velocity
 
     def start_move(self, target: int, board: Board) -> bool:
         """GO: a point-to-point move from rest to target. False if nothing to do."""
-        distance = target - self.position
+        distance = target - self.motor_position(board)
         if distance == 0:
             return False
         c = self.config
         motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
                            c.deceleration, c.ramp)
-        self.start_motion(motion, board)
-        return True
+        return self.start_motion(motion, board)
 
-    def start_jog(self, velocity: int, board: Board) -> None:
+    def start_jog(self, velocity: int, board: Board) -> bool:
         """JG: ramp from the present velocity to a signed jog velocity and slew."""
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
                           c.deceleration, c.ramp)
-        self.start_motion(motion, board)
+        return self.start_motion(motion, board, stopping=velocity == 0)
 
     def stop_and_flush(self, board: Board) -> None:
         """ST/SA: flush the queue and decelerate; later entries wait until the axis rests.
@@ -161,7 +182,7 @@ class Axis:
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)
-        self.start_motion(motion, board)
+        self.start_motion(motion, board, stopping=True)
 
     def kill(self, board: Board) -> None:
         """KL/KS: stop at once, no deceleration; the position keeps the whole steps made."""
@@ -172,30 +193,74 @@ class Axis:
     def finish_motion(self) -> None:
         m = self.motion
         if m is not None:
-            self.position = wrap32(self.position + m.final_offset)
+            self.steps += m.final_offset
         self.motion = None
         self.motion_end = None
+        self.switch_tick = None
 
-    def step(self, direction: int, board: Board) -> None:
-        """MO: one step in the MP/MM direction."""
-        self.position = wrap32(self.position + direction)
+    def step(self, direction: int, board: Board) -> bool:
+        """MO: one step in the MP/MM direction (refused into an active limit)."""
+        if board.limit_blocks(self, direction):
+            board.refuse_into_limit(self)
+            return False
+        self.steps += direction
         self.direction = direction
+        return True
 
     def load_position(self, value: int, motor: bool, encoder: bool, board: Board) -> None:
-        """LP (both), LO (motor only), LPE (encoder only)."""
-        encoder_now = self.encoder_position(board)
-        current = self.motor_position(board)
+        """LP (both), LO (motor only), LPE (encoder only): counters move, the stage not."""
+        steps = self.steps_now(board)
         if motor:
-            self.position += value - current
+            self.counter_offset = value - steps
         if encoder:
-            self.encoder_offset = value - self.motor_position(board)
-        elif motor:
-            self.encoder_offset = encoder_now - self.motor_position(board)
+            self.encoder_offset = value - steps
+
+    def tick_reaching(self, position: float, direction: int, board: Board) -> int | None:
+        """The first tick after now at which the running motion, travelling in
+        `direction`, has reached `position` (steps), or None if it never does.
+
+        Each phase of a motion is monotonic, so a bisection over the ticks of every
+        phase that travels the right way finds the crossing exactly, in O(log n)."""
+        m = self.motion
+        if m is None:
+            return None
+        period = board.period
+        now = board.tick
+
+        def reached(tick: int) -> bool:
+            return direction * (self.steps_at_tick(tick, period) - position) >= 0
+
+        for phase in m.phases:
+            if phase.direction != direction or (phase.v1 == 0 and phase.v2 == 0):
+                continue
+            first = max(now + 1, self.motion_start + int(phase.t0 / period))
+            if math.isinf(phase.duration):
+                here = self.steps_at_tick(first, period)
+                need = max(0.0, direction * (position - here))
+                last = first + math.ceil(need / (phase.v1 * period)) + 2
+            else:
+                last = self.motion_start + math.ceil((phase.t0 + phase.duration) / period)
+            if self.motion_end is not None:
+                last = min(last, self.motion_end)
+            if last < first or not reached(last):
+                continue
+            lo, hi = first, last
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if reached(mid):
+                    hi = mid
+                else:
+                    lo = mid + 1
+            return lo
+        return None
 
     # ---- queue -----------------------------------------------------------------------
     def next_event(self) -> int | None:
         """The next tick at which something changes for this axis, if any."""
         best = self.motion_end
+        switch = self.switch_tick
+        if switch is not None and (best is None or switch < best):
+            best = switch
         wait = self.wait
         if type(wait) is tuple and wait[0] == "tick":
             t = wait[1]
@@ -259,11 +324,14 @@ class Axis:
 
     # ---- flags -----------------------------------------------------------------------
     def status_string(self, board: Board) -> str:
-        """QA/RA: direction P|M, done D|N, overtravel L|N, home H|N (evidence 3.4)."""
+        """QA/RA: direction P|M, done D|N, on a limit L|N, home H|N (evidence 3.4).
+
+        L and H are the live switch states; the latched overtravel flag is the doorbell's
+        (bits 8-15), cleared by RA, IC or the host writing ones."""
         return (
             ("P" if self.direction >= 0 else "M")
             + ("D" if self.flags & F.AXIS_DONE else "N")
-            + ("L" if board.on_limit(self) or self.flags & F.AXIS_OVERTRAVEL else "N")
+            + ("L" if board.on_limit(self) else "N")  # live: asyn sets limit status from it
             + ("H" if board.home_active(self) else "N")
         )
 

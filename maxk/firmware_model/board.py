@@ -14,7 +14,9 @@ from dataclasses import dataclass
 
 from . import flags as F
 from .axis import Axis
+from .homing import Homing, home_condition, next_home_position
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
+from .world import World
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class Board:
                  update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ) -> None:
         self.model = model if isinstance(model, BoardModel) else model_by_name(model)
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
+        self.world = World.default(len(self.axes))
         self.tick = 0
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
@@ -129,13 +132,17 @@ class Board:
             now = self.tick = max(event, self.tick)
             due = []
             for axis in axes:
+                if axis.switch_tick is not None and axis.switch_tick <= now:
+                    self._switch_event(axis)
+                    due.append(axis)
                 end = axis.motion_end
                 if end is not None and end <= now:
                     axis.finish_motion()
-                    due.append(axis)
+                    if axis not in due:
+                        due.append(axis)
                 else:
                     wait = axis.wait
-                    if type(wait) is tuple and wait[1] <= now:
+                    if type(wait) is tuple and wait[1] <= now and axis not in due:
                         due.append(axis)
             self.run_queues(due)
             if self._observers:
@@ -235,27 +242,152 @@ class Board:
         for axis in self.axes:
             axis.flags = 0
 
-    # ---- the world (switches come with the I/O issue; nothing is wired by default) ---
+    # ---- the world: switches, limits and home ----------------------------------------
+    def limit_pressed(self, axis: Axis, direction: int) -> bool:
+        """Is the limit switch on this side pressed at the axis's present position?"""
+        world = self.world.axes[axis.index]
+        switch = world.plus_limit if direction > 0 else world.minus_limit
+        return switch.active(axis.steps_now(self))
+
     def on_limit(self, axis: Axis) -> bool:
-        return False
+        return self.limit_pressed(axis, 1) or self.limit_pressed(axis, -1)
 
     def home_active(self, axis: Axis) -> bool:
-        return False
+        return self.world.axes[axis.index].home.active(axis.steps_now(self))
+
+    def limit_blocks(self, axis: Axis, direction: int) -> bool:
+        """A move toward a pressed limit is refused while limits are enabled."""
+        return axis.config.limits_enabled and self.limit_pressed(axis, direction)
+
+    def refuse_into_limit(self, axis: Axis) -> None:
+        """A motion into an active limit: the overtravel flag, and nothing moves. The
+        queue goes on (a following ID sets done: hosts read done + L as 'at a limit'),
+        unlike a limit tripped mid-move, which flushes it."""
+        axis.homing = None
+        self.set_axis_flag(axis, F.AXIS_OVERTRAVEL)
+
+    def schedule_switches(self, axis: Axis) -> None:
+        """Find the next tick at which the running motion trips a limit or meets home."""
+        axis.switch_tick = None
+        m = axis.motion
+        if m is None:
+            return
+        world = self.world.axes[axis.index]
+        candidates: list[int] = []
+        if axis.config.limits_enabled:
+            for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
+                if switch.fault is not None or switch.active(axis.steps_now(self)):
+                    continue  # stuck, or already pressed (a stop decelerating into it)
+                edge = switch.low if direction > 0 else switch.high
+                if edge is not None:
+                    tick = axis.tick_reaching(edge, direction, self)
+                    if tick is not None:
+                        candidates.append(tick)
+        homing = axis.homing
+        if homing is not None:
+            target = next_home_position(axis, self, axis.steps_now(self), homing.direction)
+            if target is not None:
+                tick = axis.tick_reaching(target, homing.direction, self)
+                if tick is not None:
+                    candidates.append(tick)
+        if candidates:
+            axis.switch_tick = min(candidates)
+
+    def _switch_event(self, axis: Axis) -> None:
+        """A limit or home condition may have changed on this tick: act on it."""
+        axis.switch_tick = None
+        if axis.motion is None:
+            return
+        direction = 1 if axis.velocity(self) >= 0 else -1
+        if axis.config.limits_enabled and self.limit_pressed(axis, direction):
+            self.limit_tripped(axis)
+            return
+        homing = axis.homing
+        if homing is not None and self._home_reached(axis, homing):
+            self.home_found(axis, homing)
+            return
+        self.schedule_switches(axis)
+
+    def world_changed(self) -> None:
+        """The stage changed under the board (a switch moved, a fault was injected):
+        act on what is now true and find the next switch events again."""
+        for axis in self.axes:
+            if axis.motion is None:
+                continue
+            direction = 1 if axis.velocity(self) >= 0 else -1
+            if axis.config.limits_enabled and self.limit_pressed(axis, direction):
+                self.limit_tripped(axis)
+            elif axis.homing is not None and home_condition(axis, self, axis.steps_now(self)):
+                self.home_found(axis, axis.homing)
+            else:
+                self.schedule_switches(axis)
+        self.run_queues()
+
+    def _home_reached(self, axis: Axis, homing: Homing) -> bool:
+        steps = axis.steps_now(self)
+        if home_condition(axis, self, steps):
+            return True
+        # Passed within one update cycle: the hardware latches what the cycle missed.
+        previous = axis.steps_at_tick(self.tick - 1, self.period)
+        lo, hi = sorted((previous, steps))
+        return any(home_condition(axis, self, p) for p in range(lo, hi + 1)
+                   if hi - lo <= 100_000)
+
+    def limit_tripped(self, axis: Axis) -> None:
+        """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL)."""
+        axis.homing = None
+        axis.flush(self)
+        self.set_axis_flag(axis, F.AXIS_OVERTRAVEL)
+        if axis.config.limit_hard_stop:
+            axis.kill(self)
+        else:
+            axis.stop(self)
+
+    def start_homing(self, axis: Axis, direction: int, load_value: int | None) -> bool:
+        """HM/HR/KM/KR: see homing.py for the search. False when home is already here."""
+        homing = Homing(direction, load_value)
+        if home_condition(axis, self, axis.steps_now(self)):
+            self.home_found(axis, homing)
+            return False
+        axis.homing = homing
+        velocity = direction * axis.config.velocity
+        if not axis.start_jog(velocity, self):
+            axis.homing = None
+            return False
+        return True
+
+    def home_found(self, axis: Axis, homing: Homing) -> None:
+        axis.homing = None
+        if homing.load_value is not None:
+            axis.counter_offset = homing.load_value - axis.steps_now(self)
+        axis.stop(self)
 
     def limit_inputs_raw(self) -> int:
-        """QL: raw limit input levels (evidence 3.4 layout). An inactive active-low input
-        reads high, which is what hosts XOR with the LT? level."""
+        """QL: raw limit input levels (evidence 3.4 layout). Switches are wired to match
+        the configured level: a pressed active-low switch reads 0, a released one 1."""
         word = 0
         for axis in self.axes:
-            level = 0 if axis.config.limit_active_high else 1  # inactive level
-            if not level:
-                continue
             i = axis.index
-            if i < 8:
-                word |= (1 << i) | (1 << (i + 8))
-            else:
-                word |= (1 << (i + 8)) | (1 << (i + 16))
+            high = axis.config.limit_active_high
+            minus = self.limit_pressed(axis, -1) == high
+            plus = self.limit_pressed(axis, 1) == high
+            minus_bit, plus_bit = (i, i + 8) if i < 8 else (i + 8, i + 16)
+            word |= (minus << minus_bit) | (plus << plus_bit)
         return word
+
+    def limit_status_word(self) -> int:
+        """Shared memory 0x40 (Table 3-2): bit set while that limit is active."""
+        word = 0
+        for axis in self.axes:
+            i = axis.index
+            minus_bit, plus_bit = (i, i + 8) if i < 8 else (i + 8, i + 16)
+            word |= (self.limit_pressed(axis, -1) << minus_bit)
+            word |= (self.limit_pressed(axis, 1) << plus_bit)
+        return word
+
+    def home_status_word(self) -> int:
+        """Shared memory 0x44 (Table 3-3): bit i while axis i's home switch is active."""
+        return sum(1 << a.index for a in self.axes if self.home_active(a))
 
     # ---- whole-board actions ---------------------------------------------------------
     def set_update_rate(self, rate_hz: int) -> None:
@@ -265,8 +397,8 @@ class Board:
         self.update_rate_hz = rate_hz
         self.period = 1.0 / rate_hz
         for axis in self.axes:
-            axis.position = 0
-            axis.encoder_offset = 0
+            axis.counter_offset = -axis.steps
+            axis.encoder_offset = -axis.steps
 
     def stop_all(self) -> None:
         """SA: every axis stops as ST stops one."""

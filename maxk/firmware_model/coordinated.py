@@ -42,7 +42,7 @@ class LinearMove:
         axes = [board.axes[i] for i in sorted(self.targets)]
         for axis in axes:
             axis.pending_linear = None
-        distances = {a.index: self.targets[a.index] - a.position for a in axes}
+        distances = {a.index: self.targets[a.index] - a.motor_position(board) for a in axes}
         moving = [a for a in axes if distances[a.index] != 0]
         self.targets.clear()
         if not moving:

@@ -66,6 +66,9 @@ class CommandQueue:
 
     def advance(self) -> None:
         """Move past the entry just executed; release consumed entries outside loops."""
+        if self.pc >= len(self.entries):  # the entry flushed its own queue
+            self.pc = len(self.entries)
+            return
         self.pc += 1
         if not self.loops:
             self._release()

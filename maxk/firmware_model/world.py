@@ -1,0 +1,134 @@
+"""The machine around the board: switches, encoder index marks, inputs and faults.
+
+A board alone never trips a switch; the stage does. Positions here are *physical*:
+steps the motor has actually made since power-up, which LP/LO/LPE never change, so a
+home switch stays where it is when the host reloads the counters.
+
+Defaults describe a plain stage: limit switches far out (+/-1,000,000,000 steps), a
+home switch 100 steps wide a little above the power-up position (steps 1234..1333: a
+forward home from power-up finds it, and the round targets of everyday moves do not
+land on it), an encoder index mark every 4000 counts (a 1000-line encoder in x4), one
+line (4 counts) wide, placed inside the home window at 1280, every digital input low and
+every analog input at 0 V. Faults can stick a switch
+active or inactive.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .board import Board
+
+STUCK_ACTIVE = "active"
+STUCK_INACTIVE = "inactive"
+FAULTS = (None, STUCK_ACTIVE, STUCK_INACTIVE)
+
+DEFAULT_LIMIT = 1_000_000_000
+DEFAULT_HOME = (1234, 1333)
+
+
+@dataclass
+class Switch:
+    """A switch that is active on one side of a physical position (limits), or inside
+    a window (home). ``fault`` sticks it regardless of position."""
+
+    low: float | None  # active at or above this position (None: no lower edge)
+    high: float | None  # active at or below this position (None: no upper edge)
+    fault: str | None = None
+
+    @property
+    def present(self) -> bool:
+        return self.low is not None or self.high is not None
+
+    def active(self, steps: float) -> bool:
+        if self.fault == STUCK_ACTIVE:
+            return True
+        if self.fault == STUCK_INACTIVE or not self.present:
+            return False
+        if self.low is not None and steps < self.low:
+            return False
+        return not (self.high is not None and steps > self.high)
+
+    def edges(self) -> list[float]:
+        """Positions where the switch changes state (for crossing searches)."""
+        if self.fault is not None:
+            return []
+        return [e for e in (self.low, self.high) if e is not None]
+
+
+@dataclass
+class AxisWorld:
+    """What one axis's stage looks like to the board."""
+
+    plus_limit: Switch = field(default_factory=lambda: Switch(DEFAULT_LIMIT, None))
+    minus_limit: Switch = field(default_factory=lambda: Switch(None, -DEFAULT_LIMIT))
+    home: Switch = field(default_factory=lambda: Switch(DEFAULT_HOME[0], DEFAULT_HOME[1]))
+    index_period: int = 4000  # encoder counts between index marks (0: no index)
+    index_width: int = 4  # counts the index pulse stays high
+    index_offset: int = 1280  # physical position of an index mark (inside the home window)
+
+    def set_plus_limit(self, position: float | None) -> None:
+        self.plus_limit = Switch(position, None, self.plus_limit.fault)
+
+    def set_minus_limit(self, position: float | None) -> None:
+        self.minus_limit = Switch(None, position, self.minus_limit.fault)
+
+    def set_home(self, low: float | None, high: float | None) -> None:
+        self.home = Switch(low, high, self.home.fault)
+
+    def index_active(self, steps: int) -> bool:
+        if self.index_period <= 0:
+            return False
+        return (steps - self.index_offset) % self.index_period < self.index_width
+
+
+InputSource = Callable[["Board"], float]
+"""A digital or analog source: called with the board, returns a level (bool-ish or volts)."""
+
+
+@dataclass
+class World:
+    """Every axis's stage, plus the board's digital and analog inputs."""
+
+    axes: list[AxisWorld]
+    digital: dict[int, bool | InputSource] = field(default_factory=dict)  # bit -> level/source
+    analog: dict[int, float | InputSource] = field(default_factory=dict)  # channel -> volts/src
+
+    @classmethod
+    def default(cls, axis_count: int) -> World:
+        return cls([AxisWorld() for _ in range(axis_count)])
+
+    def digital_level(self, bit: int, board: Board) -> bool:
+        source = self.digital.get(bit, False)
+        return bool(source(board) if callable(source) else source)
+
+    def analog_volts(self, channel: int, board: Board) -> float:
+        source = self.analog.get(channel, 0.0)
+        volts = float(source(board) if callable(source) else source)
+        return max(-10.0, min(10.0, volts))
+
+    def inputs_time_dependent(self) -> bool:
+        """True when some digital input is a function (it may change at any tick)."""
+        return any(callable(s) for s in self.digital.values())
+
+
+def axis_position_source(letter: str, fn: Callable[[int], float]) -> InputSource:
+    """An input that depends on an axis's motor position (e.g. a cam or a sensor)."""
+
+    def source(board: Board) -> float:
+        axis = board.axis(letter)
+        return fn(axis.motor_position(board))
+
+    return source
+
+
+def time_source(fn: Callable[[float], float]) -> InputSource:
+    """An input that depends on virtual time in seconds."""
+
+    def source(board: Board) -> float:
+        return fn(board.time)
+
+    return source
