@@ -103,7 +103,7 @@ def test_every_mnemonic_is_accepted_by_the_lexer_in_both_cases():
 
     for m, spec in COMMANDS.items():
         operand = {"none": "", "#": "1", "letter": spec.letters[:1],
-                   "pattern": spec.letters[:1] * 4}[spec.operand.value]
+                   "pattern": spec.letters[:1] * 4, "hex": "0"}[spec.operand.value]
         for text in (m + operand, (m + operand).lower()):
             out = Lexer().feed(text + ";")
             assert len(out) == 1 and isinstance(out[0], ParsedCommand), (text, out)

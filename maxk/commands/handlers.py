@@ -15,6 +15,7 @@ from ..firmware_model import flags as F
 from ..firmware_model.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
 from ..firmware_model.board import Board
 from ..firmware_model.coordinated import LinearMove
+from ..firmware_model.io import volts_to_counts
 from ..firmware_model.models import (
     FIRMWARE_VERSION,
     FPGA_VERSION,
@@ -287,6 +288,82 @@ def _home_encoder_mode(value: object, ctx: Context) -> Action:
     return action
 
 
+def _bit_level(high: bool) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            bit = value  # type: ignore[assignment]
+            if not board.io.direction >> bit & 1:  # type: ignore[operator]
+                board.report_error(f"bit {bit} is an input (BD/IO make it an output)",
+                                   f"{'BH' if high else 'BL'}{bit}")
+                return
+            board.io.set_output(bit, high)  # type: ignore[arg-type]
+            board.cross_axis_event = True  # an SW may be waiting on this line
+
+        return action
+
+    return factory
+
+
+def _set_outputs(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        io = board.io
+        io.outputs = (io.outputs & ~io.direction) | (value & io.direction)  # type: ignore[operator]
+        board.cross_axis_event = True  # an SW may be waiting on this line
+
+    return action
+
+
+def _direction_mask(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        board.io.direction = value  # type: ignore[assignment]
+        board.cross_axis_event = True  # an SW may be waiting on this line
+
+    return action
+
+
+def _configure_bit(value: object, ctx: Context) -> Action:
+    bit, output = value  # type: ignore[misc]
+
+    def action(axis: Axis, board: Board) -> None:
+        if output:
+            board.io.direction |= 1 << bit
+        else:
+            board.io.direction &= ~(1 << bit)
+        board.cross_axis_event = True  # an SW may be waiting on this line
+
+    return action
+
+
+def _wait_input(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> object:
+        if board.io.level(value, board):  # type: ignore[arg-type]
+            return None
+        return ("input", value)
+
+    return action
+
+
+def _set_aux_state(on: bool) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.aux_on = on
+
+        return action
+
+    return factory
+
+
+def _analog_out(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        if axis.config.axis_type == "M":
+            board.report_error(f"AO: axis {axis.letter} is a servo; its DAC drives the motor",
+                               f"A{axis.letter} AO{value}")
+            return
+        axis.dac = value  # type: ignore[assignment]
+
+    return action
+
+
 QUEUED: dict[str, QueuedFactory] = {
     "VL": _velocity,
     "VB": _base_velocity,
@@ -331,6 +408,17 @@ QUEUED: dict[str, QueuedFactory] = {
     "HH": _set("home_active_high", True),
     "HL": _set("home_active_high", False),
     "EH": _set("home_pattern"),
+    "BD": _direction_mask,
+    "BH": _bit_level(True),
+    "BL": _bit_level(False),
+    "BS": _set_outputs,
+    "IO": _configure_bit,
+    "SW": _wait_input,
+    "AN": _set_aux_state(True),
+    "AF": _set_aux_state(False),
+    "PA": lambda value, ctx: _set("aux_auto", value == "1")(value, ctx),
+    "SE": _set("settle_ms"),
+    "AO": _analog_out,
     "SL": _set("limit_hard_stop", False),
     "SF": _set("limit_hard_stop", True),
     "LN": _set("limits_enabled", True),
@@ -354,6 +442,8 @@ def validate_queued(ctx: Context) -> None:
         raise CommandError(NOT_MODELLED_YET[m])
     if m == "PS" and "M" in ctx.values:
         raise CommandError("PSM: servo axes are not modelled yet (servo issue)")
+    if m == "IO" and ctx.values[0][1] not in (0, 1):
+        raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
 
 
 # ---- queries of queued settings (PS? LT? LM? CL?) --------------------------------------
@@ -515,6 +605,11 @@ def _no_servo(ctx: Context) -> str:
     raise CommandError(f"{ctx.command.mnemonic}: axis {axis.letter} has no servo loop")
 
 
+def _analog_in(ctx: Context) -> str:
+    board = ctx.board
+    return str(volts_to_counts(board.world.analog_volts(ctx.values[0], board)))
+
+
 IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "ST": _stop,
     "SA": _stop_all,
@@ -544,6 +639,10 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "?PS": lambda ctx: ctx.per_axis(SETTING_QUERIES["PS"]),
     "?LS": lambda ctx: ctx.per_axis(SETTING_QUERIES["LT"]),
     "?PM": lambda ctx: ctx.per_axis(lambda a: "=off"),
+    "BX": lambda ctx: format(ctx.board.io.word(ctx.board), "04x"),
+    "RB": lambda ctx: format(ctx.board.io.direction, "04x"),
+    "AB?": lambda ctx: ctx.per_axis(lambda a: "=h" if a.aux_level(ctx.board) else "=l"),
+    "AI": _analog_in,
     "?KA": _no_servo,
     "?KP": _no_servo,
 }

@@ -62,7 +62,7 @@ def _convert(cmd: ParsedCommand, slot: str) -> object:
     spec = cmd.spec
     if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
-    value = float(slot)
+    value = float(int(slot, 16)) if spec.operand is Operand.HEX else float(slot)
     if spec.value_range is not None:
         lo, hi = spec.value_range
         if not lo <= value <= hi:
@@ -98,6 +98,8 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         raise CommandError(f"{spec.mnemonic} is not allowed in {_MODE_NAMES[mode]} mode")
     axes_all = board.axes
     slots = cmd.slots
+    if not spec.per_axis:
+        return _dispatch_positional(board, cmd, axes_all[board.current_axis])
     if mode == "single":
         axes = [axes_all[board.current_axis]]
         if len(slots) > 1:
@@ -128,6 +130,36 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
     if cmd.query:
         return ctx.per_axis(SETTING_QUERIES[spec.mnemonic])
     return _enqueue(ctx)
+
+
+def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
+    """Board-level commands with positional operands (BH3, IO5,0, BDff00, AI2).
+
+    Queued ones go into the addressed axis's queue in single-axis mode, so they happen in
+    step with its moves; in AA/AM mode there is no one queue to choose, so they act at
+    once."""
+    spec = cmd.spec
+    slots = cmd.slots
+    if not slots and spec.operand_optional:
+        values: list = []
+    else:
+        if len(slots) != spec.arity or any(s is None for s in slots):
+            raise CommandError(f"{spec.mnemonic} takes {spec.arity} operand"
+                               f"{'s' if spec.arity > 1 else ''}")
+        values = [_convert(cmd, s) for s in slots]  # type: ignore[arg-type]
+    value = values[0] if len(values) == 1 else tuple(values)
+    ctx = Context(board, cmd, [axis], [value])
+    if spec.timing is Timing.IMMEDIATE:
+        return IMMEDIATE[spec.mnemonic](ctx)
+    if board.mode == "single":
+        return _enqueue(ctx)
+    validate_queued(ctx)
+    action = QUEUED[spec.mnemonic](value, ctx)
+    if action(axis, board) is not None:
+        raise CommandError(f"{spec.mnemonic} cannot wait outside a queue")
+    if board.cross_axis_event:  # an output changed: an SW may be waiting on it
+        board.run_queues()
+    return None
 
 
 def _enqueue(ctx: Context) -> None:

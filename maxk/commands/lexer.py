@@ -46,6 +46,7 @@ def _mnemonic_at(buf: str, i: int, n: int) -> str | None:
         return _HOLD
     return None
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
+_HEX_RUN = re.compile(r"[0-9A-Fa-f]*")
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,6 +196,23 @@ class Lexer:
                     out.append(LexError(text, f"{mnemonic}: malformed number {bad_slot!r}"))
                     continue
                 out.append(ParsedCommand(spec, slots, False, text))
+                continue
+            if kind is Operand.HEX:
+                end = _HEX_RUN.match(buf, j).end()
+                if end >= n and end - j <= 8:
+                    break  # more hex digits may follow
+                text = buf[i:end]
+                if end == j or end - j > 8 or (buf[end] not in SEPARATORS
+                                               and _mnemonic_at(buf, end, n) is None):
+                    out.append(LexError(buf[i : end + 1],
+                                        f"{mnemonic} needs a hexadecimal word"))
+                    self._skipping = True
+                    i = end
+                    continue
+                if buf[end] not in SEPARATORS and _mnemonic_at(buf, end, n) is _HOLD:
+                    break
+                out.append(ParsedCommand(spec, (buf[j:end],), False, text))
+                i = end
                 continue
             if kind is Operand.PATTERN:
                 k = j

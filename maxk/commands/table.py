@@ -27,6 +27,7 @@ class Operand(Enum):
     NUMBER = "#"  # signed decimal; one per axis (comma list) in AA/AM
     LETTER = "letter"  # one letter of `letters` (or '?' when query=True); lists in AA/AM
     PATTERN = "pattern"  # exactly four characters of `letters` (EH1111)
+    HEX = "hex"  # hexadecimal digits (BD, BS); one operand, never a per-axis list
 
 
 class Timing(Enum):
@@ -60,16 +61,21 @@ class CommandSpec:
     value_range: tuple[float, float] | None = None
     integer: bool = True  # step quantities: decimals truncate toward zero
     operand_optional: bool = False
+    per_axis: bool = True  # False: operands are positional (IO3,1), not one per axis
+    arity: int = 1  # positional operands when per_axis is False
 
     @property
     def syntax(self) -> str:
         m = self.mnemonic
         if self.operand is Operand.NUMBER:
-            form = f"{m}[#]" if self.operand_optional else f"{m}#"
+            form = ",".join(["#"] * self.arity) if not self.per_axis else "#"
+            form = f"{m}[{form}]" if self.operand_optional else f"{m}{form}"
         elif self.operand is Operand.LETTER:
             form = f"{m}{{{'|'.join(self.letters)}}}"
         elif self.operand is Operand.PATTERN:
             form = f"{m}pppp"
+        elif self.operand is Operand.HEX:
+            form = f"{m}hhhh"
         else:
             form = m
         if self.query:
@@ -275,6 +281,52 @@ _SPECS: list[CommandSpec] = [
                 source="manual 4.8 (HT and EH create patterns); evidence 2.4 (MXA EH1111)",
                 confidence="D", notes="Factory EH1111 is the manual's default logic. The "
                 "digit meanings and X for 'ignore' are our decision."),
+    # ---- general purpose I/O, aux and analog -------------------------------------------
+    _q("BD", "io", "Bit direction: hex mask of the 16 I/O bits, 1 = output (factory ff00).",
+       operand=Operand.HEX, per_axis=False, value_range=(0.0, 65535.0),
+       source="evidence 2.6 (BD0001, BDff00; DLL BD%X); manual 4.4", confidence="I",
+       notes="Factory: bits 0-7 inputs, 8-15 outputs (the manual says 8 and 8, not which; D). "
+       "I/O commands are queued on the addressed axis in single-axis mode (so they switch in "
+       "step with its moves) and act at once in AA/AM mode (D)."),
+    _q("BH", "io", "Set output bit # high.", units=2, operand=Operand.NUMBER, per_axis=False,
+       value_range=(0.0, 15.0), source="evidence 2.6 (TRAJ, VIPER, DLL BH#)",
+       notes="A bit configured as an input is a command error."),
+    _q("BL", "io", "Set output bit # low.", units=2, operand=Operand.NUMBER, per_axis=False,
+       value_range=(0.0, 15.0), source="evidence 2.6"),
+    _q("BS", "io", "Set every output bit from a hex word (input bits are left alone).",
+       units=2, operand=Operand.HEX, per_axis=False, value_range=(0.0, 65535.0),
+       source="evidence 2.6 (DLL SetAllOmsIOBits BS%X)", confidence="I"),
+    _q("IO", "io", "Configure bit # as an input (0) or an output (1): IO5,0.", units=3,
+       operand=Operand.NUMBER, per_axis=False, arity=2, value_range=(0.0, 15.0),
+       source="evidence 2.6 (TRAJ IO5,0)", notes="The second operand must be 0 or 1."),
+    _i("BX", "io", "Report the 16 I/O bit levels as 4 hex digits.", reply="00ff",
+       source="evidence 2.5, E9 (TRAJ reads 4 hex digits; DLL %x)"),
+    _i("RB", "io", "Report the I/O bit directions as 4 hex digits (1 = output).",
+       reply="ff00", source="evidence 2.5 (VME58 RB, DLL AXRB)", confidence="I"),
+    _q("SW", "io", "Queue waits until input bit # reads high.", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 15.0), source="evidence 2.2 (TRAJ start "
+       "trigger `A<x>; SW<bit>;`); manual 4.4", confidence="I",
+       notes="Per axis (a list in AA/AM). 'High' rather than 'active' is our reading (D)."),
+    _q("AN", "aux", "Aux output of the axis on.", source="evidence 2.6 (DLL AXAN, AMAN)"),
+    _q("AF", "aux", "Aux output of the axis off.", source="evidence 2.6"),
+    CommandSpec("PA", "aux", "Automatic aux output: 1 on (on while moving, off SE ms after), "
+                "0 off.", Timing.QUEUED, units=1, operand=Operand.LETTER, letters="01",
+                source="evidence 2.6 (DLL EnableOmsAxisAuxOutAutoMode AXPA1/AXPA0)",
+                confidence="I", notes="The exact automatic behaviour is our decision (D): on "
+                "when a motion starts, off SE# milliseconds after the axis comes to rest."),
+    _q("SE", "aux", "Aux output settle time, milliseconds (automatic mode).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 65535.0),
+       source="evidence 2.6 (DLL SetOmsAxisAuxOutSettleTime AXSE#)", confidence="I"),
+    _i("AB?", "aux", "Query the aux output: =h on, =l off.", reply="=h | =l",
+       source="evidence 2.6 (VIPER `A<x> AB?`)", confidence="I"),
+    _i("AI", "analog", "Report analog input # (0-3) as a signed 16-bit count (+/-10 V).",
+       operand=Operand.NUMBER, per_axis=False, value_range=(0.0, 3.0), reply="16384",
+       source="manual 4.5.1 (names AI); no host evidence", confidence="D",
+       notes="The reply format is our decision: -32768..32767 for -10..+10 V."),
+    _q("AO", "analog", "Set the axis's DAC as a general purpose analog output (count).",
+       units=2, operand=Operand.NUMBER, value_range=(-32768.0, 32767.0),
+       source="manual 4.5.2 (names AO; a DAC per axis not used by a servo)", confidence="D",
+       notes="Counts -32768..32767 for -10..+10 V. Refused on a servo axis (D)."),
     # ---- configuration ----------------------------------------------------------------
     _q("PS", "config", "Axis type: O open-loop stepper, E stepper with encoder, M servo.",
        operand=Operand.LETTER, letters="OEM", query=True, reply="=O | =E | =M",
@@ -391,6 +443,9 @@ GROUP_TITLES = {
     "config": "Axis configuration",
     "limits": "Limit configuration",
     "homing": "Homing",
+    "io": "General purpose I/O",
+    "aux": "Auxiliary outputs",
+    "analog": "Analog I/O",
     "report": "Reports and queries",
 }
 

@@ -46,6 +46,8 @@ class AxisConfig:
     home_encoder: bool = False  # HE: encoder home logic; HS (factory): home switch alone
     home_pattern: str = "1111"  # EH: +A, -B, Index, Home switch (1 true, 0 false, X ignore)
     move_direction: int = 1  # MP / MM
+    aux_auto: bool = False  # PA1: aux output on while moving
+    settle_ms: int = 0  # SE: aux stays on this long after the axis comes to rest
 
 
 @dataclass
@@ -68,6 +70,9 @@ class Axis:
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     homing: Homing | None = None  # a running HM/HR/KM/KR search
     direction: int = 1  # direction of the last or current motion (QA: P/M)
+    aux_on: bool = False  # AN / AF
+    rest_since: int = 0  # tick the last motion ended (PA settle timing)
+    dac: int = 0  # AO: general purpose analog output count (non-servo axes)
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
 
@@ -138,6 +143,7 @@ class Axis:
         velocity = m.velocity(t)
         whole = int(exact)
         self.steps += whole
+        self.rest_since = board.tick
         self.motion = None
         self.motion_end = None
         self.switch_tick = None
@@ -194,6 +200,8 @@ class Axis:
         m = self.motion
         if m is not None:
             self.steps += m.final_offset
+            if self.motion_end is not None:
+                self.rest_since = self.motion_end
         self.motion = None
         self.motion_end = None
         self.switch_tick = None
@@ -255,15 +263,20 @@ class Axis:
         return None
 
     # ---- queue -----------------------------------------------------------------------
-    def next_event(self) -> int | None:
+    def next_event(self, board: Board) -> int | None:
         """The next tick at which something changes for this axis, if any."""
         best = self.motion_end
         switch = self.switch_tick
         if switch is not None and (best is None or switch < best):
             best = switch
         wait = self.wait
-        if type(wait) is tuple and wait[0] == "tick":
-            t = wait[1]
+        if type(wait) is tuple:
+            if wait[0] == "tick":
+                t = wait[1]
+            elif board.world.inputs_time_dependent():
+                t = board.tick + 1  # an input that is a function: look every update cycle
+            else:
+                return best  # constant inputs change only through the world (world_changed)
             if best is None or t < best:
                 best = t
         return best
@@ -285,7 +298,10 @@ class Axis:
                         return progressed
                     self.wait = None
                 elif type(wait) is tuple:
-                    if board.tick < wait[1]:
+                    if wait[0] == "input":  # SW: wait for an input bit to read high
+                        if not board.io.level(wait[1], board):
+                            return progressed
+                    elif board.tick < wait[1]:
                         return progressed
                     self.wait = None
                     queue.advance()
@@ -321,6 +337,17 @@ class Axis:
         queue.flush()
         self.wait = None
         self.pending_target = None
+
+    def aux_level(self, board: Board) -> bool:
+        """The aux output: AN/AF, or in PA1 mode on while moving and SE ms after."""
+        if self.aux_on:
+            return True
+        if not self.config.aux_auto:
+            return False
+        if self.motion is not None:
+            return True
+        settle = math.ceil(self.config.settle_ms / 1000.0 / board.period - 1e-9)
+        return board.tick < self.rest_since + settle
 
     # ---- flags -----------------------------------------------------------------------
     def status_string(self, board: Board) -> str:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from . import flags as F
 from .axis import Axis
 from .homing import Homing, home_condition, next_home_position
+from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
 from .world import World
 
@@ -43,6 +44,7 @@ class Board:
         self.model = model if isinstance(model, BoardModel) else model_by_name(model)
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         self.world = World.default(len(self.axes))
+        self.io = GeneralIO()
         self.tick = 0
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
@@ -90,7 +92,7 @@ class Board:
     def next_event(self) -> int | None:
         best: int | None = None
         for axis in self.axes:
-            t = axis.next_event()
+            t = axis.next_event(self)
             if t is not None and (best is None or t < best):
                 best = t
         for _every, due, _callback in self._observers:
@@ -142,7 +144,8 @@ class Board:
                         due.append(axis)
                 else:
                     wait = axis.wait
-                    if type(wait) is tuple and wait[1] <= now and axis not in due:
+                    if type(wait) is tuple and axis not in due and (
+                            wait[0] == "input" or wait[1] <= now):
                         due.append(axis)
             self.run_queues(due)
             if self._observers:
@@ -309,8 +312,9 @@ class Board:
         self.schedule_switches(axis)
 
     def world_changed(self) -> None:
-        """The stage changed under the board (a switch moved, a fault was injected):
-        act on what is now true and find the next switch events again."""
+        """The stage changed under the board (a switch moved, a fault was injected, an
+        input changed): act on what is now true, find the next switch events again, and
+        let waiting queues look. Called from outside the engine (the API, scripts)."""
         for axis in self.axes:
             if axis.motion is None:
                 continue

@@ -1,0 +1,44 @@
+"""General purpose digital I/O (16 bits), analog inputs and the position-capture ring.
+
+Manual 4.4/4.5 and Table 6-2: 16 digital lines, each an input or an output (factory: 8
+inputs and 8 outputs; we take bits 0-7 as inputs and 8-15 as outputs), 4 analog inputs
+(16-bit ADC, +/-10 V), and a DAC per axis usable as a general purpose analog output when
+the axis is not a servo. Inputs come from the world; outputs are latched here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .board import Board
+
+FACTORY_DIRECTION = 0xFF00  # 1 = output
+ADC_FULL_SCALE = 32767
+
+
+@dataclass
+class GeneralIO:
+    direction: int = FACTORY_DIRECTION
+    outputs: int = 0  # output latch (bits configured as inputs keep their latch too)
+
+    def level(self, bit: int, board: Board) -> bool:
+        if self.direction >> bit & 1:
+            return bool(self.outputs >> bit & 1)
+        return board.world.digital_level(bit, board)
+
+    def word(self, board: Board) -> int:
+        """The 16 line levels as BX and the shared-memory I/O word report them."""
+        return sum(1 << bit for bit in range(16) if self.level(bit, board))
+
+    def set_output(self, bit: int, high: bool) -> None:
+        if high:
+            self.outputs |= 1 << bit
+        else:
+            self.outputs &= ~(1 << bit)
+
+
+def volts_to_counts(volts: float) -> int:
+    """A +/-10 V reading as the 16-bit ADC's signed count."""
+    return max(-32768, min(ADC_FULL_SCALE, round(volts / 10.0 * ADC_FULL_SCALE)))
