@@ -66,6 +66,7 @@ class Axis:
     motion_end: int | None = None  # tick it ends on (None: endless jog)
     ramp_end: int = 0  # tick the last speed change of the motion completes
     switch_tick: int | None = None  # next tick a switch or home condition may change
+    capture_pending: list = field(default_factory=list)  # [(tick, home bits, edge steps)]
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     homing: Homing | None = None  # a running HM/HR/KM/KR search
@@ -136,6 +137,7 @@ class Axis:
     def _rebase(self, board: Board) -> tuple[float, float]:
         """Freeze the running motion at this tick; return (fractional residual, velocity)."""
         m = self.motion
+        self.capture_pending = []
         if m is None:
             return 0.0, 0.0
         t = self._t(board)
@@ -205,6 +207,7 @@ class Axis:
         self.motion = None
         self.motion_end = None
         self.switch_tick = None
+        self.capture_pending = []
 
     def step(self, direction: int, board: Board) -> bool:
         """MO: one step in the MP/MM direction (refused into an active limit)."""

@@ -14,6 +14,15 @@ from dataclasses import dataclass
 
 from . import flags as F
 from .axis import Axis
+from .capture import (
+    ENCODER_HOME,
+    HOME_FALLING,
+    HOME_RISING,
+    CaptureConfig,
+    CaptureEntry,
+    CaptureRing,
+    encoder_at,
+)
 from .homing import Homing, home_condition, next_home_position
 from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
@@ -45,6 +54,9 @@ class Board:
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         self.world = World.default(len(self.axes))
         self.io = GeneralIO()
+        self.capture_ring = CaptureRing()
+        self.capture_config = [CaptureConfig() for _ in self.axes]
+        self._input_levels = 0  # input levels as last seen, for input-edge capture
         self.tick = 0
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
@@ -98,6 +110,10 @@ class Board:
         for _every, due, _callback in self._observers:
             if due is not None and (best is None or due < best):
                 best = due
+        if self.capturing_inputs() and self.world.inputs_time_dependent():
+            poll = self.tick + 1  # inputs that are functions: look every update cycle
+            if best is None or poll < best:
+                best = poll
         return best
 
     def add_observer(self, callback: Callable[[Board], None],
@@ -148,6 +164,8 @@ class Board:
                             wait[0] == "input" or wait[1] <= now):
                         due.append(axis)
             self.run_queues(due)
+            if self.capturing_inputs():
+                self._capture_inputs()
             if self._observers:
                 self._observe(now)
         self.tick = tick
@@ -293,14 +311,86 @@ class Board:
                 tick = axis.tick_reaching(target, homing.direction, self)
                 if tick is not None:
                     candidates.append(tick)
+        axis.capture_pending = self._capture_candidates(axis)
+        candidates.extend(t for t, _bits, _pos in axis.capture_pending)
         if candidates:
             axis.switch_tick = min(candidates)
 
+    def _capture_candidates(self, axis: Axis) -> list[tuple[int, int, int]]:
+        """The next home-switch edges and index mark ahead of the axis, each with the
+        tick the running motion reaches it."""
+        config = self.capture_config[axis.index]
+        if not config.on_position or not axis.has_encoder:
+            return []
+        world = self.world.axes[axis.index]
+        here = axis.steps_now(self)
+        edges: list[tuple[int, int, int]] = []  # (direction, home bits, position)
+        home = world.home
+        if config.home is not None and home.fault is None and home.present:
+            rising = config.home in ("rising", "both")
+            falling = config.home in ("falling", "both")
+            low, high = home.low, home.high
+            if low is not None:  # entering from below rises, leaving downward falls
+                if rising:
+                    edges.append((1, HOME_RISING, int(low)))
+                if falling:
+                    edges.append((-1, HOME_FALLING, int(low) - 1))
+            if high is not None:
+                if falling:
+                    edges.append((1, HOME_FALLING, int(high) + 1))
+                if rising:
+                    edges.append((-1, HOME_RISING, int(high)))
+        if config.index and world.index_period > 0:
+            period, offset, width = world.index_period, world.index_offset, world.index_width
+            # a mark covers offset + k*period .. + width - 1; moving up it is met at its
+            # first count, moving down at its last
+            ahead = (offset - here) % period
+            edges.append((1, ENCODER_HOME, here + (ahead or period)))
+            behind = (here - (offset + width - 1)) % period
+            edges.append((-1, ENCODER_HOME, here - (behind or period)))
+        out = []
+        for direction, bits, position in edges:
+            if direction * (position - here) <= 0:
+                continue
+            tick = axis.tick_reaching(position, direction, self)
+            if tick is not None:
+                out.append((tick, bits, position))
+        return out
+
+    def _fire_captures(self, axis: Axis) -> None:
+        now = self.tick
+        due = sorted((p for p in axis.capture_pending if p[0] <= now),
+                     key=lambda p: p[2] * axis.direction)
+        for _tick, bits, position in due:
+            self.capture_ring.push(CaptureEntry(
+                encoder_at(position, axis.encoder_offset), axis.index, bits))
+
+    def _capture_inputs(self) -> None:
+        """Record input edges for every axis that captures on them."""
+        io = self.io
+        levels = sum(1 << b for b in range(16)
+                     if not io.direction >> b & 1 and self.world.digital_level(b, self))
+        changed = levels ^ self._input_levels
+        self._input_levels = levels
+        if not changed:
+            return
+        rose, fell = changed & levels, changed & ~levels
+        for axis, config in zip(self.axes, self.capture_config, strict=True):
+            r, f = rose & config.io_rising, fell & config.io_falling
+            if (r or f) and axis.has_encoder:
+                self.capture_ring.push(CaptureEntry(axis.encoder_position(self), axis.index,
+                                                    0, r, f))
+
+    def capturing_inputs(self) -> bool:
+        return any(c.on_inputs for c in self.capture_config)
+
     def _switch_event(self, axis: Axis) -> None:
-        """A limit or home condition may have changed on this tick: act on it."""
+        """A limit, home condition or capture edge is reached on this tick: act on it."""
         axis.switch_tick = None
         if axis.motion is None:
             return
+        if axis.capture_pending:
+            self._fire_captures(axis)
         direction = 1 if axis.velocity(self) >= 0 else -1
         if axis.config.limits_enabled and self.limit_pressed(axis, direction):
             self.limit_tripped(axis)
@@ -315,6 +405,8 @@ class Board:
         """The stage changed under the board (a switch moved, a fault was injected, an
         input changed): act on what is now true, find the next switch events again, and
         let waiting queues look. Called from outside the engine (the API, scripts)."""
+        if self.capturing_inputs():
+            self._capture_inputs()
         for axis in self.axes:
             if axis.motion is None:
                 continue

@@ -1,0 +1,105 @@
+"""Real-time position capture: home edges, index marks, input edges, the 55-entry ring."""
+
+import struct
+
+from maxk import MAXk
+from maxk.firmware_model.capture import (
+    ENCODER_HOME,
+    HOME_FALLING,
+    HOME_RISING,
+    RING_BYTES,
+    RING_ENTRIES,
+    CaptureEntry,
+)
+
+
+def capture(b, letter, **kw):
+    config = b.board.capture_config[b.board.axis(letter).index]
+    for key, value in kw.items():
+        setattr(config, key, value)
+
+
+def test_home_edges_both_ways_at_the_exact_edge_positions():
+    b = MAXk()
+    b.send("AX; PSE; LPE5000;")  # encoder counts are offset from the stage by 5000
+    capture(b, "X", home="both")
+    b.send("VL20000; MR3000; GO; MR-3000; GO;")
+    assert b.run_until_idle(timeout=5)
+    entries = b.board.capture_ring.read()
+    assert entries == [
+        CaptureEntry(5000 + 1234, 0, HOME_RISING), CaptureEntry(5000 + 1334, 0, HOME_FALLING),
+        CaptureEntry(5000 + 1333, 0, HOME_RISING), CaptureEntry(5000 + 1233, 0, HOME_FALLING),
+    ]
+    assert not b.board.capture_ring.signal
+
+
+def test_index_marks_every_period():
+    b = MAXk()
+    b.send("AX; PSE;")
+    capture(b, "X", index=True)
+    b.send("VL100000; MR13000; GO;")
+    assert b.run_until_idle(timeout=5)
+    assert [e.encoder for e in b.board.capture_ring.read()] == [1280, 5280, 9280]
+    b.send("MR-13000; GO;")
+    b.run_until_idle(timeout=5)
+    assert [(e.encoder, e.home_events) for e in b.board.capture_ring.read()] == [
+        (9283, ENCODER_HOME), (5283, ENCODER_HOME), (1283, ENCODER_HOME)]
+
+
+def test_capture_needs_an_encoder():
+    b = MAXk()
+    capture(b, "X", home="both", index=True)
+    b.send("AX; VL20000; MR3000; GO;")
+    b.run_until_idle(timeout=5)
+    assert len(b.board.capture_ring) == 0
+
+
+def test_input_edges():
+    b = MAXk()
+    b.send("AY; PSE; LPE-40;")
+    capture(b, "Y", io_rising=0b101, io_falling=0b100)
+    b.set_input(0, True)
+    b.set_input(1, True)  # not selected
+    b.set_input(2, True)
+    b.set_input(2, False)
+    entries = b.board.capture_ring.read()
+    assert entries == [CaptureEntry(-40, 1, 0, 0b001, 0), CaptureEntry(-40, 1, 0, 0b100, 0),
+                       CaptureEntry(-40, 1, 0, 0, 0b100)]
+
+
+def test_input_edge_from_a_time_function_is_caught_on_its_update_cycle():
+    b = MAXk()
+    b.send("AX; PSE; VL8192; MR100000; GO;")  # one step per tick
+    capture(b, "X", io_rising=1 << 3)
+    b.set_input(3, lambda board: board.time >= 0.25)
+    b.advance(0.5)
+    (entry,) = b.board.capture_ring.read()
+    # at tick 2048: 0.25 s at 8192 steps/s less the 4 ms ramp at the factory AC (~17 steps)
+    assert entry.io_rising == 1 << 3 and entry.encoder == 2031
+
+
+def test_ring_overruns_when_the_host_is_slow():
+    b = MAXk()
+    b.send("AX; PSE;")
+    capture(b, "X", index=True)
+    b.board.world.axes[0].index_period = 10
+    b.board.world.axes[0].index_offset = 0
+    b.send("VL10000; MR1000; GO;")
+    b.run_until_idle(timeout=5)
+    ring = b.board.capture_ring
+    assert len(ring) == RING_ENTRIES - 1  # a full ring holds 54: insert == removal is empty
+    assert ring.lost == 100 - 54
+    entries = ring.read()
+    assert [e.encoder for e in entries] == list(range(470, 1010, 10))  # marks 10..1000
+
+
+def test_ring_bytes_are_table_3_5_big_endian():
+    b = MAXk()
+    b.send("AX; PSE; LPE-2;")
+    capture(b, "X", home="rising")
+    b.send("VL20000; MR2000; GO;")
+    b.run_until_idle(timeout=5)
+    raw = b.board.capture_ring.to_bytes()
+    assert len(raw) == RING_BYTES == 552
+    assert raw[0] == 1 and raw[1] == 0  # insert index, removal index
+    assert struct.unpack(">iBBHH", raw[2:12]) == (1232, 0, HOME_RISING, 0, 0)
