@@ -25,6 +25,7 @@ from .controller import MAXk
 from .firmware_model.flags import describe_doorbell
 from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 from .script import parse_duration
+from .world_settings import describe_world, parse_world
 
 META_HELP = """\
 REPL words (everything else goes to the board):
@@ -34,6 +35,8 @@ REPL words (everything else goes to the board):
   :advance 0.5 s    move virtual time (also ms, ticks)
   :run [10 s]       advance until every axis is idle (timeout, default 60 s)
   :doorbell         doorbell flags     :clear       write ones to clear every doorbell bit
+  :world            the stage          :world X limits 5000 -5000   (docs/io.md)
+  :capture          read the capture ring (as a host would)
   :commands         list mnemonics     quit / exit / Ctrl-D
 """
 
@@ -144,6 +147,20 @@ class ReplSession:
         if word == "clear":
             self.maxk.board.write_doorbell(0xFFFF_FFFF)
             return ["doorbell cleared"]
+        if word == "world":
+            if not rest:
+                return describe_world(self.maxk)
+            try:
+                return [parse_world(rest)(self.maxk)]
+            except (KeyError, ValueError) as error:
+                return [f"world: {error}"]
+        if word == "capture":
+            entries = self.maxk.board.capture_ring.read()
+            if not entries:
+                return ["capture ring empty"]
+            letters = self.maxk.board.model.axis_letters
+            return [f"{letters[e.axis]} encoder {e.encoder} home {e.home_events:#04x} "
+                    f"inputs +{e.io_rising:#06x} -{e.io_falling:#06x}" for e in entries]
         if word == "commands":
             return [f"{s.syntax:<16} {s.summary}" for s in COMMANDS.values()]
         return [f"unknown REPL word :{word}; type help"]

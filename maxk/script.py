@@ -13,7 +13,10 @@ A script is plain text, one item per line (format in docs/scripts.md):
     AX RP
     < 10000                          (the reply the previous command line must give)
     @expect X position 10000         (also: encoder, velocity, done, not done,
-                                      error, no error, doorbell 0x...)
+                                      error, no error, doorbell 0x..., bit 9 high,
+                                      X overtravel, X no overtravel, captures 3)
+    @world X limits 5000 -5000       (the machine around the board: switches, index,
+                                      faults, inputs, analog, capture; docs/io.md)
 
 Controller commands are sent exactly as written, each line ended by a CR as a terminal
 would. Directives start with `@`, expected replies with `<`, comments with `//`: no
@@ -29,6 +32,7 @@ from pathlib import Path
 
 from .controller import MAXk
 from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
+from .world_settings import parse_world
 
 
 class ScriptError(Exception):
@@ -132,6 +136,8 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                     script.steps.append(_parse_wait(number, rest))
                 elif word == "expect":
                     script.steps.append(_parse_expect(number, rest))
+                elif word == "world":
+                    script.steps.append(Step(number, "world", rest, (parse_world(rest),)))
                 else:
                     raise ValueError(f"unknown directive @{word}")
             except ValueError as error:
@@ -164,7 +170,10 @@ def _parse_wait(line: int, rest: str) -> Step:
 _EXPECT = re.compile(
     r"^(?:(?P<axis>[A-Za-z])\s+(?P<field>position|encoder|velocity)\s+(?P<value>-?\d+)"
     r"|(?P<axis2>[A-Za-z])\s+(?P<done>not\s+done|done)"
+    r"|(?P<axis3>[A-Za-z])\s+(?P<overtravel>no\s+overtravel|overtravel)"
     r"|(?P<error>no\s+error|error)"
+    r"|bit\s+(?P<bit>\d+)\s+(?P<level>high|low)"
+    r"|captures\s+(?P<captures>\d+)"
     r"|doorbell\s+(?P<doorbell>0x[0-9a-fA-F]+|\d+))$",
     re.I,
 )
@@ -175,7 +184,8 @@ def _parse_expect(line: int, rest: str) -> Step:
     if not m:
         raise ValueError(
             f"cannot read @expect {rest!r}: say e.g. 'X position 1000', 'X done', "
-            "'X not done', 'error', 'no error' or 'doorbell 0x1'"
+            "'X not done', 'X overtravel', 'error', 'no error', 'bit 9 high', 'captures 2' "
+            "or 'doorbell 0x1'"
         )
     return Step(line, "expect", rest, tuple(m.groupdict().items()))
 
@@ -277,6 +287,11 @@ def run_script(script: Script, *, model: str | None = None,
             if not ok and check:
                 fail(step.line, f"@wait {step.text}", f"{what} {axes}".strip(),
                      f"timed out after {timeout_text}")
+        elif step.kind == "world":
+            try:
+                step.args[0](board)
+            except (KeyError, ValueError) as error:
+                fail(step.line, f"@world {step.text}", step.text, str(error))
         elif step.kind == "expect" and check:
             problem = _check_expect(board, step)
             if problem is not None:
@@ -306,6 +321,22 @@ def _check_expect(board: MAXk, step: Step) -> str | None:
             done = board.done(letter)
             return None if done == (g["done"].lower() == "done") else (
                 f"{letter} {'done' if done else 'not done'}")
+        if g["overtravel"]:
+            letter = g["axis3"].upper()
+            latched = bool(board.board.axis(letter).flags & 0x2)
+            want = g["overtravel"].lower() == "overtravel"
+            return None if latched == want else (
+                f"{letter} {'overtravel' if latched else 'no overtravel'}")
+        if g["bit"]:
+            bit = int(g["bit"])
+            if bit > 15:
+                return f"no bit {bit} (0..15)"
+            high = board.board.io.level(bit, board.board)
+            return None if high == (g["level"].lower() == "high") else (
+                f"bit {bit} {'high' if high else 'low'}")
+        if g["captures"]:
+            waiting = len(board.board.capture_ring)
+            return None if waiting == int(g["captures"]) else f"captures {waiting}"
         if g["error"]:
             error = board.command_error
             if error == (g["error"].lower() == "error"):

@@ -455,7 +455,10 @@ class Board:
     def home_found(self, axis: Axis, homing: Homing) -> None:
         axis.homing = None
         if homing.load_value is not None:
-            axis.counter_offset = homing.load_value - axis.steps_now(self)
+            steps = axis.steps_now(self)
+            axis.counter_offset = homing.load_value - steps
+            if axis.has_encoder:  # as LP does: encoder hosts read RE
+                axis.encoder_offset = homing.load_value - steps
         axis.stop(self)
 
     def limit_inputs_raw(self) -> int:
