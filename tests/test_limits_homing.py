@@ -214,3 +214,12 @@ def test_refused_move_inside_a_queue_leaves_the_queue_running(b):
     b.send("IC; MR100; GO; MR-200; GO; ID;")  # queued behind nothing: refused, then away
     assert b.run_until_done("X", timeout=5)
     assert b.query("QA") == "MDNN"
+
+
+def test_home_loads_the_counter_at_the_exact_count_even_at_speed():
+    b = MAXk()
+    b.send("AX; PSE; VL200000; HM500; ID;")  # ~24 steps per update cycle
+    assert b.run_until_done("X", timeout=5)
+    axis = b.board.axes[0]
+    assert b.position("X") - axis.steps == 500 - 1234  # counter read 500 at step 1234
+    assert b.encoder("X") - axis.steps == 500 - 1234  # and the encoder, on PSE

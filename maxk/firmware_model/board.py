@@ -396,9 +396,11 @@ class Board:
             self.limit_tripped(axis)
             return
         homing = axis.homing
-        if homing is not None and self._home_reached(axis, homing):
-            self.home_found(axis, homing)
-            return
+        if homing is not None:
+            at = self._home_reached(axis, homing)
+            if at is not None:
+                self.home_found(axis, homing, at)
+                return
         self.schedule_switches(axis)
 
     def world_changed(self) -> None:
@@ -414,20 +416,23 @@ class Board:
             if axis.config.limits_enabled and self.limit_pressed(axis, direction):
                 self.limit_tripped(axis)
             elif axis.homing is not None and home_condition(axis, self, axis.steps_now(self)):
-                self.home_found(axis, axis.homing)
+                self.home_found(axis, axis.homing, axis.steps_now(self))
             else:
                 self.schedule_switches(axis)
         self.run_queues()
 
-    def _home_reached(self, axis: Axis, homing: Homing) -> bool:
+    def _home_reached(self, axis: Axis, homing: Homing) -> int | None:
+        """The exact position where home was met during the last update cycle, if it was:
+        the hardware latches the count, even when the axis passed it within the cycle."""
         steps = axis.steps_now(self)
-        if home_condition(axis, self, steps):
-            return True
-        # Passed within one update cycle: the hardware latches what the cycle missed.
         previous = axis.steps_at_tick(self.tick - 1, self.period)
-        lo, hi = sorted((previous, steps))
-        return any(home_condition(axis, self, p) for p in range(lo, hi + 1)
-                   if hi - lo <= 100_000)
+        step = 1 if steps >= previous else -1
+        if abs(steps - previous) > 100_000:
+            previous = steps - step * 100_000
+        for p in range(previous, steps + step, step):
+            if home_condition(axis, self, p):
+                return p
+        return None
 
     def limit_tripped(self, axis: Axis) -> None:
         """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL)."""
@@ -442,8 +447,9 @@ class Board:
     def start_homing(self, axis: Axis, direction: int, load_value: int | None) -> bool:
         """HM/HR/KM/KR: see homing.py for the search. False when home is already here."""
         homing = Homing(direction, load_value)
-        if home_condition(axis, self, axis.steps_now(self)):
-            self.home_found(axis, homing)
+        here = axis.steps_now(self)
+        if home_condition(axis, self, here):
+            self.home_found(axis, homing, here)
             return False
         axis.homing = homing
         velocity = direction * axis.config.velocity
@@ -452,13 +458,13 @@ class Board:
             return False
         return True
 
-    def home_found(self, axis: Axis, homing: Homing) -> None:
+    def home_found(self, axis: Axis, homing: Homing, at: int) -> None:
+        """Home met at physical position `at`: load the counters there, ramp to a stop."""
         axis.homing = None
         if homing.load_value is not None:
-            steps = axis.steps_now(self)
-            axis.counter_offset = homing.load_value - steps
+            axis.counter_offset = homing.load_value - at
             if axis.has_encoder:  # as LP does: encoder hosts read RE
-                axis.encoder_offset = homing.load_value - steps
+                axis.encoder_offset = homing.load_value - at
         axis.stop(self)
 
     def limit_inputs_raw(self) -> int:
