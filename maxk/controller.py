@@ -130,6 +130,13 @@ class MAXk:
         getattr(stage, attr).fault = state
         self.board.world_changed()
 
+    def bounce(self, letter: str, switch: str, steps: int) -> None:
+        """Make a switch ('plus', 'minus' or 'home') chatter within `steps` of its edges."""
+        stage = self.stage(letter)
+        attr = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}[switch]
+        getattr(stage, attr).bounce = max(0, int(steps))
+        self.board.world_changed()
+
     def set_input(self, bit: int, level: bool | InputSource) -> None:
         """A general purpose input's level: a constant, or a function of the board."""
         if not 0 <= bit <= 15:

@@ -6,6 +6,7 @@
     X home 200 260             the home switch is active from 200 to 260 (home none: none)
     X index 4000 4 1280        index marks: period, width, offset
     X fault plus active        stick a switch (plus, minus, home) active/inactive; none clears
+    X bounce home 3            the switch chatters within 3 steps of its edges (0: clean)
     X capture home both        capture on home edges: rising, falling, both or off
     X capture index on         capture on every index mark (on/off)
     X capture inputs 0x5 0x4   capture on rising / falling edges of these input bits
@@ -92,6 +93,10 @@ def parse_world(text: str) -> Setting:
             raise ValueError("fault SWITCH active|inactive|none")
         switch = args[0].lower()
         return lambda b: (b.fault(letter, switch, state), f"{letter} fault {switch} {state}")[1]
+    if what == "bounce" and len(args) == 2 and args[0].lower() in ("plus", "minus", "home"):
+        steps = _int(args[1], "a number of steps")
+        switch = args[0].lower()
+        return lambda b: (b.bounce(letter, switch, steps), f"{letter} bounce {switch} {steps}")[1]
     if what == "capture" and args:
         return _capture(letter, args)
     raise ValueError(f"cannot read {text!r}; see docs/io.md for the world settings")

@@ -103,3 +103,25 @@ def test_ring_bytes_are_table_3_5_big_endian():
     assert len(raw) == RING_BYTES == 552
     assert raw[0] == 1 and raw[1] == 0  # insert index, removal index
     assert struct.unpack(">iBBHH", raw[2:12]) == (1232, 0, HOME_RISING, 0, 0)
+
+
+def test_a_bouncing_home_switch_makes_a_burst_of_captured_edges():
+    b = MAXk()
+    b.send("AX; PSE;")
+    b.bounce("X", "home", 3)
+    capture(b, "X", home="both")
+    b.send("VL20000; MR2000; GO;")
+    assert b.run_until_idle(timeout=5)
+    edges = [(e.encoder, e.home_events) for e in b.board.capture_ring.read()]
+    # chatter 3 steps deep inside each edge (1234..1333): on 1234, off 1235, on 1236 ...
+    # ... on 1331, off 1332, on 1333, then off for good at 1334
+    assert edges == [(1234, HOME_RISING), (1235, HOME_FALLING), (1236, HOME_RISING),
+                     (1332, HOME_FALLING), (1333, HOME_RISING), (1334, HOME_FALLING)]
+
+
+def test_bounce_does_not_change_where_homing_stops_looking():
+    b = MAXk()
+    b.bounce("X", "home", 5)
+    b.send("AX; PSE; VL1000; HM0; ID;")
+    assert b.run_until_done("X", timeout=5)
+    assert b.encoder("X") - b.board.axes[0].steps == -1234  # the first active count

@@ -326,20 +326,17 @@ class Board:
         here = axis.steps_now(self)
         edges: list[tuple[int, int, int]] = []  # (direction, home bits, position)
         home = world.home
-        if config.home is not None and home.fault is None and home.present:
+        if config.home is not None:
             rising = config.home in ("rising", "both")
             falling = config.home in ("falling", "both")
-            low, high = home.low, home.high
-            if low is not None:  # entering from below rises, leaving downward falls
-                if rising:
-                    edges.append((1, HOME_RISING, int(low)))
-                if falling:
-                    edges.append((-1, HOME_FALLING, int(low) - 1))
-            if high is not None:
-                if falling:
-                    edges.append((1, HOME_FALLING, int(high) + 1))
-                if rising:
-                    edges.append((-1, HOME_RISING, int(high)))
+            for position, active_above in home.transitions():
+                # Crossing upward into `position` turns the switch to active_above;
+                # crossing downward out of it (to position - 1) does the opposite.
+                if (rising and active_above) or (falling and not active_above):
+                    edges.append((1, HOME_RISING if active_above else HOME_FALLING, position))
+                if (rising and not active_above) or (falling and active_above):
+                    edges.append((-1, HOME_FALLING if active_above else HOME_RISING,
+                                  position - 1))
         if config.index and world.index_period > 0:
             period, offset, width = world.index_period, world.index_offset, world.index_width
             # a mark covers offset + k*period .. + width - 1; moving up it is met at its

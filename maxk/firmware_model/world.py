@@ -38,6 +38,7 @@ class Switch:
     low: float | None  # active at or above this position (None: no lower edge)
     high: float | None  # active at or below this position (None: no upper edge)
     fault: str | None = None
+    bounce: int = 0  # chatter zone: within this many steps inside an edge it flips each step
 
     @property
     def present(self) -> bool:
@@ -50,7 +51,32 @@ class Switch:
             return False
         if self.low is not None and steps < self.low:
             return False
-        return not (self.high is not None and steps > self.high)
+        if self.high is not None and steps > self.high:
+            return False
+        if self.bounce:
+            # Contact bounce as a function of position: just inside an edge the switch
+            # flips on every step, so crossing it makes a burst of edges (deterministic).
+            for edge, depth in ((self.low, steps - (self.low or 0)),
+                                (self.high, (self.high or 0) - steps)):
+                if edge is not None and 0 <= depth < self.bounce:
+                    return depth % 2 == 0
+        return True
+
+    def transitions(self) -> list[tuple[int, bool]]:
+        """Every position p where the switch differs from p - 1, with whether it is
+        active at p (so crossing upward there is a rising edge)."""
+        if self.fault is not None or not self.present:
+            return []
+        out = []
+        for edge in (self.low, self.high):
+            if edge is None:
+                continue
+            e = int(edge)
+            for p in range(e - self.bounce - 1, e + self.bounce + 2):
+                now, before = self.active(p), self.active(p - 1)
+                if now != before:
+                    out.append((p, now))
+        return sorted(set(out))
 
     def edges(self) -> list[float]:
         """Positions where the switch changes state (for crossing searches)."""
@@ -71,13 +97,14 @@ class AxisWorld:
     index_offset: int = 1280  # physical position of an index mark (inside the home window)
 
     def set_plus_limit(self, position: float | None) -> None:
-        self.plus_limit = Switch(position, None, self.plus_limit.fault)
+        self.plus_limit = Switch(position, None, self.plus_limit.fault, self.plus_limit.bounce)
 
     def set_minus_limit(self, position: float | None) -> None:
-        self.minus_limit = Switch(None, position, self.minus_limit.fault)
+        self.minus_limit = Switch(None, position, self.minus_limit.fault,
+                                  self.minus_limit.bounce)
 
     def set_home(self, low: float | None, high: float | None) -> None:
-        self.home = Switch(low, high, self.home.fault)
+        self.home = Switch(low, high, self.home.fault, self.home.bounce)
 
     def index_active(self, steps: int) -> bool:
         if self.index_period <= 0:
