@@ -137,6 +137,23 @@ class MAXk:
         getattr(stage, attr).bounce = max(0, int(steps))
         self.board.world_changed()
 
+    def capture(self, letter: str, *, home: str | None | bool = False, index: bool | None = None,
+                inputs_rising: int | None = None, inputs_falling: int | None = None) -> None:
+        """Configure real-time position capture for an axis (docs/io.md). home: 'rising',
+        'falling', 'both' or None (off); False leaves it as it is."""
+        config = self.board.capture_config[self.board.axis(letter).index]
+        if home is not False:
+            if home not in (None, "rising", "falling", "both"):
+                raise ValueError("home capture is 'rising', 'falling', 'both' or None")
+            config.home = home  # type: ignore[assignment]
+        if index is not None:
+            config.index = index
+        if inputs_rising is not None:
+            config.io_rising = inputs_rising & 0xFFFF
+        if inputs_falling is not None:
+            config.io_falling = inputs_falling & 0xFFFF
+        self.board.world_changed()
+
     def set_input(self, bit: int, level: bool | InputSource) -> None:
         """A general purpose input's level: a constant, or a function of the board."""
         if not 0 <= bit <= 15:

@@ -125,9 +125,7 @@ def _capture(letter: str, args: list[str]) -> Setting:
         rising, falling = _int(args[1], "a bit mask"), _int(args[2], "a bit mask")
 
         def apply(b: MAXk) -> str:
-            c = config(b)
-            c.io_rising, c.io_falling = rising, falling
-            b.board.world_changed()
+            b.capture(letter, inputs_rising=rising, inputs_falling=falling)
             return f"{letter} capture inputs {args[1]} {args[2]}"
 
         return apply

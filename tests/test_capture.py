@@ -13,10 +13,8 @@ from maxk.firmware_model.capture import (
 )
 
 
-def capture(b, letter, **kw):
-    config = b.board.capture_config[b.board.axis(letter).index]
-    for key, value in kw.items():
-        setattr(config, key, value)
+def capture(b, letter, io_rising=None, io_falling=None, **kw):
+    b.capture(letter, inputs_rising=io_rising, inputs_falling=io_falling, **kw)
 
 
 def test_home_edges_both_ways_at_the_exact_edge_positions():

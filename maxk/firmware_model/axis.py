@@ -235,6 +235,11 @@ class Axis:
         m = self.motion
         if m is None:
             return None
+        if m.end_time is not None and m.monotonic:
+            # A move or a stop never goes past where it ends: most searches end here.
+            if m.direction != direction or direction * (
+                    self.steps + m.final_offset - position) < 0:
+                return None
         period = board.period
         now = board.tick
 
@@ -358,11 +363,14 @@ class Axis:
 
         L and H are the live switch states; the latched overtravel flag is the doorbell's
         (bits 8-15), cleared by RA, IC or the host writing ones."""
+        steps = self.steps_now(board)
+        world = board.world.axes[self.index]
+        on_limit = world.plus_limit.active(steps) or world.minus_limit.active(steps)
         return (
             ("P" if self.direction >= 0 else "M")
             + ("D" if self.flags & F.AXIS_DONE else "N")
-            + ("L" if board.on_limit(self) else "N")  # live: asyn sets limit status from it
-            + ("H" if board.home_active(self) else "N")
+            + ("L" if on_limit else "N")  # live: asyn sets limit status from it
+            + ("H" if world.home.active(steps) else "N")
         )
 
 

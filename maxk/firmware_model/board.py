@@ -57,6 +57,7 @@ class Board:
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self._input_levels = 0  # input levels as last seen, for input-edge capture
+        self._capturing_inputs = False  # cached: refreshed by world_changed()
         self.tick = 0
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
@@ -290,10 +291,20 @@ class Board:
     def schedule_switches(self, axis: Axis) -> None:
         """Find the next tick at which the running motion trips a limit or meets home."""
         axis.switch_tick = None
+        axis.capture_pending = []
         m = axis.motion
         if m is None:
             return
         world = self.world.axes[axis.index]
+        if (m.end_time is not None and m.monotonic and axis.homing is None
+                and not self.capture_config[axis.index].on_position):
+            # Fast path for a plain move or stop: only the limit ahead can matter, and
+            # only if the motion ends at or beyond it.
+            switch = world.plus_limit if m.direction > 0 else world.minus_limit
+            edge = switch.low if m.direction > 0 else switch.high
+            if (not axis.config.limits_enabled or switch.fault is not None or edge is None
+                    or m.direction * (axis.steps + m.final_offset - edge) < 0):
+                return
         candidates: list[int] = []
         if axis.config.limits_enabled:
             for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
@@ -379,7 +390,8 @@ class Board:
                                                     0, r, f))
 
     def capturing_inputs(self) -> bool:
-        return any(c.on_inputs for c in self.capture_config)
+        """Does any axis capture input edges? Cached; world_changed() refreshes it."""
+        return self._capturing_inputs
 
     def _switch_event(self, axis: Axis) -> None:
         """A limit, home condition or capture edge is reached on this tick: act on it."""
@@ -403,8 +415,10 @@ class Board:
     def world_changed(self) -> None:
         """The stage changed under the board (a switch moved, a fault was injected, an
         input changed): act on what is now true, find the next switch events again, and
-        let waiting queues look. Called from outside the engine (the API, scripts)."""
-        if self.capturing_inputs():
+        let waiting queues look. Called from outside the engine (the API, scripts), and
+        after any change to `capture_config`."""
+        self._capturing_inputs = any(c.on_inputs for c in self.capture_config)
+        if self._capturing_inputs:
             self._capture_inputs()
         for axis in self.axes:
             if axis.motion is None:

@@ -135,6 +135,11 @@ class Motion:
     peak_speed: float = 0.0
     _last: int = field(default=0, repr=False)
 
+    @property
+    def monotonic(self) -> bool:
+        """All phases travel one way (moves and stops; not a reversing jog)."""
+        return all(p.direction == self.direction for p in self.phases)
+
     def _phase_at(self, t: float) -> Phase | None:
         phases = self.phases
         if not phases:
