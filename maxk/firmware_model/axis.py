@@ -235,11 +235,11 @@ class Axis:
         m = self.motion
         if m is None:
             return None
-        if m.end_time is not None and m.monotonic:
-            # A move or a stop never goes past where it ends: most searches end here.
-            if m.direction != direction or direction * (
-                    self.steps + m.final_offset - position) < 0:
-                return None
+        # A move or a stop never goes past where it ends: most searches end here.
+        if m.end_time is not None and m.monotonic and (
+                m.direction != direction
+                or direction * (self.steps + m.final_offset - position) < 0):
+            return None
         period = board.period
         now = board.tick
 
