@@ -59,6 +59,12 @@ def build_parser() -> argparse.ArgumentParser:
                       help="print the generated reference (docs/commands.md)")
     cmds.add_argument("mnemonic", nargs="?", help="show one command in full")
 
+    serve = sub.add_parser("serve", help="boards in real time behind TCP, serial and "
+                           "shared-memory doors, for legacy host code")
+    from .host.serve import add_arguments
+
+    add_arguments(serve)
+
     sub.add_parser("models", help="list the board models")
     return parser
 
@@ -76,6 +82,10 @@ def main(argv: list[str] | None = None) -> int:
         return _run(args)
     if args.command == "commands":
         return _commands(args)
+    if args.command == "serve":
+        from .host.serve import main as serve_main
+
+        return serve_main(args)
     if args.command == "models":
         for name, model in MODELS.items():
             print(f"{name}  {model.axes} axes  {model.axis_letters}")

@@ -1,0 +1,109 @@
+"""The `maxk serve` command: start boards and their doors, print where they are."""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import signal
+import sys
+
+from ..controller import MAXk
+from ..firmware_model.models import model_by_name
+from .pacing import Pacer
+from .server import EOLS, BoardService, Framing, Server
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--boards", type=int, default=1, help="how many boards (1-16, J5 "
+                        "jumper numbers 1..N)")
+    parser.add_argument("--model", default="MAXk-8000",
+                        help="board model, or a comma list with one model per board")
+    parser.add_argument("--host", default="127.0.0.1",
+                        help="address to listen on (default 127.0.0.1; 0.0.0.0 for all)")
+    parser.add_argument("--port", type=int, default=0, help="TCP port of board 1 (the next "
+                        "boards take the following ports); 0 picks free ports")
+    parser.add_argument("--no-tcp", action="store_true", help="no TCP ports")
+    parser.add_argument("--pty", action="store_true", help="a serial pseudo-terminal per "
+                        "board")
+    parser.add_argument("--pty-link", default=None, help="a stable symlink to board 1's "
+                        "pty (board N gets the same path with N appended)")
+    parser.add_argument("--shm", default=None, metavar="PATH", help="shared-memory map file "
+                        "of board 1 (board N: PATH with N appended), e.g. /dev/shm/maxk")
+    parser.add_argument("--speed", type=float, default=1.0, help="K times faster than real "
+                        "time (default 1)")
+    parser.add_argument("--eol", choices=sorted(EOLS), default="lfcr",
+                        help="reply line ending (default lfcr: LF CR as the EPICS MAXnet "
+                        "driver expects; lf for firmware >= 1.33 style)")
+    parser.add_argument("--ack", action="store_true", help="lead every reply with ACK 0x06")
+    parser.add_argument("--seconds", type=float, default=None,
+                        help="stop after this many seconds (default: run until interrupted)")
+
+
+def _numbered(path: str, number: int, count: int) -> str:
+    return path if count == 1 or number == 1 else f"{path}{number}"
+
+
+async def serve(args: argparse.Namespace) -> int:
+    if not 1 <= args.boards <= 16:
+        print("maxk serve: --boards is 1..16 (the J5 jumper)", file=sys.stderr)
+        return 2
+    names = [m.strip() for m in args.model.split(",")]
+    if len(names) not in (1, args.boards):
+        print("maxk serve: give one model, or one per board", file=sys.stderr)
+        return 2
+    try:
+        models = [model_by_name(n).name for n in names] * (args.boards if len(names) == 1
+                                                          else 1)
+    except ValueError as error:
+        print(f"maxk serve: {error}", file=sys.stderr)
+        return 2
+    framing = Framing(EOLS[args.eol], args.ack)
+    services = []
+    for number, model in enumerate(models, start=1):
+        maxk = MAXk(model)
+        services.append(BoardService(number, maxk, Pacer(maxk, args.speed), framing))
+    server = Server(services)
+    memories = []
+    try:
+        for service in services:
+            n = service.number
+            where = []
+            if not args.no_tcp:
+                port = 0 if args.port == 0 else args.port + n - 1
+                host, bound = await server.open_tcp(service, args.host, port)
+                where.append(f"tcp {host}:{bound}")
+            if args.pty or args.pty_link:
+                link = _numbered(args.pty_link, n, args.boards) if args.pty_link else None
+                path = server.open_pty(service, link)
+                where.append(f"serial {path}" + (f" (link {link})" if link else ""))
+            if args.shm:
+                from .shared_memory import SharedMemoryDoor
+
+                door = SharedMemoryDoor(service, _numbered(args.shm, n, args.boards))
+                memories.append(door)
+                server.after_pacing(door.update)
+                where.append(f"shared memory {door.path}")
+            print(f"board {n}: {service.maxk.board.model.name} " + ", ".join(where),
+                  flush=True)
+    except OSError as error:
+        print(f"maxk serve: {error}", file=sys.stderr)
+        server.stop()
+        await server.run()
+        return 1
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(NotImplementedError, RuntimeError):
+            loop.add_signal_handler(sig, server.stop)
+    if args.seconds is not None:
+        loop.call_later(args.seconds, server.stop)
+    try:
+        await server.run()
+    finally:
+        for door in memories:
+            door.close()
+    return 0
+
+
+def main(args: argparse.Namespace) -> int:
+    return asyncio.run(serve(args))

@@ -1,0 +1,145 @@
+"""A `maxk serve` in-process for door tests: real sockets, a clock the test moves."""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import threading
+
+from maxk import MAXk
+from maxk.host.pacing import Pacer
+from maxk.host.server import EOLS, BoardService, Framing, Server
+
+
+class ManualClock:
+    """Wall time that only moves when the test says so (no sleeps in tests)."""
+
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+class HostedBoards:
+    def __init__(self, models=("MAXk-8000",), eol="lfcr", ack=False, pty=False,
+                 shm_paths=None):
+        self.clock = ManualClock()
+        framing = Framing(EOLS[eol], ack)
+        self.services = []
+        for n, model in enumerate(models, start=1):
+            maxk = MAXk(model)
+            self.services.append(BoardService(n, maxk, Pacer(maxk, 1.0, self.clock), framing))
+        self.server = Server(self.services)
+        self.loop = asyncio.new_event_loop()
+        self.ports = []
+        self.ptys = []
+        self.memories = []
+        ready = threading.Event()
+
+        def run():
+            asyncio.set_event_loop(self.loop)
+
+            async def main():
+                for service in self.services:
+                    self.ports.append((await self.server.open_tcp(service, "127.0.0.1", 0))[1])
+                    if pty:
+                        self.ptys.append(self.server.open_pty(service))
+                    if shm_paths:
+                        from maxk.host.shared_memory import SharedMemoryDoor
+
+                        door = SharedMemoryDoor(service, shm_paths[service.number - 1])
+                        self.memories.append(door)
+                        self.server.after_pacing(door.update)
+                ready.set()
+                await self.server.run()
+                for door in self.memories:
+                    door.close()
+
+            self.loop.run_until_complete(main())
+
+        self.thread = threading.Thread(target=run, daemon=True)
+        self.thread.start()
+        assert ready.wait(10)
+
+    def call(self, fn):
+        """Run fn on the server's loop (the board is not thread-safe) and return its value."""
+        async def wrapper():
+            return fn()
+
+        return asyncio.run_coroutine_threadsafe(wrapper(), self.loop).result(10)
+
+    def advance(self, seconds: float) -> None:
+        """Move the wall clock; the boards catch up at once (as the pacer would)."""
+        self.clock.now += seconds
+        self.call(lambda: [s.pacer.sync() for s in self.services])
+
+    def connect(self, board: int = 1) -> Client:
+        return Client(self.ports[board - 1])
+
+    def close(self) -> None:
+        self.loop.call_soon_threadsafe(self.server.stop)
+        self.thread.join(10)
+
+
+class Client:
+    """A host's socket, reading framed lines the way the EPICS MAXnet driver does."""
+
+    def __init__(self, port: int, eol: bytes = b"\n\r") -> None:
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=5)
+        self.eol = eol
+        self.buffer = b""
+        self.held: list[str] = []  # lines read early by command(), handed out by line()
+
+    def send(self, text: str | bytes) -> None:
+        self.sock.sendall(text.encode() if isinstance(text, str) else text)
+
+    def command(self, text: str) -> None:
+        """Send commands and know the server has run them: a #WS probe follows, and its
+        =0 comes back only after everything before it was processed."""
+        self.send(text + "\n#WS\n")
+        while True:
+            line = self._read_line()
+            if line == "=0":
+                return
+            self.held.append(line)
+
+    def line(self) -> str:
+        if self.held:
+            return self.held.pop(0)
+        return self._read_line()
+
+    def _read_line(self) -> str:
+        while self.eol not in self.buffer:
+            chunk = self.sock.recv(65536)
+            if not chunk:
+                raise ConnectionError("closed")
+            self.buffer += chunk
+        line, self.buffer = self.buffer.split(self.eol, 1)
+        return line.decode("latin-1")
+
+    def query(self, text: str) -> str:
+        """Send a command line and return its reply, skipping notifications as EPICS does."""
+        self.send(text + "\n")
+        while True:
+            line = self.line()
+            if "000 0" not in line:
+                return line
+
+    def nothing_pending(self, board: HostedBoards) -> bool:
+        self.command("")  # everything sent so far has been processed
+        if self.held:
+            return False
+        self.sock.setblocking(False)
+        try:
+            data = self.sock.recv(65536)
+        except BlockingIOError:
+            data = b""
+        finally:
+            self.sock.setblocking(True)
+            self.sock.settimeout(5)
+        self.buffer += data
+        return not self.buffer
+
+    def close(self) -> None:
+        self.sock.close()
