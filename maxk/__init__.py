@@ -4,4 +4,18 @@ __version__ = "0.1.0"
 
 from .controller import MAXk  # noqa: E402
 
+
+def _register_pyserial_handler() -> None:
+    """pyserial's documented hook for URL handlers: `maxk://` finds maxk.host.protocol_maxk."""
+    try:
+        import serial
+    except ImportError:  # pragma: no cover - pyserial is a dependency
+        return
+    packages = getattr(serial, "protocol_handler_packages", None)
+    if packages is not None and "maxk.host" not in packages:
+        packages.append("maxk.host")
+
+
+_register_pyserial_handler()
+
 __all__ = ["MAXk", "__version__"]

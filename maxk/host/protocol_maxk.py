@@ -1,0 +1,149 @@
+"""pyserial URL handler: `serial.serial_for_url("maxk://MAXk-4000")` is an in-process board.
+
+Registered the way pyserial documents for protocol handlers: importing maxk appends
+"maxk.host" to `serial.protocol_handler_packages`, and pyserial then finds this module,
+`maxk.host.protocol_maxk`, for the `maxk://` scheme. Legacy code that already opens its
+port with `serial_for_url` changes only its port string (and imports maxk once, or runs
+under `python -m maxk.host.pyserial_run script.py`).
+
+URL: `maxk://[MODEL][?speed=K][&eol=lfcr|lf|crlf|cr][&ack]`. The board runs in real time
+(K times faster with speed), with the same framing as the TCP and serial doors: replies
+end with LF CR by default and flag notifications arrive as `%000 SSSSSSSS`.
+"""
+
+from __future__ import annotations
+
+import time
+import urllib.parse
+
+import serial
+from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+
+from ..commands.interpreter import Interpreter
+from ..controller import MAXk
+from ..firmware_model.models import DEFAULT_MODEL, model_by_name
+from .pacing import Pacer
+from .server import EOLS, Framing
+
+POLL = 0.0005  # seconds between looks while a read waits (the wall clock is the door's)
+
+
+class Serial(SerialBase):
+    """A serial port whose other end is an emulated MAXk."""
+
+    def open(self) -> None:
+        if self._port is None:
+            raise SerialException("port must be configured before it can be used")
+        if self.is_open:
+            raise SerialException("port already open")
+        model, speed, framing = self._parse(self._port)
+        self.maxk = MAXk(model)
+        self.pacer = Pacer(self.maxk, speed)
+        self.framing = framing
+        self.interpreter = Interpreter(self.maxk.board)
+        self._incoming = bytearray()
+        self.maxk.board.add_flag_listener(
+            lambda word: self._incoming.extend(self.framing.notification(word)))
+        self.is_open = True
+
+    @staticmethod
+    def _parse(url: str) -> tuple[str, float, Framing]:
+        parts = urllib.parse.urlsplit(url)
+        if parts.scheme != "maxk":
+            raise SerialException(f"expected a maxk:// URL, got {url!r}")
+        name = (parts.netloc + parts.path).strip("/") or DEFAULT_MODEL
+        try:
+            model = model_by_name(name).name
+        except ValueError as error:
+            raise SerialException(str(error)) from None
+        options = urllib.parse.parse_qs(parts.query, keep_blank_values=True)
+        unknown = set(options) - {"speed", "eol", "ack"}
+        if unknown:
+            raise SerialException(f"unknown maxk:// option {sorted(unknown)[0]!r} "
+                                  "(speed, eol, ack)")
+        try:
+            speed = float(options.get("speed", ["1"])[0])
+        except ValueError:
+            raise SerialException("speed must be a number") from None
+        eol = options.get("eol", ["lfcr"])[0]
+        if eol not in EOLS:
+            raise SerialException(f"eol is one of {', '.join(sorted(EOLS))}")
+        return model, speed, Framing(EOLS[eol], "ack" in options)
+
+    def close(self) -> None:
+        self.is_open = False
+
+    def _reconfigure_port(self) -> None:
+        """Baud rate, parity and the rest mean nothing to an emulated line."""
+
+    def from_url(self, url: str) -> str:  # pyserial API: validate and return the port
+        self._parse(url)
+        return url
+
+    @property
+    def in_waiting(self) -> int:
+        if not self.is_open:
+            raise PortNotOpenError()
+        self.pacer.sync()
+        return len(self._incoming)
+
+    def write(self, data: bytes) -> int:
+        if not self.is_open:
+            raise PortNotOpenError()
+        data = serial.to_bytes(data)
+        self.pacer.sync()
+        for reply in self.interpreter.write(data):
+            self._incoming.extend(self.framing.reply(reply))
+        return len(data)
+
+    def read(self, size: int = 1) -> bytes:
+        if not self.is_open:
+            raise PortNotOpenError()
+        deadline = None if self._timeout is None else time.monotonic() + self._timeout
+        while True:
+            self.pacer.sync()
+            if len(self._incoming) >= size:
+                break
+            if deadline is not None and time.monotonic() >= deadline:
+                break
+            time.sleep(POLL)
+        data = bytes(self._incoming[:size])
+        del self._incoming[:size]
+        return data
+
+    def reset_input_buffer(self) -> None:
+        if not self.is_open:
+            raise PortNotOpenError()
+        self._incoming.clear()
+
+    def reset_output_buffer(self) -> None:
+        if not self.is_open:
+            raise PortNotOpenError()
+
+    def flush(self) -> None:
+        """Writes reach the board at once."""
+
+    @property
+    def cts(self) -> bool:
+        return True
+
+    @property
+    def dsr(self) -> bool:
+        return True
+
+    @property
+    def ri(self) -> bool:
+        return False
+
+    @property
+    def cd(self) -> bool:
+        return True
+
+    def _update_rts_state(self) -> None:
+        pass
+
+    def _update_dtr_state(self) -> None:
+        pass
+
+    def _update_break_state(self) -> None:
+        pass
