@@ -23,13 +23,18 @@ class ManualClock:
 
 class HostedBoards:
     def __init__(self, models=("MAXk-8000",), eol="lfcr", ack=False, pty=False,
-                 shm_paths=None):
-        self.clock = ManualClock()
+                 shm_paths=None, real_time_speed=None):
+        """real_time_speed: run on the wall clock, that many times faster (for tests of
+        separate host processes, which cannot be told when virtual time moves)."""
+        import time
+
+        self.clock = ManualClock() if real_time_speed is None else time.monotonic
+        speed = 1.0 if real_time_speed is None else real_time_speed
         framing = Framing(EOLS[eol], ack)
         self.services = []
         for n, model in enumerate(models, start=1):
             maxk = MAXk(model)
-            self.services.append(BoardService(n, maxk, Pacer(maxk, 1.0, self.clock), framing))
+            self.services.append(BoardService(n, maxk, Pacer(maxk, speed, self.clock), framing))
         self.server = Server(self.services)
         self.loop = asyncio.new_event_loop()
         self.ports = []
