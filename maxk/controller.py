@@ -22,7 +22,7 @@ from .commands.lexer import SEPARATORS
 from .firmware_model import flags as F
 from .firmware_model.board import Board, CommandErrorRecord
 from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
-from .firmware_model.world import FAULTS, AxisWorld, InputSource
+from .firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
 
 
 @dataclass(frozen=True)
@@ -115,6 +115,12 @@ class MAXk:
         self.stage(letter).set_home(low, high)
         self.board.world_changed()
 
+    @staticmethod
+    def _switch(name: str) -> str:
+        if name not in SWITCHES:
+            raise ValueError(f"switches are {', '.join(SWITCHES)}, not {name!r}")
+        return SWITCHES[name]
+
     def set_index(self, letter: str, period: int, width: int = 4, offset: int = 0) -> None:
         """Encoder index marks every `period` counts, `width` counts wide, one at `offset`."""
         stage = self.stage(letter)
@@ -125,16 +131,12 @@ class MAXk:
         """Stick a switch ('plus', 'minus' or 'home') 'active' or 'inactive'; None clears."""
         if state not in FAULTS:
             raise ValueError(f"fault state must be one of {FAULTS}")
-        stage = self.stage(letter)
-        attr = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}[switch]
-        getattr(stage, attr).fault = state
+        getattr(self.stage(letter), self._switch(switch)).fault = state
         self.board.world_changed()
 
     def bounce(self, letter: str, switch: str, steps: int) -> None:
         """Make a switch ('plus', 'minus' or 'home') chatter within `steps` of its edges."""
-        stage = self.stage(letter)
-        attr = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}[switch]
-        getattr(stage, attr).bounce = max(0, int(steps))
+        getattr(self.stage(letter), self._switch(switch)).bounce = max(0, int(steps))
         self.board.world_changed()
 
     def capture(self, letter: str, *, home: str | None | bool = False, index: bool | None = None,
@@ -165,6 +167,8 @@ class MAXk:
         """An analog input (0..3) in volts (+/-10 V), constant or a function of the board."""
         if not 0 <= channel <= 3:
             raise ValueError("analog inputs are 0..3")
+        if not callable(volts) and not math.isfinite(volts):
+            raise ValueError(f"volts must be a finite number, not {volts}")
         self.board.world.analog[channel] = volts
         self.board.world_changed()
 

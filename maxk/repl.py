@@ -152,7 +152,7 @@ class ReplSession:
                 return describe_world(self.maxk)
             try:
                 return [parse_world(rest)(self.maxk)]
-            except (KeyError, ValueError) as error:
+            except (KeyError, ValueError, OverflowError) as error:
                 return [f"world: {error}"]
         if word == "capture":
             entries = self.maxk.board.capture_ring.read()

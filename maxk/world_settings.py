@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 from .controller import MAXk
 from .firmware_model.capture import EDGES
+from .firmware_model.world import SWITCHES
 
 Setting = Callable[[MAXk], str]
 
@@ -87,13 +88,13 @@ def parse_world(text: str) -> Setting:
         period, width, offset = (_int(a, "a count") for a in args)
         return lambda b: (b.set_index(letter, period, width, offset),
                           f"{letter} index {period} {width} {offset}")[1]
-    if what == "fault" and len(args) == 2 and args[0].lower() in ("plus", "minus", "home"):
+    if what == "fault" and len(args) == 2 and args[0].lower() in SWITCHES:
         state = None if args[1].lower() == "none" else args[1].lower()
         if state not in (None, "active", "inactive"):
             raise ValueError("fault SWITCH active|inactive|none")
         switch = args[0].lower()
         return lambda b: (b.fault(letter, switch, state), f"{letter} fault {switch} {state}")[1]
-    if what == "bounce" and len(args) == 2 and args[0].lower() in ("plus", "minus", "home"):
+    if what == "bounce" and len(args) == 2 and args[0].lower() in SWITCHES:
         steps = _int(args[1], "a number of steps")
         switch = args[0].lower()
         return lambda b: (b.bounce(letter, switch, steps), f"{letter} bounce {switch} {steps}")[1]
@@ -143,7 +144,11 @@ def describe_world(board: MAXk) -> list[str]:
             return where + (f" (stuck {switch.fault})" if switch.fault else "")
 
         home = stage.home
-        home_text = "none" if not home.present else f"{home.low:.0f}..{home.high:.0f}"
+
+        def at(x):  # type: ignore[no-untyped-def]
+            return "none" if x is None else f"{x:.0f}"
+
+        home_text = "none" if not home.present else f"{at(home.low)}..{at(home.high)}"
         if home.fault:
             home_text += f" (stuck {home.fault})"
         capture = []

@@ -123,3 +123,27 @@ def test_bounce_does_not_change_where_homing_stops_looking():
     b.send("AX; PSE; VL1000; HM0; ID;")
     assert b.run_until_done("X", timeout=5)
     assert b.encoder("X") - b.board.axes[0].steps == -1234  # the first active count
+
+
+def test_every_index_mark_is_captured_even_several_per_update_cycle():
+    b = MAXk()
+    b.send("AX; PSE;")
+    b.set_index("X", 100, 4, 0)
+    capture(b, "X", index=True)
+    b.send("VL2457600; AC8000000; MR30000; GO;")  # ~300 counts per update cycle
+    assert b.run_until_idle(timeout=5)
+    marks = [e.encoder for e in b.board.capture_ring.read()]
+    assert len(b.board.capture_ring) == 0
+    assert b.board.capture_ring.lost == 300 - 54
+    assert marks == list(range(30000 - 53 * 100, 30001, 100))
+
+
+def test_enabling_input_capture_records_no_edge_that_did_not_happen():
+    b = MAXk()
+    b.send("AX; PSE;")
+    b.set_input(3, True)
+    capture(b, "X", io_rising=1 << 3)
+    assert b.board.capture_ring.read() == []
+    b.set_input(3, False)
+    b.set_input(3, True)
+    assert [e.io_rising for e in b.board.capture_ring.read()] == [1 << 3]

@@ -108,9 +108,9 @@ def test_analog_inputs_and_outputs():
     b.set_analog(2, -12.0)  # clipped at -10 V
     b.set_analog(3, lambda board: board.time)
     assert b.query("AI1") == "16384"
-    assert b.query("AI2") == "-32767"
+    assert b.query("AI2") == "-32768"
     b.advance(2.0)
-    assert b.query("AI3") == str(round(2.0 / 10 * 32767))
+    assert b.query("AI3") == str(round(2.0 / 10 * 32768))
     b.send("AI4")
     assert b.command_error
     b.send("IC; AY AO-1000")

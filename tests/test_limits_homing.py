@@ -62,10 +62,9 @@ def test_jog_into_a_limit_and_limits_off(b):
     b.send("IC; LF; JG-20000;")
     b.advance(0.5)
     assert b.position("X") < -7000  # no limit checking at all
-    b.send("LN")
-    assert b.run_until_idle(timeout=1) is False  # already on the switch: no new crossing
-    b.send("ST")
-    assert b.run_until_idle(timeout=1)
+    b.send("LN")  # limits on while running into a pressed one: it trips at once
+    assert b.query("RV") == "0"
+    assert b.board.axes[0].flags & F.AXIS_OVERTRAVEL
 
 
 def test_stuck_limit_fault(b):
@@ -223,3 +222,66 @@ def test_home_loads_the_counter_at_the_exact_count_even_at_speed():
     axis = b.board.axes[0]
     assert b.position("X") - axis.steps == 500 - 1234  # counter read 500 at step 1234
     assert b.encoder("X") - axis.steps == 500 - 1234  # and the encoder, on PSE
+
+
+def test_st_kl_ks_end_a_home_search():
+    for stop in ("KL", "AX KS", "AX ST"):
+        b = MAXk()
+        b.send("AX; VL10000; MA-5000; GO;")
+        b.run_until_idle()
+        b.send("HM0; ID;")
+        b.advance(0.1)
+        b.send(stop)
+        b.run_until_idle()
+        b.send("MR20000; GO; ID;")
+        assert b.run_until_done("X", timeout=10)
+        assert b.board.axes[0].homing is None
+        assert b.position("X") > 15000, stop  # the counter was never reloaded at home
+
+
+def test_direction_after_a_limit_trips_during_a_jog_reversal():
+    b = MAXk()
+    b.set_limits("X", minus=-4000)
+    b.send("AX; VL10000; AC20000; JG-10000;")
+    b.advance(0.6)
+    b.send("JG10000")
+    assert b.run_until_idle(timeout=5)
+    assert b.query("QA") == "MNLN"  # stopped moving minus, on the minus limit
+
+
+def test_status_shows_the_way_the_axis_is_travelling():
+    b = MAXk()
+    b.send("AX; VL10000; AC20000; JG-10000;")
+    b.advance(1.0)
+    b.send("JG10000")
+    b.advance(0.1)  # still decelerating in the minus direction
+    assert int(b.query("RV")) < 0
+    assert b.query("QA")[0] == "M"
+
+
+def test_a_move_ending_exactly_on_either_limit_trips_it():
+    for target, status in (("5000", "PNLN"), ("-5000", "MNLN")):
+        b = MAXk()
+        b.set_limits("X", plus=5000, minus=-5000)
+        b.send(f"AX; VL10000; MA{target}; GO; ID;")
+        b.run_until_idle(timeout=5)
+        assert b.query("QA") == status, target
+        assert b.board.axes[0].flags & F.AXIS_OVERTRAVEL
+
+
+def test_encoder_homing_far_away():
+    b = MAXk()
+    b.set_home("X", 300000, 300100)
+    b.send("AX; PSE; HE; EH11X1; VL400000; AC8000000; HM0; ID;")
+    assert b.run_until_done("X", timeout=5)
+    assert b.encoder("X") - b.board.axes[0].steps == -300000
+
+
+def test_homing_from_inside_a_bounce_zone():
+    b = MAXk()
+    b.bounce("X", "home", 5)
+    b.send("AX; MA1235; GO;")
+    b.run_until_idle()
+    b.send("VL1000; HM0; ID;")
+    assert b.run_until_done("X", timeout=5)
+    assert b.position("X") - b.board.axes[0].steps == -1236

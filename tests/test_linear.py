@@ -84,3 +84,22 @@ def test_linear_inside_loops(mode):
     b.send(f"{mode}; LS3,3; ML10,-20; GO; LE; ID;")
     assert b.run_until_idle(timeout=10)
     assert b.query("PP") == "30,-60"
+
+
+def test_a_limit_on_one_axis_stops_the_whole_linear_move():
+    b = MAXk("MAXk-4000")
+    b.set_limits("X", plus=2000)
+    b.send("AM; VL10000,10000; MT5000,5000; GO; ID;")
+    assert b.run_until_idle(timeout=5)
+    x, y = (int(p) for p in b.query("AM RP").split(",")[:2])
+    assert 2000 <= x <= 2002 and abs(x - y) <= 2  # both stopped on the line
+    assert b.query("QI").startswith("PNLN,PNNN")  # neither done; only X on its limit
+
+
+def test_a_linear_move_with_a_blocked_axis_is_refused_whole():
+    b = MAXk("MAXk-4000")
+    b.set_limits("X", plus=0)  # X sits on its plus limit
+    b.send("AM; ML5000,5000; GO;")
+    b.run_until_idle(timeout=5)
+    assert b.query("AM RP") == "0,0,0,0"
+    assert b.board.axes[0].flags & 0x2

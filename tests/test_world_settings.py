@@ -56,3 +56,19 @@ def test_repl_world_and_capture():
     world = s.handle(":world")
     assert world[0].startswith("X: at 9000 steps; limits 10000 / none; home 1234..1333")
     assert s.handle(":world nonsense here")[0].startswith("world: cannot read")
+
+
+def test_bad_world_values_are_refused_not_crashing():
+    from maxk import MAXk
+
+    b = MAXk()
+    for call in (lambda: b.set_limits("X", plus=float("inf")),
+                 lambda: b.set_home("X", 500, 100),
+                 lambda: b.set_analog(0, float("nan")),
+                 lambda: b.fault("X", "sideways", "active")):
+        with pytest.raises(ValueError):
+            call()
+    s = ReplSession(manual_time=True)
+    assert s.handle(":world X home none 300") == ["X home none 300"]
+    assert s.handle(":world")[0].startswith("X: at 0 steps; limits 1000000000 / -1000000000;"
+                                            " home none..300")

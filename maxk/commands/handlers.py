@@ -250,8 +250,20 @@ def _limit_mode(value: object, ctx: Context) -> Action:
             c.limits_enabled = True
             if value in ("H", "S"):
                 c.limit_hard_stop = value == "H"
+        board.check_motion(axis)  # limits turned on while running into one: trip now
 
     return action
+
+
+def _limits_on(enabled: bool) -> QueuedFactory:
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.config.limits_enabled = enabled
+            board.check_motion(axis)
+
+        return action
+
+    return factory
 
 
 def _limit_level_for(attr: str) -> QueuedFactory:
@@ -421,8 +433,8 @@ QUEUED: dict[str, QueuedFactory] = {
     "AO": _analog_out,
     "SL": _set("limit_hard_stop", False),
     "SF": _set("limit_hard_stop", True),
-    "LN": _set("limits_enabled", True),
-    "LF": _set("limits_enabled", False),
+    "LN": _limits_on(True),
+    "LF": _limits_on(False),
 }
 
 GO_COMMANDS = frozenset({"GO", "GD", "GN"})
@@ -562,8 +574,10 @@ def _queue_free(ctx: Context) -> str:
 
 
 def _encoder_status(axis: Axis, board: Board) -> str:
-    # slip detection enabled, position maintenance enabled, slipped, in deadband, home
-    return "DDNN" + ("H" if board.home_active(axis) else "N")
+    # slip detection enabled, position maintenance enabled, slipped, in deadband, and
+    # "encoder at home (index)" (evidence 3.4): the index mark under the encoder now
+    at_index = board.world.axes[axis.index].index_active(axis.steps_now(board))
+    return "DDNN" + ("H" if at_index else "N")
 
 
 def _encoder_report(ctx: Context) -> str:

@@ -271,8 +271,8 @@ _SPECS: list[CommandSpec] = [
     _q("HT", "homing", "Home switch true level: H active high, L active low (factory L).",
        operand=Operand.LETTER, letters="HL", query=True, reply="=l | =h",
        source="evidence 2.3 (VIPER HTH); manual 2.14 (Home Active 'Low')", confidence="I",
-       notes="Switches are taken to be wired to match: the level decides what QA's H and the "
-       "home status word read electrically, not where home is."),
+       notes="Stored and reported by HT?. Switches are taken to be wired to match the level, "
+       "so it changes neither where home is nor what QA's H and the home word show (D)."),
     _q("HH", "homing", "Home switch active high (same as HTH).", source="evidence 2.3 (DLL "
        "DefineOmsHomeAsSwitchClosed)", confidence="I"),
     _q("HL", "homing", "Home switch active low (same as HTL).", source="evidence 2.3",
@@ -323,7 +323,8 @@ _SPECS: list[CommandSpec] = [
     _i("AI", "analog", "Report analog input # (0-3) as a signed 16-bit count (+/-10 V).",
        operand=Operand.NUMBER, per_axis=False, value_range=(0.0, 3.0), reply="16384",
        source="manual 4.5.1 (names AI); no host evidence", confidence="D",
-       notes="The reply format is our decision: -32768..32767 for -10..+10 V."),
+       notes="The reply format is our decision: the 16-bit two's-complement count, -32768 "
+       "at -10 V, 1 count = 10/32768 V, clipping at 32767."),
     _q("AO", "analog", "Set the axis's DAC as a general purpose analog output (count).",
        units=2, operand=Operand.NUMBER, value_range=(-32768.0, 32767.0),
        source="manual 4.5.2 (names AO; a DAC per axis not used by a servo)", confidence="D",
@@ -351,12 +352,14 @@ _SPECS: list[CommandSpec] = [
        notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
        "limits on with the last style. The letters S and the LM? letters other than f are our "
        "decision (D)."),
-    _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (same as LMS).",
+    _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (LMS's style).",
        source="manual 2.14 ('Over travel limit (soft limit or hard limit); Factory Default = "
        "Hard limit'); evidence 2.3 (DLL SetOmsSoftLimitsMode)", confidence="I",
        notes="Read as the manual's soft/hard limit choice, not software travel bounds: no "
-       "command for bounds appears in the manual or the host code (docs/not-modelled.md)."),
-    _q("SF", "limits", "Soft limits off: stop at once when a limit trips (factory, same as LMH).",
+       "command for bounds appears in the manual or the host code (docs/not-modelled.md). "
+       "Unlike LMS it does not turn limit checking on (LN does)."),
+    _q("SF", "limits", "Soft limits off: stop at once when a limit trips (factory, LMH's "
+       "style).",
        source="manual 2.14; evidence 2.3", confidence="I"),
     _q("LN", "limits", "Limit (overtravel) detection on.", source="evidence 2.3",
        confidence="I"),
@@ -414,8 +417,8 @@ _SPECS: list[CommandSpec] = [
     _i("EA", "report", "Encoder status: slip enable, hold enable, slipped, in deadband, home.",
        reply="DDNNN", source="evidence 3.4, E2, E5",
        notes="A command error on an axis without an encoder (the classic `EA ID` probe). In "
-       "AA/AM lists such axes get an empty field. Letters for 'disabled' (D) and 'not' (N) are "
-       "our decision."),
+       "AA/AM lists such axes get an empty field. The fifth letter is H while an index mark "
+       "is under the encoder. Letters for 'disabled' (D) and 'not' (N) are our decision."),
     _i("QL", "report", "Query limit inputs (raw levels) as hexadecimal.", reply="ffff",
        source="evidence 3.4, E2",
        notes="Bit i = minus limit, bit i+8 = plus limit for X..S; W/K use bits 16/17 and 24/25. "

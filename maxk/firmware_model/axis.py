@@ -70,6 +70,7 @@ class Axis:
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     homing: Homing | None = None  # a running HM/HR/KM/KR search
+    linked: list = field(default_factory=list)  # the other axes of a running MT/ML move
     direction: int = 1  # direction of the last or current motion (QA: P/M)
     aux_on: bool = False  # AN / AF
     rest_since: int = 0  # tick the last motion ended (PA settle timing)
@@ -105,6 +106,19 @@ class Axis:
             return 0.0
         return m.velocity(self._t(board))
 
+    def travel_direction(self, board: Board) -> int:
+        """Which way the axis is travelling now: the velocity's sign, or on a motion's
+        last tick (velocity 0) the way its last update cycle went."""
+        if self.motion is None:
+            return self.direction
+        v = self.velocity(board)
+        if v == 0:
+            step = self.steps_now(board) - self.steps_at_tick(board.tick - 1, board.period)
+            if step == 0:
+                return self.motion.direction
+            return 1 if step > 0 else -1
+        return 1 if v > 0 else -1
+
     @property
     def has_encoder(self) -> bool:
         return self.config.axis_type in ("E", "M")
@@ -120,6 +134,8 @@ class Axis:
         if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
             board.refuse_into_limit(self)
             return False
+        if not stopping:
+            self.linked = []
         self.motion = motion
         self.motion_start = board.tick
         period = board.period
@@ -143,6 +159,8 @@ class Axis:
         t = self._t(board)
         exact = m.offset(t)
         velocity = m.velocity(t)
+        if velocity:
+            self.direction = 1 if velocity > 0 else -1
         whole = int(exact)
         self.steps += whole
         self.rest_since = board.tick
@@ -184,7 +202,8 @@ class Axis:
             self.wait = WAIT_REST_RETRY
 
     def stop(self, board: Board) -> None:
-        """Decelerate to VB at the deceleration rate, then stop."""
+        """Decelerate to VB at the deceleration rate, then stop (ending any home search)."""
+        self.homing = None
         if self.motion is None:
             return
         residual, current = self._rebase(board)
@@ -194,6 +213,7 @@ class Axis:
 
     def kill(self, board: Board) -> None:
         """KL/KS: stop at once, no deceleration; the position keeps the whole steps made."""
+        self.homing = None
         if self.motion is None:
             return
         self._rebase(board)
@@ -367,7 +387,7 @@ class Axis:
         world = board.world.axes[self.index]
         on_limit = world.plus_limit.active(steps) or world.minus_limit.active(steps)
         return (
-            ("P" if self.direction >= 0 else "M")
+            ("P" if self.travel_direction(board) >= 0 else "M")
             + ("D" if self.flags & F.AXIS_DONE else "N")
             + ("L" if on_limit else "N")  # live: asyn sets limit status from it
             + ("H" if world.home.active(steps) else "N")

@@ -271,9 +271,6 @@ class Board:
         switch = world.plus_limit if direction > 0 else world.minus_limit
         return switch.active(axis.steps_now(self))
 
-    def on_limit(self, axis: Axis) -> bool:
-        return self.limit_pressed(axis, 1) or self.limit_pressed(axis, -1)
-
     def home_active(self, axis: Axis) -> bool:
         return self.world.axes[axis.index].home.active(axis.steps_now(self))
 
@@ -366,18 +363,36 @@ class Board:
         return out
 
     def _fire_captures(self, axis: Axis) -> None:
+        """Record every edge reached by now. Only the next index mark each way was
+        scheduled, so the marks after it passed within the same update cycle are added
+        here: every mark is captured, like every home-switch transition."""
         now = self.tick
-        due = sorted((p for p in axis.capture_pending if p[0] <= now),
-                     key=lambda p: p[2] * axis.direction)
-        for _tick, bits, position in due:
+        here = axis.steps_now(self)
+        world = self.world.axes[axis.index]
+        due = []
+        for tick, bits, position in axis.capture_pending:
+            if tick > now:
+                continue
+            due.append((bits, position))
+            if bits == ENCODER_HOME and world.index_period > 0:
+                direction = 1 if here >= position else -1
+                mark = position + direction * world.index_period
+                while direction * (here - mark) >= 0:
+                    due.append((bits, mark))
+                    mark += direction * world.index_period
+        direction = axis.travel_direction(self)
+        for bits, position in sorted(due, key=lambda d: d[1] * direction):
             self.capture_ring.push(CaptureEntry(
                 encoder_at(position, axis.encoder_offset), axis.index, bits))
 
+    def _read_inputs(self) -> int:
+        io = self.io
+        return sum(1 << b for b in range(16)
+                   if not io.direction >> b & 1 and self.world.digital_level(b, self))
+
     def _capture_inputs(self) -> None:
         """Record input edges for every axis that captures on them."""
-        io = self.io
-        levels = sum(1 << b for b in range(16)
-                     if not io.direction >> b & 1 and self.world.digital_level(b, self))
+        levels = self._read_inputs()
         changed = levels ^ self._input_levels
         self._input_levels = levels
         if not changed:
@@ -400,7 +415,14 @@ class Board:
             return
         if axis.capture_pending:
             self._fire_captures(axis)
-        direction = 1 if axis.velocity(self) >= 0 else -1
+        self.check_motion(axis)
+
+    def check_motion(self, axis: Axis) -> None:
+        """Act on what is true for a moving axis now: a pressed limit ahead trips, home
+        met ends a search; otherwise look for the next switch event."""
+        if axis.motion is None:
+            return
+        direction = axis.travel_direction(self)
         if axis.config.limits_enabled and self.limit_pressed(axis, direction):
             self.limit_tripped(axis)
             return
@@ -417,19 +439,14 @@ class Board:
         input changed): act on what is now true, find the next switch events again, and
         let waiting queues look. Called from outside the engine (the API, scripts), and
         after any change to `capture_config`."""
+        was_capturing = self._capturing_inputs
         self._capturing_inputs = any(c.on_inputs for c in self.capture_config)
         if self._capturing_inputs:
+            if not was_capturing:
+                self._input_levels = self._read_inputs()  # no edge for what was already so
             self._capture_inputs()
         for axis in self.axes:
-            if axis.motion is None:
-                continue
-            direction = 1 if axis.velocity(self) >= 0 else -1
-            if axis.config.limits_enabled and self.limit_pressed(axis, direction):
-                self.limit_tripped(axis)
-            elif axis.homing is not None and home_condition(axis, self, axis.steps_now(self)):
-                self.home_found(axis, axis.homing, axis.steps_now(self))
-            else:
-                self.schedule_switches(axis)
+            self.check_motion(axis)
         self.run_queues()
 
     def _home_reached(self, axis: Axis, homing: Homing) -> int | None:
@@ -446,14 +463,19 @@ class Board:
         return None
 
     def limit_tripped(self, axis: Axis) -> None:
-        """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL)."""
-        axis.homing = None
-        axis.flush(self)
+        """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL).
+        The other axes of a coordinated MT/ML move stop and flush with it."""
+        hard = axis.config.limit_hard_stop
         self.set_axis_flag(axis, F.AXIS_OVERTRAVEL)
-        if axis.config.limit_hard_stop:
-            axis.kill(self)
-        else:
-            axis.stop(self)
+        for stopping in [axis, *axis.linked]:
+            stopping.linked = []
+            stopping.flush(self)
+            if stopping.motion is None:
+                continue
+            if hard:
+                stopping.kill(self)
+            else:
+                stopping.stop(self)
 
     def start_homing(self, axis: Axis, direction: int, load_value: int | None) -> bool:
         """HM/HR/KM/KR: see homing.py for the search. False when home is already here."""
@@ -478,6 +500,11 @@ class Board:
                 axis.encoder_offset = homing.load_value - at
         axis.stop(self)
 
+    @staticmethod
+    def limit_bits(index: int) -> tuple[int, int]:
+        """(minus, plus) bit numbers of an axis in QL and the limit word (Table 3-2)."""
+        return (index, index + 8) if index < 8 else (index + 8, index + 16)
+
     def limit_inputs_raw(self) -> int:
         """QL: raw limit input levels (evidence 3.4 layout). Switches are wired to match
         the configured level: a pressed active-low switch reads 0, a released one 1."""
@@ -487,7 +514,7 @@ class Board:
             high = axis.config.limit_active_high
             minus = self.limit_pressed(axis, -1) == high
             plus = self.limit_pressed(axis, 1) == high
-            minus_bit, plus_bit = (i, i + 8) if i < 8 else (i + 8, i + 16)
+            minus_bit, plus_bit = self.limit_bits(i)
             word |= (minus << minus_bit) | (plus << plus_bit)
         return word
 
@@ -495,8 +522,7 @@ class Board:
         """Shared memory 0x40 (Table 3-2): bit set while that limit is active."""
         word = 0
         for axis in self.axes:
-            i = axis.index
-            minus_bit, plus_bit = (i, i + 8) if i < 8 else (i + 8, i + 16)
+            minus_bit, plus_bit = self.limit_bits(axis.index)
             word |= (self.limit_pressed(axis, -1) << minus_bit)
             word |= (self.limit_pressed(axis, 1) << plus_bit)
         return word

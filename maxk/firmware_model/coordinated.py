@@ -9,6 +9,11 @@ by its own distance, so every point of the path lies on the line. The reference'
 speed, acceleration and deceleration are the largest that keep every axis within its
 own VL, AC and DC (and VB), so each axis's limits are honoured; the ramp shape is the
 one of the first axis in the move (X before Y before ...).
+
+Limits (D, the evidence does not say): if any axis of the move would start into a
+pressed limit the whole move is refused; if a limit trips on one axis during the move,
+every axis of it stops the same way (at once or decelerating) and their queues are
+flushed, so the others never finish a path that is no longer straight.
 """
 
 from __future__ import annotations
@@ -55,8 +60,17 @@ class LinearMove:
         accel = min(a.config.acceleration * scale[a.index] for a in moving)
         decel = min(a.config.deceleration * scale[a.index] for a in moving)
         motion = plan_move(reference, min(base, peak), peak, accel, decel, moving[0].config.ramp)
+        # One axis blocked by a pressed limit refuses the whole move: moving the others
+        # alone would leave the line (D).
+        blocked = [a for a in moving
+                   if board.limit_blocks(a, 1 if distances[a.index] > 0 else -1)]
+        if blocked:
+            for axis in blocked:
+                board.refuse_into_limit(axis)
+            return
         for axis in moving:
             axis.start_motion(scaled(motion, distances[axis.index], reference), board)
+            axis.linked = [a for a in moving if a is not axis]
 
 
 def scaled(reference: Motion, distance: int, reference_distance: int) -> Motion:

@@ -18,6 +18,7 @@ the EH pattern (1 required true, 0 required false, X ignored; factory EH1111).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -62,16 +63,27 @@ def next_home_position(axis: Axis, board: Board, start: int, direction: int) -> 
     world = board.world.axes[axis.index]
     home = world.home
     if not axis.config.home_encoder:
-        if home.fault is not None or not home.present:
-            return None
-        edge = home.low if direction > 0 else home.high
-        if edge is None:
-            return None
-        return int(edge) if direction * (edge - start) > 0 else None
-    # Encoder logic: step through candidate positions, jumping between index marks when
-    # the index is required.
+        # The switch's own transitions (bounce included): where it becomes active moving
+        # this way.
+        if direction > 0:
+            ahead = [p for p, active in home.transitions() if active and p > start]
+            return min(ahead) if ahead else None
+        behind = [p - 1 for p, active in home.transitions() if not active and p - 1 < start]
+        return max(behind) if behind else None
     pattern = axis.config.home_pattern
     p = start + direction
+    if pattern[3] == "1" and home.fault is None and home.present:
+        # The home switch is required: jump straight to its window.
+        low = home.low if home.low is not None else -math.inf
+        high = home.high if home.high is not None else math.inf
+        if direction > 0:
+            if p > high:
+                return None
+            p = max(p, int(low))
+        else:
+            if p < low:
+                return None
+            p = min(p, int(high))
     scanned = 0
     while scanned < SCAN_LIMIT:
         if home_condition(axis, board, p):

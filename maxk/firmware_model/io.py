@@ -40,5 +40,6 @@ class GeneralIO:
 
 
 def volts_to_counts(volts: float) -> int:
-    """A +/-10 V reading as the 16-bit ADC's signed count."""
-    return max(-32768, min(ADC_FULL_SCALE, round(volts / 10.0 * ADC_FULL_SCALE)))
+    """A +/-10 V reading as the 16-bit ADC's two's-complement count: -10 V is -32768,
+    +10 V clips to 32767, 1 count is 10/32768 V."""
+    return max(-32768, min(ADC_FULL_SCALE, round(volts / 10.0 * 32768)))

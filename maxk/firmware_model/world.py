@@ -15,6 +15,7 @@ active or inactive.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -27,6 +28,16 @@ STUCK_INACTIVE = "inactive"
 FAULTS = (None, STUCK_ACTIVE, STUCK_INACTIVE)
 
 DEFAULT_LIMIT = 1_000_000_000
+SWITCHES = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}
+"""Switch names used by the API, scripts and the REPL -> AxisWorld attributes."""
+
+
+def _checked(position: float | None) -> float | None:
+    if position is None:
+        return None
+    if not math.isfinite(position):
+        raise ValueError(f"a switch position must be a finite number of steps, not {position}")
+    return float(position)
 DEFAULT_HOME = (1234, 1333)
 
 
@@ -78,12 +89,6 @@ class Switch:
                     out.append((p, now))
         return sorted(set(out))
 
-    def edges(self) -> list[float]:
-        """Positions where the switch changes state (for crossing searches)."""
-        if self.fault is not None:
-            return []
-        return [e for e in (self.low, self.high) if e is not None]
-
 
 @dataclass
 class AxisWorld:
@@ -97,13 +102,17 @@ class AxisWorld:
     index_offset: int = 1280  # physical position of an index mark (inside the home window)
 
     def set_plus_limit(self, position: float | None) -> None:
-        self.plus_limit = Switch(position, None, self.plus_limit.fault, self.plus_limit.bounce)
+        self.plus_limit = Switch(_checked(position), None, self.plus_limit.fault,
+                                 self.plus_limit.bounce)
 
     def set_minus_limit(self, position: float | None) -> None:
-        self.minus_limit = Switch(None, position, self.minus_limit.fault,
+        self.minus_limit = Switch(None, _checked(position), self.minus_limit.fault,
                                   self.minus_limit.bounce)
 
     def set_home(self, low: float | None, high: float | None) -> None:
+        low, high = _checked(low), _checked(high)
+        if low is not None and high is not None and low > high:
+            raise ValueError(f"the home switch runs from low to high: {low:g} > {high:g}")
         self.home = Switch(low, high, self.home.fault, self.home.bounce)
 
     def index_active(self, steps: int) -> bool:
@@ -135,6 +144,8 @@ class World:
     def analog_volts(self, channel: int, board: Board) -> float:
         source = self.analog.get(channel, 0.0)
         volts = float(source(board) if callable(source) else source)
+        if math.isnan(volts):
+            return 0.0  # a broken source reads as an open input
         return max(-10.0, min(10.0, volts))
 
     def inputs_time_dependent(self) -> bool:
