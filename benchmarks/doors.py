@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import asyncio
 import socket
-import threading
 import time
 
 from maxk import MAXk
@@ -18,43 +17,46 @@ BUSY = ("AA; VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;"
         "MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777; GO; LE;")
 
 
-def run(seconds: float = 5.0, boards: int = 4) -> dict[str, float]:
+def _serve(boards: int, seconds: float, ports_out, stats_out) -> None:  # type: ignore[no-untyped-def]
+    """The server, in its own process as a real board is to its host."""
     services = []
     for n in range(1, boards + 1):
         maxk = MAXk("MAXk-A000")
         maxk.send(BUSY)
         services.append(BoardService(n, maxk, Pacer(maxk), Framing(EOLS["lfcr"])))
     server = Server(services)
-    loop = asyncio.new_event_loop()
-    ports: list[int] = []
-    ready = threading.Event()
-    worst_lag = [0.0]
-    worst_gap = [0.0]
-    last_pass = [time.monotonic()]
+    worst = {"lag": 0.0, "gap": 0.0}
+    last = [time.monotonic()]
 
-    def watch_lag() -> None:
+    def watch() -> None:
         for service in services:
-            worst_lag[0] = max(worst_lag[0], abs(service.pacer.lag()))
+            worst["lag"] = max(worst["lag"], abs(service.pacer.lag()))
         now = time.monotonic()
-        worst_gap[0] = max(worst_gap[0], now - last_pass[0])
-        last_pass[0] = now
+        worst["gap"] = max(worst["gap"], now - last[0])
+        last[0] = now
 
-    def serve() -> None:
-        asyncio.set_event_loop(loop)
+    async def main() -> None:
+        ports = [(await server.open_tcp(s, "127.0.0.1", 0))[1] for s in services]
+        server.after_pacing(watch)
+        ports_out.send(ports)
+        last[0] = time.monotonic()
+        asyncio.get_running_loop().call_later(seconds + 1.0, server.stop)
+        await server.run()
 
-        async def main() -> None:
-            for service in services:
-                ports.append((await server.open_tcp(service, "127.0.0.1", 0))[1])
-            server.after_pacing(watch_lag)
-            ready.set()
-            last_pass[0] = time.monotonic()
-            await server.run()
+    asyncio.run(main())
+    stats_out.send(worst)
 
-        loop.run_until_complete(main())
 
-    thread = threading.Thread(target=serve, daemon=True)
-    thread.start()
-    ready.wait(10)
+def run(seconds: float = 5.0, boards: int = 4, rate: float | None = None) -> dict[str, float]:
+    """rate: queries per second in all (None: as fast as the replies come back)."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    ports_rx, ports_tx = ctx.Pipe(duplex=False)
+    stats_rx, stats_tx = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_serve, args=(boards, seconds, ports_tx, stats_tx))
+    proc.start()
+    ports = ports_rx.recv()
     socks = [socket.create_connection(("127.0.0.1", p)) for p in ports]
     for sock in socks:
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
@@ -62,7 +64,13 @@ def run(seconds: float = 5.0, boards: int = 4) -> dict[str, float]:
     end = time.monotonic() + seconds
     i = 0
     buffers = [b""] * len(socks)
+    next_at = time.monotonic()
     while time.monotonic() < end:
+        if rate is not None:  # a host that polls at a fixed rate, as EPICS does
+            next_at += 1.0 / rate
+            delay = next_at - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
         k = i % len(socks)
         sock = socks[k]
         start = time.perf_counter()
@@ -77,16 +85,16 @@ def run(seconds: float = 5.0, boards: int = 4) -> dict[str, float]:
         buffers[k] = data
         times.append(time.perf_counter() - start)
         i += 1
-    loop.call_soon_threadsafe(server.stop)
-    thread.join(10)
     for sock in socks:
         sock.close()
+    worst = stats_rx.recv()
+    proc.join(10)
     times.sort()
     return {
         "p50_ms": times[len(times) // 2] * 1e3,
         "p99_ms": times[int(len(times) * 0.99)] * 1e3,
         "queries": float(len(times)),
-        "worst_lag_ms": worst_lag[0] * 1e3,
-        "worst_gap_ms": worst_gap[0] * 1e3,
+        "worst_lag_ms": worst["lag"] * 1e3,
+        "worst_gap_ms": worst["gap"] * 1e3,
         "seconds": seconds,
     }
