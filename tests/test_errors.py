@@ -68,14 +68,16 @@ def test_relative_move_out_of_the_32_bit_range():
     assert board.query("RP") == "2147483000"
 
 
-def test_command_error_notifies_once_until_cleared():
+def test_every_command_error_notifies_and_a_later_done_is_not_coloured_by_it():
     board = MAXk()
     words = []
     board.board.add_flag_listener(words.append)
     board.send("XX; YY;")
-    assert words == [COMMAND_ERROR]
-    board.send("IC; ZZ")
     assert words == [COMMAND_ERROR, COMMAND_ERROR]
+    board.send("AX; MR10; GO; ID;")
+    board.run_until_done("X")
+    assert words[-1] == 0x1  # the done alone: EPICS reads "000 01" as a command error
+    assert board.doorbell == COMMAND_ERROR | 0x1  # the flag itself stays until IC
 
 
 def test_errors_keep_their_cause_for_the_repl():

@@ -59,7 +59,7 @@ def test_w_and_k_notification_bits(board):
     b.board.add_flag_listener(words.append)
     b.send("AW; ID; AK; ID;")
     assert b.doorbell == F.W_NOTIFY | F.K_NOTIFY
-    assert words == [0x0200_0000, 0x0600_0000]  # MAXnet word spells W/K done out
+    assert words == [0x0200_0000, 0x0400_0000]  # MAXnet word spells W/K done out
     b.board.write_doorbell(F.W_NOTIFY)
     assert b.doorbell == F.K_NOTIFY
 

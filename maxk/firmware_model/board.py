@@ -42,7 +42,8 @@ class CommandErrorRecord:
 
 
 FlagListener = Callable[[int], None]
-"""Called with the MAXnet-style flag word whenever a done/overtravel/slip/error flag sets."""
+"""Called with the MAXnet-style word of the flags an event set (done, overtravel, slip of
+one axis, or a command error): what a `%000 SSSSSSSS` notification carries."""
 
 
 class Board:
@@ -206,16 +207,18 @@ class Board:
         if listener in self._listeners:
             self._listeners.remove(listener)
 
-    def _notify(self) -> None:
-        if self._listeners:
-            word = self.flag_word
-            for listener in list(self._listeners):
-                listener(word)
+    def _notify(self, word: int) -> None:
+        for listener in list(self._listeners):
+            listener(word)
 
     def set_axis_flag(self, axis: Axis, bit: int) -> None:
+        """Latch a flag. Listeners hear the bits this event set (a MAXnet notification
+        names its cause), so a command error latched earlier does not colour a later
+        done notification."""
         if not axis.flags & bit:
             axis.flags |= bit
-            self._notify()
+            if self._listeners:
+                self._notify(F.maxnet_event_bits(axis.index, bit))
 
     def clear_axis_flags(self, axis: Axis, bits: int) -> None:
         axis.flags &= ~bits
@@ -223,10 +226,9 @@ class Board:
     def report_error(self, reason: str, command: str = "") -> None:
         """Set the command-error flag (doorbell bit 24) and remember why."""
         self.errors.append(CommandErrorRecord(self.tick, command, reason))
-        was_set = self.command_error
         self.command_error = True
-        if not was_set:
-            self._notify()
+        if self._listeners:
+            self._notify(F.COMMAND_ERROR)  # every bad command is reported
 
     @property
     def last_error(self) -> CommandErrorRecord | None:

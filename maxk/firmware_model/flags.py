@@ -70,3 +70,10 @@ def describe_doorbell(word: int, axis_letters: str) -> str:
     if word & COMMAND_ERROR:
         parts.append("command error")
     return ", ".join(parts) if parts else "none"
+
+
+def maxnet_event_bits(index: int, bit: int) -> int:
+    """The MAXnet word bits for one axis flag (what a notification for that event says)."""
+    flags = [0] * (index + 1)
+    flags[index] = bit
+    return maxnet_word(flags, False)

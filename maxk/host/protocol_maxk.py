@@ -13,6 +13,8 @@ end with LF CR by default and flag notifications arrive as `%000 SSSSSSSS`.
 
 from __future__ import annotations
 
+import math
+import threading
 import time
 import urllib.parse
 
@@ -26,6 +28,7 @@ from .pacing import Pacer
 from .server import EOLS, Framing
 
 POLL = 0.0005  # seconds between looks while a read waits (the wall clock is the door's)
+MAX_INCOMING = 1 << 20  # unread bytes kept; beyond this the oldest are lost, as on a line
 
 
 class Serial(SerialBase):
@@ -37,14 +40,23 @@ class Serial(SerialBase):
         if self.is_open:
             raise SerialException("port already open")
         model, speed, framing = self._parse(self._port)
-        self.maxk = MAXk(model)
-        self.pacer = Pacer(self.maxk, speed)
+        if getattr(self, "maxk", None) is None or self.maxk.board.model.name != model:
+            # The board is powered as long as this object lives: closing and reopening
+            # the port keeps its state, as unplugging a cable would.
+            self.maxk = MAXk(model)
+            self.pacer = Pacer(self.maxk, speed)
+            self.interpreter = Interpreter(self.maxk.board)
+            self._incoming = bytearray()
+            self._lock = threading.RLock()  # a reader thread and a writer may share it
+            self.maxk.board.add_flag_listener(
+                lambda word: self._receive(self.framing.notification(word)))
         self.framing = framing
-        self.interpreter = Interpreter(self.maxk.board)
-        self._incoming = bytearray()
-        self.maxk.board.add_flag_listener(
-            lambda word: self._incoming.extend(self.framing.notification(word)))
         self.is_open = True
+
+    def _receive(self, data: bytes) -> None:
+        self._incoming.extend(data)
+        if len(self._incoming) > MAX_INCOMING:
+            del self._incoming[: len(self._incoming) - MAX_INCOMING]
 
     @staticmethod
     def _parse(url: str) -> tuple[str, float, Framing]:
@@ -65,6 +77,8 @@ class Serial(SerialBase):
             speed = float(options.get("speed", ["1"])[0])
         except ValueError:
             raise SerialException("speed must be a number") from None
+        if not math.isfinite(speed) or speed <= 0:
+            raise SerialException("speed must be a positive number")
         eol = options.get("eol", ["lfcr"])[0]
         if eol not in EOLS:
             raise SerialException(f"eol is one of {', '.join(sorted(EOLS))}")
@@ -84,37 +98,50 @@ class Serial(SerialBase):
     def in_waiting(self) -> int:
         if not self.is_open:
             raise PortNotOpenError()
-        self.pacer.sync()
-        return len(self._incoming)
+        with self._lock:
+            self.pacer.sync()
+            return len(self._incoming)
+
+    @property
+    def out_waiting(self) -> int:
+        return 0  # writes reach the board at once
 
     def write(self, data: bytes) -> int:
         if not self.is_open:
             raise PortNotOpenError()
         data = serial.to_bytes(data)
-        self.pacer.sync()
-        for reply in self.interpreter.write(data):
-            self._incoming.extend(self.framing.reply(reply))
+        with self._lock:
+            self.pacer.sync()
+            for reply in self.interpreter.write(data):
+                self._receive(self.framing.reply(reply))
         return len(data)
 
     def read(self, size: int = 1) -> bytes:
         if not self.is_open:
             raise PortNotOpenError()
         deadline = None if self._timeout is None else time.monotonic() + self._timeout
+        self._cancel = False
         while True:
-            self.pacer.sync()
-            if len(self._incoming) >= size:
-                break
+            with self._lock:
+                self.pacer.sync()
+                if len(self._incoming) >= size or self._cancel:
+                    break
             if deadline is not None and time.monotonic() >= deadline:
                 break
             time.sleep(POLL)
-        data = bytes(self._incoming[:size])
-        del self._incoming[:size]
+        with self._lock:
+            data = bytes(self._incoming[:size])
+            del self._incoming[:size]
         return data
+
+    def cancel_read(self) -> None:
+        self._cancel = True
 
     def reset_input_buffer(self) -> None:
         if not self.is_open:
             raise PortNotOpenError()
-        self._incoming.clear()
+        with self._lock:
+            self._incoming.clear()
 
     def reset_output_buffer(self) -> None:
         if not self.is_open:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import math
 import signal
 import sys
 
@@ -30,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "pty (board N gets the same path with N appended)")
     parser.add_argument("--shm", default=None, metavar="PATH", help="shared-memory map file "
                         "of board 1 (board N: PATH with N appended), e.g. /dev/shm/maxk")
-    parser.add_argument("--speed", type=float, default=1.0, help="K times faster than real "
+    parser.add_argument("--speed", type=_speed, default=1.0, help="K times faster than real "
                         "time (default 1)")
     parser.add_argument("--eol", choices=sorted(EOLS), default="lfcr",
                         help="reply line ending (default lfcr: LF CR as the EPICS MAXnet "
@@ -40,6 +41,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="stop after this many seconds (default: run until interrupted)")
 
 
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError("--speed must be a positive number")
+    return value
+
+
 def _numbered(path: str, number: int, count: int) -> str:
     return path if count == 1 or number == 1 else f"{path}{number}"
 
@@ -47,6 +58,10 @@ def _numbered(path: str, number: int, count: int) -> str:
 async def serve(args: argparse.Namespace) -> int:
     if not 1 <= args.boards <= 16:
         print("maxk serve: --boards is 1..16 (the J5 jumper)", file=sys.stderr)
+        return 2
+    if args.port and not 0 < args.port <= 65536 - args.boards:
+        print(f"maxk serve: --port {args.port} leaves no room for {args.boards} board(s)",
+              file=sys.stderr)
         return 2
     names = [m.strip() for m in args.model.split(",")]
     if len(names) not in (1, args.boards):
@@ -90,6 +105,8 @@ async def serve(args: argparse.Namespace) -> int:
         print(f"maxk serve: {error}", file=sys.stderr)
         server.stop()
         await server.run()
+        for door in memories:
+            door.close()
         return 1
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):

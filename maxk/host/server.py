@@ -15,6 +15,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import os
+import sys
 import termios
 import tty
 from dataclasses import dataclass, field
@@ -26,6 +27,7 @@ from .pacing import Pacer
 EOLS = {"lfcr": b"\n\r", "lf": b"\n", "crlf": b"\r\n", "cr": b"\r"}
 ACK = b"\x06"
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before we stop reading a client
+HARD_LIMIT = 1024 * 1024  # beyond this, notifications to a client that never reads are lost
 
 
 @dataclass
@@ -93,8 +95,12 @@ class TcpClient(asyncio.Protocol, Client):
             self.send(reply)
 
     def send(self, data: bytes) -> None:
-        if self.transport is not None and not self.transport.is_closing():
-            self.transport.write(data)
+        transport = self.transport
+        if transport is None or transport.is_closing():
+            return
+        if transport.get_write_buffer_size() > HARD_LIMIT:
+            return  # a client that never reads loses output, as on a line; memory is bounded
+        transport.write(data)
 
     # Flow control: a client that never reads its replies stops being read, so the
     # server's memory stays bounded while everyone else is served.
@@ -123,9 +129,14 @@ class PtyClient(Client):
         self.path = os.ttyname(slave)
         self.link = link
         if link:
-            with contextlib.suppress(FileNotFoundError):
+            if os.path.lexists(link):
+                if not os.path.islink(link):
+                    os.close(self.master)
+                    os.close(slave)
+                    raise OSError(f"--pty-link {link} exists and is not a symlink")
                 os.unlink(link)
             os.symlink(self.path, link)
+        self._out = bytearray()  # output the pty could not take yet
         os.set_blocking(self.master, False)
         self.loop = loop
         loop.add_reader(self.master, self._readable)
@@ -142,11 +153,34 @@ class PtyClient(Client):
             self.send(reply)
 
     def send(self, data: bytes) -> None:
-        with contextlib.suppress(BlockingIOError, OSError):
-            os.write(self.master, data)  # a full pty buffer drops output, like a line
+        """Queue output and write what the pty takes; while much waits, stop reading the
+        client's input (as TCP does), so replies are not lost to a slow reader."""
+        if len(self._out) + len(data) > HARD_LIMIT:
+            return  # nobody reads this port: output is lost, memory is bounded
+        was_empty = not self._out
+        self._out += data
+        self._flush()
+        if was_empty and self._out:
+            self.loop.add_writer(self.master, self._flush)
+        if len(self._out) > HIGH_WATER:
+            self.loop.remove_reader(self.master)
+
+    def _flush(self) -> None:
+        while self._out:
+            try:
+                n = os.write(self.master, self._out)
+            except (BlockingIOError, InterruptedError):
+                return
+            except OSError:
+                self._out.clear()
+                break
+            del self._out[:n]
+        self.loop.remove_writer(self.master)
+        self.loop.add_reader(self.master, self._readable)
 
     def close(self) -> None:
         self.loop.remove_reader(self.master)
+        self.loop.remove_writer(self.master)
         self.service.clients.discard(self)
         for fd in (self.master, self.slave_fd):
             with contextlib.suppress(OSError):
@@ -188,10 +222,12 @@ class Server:
         """Keep every board at now; never blocks request handling for long, since the
         engine jumps from event to event."""
         while not self._stop.is_set():
-            for service in self.services:
-                service.pacer.sync()
-            for callback in self._extra_pacing:
-                callback()
+            for step in [*(s.pacer.sync for s in self.services), *self._extra_pacing]:
+                try:
+                    step()
+                except Exception as error:  # one board's failure must not stop the others
+                    print(f"maxk serve: {error!r} (in {step!r}); still serving",
+                          file=sys.stderr, flush=True)
             await asyncio.sleep(self.pace_interval)
 
     def stop(self) -> None:

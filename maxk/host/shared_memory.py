@@ -46,7 +46,7 @@ class SharedMemoryDoor:
         self.mem[M.LAYOUT : M.LAYOUT + 4] = M.LAYOUT_MAGIC
         self._put(M.BOARD_NUMBER, service.number)
         self._initialized = False
-        self._capture_started = False
+        self._written_removal = 0
 
     # ---- raw access -------------------------------------------------------------------
     def _get(self, offset: int) -> int:
@@ -85,6 +85,8 @@ class SharedMemoryDoor:
         self._write_replies()
 
     def _read_commands(self) -> None:
+        if len(self._pending) >= MAX_PENDING_REPLIES:
+            return  # the host is not reading replies: leave its commands in the ring
         insert = self._get(M.CMD_INSERT) % M.RING_SIZE
         process = self._get(M.CMD_PROCESS) % M.RING_SIZE
         if insert == process:
@@ -96,8 +98,7 @@ class SharedMemoryDoor:
                     + self.mem[M.CMD_RING : M.CMD_RING + insert])
         self._put(M.CMD_PROCESS, insert)
         for reply in self.interpreter.write(data):
-            if len(self._pending) < MAX_PENDING_REPLIES:
-                self._pending += reply.encode("latin-1") + b"\n"
+            self._pending += reply.encode("latin-1") + b"\n"
 
     def _write_replies(self) -> None:
         insert = self._get(M.RESP_INSERT) % M.RING_SIZE
@@ -132,11 +133,14 @@ class SharedMemoryDoor:
         self._put(M.ODBR, board.doorbell)
         self._put(M.TICK, board.tick)
         ring = board.capture_ring
-        if self._capture_started:
-            # The host removes entries by advancing the removal index (0x1541): follow it.
-            ring.removal = self.mem[M.CAPTURE + 1] % 55
-        self._capture_started = True
+        host_removal = self.mem[M.CAPTURE + 1]
+        # The host takes entries by advancing the removal index (0x1541). It can only move
+        # forward over entries that exist; anything else is ignored.
+        if (host_removal != self._written_removal and host_removal < 55
+                and (host_removal - ring.removal) % 55 <= len(ring)):
+            ring.removal = host_removal
         self.mem[M.CAPTURE : M.CAPTURE + 552] = ring.to_bytes()
+        self._written_removal = ring.removal
         self._put(M.OMR1, 0x2 if len(ring) else 0)
 
     def _write_snapshot(self) -> None:

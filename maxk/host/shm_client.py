@@ -80,8 +80,14 @@ class SharedMemoryHost:
     def doorbell(self) -> int:
         return self._get(M.ODBR)
 
-    def clear_doorbell(self, mask: int) -> None:
-        """Write ones to clear doorbell bits (the board applies them on its next update)."""
+    def clear_doorbell(self, mask: int, timeout: float = 5.0) -> None:
+        """Write ones to clear doorbell bits. The clear word is a mailbox: wait until the
+        board has taken the last one (it writes 0 back), then write, so no clear is lost."""
+        deadline = time.monotonic() + timeout
+        while self._get(M.ODBR_CLEAR):
+            if time.monotonic() > deadline:
+                raise TimeoutError("the board has not taken the last doorbell clear")
+            time.sleep(0.0002)
         self._put(M.ODBR_CLEAR, mask)
 
     def wait_doorbell(self, mask: int, timeout: float = 5.0) -> int:

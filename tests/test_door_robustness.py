@@ -1,0 +1,174 @@
+"""Regression tests for door defects found in review: bounded memory, no lost output,
+no lost doorbell clears, capture overruns in shared memory, thread-safe pyserial."""
+
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+import serial
+
+import maxk  # noqa: F401
+from maxk import MAXk
+from maxk.firmware_model.capture import CaptureEntry
+from maxk.host import memory_map as M
+from maxk.host.pacing import Pacer
+from maxk.host.server import EOLS, HARD_LIMIT, BoardService, Framing
+from maxk.host.shared_memory import SharedMemoryDoor
+from maxk.host.shm_client import SharedMemoryHost
+from tests.hosting import HostedBoards, ManualClock
+
+ROOT = Path(__file__).parent.parent
+
+
+def door(tmp_path):
+    m = MAXk()
+    service = BoardService(1, m, Pacer(m, 1.0, ManualClock()), Framing(EOLS["lfcr"]))
+    d = SharedMemoryDoor(service, str(tmp_path / "map"))
+    return m, d, SharedMemoryHost(d.path)
+
+
+def test_capture_overrun_in_shared_memory_keeps_the_newest_entries(tmp_path):
+    m, d, host = door(tmp_path)
+    ring = m.board.capture_ring
+    for i in range(54):
+        ring.push(CaptureEntry(i, 0))
+    d.update()
+    ring.push(CaptureEntry(54, 0))  # overrun: the oldest is lost
+    d.update()
+    assert len(ring) == 54 and ring.lost == 1
+    assert host._get(M.OMR1) == 0x2
+    host.mem[M.CAPTURE + 1] = 200  # a nonsense removal index is ignored
+    d.update()
+    assert len(ring) == 54
+    host.mem[M.CAPTURE + 1] = (ring.removal + 10) % 55  # the host takes 10 entries
+    d.update()
+    assert len(ring) == 44
+    d.close()
+
+
+def test_two_doorbell_clears_are_both_applied(tmp_path):
+    m, d, host = door(tmp_path)
+    m.send("AX; ID; AY; ID;")
+    d.update()
+    assert host.doorbell == 0x3
+
+    def board_passes():
+        for _ in range(200):
+            d.update()
+
+    t = threading.Thread(target=board_passes)
+    t.start()
+    host.clear_doorbell(0x1)
+    host.clear_doorbell(0x2)  # waits for the board to take the first clear
+    t.join()
+    d.update()
+    assert host.doorbell == 0
+    d.close()
+
+
+def test_replies_are_never_dropped_when_the_host_does_not_read(tmp_path):
+    m, d, host = door(tmp_path)
+    for _ in range(20):  # far more replies than the response ring holds
+        host.send("AA RP;" * 30)
+        d.update()
+    lines = []
+    for _ in range(600):
+        d.update()
+        lines.append(host.read_line(timeout=1))
+    assert set(lines) == {"0,0,0,0,0,0,0,0"} and len(lines) == 600
+    d.close()
+
+
+def test_tcp_client_that_never_reads_has_bounded_output():
+    from maxk.host.server import TcpClient
+
+    class Transport:
+        def __init__(self):
+            self.buffered = 0
+
+        def is_closing(self):
+            return False
+
+        def get_write_buffer_size(self):
+            return self.buffered
+
+        def write(self, data):
+            self.buffered += len(data)
+
+        def set_write_buffer_limits(self, high):
+            pass
+
+        def pause_reading(self):
+            pass
+
+    m = MAXk()
+    service = BoardService(1, m, Pacer(m, 1.0, ManualClock()), Framing(EOLS["lfcr"]))
+    client = TcpClient(service)
+    client.connection_made(Transport())
+    for _ in range(200_000):
+        client.send(b"%000 01000000\n\r")
+    assert client.transport.buffered <= HARD_LIMIT + 16
+
+
+def test_a_slow_pty_reader_loses_no_replies():
+    hosted = HostedBoards(pty=True)
+    try:
+        port = serial.Serial(hosted.ptys[0], timeout=5)
+        port.write(b"AA RP;\n" * 900)  # ~15 kB of replies: more than the pty buffer holds
+        replies = [port.read_until(b"\n\r") for _ in range(900)]
+        assert replies == [b"0,0,0,0,0,0,0,0\n\r"] * 900
+    finally:
+        hosted.close()
+
+
+def test_pyserial_port_is_safe_to_read_and_write_from_two_threads():
+    port = serial.serial_for_url("maxk://MAXk-4000?speed=1000", timeout=0.01)
+    stop = threading.Event()
+    errors = []
+
+    def reader():
+        try:
+            while not stop.is_set():
+                port.read(port.in_waiting or 1)
+        except Exception as error:  # pragma: no cover - the defect
+            errors.append(error)
+
+    t = threading.Thread(target=reader)
+    t.start()
+    try:
+        for _ in range(300):
+            port.write(b"AM;MR10,-10,5,1;GO;ID;AM;RI;\n")
+    finally:
+        stop.set()
+        t.join()
+    assert not errors
+    port.close()
+    port.open()  # the board keeps its state across close and open
+    port.reset_input_buffer()
+    port.write(b"AA RP\n")
+    assert port.read_until(b"\n\r").endswith(b"\n\r")
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--speed", "0"], "positive"), (["--speed", "nan"], "positive"),
+    (["--port", "65535", "--boards", "2"], "leaves no room")])
+def test_serve_argument_errors_are_messages_not_tracebacks(args, message):
+    result = subprocess.run([sys.executable, "-m", "maxk", "serve", "--seconds", "0.1", *args],
+                            capture_output=True, text=True, timeout=30, cwd=ROOT)
+    assert result.returncode == 2 and message in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_pty_link_never_replaces_an_ordinary_file(tmp_path):
+    precious = tmp_path / "precious"
+    precious.write_text("keep me")
+    shm = tmp_path / "map"
+    result = subprocess.run([sys.executable, "-m", "maxk", "serve", "--seconds", "0.5",
+                             "--shm", str(shm), "--pty-link", str(precious)],
+                            capture_output=True, text=True, timeout=30, cwd=ROOT)
+    assert result.returncode == 1 and "not a symlink" in result.stderr
+    assert precious.read_text() == "keep me"
+    assert not shm.exists()  # the failed start cleaned up after itself
+    assert not any(p.name.startswith("map") for p in tmp_path.iterdir() if p != precious)
