@@ -54,15 +54,20 @@ def test_two_doorbell_clears_are_both_applied(tmp_path):
     d.update()
     assert host.doorbell == 0x3
 
-    def board_passes():
-        for _ in range(200):
+    done = threading.Event()
+
+    def board_passes():  # the board keeps taking clears until the host has written both
+        while not done.is_set():
             d.update()
 
     t = threading.Thread(target=board_passes)
     t.start()
-    host.clear_doorbell(0x1)
-    host.clear_doorbell(0x2)  # waits for the board to take the first clear
-    t.join()
+    try:
+        host.clear_doorbell(0x1)
+        host.clear_doorbell(0x2)  # waits for the board to take the first clear
+    finally:
+        done.set()
+        t.join()
     d.update()
     assert host.doorbell == 0
     d.close()
