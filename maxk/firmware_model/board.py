@@ -7,7 +7,6 @@ one event (a motion ending, a wait expiring) to the next and runs the queues the
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -175,9 +174,6 @@ class Board:
     def advance(self, ticks: int) -> None:
         self.advance_to(self.tick + int(ticks))
 
-    def advance_seconds(self, seconds: float) -> None:
-        self.advance(math.ceil(seconds / self.period - 1e-9))
-
     def is_idle(self) -> bool:
         """No axis moving and no queue holding work."""
         return all(a.motion is None and a.wait is None and len(a.queue) == 0 for a in self.axes)
@@ -238,11 +234,6 @@ class Board:
     def doorbell(self) -> int:
         """The outbound doorbell register (ODBR) image."""
         return F.doorbell_word([a.flags for a in self.axes], self.command_error)
-
-    @property
-    def flag_word(self) -> int:
-        """The MAXnet `%000 SSSSSSSS` flag word (W and K spelled out)."""
-        return F.maxnet_word([a.flags for a in self.axes], self.command_error)
 
     def write_doorbell(self, mask: int) -> None:
         """Host writes ones to clear doorbell bits (write-one-to-clear)."""

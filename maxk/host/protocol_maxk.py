@@ -90,10 +90,6 @@ class Serial(SerialBase):
     def _reconfigure_port(self) -> None:
         """Baud rate, parity and the rest mean nothing to an emulated line."""
 
-    def from_url(self, url: str) -> str:  # pyserial API: validate and return the port
-        self._parse(url)
-        return url
-
     @property
     def in_waiting(self) -> int:
         if not self.is_open:
