@@ -17,7 +17,7 @@ from maxk.firmware_model.flags import COMMAND_ERROR
     ("PSQ", "needs one of"),
     ("AK", "has no K axis"),
     ("#UR5000", "update rate must be"),
-    ("PSM", "servo axes are not modelled yet"),
+    ("KP40000", "out of range"),
 ])
 def test_bad_command_sets_the_flag_and_changes_nothing(bad, reason):
     board = MAXk()

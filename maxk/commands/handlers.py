@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..firmware_model import flags as F
 from ..firmware_model.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
@@ -26,6 +26,7 @@ from ..firmware_model.models import (
 )
 from ..firmware_model.profiles import RampShape
 from ..firmware_model.queue import Action
+from ..firmware_model.servo import ServoLoop
 from .lexer import ParsedCommand
 
 
@@ -376,6 +377,75 @@ def _analog_out(value: object, ctx: Context) -> Action:
     return action
 
 
+def _axis_type(value: object, ctx: Context) -> Action:
+    """PSO/PSE/PSM. The type changes at rest (a running move finishes first); the
+    counters carry on where they were, so RP and RE do not jump."""
+
+    def action(axis: Axis, board: Board) -> object:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        old = axis.config.axis_type
+        if value == old:
+            return None
+        encoder = axis.encoder_position(board)
+        if axis.servo is not None:  # leaving servo: the commanded position is where we are
+            axis.servo = None
+        axis.config.axis_type = value  # type: ignore[assignment]
+        axis.holding = False
+        if value == "M":
+            axis.servo = ServoLoop(axis.steps, board.tick)
+        axis.encoder_offset = 0
+        axis.encoder_offset = encoder - axis.encoder_position(board)
+        board.refresh_servo_axes()
+        return None
+
+    return action
+
+
+def _gain(name: str) -> QueuedFactory:
+    """KP KI KD KU KV KA KF KO: a filter coefficient (stored on any axis, used on PSM)."""
+
+    def factory(value: object, ctx: Context) -> Action:
+        def action(axis: Axis, board: Board) -> None:
+            axis.config.gains = replace(axis.config.gains, **{name: float(value)})  # type: ignore
+
+        return action
+
+    return factory
+
+
+def _loop(on: bool, mnemonic: str) -> QueuedFactory:
+    """CL1/CL0 and HN/HF: a servo's loop closed or open; on an encoder stepper, position
+    maintenance on or off. CL1 after a following-error trip re-enables the PID."""
+
+    def factory(value: object, ctx: Context) -> Action:
+        closing = on if value is None else value == "1"
+
+        def action(axis: Axis, board: Board) -> None:
+            servo = axis.servo
+            if servo is not None:
+                if closing:
+                    servo.tripped = False
+                    servo.slipped = False
+                    servo.stuck = servo.stuck and servo.w == 0.0
+                    error = axis.motor_position(board) - (servo.p + axis.encoder_offset)
+                    servo.reset_filter(error)
+                servo.closed = closing
+                return
+            if axis.config.axis_type == "E":
+                axis.holding = closing
+                if closing:
+                    board.hold_here(axis)
+                return
+            board.report_error(f"{mnemonic}: axis {axis.letter} is an open-loop stepper "
+                               "(PSO): no encoder to close the loop on",
+                               f"A{axis.letter} {ctx.command.text}")
+
+        return action
+
+    return factory
+
+
 QUEUED: dict[str, QueuedFactory] = {
     "VL": _velocity,
     "VB": _base_velocity,
@@ -404,7 +474,21 @@ QUEUED: dict[str, QueuedFactory] = {
     "ID": _done,
     "LS": _loop_start,
     "LE": _loop_end,
-    "PS": _set("axis_type"),
+    "PS": _axis_type,
+    "CL": _loop(True, "CL"),
+    "HN": _loop(True, "HN"),
+    "HF": _loop(False, "HF"),
+    "KP": _gain("kp"),
+    "KI": _gain("ki"),
+    "KD": _gain("kd"),
+    "KU": _gain("ku"),
+    "KV": _gain("kv"),
+    "KA": _gain("ka"),
+    "KF": _gain("kf"),
+    "KO": _gain("ko"),
+    "SVB": lambda value, ctx: _set("servo_bipolar", bool(value))(value, ctx),
+    "SVN": _set("servo_polarity", 1),
+    "SVP": lambda value, ctx: _set("servo_polarity", -1 if value == "-" else 1)(value, ctx),
     "LT": _limit_level_for("limit_active_high"),
     "LH": _set("limit_active_high", True),
     "LL": _set("limit_active_high", False),
@@ -441,9 +525,7 @@ GO_COMMANDS = frozenset({"GO", "GD", "GN"})
 LINEAR_MOVES = {"MT": False, "ML": True}  # mnemonic -> relative
 
 
-NOT_MODELLED_YET: dict[str, str] = {
-    "CL": "CL0/CL1: closed-loop control needs a servo or encoder axis, not modelled yet",
-}
+NOT_MODELLED_YET: dict[str, str] = {}
 """Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""
 
 
@@ -452,8 +534,6 @@ def validate_queued(ctx: Context) -> None:
     m = ctx.command.mnemonic
     if m in NOT_MODELLED_YET:
         raise CommandError(NOT_MODELLED_YET[m])
-    if m == "PS" and "M" in ctx.values:
-        raise CommandError("PSM: servo axes are not modelled yet (servo issue)")
     if m == "IO" and ctx.values[0][1] not in (0, 1):
         raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
 
@@ -471,7 +551,7 @@ SETTING_QUERIES: dict[str, Callable[[Axis], str]] = {
     "LT": lambda a: "=h" if a.config.limit_active_high else "=l",
     "HT": lambda a: "=h" if a.config.home_active_high else "=l",
     "LM": _limit_mode_letter,
-    "CL": lambda a: "off",
+    "CL": lambda a: "on" if a.loop_closed else "off",
 }
 
 
@@ -614,9 +694,27 @@ def _update_rate(ctx: Context) -> str | None:
     return None
 
 
-def _no_servo(ctx: Context) -> str:
-    axis = ctx.axes[0]
-    raise CommandError(f"{ctx.command.mnemonic}: axis {axis.letter} has no servo loop")
+def _gain_query(name: str) -> Callable[[Context], str]:
+    """?KA / ?KP: the gain of a servo axis; a command error on any other axis is how
+    drivers detect that an axis has no PID (evidence 2.4)."""
+
+    def handler(ctx: Context) -> str:
+        def one(axis: Axis) -> str:
+            if axis.servo is None:
+                raise CommandError(f"{ctx.command.mnemonic}: axis {axis.letter} has no servo "
+                                   "loop")
+            return format_gain(getattr(axis.config.gains, name))
+
+        if ctx.listing:
+            return ",".join(one(a) if a.servo is not None else "" for a in ctx.board.axes)
+        return one(ctx.axes[0])
+
+    return handler
+
+
+def format_gain(value: float) -> str:
+    """Gains as the host sends them: `KP2.5` -> 2.5, `KP10` -> 10."""
+    return f"{value:.6f}".rstrip("0").rstrip(".") or "0"
 
 
 def _analog_in(ctx: Context) -> str:
@@ -652,11 +750,11 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "?UR": lambda ctx: str(ctx.board.update_rate_hz),
     "?PS": lambda ctx: ctx.per_axis(SETTING_QUERIES["PS"]),
     "?LS": lambda ctx: ctx.per_axis(SETTING_QUERIES["LT"]),
-    "?PM": lambda ctx: ctx.per_axis(lambda a: "=off"),
+    "?PM": lambda ctx: ctx.per_axis(lambda a: "=on" if a.loop_closed else "=off"),
     "BX": lambda ctx: format(ctx.board.io.word(ctx.board), "04x"),
     "RB": lambda ctx: format(ctx.board.io.direction, "04x"),
     "AB?": lambda ctx: ctx.per_axis(lambda a: "=h" if a.aux_level(ctx.board) else "=l"),
     "AI": _analog_in,
-    "?KA": _no_servo,
-    "?KP": _no_servo,
+    "?KA": _gain_query("ka"),
+    "?KP": _gain_query("kp"),
 }

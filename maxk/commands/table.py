@@ -333,8 +333,10 @@ _SPECS: list[CommandSpec] = [
     _q("PS", "config", "Axis type: O open-loop stepper, E stepper with encoder, M servo.",
        operand=Operand.LETTER, letters="OEM", query=True, reply="=O | =E | =M",
        source="evidence 2.4, E1",
-       notes="PS? answers immediately. PSM is refused (command error) until the servo loop is "
-       "modelled; PSE gives an ideal encoder (EA works, RE follows RP)."),
+       notes="PS? answers immediately. The type changes when the axis is at rest; RP and RE "
+       "carry on from where they were. PSM: the servo loop (open until CL1/HN), RP is the "
+       "commanded position and RE the motor's encoder; PSE: a stepper with an encoder (EA, "
+       "ER, slip detection, position maintenance)."),
     _i("?PS", "config", "Axis type query, firmware before 1.30.", reply="=O | =E | =M",
        source="evidence 2.4"),
     _q("LT", "limits", "Limit input true level: H active high, L active low (factory L).",
@@ -365,18 +367,71 @@ _SPECS: list[CommandSpec] = [
        confidence="I"),
     _q("LF", "limits", "Limit (overtravel) detection off.", source="evidence 2.3",
        confidence="I"),
-    CommandSpec("CL", "config", "Closed loop on (1) or off (0); CL? reports per axis.",
+    CommandSpec("CL", "servo", "Closed loop on (1) or off (0); CL? reports per axis.",
                 Timing.QUEUED, units=1, operand=Operand.LETTER, letters="01", query=True,
-                reply="on | off", source="evidence 2.4, E2", confidence="I",
-                notes="CL? answers `on`/`off` (EPICS compares the first two characters with "
-                "`on`). CL0/CL1 need an encoder or servo axis and come with the servo issue; "
-                "until then they are a command error."),
-    _i("?PM", "config", "Closed-loop query, firmware before 1.30.", reply="=on | =off",
+                reply="on | off", source="evidence 2.4, E4; manual 2.13", confidence="I",
+                notes="Servo (PSM): CL1 runs the PID, CL0 opens the loop (the DAC puts out KO, "
+                "as in the manual's balancing steps). A PSM axis starts open (D). CL1 also "
+                "re-enables the PID after a following-error trip; `LP0;CL1;` zeroes the error "
+                "first, as the manual does. On an encoder stepper (PSE) CL1/CL0 switch "
+                "position maintenance, like HN/HF; on PSO they are a command error when they "
+                "execute. CL? answers on/off (EPICS compares the first two characters)."),
+    _i("?PM", "servo", "Closed-loop query, firmware before 1.30.", reply="=on | =off",
        source="evidence 2.4", confidence="I"),
-    _i("?KA", "config", "PID present probe: a command error means the axis has no servo loop.",
-       reply="gain value", source="evidence 2.4, E5"),
-    _i("?KP", "config", "PID present probe (PC68 form).", reply="gain value",
-       source="evidence 2.4, E7"),
+    _i("?KA", "servo", "PID present probe: a command error means the axis has no servo loop.",
+       reply="2.5", source="evidence 2.4, E5",
+       notes="On a servo axis it answers the KA gain as a plain decimal (the reply format is "
+       "our decision, D: drivers flush it unread)."),
+    _i("?KP", "servo", "PID present probe (PC68 form): the KP gain, or a command error.",
+       reply="10", source="evidence 2.4, E7", confidence="I"),
+    *[
+        _q(m, "servo", summary, units=2, operand=Operand.NUMBER, integer=False,
+           value_range=(-32767.0, 32767.0) if m == "KO" else (0.0, 32767.0),
+           source=source, confidence=confidence, notes=notes)
+        for m, summary, source, confidence, notes in (
+            ("KP", "Proportional gain: DAC counts per count of position error.",
+             "manual 2.13 (range 0..32767, factory 10); evidence 2.4, E4", "C",
+             "DAC = KP*e + KD*(e - e_prev) + KI/1024*sum(e) + KV*v + KA*a + KF*sign(v) + KO, "
+             "every tick; e in counts, v/a in counts per tick (and tick^2); the scaling is our "
+             "decision (D), chosen so the factory gains hold the default motor."),
+            ("KI", "Integral gain: acts on the sum of the errors / 1024.",
+             "manual 2.13 (range 0..32767, factory 1.00)", "C",
+             "The error sum is clamped so the integral term stays within 4*KU DAC counts; it "
+             "only accumulates while KI > 0, and errors under 1/1000 count are not summed "
+             "while static friction holds the motor (D)."),
+            ("KD", "Derivative gain: acts on the change of error per tick (damping).",
+             "manual 2.13 (range 0..32767, factory 160)", "C", ""),
+            ("KU", "Integral limit: the integral term never exceeds 4*KU DAC counts.",
+             "manual 2.13 ('KU limits the amount the KI term can contribute')", "I",
+             "Factory 1000 (the manual lists no factory KU: our decision, D)."),
+            ("KV", "Velocity feed-forward: DAC counts per count/tick of commanded velocity.",
+             "manual 2.13 (range 0..32767, factory 0)", "C", ""),
+            ("KA", "Acceleration feed-forward: DAC counts per count/tick^2 of commanded "
+             "acceleration.", "manual 2.13 (factory 0); evidence 2.4 (VIPER KA2.0)", "C", ""),
+            ("KF", "Friction feed-forward: DAC counts added in the direction of commanded "
+             "motion.", "manual 2.13 (range 0..32767)", "C", ""),
+            ("KO", "Offset: constant DAC output (3277 = 1 V), open loop or closed.",
+             "manual 2.9, 2.13 (range -32767..32767, factory 0)", "C",
+             "With the loop open (CL0) the DAC puts out KO alone."),
+        )
+    ],
+    _q("SVB", "servo", "Servo output: SVB1 bipolar +/-10 V (factory), SVB0 unipolar 0..10 V.",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 1.0),
+       source="evidence 2.4 (VIPER `PSM SVB1`, SySal); manual 2.14 (factory bipolar)",
+       confidence="I", notes="Unipolar puts the magnitude on the DAC and the sign on the "
+       "direction output, so the motor sees the same command; it changes the reported DAC "
+       "voltage only (D)."),
+    _q("SVN", "servo", "Servo output polarity normal (factory).",
+       source="evidence 2.4 (SySal `SVB1;SVN;PSM`)", confidence="D",
+       notes="Read as the normal polarity of SVP+/SVP-; the evidence only shows it sent."),
+    _q("SVP", "servo", "Servo output polarity: SVP- inverts the PID output (and KO), SVP+ "
+       "normal.", operand=Operand.LETTER, letters="+-", source="manual 2.9 step 5",
+       notes="Inverting the output of a motor that was wired right makes the loop run away "
+       "until the following-error trip, as a real one does."),
+    _q("HN", "servo", "Hold on: position maintenance on an encoder stepper; closes a servo's "
+       "loop (pre-1.30 form of CL1).", source="evidence 2.4, E4; manual 2.13", confidence="I"),
+    _q("HF", "servo", "Hold off: position maintenance off; opens a servo's loop (CL0).",
+       source="evidence 2.4, E4", confidence="I"),
     _i("#UR", "config", "Update rate in Hz: 1024, 2048, 4096 or 8192 (976.6..122.1 us).",
        operand=Operand.NUMBER, query=True, value_range=(1024.0, 8192.0), reply="#UR?: 8192",
        source="evidence 2.5 (TRAJ); manual 2.13", confidence="I",
@@ -451,6 +506,7 @@ GROUP_TITLES = {
     "aux": "Auxiliary outputs",
     "analog": "Analog I/O",
     "report": "Reports and queries",
+    "servo": "Servo loop (PSM axes)",
 }
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from . import flags as F
 from .profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
 from .queue import CommandQueue
+from .servo import Gains, ServoLoop
 
 if TYPE_CHECKING:
     from .board import Board
@@ -48,6 +49,15 @@ class AxisConfig:
     move_direction: int = 1  # MP / MM
     aux_auto: bool = False  # PA1: aux output on while moving
     settle_ms: int = 0  # SE: aux stays on this long after the axis comes to rest
+    gains: Gains = field(default_factory=Gains)  # KP KI KD KU KV KA KF KO (servo)
+    servo_bipolar: bool = True  # SVB1 +/-10 V (factory), SVB0 unipolar 0..10 V + sign
+    servo_polarity: int = 1  # SVN normal (factory); SVI inverts the DAC output
+    encoder_ratio: tuple[int, int] = (1, 1)  # ER: encoder counts, motor steps
+    slip_tolerance: int = 0  # ES: encoder counts of disagreement before a slip
+    slip_detect: bool = False  # TN/TF: stall (slip) detection on/off
+    hold_velocity: int = 0  # HV: position maintenance correction velocity
+    hold_deadband: int = 0  # HD: position maintenance deadband, encoder counts
+    hold_gain: int = 0  # HG: position maintenance gain (stored)
 
 
 @dataclass
@@ -75,6 +85,8 @@ class Axis:
     aux_on: bool = False  # AN / AF
     rest_since: int = 0  # tick the last motion ended (PA settle timing)
     dac: int = 0  # AO: general purpose analog output count (non-servo axes)
+    servo: ServoLoop | None = None  # the PID loop and motor of a PSM axis
+    holding: bool = False  # HN on an encoder stepper: position maintenance
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
 
@@ -98,6 +110,8 @@ class Axis:
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
 
     def encoder_position(self, board: Board) -> int:
+        if self.servo is not None:
+            return wrap32(self.servo.encoder_counts() + self.encoder_offset)
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.encoder_offset)
 
     def velocity(self, board: Board) -> float:
@@ -122,6 +136,13 @@ class Axis:
     @property
     def has_encoder(self) -> bool:
         return self.config.axis_type in ("E", "M")
+
+    @property
+    def loop_closed(self) -> bool:
+        """CL?: a servo's PID running, or an encoder stepper's position maintenance."""
+        if self.servo is not None:
+            return self.servo.closed and not self.servo.tripped
+        return self.holding
 
     @property
     def moving(self) -> bool:
@@ -244,7 +265,13 @@ class Axis:
         if motor:
             self.counter_offset = value - steps
         if encoder:
-            self.encoder_offset = value - steps
+            if self.servo is not None:
+                self.encoder_offset = value - self.servo.encoder_counts()
+            else:
+                self.encoder_offset = value - steps
+        if self.servo is not None:  # LP0 zeroes the position error (manual 2.13)
+            error = (steps + self.counter_offset) - (self.servo.p + self.encoder_offset)
+            self.servo.reset_filter(error)
 
     def tick_reaching(self, position: float, direction: int, board: Board) -> int | None:
         """The first tick after now at which the running motion, travelling in

@@ -73,6 +73,7 @@ class Board:
         self._listeners: list[FlagListener] = []
         # Observers for traces: [every_ticks or None, next tick due, callback].
         self._observers: list[list] = []
+        self._servo_axes: list[Axis] = []  # PSM axes: their loops run every tick
 
     # ---- lookup ----------------------------------------------------------------------
     def axis(self, letter: str) -> Axis:
@@ -146,6 +147,12 @@ class Board:
         axes = self.axes
         while True:
             event = self.next_event()
+            if self.servo_axes:
+                # Servo loops run every tick: simulate them up to the next event (their
+                # inputs change only at events). A following-error trip is an event too.
+                limit = tick if event is None or event > tick else event
+                if self._advance_servos(limit):
+                    continue
             if event is None or event > tick:
                 break
             now = self.tick = max(event, self.tick)
@@ -170,6 +177,46 @@ class Board:
             if self._observers:
                 self._observe(now)
         self.tick = tick
+
+    @property
+    def servo_axes(self) -> list[Axis]:
+        return self._servo_axes
+
+    def refresh_servo_axes(self) -> None:
+        self._servo_axes = [a for a in self.axes if a.servo is not None]
+
+    def _advance_servos(self, limit: int) -> bool:
+        """Run every servo loop up to `limit`; act on the earliest following-error trip
+        (time then stands at its tick). True if one was handled."""
+        for axis in self._servo_axes:
+            axis.servo.advance(axis, self, limit)  # type: ignore[union-attr]
+        trips = [a for a in self._servo_axes if a.servo.trip_tick is not None]  # type: ignore
+        if not trips:
+            return False
+        first = min(a.servo.trip_tick for a in trips)  # type: ignore[union-attr]
+        self.tick = max(self.tick, first)
+        for axis in trips:
+            if axis.servo.trip_tick == first:  # type: ignore[union-attr]
+                self.following_error_trip(axis)
+        self.run_queues()
+        return True
+
+    def following_error_trip(self, axis: Axis) -> None:
+        """Following error above 32768 counts (manual 2.13): the PID is disabled so the
+        motor cannot run away. The DAC goes to 0 V, the trajectory stops, the queue is
+        flushed and the axis's slip flag (doorbell bit 16+i, EA 'S') is set. CL1 or HN
+        closes the loop again (docs/servo.md)."""
+        servo = axis.servo
+        assert servo is not None
+        servo.trip_tick = None
+        servo.tripped = True
+        servo.slipped = True
+        axis.homing = None
+        for stopping in [axis, *axis.linked]:
+            stopping.linked = []
+            stopping.flush(self)
+            stopping.kill(self)
+        self.set_axis_flag(axis, F.AXIS_SLIP)
 
     def advance(self, ticks: int) -> None:
         self.advance_to(self.tick + int(ticks))

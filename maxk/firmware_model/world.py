@@ -20,6 +20,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from .servo import MotorPlant
+
 if TYPE_CHECKING:
     from .board import Board
 
@@ -100,6 +102,7 @@ class AxisWorld:
     index_period: int = 4000  # encoder counts between index marks (0: no index)
     index_width: int = 4  # counts the index pulse stays high
     index_offset: int = 1280  # physical position of an index mark (inside the home window)
+    motor: MotorPlant = field(default_factory=MotorPlant)  # what a servo (PSM) axis drives
 
     def set_plus_limit(self, position: float | None) -> None:
         self.plus_limit = Switch(_checked(position), None, self.plus_limit.fault,

@@ -1,0 +1,698 @@
+"""Servo axes: the MAXk's PID filter driving a DC motor plant, evaluated every update tick.
+
+The plant is a DC motor with its amplifier and a quadrature encoder. python-control builds
+its transfer function (DAC counts in, encoder counts out) and discretizes it with ``c2d``
+(zero-order hold) at the update period, once per parameter set. The loop then runs in
+plain floats, never calling python-control or numpy per tick.
+
+The filter, evaluated once per tick on the position error ``e = commanded - encoder``
+(counts; the encoder is read with sub-count resolution, see docs/servo.md)::
+
+    DAC = KP*e + KD*(e - e_prev) + KI/1024 * sum(e) + KV*v + KA*a + KF*sign(v) + KO
+
+``v`` and ``a`` are the commanded velocity and acceleration in counts per tick (and per
+tick squared), the sum is clamped so that the integral term never exceeds ``4*KU`` DAC
+counts, and the DAC saturates at +/-32767 (+/-10 V). These scalings are our decisions
+(the manual gives ranges, not formulas); they are recorded in the command table.
+
+Speed: between events an axis's commanded position is a polynomial in the tick (each
+ramp or slew phase), so while the loop is linear (no DAC saturation, integral inside
+KU, friction not changing sign) the closed loop has a closed-form solution: modal
+decomposition plus a polynomial particular solution. The engine jumps over such
+stretches in O(1), checks per tick only where a bound says a limit might be reached,
+and steps tick by tick only where the loop is really nonlinear (saturation, stiction).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .axis import Axis
+    from .board import Board
+
+DAC_LIMIT = 32767.0  # 16-bit DAC: +/-32767 counts = +/-10 V
+VOLTS_PER_COUNT = 10.0 / 32767.0
+FOLLOWING_ERROR_LIMIT = 32768.0  # manual 2.13: above this the PID is disabled
+INTEGRAL_DIVISOR = 1024.0  # KI acts on sum(e) / 1024
+INTEGRAL_LIMIT_PER_KU = 4.0  # KU limits the integral term to 4*KU DAC counts
+SETTLED_ERROR = 1e-3  # counts: stick-slip below this is not simulated (see _breakaway)
+
+
+@dataclass(frozen=True)
+class MotorPlant:
+    """A DC motor, its amplifier and its encoder: the physical axis a servo drives.
+
+    Defaults: a small servo motor with a 2000-line encoder (8000 counts per turn, as in
+    the manual's tuning check) on a voltage-mode amplifier of gain 3: 1 V (KO3277) turns
+    it at about a tenth of its top speed, as the manual's set-up step 4 asks. The factory
+    gains (KP 10, KD 160, KI 1) hold it stably; the manual's tuning procedure behaves as
+    it describes (docs/servo.md).
+    """
+
+    inertia: float = 5e-6  # kg m^2, motor and load
+    viscous_friction: float = 2e-5  # N m s/rad
+    coulomb_friction: float = 0.005  # N m (static friction taken equal)
+    torque_constant: float = 0.1  # N m/A (= back-EMF constant, V s/rad)
+    amplifier: str = "voltage"  # "voltage" (velocity-like) or "current" (torque mode)
+    amplifier_gain: float = 3.0  # V/V in voltage mode, A/V in current mode
+    resistance: float = 2.0  # ohm: the winding, used in voltage mode
+    encoder_lines: int = 2000  # x4 quadrature
+
+    def __post_init__(self) -> None:
+        if self.amplifier not in ("current", "voltage"):
+            raise ValueError("amplifier is 'current' or 'voltage'")
+        for name in ("inertia", "torque_constant", "amplifier_gain", "resistance"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"{name} must be positive")
+        if self.encoder_lines < 1 or self.viscous_friction < 0 or self.coulomb_friction < 0:
+            raise ValueError("encoder lines >= 1 and frictions >= 0")
+
+    @property
+    def counts_per_rev(self) -> int:
+        return 4 * self.encoder_lines
+
+    @property
+    def counts_per_radian(self) -> float:
+        return self.counts_per_rev / (2.0 * math.pi)
+
+    def _torque_per_count(self) -> float:
+        """Stall torque per DAC count (N m)."""
+        torque_per_volt = self.torque_constant * self.amplifier_gain
+        if self.amplifier == "voltage":
+            torque_per_volt /= self.resistance
+        return torque_per_volt * VOLTS_PER_COUNT
+
+    def coefficients(self) -> tuple[float, float, float]:
+        """(g, a, friction): acceleration in counts/s^2 per DAC count, damping 1/s, and
+        the Coulomb friction as DAC counts. The motor obeys ``y'' = g*u - a*y'``."""
+        damping = self.viscous_friction
+        if self.amplifier == "voltage":  # back-EMF through the winding damps the motor
+            damping += self.torque_constant ** 2 / self.resistance
+        torque = self._torque_per_count()
+        g = torque / self.inertia * self.counts_per_radian
+        return g, damping / self.inertia, self.coulomb_friction / torque
+
+    def transfer_function(self):  # -> control.TransferFunction
+        """Encoder counts per DAC count: ``g / (s (s + a))``."""
+        import control
+
+        g, a, _ = self.coefficients()
+        return control.tf([g], [1.0, a, 0.0])
+
+    def discrete(self, period: float) -> tuple[float, float, float, float, float, float]:
+        return _discretize(self, period)
+
+
+@lru_cache(maxsize=256)
+def _discretize(plant: MotorPlant, period: float) -> tuple[float, ...]:
+    """c2d (zero-order hold) of the plant in the physical states (position, velocity):
+    returns a11, a12, a21, a22, b1, b2 of ``x' = A x + B u``."""
+    import control
+
+    g, a, _ = plant.coefficients()
+    continuous = control.ss([[0.0, 1.0], [0.0, -a]], [[0.0], [g]], [[1.0, 0.0]], [[0.0]])
+    sampled = control.c2d(continuous, period, method="zoh")
+    A, B = np.asarray(sampled.A), np.asarray(sampled.B)
+    return (float(A[0, 0]), float(A[0, 1]), float(A[1, 0]), float(A[1, 1]),
+            float(B[0, 0]), float(B[1, 0]))
+
+
+@dataclass(frozen=True)
+class Gains:
+    """The filter coefficients of one axis, as the KP..KO commands set them."""
+
+    kp: float = 10.0
+    ki: float = 1.0
+    kd: float = 160.0
+    ku: float = 1000.0
+    kv: float = 0.0
+    ka: float = 0.0
+    kf: float = 0.0
+    ko: float = 0.0
+
+    @property
+    def ki_per_tick(self) -> float:
+        return self.ki / INTEGRAL_DIVISOR
+
+    @property
+    def integral_sum_limit(self) -> float:
+        """Largest |sum(e)| the integrator keeps: |KI*sum/1024| <= 4*KU."""
+        if self.ki <= 0:
+            return 0.0
+        return INTEGRAL_LIMIT_PER_KU * self.ku / self.ki_per_tick
+
+
+# ---- the closed form -----------------------------------------------------------------
+class _Modal:
+    """A discrete linear system ``X' = A X + B w`` in modal coordinates, with the rows of
+    the outputs the engine checks, for O(1) evaluation at any tick."""
+
+    def __init__(self, A: np.ndarray, B: np.ndarray, outputs: dict[str, tuple]) -> None:
+        lam, V = np.linalg.eig(A)
+        self.ok = bool(np.isfinite(lam).all()) and np.linalg.cond(V) < 1e8
+        if not self.ok:
+            return
+        Vinv = np.linalg.inv(V)
+        self.n = len(lam)
+        self.lam = [complex(x) for x in lam]
+        self.unit = [abs(x - 1.0) < 1e-13 for x in self.lam]
+        self.stable = all(abs(x) <= 1.0 + 1e-12 for x in self.lam)
+        self.V = [[complex(V[r, c]) for c in range(self.n)] for r in range(self.n)]
+        self.Vinv = [[complex(Vinv[r, c]) for c in range(self.n)] for r in range(self.n)]
+        VB = Vinv @ B
+        self.VB = [[complex(VB[r, c]) for c in range(B.shape[1])] for r in range(self.n)]
+        # output = cX . X + dW . w  ->  per-mode weights g = cX V
+        self.outputs = {}
+        for name, (cX, dW) in outputs.items():
+            g = np.asarray(cX, dtype=float) @ V
+            self.outputs[name] = ([complex(x) for x in g], [float(x) for x in dW])
+
+
+def _faulhaber(m: int) -> list[float]:
+    """Coefficients (in j) of sum_{i<j} i^m, for the modes at exactly 1."""
+    return {
+        0: [0.0, 1.0],
+        1: [0.0, -0.5, 0.5],
+        2: [0.0, 1 / 6, -0.5, 1 / 3],
+        3: [0.0, 0.0, 0.25, -0.5, 0.25],
+    }[m]
+
+
+_NODES = (0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0)
+_NODES_INV = [[float(x) for x in row] for row in np.linalg.inv(
+    np.array([[x ** m for m in range(4)] for x in _NODES]))]
+
+
+def _poly_eval(c: list, j: float):
+    out = 0.0
+    for coefficient in reversed(c):
+        out = out * j + coefficient
+    return out
+
+
+def _poly_range(c: list[float], n: float) -> tuple[float, float] | None:
+    """(min, max) of a real polynomial (degree <= 3) over [0, n]; None if degree > 3."""
+    while len(c) > 1 and c[-1] == 0.0:
+        c = c[:-1]
+    if len(c) > 4:
+        return None
+    points = [0.0, n]
+    if len(c) == 3:  # derivative linear
+        if c[2] != 0.0:
+            points.append(-c[1] / (2.0 * c[2]))
+    elif len(c) == 4:  # derivative quadratic: 3 c3 j^2 + 2 c2 j + c1
+        qa, qb, qc = 3.0 * c[3], 2.0 * c[2], c[1]
+        disc = qb * qb - 4.0 * qa * qc
+        if disc >= 0.0:
+            root = math.sqrt(disc)
+            points += [(-qb - root) / (2.0 * qa), (-qb + root) / (2.0 * qa)]
+    values = [_poly_eval(c, j) for j in points if 0.0 <= j <= n]
+    return min(values), max(values)
+
+
+class _Solution:
+    """The closed-form trajectory of a _Modal system from a start state under polynomial
+    inputs: each mode is a polynomial particular part plus a decaying lambda^j part."""
+
+    __slots__ = ("modal", "P", "delta", "W")
+
+    def __init__(self, modal: _Modal, X0: list[float], W: list[list[float]]) -> None:
+        self.modal = modal
+        self.W = W  # per input: polynomial coefficients in j (length 4)
+        n = modal.n
+        z0 = [sum(modal.Vinv[i][k] * X0[k] for k in range(n)) for i in range(n)]
+        self.P: list[list[complex]] = []
+        self.delta: list[complex] = []
+        for i in range(n):
+            D = [sum(modal.VB[i][q] * W[q][m] for q in range(len(W))) for m in range(4)]
+            lam = modal.lam[i]
+            if modal.unit[i]:
+                P = [z0[i], 0j, 0j, 0j, 0j]
+                for m in range(4):
+                    if D[m]:
+                        for d, coefficient in enumerate(_faulhaber(m)):
+                            P[d] += D[m] * coefficient
+                self.P.append(P)
+                self.delta.append(0j)
+                continue
+            k = 1.0 - lam
+            P3 = D[3] / k
+            P2 = (D[2] - 3.0 * P3) / k
+            P1 = (D[1] - 2.0 * P2 - 3.0 * P3) / k
+            P0 = (D[0] - P1 - P2 - P3) / k
+            self.P.append([P0, P1, P2, P3])
+            self.delta.append(z0[i] - P0)
+
+    def state(self, j: int) -> list[float]:
+        modal = self.modal
+        z = [_poly_eval(self.P[i], j) + self.delta[i] * modal.lam[i] ** j
+             for i in range(modal.n)]
+        return [sum(modal.V[r][i] * z[i] for i in range(modal.n)).real
+                for r in range(modal.n)]
+
+    def output_bounds(self, name: str, n: int) -> tuple[float, float] | None:
+        """A conservative (min, max) of an output over ticks 0..n, or None."""
+        modal = self.modal
+        if not modal.stable:
+            return None
+        g, dW = modal.outputs[name]
+        degree = max(len(p) for p in self.P)
+        poly = [0.0] * degree
+        transient = 0.0
+        for i in range(modal.n):
+            for m, coefficient in enumerate(self.P[i]):
+                poly[m] += (g[i] * coefficient).real
+            transient += abs(g[i] * self.delta[i])
+        for q, weight in enumerate(dW):
+            if weight:
+                for m in range(4):
+                    poly[m] += weight * self.W[q][m]
+        span = _poly_range(poly, float(n))
+        if span is None:
+            return None
+        return span[0] - transient, span[1] + transient
+
+    def outputs_per_tick(self, names: list[str], n: int) -> dict[str, np.ndarray]:
+        """Exact outputs at ticks 0..n-1 (vectorized), where a bound was not enough."""
+        modal = self.modal
+        j = np.arange(n, dtype=float)
+        Z = np.empty((modal.n, n), dtype=complex)
+        for i in range(modal.n):
+            Z[i] = np.polyval(list(reversed(self.P[i])), j) + self.delta[i] * np.power(
+                modal.lam[i], j)
+        out = {}
+        for name in names:
+            g, dW = modal.outputs[name]
+            value = (np.asarray(g) @ Z).real
+            for q, weight in enumerate(dW):
+                if weight:
+                    value = value + weight * np.polyval(list(reversed(self.W[q])), j)
+            out[name] = value
+        return out
+
+
+@lru_cache(maxsize=512)
+def _closed_loop(gains: Gains, plant_matrices: tuple[float, ...]) -> _Modal:
+    """The PID and plant as one linear system. States: position, velocity, error sum,
+    previous error. Inputs: commanded position (loop frame) and the feed-forward sum."""
+    a11, a12, a21, a22, b1, b2 = plant_matrices
+    kp, kd, ki = gains.kp, gains.kd, gains.ki_per_tick
+    K = kp + kd + ki
+    A = np.array([
+        [a11 - b1 * K, a12, b1 * ki, -b1 * kd],
+        [a21 - b2 * K, a22, b2 * ki, -b2 * kd],
+        [-1.0, 0.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0, 0.0],
+    ])
+    B = np.array([[b1 * K, b1], [b2 * K, b2], [1.0, 0.0], [1.0, 0.0]])
+    outputs = {
+        "u": ([-K, 0.0, ki, -kd], [K, 1.0]),  # DAC before saturation
+        "e": ([-1.0, 0.0, 0.0, 0.0], [1.0, 0.0]),
+        "w": ([0.0, 1.0, 0.0, 0.0], [0.0, 0.0]),
+        "s": ([-1.0, 0.0, 1.0, 0.0], [1.0, 0.0]),  # the sum after this tick's error
+    }
+    if ki == 0.0:  # no integrator: drop its state (it would be a mode at exactly 1)
+        A = A[np.ix_([0, 1, 3], [0, 1, 3])]
+        B = B[[0, 1, 3]]
+        outputs = {k: ([v[0][0], v[0][1], v[0][3]], v[1]) for k, v in outputs.items()
+                   if k != "s"}
+    return _Modal(A, B, outputs)
+
+
+@lru_cache(maxsize=256)
+def _open_loop(plant_matrices: tuple[float, ...]) -> _Modal:
+    a11, a12, a21, a22, b1, b2 = plant_matrices
+    A = np.array([[a11, a12], [a21, a22]])
+    B = np.array([[b1], [b2]])
+    return _Modal(A, B, {"w": ([0.0, 1.0], [0.0])})
+
+
+# ---- the loop of one axis -------------------------------------------------------------
+class ServoLoop:
+    """The servo state of one PSM axis: plant position/velocity, the filter's memory and
+    whether the loop is closed. ``tick`` is how far the loop has been simulated."""
+
+    def __init__(self, position: float, tick: int) -> None:
+        self.p = float(position)  # plant position, counts since power-up (physical)
+        self.w = 0.0  # plant velocity, counts/s
+        self.s = 0.0  # error sum
+        self.q = 0.0  # previous error
+        self.closed = False  # PSM powers up open loop: the DAC puts out KO (manual 2.9)
+        self.tripped = False  # following error exceeded: PID disabled until CL1/HN
+        self.slipped = False  # EA's third letter after a trip, until CL1/HN
+        self.stuck = False  # held by static friction
+        self.tick = tick
+        self.trip_tick: int | None = None
+        self.dac = 0.0  # last output, DAC counts (after saturation)
+        self.r_prev: float | None = None  # commanded position of the last two ticks
+        self.r_prev2: float | None = None
+        self.recorder: list | None = None  # per-tick samples for the tuning plot
+
+    # ---- what the host reads ---------------------------------------------------------
+    def encoder_counts(self) -> int:
+        """The encoder counter: the count whose cell holds the position."""
+        return math.floor(self.p + 0.5)
+
+    def reset_filter(self, error: float) -> None:
+        """LP/CL1: start the filter afresh (no accumulated sum, no derivative kick)."""
+        self.s = 0.0
+        self.q = error
+        self.r_prev = self.r_prev2 = None
+
+    # ---- simulation ------------------------------------------------------------------
+    def advance(self, axis: Axis, board: Board, to_tick: int) -> None:
+        """Simulate up to `to_tick` (exclusive of its inputs). Stops early at a
+        following-error trip, leaving ``trip_tick`` for the board to act on."""
+        if self.trip_tick is not None:
+            return
+        plant = board.world.axes[axis.index].motor
+        matrices = plant.discrete(board.period)
+        friction = plant.coefficients()[2]
+        gains = axis.config.gains
+        while self.tick < to_tick:
+            if self.recorder is not None:
+                self._scalar(axis, board, matrices, friction, gains, to_tick - self.tick)
+            else:
+                self._segment(axis, board, matrices, friction, gains, to_tick)
+            if self.trip_tick is not None:
+                return
+
+    def _commanded(self, axis: Axis, board: Board, tick: int) -> float:
+        """Commanded position (counter frame, exact float) at a tick."""
+        m = axis.motion
+        base = axis.steps + axis.counter_offset
+        if m is None:
+            return float(base)
+        if axis.motion_end is not None and tick >= axis.motion_end:
+            return float(base + m.final_offset)
+        return base + m.offset((tick - axis.motion_start) * board.period)
+
+    def _piece(self, axis: Axis, board: Board, tick: int) -> tuple[int | None, bool]:
+        """The tick where the commanded position's present polynomial piece ends (None:
+        never) and whether it is a polynomial (cosine ramps are not)."""
+        m = axis.motion
+        if m is None or (axis.motion_end is not None and tick >= axis.motion_end):
+            return None, True
+        period = board.period
+        t = (tick - axis.motion_start) * period
+        phase = m._phase_at(t)
+        if phase is None:
+            return axis.motion_end, True
+        from .profiles import RampShape
+
+        end_t = phase.t0 + phase.duration
+        ramp = phase.v1 != phase.v2
+        if ramp and phase.shape is RampShape.SCURVE and t < phase.t0 + phase.duration / 2:
+            end_t = phase.t0 + phase.duration / 2
+        polynomial = not (ramp and phase.shape is RampShape.COSINE)
+        if math.isinf(end_t):
+            end = axis.motion_end
+        else:
+            end = axis.motion_start + math.ceil(end_t / period - 1e-9)
+            if axis.motion_end is not None:
+                end = min(end, axis.motion_end)
+            end = max(end, tick + 1)
+        return end, polynomial
+
+    def _segment(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+                 gains: Gains, to_tick: int) -> None:
+        """Advance as far as one closed-form jump allows; scalar steps where it can't."""
+        end, polynomial = self._piece(axis, board, self.tick)
+        limit = to_tick if end is None else min(end, to_tick)
+        n = limit - self.tick
+        # The first two ticks of a piece take their velocity and acceleration from the
+        # piece before: step them one by one, as any tick where the loop is nonlinear.
+        if (not polynomial or n < 8 or self.r_prev2 is None or self.stuck
+                or (friction and self.w == 0.0)):
+            open_loop = not self.closed or self.tripped
+            if self.stuck and end is None:
+                if open_loop:
+                    self._stuck_open(friction, gains, limit)
+                    return
+                if self._stuck_closed(axis, board, friction, gains, limit):
+                    return
+            if (self.stuck and polynomial and not open_loop and n >= 8
+                    and self._stuck_moving(axis, board, gains, friction, n)):
+                return
+            # two ticks bring the velocity/acceleration history onto this piece
+            self._scalar(axis, board, matrices, friction, gains, min(n, 2) if polynomial
+                         else n)
+            return
+        taken = self._jump(axis, board, matrices, friction, gains, n)
+        if taken is not True:
+            # off the polynomial (a new piece): two ticks; nonlinear: a few more
+            self._scalar(axis, board, matrices, friction, gains,
+                         min(n, 2 if taken is None else 16))
+
+    def _inputs(self, axis: Axis, board: Board, n: int, gains: Gains,
+                friction_drive: float) -> tuple[list[float], list[float]] | None:
+        """Polynomial coefficients (in j = tick - self.tick) of the commanded position
+        (loop frame) and of the feed-forward sum over the next n ticks."""
+        t0 = self.tick
+        span = float(n - 1)
+        # the exact cubic through 4 samples spread over the piece (normalised abscissa)
+        ys = [self._commanded(axis, board, t0 + x * span) for x in _NODES]
+        cx = [sum(_NODES_INV[row][k] * ys[k] for k in range(4)) for row in range(4)]
+        r = [cx[m] / span ** m for m in range(4)]
+        eo = axis.encoder_offset
+        r[0] -= eo  # loop frame: e = r' - p
+        # v(j) = r(j) - r(j-1), a(j) = v(j) - v(j-1)
+        c1, c2, c3 = r[1], r[2], r[3]
+        v = [c1 - c2 + c3, 2 * c2 - 3 * c3, 3 * c3, 0.0]
+        a = [v[1] - v[2], 2 * v[2], 0.0, 0.0]
+        for back, seen in ((-1.0, self.r_prev), (-2.0, self.r_prev2)):
+            if seen is None:
+                return None
+            if abs(_poly_eval(r, back) - (seen - eo)) > 1e-9 * max(1.0, abs(seen)) + 1e-6:
+                return None  # the last two ticks were not on this polynomial
+        m = axis.motion
+        sign_v = 0.0
+        if m is not None and (axis.motion_end is None or self.tick < axis.motion_end):
+            phase = m._phase_at((self.tick - axis.motion_start) * board.period)
+            if phase is not None and (phase.v1 or phase.v2):
+                sign_v = float(phase.direction)
+        if not self.closed or self.tripped:
+            u = 0.0 if self.tripped else gains.ko
+            return r, [u - friction_drive, 0.0, 0.0, 0.0]
+        ff = [gains.kv * v[m_] + gains.ka * a[m_] for m_ in range(4)]
+        ff[0] += gains.kf * sign_v + gains.ko - friction_drive
+        return r, ff
+
+    def _jump(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+              gains: Gains, n: int) -> bool | None:
+        """Jump n ticks in closed form if the loop stays linear; else as far as it does.
+        False when not even one tick could be taken this way, None when the last ticks
+        were not on the present polynomial piece."""
+        closed = self.closed and not self.tripped
+        modal = _closed_loop(gains, matrices) if closed else _open_loop(matrices)
+        if not modal.ok:
+            return False
+        sign = (1.0 if self.w > 0 else -1.0) if friction else 0.0
+        inputs = self._inputs(axis, board, n, gains, friction * sign)
+        if inputs is None:
+            return None
+        r, ff = inputs
+        integrating = closed and gains.ki > 0
+        if closed:
+            X0 = [self.p, self.w, self.s, self.q] if integrating else [self.p, self.w, self.q]
+            W = [r, ff]
+        else:
+            X0 = [self.p, self.w]
+            W = [ff]
+        sol = _Solution(modal, X0, W)
+        checks: list[tuple[str, float, float]] = []
+        if closed:
+            checks.append(("u", -DAC_LIMIT, DAC_LIMIT))
+            checks.append(("e", -FOLLOWING_ERROR_LIMIT, FOLLOWING_ERROR_LIMIT))
+            if integrating:
+                limit = gains.integral_sum_limit
+                checks.append(("s", -limit, limit))
+        if friction:
+            checks.append(("w", 0.0, math.inf) if sign > 0 else ("w", -math.inf, 0.0))
+        take = n
+        exact_needed = []
+        for name, low, high in checks:
+            bounds = sol.output_bounds(name, n)
+            if bounds is None or bounds[0] <= low or bounds[1] >= high:
+                exact_needed.append((name, low, high))
+        if exact_needed:
+            take = min(n, 4096)
+            values = sol.outputs_per_tick([c[0] for c in exact_needed], take + 1)
+            for name, low, high in exact_needed:
+                bad = np.flatnonzero((values[name] <= low) | (values[name] >= high))
+                if name != "w":
+                    bad = bad[bad < take]
+                else:  # velocity must keep its sign through the end state too
+                    bad = bad[bad <= take]
+                    if len(bad):
+                        bad = bad - 1  # the tick during which it changed sign
+                if len(bad):
+                    take = min(take, int(bad[0]))
+            if take <= 0:
+                return False
+        X = sol.state(take)
+        if closed:
+            if integrating:
+                self.p, self.w, self.s, self.q = X
+            else:
+                self.p, self.w, self.q = X
+        else:
+            self.p, self.w = X
+        self.r_prev = _poly_eval(r, take - 1) + axis.encoder_offset
+        self.r_prev2 = _poly_eval(r, take - 2) + axis.encoder_offset
+        self.tick += take
+        return True
+
+    def _stuck_open(self, friction: float, gains: Gains, limit: int) -> None:
+        """Open loop and held by friction: the DAC output is constant, nothing moves."""
+        u = gains.ko if not self.tripped else 0.0
+        if abs(u) <= friction:
+            self.dac = u
+            self.tick = limit
+        else:
+            self.stuck = False
+
+    def _stuck_moving(self, axis: Axis, board: Board, gains: Gains, friction: float,
+                      n: int) -> bool:
+        """Closed loop, held by static friction while the commanded position moves (the
+        start of a move): the motor stays put until the output exceeds the friction.
+        Everything but the plant is a polynomial in the tick: find the breakaway tick."""
+        inputs = self._inputs(axis, board, n, gains, 0.0)
+        if inputs is None:
+            return False
+        r, ff = inputs
+        take = min(n, 4096)
+        j = np.arange(take + 1, dtype=float)
+        e = np.polyval(r[::-1], j) - self.p
+        e_prev = np.empty_like(e)
+        e_prev[0] = self.q
+        e_prev[1:] = e[:-1]
+        ki = gains.ki_per_tick
+        if ki > 0:
+            summed = np.where(np.abs(e) < SETTLED_ERROR, 0.0, e)  # as _scalar: held
+            s = self.s + np.cumsum(summed)
+            cap = gains.integral_sum_limit
+        else:
+            s = np.zeros_like(e)
+            cap = math.inf
+        u = (gains.kp * e + gains.kd * (e - e_prev) + ki * s + np.polyval(ff[::-1], j))
+        bad = np.flatnonzero((np.abs(u) > friction) | (np.abs(e) > FOLLOWING_ERROR_LIMIT)
+                             | (np.abs(s) > cap))
+        k = int(bad[0]) if len(bad) else take
+        if k <= 0:
+            return False
+        # state after k stuck ticks: the sum holds k errors, q the last one
+        self.s = float(s[k - 1]) if ki > 0 else 0.0
+        self.q = float(e[k - 1])
+        self.dac = float(max(-DAC_LIMIT, min(DAC_LIMIT, u[k - 1])))
+        self.r_prev = _poly_eval(r, k - 1) + axis.encoder_offset
+        self.r_prev2 = _poly_eval(r, k - 2) + axis.encoder_offset
+        self.tick += k
+        return True
+
+    def _stuck_closed(self, axis: Axis, board: Board, friction: float, gains: Gains,
+                      limit: int) -> bool:
+        """Closed loop, at rest, held by static friction: the error is constant, so only
+        the integrator moves. Jump to the tick the output breaks away (or to `limit`)."""
+        r = self._commanded(axis, board, self.tick) - axis.encoder_offset
+        e = r - self.p
+        if abs(e) > FOLLOWING_ERROR_LIMIT or self.q != e:
+            return False
+        if abs(e) < SETTLED_ERROR:
+            e = 0.0  # below what the encoder can see: the integrator holds
+        ki = gains.ki_per_tick
+        base = gains.kp * e + gains.ko  # derivative term is 0: e == q
+        breaks = _breakaway(base, ki, self.s, e, gains.integral_sum_limit, friction)
+        # jump to just before the tick whose output breaks away; that tick is stepped
+        k = limit - self.tick if breaks is None else min(limit - self.tick, breaks - 1)
+        if k <= 0:
+            return False
+        if ki > 0:
+            cap = gains.integral_sum_limit
+            self.s = max(-cap, min(cap, self.s + k * e))
+            self.dac = max(-DAC_LIMIT, min(DAC_LIMIT, base + ki * self.s))
+        else:
+            self.dac = max(-DAC_LIMIT, min(DAC_LIMIT, base))
+        self.r_prev = self.r_prev2 = r + axis.encoder_offset
+        self.tick += k
+        return True
+
+    def _scalar(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+                gains: Gains, count: int) -> None:
+        """Step tick by tick: the reference semantics, used where the loop is nonlinear."""
+        a11, a12, a21, a22, b1, b2 = matrices
+        eo = axis.encoder_offset
+        kp, kd, ki, kv, ka, kf, ko = (gains.kp, gains.kd, gains.ki_per_tick, gains.kv,
+                                      gains.ka, gains.kf, gains.ko)
+        cap = gains.integral_sum_limit
+        recorder = self.recorder
+        for _ in range(count):
+            tick = self.tick
+            r_abs = self._commanded(axis, board, tick)
+            r = r_abs - eo
+            v = 0.0 if self.r_prev is None else r_abs - self.r_prev
+            v_prev = 0.0 if self.r_prev is None or self.r_prev2 is None \
+                else self.r_prev - self.r_prev2
+            a = v - v_prev
+            e = r - self.p
+            if self.tripped:
+                u = 0.0
+            elif not self.closed:
+                u = ko
+            else:
+                if abs(e) > FOLLOWING_ERROR_LIMIT:
+                    self.trip_tick = tick
+                    return
+                held = self.stuck and abs(e) < SETTLED_ERROR  # invisible to the encoder
+                s = self.s + e if ki > 0 and not held else self.s if ki > 0 else 0.0
+                s = max(-cap, min(cap, s))
+                sign_v = 1.0 if v > 1e-12 else -1.0 if v < -1e-12 else 0.0
+                u = kp * e + kd * (e - self.q) + ki * s + kv * v + ka * a + kf * sign_v + ko
+                self.s, self.q = s, e
+            u = max(-DAC_LIMIT, min(DAC_LIMIT, u))
+            self.dac = u
+            self.r_prev2, self.r_prev = self.r_prev, r_abs
+            if recorder is not None:
+                recorder.append((tick, r_abs, self.p + eo, v, self.w, e, u))
+            self.tick = tick + 1
+            if self.stuck:
+                if abs(u) <= friction:
+                    continue
+                self.stuck = False
+            w = self.w
+            if friction:
+                direction = (1.0 if w > 0 else -1.0) if w else (1.0 if u > 0 else -1.0)
+                drive = u - friction * direction
+                if w == 0.0 and abs(u) <= friction:
+                    self.stuck = True
+                    continue
+            else:
+                drive = u
+            p_new = a11 * self.p + a12 * w + b1 * drive
+            w_new = a21 * self.p + a22 * w + b2 * drive
+            if friction and w != 0.0 and (w_new > 0) != (w > 0) and abs(u) <= friction:
+                w_new = 0.0  # friction stopped the motor within this tick
+                self.stuck = True
+            self.p, self.w = p_new, w_new
+
+
+def _breakaway(base: float, ki: float, s: float, e: float, cap: float,
+               friction: float) -> int | None:
+    """How many more errors summed make ``|base + ki*sum|`` exceed the static friction
+    (the sum grows by e each tick, clamped at +/-cap); None if never: the axis stays."""
+    if abs(e) < SETTLED_ERROR or ki <= 0.0:
+        return None if abs(base + ki * s) <= friction else 1
+    step = e
+    final = max(-cap, min(cap, s + step * 1e18))
+    if abs(base + ki * final) <= friction:
+        return None
+    # the output crosses +friction or -friction, whichever it heads for
+    target = friction if step > 0 else -friction
+    needed = ((target - base) / ki - s) / step
+    return max(1, math.floor(needed) + 1)
