@@ -15,7 +15,7 @@ Nothing here reads the wall clock: time moves only when you advance it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .commands.interpreter import Interpreter
 from .commands.lexer import SEPARATORS
@@ -137,6 +137,20 @@ class MAXk:
     def bounce(self, letter: str, switch: str, steps: int) -> None:
         """Make a switch ('plus', 'minus' or 'home') chatter within `steps` of its edges."""
         getattr(self.stage(letter), self._switch(switch)).bounce = max(0, int(steps))
+        self.board.world_changed()
+
+    def miss_steps(self, letter: str, steps: int) -> None:
+        """A stepper misses `steps` steps now (negative: the stage overshoots): its stage
+        lags the motor from here on, so an encoder (PSE) sees the slip."""
+        self.stage(letter).lost_steps += int(steps)
+        self.board.world_changed()
+
+    def set_motor(self, letter: str, **parameters: object) -> None:
+        """Change the motor a servo axis drives (see MotorPlant: inertia,
+        viscous_friction, coulomb_friction, torque_constant, amplifier, amplifier_gain,
+        resistance, encoder_lines)."""
+        stage = self.stage(letter)
+        stage.motor = replace(stage.motor, **parameters)  # type: ignore[arg-type]
         self.board.world_changed()
 
     def capture(self, letter: str, *, home: str | None | bool = False, index: bool | None = None,

@@ -17,9 +17,11 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import fields
 
 from .controller import MAXk
 from .firmware_model.capture import EDGES
+from .firmware_model.servo import MotorPlant
 from .firmware_model.world import SWITCHES
 
 Setting = Callable[[MAXk], str]
@@ -98,6 +100,26 @@ def parse_world(text: str) -> Setting:
         steps = _int(args[1], "a number of steps")
         switch = args[0].lower()
         return lambda b: (b.bounce(letter, switch, steps), f"{letter} bounce {switch} {steps}")[1]
+    if what == "miss" and len(args) == 1:
+        steps = _int(args[0], "a number of steps")
+        return lambda b: (b.miss_steps(letter, steps), f"{letter} miss {steps}")[1]
+    if what == "motor" and args:
+        parameters: dict[str, object] = {}
+        for arg in args:
+            key, _, value = arg.partition("=")
+            if not value:
+                raise ValueError("motor NAME=VALUE ... (e.g. motor inertia=1e-5 "
+                                 "amplifier=current)")
+            parameters[key.replace("-", "_")] = value if key == "amplifier" else float(value)
+        if "encoder_lines" in parameters:
+            parameters["encoder_lines"] = int(parameters["encoder_lines"])  # type: ignore
+        try:
+            MotorPlant(**parameters)  # type: ignore[arg-type]
+        except TypeError:
+            names = ", ".join(f.name for f in fields(MotorPlant))
+            raise ValueError(f"motor parameters are {names}") from None
+        return lambda b: (b.set_motor(letter, **parameters),
+                          f"{letter} motor {' '.join(args)}")[1]
     if what == "capture" and args:
         return _capture(letter, args)
     raise ValueError(f"cannot read {text!r}; see docs/io.md for the world settings")

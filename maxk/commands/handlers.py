@@ -78,8 +78,24 @@ def _set(attr: str, constant: object = _OPERAND) -> QueuedFactory:
     return factory
 
 
-def _velocity(value: object, ctx: Context) -> Action:
+def encoder_mode(axis: Axis) -> bool:
+    """ER put this encoder stepper in encoder mode: operands are encoder counts."""
+    counts, steps = axis.config.encoder_ratio
+    return axis.config.axis_type == "E" and counts != steps
+
+
+def in_steps(axis: Axis, value: object, least: int = 0) -> int:
+    """A distance, velocity or acceleration operand in motor steps (encoder mode
+    converts it from encoder counts, rounding to the nearest step)."""
+    if not encoder_mode(axis):
+        return value  # type: ignore[return-value]
+    steps = round(axis.to_steps(value))  # type: ignore[arg-type]
+    return max(least, steps) if value >= 0 else steps  # type: ignore[operator]
+
+
+def _velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
+        value = in_steps(axis, raw, 1)
         if value <= axis.config.base_velocity:  # type: ignore[operator]
             board.report_error(f"VL{value} is not above VB{axis.config.base_velocity}",
                                f"A{axis.letter} VL{value}")
@@ -89,8 +105,9 @@ def _velocity(value: object, ctx: Context) -> Action:
     return action
 
 
-def _base_velocity(value: object, ctx: Context) -> Action:
+def _base_velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
+        value = in_steps(axis, raw)
         if value >= axis.config.velocity:  # type: ignore[operator]
             board.report_error(f"VB{value} is not below VL{axis.config.velocity}",
                                f"A{axis.letter} VB{value}")
@@ -100,8 +117,9 @@ def _base_velocity(value: object, ctx: Context) -> Action:
     return action
 
 
-def _acceleration(value: object, ctx: Context) -> Action:
+def _acceleration(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
+        value = in_steps(axis, raw, 1)
         axis.config.acceleration = value  # type: ignore[assignment]
         axis.config.deceleration = value  # type: ignore[assignment]
 
@@ -120,9 +138,24 @@ def _ramp(shape: RampShape) -> QueuedFactory:
     return factory
 
 
+def _deceleration(raw: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.config.deceleration = in_steps(axis, raw, 1)
+
+    return action
+
+
 def _move_absolute(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
-        axis.pending_target = value  # type: ignore[assignment]
+        target = value
+        if encoder_mode(axis):  # an encoder position: go by the encoder's distance to it
+            distance = value - axis.encoder_position(board)  # type: ignore[operator]
+            target = axis.motor_position(board) + in_steps(axis, distance)
+            if not POSITION_MIN <= target <= POSITION_MAX:  # type: ignore[operator]
+                board.report_error(f"target {target} is outside the 32-bit position range",
+                                   f"A{axis.letter} MA{value}")
+                return
+        axis.pending_target = target  # type: ignore[assignment]
         axis.pending_linear = None
 
     return action
@@ -144,7 +177,7 @@ def linear_target(move: LinearMove, value: int, relative: bool) -> Action:
 
 def _move_relative(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
-        target = axis.motor_position(board) + value  # type: ignore[operator]
+        target = axis.motor_position(board) + in_steps(axis, value)
         if not POSITION_MIN <= target <= POSITION_MAX:
             board.report_error(f"target {target} is outside the 32-bit position range",
                                f"A{axis.letter} MR{value}")
@@ -184,7 +217,7 @@ def go_together(group: StartGroup) -> Action:
 
 def _jog(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
-        axis.start_jog(value, board)  # type: ignore[arg-type]
+        axis.start_jog(in_steps(axis, value), board)
         if axis.motion is not None and axis.ramp_end > board.tick:
             return ("tick", axis.ramp_end)
         return None
@@ -435,7 +468,7 @@ def _loop(on: bool, mnemonic: str) -> QueuedFactory:
             if axis.config.axis_type == "E":
                 axis.holding = closing
                 if closing:
-                    board.hold_here(axis)
+                    board.maintain(axis)
                 return
             board.report_error(f"{mnemonic}: axis {axis.letter} is an open-loop stepper "
                                "(PSO): no encoder to close the loop on",
@@ -446,11 +479,31 @@ def _loop(on: bool, mnemonic: str) -> QueuedFactory:
     return factory
 
 
+def _encoder_ratio(value: object, ctx: Context) -> Action:
+    """ER counts,steps: the encoder ratio; an encoder stepper other than 1:1 is then in
+    encoder mode (evidence 2.4). Motor and encoder are taken to agree from here."""
+    counts, steps = value  # type: ignore[misc]
+
+    def action(axis: Axis, board: Board) -> None:
+        if counts <= 0 or steps <= 0:
+            board.report_error("ER: both operands must be positive (encoder counts, motor "
+                               "steps)", f"A{axis.letter} ER{counts},{steps}")
+            return
+        here = axis.encoder_position(board)
+        axis.config.encoder_ratio = (counts, steps)
+        if axis.servo is None:  # the encoder counter reads on where it was
+            axis.encoder_offset = 0
+            axis.encoder_offset = here - axis.encoder_position(board)
+        axis.resync(board)
+
+    return action
+
+
 QUEUED: dict[str, QueuedFactory] = {
     "VL": _velocity,
     "VB": _base_velocity,
     "AC": _acceleration,
-    "DC": _set("deceleration"),
+    "DC": _deceleration,
     "LA": _ramp(RampShape.LINEAR),
     "PF": _ramp(RampShape.LINEAR),
     "PN": _ramp(RampShape.PARABOLIC),
@@ -476,6 +529,14 @@ QUEUED: dict[str, QueuedFactory] = {
     "LE": _loop_end,
     "PS": _axis_type,
     "CL": _loop(True, "CL"),
+    "ER": _encoder_ratio,
+    "ES": _set("slip_tolerance"),
+    "TN": _set("slip_detect", True),
+    "TF": _set("slip_detect", False),
+    "IS": _set("slip_detect", True),
+    "HV": _set("hold_velocity"),
+    "HD": _set("hold_deadband"),
+    "HG": _set("hold_gain"),
     "HN": _loop(True, "HN"),
     "HF": _loop(False, "HF"),
     "KP": _gain("kp"),
@@ -654,10 +715,18 @@ def _queue_free(ctx: Context) -> str:
 
 
 def _encoder_status(axis: Axis, board: Board) -> str:
-    # slip detection enabled, position maintenance enabled, slipped, in deadband, and
-    # "encoder at home (index)" (evidence 3.4): the index mark under the encoder now
+    """Slip detection enabled E|D, position maintenance (or a servo's loop) enabled E|D,
+    slipped S|N (the latched slip flag: a stall, or a servo's following-error trip),
+    within the deadband D|N (while maintaining position), and the index mark under the
+    encoder H|N (evidence 3.4)."""
+    c = axis.config
     at_index = board.world.axes[axis.index].index_active(axis.steps_now(board))
-    return "DDNN" + ("H" if at_index else "N")
+    in_band = axis.holding and abs(axis.position_error(board)) <= c.hold_deadband
+    return (("E" if c.slip_detect and axis.servo is None else "D")
+            + ("E" if axis.loop_closed else "D")
+            + ("S" if axis.flags & F.AXIS_SLIP else "N")
+            + ("D" if in_band else "N")
+            + ("H" if at_index else "N"))
 
 
 def _encoder_report(ctx: Context) -> str:

@@ -428,8 +428,47 @@ _SPECS: list[CommandSpec] = [
        "normal.", operand=Operand.LETTER, letters="+-", source="manual 2.9 step 5",
        notes="Inverting the output of a motor that was wired right makes the loop run away "
        "until the following-error trip, as a real one does."),
+    CommandSpec("ER", "encoder", "Encoder ratio: encoder counts, motor steps (ER4000,1000).",
+                Timing.QUEUED, units=3, operand=Operand.NUMBER, per_axis=False, arity=2,
+                modes=frozenset({SINGLE}), value_range=(1.0, 2_147_483_647.0),
+                source="evidence 2.4 (README: encoder mode); EPICS devOmsCom.cc (ER enc,mot)",
+                confidence="I",
+                notes="On an encoder stepper (PSE) a ratio other than 1:1 is encoder mode: MA, "
+                "MR, JG, VL, VB, AC, DC and HV take encoder counts, converted to the nearest "
+                "motor step. RP, LP, LO and RV/RC stay in motor steps, RE/LPE in encoder "
+                "counts (D: the reports are not settled by the evidence; EPICS's asyn driver "
+                "reads RE and loads LO with RE/ratio, which fits). ER1,1 undoes it. "
+                "Single-axis mode only (the DLL sends AXER#,#)."),
+    _q("ES", "encoder", "Encoder slip tolerance, encoder counts (factory 0).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0),
+       source="evidence 2.4 (VIPER `ES# TN`); manual 2.14", confidence="I",
+       notes="With TN, a disagreement of more than ES counts between the motor counter and "
+       "the encoder (measured from where they last agreed: LP, LO, LPE, ER, PS, home) "
+       "is a stall."),
+    _q("TN", "encoder", "Stall (slip) detection on: a slip stops the axis at once, flushes "
+       "its queue and sets the slip flag.", source="evidence 2.4 (VIPER)", confidence="I",
+       notes="The stop (kill and flush, as a hard limit) is our decision (D); the flag is "
+       "doorbell bit 16+i and EA's 'S'."),
+    _q("TF", "encoder", "Stall (slip) detection off (factory).", source="evidence 2.4",
+       confidence="I"),
+    _q("IS", "encoder", "Slip detection on (the DLL's EnableOmsSlipDetection sends AXIS).",
+       source="evidence 2.4 (DLL-BIN)", confidence="I", notes="Modelled as TN."),
+    _q("HV", "encoder", "Position maintenance hold velocity (0: the axis's VL).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, float(MAX_VELOCITY)),
+       source="evidence 2.4 (VIPER `HV# HD# HG# HN`); manual 2.14", confidence="I"),
+    _q("HD", "encoder", "Position maintenance deadband, encoder counts.", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 32767.0),
+       source="evidence 2.4; manual 2.14", confidence="I"),
+    _q("HG", "encoder", "Position maintenance hold gain.", units=2, operand=Operand.NUMBER,
+       value_range=(0.0, 32767.0), source="evidence 2.4; manual 2.14", confidence="I",
+       notes="Stored (and archived by APP) only: a correction runs at HV, not at a speed "
+       "scaled by HG, since no source says how the gain acts (docs/not-modelled.md)."),
     _q("HN", "servo", "Hold on: position maintenance on an encoder stepper; closes a servo's "
-       "loop (pre-1.30 form of CL1).", source="evidence 2.4, E4; manual 2.13", confidence="I"),
+       "loop (pre-1.30 form of CL1).", source="evidence 2.4, E4; manual 2.13", confidence="I",
+       notes="Position maintenance: at rest, when the encoder is more than HD counts from "
+       "where the motor counter says it should be, the axis steps back at HV; the correction "
+       "leaves RP unchanged. It waits while the queue has work. A PSO axis has no encoder: "
+       "a command error."),
     _q("HF", "servo", "Hold off: position maintenance off; opens a servo's loop (CL0).",
        source="evidence 2.4, E4", confidence="I"),
     _i("#UR", "config", "Update rate in Hz: 1024, 2048, 4096 or 8192 (976.6..122.1 us).",
@@ -506,7 +545,8 @@ GROUP_TITLES = {
     "aux": "Auxiliary outputs",
     "analog": "Analog I/O",
     "report": "Reports and queries",
-    "servo": "Servo loop (PSM axes)",
+    "servo": "Servo loop (PSM axes) and position maintenance",
+    "encoder": "Encoders on steppers (PSE axes)",
 }
 
 

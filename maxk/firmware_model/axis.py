@@ -87,6 +87,11 @@ class Axis:
     dac: int = 0  # AO: general purpose analog output count (non-servo axes)
     servo: ServoLoop | None = None  # the PID loop and motor of a PSM axis
     holding: bool = False  # HN on an encoder stepper: position maintenance
+    # Where motor and encoder counters last agreed (LP, LO, LPE, ER, PS, homing): the
+    # position error of an encoder stepper is measured from here (see position_error).
+    sync_motor: int = 0
+    sync_encoder: int = 0
+    correcting: int | None = None  # steps at the start of a position-maintenance move
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
 
@@ -112,7 +117,35 @@ class Axis:
     def encoder_position(self, board: Board) -> int:
         if self.servo is not None:
             return wrap32(self.servo.encoder_counts() + self.encoder_offset)
-        return wrap32(self.steps_at_tick(board.tick, board.period) + self.encoder_offset)
+        return wrap32(self.encoder_counts(self.steps_now(board), board) + self.encoder_offset)
+
+    def encoder_counts(self, steps: int, board: Board) -> int:
+        """What a stepper's encoder counts at a motor position: the stage lags the motor
+        by the steps it missed (a world fault), scaled by the ER ratio."""
+        stage = steps - board.world.axes[self.index].lost_steps
+        counts, motor_steps = self.config.encoder_ratio
+        if counts == motor_steps:
+            return stage
+        return stage * counts // motor_steps
+
+    def to_steps(self, counts: float) -> float:
+        """Encoder mode (ER): distances, velocities and accelerations arrive in encoder
+        counts; the motor runs in steps."""
+        counts_per, steps_per = self.config.encoder_ratio
+        return counts if counts_per == steps_per else counts * steps_per / counts_per
+
+    def position_error(self, board: Board) -> int:
+        """Encoder stepper: how far the encoder is from where the motor counter says it
+        should be (encoder counts), measured from the last point both agreed."""
+        counts, motor_steps = self.config.encoder_ratio
+        moved = self.motor_position(board) - self.sync_motor
+        expected = moved * counts // motor_steps if counts != motor_steps else moved
+        return expected - (self.encoder_position(board) - self.sync_encoder)
+
+    def resync(self, board: Board) -> None:
+        """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
+        self.sync_motor = self.motor_position(board)
+        self.sync_encoder = self.encoder_position(board)
 
     def velocity(self, board: Board) -> float:
         m = self.motion
@@ -152,6 +185,8 @@ class Axis:
     def start_motion(self, motion: Motion, board: Board, *, stopping: bool = False) -> bool:
         """Start a planned motion now. A motion into an active limit switch is refused
         (the overtravel flag is set instead); a stop is never refused."""
+        if not stopping:
+            self._end_correction()
         if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
             board.refuse_into_limit(self)
             return False
@@ -184,6 +219,7 @@ class Axis:
             self.direction = 1 if velocity > 0 else -1
         whole = int(exact)
         self.steps += whole
+        self._end_correction()
         self.rest_since = board.tick
         self.motion = None
         self.motion_end = None
@@ -245,10 +281,18 @@ class Axis:
             self.steps += m.final_offset
             if self.motion_end is not None:
                 self.rest_since = self.motion_end
+            self._end_correction()
         self.motion = None
         self.motion_end = None
         self.switch_tick = None
         self.capture_pending = []
+
+    def _end_correction(self) -> None:
+        """A position-maintenance move leaves the motor counter where it was: it moved
+        the stage back under the encoder, not the commanded position."""
+        if self.correcting is not None:
+            self.counter_offset -= self.steps - self.correcting
+            self.correcting = None
 
     def step(self, direction: int, board: Board) -> bool:
         """MO: one step in the MP/MM direction (refused into an active limit)."""
@@ -268,7 +312,8 @@ class Axis:
             if self.servo is not None:
                 self.encoder_offset = value - self.servo.encoder_counts()
             else:
-                self.encoder_offset = value - steps
+                self.encoder_offset = value - self.encoder_counts(steps, board)
+        self.resync(board)
         if self.servo is not None:  # LP0 zeroes the position error (manual 2.13)
             error = (steps + self.counter_offset) - (self.servo.p + self.encoder_offset)
             self.servo.reset_filter(error)

@@ -25,6 +25,7 @@ from .capture import (
 from .homing import Homing, home_condition, next_home_position
 from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
+from .profiles import plan_move
 from .world import World
 
 
@@ -172,6 +173,9 @@ class Board:
                             wait[0] == "input" or wait[1] <= now):
                         due.append(axis)
             self.run_queues(due)
+            for axis in due:
+                if axis.holding and axis.motion is None:
+                    self.maintain(axis)
             if self.capturing_inputs():
                 self._capture_inputs()
             if self._observers:
@@ -423,7 +427,8 @@ class Board:
         direction = axis.travel_direction(self)
         for bits, position in sorted(due, key=lambda d: d[1] * direction):
             self.capture_ring.push(CaptureEntry(
-                encoder_at(position, axis.encoder_offset), axis.index, bits))
+                encoder_at(axis.encoder_counts(position, self), axis.encoder_offset),
+                axis.index, bits))
 
     def _read_inputs(self) -> int:
         io = self.io
@@ -487,7 +492,47 @@ class Board:
             self._capture_inputs()
         for axis in self.axes:
             self.check_motion(axis)
+            self.check_slip(axis)
+            self.maintain(axis)
         self.run_queues()
+
+    # ---- encoder steppers: slip (stall) detection and position maintenance ------------
+    def check_slip(self, axis: Axis) -> None:
+        """TN with ES: an encoder stepper whose encoder disagrees with its motor by more
+        than the slip tolerance has stalled: the slip flag (doorbell bit 16+i, EA 'S'),
+        and the axis stops at once with its queue flushed, like a hard limit."""
+        c = axis.config
+        if c.axis_type != "E" or not c.slip_detect or axis.correcting is not None:
+            return
+        if abs(axis.position_error(self)) <= c.slip_tolerance:
+            return
+        self.set_axis_flag(axis, F.AXIS_SLIP)
+        for stopping in [axis, *axis.linked]:
+            stopping.linked = []
+            stopping.flush(self)
+            stopping.kill(self)
+
+    def maintain(self, axis: Axis) -> None:
+        """HN on an encoder stepper at rest: if the encoder is outside the deadband (HD)
+        of where the motor counter says it should be, step the stage back at the hold
+        velocity (HV). The correction does not change the motor counter (RP)."""
+        if not axis.holding or axis.motion is not None or axis.config.axis_type != "E":
+            return
+        if axis.wait is not None or len(axis.queue):
+            return  # the queue is busy: maintenance waits for the axis to be idle
+        error = axis.position_error(self)
+        if abs(error) <= axis.config.hold_deadband:
+            return
+        c = axis.config
+        steps = round(axis.to_steps(error))
+        if steps == 0:
+            return
+        velocity = max(1, round(axis.to_steps(c.hold_velocity))) if c.hold_velocity \
+            else c.velocity
+        origin = axis.steps
+        motion = plan_move(steps, 0, velocity, c.acceleration, c.deceleration, c.ramp)
+        if axis.start_motion(motion, self):
+            axis.correcting = origin
 
     def _home_reached(self, axis: Axis, homing: Homing) -> int | None:
         """The exact position where home was met during the last update cycle, if it was:
@@ -536,8 +581,11 @@ class Board:
         axis.homing = None
         if homing.load_value is not None:
             axis.counter_offset = homing.load_value - at
-            if axis.has_encoder:  # as LP does: encoder hosts read RE
-                axis.encoder_offset = homing.load_value - at
+            if axis.servo is not None:  # as LP does: encoder hosts read RE
+                axis.encoder_offset = homing.load_value - axis.servo.encoder_counts()
+            elif axis.has_encoder:
+                axis.encoder_offset = homing.load_value - axis.encoder_counts(at, self)
+        axis.resync(self)
         axis.stop(self)
 
     @staticmethod
@@ -580,7 +628,12 @@ class Board:
         self.period = 1.0 / rate_hz
         for axis in self.axes:
             axis.counter_offset = -axis.steps
-            axis.encoder_offset = -axis.steps
+            if axis.servo is not None:
+                axis.encoder_offset = -axis.servo.encoder_counts()
+                axis.servo.reset_filter(axis.steps - axis.servo.p)
+            else:
+                axis.encoder_offset = -axis.encoder_counts(axis.steps, self)
+            axis.resync(self)
 
     def stop_all(self) -> None:
         """SA: every axis stops as ST stops one."""

@@ -103,6 +103,7 @@ class AxisWorld:
     index_width: int = 4  # counts the index pulse stays high
     index_offset: int = 1280  # physical position of an index mark (inside the home window)
     motor: MotorPlant = field(default_factory=MotorPlant)  # what a servo (PSM) axis drives
+    lost_steps: int = 0  # steps a stepper's stage lags its motor by (missed-steps fault)
 
     def set_plus_limit(self, position: float | None) -> None:
         self.plus_limit = Switch(_checked(position), None, self.plus_limit.fault,
