@@ -373,6 +373,9 @@ class ServoLoop:
             return
         plant = board.world.axes[axis.index].motor
         matrices = plant.discrete(board.period)
+        if axis.config.servo_polarity < 0:  # SVP-: the DAC output inverted
+            a11, a12, a21, a22, b1, b2 = matrices
+            matrices = (a11, a12, a21, a22, -b1, -b2)
         friction = plant.coefficients()[2]
         gains = axis.config.gains
         while self.tick < to_tick:
