@@ -89,6 +89,57 @@ def steppers_varied(moves_per_axis: int = 250) -> Figure:
                   f"{moves_per_axis} different moves per axis, nothing reused")
 
 
+SERVO_GAINS = "KP100,100,100,100,100,100,100,100,100,100; KD400,400,400,400,400,400,400,400," \
+    "400,400; KI40,40,40,40,40,40,40,40,40,40; KU400,400,400,400,400,400,400,400,400,400; " \
+    "KV680,680,680,680,680,680,680,680,680,680;"
+
+
+SERVO_MOVES = {
+    # the stepper benchmark's moves: 0.1-0.4 s each, about three a second per axis
+    "short": ("MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777",
+              "MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777"),
+    # moves on the scale of the manual's tuning check (MR64000): 1.3-13 s each
+    "long": ("MR64000,-48000,32000,16000,64000,-64000,48000,-32000,-16000,-64000",
+             "MR-64000,48000,-32000,-16000,-64000,64000,-48000,32000,16000,64000"),
+}
+
+
+def servos_back_to_back(poll_hz: float | None, moves: str = "short",
+                        sim_seconds: float = 60.0) -> Figure:
+    """10 servo axes in closed loop (PID on the default motor plant every tick, Coulomb
+    friction included), each running an endless loop of back-to-back moves."""
+    there, back = SERVO_MOVES[moves]
+
+    def run() -> tuple[float, float]:
+        board = MAXk("MAXk-A000")
+        board.send("AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; "
+                   + SERVO_GAINS + " CL1,1,1,1,1,1,1,1,1,1;")
+        board.send("VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;")
+        board.send("AC500000,400000,300000,200000,100000,500000,400000,300000,200000,100000;")
+        board.send("AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
+                   f"1000000,1000000; {there}; GO; {back}; GO; LE;")
+        board.advance(0.01)  # python-control builds the plants once, on the first tick
+        start = time.perf_counter()
+        if poll_hz is None:
+            board.advance(sim_seconds)
+        else:
+            step = board.ticks(1.0 / poll_hz)
+            end = board.tick + board.ticks(sim_seconds)
+            while board.tick < end:
+                board.advance(ticks=step)
+                board.send("AM;RI;")
+                board.send("AM PE;")
+        wall = time.perf_counter() - start
+        assert board.query("AM;CL?;") == ",".join(["on"] * 10)  # no axis tripped
+        return sim_seconds, wall
+
+    work, wall = _best_of(3, run)
+    label = "no host polling" if poll_hz is None else f"host polling RI+PE at {poll_hz:g} Hz"
+    label += f", {moves} moves"
+    return Figure(f"servos_10_axes_{moves}_{'free' if poll_hz is None else 'polled'}",
+                  work / wall, "simulated s per wall s", 100.0, label)
+
+
 def command_throughput(n_lines: int = 4000) -> Figure:
     """Commands per second through lexer, interpreter and queues (executing as they go)."""
     line = ("AX;VL5000;AC50000;VB100;MR1000;LP0;ID;RP;AY;VL6000;MA-250;LPE5;CA;"
@@ -159,6 +210,9 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "steppers_free": lambda: steppers_back_to_back(None),
     "steppers_polled": lambda: steppers_back_to_back(10.0, sim_seconds=120.0),
     "steppers_varied": steppers_varied,
+    "servos_short": lambda: servos_back_to_back(None, "short", 30.0),
+    "servos_long": lambda: servos_back_to_back(None, "long", 120.0),
+    "servos_long_polled": lambda: servos_back_to_back(10.0, "long", 60.0),
     "commands": command_throughput,
     "lexer": lexer_throughput,
     "memory": memory_per_board,

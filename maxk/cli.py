@@ -65,6 +65,22 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_arguments(serve)
 
+    tune = sub.add_parser("tune", help="tuning assistant: run a move on a servo axis and "
+                          "plot commanded vs actual position, velocity, error and DAC")
+    tune.add_argument("gains", nargs="?", default="",
+                      help='gain commands, e.g. "KP100; KD400; KI40; KU400; KV680;"')
+    tune.add_argument("--move", default=None,
+                      help='the move, e.g. "AC100000; VL5000; MR6400; GO;" (the default)')
+    tune.add_argument("--seconds", type=float, default=None,
+                      help="sample this long (default: until done, plus settling)")
+    tune.add_argument("--motor", action="append", default=[], metavar="NAME=VALUE",
+                      help="a motor parameter (inertia, viscous_friction, coulomb_friction, "
+                      "torque_constant, amplifier, amplifier_gain, resistance, "
+                      "encoder_lines); repeat for more")
+    tune.add_argument("-o", "--output", type=Path, default=Path("tune.png"),
+                      help="the PNG to write (default tune.png)")
+    tune.add_argument("--no-plot", action="store_true", help="print the summary only")
+
     sub.add_parser("models", help="list the board models")
     return parser
 
@@ -86,6 +102,8 @@ def main(argv: list[str] | None = None) -> int:
         from .host.serve import main as serve_main
 
         return serve_main(args)
+    if args.command == "tune":
+        return _tune(args)
     if args.command == "models":
         for name, model in MODELS.items():
             print(f"{name}  {model.axes} axes  {model.axis_letters}")
@@ -150,6 +168,42 @@ def _run(args: argparse.Namespace) -> int:
         for failure in transcript.failures:
             print(f"FAIL {args.script}:{failure}", file=sys.stderr)
         return 1
+    return 0
+
+
+def _tune(args: argparse.Namespace) -> int:
+    from .tuning import DEFAULT_MOVE, tune
+
+    motor: dict[str, object] = {}
+    for item in args.motor:
+        key, _, value = item.partition("=")
+        if not value:
+            print(f"maxk tune: --motor {item!r}: say NAME=VALUE", file=sys.stderr)
+            return 2
+        key = key.replace("-", "_")
+        try:
+            motor[key] = value if key == "amplifier" else (
+                int(value) if key == "encoder_lines" else float(value))
+        except ValueError:
+            print(f"maxk tune: --motor {item!r}: not a number", file=sys.stderr)
+            return 2
+    try:
+        run = tune(args.gains, args.move or DEFAULT_MOVE, seconds=args.seconds, motor=motor)
+    except (ValueError, TypeError) as error:
+        print(f"maxk tune: {error}", file=sys.stderr)
+        return 2
+    print(run.summary())
+    if args.no_plot:
+        return 0
+    try:
+        path = run.plot(args.output)
+    except ImportError as error:
+        print(f"maxk tune: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        print(f"maxk tune: {args.output}: {error}", file=sys.stderr)
+        return 2
+    print(f"plot: {path}")
     return 0
 
 

@@ -32,6 +32,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .profiles import RampShape
+
 if TYPE_CHECKING:
     from .axis import Axis
     from .board import Board
@@ -41,6 +43,7 @@ VOLTS_PER_COUNT = 10.0 / 32767.0
 FOLLOWING_ERROR_LIMIT = 32768.0  # manual 2.13: above this the PID is disabled
 INTEGRAL_DIVISOR = 1024.0  # KI acts on sum(e) / 1024
 INTEGRAL_LIMIT_PER_KU = 4.0  # KU limits the integral term to 4*KU DAC counts
+HORIZON = 1 << 22  # ticks a closed-form solution is checked ahead when nothing ends
 SETTLED_ERROR = 1e-3  # counts: stick-slip below this is not simulated (see _breakaway)
 
 
@@ -158,30 +161,21 @@ class _Modal:
         self.ok = bool(np.isfinite(lam).all()) and np.linalg.cond(V) < 1e8
         if not self.ok:
             return
-        Vinv = np.linalg.inv(V)
         self.n = len(lam)
-        self.lam = [complex(x) for x in lam]
-        self.unit = [abs(x - 1.0) < 1e-13 for x in self.lam]
-        self.stable = all(abs(x) <= 1.0 + 1e-12 for x in self.lam)
-        self.V = [[complex(V[r, c]) for c in range(self.n)] for r in range(self.n)]
-        self.Vinv = [[complex(Vinv[r, c]) for c in range(self.n)] for r in range(self.n)]
-        VB = Vinv @ B
-        self.VB = [[complex(VB[r, c]) for c in range(B.shape[1])] for r in range(self.n)]
-        # output = cX . X + dW . w  ->  per-mode weights g = cX V
-        self.outputs = {}
-        for name, (cX, dW) in outputs.items():
-            g = np.asarray(cX, dtype=float) @ V
-            self.outputs[name] = ([complex(x) for x in g], [float(x) for x in dW])
-
-
-def _faulhaber(m: int) -> list[float]:
-    """Coefficients (in j) of sum_{i<j} i^m, for the modes at exactly 1."""
-    return {
-        0: [0.0, 1.0],
-        1: [0.0, -0.5, 0.5],
-        2: [0.0, 1 / 6, -0.5, 1 / 3],
-        3: [0.0, 0.0, 0.25, -0.5, 0.25],
-    }[m]
+        self.lam = lam.astype(complex)
+        self.abs_lam = np.abs(self.lam)
+        self.unit = np.abs(self.lam - 1.0) < 1e-13
+        self.stable = bool(np.all(self.abs_lam <= 1.0 + 1e-12))
+        self.V = V.astype(complex)
+        self.Vinv = np.linalg.inv(self.V)
+        self.VB = self.Vinv @ B
+        # output = cX . X + dW . w  ->  per-mode weights G = cX V
+        self.names = list(outputs)
+        self.index = {name: k for k, name in enumerate(self.names)}
+        self.G = np.array([np.asarray(outputs[k][0], dtype=float) @ self.V
+                           for k in self.names])
+        self.abs_G = np.abs(self.G)
+        self.DW = np.array([outputs[k][1] for k in self.names], dtype=float)
 
 
 _NODES = (0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0)
@@ -196,13 +190,13 @@ def _poly_eval(c: list, j: float):
     return out
 
 
-def _poly_range(c: list[float], n: float) -> tuple[float, float] | None:
-    """(min, max) of a real polynomial (degree <= 3) over [0, n]; None if degree > 3."""
-    while len(c) > 1 and c[-1] == 0.0:
+def _poly_range(c: list[float], a: float, n: float) -> tuple[float, float] | None:
+    """(min, max) of a real polynomial (degree <= 3) over [a, n]; None if degree > 3."""
+    while len(c) > 1 and abs(c[-1]) < 1e-300:
         c = c[:-1]
     if len(c) > 4:
         return None
-    points = [0.0, n]
+    points = [a, n]
     if len(c) == 3:  # derivative linear
         if c[2] != 0.0:
             points.append(-c[1] / (2.0 * c[2]))
@@ -212,89 +206,121 @@ def _poly_range(c: list[float], n: float) -> tuple[float, float] | None:
         if disc >= 0.0:
             root = math.sqrt(disc)
             points += [(-qb - root) / (2.0 * qa), (-qb + root) / (2.0 * qa)]
-    values = [_poly_eval(c, j) for j in points if 0.0 <= j <= n]
+    values = [_poly_eval(c, j) for j in points if a <= j <= n]
     return min(values), max(values)
+
+
+_FAULHABER = np.array([[0.0, 1.0, 0.0, 0.0, 0.0],
+                       [0.0, -0.5, 0.5, 0.0, 0.0],
+                       [0.0, 1 / 6, -0.5, 1 / 3, 0.0],
+                       [0.0, 0.0, 0.25, -0.5, 0.25]])
+"""Row m: the coefficients (in j) of sum_{i<j} i^m, for modes at exactly 1."""
 
 
 class _Solution:
     """The closed-form trajectory of a _Modal system from a start state under polynomial
     inputs: each mode is a polynomial particular part plus a decaying lambda^j part."""
 
-    __slots__ = ("modal", "P", "delta", "W")
+    __slots__ = ("modal", "P", "delta", "W", "tick0", "poly_out")
 
     def __init__(self, modal: _Modal, X0: list[float], W: list[list[float]]) -> None:
         self.modal = modal
-        self.W = W  # per input: polynomial coefficients in j (length 4)
-        n = modal.n
-        z0 = [sum(modal.Vinv[i][k] * X0[k] for k in range(n)) for i in range(n)]
-        self.P: list[list[complex]] = []
-        self.delta: list[complex] = []
-        for i in range(n):
-            D = [sum(modal.VB[i][q] * W[q][m] for q in range(len(W))) for m in range(4)]
-            lam = modal.lam[i]
-            if modal.unit[i]:
-                P = [z0[i], 0j, 0j, 0j, 0j]
-                for m in range(4):
-                    if D[m]:
-                        for d, coefficient in enumerate(_faulhaber(m)):
-                            P[d] += D[m] * coefficient
-                self.P.append(P)
-                self.delta.append(0j)
-                continue
-            k = 1.0 - lam
-            P3 = D[3] / k
-            P2 = (D[2] - 3.0 * P3) / k
-            P1 = (D[1] - 2.0 * P2 - 3.0 * P3) / k
-            P0 = (D[0] - P1 - P2 - P3) / k
-            self.P.append([P0, P1, P2, P3])
-            self.delta.append(z0[i] - P0)
+        Wa = np.zeros((len(W), 5))
+        Wa[:, :4] = W
+        self.W = Wa  # per input: polynomial coefficients in j
+        z0 = modal.Vinv @ np.asarray(X0, dtype=float)
+        D = modal.VB @ Wa  # per mode: the input's polynomial
+        k = 1.0 - modal.lam
+        safe = np.where(modal.unit, 1.0, k)
+        P = np.zeros((modal.n, 5), dtype=complex)
+        P[:, 3] = D[:, 3] / safe
+        P[:, 2] = (D[:, 2] - 3.0 * P[:, 3]) / safe
+        P[:, 1] = (D[:, 1] - 2.0 * P[:, 2] - 3.0 * P[:, 3]) / safe
+        P[:, 0] = (D[:, 0] - P[:, 1] - P[:, 2] - P[:, 3]) / safe
+        delta = z0 - P[:, 0]
+        if modal.unit.any():  # a pure accumulator: sum the input (Faulhaber)
+            unit = modal.unit
+            P[unit] = D[unit, :4] @ _FAULHABER
+            P[unit, 0] += z0[unit]
+            delta[unit] = 0.0
+        self.P = P
+        self.delta = delta
+        self.poly_out = (modal.G @ P).real + modal.DW @ Wa  # outputs' polynomial parts
 
     def state(self, j: int) -> list[float]:
         modal = self.modal
-        z = [_poly_eval(self.P[i], j) + self.delta[i] * modal.lam[i] ** j
-             for i in range(modal.n)]
-        return [sum(modal.V[r][i] * z[i] for i in range(modal.n)).real
-                for r in range(modal.n)]
+        powers = np.array([1.0, j, j * j, j ** 3, j ** 4], dtype=float)
+        z = self.P @ powers + self.delta * modal.lam ** j
+        return (modal.V @ z).real.tolist()
 
-    def output_bounds(self, name: str, n: int) -> tuple[float, float] | None:
-        """A conservative (min, max) of an output over ticks 0..n, or None."""
+    def output_bounds(self, name: str, start: int, n: int) -> tuple[float, float] | None:
+        """A conservative (min, max) of an output over ticks start..n, or None: the
+        polynomial part's exact range plus the largest the decaying part can be."""
         modal = self.modal
         if not modal.stable:
             return None
-        g, dW = modal.outputs[name]
-        degree = max(len(p) for p in self.P)
-        poly = [0.0] * degree
-        transient = 0.0
-        for i in range(modal.n):
-            for m, coefficient in enumerate(self.P[i]):
-                poly[m] += (g[i] * coefficient).real
-            transient += abs(g[i] * self.delta[i])
-        for q, weight in enumerate(dW):
-            if weight:
-                for m in range(4):
-                    poly[m] += weight * self.W[q][m]
-        span = _poly_range(poly, float(n))
+        k = modal.index[name]
+        decay = np.abs(self.delta) * (modal.abs_lam ** start if start else 1.0)
+        transient = float(modal.abs_G[k] @ decay)
+        span = _poly_range(self.poly_out[k].tolist(), float(start), float(n))
         if span is None:
             return None
         return span[0] - transient, span[1] + transient
 
-    def outputs_per_tick(self, names: list[str], n: int) -> dict[str, np.ndarray]:
-        """Exact outputs at ticks 0..n-1 (vectorized), where a bound was not enough."""
+    def first_violation(self, checks: list[tuple[str, float, float]], n: int) -> int:
+        """The first tick (0..n) at which a checked output leaves its bounds, as far as
+        the linear solution is concerned; n if none. Bounds first, exact values only on
+        stretches where a bound is not enough (short ones first: transients decay)."""
+        start, chunk = 0, 64
         modal = self.modal
-        j = np.arange(n, dtype=float)
-        Z = np.empty((modal.n, n), dtype=complex)
-        for i in range(modal.n):
-            Z[i] = np.polyval(list(reversed(self.P[i])), j) + self.delta[i] * np.power(
-                modal.lam[i], j)
-        out = {}
-        for name in names:
-            g, dW = modal.outputs[name]
-            value = (np.asarray(g) @ Z).real
-            for q, weight in enumerate(dW):
-                if weight:
-                    value = value + weight * np.polyval(list(reversed(self.W[q])), j)
-            out[name] = value
-        return out
+        rows = [modal.index[c[0]] for c in checks]
+        while start < n:
+            failing = []
+            if modal.stable:
+                decay = np.abs(self.delta) * (modal.abs_lam ** start if start else 1.0)
+                transients = (modal.abs_G[rows] @ decay).tolist()
+                polys = self.poly_out[rows].tolist()
+            for i, check in enumerate(checks):
+                span = _poly_range(polys[i], float(start), float(n)) if modal.stable \
+                    else None
+                if (span is None or span[0] - transients[i] <= check[1]
+                        or span[1] + transients[i] >= check[2]):
+                    failing.append(check)
+            if not failing:
+                return n
+            stop = min(n, start + chunk)
+            values = self.outputs_per_tick([c[0] for c in failing], start, stop + 1)
+            first = n
+            for name, low, high in failing:
+                bad = np.flatnonzero((values[name] <= low) | (values[name] >= high))
+                if len(bad):
+                    at = start + int(bad[0])
+                    if name == "w":  # the velocity changed sign during the tick before
+                        at -= 1
+                    elif at >= stop:
+                        continue
+                    first = min(first, at)
+            if first < n:
+                return max(0, first)
+            start, chunk = stop, chunk * 4
+        return n
+
+    def outputs_per_tick(self, names: list[str], start: int, stop: int) -> dict[str, np.ndarray]:
+        """Exact outputs at ticks start..stop-1 (vectorized), where a bound was not
+        enough."""
+        modal = self.modal
+        j = np.arange(start, stop, dtype=float)
+        powers = np.vander(j, 5, increasing=True).T  # 5 x len
+        growth = np.empty((modal.n, len(j)), dtype=complex)  # lambda^(j - start)
+        growth[:, 0] = self.delta * modal.lam ** start
+        growth[:, 1:] = modal.lam[:, None]
+        Z = self.P @ powers + np.cumprod(growth, axis=1)
+        rows = [modal.index[name] for name in names]
+        values = (modal.G[rows] @ Z).real + self.poly_inputs(rows, powers)
+        return {name: values[i] for i, name in enumerate(names)}
+
+    def poly_inputs(self, rows: list[int], powers: np.ndarray) -> np.ndarray:
+        return self.modal.DW[rows] @ (self.W @ powers)
 
 
 @lru_cache(maxsize=512)
@@ -353,6 +379,7 @@ class ServoLoop:
         self.r_prev: float | None = None  # commanded position of the last two ticks
         self.r_prev2: float | None = None
         self.recorder: list | None = None  # per-tick samples for the tuning plot
+        self._cache: tuple | None = None  # a closed-form solution still valid ahead
 
     # ---- what the host reads ---------------------------------------------------------
     def encoder_counts(self) -> int:
@@ -364,6 +391,7 @@ class ServoLoop:
         self.s = 0.0
         self.q = error
         self.r_prev = self.r_prev2 = None
+        self._cache = None
 
     # ---- simulation ------------------------------------------------------------------
     def advance(self, axis: Axis, board: Board, to_tick: int) -> None:
@@ -396,24 +424,29 @@ class ServoLoop:
             return float(base + m.final_offset)
         return base + m.offset((tick - axis.motion_start) * board.period)
 
-    def _piece(self, axis: Axis, board: Board, tick: int) -> tuple[int | None, bool]:
-        """The tick where the commanded position's present polynomial piece ends (None:
-        never) and whether it is a polynomial (cosine ramps are not)."""
+    def _piece(self, axis: Axis, board: Board, tick: int) -> tuple[int, int | None, bool]:
+        """The ticks where the commanded position's present polynomial piece started and
+        ends (None: never), and whether it is a polynomial (cosine ramps are not)."""
         m = axis.motion
-        if m is None or (axis.motion_end is not None and tick >= axis.motion_end):
-            return None, True
+        if m is None:
+            return axis.rest_since, None, True
+        if axis.motion_end is not None and tick >= axis.motion_end:
+            return axis.motion_end, None, True
         period = board.period
         t = (tick - axis.motion_start) * period
         phase = m._phase_at(t)
         if phase is None:
-            return axis.motion_end, True
-        from .profiles import RampShape
-
-        end_t = phase.t0 + phase.duration
+            return axis.motion_start, axis.motion_end, True
+        start_t, end_t = phase.t0, phase.t0 + phase.duration
         ramp = phase.v1 != phase.v2
-        if ramp and phase.shape is RampShape.SCURVE and t < phase.t0 + phase.duration / 2:
-            end_t = phase.t0 + phase.duration / 2
+        if ramp and phase.shape is RampShape.SCURVE:
+            half = phase.t0 + phase.duration / 2
+            if t < half:
+                end_t = half
+            else:
+                start_t = half
         polynomial = not (ramp and phase.shape is RampShape.COSINE)
+        start = axis.motion_start + math.ceil(start_t / period - 1e-9)
         if math.isinf(end_t):
             end = axis.motion_end
         else:
@@ -421,14 +454,26 @@ class ServoLoop:
             if axis.motion_end is not None:
                 end = min(end, axis.motion_end)
             end = max(end, tick + 1)
-        return end, polynomial
+        return start, end, polynomial
 
     def _segment(self, axis: Axis, board: Board, matrices: tuple, friction: float,
                  gains: Gains, to_tick: int) -> None:
         """Advance as far as one closed-form jump allows; scalar steps where it can't."""
-        end, polynomial = self._piece(axis, board, self.tick)
+        cache = self._cache
+        if cache is not None:
+            key, tick0, sol, valid_until, r = cache
+            if tick0 <= self.tick < valid_until and key == self._key(axis, matrices, friction,
+                                                                     gains):
+                self._commit(axis, sol, r, min(valid_until, to_tick) - tick0)
+                return
+            self._cache = None
+        start, end, polynomial = self._piece(axis, board, self.tick)
         limit = to_tick if end is None else min(end, to_tick)
         n = limit - self.tick
+        fresh = start + 2 - self.tick  # ticks until the history is on this piece
+        if fresh > 0 and polynomial and not (self.stuck and end is None):
+            self._scalar(axis, board, matrices, friction, gains, min(n, fresh))
+            return
         # The first two ticks of a piece take their velocity and acceleration from the
         # piece before: step them one by one, as any tick where the loop is nonlinear.
         if (not polynomial or n < 8 or self.r_prev2 is None or self.stuck
@@ -447,7 +492,8 @@ class ServoLoop:
             self._scalar(axis, board, matrices, friction, gains, min(n, 2) if polynomial
                          else n)
             return
-        taken = self._jump(axis, board, matrices, friction, gains, n)
+        horizon = (end if end is not None else self.tick + HORIZON) - self.tick
+        taken = self._jump(axis, board, matrices, friction, gains, horizon, n)
         if taken is not True:
             # off the polynomial (a new piece): two ticks; nonlinear: a few more
             self._scalar(axis, board, matrices, friction, gains,
@@ -487,11 +533,32 @@ class ServoLoop:
         ff[0] += gains.kf * sign_v + gains.ko - friction_drive
         return r, ff
 
+    def _key(self, axis: Axis, matrices: tuple, friction: float, gains: Gains) -> tuple:
+        """What a cached closed-form solution depends on besides the state it started
+        from (the state is ours: any step outside the solution drops the cache)."""
+        return (id(axis.motion), axis.motion_start, axis.steps, axis.counter_offset,
+                axis.encoder_offset, gains, self.closed, self.tripped, matrices, friction)
+
+    def _commit(self, axis: Axis, sol: _Solution, r: list[float], j: int) -> None:
+        """Take the state `j` ticks into a solution (which started at its tick0)."""
+        X = sol.state(j)
+        if len(X) == 4:
+            self.p, self.w, self.s, self.q = X
+        elif len(X) == 3:
+            self.p, self.w, self.q = X
+        else:
+            self.p, self.w = X
+        self.r_prev = _poly_eval(r, j - 1) + axis.encoder_offset
+        self.r_prev2 = _poly_eval(r, j - 2) + axis.encoder_offset
+        self.tick = sol.tick0 + j
+
     def _jump(self, axis: Axis, board: Board, matrices: tuple, friction: float,
-              gains: Gains, n: int) -> bool | None:
-        """Jump n ticks in closed form if the loop stays linear; else as far as it does.
-        False when not even one tick could be taken this way, None when the last ticks
-        were not on the present polynomial piece."""
+              gains: Gains, n: int, wanted: int) -> bool | None:
+        """Solve the next n ticks (the rest of the piece) in closed form, check the loop
+        stays linear over them, and take up to `wanted` of them; the rest is cached for
+        the next call (other axes' events split a jump, they do not redo it). False when
+        not even one tick could be taken this way, None when the last ticks were not on
+        the present polynomial piece."""
         closed = self.closed and not self.tripped
         modal = _closed_loop(gains, matrices) if closed else _open_loop(matrices)
         if not modal.ok:
@@ -518,42 +585,19 @@ class ServoLoop:
                 checks.append(("s", -limit, limit))
         if friction:
             checks.append(("w", 0.0, math.inf) if sign > 0 else ("w", -math.inf, 0.0))
-        take = n
-        exact_needed = []
-        for name, low, high in checks:
-            bounds = sol.output_bounds(name, n)
-            if bounds is None or bounds[0] <= low or bounds[1] >= high:
-                exact_needed.append((name, low, high))
-        if exact_needed:
-            take = min(n, 4096)
-            values = sol.outputs_per_tick([c[0] for c in exact_needed], take + 1)
-            for name, low, high in exact_needed:
-                bad = np.flatnonzero((values[name] <= low) | (values[name] >= high))
-                if name != "w":
-                    bad = bad[bad < take]
-                else:  # velocity must keep its sign through the end state too
-                    bad = bad[bad <= take]
-                    if len(bad):
-                        bad = bad - 1  # the tick during which it changed sign
-                if len(bad):
-                    take = min(take, int(bad[0]))
-            if take <= 0:
-                return False
-        X = sol.state(take)
-        if closed:
-            if integrating:
-                self.p, self.w, self.s, self.q = X
-            else:
-                self.p, self.w, self.q = X
-        else:
-            self.p, self.w = X
-        self.r_prev = _poly_eval(r, take - 1) + axis.encoder_offset
-        self.r_prev2 = _poly_eval(r, take - 2) + axis.encoder_offset
-        self.tick += take
+        take = sol.first_violation(checks, n)
+        if take <= 0:
+            return False
+        sol.tick0 = self.tick
+        if take > wanted:
+            self._cache = (self._key(axis, matrices, friction, gains), self.tick, sol,
+                           self.tick + take, r)
+        self._commit(axis, sol, r, min(take, wanted))
         return True
 
     def _stuck_open(self, friction: float, gains: Gains, limit: int) -> None:
         """Open loop and held by friction: the DAC output is constant, nothing moves."""
+        self._cache = None
         u = gains.ko if not self.tripped else 0.0
         if abs(u) <= friction:
             self.dac = u
@@ -566,6 +610,7 @@ class ServoLoop:
         """Closed loop, held by static friction while the commanded position moves (the
         start of a move): the motor stays put until the output exceeds the friction.
         Everything but the plant is a polynomial in the tick: find the breakaway tick."""
+        self._cache = None
         inputs = self._inputs(axis, board, n, gains, 0.0)
         if inputs is None:
             return False
@@ -603,6 +648,7 @@ class ServoLoop:
                       limit: int) -> bool:
         """Closed loop, at rest, held by static friction: the error is constant, so only
         the integrator moves. Jump to the tick the output breaks away (or to `limit`)."""
+        self._cache = None
         r = self._commanded(axis, board, self.tick) - axis.encoder_offset
         e = r - self.p
         if abs(e) > FOLLOWING_ERROR_LIMIT or self.q != e:
@@ -629,6 +675,7 @@ class ServoLoop:
     def _scalar(self, axis: Axis, board: Board, matrices: tuple, friction: float,
                 gains: Gains, count: int) -> None:
         """Step tick by tick: the reference semantics, used where the loop is nonlinear."""
+        self._cache = None
         a11, a12, a21, a22, b1, b2 = matrices
         eo = axis.encoder_offset
         kp, kd, ki, kv, ka, kf, ko = (gains.kp, gains.kd, gains.ki_per_tick, gains.kv,
