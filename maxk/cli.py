@@ -38,6 +38,12 @@ def build_parser() -> argparse.ArgumentParser:
                        help="with the wall clock: K times faster than real time")
     repl.add_argument("--history", type=Path, default=None,
                       help="history file (default ~/.maxk_history)")
+    store = repl.add_mutually_exclusive_group()
+    store.add_argument("--archive", type=Path, default=None,
+                       help="parameter archive file APP writes and power-up reads (default "
+                       "~/.local/share/maxk/<model>-board1.params.json)")
+    store.add_argument("--no-archive", action="store_true",
+                       help="keep saved parameters in memory only")
 
     run = sub.add_parser("run", help="run a command script in virtual time, print replies")
     run.add_argument("script", type=Path)
@@ -92,8 +98,9 @@ def main(argv: list[str] | None = None) -> int:
 
         if args.command is None:
             return run_repl()
+        archive: Path | bool = False if args.no_archive else (args.archive or True)
         return run_repl(model=args.model, rate=args.rate, manual_time=args.manual_time,
-                        speed=args.speed, history=args.history)
+                        speed=args.speed, history=args.history, archive=archive)
     if args.command == "run":
         return _run(args)
     if args.command == "commands":

@@ -15,6 +15,7 @@ Nothing here reads the wall clock: time moves only when you advance it.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, replace
 
 from .commands.interpreter import Interpreter
@@ -22,6 +23,7 @@ from .commands.lexer import SEPARATORS
 from .firmware_model import flags as F
 from .firmware_model.board import Board, CommandErrorRecord
 from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from .firmware_model.parameters import ParameterArchive, default_archive_path
 from .firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
 
 
@@ -43,9 +45,28 @@ class MAXk:
     """A board plus a command stream: the API the REPL, scripts and tests use."""
 
     def __init__(self, model: str = DEFAULT_MODEL,
-                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ) -> None:
-        self.board = Board(model, update_rate_hz)
+                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ, *,
+                 archive: str | os.PathLike | bool | None = None, board_number: int = 1) -> None:
+        """`archive`: the parameter archive file (the board's flash) that APP writes and
+        power-up reads; True for the per-user default file, None (the default here) for
+        one kept in memory, so tests and scripts never depend on a saved file."""
+        if archive is True:
+            archive = default_archive_path(model, board_number)
+        store = ParameterArchive(None if archive in (None, False) else archive)  # type: ignore
+        self.board = Board(model, update_rate_hz, archive=store)
         self.interpreter = Interpreter(self.board)
+
+    def reset(self) -> None:
+        """Reset the controller (the DLL's ResetOmsController): motion stops at once,
+        the power-up sequence runs again with the archived parameters. A command half
+        received is lost."""
+        self.board.reset()
+        self.interpreter = Interpreter(self.board)
+
+    @property
+    def firmware_flags(self) -> int:
+        """Shared memory 0x048: 0xFFFFFFFF while initializing, then Table 3-4's bits."""
+        return self.board.firmware_flags
 
     # ---- talking to the board ---------------------------------------------------------
     def write(self, data: str | bytes) -> list[str]:

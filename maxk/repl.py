@@ -37,6 +37,7 @@ REPL words (everything else goes to the board):
   :doorbell         doorbell flags     :clear       write ones to clear every doorbell bit
   :world            the stage          :world X limits 5000 -5000   (docs/io.md)
   :capture          read the capture ring (as a host would)
+  :reset            reset the controller (power-up parameters from the archive)
   :commands         list mnemonics     quit / exit / Ctrl-D
 """
 
@@ -46,8 +47,9 @@ class ReplSession:
 
     def __init__(self, model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
                  manual_time: bool = False, speed: float = 1.0,
-                 clock: Callable[[], float] = time.monotonic) -> None:
-        self.maxk = MAXk(model, rate)
+                 clock: Callable[[], float] = time.monotonic,
+                 archive: str | os.PathLike | bool | None = None) -> None:
+        self.maxk = MAXk(model, rate, archive=archive)
         self.manual_time = manual_time
         self.speed = speed
         self._clock = clock
@@ -163,6 +165,13 @@ class ReplSession:
                     f"inputs +{e.io_rising:#06x} -{e.io_falling:#06x}" for e in entries]
         if word == "commands":
             return [f"{s.syntax:<16} {s.summary}" for s in COMMANDS.values()]
+        if word == "reset":
+            self.sync()
+            self.maxk.reset()
+            self._errors_seen = 0
+            archive = self.maxk.board.archive.path
+            return [f"reset: firmware flags {self.maxk.board.firmware_state:#010x} "
+                    f"({'archive ' + str(archive) if archive else 'archive in memory'})"]
         return [f"unknown REPL word :{word}; type help"]
 
     # ---- display --------------------------------------------------------------------
@@ -200,8 +209,9 @@ def _history_path(path: Path | None) -> Path:
 
 def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
              manual_time: bool = False, speed: float = 1.0,
-             history: Path | None = None) -> int:
-    session = ReplSession(model, rate, manual_time, speed)
+             history: Path | None = None,
+             archive: str | os.PathLike | bool | None = True) -> int:
+    session = ReplSession(model, rate, manual_time, speed, archive=archive)
     if not sys.stdin.isatty():
         return _run_piped(session, sys.stdin)
     try:

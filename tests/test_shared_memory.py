@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from maxk.firmware_model import flags as F
 from maxk.host import memory_map as M
 from maxk.host.shm_client import SharedMemoryHost
 from tests.hosting import HostedBoards
@@ -30,7 +31,7 @@ def test_map_size_layout_and_power_up_flags(shm):
     h, host, path = shm
     assert Path(path).stat().st_size == 0xE010
     assert host.query("WY").startswith("MAXk-A000")
-    assert host.firmware_flags == M.FIRMWARE_RUNNING | M.FACTORY_DEFAULTS_LOADED
+    assert host.firmware_flags == F.FIRMWARE_RUNNING | F.FACTORY_DEFAULTS_LOADED
     assert bytes(host.mem[M.LAYOUT:M.LAYOUT + 4]) == M.LAYOUT_MAGIC
     assert struct.unpack_from(">I", host.mem, M.BOARD_NUMBER)[0] == 1
 

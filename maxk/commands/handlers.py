@@ -24,6 +24,7 @@ from ..firmware_model.models import (
     SERIAL_NUMBER,
     UPDATE_RATES_HZ,
 )
+from ..firmware_model.parameters import ArchiveError
 from ..firmware_model.profiles import RampShape
 from ..firmware_model.queue import Action
 from ..firmware_model.servo import ServoLoop
@@ -84,18 +85,51 @@ def encoder_mode(axis: Axis) -> bool:
     return axis.config.axis_type == "E" and counts != steps
 
 
+USER_UNIT_COMMANDS = frozenset({"MA", "MR", "MT", "ML", "JG", "VL", "VB", "AC", "DC", "LP",
+                                "LO", "LPE", "HV"})
+"""Operands in user units while UU is on (counts otherwise)."""
+
+
+def scaled_out_of_range(axis: Axis, board: Board, mnemonic: str, raw: object,
+                        value: int) -> bool:
+    """With user units on, ranges apply to the scaled value: report one outside."""
+    from .table import COMMANDS
+
+    spec = COMMANDS[mnemonic]
+    if axis.config.user_units is None or spec.value_range is None:
+        return False
+    low, high = spec.value_range
+    if low <= value <= high:
+        return False
+    board.report_error(f"{mnemonic}{raw} is {value} counts in user units: out of range "
+                       f"({low:g} to {high:g})", f"A{axis.letter} {mnemonic}{raw}")
+    return True
+
+
+def in_counts(axis: Axis, value: object) -> int:
+    """A position operand in counts: user units (UU) scale it and round to the nearest
+    count; without them decimals truncate toward zero (MR-200.9 moves -200)."""
+    factor = axis.config.user_units
+    if factor is None:
+        return int(value)  # type: ignore[call-overload]
+    return round(value * factor)  # type: ignore[operator]
+
+
 def in_steps(axis: Axis, value: object, least: int = 0) -> int:
-    """A distance, velocity or acceleration operand in motor steps (encoder mode
-    converts it from encoder counts, rounding to the nearest step)."""
+    """A distance, velocity or acceleration operand in motor steps: user units first,
+    then encoder mode converts encoder counts to the nearest step."""
+    counts = in_counts(axis, value)
     if not encoder_mode(axis):
-        return value  # type: ignore[return-value]
-    steps = round(axis.to_steps(value))  # type: ignore[arg-type]
+        return max(least, counts) if value >= 0 else counts  # type: ignore[operator]
+    steps = round(axis.to_steps(counts))
     return max(least, steps) if value >= 0 else steps  # type: ignore[operator]
 
 
 def _velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw, 1)
+        if scaled_out_of_range(axis, board, "VL", raw, value):
+            return
         if value <= axis.config.base_velocity:  # type: ignore[operator]
             board.report_error(f"VL{value} is not above VB{axis.config.base_velocity}",
                                f"A{axis.letter} VL{value}")
@@ -108,6 +142,8 @@ def _velocity(raw: object, ctx: Context) -> Action:
 def _base_velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw)
+        if scaled_out_of_range(axis, board, "VB", raw, value):
+            return
         if value >= axis.config.velocity:  # type: ignore[operator]
             board.report_error(f"VB{value} is not below VL{axis.config.velocity}",
                                f"A{axis.letter} VB{value}")
@@ -120,6 +156,8 @@ def _base_velocity(raw: object, ctx: Context) -> Action:
 def _acceleration(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw, 1)
+        if scaled_out_of_range(axis, board, "AC", raw, value):
+            return
         axis.config.acceleration = value  # type: ignore[assignment]
         axis.config.deceleration = value  # type: ignore[assignment]
 
@@ -140,18 +178,20 @@ def _ramp(shape: RampShape) -> QueuedFactory:
 
 def _deceleration(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
-        axis.config.deceleration = in_steps(axis, raw, 1)
+        value = in_steps(axis, raw, 1)
+        if not scaled_out_of_range(axis, board, "DC", raw, value):
+            axis.config.deceleration = value
 
     return action
 
 
-def _move_absolute(value: object, ctx: Context) -> Action:
+def _move_absolute(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
-        target = value
+        value = target = in_counts(axis, raw)
         if encoder_mode(axis):  # an encoder position: go by the encoder's distance to it
-            distance = value - axis.encoder_position(board)  # type: ignore[operator]
-            target = axis.motor_position(board) + in_steps(axis, distance)
-            if not POSITION_MIN <= target <= POSITION_MAX:  # type: ignore[operator]
+            distance = value - axis.encoder_position(board)
+            target = axis.motor_position(board) + round(axis.to_steps(distance))
+        if not POSITION_MIN <= target <= POSITION_MAX:
                 board.report_error(f"target {target} is outside the 32-bit position range",
                                    f"A{axis.letter} MA{value}")
                 return
@@ -161,10 +201,11 @@ def _move_absolute(value: object, ctx: Context) -> Action:
     return action
 
 
-def linear_target(move: LinearMove, value: int, relative: bool) -> Action:
+def linear_target(move: LinearMove, raw: float, relative: bool) -> Action:
     """MT/ML on one axis: record its target in the shared linear move."""
 
     def action(axis: Axis, board: Board) -> None:
+        value = in_counts(axis, raw)
         target = axis.motor_position(board) + value if relative else value
         if not POSITION_MIN <= target <= POSITION_MAX:
             board.report_error(f"target {target} is outside the 32-bit position range",
@@ -217,7 +258,10 @@ def go_together(group: StartGroup) -> Action:
 
 def _jog(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
-        axis.start_jog(in_steps(axis, value), board)
+        velocity = in_steps(axis, value)
+        if scaled_out_of_range(axis, board, "JG", value, velocity):
+            return None
+        axis.start_jog(velocity, board)
         if axis.motion is not None and axis.ramp_end > board.tick:
             return ("tick", axis.ramp_end)
         return None
@@ -238,7 +282,12 @@ def _one_step(value: object, ctx: Context) -> Action:
 def _load(motor: bool, encoder: bool) -> QueuedFactory:
     def factory(value: object, ctx: Context) -> Action:
         def action(axis: Axis, board: Board) -> None:
-            axis.load_position(value, motor, encoder, board)  # type: ignore[arg-type]
+            counts = in_counts(axis, value)
+            if not POSITION_MIN <= counts <= POSITION_MAX:
+                board.report_error(f"position {counts} is outside the 32-bit range",
+                                   f"A{axis.letter} {ctx.command.text}")
+                return
+            axis.load_position(counts, motor, encoder, board)
 
         return action
 
@@ -534,7 +583,10 @@ QUEUED: dict[str, QueuedFactory] = {
     "TN": _set("slip_detect", True),
     "TF": _set("slip_detect", False),
     "IS": _set("slip_detect", True),
-    "HV": _set("hold_velocity"),
+    "HV": lambda value, ctx: (lambda axis, board: setattr(
+        axis.config, "hold_velocity", in_counts(axis, value))),
+    "UU": _set("user_units"),
+    "UF": _set("user_units", None),
     "HD": _set("hold_deadband"),
     "HG": _set("hold_gain"),
     "HN": _loop(True, "HN"),
@@ -791,6 +843,23 @@ def _analog_in(ctx: Context) -> str:
     return str(volts_to_counts(board.world.analog_volts(ctx.values[0], board)))
 
 
+def _save_parameters(ctx: Context) -> None:
+    try:
+        ctx.board.save_parameters()
+    except ArchiveError as exc:
+        raise CommandError(f"APP: {exc} (firmware flag bit 13)") from None
+
+
+def _restore_parameters(factory: bool) -> Callable[[Context], None]:
+    def handler(ctx: Context) -> None:
+        try:
+            ctx.board.restore_parameters(factory)
+        except ArchiveError as exc:
+            raise CommandError(f"{ctx.command.mnemonic}: {exc}") from None
+
+    return handler
+
+
 IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "ST": _stop,
     "SA": _stop_all,
@@ -814,7 +883,10 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "QL": _limits_raw,
     "WY": _identify,
     "#WS": lambda ctx: "=0",
-    "CC": lambda ctx: str(ctx.board.tick & 0x3FFF_FFFF),
+    "CC": lambda ctx: str(ctx.board.cycle_count & 0x3FFF_FFFF),
+    "APP": _save_parameters,
+    "RDP": _restore_parameters(False),
+    "RDF": _restore_parameters(True),
     "#UR": _update_rate,
     "?UR": lambda ctx: str(ctx.board.update_rate_hz),
     "?PS": lambda ctx: ctx.per_axis(SETTING_QUERIES["PS"]),

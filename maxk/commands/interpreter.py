@@ -6,7 +6,7 @@ it sets the command-error flag (doorbell bit 24), records why, and the stream go
 
 from __future__ import annotations
 
-from ..firmware_model.axis import StartGroup
+from ..firmware_model.axis import Axis, StartGroup
 from ..firmware_model.board import Board
 from ..firmware_model.coordinated import LinearMove
 from ..firmware_model.queue import QueueEntry
@@ -16,6 +16,7 @@ from .handlers import (
     LINEAR_MOVES,
     QUEUED,
     SETTING_QUERIES,
+    USER_UNIT_COMMANDS,
     CommandError,
     Context,
     go_together,
@@ -58,11 +59,14 @@ class Interpreter:
             return None
 
 
-def _convert(cmd: ParsedCommand, slot: str) -> object:
+def _convert(cmd: ParsedCommand, slot: str, axis: Axis | None = None) -> object:
     spec = cmd.spec
     if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
     value = float(int(slot, 16)) if spec.operand is Operand.HEX else float(slot)
+    if (axis is not None and axis.config.user_units is not None
+            and spec.mnemonic in USER_UNIT_COMMANDS):
+        return value  # in user units: the action checks the scaled value
     if spec.value_range is not None:
         lo, hi = spec.value_range
         if not lo <= value <= hi:
@@ -105,7 +109,8 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         if len(slots) > 1:
             raise CommandError(f"{spec.mnemonic}: one operand in single-axis mode, "
                                f"got {len(slots)}")
-        values = [_convert(cmd, slots[0]) if slots and slots[0] is not None else None]
+        values = [_convert(cmd, slots[0], axes[0]) if slots and slots[0] is not None
+                  else None]
     elif not slots:
         axes = list(axes_all)
         values = [None] * len(axes)
@@ -118,7 +123,7 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         for axis, slot in zip(axes_all, slots, strict=False):
             if slot is not None:
                 axes.append(axis)
-                values.append(_convert(cmd, slot))
+                values.append(_convert(cmd, slot, axis))
         if not axes:
             raise CommandError(f"{spec.mnemonic}: no operand given")
     ctx = Context(board, cmd, axes, values)

@@ -118,20 +118,22 @@ _SPECS: list[CommandSpec] = [
         Timing.MODE, source="evidence 2.1",
     ),
     # ---- motion parameters ------------------------------------------------------------
-    _q("VL", "motion", "Peak (slew) velocity, steps/s.", units=2, operand=Operand.NUMBER,
+    _q("VL", "motion", "Peak (slew) velocity, steps/s.", units=2,
+       integer=False, operand=Operand.NUMBER,
        value_range=(1.0, float(MAX_VELOCITY)), source="manual 2.14 (factory 200,000); evidence 2.2",
        notes="Range 1..4,176,000 (Appendix C): VL0 is refused, since VL must stay above VB "
        "(evidence: 'OMS errors if VB = VL'); VL not above VB is a command error when it "
        "executes."),
-    _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2, operand=Operand.NUMBER,
+    _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2,
+       integer=False, operand=Operand.NUMBER,
        value_range=_VEL, source="manual 2.14 (factory 0); evidence 2.2",
        notes="Must stay below VL: VB >= VL is a command error when it executes."),
     _q("AC", "motion", "Acceleration, steps/s^2; also sets the deceleration.", units=2,
-       operand=Operand.NUMBER, value_range=_ACC,
+       integer=False, operand=Operand.NUMBER, value_range=_ACC,
        source="manual 2.14 (factory 2,000,000); evidence 2.2",
        confidence="I", notes="AC sets both rates and DC afterwards overrides the deceleration "
        "(SySal sends AC then DC). Range 1..8,000,000: hosts clamp to 1 (DLL-H)."),
-    _q("DC", "motion", "Deceleration, steps/s^2.", units=2, operand=Operand.NUMBER,
+    _q("DC", "motion", "Deceleration, steps/s^2.", units=2, integer=False, operand=Operand.NUMBER,
        value_range=_ACC, source="evidence 2.2 (SySal usage)", confidence="I"),
     _q("LA", "profile", "Linear ramps: trapezoid, or triangle on short moves (factory).",
        source="evidence 2.7 (DLL SelectOmsLinearRamp)", confidence="I"),
@@ -154,15 +156,19 @@ _SPECS: list[CommandSpec] = [
        confidence="I"),
     # ---- moves ------------------------------------------------------------------------
     _q("MA", "motion", "Prepare a move to an absolute position; GO starts it.", units=2,
-       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.2; manual Appendix C",
+
+       integer=False, operand=Operand.NUMBER, value_range=_POS,
+       source="evidence 2.2; manual Appendix C",
        notes="Positions are signed 32-bit; a target outside +/-2,147,483,647 is a command error."),
-    _q("MR", "motion", "Prepare a relative move; GO starts it.", units=2, operand=Operand.NUMBER,
+    _q("MR", "motion", "Prepare a relative move; GO starts it.", units=2,
+       integer=False, operand=Operand.NUMBER,
        value_range=_SPAN, source="evidence 2.2",
        notes="Decimals truncate toward zero (MR-200.9 moves -200): classic EPICS sends "
        "n.9 for a move of n steps (decision D). A resulting target outside the 32-bit range is "
        "a command error when it executes."),
     _q("MT", "motion", "Linear move to absolute positions: the axes move on a straight line and "
-       "arrive together; GO starts it.", units=2, operand=Operand.NUMBER, modes=LIST_MODES,
+       "arrive together; GO starts it.", units=2,
+       integer=False, operand=Operand.NUMBER, modes=LIST_MODES,
        value_range=_POS, source="manual Appendix C (AM; ... MT1000,2000,3000; GO; ID;); "
        "evidence 2.2 (DLL AAMT/AMMT)",
        notes="AA/AM only: a command error in single-axis mode. One reference profile for the "
@@ -170,7 +176,7 @@ _SPECS: list[CommandSpec] = [
        "end on the same tick, exactly on target; the ramp shape is the first axis's (D). In AM "
        "mode the move starts when every axis in it has reached its GO."),
     _q("ML", "motion", "Linear move by relative distances (see MT).", units=2,
-       operand=Operand.NUMBER, modes=LIST_MODES, value_range=_SPAN,
+       integer=False, operand=Operand.NUMBER, modes=LIST_MODES, value_range=_SPAN,
        source="evidence 2.2 (DLL AAML/AMML)", confidence="I", notes="As MT, relative."),
     _q("GO", "motion", "Start the prepared move(s): ramp up, slew, ramp down.", units=4,
        source="evidence 2.2; manual 6.2 (GO expands into start, ramp up, slew, ramp down)",
@@ -183,7 +189,9 @@ _SPECS: list[CommandSpec] = [
     _q("GN", "motion", "Go, as used by the VIPER MAXv client.", units=4, source="evidence 2.2",
        confidence="I", notes="Modelled exactly as GO."),
     _q("JG", "motion", "Jog at a signed velocity until stopped (no GO needed).", units=2,
-       operand=Operand.NUMBER, value_range=(-float(MAX_VELOCITY), float(MAX_VELOCITY)),
+
+       integer=False, operand=Operand.NUMBER, value_range=(-float(MAX_VELOCITY),
+       float(MAX_VELOCITY)),
        source="evidence 2.2, E4",
        notes="Ramps from the present velocity (through zero when reversing) and slews. The queue "
        "holds the next entry until the new speed is reached, so `JG0 ID` sets done at rest (D)."),
@@ -209,10 +217,13 @@ _SPECS: list[CommandSpec] = [
        notes="Single-axis mode: KS (or KS1) kills the addressed axis, KS0 nothing. AA/AM: a 1 "
        "in an axis's slot kills it; a bare KS is refused (D)."),
     _q("LP", "position", "Load position: motor and encoder counters.", units=2,
-       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4"),
+       integer=False, operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4"),
     _q("LO", "position", "Load the motor (commanded) position only.", units=2,
-       operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E3", confidence="I"),
-    _q("LPE", "position", "Load the encoder position only.", units=2, operand=Operand.NUMBER,
+
+       integer=False, operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E3",
+       confidence="I"),
+    _q("LPE", "position", "Load the encoder position only.", units=2,
+       integer=False, operand=Operand.NUMBER,
        value_range=_POS, source="evidence 2.3, E4",
        notes="Open-loop axes read an ideal encoder that follows the motor; LPE offsets it, so "
        "RE then differs from RP by the loaded amount."),
@@ -454,7 +465,7 @@ _SPECS: list[CommandSpec] = [
     _q("IS", "encoder", "Slip detection on (the DLL's EnableOmsSlipDetection sends AXIS).",
        source="evidence 2.4 (DLL-BIN)", confidence="I", notes="Modelled as TN."),
     _q("HV", "encoder", "Position maintenance hold velocity (0: the axis's VL).", units=2,
-       operand=Operand.NUMBER, value_range=(0.0, float(MAX_VELOCITY)),
+       integer=False, operand=Operand.NUMBER, value_range=(0.0, float(MAX_VELOCITY)),
        source="evidence 2.4 (VIPER `HV# HD# HG# HN`); manual 2.14", confidence="I"),
     _q("HD", "encoder", "Position maintenance deadband, encoder counts.", units=2,
        operand=Operand.NUMBER, value_range=(0.0, 32767.0),
@@ -463,6 +474,30 @@ _SPECS: list[CommandSpec] = [
        value_range=(0.0, 32767.0), source="evidence 2.4; manual 2.14", confidence="I",
        notes="Stored (and archived by APP) only: a correction runs at HV, not at a speed "
        "scaled by HG, since no source says how the gain acts (docs/not-modelled.md)."),
+    _q("UU", "units", "User units on: operands of moves, positions, velocities and "
+       "accelerations are in user units (counts per unit = #), fixed point ##.#.", units=2,
+       operand=Operand.NUMBER, integer=False, value_range=(1e-6, 1e9),
+       source="evidence 1.3, 2.4 (MAN-CMD: fixed point ##.# with UU; classic EPICS sends "
+       "`UU%f`, `UF`); manual 2.14 (archived, factory off)", confidence="I",
+       notes="MA MR MT ML JG VL VB AC DC LP LO LPE HV take user units, multiplied by the "
+       "factor and rounded to the nearest count (in encoder mode, encoder counts, then "
+       "steps: EPICS's `ER e,m; UU e/m` keeps the host in motor steps). Reports stay in "
+       "counts (D). Ranges are checked on the scaled value, when it executes."),
+    _q("UF", "units", "User units off (factory): operands are counts again.",
+       source="evidence 2.4; manual 2.14", confidence="I"),
+    _i("APP", "flash", "Save the working parameters as the power-up defaults (the archive).",
+       source="manual 2.13, 2.14", confidence="C",
+       notes="Immediate (D): it saves what is in effect when it arrives; parameters still "
+       "waiting in a busy queue are not included. Saves every axis's manual-2.14 list "
+       "(docs/flash.md). A failed write is a command error and sets firmware flag bit 13."),
+    _i("RDP", "flash", "Restore the saved power-up defaults into working memory.",
+       source="manual 2.14", confidence="C",
+       notes="A command error (nothing changes) when nothing was saved or the archive is "
+       "corrupted. Sets firmware flag bit 16 (and clears 18)."),
+    _i("RDF", "flash", "Restore the factory defaults into working memory.",
+       source="manual 2.14", confidence="C",
+       notes="The archive is left as it is (APP afterwards makes them the power-up set). "
+       "Sets firmware flag bit 18 (and clears 16)."),
     _q("HN", "servo", "Hold on: position maintenance on an encoder stepper; closes a servo's "
        "loop (pre-1.30 form of CL1).", source="evidence 2.4, E4; manual 2.13", confidence="I",
        notes="Position maintenance: at rest, when the encoder is more than HD counts from "
@@ -547,6 +582,8 @@ GROUP_TITLES = {
     "report": "Reports and queries",
     "servo": "Servo loop (PSM axes) and position maintenance",
     "encoder": "Encoders on steppers (PSE axes)",
+    "units": "User units",
+    "flash": "Parameter flash (power-up defaults)",
 }
 
 

@@ -58,6 +58,7 @@ class AxisConfig:
     hold_velocity: int = 0  # HV: position maintenance correction velocity
     hold_deadband: int = 0  # HD: position maintenance deadband, encoder counts
     hold_gain: int = 0  # HG: position maintenance gain (stored)
+    user_units: float | None = None  # UU: counts per user unit; None after UF (factory)
 
 
 @dataclass

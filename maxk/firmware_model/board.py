@@ -12,7 +12,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from . import flags as F
-from .axis import Axis
+from .axis import Axis, AxisConfig
 from .capture import (
     ENCODER_HOME,
     HOME_FALLING,
@@ -25,6 +25,7 @@ from .capture import (
 from .homing import Homing, home_condition, next_home_position
 from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
+from .parameters import ArchiveError, ParameterArchive, restore
 from .profiles import plan_move
 from .world import World
 
@@ -50,10 +51,15 @@ class Board:
     """A MAXk board model in virtual time."""
 
     def __init__(self, model: str | BoardModel = DEFAULT_MODEL,
-                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ) -> None:
+                 update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ,
+                 archive: ParameterArchive | None = None) -> None:
         self.model = model if isinstance(model, BoardModel) else model_by_name(model)
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         self.world = World.default(len(self.axes))
+        self.archive = archive if archive is not None else ParameterArchive()
+        self.firmware_state = 0
+        self._init_done_tick = 1  # the firmware flags read 0xFFFFFFFF until then
+        self._cycle_origin = 0  # CC counts update cycles since the last power-up/reset
         self.io = GeneralIO()
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
@@ -75,6 +81,7 @@ class Board:
         # Observers for traces: [every_ticks or None, next tick due, callback].
         self._observers: list[list] = []
         self._servo_axes: list[Axis] = []  # PSM axes: their loops run every tick
+        self.load_power_up_parameters()
 
     # ---- lookup ----------------------------------------------------------------------
     def axis(self, letter: str) -> Axis:
@@ -618,6 +625,114 @@ class Board:
     def home_status_word(self) -> int:
         """Shared memory 0x44 (Table 3-3): bit i while axis i's home switch is active."""
         return sum(1 << a.index for a in self.axes if self.home_active(a))
+
+    # ---- parameters, power-up and reset -----------------------------------------------
+    @property
+    def firmware_flags(self) -> int:
+        """Shared memory 0x048 (Table 3-4): 0xFFFFFFFF until power-up initialization is
+        over (the first update cycle), then the running bit and what was loaded."""
+        if self.tick < self._init_done_tick:
+            return F.FIRMWARE_INITIALIZING
+        return self.firmware_state
+
+    @property
+    def cycle_count(self) -> int:
+        """Update cycles since power-up or the last reset (CC)."""
+        return self.tick - self._cycle_origin
+
+    def _apply_parameters(self, sets: list[dict] | None) -> None:
+        for index, axis in enumerate(self.axes):
+            config = AxisConfig()
+            if sets is not None and index < len(sets) and isinstance(sets[index], dict):
+                config = restore(config, sets[index])
+            keep = axis.config
+            # what the archive does not hold (axis type, homing logic, ...) stays
+            config.axis_type = keep.axis_type
+            config.home_encoder, config.home_pattern = keep.home_encoder, keep.home_pattern
+            axis.config = config
+            axis.resync(self)
+
+    def load_power_up_parameters(self) -> None:
+        """Power-up: the saved parameter set if the archive is good, else the factory set
+        with the checksum-error bit (12) and the factory bit (18)."""
+        state = F.FIRMWARE_RUNNING
+        try:
+            sets = self.archive.load(self.model.name)
+        except (ArchiveError, ValueError, TypeError, KeyError) as exc:
+            sets = None
+            state |= F.ARCHIVE_CHECKSUM_ERROR
+            self.errors.append(CommandErrorRecord(self.tick, "", f"power-up: {exc}"))
+        try:
+            self._apply_parameters(sets)
+        except (ValueError, TypeError, KeyError, IndexError) as exc:  # a valid checksum
+            self._apply_parameters(None)  # over values this firmware cannot take
+            sets = None
+            state |= F.ARCHIVE_CHECKSUM_ERROR
+            self.errors.append(CommandErrorRecord(self.tick, "", f"power-up: {exc}"))
+        state |= F.USER_DEFAULTS_LOADED if sets is not None else F.FACTORY_DEFAULTS_LOADED
+        self.firmware_state = state
+
+    def save_parameters(self) -> None:
+        """APP: the working parameters become the power-up defaults. A failed write
+        sets the programming-error bit (13) and raises ArchiveError."""
+        try:
+            self.archive.save(self)
+        except ArchiveError:
+            self.firmware_state |= F.ARCHIVE_PROGRAMMING_ERROR
+            raise
+        self.firmware_state &= ~F.ARCHIVE_PROGRAMMING_ERROR
+
+    def restore_parameters(self, factory: bool) -> None:
+        """RDF (factory) / RDP (the saved set) into working memory. RDP with no saved
+        set, or a bad one, raises ArchiveError and changes nothing."""
+        sets = None
+        if not factory:
+            sets = self.archive.load(self.model.name)
+            if sets is None:
+                raise ArchiveError("no parameters were saved (APP)")
+        saved = [a.config for a in self.axes]
+        try:
+            self._apply_parameters(sets)
+        except (ValueError, TypeError, KeyError, IndexError) as exc:
+            for axis, config in zip(self.axes, saved, strict=True):
+                axis.config = config
+            raise ArchiveError(f"archive values not accepted: {exc}") from None
+        loaded = F.FACTORY_DEFAULTS_LOADED if factory else F.USER_DEFAULTS_LOADED
+        self.firmware_state = (self.firmware_state & ~(F.FACTORY_DEFAULTS_LOADED
+                                                       | F.USER_DEFAULTS_LOADED)) | loaded
+
+    def reset(self) -> None:
+        """A controller reset: everything stops at once, queues, flags and modes clear,
+        servo loops open, position counters read 0 where the stages stand, and the
+        power-up sequence runs again (flags 0xFFFFFFFF for one update cycle, then the
+        parameters from the archive or the factory). Virtual time goes on."""
+        for axis in self.axes:
+            axis.flush(self)
+            axis.kill(self)
+        physical = [a.steps for a in self.axes]
+        kept = [a.config for a in self.axes]
+        self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
+        for axis, steps, config in zip(self.axes, physical, kept, strict=True):
+            axis.steps = steps
+            axis.counter_offset = -steps
+            axis.config = AxisConfig(home_encoder=config.home_encoder,
+                                     home_pattern=config.home_pattern)
+            axis.encoder_offset = -axis.encoder_counts(steps, self)
+            axis.rest_since = self.tick
+        self._servo_axes = []
+        self.io = GeneralIO()
+        self.capture_ring = CaptureRing()
+        self.capture_config = [CaptureConfig() for _ in self.axes]
+        self.mode = "single"
+        self.current_axis = 0
+        self.command_error = False
+        self.cross_axis_event = False
+        if self.update_rate_hz != DEFAULT_UPDATE_RATE_HZ:
+            self.set_update_rate(DEFAULT_UPDATE_RATE_HZ)
+        self._init_done_tick = self.tick + 1
+        self._cycle_origin = self.tick
+        self.load_power_up_parameters()
+        self.world_changed()
 
     # ---- whole-board actions ---------------------------------------------------------
     def set_update_rate(self, rate_hz: int) -> None:

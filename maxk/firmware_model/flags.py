@@ -77,3 +77,15 @@ def maxnet_event_bits(index: int, bit: int) -> int:
     flags = [0] * (index + 1)
     flags[index] = bit
     return maxnet_word(flags, False)
+
+
+# Firmware state flags (shared memory 0x048, Table 3-4).
+FIRMWARE_INITIALIZING = 0xFFFF_FFFF  # the whole word, until power-up initialization ends
+FIRMWARE_RUNNING = 1 << 2  # application code running
+ARCHIVE_CHECKSUM_ERROR = 1 << 12  # power-up default parameter archive
+ARCHIVE_PROGRAMMING_ERROR = 1 << 13  # storing the power-up default parameter archive
+ALTERNATE_CHECKSUM_ERROR = 1 << 14  # (the alternate archive is not modelled)
+ALTERNATE_PROGRAMMING_ERROR = 1 << 15
+USER_DEFAULTS_LOADED = 1 << 16  # power-up default parameter set in working memory
+ALTERNATE_LOADED = 1 << 17
+FACTORY_DEFAULTS_LOADED = 1 << 18

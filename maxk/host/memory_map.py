@@ -66,9 +66,7 @@ DIRECT_KILL_ALL = 1  # kill all motion (manual 3.3: Direct Commands = {Kill all 
 DIRECT_DONE = 0
 DIRECT_UNKNOWN = 0xFFFF_FFFF
 
-FIRMWARE_INITIALIZING = 0xFFFF_FFFF
-FIRMWARE_RUNNING = 1 << 2  # (T3-4) application code running
-FACTORY_DEFAULTS_LOADED = 1 << 18  # (T3-4)
+DIRECT_RESET = 2  # reset the controller (the DLL's ResetOmsController), decision D
 
 
 def motor_offset(axis: int) -> int:

@@ -169,4 +169,17 @@ class Serial(SerialBase):
         pass
 
     def _update_break_state(self) -> None:
-        pass
+        """A break on the line resets the controller (decision D: the MAXk's reset is a
+        DLL call with no ASCII form; a serial break is how a terminal sends one)."""
+        if self._break_state and self.is_open:
+            with self._lock:
+                self.pacer.sync()
+                self.maxk.reset()
+                self.interpreter = Interpreter(self.maxk.board)
+
+    def send_break(self, duration: float = 0.25) -> None:
+        """Reset the board; no wall-clock wait (the emulated line needs none)."""
+        if not self.is_open:
+            raise PortNotOpenError()
+        self.break_condition = True
+        self.break_condition = False

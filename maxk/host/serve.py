@@ -8,9 +8,11 @@ import contextlib
 import math
 import signal
 import sys
+from pathlib import Path
 
 from ..controller import MAXk
 from ..firmware_model.models import model_by_name
+from ..firmware_model.parameters import default_archive_path
 from .pacing import Pacer
 from .server import EOLS, BoardService, Framing, Server
 
@@ -20,6 +22,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "jumper numbers 1..N)")
     parser.add_argument("--model", default="MAXk-8000",
                         help="board model, or a comma list with one model per board")
+    store = parser.add_mutually_exclusive_group()
+    store.add_argument("--archive-dir", default=None,
+                       help="directory of the boards' parameter archives (APP/power-up; "
+                       "default ~/.local/share/maxk)")
+    store.add_argument("--no-archive", action="store_true",
+                       help="keep saved parameters in memory only")
     parser.add_argument("--host", default="127.0.0.1",
                         help="address to listen on (default 127.0.0.1; 0.0.0.0 for all)")
     parser.add_argument("--port", type=int, default=0, help="TCP port of board 1 (the next "
@@ -76,7 +84,10 @@ async def serve(args: argparse.Namespace) -> int:
     framing = Framing(EOLS[args.eol], args.ack)
     services = []
     for number, model in enumerate(models, start=1):
-        maxk = MAXk(model)
+        archive = None if args.no_archive else (
+            Path(args.archive_dir) / f"{model}-board{number}.params.json"
+            if args.archive_dir else default_archive_path(model, number))
+        maxk = MAXk(model, archive=archive, board_number=number)
         services.append(BoardService(number, maxk, Pacer(maxk, args.speed), framing))
     server = Server(services)
     memories = []

@@ -42,10 +42,9 @@ class SharedMemoryDoor:
         finally:
             os.close(fd)
         self._pending = bytearray()  # replies not yet in the response ring
-        self._put(M.FIRMWARE_FLAGS, M.FIRMWARE_INITIALIZING)
+        self._put(M.FIRMWARE_FLAGS, self.board.firmware_flags)
         self.mem[M.LAYOUT : M.LAYOUT + 4] = M.LAYOUT_MAGIC
         self._put(M.BOARD_NUMBER, service.number)
-        self._initialized = False
         self._written_removal = 0
 
     # ---- raw access -------------------------------------------------------------------
@@ -61,11 +60,9 @@ class SharedMemoryDoor:
     # ---- one pass ---------------------------------------------------------------------
     def update(self) -> None:
         board = self.board
-        if not self._initialized:
-            # Power-up: the flags read 0xFFFFFFFF until the first update cycle has run.
-            self._put(M.FIRMWARE_FLAGS, M.FIRMWARE_RUNNING | M.FACTORY_DEFAULTS_LOADED)
-            self._initialized = True
         self.service.pacer.sync()
+        # Table 3-4: 0xFFFFFFFF until power-up (or reset) initialization has run
+        self._put(M.FIRMWARE_FLAGS, board.firmware_flags)
         clear = self._get(M.ODBR_CLEAR)
         if clear:
             board.write_doorbell(clear)
@@ -75,6 +72,12 @@ class SharedMemoryDoor:
             if code == M.DIRECT_KILL_ALL:
                 board.kill_all()
                 self._put(M.DIRECT_MAILBOX, M.DIRECT_DONE)
+            elif code == M.DIRECT_RESET:
+                board.reset()
+                self.interpreter = Interpreter(board)  # a half-received command is lost
+                self._pending.clear()
+                self._put(M.DIRECT_MAILBOX, M.DIRECT_DONE)
+                self._put(M.FIRMWARE_FLAGS, board.firmware_flags)
             elif code != M.DIRECT_UNKNOWN:
                 self._put(M.DIRECT_MAILBOX, M.DIRECT_UNKNOWN)
         self._read_commands()

@@ -1,0 +1,196 @@
+"""The user-definable power-up defaults (manual 2.14): what APP saves, RDP and power-up
+restore, and RDF replaces with the factory set.
+
+The archive is a file per board (the board's flash). It is written whole to a temporary
+file beside it, flushed to disk, then renamed over the old one, so a crash or a kill at
+any moment leaves either the old archive or the new one, never a torn file. A SHA-256
+checksum over the contents catches a corrupted or truncated file at power-up, which
+then loads the factory set and says so in the firmware state flags (Table 3-4).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import fields, replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from .axis import AxisConfig
+from .profiles import RampShape
+from .servo import Gains
+
+if TYPE_CHECKING:
+    from .board import Board
+
+FORMAT = "maxk-parameter-archive"
+VERSION = 1
+
+# Manual 2.14's list, as AxisConfig fields (the servo gains travel as one group).
+ARCHIVED_FIELDS: tuple[str, ...] = (
+    "limit_hard_stop",  # over travel limit: soft or hard
+    "limits_enabled",  # over travel limit enabled or disabled
+    "limit_active_high",  # over travel limit polarity
+    "move_direction",  # direction bit polarity (MP/MM)
+    "acceleration", "deceleration",
+    "ramp", "ramp_factor", "scurve_factor", "ramp_parameter",  # trajectory profile
+    "velocity", "base_velocity",
+    "user_units",  # UU factor, or None when off
+    "settle_ms", "aux_auto",  # auxiliary output settle time and automatic control
+    "encoder_ratio", "slip_tolerance",
+    "home_active_high",
+    "hold_deadband", "hold_gain", "hold_velocity",  # position maintenance
+    "servo_bipolar", "servo_polarity",
+    "gains",  # KP KI KD KU KV KA KF KO
+)
+
+
+class ArchiveError(Exception):
+    """The archive cannot be read (missing, truncated, corrupted) or written."""
+
+
+def default_archive_dir() -> Path:
+    """Per-user: $XDG_DATA_HOME/maxk (~/.local/share/maxk)."""
+    base = os.environ.get("XDG_DATA_HOME") or os.path.join(os.path.expanduser("~"),
+                                                            ".local", "share")
+    return Path(base) / "maxk"
+
+
+def default_archive_path(model: str, board_number: int = 1) -> Path:
+    return default_archive_dir() / f"{model}-board{board_number}.params.json"
+
+
+# ---- one axis's parameters <-> plain data ---------------------------------------------
+def snapshot(config: AxisConfig) -> dict:
+    """The archived parameters of one axis as JSON-ready data."""
+    out: dict = {}
+    for name in ARCHIVED_FIELDS:
+        value = getattr(config, name)
+        if isinstance(value, RampShape):
+            value = value.value
+        elif isinstance(value, Gains):
+            value = {f.name: getattr(value, f.name) for f in fields(Gains)}
+        elif isinstance(value, tuple):
+            value = list(value)
+        out[name] = value
+    return out
+
+
+def restore(config: AxisConfig, data: dict) -> AxisConfig:
+    """A config with the archived parameters applied (others left as they are)."""
+    changes: dict = {}
+    factory = AxisConfig()
+    for name in ARCHIVED_FIELDS:
+        if name not in data:
+            continue
+        value = data[name]
+        template = getattr(factory, name)
+        if name == "ramp":
+            value = RampShape(value)
+        elif name == "gains":
+            value = Gains(**{k: float(v) for k, v in value.items()})
+        elif name == "encoder_ratio":
+            value = (int(value[0]), int(value[1]))
+        elif name == "user_units":
+            value = None if value is None else float(value)
+        elif isinstance(template, bool):
+            value = bool(value)
+        elif isinstance(template, int):
+            value = int(value)
+        changes[name] = value
+    return replace(config, **changes)
+
+
+# ---- the file ------------------------------------------------------------------------
+def _checksum(body: dict) -> str:
+    canonical = json.dumps(body, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode("utf-8")).hexdigest()
+
+
+def encode(model: str, axes: list[dict]) -> bytes:
+    body = {"format": FORMAT, "version": VERSION, "model": model, "axes": axes}
+    document = dict(body, checksum=_checksum(body))
+    return (json.dumps(document, indent=1, sort_keys=True) + "\n").encode("utf-8")
+
+
+def decode(raw: bytes, model: str) -> list[dict]:
+    """The per-axis parameter sets; ArchiveError if anything is wrong with them."""
+    try:
+        document = json.loads(raw.decode("utf-8"))
+        checksum = document.pop("checksum")
+    except (UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError) as exc:
+        raise ArchiveError(f"unreadable archive ({exc.__class__.__name__})") from None
+    if _checksum(document) != checksum:
+        raise ArchiveError("archive checksum does not match its contents")
+    if document.get("format") != FORMAT or document.get("version") != VERSION:
+        raise ArchiveError("not a maxk parameter archive of this version")
+    if document.get("model") != model:
+        raise ArchiveError(f"archive is for a {document.get('model')}, not a {model}")
+    axes = document.get("axes")
+    if not isinstance(axes, list):
+        raise ArchiveError("archive has no axis list")
+    return axes
+
+
+def write_atomically(path: Path, data: bytes) -> None:
+    """Replace `path` with `data` so that a crash at any moment leaves the old file or
+    the new one: temporary file in the same directory, fsync, rename, fsync the dir."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    for stale in path.parent.glob(f".{path.name}.*.tmp"):  # left by a writer killed mid-way
+        with contextlib.suppress(OSError):
+            stale.unlink()
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as file:
+            file.write(data)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+    try:
+        directory = os.open(path.parent, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(directory)
+    finally:
+        os.close(directory)
+
+
+class ParameterArchive:
+    """The board's flash: a file, or (with no path) memory that lasts as long as the
+    process. ``load`` returns None when nothing was ever saved."""
+
+    def __init__(self, path: str | os.PathLike | None = None) -> None:
+        self.path = None if path is None else Path(path)
+        self._memory: bytes | None = None
+
+    def save(self, board: Board) -> None:
+        data = encode(board.model.name, [snapshot(a.config) for a in board.axes])
+        if self.path is None:
+            self._memory = data
+            return
+        try:
+            write_atomically(self.path, data)
+        except OSError as exc:
+            raise ArchiveError(f"cannot write {self.path}: {exc.strerror or exc}") from None
+
+    def load(self, model: str) -> list[dict] | None:
+        if self.path is None:
+            raw = self._memory
+        else:
+            try:
+                raw = self.path.read_bytes()
+            except FileNotFoundError:
+                return None
+            except OSError as exc:
+                raise ArchiveError(f"cannot read {self.path}: {exc.strerror or exc}") from None
+        if raw is None:
+            return None
+        return decode(raw, model)

@@ -1,0 +1,222 @@
+"""Parameter flash: APP/RDP/RDF archives, power-up flags, crash-safe writes, reset."""
+
+import os
+import random
+import signal
+import time
+
+import pytest
+
+from maxk import MAXk
+from maxk.firmware_model import flags as F
+from maxk.firmware_model.parameters import ARCHIVED_FIELDS, ParameterArchive, snapshot
+
+# Every archived parameter away from its factory value, on two axes.
+SETUP = ("AX LMS; LF; LTH; MM; AC123456; DC234567; PN7; VL54321; VB123; UU2.5; SE15; PA1; "
+         "ER4000,1000; ES12; HTH; HD3; HG4; HV2000; SVB0; SVP-; KP12.5; KI3; KD170; KU99; "
+         "KV5; KA6; KF7; KO-8; "
+         "AY SC; SS9; PR11; VL1000; AC5000; KP1; KD2;")
+
+
+def saved_state(board: MAXk) -> list[dict]:
+    return [snapshot(axis.config) for axis in board.board.axes]
+
+
+def power_up(path, model="MAXk-4000") -> MAXk:
+    board = MAXk(model, archive=path)
+    board.advance(ticks=1)
+    return board
+
+
+def test_firmware_flags_read_all_ones_until_initialization_is_over(tmp_path):
+    board = MAXk("MAXk-4000", archive=tmp_path / "flash.json")
+    assert board.firmware_flags == 0xFFFF_FFFF
+    board.advance(ticks=1)
+    assert board.firmware_flags == F.FIRMWARE_RUNNING | F.FACTORY_DEFAULTS_LOADED
+
+
+def test_app_saves_every_listed_parameter_and_power_up_restores_it(tmp_path):
+    path = tmp_path / "flash.json"
+    board = power_up(path)
+    board.send(SETUP)
+    assert not board.command_error, board.last_error
+    before = saved_state(board)
+    assert before[0] != snapshot(type(board.board.axes[0].config)())  # really changed
+    changed = [n for n in ARCHIVED_FIELDS
+               if before[0][n] != snapshot(type(board.board.axes[0].config)())[n]
+               or before[1][n] != snapshot(type(board.board.axes[1].config)())[n]]
+    assert set(changed) == set(ARCHIVED_FIELDS)  # the setup covers the whole list
+    board.send("APP")
+    assert not board.command_error
+    again = power_up(path)
+    assert again.firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
+    assert saved_state(again) == before
+    assert again.query("AX RC") == "123456"
+    assert again.query("AX LM?") == "=f"
+    assert again.query("AX PS?") == "=O"  # the axis type is not in the archive (2.14)
+
+
+def test_rdf_and_rdp_switch_between_factory_and_saved_sets(tmp_path):
+    board = power_up(tmp_path / "flash.json")
+    board.send("RDP")
+    assert board.command_error  # nothing saved yet
+    assert "no parameters were saved" in str(board.last_error)
+    board.send("IC; AX VL1234; AC4321; APP; VL999; RDF;")
+    assert board.query("AX RC") == "2000000"
+    assert board.board.axes[0].config.velocity == 200_000
+    assert board.firmware_flags == F.FIRMWARE_RUNNING | F.FACTORY_DEFAULTS_LOADED
+    board.send("RDP")
+    assert board.board.axes[0].config.velocity == 1234
+    assert board.firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
+
+
+@pytest.mark.parametrize("damage", ["flip", "truncate", "empty", "garbage"])
+def test_a_damaged_archive_loads_the_factory_set_with_the_checksum_bit(tmp_path, damage):
+    path = tmp_path / "flash.json"
+    board = power_up(path)
+    board.send("AX VL1234; APP;")
+    raw = bytearray(path.read_bytes())
+    if damage == "flip":
+        at = raw.index(b'"velocity": 1234') + len('"velocity": 1')
+        raw[at] = ord("9")  # one digit: still valid JSON, wrong checksum
+    elif damage == "truncate":
+        raw = raw[: len(raw) // 2]
+    elif damage == "empty":
+        raw = bytearray()
+    else:
+        raw = bytearray(os.urandom(200))
+    path.write_bytes(bytes(raw))
+    again = power_up(path)
+    assert again.firmware_flags == (F.FIRMWARE_RUNNING | F.ARCHIVE_CHECKSUM_ERROR
+                                    | F.FACTORY_DEFAULTS_LOADED)
+    assert again.board.axes[0].config.velocity == 200_000
+    assert "power-up" in str(again.last_error)
+    again.send("RDP")
+    assert again.command_error  # the bad archive is not loaded by RDP either
+    again.send("IC; APP;")  # saving again repairs it
+    assert power_up(path).firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
+
+
+def test_an_archive_for_another_model_is_not_loaded(tmp_path):
+    path = tmp_path / "flash.json"
+    power_up(path).send("APP")
+    assert power_up(path, "MAXk-8000").firmware_flags & F.ARCHIVE_CHECKSUM_ERROR
+
+
+def test_a_failed_write_is_a_command_error_with_bit_13(tmp_path):
+    blocker = tmp_path / "not-a-directory"
+    blocker.write_text("")
+    board = power_up(blocker / "flash.json")
+    board.send("APP")
+    assert board.command_error
+    assert board.firmware_flags & F.ARCHIVE_PROGRAMMING_ERROR
+
+
+def test_killing_a_process_in_the_middle_of_app_never_leaves_a_torn_archive(tmp_path):
+    """A child saves random parameter sets as fast as it can; it is killed at random
+    moments, many times. The archive is always a whole set that was saved."""
+    path = tmp_path / "flash.json"
+    rng = random.Random(2026)
+    seen_values = set()
+    for round_ in range(40):
+        pid = os.fork()
+        if pid == 0:  # the child: APP in a loop, each set with its own VL
+            try:
+                board = MAXk("MAXk-4000", archive=path)
+                velocity = 1000 + round_ * 100_000
+                while True:
+                    velocity += 1
+                    board.send(f"AX VL{velocity}; AY VL{velocity}; APP;")
+            finally:
+                os._exit(0)
+        time.sleep(rng.uniform(0.0, 0.03))
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        if not path.exists():
+            continue
+        sets = ParameterArchive(path).load("MAXk-4000")  # raises if torn or corrupted
+        assert sets is not None
+        assert sets[0]["velocity"] == sets[1]["velocity"]  # one whole save, not a mix
+        seen_values.add(sets[0]["velocity"])
+        board = power_up(path)
+        assert board.firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
+    assert len(seen_values) > 10  # the kills did land at many different points
+
+
+def test_reset_mid_move(tmp_path):
+    path = tmp_path / "flash.json"
+    board = power_up(path)
+    board.send("AX VL5000; AC50000; APP; MR100000; GO; ID; AY PSM; CL1;")
+    board.advance(1.0)
+    moved = int(board.query("AX RP"))
+    assert 0 < moved < 100_000
+    stage = board.board.axes[0].steps_now(board.board)
+    cc = int(board.query("CC"))
+    board.reset()
+    assert board.firmware_flags == 0xFFFF_FFFF  # initializing again
+    board.advance(ticks=1)
+    assert board.firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
+    assert board.query("AX RV") == "0"  # stopped at once
+    assert board.query("AX RP") == "0"  # counters start again where the stage stands
+    assert board.board.axes[0].steps_now(board.board) == stage
+    assert board.query("AX RQC") == "2559"
+    assert board.query("AY PS?") == "=O"
+    assert board.board.axes[0].config.velocity == 5000  # the archived set
+    assert int(board.query("CC")) < cc
+    board.advance(1.0)
+    assert board.query("AX RP") == "0"
+    assert not board.done("X")
+
+
+def test_user_units_scale_operands_and_survive_the_archive(tmp_path):
+    path = tmp_path / "flash.json"
+    board = power_up(path)
+    board.send("AX UU1000; VL2.5; AC50.5; MR1.5; GO; ID;")
+    assert board.board.axes[0].config.velocity == 2500
+    assert board.board.axes[0].config.acceleration == 50500
+    assert board.run_until_done("X", timeout=5)
+    assert board.query("AX RP") == "1500"  # reports stay in counts
+    board.send("AX LP0.25;")
+    assert board.query("AX RP") == "250"
+    board.send("AX VL5000;")  # 5,000,000 counts/s: out of range once scaled
+    assert board.command_error
+    board.send("IC; AX UF; MR10.9; GO;")
+    board.run_until_idle()
+    assert board.query("AX RP") == "260"  # counts again, decimals truncate
+    board.send("AX UU0.5; APP;")
+    assert power_up(path).board.axes[0].config.user_units == 0.5
+
+
+def test_er_with_uu_keeps_the_host_in_motor_steps():
+    """Classic EPICS sends `ER e,m` then `UU e/m` so it can keep working in steps."""
+    board = MAXk()
+    board.send("AX PSE; ER4000,1000; UU4; VL1000; MR100; GO; ID;")
+    assert board.run_until_done("X", timeout=5)
+    assert board.query("AX RP") == "100"
+    assert board.query("AX RE") == "400"
+    assert board.board.axes[0].config.velocity == 1000
+
+
+def test_the_repl_resets(tmp_path):
+    from maxk.repl import ReplSession
+
+    session = ReplSession(manual_time=True, archive=tmp_path / "flash.json")
+    session.handle("AX VL4000; APP; JG4000;")
+    session.handle(":advance 0.5 s")
+    out = session.handle(":reset")
+    assert out[0].startswith("reset: firmware flags 0x00010004")
+    assert session.handle("AX RV") == ["0"]
+
+
+def test_a_serial_break_resets_the_board():
+    import serial
+
+    import maxk  # noqa: F401  (registers maxk://)
+
+    port = serial.serial_for_url("maxk://MAXk-4000?speed=1000", timeout=0)
+    port.write(b"AX JG5000;\r")
+    port.send_break()
+    port.write(b"AX RV\r")
+    time.sleep(0.05)
+    assert port.read(100).strip().endswith(b"0")
+    port.close()
