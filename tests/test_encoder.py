@@ -122,3 +122,37 @@ def test_loop_commands_on_an_open_loop_stepper_are_refused():
         assert board.command_error, command
     board.send("IC; AX EA")
     assert board.command_error
+
+
+def test_load_position_during_a_correction_keeps_rp():
+    board = encoder_stepper("LP0; VL200; HN;")
+    board.miss_steps("X", 100)
+    board.advance(0.1)  # correcting
+    board.send("AX LP5000;")
+    board.advance(2.0)
+    assert board.send("AX RP; RE;") == ["5000", "5000"]
+
+
+def test_a_fractional_encoder_ratio_gives_no_false_slip():
+    board = encoder_stepper("ER3,2; MR2; GO;")
+    board.advance(0.5)
+    board.send("AX LP0; TN; ES0; MR2; GO;")
+    board.advance(0.5)
+    assert board.query("AX EA") == "EDNNN"
+    board.send("AX TF; HD0; HN;")
+    board.advance(1.0)
+    assert board.board.axis("X").motion is None  # maintenance has nothing to correct
+
+
+def test_slip_counts_from_when_the_axis_got_its_encoder_and_detection():
+    board = MAXk()
+    board.send("AX MR1000; GO;")
+    board.advance(1.0)
+    board.miss_steps("X", 13)  # an open-loop stepper: nobody sees it
+    board.send("AX PSE; ES5; TN;")
+    assert board.query("AX EA") == "EDNNN"
+    board.miss_steps("X", 3)
+    assert board.query("AX EA") == "EDNNN"
+    board.send("AX TF; ES2;")
+    board.send("AX TN;")  # the 3 missed steps are over the new tolerance
+    assert board.query("AX EA") == "EDSNN"

@@ -273,3 +273,36 @@ def test_motor_parameters_come_from_the_world():
     assert int(slow.query("AX RE")) < int(fast.query("AX RE"))
     with pytest.raises(ValueError):
         slow.set_motor("X", amplifier="magic")
+
+
+def test_counter_changes_do_not_kick_the_filter():
+    """LP/LPE, #UR and homing move the counters, CL1 on a running loop changes nothing:
+    no derivative or feed-forward kick reaches the DAC (review findings)."""
+    board = servo(TUNED + " LPE1000;")
+    board.advance(2.0)
+    loop = board.board.axis("X").servo
+    loop.recorder = []
+    board.send("#UR2048")
+    board.board.advance(3)
+    assert max(abs(r[6]) for r in loop.recorder) < 1000
+    board = servo(TUNED + " KA20000; AC100000; VL20000; JG20000;")
+    board.advance(1.0)
+    loop = board.board.axis("X").servo
+    loop.recorder = []
+    board.send("AX CL1; LP0;")
+    board.board.advance(4)
+    outputs = [r[6] for r in loop.recorder]
+    assert max(outputs) - min(outputs) < 50
+
+
+def test_homing_a_servo_loads_the_counters_without_a_kick():
+    board = MAXk()
+    board.set_home("X", 50_000, 50_100)
+    board.send("AX PSM; LP0; " + TUNED + " CL1; AC200000; VL20000; HM-300000;")
+    loop = board.board.axis("X").servo
+    board.advance(2.0)
+    loop.recorder = []
+    board.advance(1.5)
+    assert board.board.axis("X").homing is None
+    assert max(abs(r[6]) for r in loop.recorder) < 5000
+    assert int(board.query("AX RP")) < -300_000 + 2000  # loaded at home, then ramped down

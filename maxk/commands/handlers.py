@@ -478,6 +478,7 @@ def _axis_type(value: object, ctx: Context) -> Action:
             axis.servo = ServoLoop(axis.steps, board.tick)
         axis.encoder_offset = 0
         axis.encoder_offset = encoder - axis.encoder_position(board)
+        axis.resync(board)
         board.refresh_servo_axes()
         return None
 
@@ -506,10 +507,8 @@ def _loop(on: bool, mnemonic: str) -> QueuedFactory:
         def action(axis: Axis, board: Board) -> None:
             servo = axis.servo
             if servo is not None:
-                if closing:
+                if closing and (not servo.closed or servo.tripped):
                     servo.tripped = False
-                    servo.slipped = False
-                    servo.stuck = servo.stuck and servo.w == 0.0
                     error = axis.motor_position(board) - (servo.p + axis.encoder_offset)
                     servo.reset_filter(error)
                 servo.closed = closing
@@ -548,6 +547,17 @@ def _encoder_ratio(value: object, ctx: Context) -> Action:
     return action
 
 
+def _then_check_slip(attr: str, new: object) -> Action:
+    """ES/TN: a disagreement that is already there counts from the moment detection
+    (or the new tolerance) is in force."""
+
+    def action(axis: Axis, board: Board) -> None:
+        setattr(axis.config, attr, new)
+        board.check_slip(axis)
+
+    return action
+
+
 QUEUED: dict[str, QueuedFactory] = {
     "VL": _velocity,
     "VB": _base_velocity,
@@ -579,10 +589,10 @@ QUEUED: dict[str, QueuedFactory] = {
     "PS": _axis_type,
     "CL": _loop(True, "CL"),
     "ER": _encoder_ratio,
-    "ES": _set("slip_tolerance"),
-    "TN": _set("slip_detect", True),
+    "ES": lambda value, ctx: _then_check_slip("slip_tolerance", value),
+    "TN": lambda value, ctx: _then_check_slip("slip_detect", True),
     "TF": _set("slip_detect", False),
-    "IS": _set("slip_detect", True),
+    "IS": lambda value, ctx: _then_check_slip("slip_detect", True),
     "HV": lambda value, ctx: (lambda axis, board: setattr(
         axis.config, "hold_velocity", in_counts(axis, value))),
     "UU": _set("user_units"),

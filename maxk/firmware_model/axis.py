@@ -88,10 +88,10 @@ class Axis:
     dac: int = 0  # AO: general purpose analog output count (non-servo axes)
     servo: ServoLoop | None = None  # the PID loop and motor of a PSM axis
     holding: bool = False  # HN on an encoder stepper: position maintenance
-    # Where motor and encoder counters last agreed (LP, LO, LPE, ER, PS, homing): the
-    # position error of an encoder stepper is measured from here (see position_error).
-    sync_motor: int = 0
-    sync_encoder: int = 0
+    # The lost steps the counters account for: set where motor and encoder were last
+    # made to agree (LP, LO, LPE, ER, PS, homing, #UR) and moved on by every position-
+    # maintenance correction. Missed steps beyond it are the position error.
+    lost_accounted: int = 0
     correcting: int | None = None  # steps at the start of a position-maintenance move
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
@@ -136,17 +136,22 @@ class Axis:
         return counts if counts_per == steps_per else counts * steps_per / counts_per
 
     def position_error(self, board: Board) -> int:
-        """Encoder stepper: how far the encoder is from where the motor counter says it
-        should be (encoder counts), measured from the last point both agreed."""
+        """Encoder stepper: how far the encoder reads from where it would, had no steps
+        been missed since the counters last agreed (encoder counts; exact at any ER
+        ratio: the same rounding on both sides)."""
+        lost = board.world.axes[self.index].lost_steps
+        if lost == self.lost_accounted:
+            return 0
+        steps = self.steps_now(board)
         counts, motor_steps = self.config.encoder_ratio
-        moved = self.motor_position(board) - self.sync_motor
-        expected = moved * counts // motor_steps if counts != motor_steps else moved
-        return expected - (self.encoder_position(board) - self.sync_encoder)
+        if counts == motor_steps:
+            return lost - self.lost_accounted
+        return ((steps - self.lost_accounted) * counts // motor_steps
+                - (steps - lost) * counts // motor_steps)
 
     def resync(self, board: Board) -> None:
         """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
-        self.sync_motor = self.motor_position(board)
-        self.sync_encoder = self.encoder_position(board)
+        self.lost_accounted = board.world.axes[self.index].lost_steps
 
     def velocity(self, board: Board) -> float:
         m = self.motion
@@ -292,7 +297,9 @@ class Axis:
         """A position-maintenance move leaves the motor counter where it was: it moved
         the stage back under the encoder, not the commanded position."""
         if self.correcting is not None:
-            self.counter_offset -= self.steps - self.correcting
+            moved = self.steps - self.correcting
+            self.counter_offset -= moved
+            self.lost_accounted += moved
             self.correcting = None
 
     def step(self, direction: int, board: Board) -> bool:
@@ -307,8 +314,11 @@ class Axis:
     def load_position(self, value: int, motor: bool, encoder: bool, board: Board) -> None:
         """LP (both), LO (motor only), LPE (encoder only): counters move, the stage not."""
         steps = self.steps_now(board)
+        old_motor, old_encoder = self.counter_offset, self.encoder_offset
         if motor:
             self.counter_offset = value - steps
+            if self.correcting is not None:  # the counter is re-based: count from here
+                self.correcting = steps
         if encoder:
             if self.servo is not None:
                 self.encoder_offset = value - self.servo.encoder_counts()
@@ -316,8 +326,8 @@ class Axis:
                 self.encoder_offset = value - self.encoder_counts(steps, board)
         self.resync(board)
         if self.servo is not None:  # LP0 zeroes the position error (manual 2.13)
-            error = (steps + self.counter_offset) - (self.servo.p + self.encoder_offset)
-            self.servo.reset_filter(error)
+            self.servo.counters_moved(self.counter_offset - old_motor,
+                                      self.encoder_offset - old_encoder)
 
     def tick_reaching(self, position: float, direction: int, board: Board) -> int | None:
         """The first tick after now at which the running motion, travelling in

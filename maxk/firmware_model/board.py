@@ -181,6 +181,8 @@ class Board:
                         due.append(axis)
             self.run_queues(due)
             for axis in due:
+                if axis.config.slip_detect:
+                    self.check_slip(axis)
                 if axis.holding and axis.motion is None:
                     self.maintain(axis)
             if self.capturing_inputs():
@@ -221,7 +223,6 @@ class Board:
         assert servo is not None
         servo.trip_tick = None
         servo.tripped = True
-        servo.slipped = True
         axis.homing = None
         for stopping in [axis, *axis.linked]:
             stopping.linked = []
@@ -586,6 +587,7 @@ class Board:
     def home_found(self, axis: Axis, homing: Homing, at: int) -> None:
         """Home met at physical position `at`: load the counters there, ramp to a stop."""
         axis.homing = None
+        old_motor, old_encoder = axis.counter_offset, axis.encoder_offset
         if homing.load_value is not None:
             axis.counter_offset = homing.load_value - at
             if axis.servo is not None:  # as LP does: encoder hosts read RE
@@ -593,6 +595,9 @@ class Board:
             elif axis.has_encoder:
                 axis.encoder_offset = homing.load_value - axis.encoder_counts(at, self)
         axis.resync(self)
+        if axis.servo is not None:
+            axis.servo.counters_moved(axis.counter_offset - old_motor,
+                                      axis.encoder_offset - old_encoder)
         axis.stop(self)
 
     @staticmethod
@@ -742,10 +747,12 @@ class Board:
         self.update_rate_hz = rate_hz
         self.period = 1.0 / rate_hz
         for axis in self.axes:
+            old_motor, old_encoder = axis.counter_offset, axis.encoder_offset
             axis.counter_offset = -axis.steps
             if axis.servo is not None:
                 axis.encoder_offset = -axis.servo.encoder_counts()
-                axis.servo.reset_filter(axis.steps - axis.servo.p)
+                axis.servo.counters_moved(axis.counter_offset - old_motor,
+                                          axis.encoder_offset - old_encoder)
             else:
                 axis.encoder_offset = -axis.encoder_counts(axis.steps, self)
             axis.resync(self)

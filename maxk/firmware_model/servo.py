@@ -371,7 +371,6 @@ class ServoLoop:
         self.q = 0.0  # previous error
         self.closed = False  # PSM powers up open loop: the DAC puts out KO (manual 2.9)
         self.tripped = False  # following error exceeded: PID disabled until CL1/HN
-        self.slipped = False  # EA's third letter after a trip, until CL1/HN
         self.stuck = False  # held by static friction
         self.tick = tick
         self.trip_tick: int | None = None
@@ -387,10 +386,20 @@ class ServoLoop:
         return math.floor(self.p + 0.5)
 
     def reset_filter(self, error: float) -> None:
-        """LP/CL1: start the filter afresh (no accumulated sum, no derivative kick)."""
+        """CL1 closing an open loop: start the filter afresh (no accumulated sum, no
+        derivative kick); the commanded-velocity history carries on."""
         self.s = 0.0
         self.q = error
-        self.r_prev = self.r_prev2 = None
+        self._cache = None
+
+    def counters_moved(self, motor: float, encoder: float) -> None:
+        """LP/LO/LPE, homing or #UR moved the counters by these amounts: the filter's
+        memory moves with them, so nothing jumps (no derivative or feed-forward kick)."""
+        if self.r_prev is not None:
+            self.r_prev += motor
+        if self.r_prev2 is not None:
+            self.r_prev2 += motor
+        self.q += motor - encoder
         self._cache = None
 
     # ---- simulation ------------------------------------------------------------------
