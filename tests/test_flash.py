@@ -220,3 +220,86 @@ def test_a_serial_break_resets_the_board():
     time.sleep(0.05)
     assert port.read(100).strip().endswith(b"0")
     port.close()
+
+
+def write_archive(path, sets, model="MAXk-4000"):
+    from maxk.firmware_model.parameters import encode
+
+    path.write_bytes(encode(model, sets))
+
+
+@pytest.mark.parametrize("bad", [
+    {"gains": [1, 2, 3]}, {"gains": "x"}, {"velocity": float("inf")}, {"acceleration": 0},
+    {"encoder_ratio": [0, 1]}, {"user_units": float("nan")}, {"gains": {"kp": "nan"}},
+    {"velocity": -5}, {"move_direction": 5}, {"limits_enabled": "false"},
+    {"velocity": 100, "base_velocity": 200}, {"user_units": -2}, {"servo_polarity": 0},
+])
+def test_values_the_commands_would_refuse_are_a_damaged_archive(tmp_path, bad):
+    """A valid checksum over values no command accepts: factory set, bits 12 and 18;
+    RDP refuses it and changes nothing on any axis."""
+    path = tmp_path / "flash.json"
+    good = snapshot(MAXk("MAXk-4000").board.axes[0].config)
+    write_archive(path, [dict(good, velocity=5555), dict(good, **bad), good, good])
+    board = power_up(path)
+    assert board.firmware_flags == (F.FIRMWARE_RUNNING | F.ARCHIVE_CHECKSUM_ERROR
+                                    | F.FACTORY_DEFAULTS_LOADED)
+    assert board.board.axes[0].config.velocity == 200_000
+    board.send("AX VL1234; AY VL1234; RDP;")
+    assert board.command_error
+    assert [a.config.velocity for a in board.board.axes[:2]] == [1234, 1234]
+
+
+def test_restoring_parameters_keeps_the_encoder_reading_and_unarchived_settings(tmp_path):
+    board = power_up(tmp_path / "flash.json")
+    board.send("AX PSE; ER2,1; MR1000; GO; ID;")
+    assert board.run_until_done("X", timeout=5)
+    board.send("AX TN; ES5; APP; RDF;")
+    assert board.send("AX RP; RE;") == ["500", "1000"]
+    assert board.board.axes[0].config.slip_detect  # TN is not in the archive: it stays
+    board.send("RDP")
+    assert board.send("AX RP; RE;") == ["500", "1000"]
+    board.reset()
+    board.advance(ticks=1)
+    assert board.send("AX RP; RE;") == ["0", "0"]
+
+
+def test_two_processes_saving_to_one_archive_both_succeed(tmp_path):
+    path = tmp_path / "flash.json"
+    pids = []
+    for _ in range(2):
+        pid = os.fork()
+        if pid == 0:
+            code = 1
+            try:
+                board = MAXk("MAXk-4000", archive=path)
+                for _ in range(100):
+                    board.send("APP")
+                code = 1 if board.command_error else 0
+            finally:
+                os._exit(code)
+        pids.append(pid)
+    assert [os.waitpid(pid, 0)[1] for pid in pids] == [0, 0]
+
+
+def test_user_unit_ranges_follow_the_units_in_force_when_the_command_runs():
+    board = MAXk()
+    board.send("AX MR1000; GO; UU1000; VL0.5; ID;")  # UU waits behind the move
+    assert board.run_until_done("X", timeout=5)
+    assert not board.command_error, board.last_error
+    assert board.board.axes[0].config.velocity == 500
+    board.send("AX UF; VL99999999999;")
+    assert board.command_error
+    assert board.board.axes[0].config.velocity == 500
+    board.send("IC; AX UU1; HV-1;")
+    assert board.command_error
+    board.send("IC; AX UU1; MR2.5; GO;")
+    board.run_until_idle()
+    assert board.query("AX RP") == "1003"  # nearest count, halves away from zero
+
+
+def test_linear_moves_in_encoder_mode_take_encoder_counts():
+    board = MAXk()
+    board.send("AX PSE; ER2,1; AY PSE; ER2,1; AM; VL1000,1000; MT10,20; GO; ID;")
+    assert board.run_until_done("X", "Y", timeout=5)
+    assert board.query("AA RE").startswith("10,20,")
+    assert board.query("AA RP").startswith("5,10,")

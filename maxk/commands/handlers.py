@@ -93,10 +93,12 @@ USER_UNIT_COMMANDS = frozenset({"MA", "MR", "MT", "ML", "JG", "VL", "VB", "AC", 
 def scaled_out_of_range(axis: Axis, board: Board, mnemonic: str, raw: object,
                         value: int) -> bool:
     """With user units on, ranges apply to the scaled value: report one outside."""
+    if not axis.units_seen:
+        return False  # the operand was range-checked when it arrived
     from .table import COMMANDS
 
     spec = COMMANDS[mnemonic]
-    if axis.config.user_units is None or spec.value_range is None:
+    if spec.value_range is None:
         return False
     low, high = spec.value_range
     if low <= value <= high:
@@ -112,7 +114,8 @@ def in_counts(axis: Axis, value: object) -> int:
     factor = axis.config.user_units
     if factor is None:
         return int(value)  # type: ignore[call-overload]
-    return round(value * factor)  # type: ignore[operator]
+    scaled = value * factor  # type: ignore[operator]
+    return int(math.copysign(math.floor(abs(scaled) + 0.5), scaled))  # nearest, .5 away
 
 
 def in_steps(axis: Axis, value: object, least: int = 0) -> int:
@@ -206,6 +209,10 @@ def linear_target(move: LinearMove, raw: float, relative: bool) -> Action:
 
     def action(axis: Axis, board: Board) -> None:
         value = in_counts(axis, raw)
+        if encoder_mode(axis):  # encoder counts, as MA and MR take them
+            distance = value if relative else value - axis.encoder_position(board)
+            value = round(axis.to_steps(distance)) + (0 if relative
+                                                      else axis.motor_position(board))
         target = axis.motor_position(board) + value if relative else value
         if not POSITION_MIN <= target <= POSITION_MAX:
             board.report_error(f"target {target} is outside the 32-bit position range",
@@ -547,6 +554,15 @@ def _encoder_ratio(value: object, ctx: Context) -> Action:
     return action
 
 
+def _hold_velocity(raw: object) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        value = in_counts(axis, raw)
+        if not scaled_out_of_range(axis, board, "HV", raw, value):
+            axis.config.hold_velocity = value
+
+    return action
+
+
 def _then_check_slip(attr: str, new: object) -> Action:
     """ES/TN: a disagreement that is already there counts from the moment detection
     (or the new tolerance) is in force."""
@@ -593,8 +609,7 @@ QUEUED: dict[str, QueuedFactory] = {
     "TN": lambda value, ctx: _then_check_slip("slip_detect", True),
     "TF": _set("slip_detect", False),
     "IS": lambda value, ctx: _then_check_slip("slip_detect", True),
-    "HV": lambda value, ctx: (lambda axis, board: setattr(
-        axis.config, "hold_velocity", in_counts(axis, value))),
+    "HV": lambda value, ctx: _hold_velocity(value),
     "UU": _set("user_units"),
     "UF": _set("user_units", None),
     "HD": _set("hold_deadband"),
@@ -657,6 +672,9 @@ def validate_queued(ctx: Context) -> None:
     m = ctx.command.mnemonic
     if m in NOT_MODELLED_YET:
         raise CommandError(NOT_MODELLED_YET[m])
+    if m == "UU":  # from now on this axis's operands are range-checked when they run
+        for axis in ctx.axes:
+            axis.units_seen = True
     if m == "IO" and ctx.values[0][1] not in (0, 1):
         raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
 

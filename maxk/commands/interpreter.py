@@ -64,9 +64,8 @@ def _convert(cmd: ParsedCommand, slot: str, axis: Axis | None = None) -> object:
     if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
     value = float(int(slot, 16)) if spec.operand is Operand.HEX else float(slot)
-    if (axis is not None and axis.config.user_units is not None
-            and spec.mnemonic in USER_UNIT_COMMANDS):
-        return value  # in user units: the action checks the scaled value
+    if axis is not None and axis.units_seen and spec.mnemonic in USER_UNIT_COMMANDS:
+        return value  # maybe user units (UU may be queued): the action checks the counts
     if spec.value_range is not None:
         lo, hi = spec.value_range
         if not lo <= value <= hi:

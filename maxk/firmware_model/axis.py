@@ -93,6 +93,7 @@ class Axis:
     # maintenance correction. Missed steps beyond it are the position error.
     lost_accounted: int = 0
     correcting: int | None = None  # steps at the start of a position-maintenance move
+    units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
 

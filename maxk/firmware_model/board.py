@@ -25,7 +25,7 @@ from .capture import (
 from .homing import Homing, home_condition, next_home_position
 from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
-from .parameters import ArchiveError, ParameterArchive, restore
+from .parameters import ArchiveError, ParameterArchive, restore, snapshot
 from .profiles import plan_move
 from .world import World
 
@@ -646,15 +646,20 @@ class Board:
         return self.tick - self._cycle_origin
 
     def _apply_parameters(self, sets: list[dict] | None) -> None:
-        for index, axis in enumerate(self.axes):
-            config = AxisConfig()
-            if sets is not None and index < len(sets) and isinstance(sets[index], dict):
-                config = restore(config, sets[index])
-            keep = axis.config
-            # what the archive does not hold (axis type, homing logic, ...) stays
-            config.axis_type = keep.axis_type
-            config.home_encoder, config.home_pattern = keep.home_encoder, keep.home_pattern
+        """The archived fields from `sets` (None: the factory set); what the archive does
+        not hold (axis type, homing logic, TN, ...) stays. All axes are checked before any
+        changes (ValueError); encoder counters read on where they were (ER may change)."""
+        factory = snapshot(AxisConfig())
+        if sets is not None and (not isinstance(sets, list) or len(sets) < len(self.axes)):
+            raise ValueError("the archive does not hold a set for every axis")
+        configs = [restore(axis.config, factory if sets is None else sets[axis.index])
+                   for axis in self.axes]
+        for axis, config in zip(self.axes, configs, strict=True):
+            encoder = axis.encoder_position(self)
             axis.config = config
+            if axis.servo is None:
+                axis.encoder_offset = 0
+                axis.encoder_offset = encoder - axis.encoder_position(self)
             axis.resync(self)
 
     def load_power_up_parameters(self) -> None:
@@ -669,8 +674,8 @@ class Board:
             self.errors.append(CommandErrorRecord(self.tick, "", f"power-up: {exc}"))
         try:
             self._apply_parameters(sets)
-        except (ValueError, TypeError, KeyError, IndexError) as exc:  # a valid checksum
-            self._apply_parameters(None)  # over values this firmware cannot take
+        except Exception as exc:  # a valid checksum over values this
+            self._apply_parameters(None)  # firmware cannot take: the factory set
             sets = None
             state |= F.ARCHIVE_CHECKSUM_ERROR
             self.errors.append(CommandErrorRecord(self.tick, "", f"power-up: {exc}"))
@@ -695,12 +700,9 @@ class Board:
             sets = self.archive.load(self.model.name)
             if sets is None:
                 raise ArchiveError("no parameters were saved (APP)")
-        saved = [a.config for a in self.axes]
         try:
-            self._apply_parameters(sets)
-        except (ValueError, TypeError, KeyError, IndexError) as exc:
-            for axis, config in zip(self.axes, saved, strict=True):
-                axis.config = config
+            self._apply_parameters(sets)  # checks every axis before it changes one
+        except Exception as exc:  # any bad value: nothing changes
             raise ArchiveError(f"archive values not accepted: {exc}") from None
         loaded = F.FACTORY_DEFAULTS_LOADED if factory else F.USER_DEFAULTS_LOADED
         self.firmware_state = (self.firmware_state & ~(F.FACTORY_DEFAULTS_LOADED
@@ -714,7 +716,8 @@ class Board:
         for axis in self.axes:
             axis.flush(self)
             axis.kill(self)
-        physical = [a.steps for a in self.axes]
+        # where the stages stand: a servo's motor is where its encoder says
+        physical = [a.steps if a.servo is None else round(a.servo.p) for a in self.axes]
         kept = [a.config for a in self.axes]
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         for axis, steps, config in zip(self.axes, physical, kept, strict=True):

@@ -13,13 +13,16 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import math
 import os
 import tempfile
+import time
 from dataclasses import fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from .axis import AxisConfig
+from .models import MAX_ACCELERATION, MAX_VELOCITY
 from .profiles import RampShape
 from .servo import Gains
 
@@ -79,8 +82,31 @@ def snapshot(config: AxisConfig) -> dict:
     return out
 
 
+def _number(value: object, low: float, high: float, integer: bool) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{value!r} is not a number")
+    if not math.isfinite(value) or not low <= value <= high:
+        raise ValueError(f"{value!r} is outside {low:g}..{high:g}")
+    if integer and value != int(value):
+        raise ValueError(f"{value!r} is not a whole number")
+    return int(value) if integer else float(value)
+
+
+# The ranges the commands themselves accept (the command table), for archived values.
+_RANGES: dict[str, tuple[float, float]] = {
+    "acceleration": (1, MAX_ACCELERATION), "deceleration": (1, MAX_ACCELERATION),
+    "velocity": (1, MAX_VELOCITY), "base_velocity": (0, MAX_VELOCITY),
+    "ramp_factor": (0, 32767), "scurve_factor": (0, 32767), "ramp_parameter": (0, 32767),
+    "settle_ms": (0, 2**31 - 1), "slip_tolerance": (0, 2**31 - 1),
+    "hold_deadband": (0, 32767), "hold_gain": (0, 32767), "hold_velocity": (0, MAX_VELOCITY),
+}
+
+
 def restore(config: AxisConfig, data: dict) -> AxisConfig:
-    """A config with the archived parameters applied (others left as they are)."""
+    """A config with the archived parameters applied (others left as they are). Every
+    value is checked as the command that sets it would check it: ValueError if not."""
+    if not isinstance(data, dict):
+        raise ValueError("an axis set is not an object")
     changes: dict = {}
     factory = AxisConfig()
     for name in ARCHIVED_FIELDS:
@@ -91,17 +117,31 @@ def restore(config: AxisConfig, data: dict) -> AxisConfig:
         if name == "ramp":
             value = RampShape(value)
         elif name == "gains":
-            value = Gains(**{k: float(v) for k, v in value.items()})
+            if not isinstance(value, dict) or set(value) - {f.name for f in fields(Gains)}:
+                raise ValueError("gains must be an object of KP..KO")
+            value = Gains(**{k: _number(v, -32767 if k == "ko" else 0, 32767, False)
+                             for k, v in value.items()})
         elif name == "encoder_ratio":
-            value = (int(value[0]), int(value[1]))
+            if not isinstance(value, list) or len(value) != 2:
+                raise ValueError("encoder_ratio is [counts, steps]")
+            value = (_number(value[0], 1, 2**31 - 1, True), _number(value[1], 1, 2**31 - 1,
+                                                                    True))
         elif name == "user_units":
-            value = None if value is None else float(value)
+            value = None if value is None else _number(value, 1e-6, 1e9, False)
+        elif name in ("move_direction", "servo_polarity"):
+            if value not in (1, -1) or isinstance(value, bool):
+                raise ValueError(f"{name} is 1 or -1")
         elif isinstance(template, bool):
-            value = bool(value)
-        elif isinstance(template, int):
-            value = int(value)
+            if not isinstance(value, bool):
+                raise ValueError(f"{name} is true or false")
+        else:
+            low, high = _RANGES[name]
+            value = _number(value, low, high, isinstance(template, int))
         changes[name] = value
-    return replace(config, **changes)
+    restored = replace(config, **changes)
+    if restored.base_velocity >= restored.velocity:
+        raise ValueError("VB must stay below VL")
+    return restored
 
 
 # ---- the file ------------------------------------------------------------------------
@@ -139,9 +179,11 @@ def write_atomically(path: Path, data: bytes) -> None:
     """Replace `path` with `data` so that a crash at any moment leaves the old file or
     the new one: temporary file in the same directory, fsync, rename, fsync the dir."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    for stale in path.parent.glob(f".{path.name}.*.tmp"):  # left by a writer killed mid-way
+    # temporary files left by a writer killed mid-way (not one still writing: old ones)
+    for stale in path.parent.glob(f".{path.name}.*.tmp"):
         with contextlib.suppress(OSError):
-            stale.unlink()
+            if time.time() - stale.stat().st_mtime > 600:
+                stale.unlink()
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as file:
