@@ -121,7 +121,13 @@ def in_counts(axis: Axis, value: object) -> int:
 def in_steps(axis: Axis, value: object, least: int = 0) -> int:
     """A distance, velocity or acceleration operand in motor steps: user units first,
     then encoder mode converts encoder counts to the nearest step."""
-    counts = in_counts(axis, value)
+    c = axis.config
+    if c.user_units is None:
+        counts = int(value)  # type: ignore[call-overload]
+        if c.axis_type != "E" or c.encoder_ratio[0] == c.encoder_ratio[1]:
+            return counts if counts >= least or value < 0 else least  # type: ignore
+    else:
+        counts = in_counts(axis, value)
     if not encoder_mode(axis):
         return max(least, counts) if value >= 0 else counts  # type: ignore[operator]
     steps = round(axis.to_steps(counts))
@@ -131,7 +137,7 @@ def in_steps(axis: Axis, value: object, least: int = 0) -> int:
 def _velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw, 1)
-        if scaled_out_of_range(axis, board, "VL", raw, value):
+        if axis.units_seen and scaled_out_of_range(axis, board, "VL", raw, value):
             return
         if value <= axis.config.base_velocity:  # type: ignore[operator]
             board.report_error(f"VL{value} is not above VB{axis.config.base_velocity}",
@@ -145,7 +151,7 @@ def _velocity(raw: object, ctx: Context) -> Action:
 def _base_velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw)
-        if scaled_out_of_range(axis, board, "VB", raw, value):
+        if axis.units_seen and scaled_out_of_range(axis, board, "VB", raw, value):
             return
         if value >= axis.config.velocity:  # type: ignore[operator]
             board.report_error(f"VB{value} is not below VL{axis.config.velocity}",
@@ -159,7 +165,7 @@ def _base_velocity(raw: object, ctx: Context) -> Action:
 def _acceleration(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw, 1)
-        if scaled_out_of_range(axis, board, "AC", raw, value):
+        if axis.units_seen and scaled_out_of_range(axis, board, "AC", raw, value):
             return
         axis.config.acceleration = value  # type: ignore[assignment]
         axis.config.deceleration = value  # type: ignore[assignment]
