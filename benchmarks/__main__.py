@@ -35,27 +35,40 @@ def _best_of(runs: int, fn: Callable[[], tuple[float, float]]) -> tuple[float, f
     return best
 
 
+BACK_AND_FORTH = ("MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777",
+                  "MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777")
+"""Ten axes' moves there and back: 0.1-0.4 s each, about three a second per axis."""
+
+
+def _back_to_back(setup: str, moves: tuple[str, str], poll_hz: float | None,
+                  sim_seconds: float, poll: str) -> tuple[MAXk, float]:
+    """A 10-axis board looping `moves` forever at varied VL/AC; run `sim_seconds` free
+    or with a host sending `poll` at `poll_hz`. Returns the board and the wall time."""
+    there, back = moves
+    board = MAXk("MAXk-A000")
+    board.send(setup)
+    board.send("AA; VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;")
+    board.send("AC500000,400000,300000,200000,100000,500000,400000,300000,200000,100000;")
+    board.send("AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
+               f"1000000,1000000; {there}; GO; {back}; GO; LE;")
+    board.advance(0.01)  # first-use costs (python-control builds servo plants) stay out
+    start = time.perf_counter()
+    if poll_hz is None:
+        board.advance(sim_seconds)
+    else:
+        step = board.ticks(1.0 / poll_hz)
+        end = board.tick + board.ticks(sim_seconds)
+        while board.tick < end:
+            board.advance(ticks=step)
+            board.send(poll)
+    return board, time.perf_counter() - start
+
+
 def steppers_back_to_back(poll_hz: float | None, sim_seconds: float = 600.0) -> Figure:
     """10 stepper axes, each running an endless loop of back-to-back moves."""
 
     def run() -> tuple[float, float]:
-        board = MAXk("MAXk-A000")
-        board.send("AA; VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;")
-        board.send("AC500000,400000,300000,200000,100000,500000,400000,300000,200000,100000;")
-        board.send("AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
-                   "1000000,1000000; MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777; "
-                   "GO; MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777; GO; LE;")
-        start = time.perf_counter()
-        if poll_hz is None:
-            board.advance(sim_seconds)
-        else:
-            step = board.ticks(1.0 / poll_hz)
-            end = board.tick + board.ticks(sim_seconds)
-            while board.tick < end:
-                board.advance(ticks=step)
-                board.send("AM;RI;")
-                board.send("AM PP;")
-        wall = time.perf_counter() - start
+        board, wall = _back_to_back("", BACK_AND_FORTH, poll_hz, sim_seconds, "AM;RI;AM PP;")
         assert board.board.axes[0].motion is not None or board.board.axes[0].wait is not None
         return sim_seconds, wall
 
@@ -96,8 +109,7 @@ SERVO_GAINS = "KP100,100,100,100,100,100,100,100,100,100; KD400,400,400,400,400,
 
 SERVO_MOVES = {
     # the stepper benchmark's moves: 0.1-0.4 s each, about three a second per axis
-    "short": ("MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777",
-              "MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777"),
+    "short": BACK_AND_FORTH,
     # moves on the scale of the manual's tuning check (MR64000): 1.3-13 s each
     "long": ("MR64000,-48000,32000,16000,64000,-64000,48000,-32000,-16000,-64000",
              "MR-64000,48000,-32000,-16000,-64000,64000,-48000,32000,16000,64000"),
@@ -108,28 +120,12 @@ def servos_back_to_back(poll_hz: float | None, moves: str = "short",
                         sim_seconds: float = 60.0) -> Figure:
     """10 servo axes in closed loop (PID on the default motor plant every tick, Coulomb
     friction included), each running an endless loop of back-to-back moves."""
-    there, back = SERVO_MOVES[moves]
 
     def run() -> tuple[float, float]:
-        board = MAXk("MAXk-A000")
-        board.send("AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; "
-                   + SERVO_GAINS + " CL1,1,1,1,1,1,1,1,1,1;")
-        board.send("VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;")
-        board.send("AC500000,400000,300000,200000,100000,500000,400000,300000,200000,100000;")
-        board.send("AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
-                   f"1000000,1000000; {there}; GO; {back}; GO; LE;")
-        board.advance(0.01)  # python-control builds the plants once, on the first tick
-        start = time.perf_counter()
-        if poll_hz is None:
-            board.advance(sim_seconds)
-        else:
-            step = board.ticks(1.0 / poll_hz)
-            end = board.tick + board.ticks(sim_seconds)
-            while board.tick < end:
-                board.advance(ticks=step)
-                board.send("AM;RI;")
-                board.send("AM PE;")
-        wall = time.perf_counter() - start
+        setup = "AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; " + SERVO_GAINS + \
+            " CL1,1,1,1,1,1,1,1,1,1;"
+        board, wall = _back_to_back(setup, SERVO_MOVES[moves], poll_hz, sim_seconds,
+                                    "AM;RI;AM PE;")
         assert board.query("AM;CL?;") == ",".join(["on"] * 10)  # no axis tripped
         return sim_seconds, wall
 

@@ -487,11 +487,9 @@ def _axis_type(value: object, ctx: Context) -> Action:
             axis.servo = None
         axis.config.axis_type = value  # type: ignore[assignment]
         axis.holding = False
-        if value == "M":
+        if value == "M":  # the motor starts where the stepper stands
             axis.servo = ServoLoop(axis.steps, board.tick)
-        axis.encoder_offset = 0
-        axis.encoder_offset = encoder - axis.encoder_position(board)
-        axis.resync(board)
+        axis.keep_encoder_reading(encoder, board)
         board.refresh_servo_axes()
         return None
 
@@ -552,10 +550,7 @@ def _encoder_ratio(value: object, ctx: Context) -> Action:
             return
         here = axis.encoder_position(board)
         axis.config.encoder_ratio = (counts, steps)
-        if axis.servo is None:  # the encoder counter reads on where it was
-            axis.encoder_offset = 0
-            axis.encoder_offset = here - axis.encoder_position(board)
-        axis.resync(board)
+        axis.keep_encoder_reading(here, board)
 
     return action
 

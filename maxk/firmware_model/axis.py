@@ -130,6 +130,13 @@ class Axis:
             return stage
         return stage * counts // motor_steps
 
+    def keep_encoder_reading(self, reading: int, board: Board) -> None:
+        """After a change of type or ratio the encoder counter reads on from `reading`,
+        and motor and encoder agree from here."""
+        self.encoder_offset = 0
+        self.encoder_offset = reading - self.encoder_position(board)
+        self.resync(board)
+
     def to_steps(self, counts: float) -> float:
         """Encoder mode (ER): distances, velocities and accelerations arrive in encoder
         counts; the motor runs in steps."""

@@ -223,11 +223,7 @@ class Board:
         assert servo is not None
         servo.trip_tick = None
         servo.tripped = True
-        axis.homing = None
-        for stopping in [axis, *axis.linked]:
-            stopping.linked = []
-            stopping.flush(self)
-            stopping.kill(self)
+        self.stop_with_linked(axis, hard=True)
         self.set_axis_flag(axis, F.AXIS_SLIP)
 
     def advance(self, ticks: int) -> None:
@@ -515,10 +511,7 @@ class Board:
         if abs(axis.position_error(self)) <= c.slip_tolerance:
             return
         self.set_axis_flag(axis, F.AXIS_SLIP)
-        for stopping in [axis, *axis.linked]:
-            stopping.linked = []
-            stopping.flush(self)
-            stopping.kill(self)
+        self.stop_with_linked(axis, hard=True)
 
     def maintain(self, axis: Axis) -> None:
         """HN on an encoder stepper at rest: if the encoder is outside the deadband (HD)
@@ -558,15 +551,17 @@ class Board:
     def limit_tripped(self, axis: Axis) -> None:
         """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL).
         The other axes of a coordinated MT/ML move stop and flush with it."""
-        hard = axis.config.limit_hard_stop
         self.set_axis_flag(axis, F.AXIS_OVERTRAVEL)
+        self.stop_with_linked(axis, hard=axis.config.limit_hard_stop)
+
+    def stop_with_linked(self, axis: Axis, hard: bool) -> None:
+        """A fault on one axis (limit, stall, following-error trip): it and the other
+        axes of its MT/ML move flush their queues and stop at once (hard) or ramp down."""
         for stopping in [axis, *axis.linked]:
             stopping.linked = []
             stopping.flush(self)
-            if stopping.motion is None:
-                continue
             if hard:
-                stopping.kill(self)
+                stopping.kill(self)  # also ends a home search, moving or not
             else:
                 stopping.stop(self)
 
@@ -657,10 +652,7 @@ class Board:
         for axis, config in zip(self.axes, configs, strict=True):
             encoder = axis.encoder_position(self)
             axis.config = config
-            if axis.servo is None:
-                axis.encoder_offset = 0
-                axis.encoder_offset = encoder - axis.encoder_position(self)
-            axis.resync(self)
+            axis.keep_encoder_reading(encoder, self)
 
     def load_power_up_parameters(self) -> None:
         """Power-up: the saved parameter set if the archive is good, else the factory set

@@ -94,6 +94,9 @@ class MotorPlant:
     def coefficients(self) -> tuple[float, float, float]:
         """(g, a, friction): acceleration in counts/s^2 per DAC count, damping 1/s, and
         the Coulomb friction as DAC counts. The motor obeys ``y'' = g*u - a*y'``."""
+        return _coefficients(self)
+
+    def _compute_coefficients(self) -> tuple[float, float, float]:
         damping = self.viscous_friction
         if self.amplifier == "voltage":  # back-EMF through the winding damps the motor
             damping += self.torque_constant ** 2 / self.resistance
@@ -110,6 +113,11 @@ class MotorPlant:
 
     def discrete(self, period: float) -> tuple[float, float, float, float, float, float]:
         return _discretize(self, period)
+
+
+@lru_cache(maxsize=256)
+def _coefficients(plant: MotorPlant) -> tuple[float, float, float]:
+    return plant._compute_coefficients()  # every servo axis asks on every advance: cached
 
 
 @lru_cache(maxsize=256)
@@ -253,20 +261,6 @@ class _Solution:
         z = self.P @ powers + self.delta * modal.lam ** j
         return (modal.V @ z).real.tolist()
 
-    def output_bounds(self, name: str, start: int, n: int) -> tuple[float, float] | None:
-        """A conservative (min, max) of an output over ticks start..n, or None: the
-        polynomial part's exact range plus the largest the decaying part can be."""
-        modal = self.modal
-        if not modal.stable:
-            return None
-        k = modal.index[name]
-        decay = np.abs(self.delta) * (modal.abs_lam ** start if start else 1.0)
-        transient = float(modal.abs_G[k] @ decay)
-        span = _poly_range(self.poly_out[k].tolist(), float(start), float(n))
-        if span is None:
-            return None
-        return span[0] - transient, span[1] + transient
-
     def first_violation(self, checks: list[tuple[str, float, float]], n: int) -> int:
         """The first tick (0..n) at which a checked output leaves its bounds, as far as
         the linear solution is concerned; n if none. Bounds first, exact values only on
@@ -316,11 +310,8 @@ class _Solution:
         growth[:, 1:] = modal.lam[:, None]
         Z = self.P @ powers + np.cumprod(growth, axis=1)
         rows = [modal.index[name] for name in names]
-        values = (modal.G[rows] @ Z).real + self.poly_inputs(rows, powers)
+        values = (modal.G[rows] @ Z).real + modal.DW[rows] @ (self.W @ powers)
         return {name: values[i] for i, name in enumerate(names)}
-
-    def poly_inputs(self, rows: list[int], powers: np.ndarray) -> np.ndarray:
-        return self.modal.DW[rows] @ (self.W @ powers)
 
 
 @lru_cache(maxsize=512)
