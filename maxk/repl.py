@@ -167,8 +167,7 @@ class ReplSession:
             return [f"{s.syntax:<16} {s.summary}" for s in COMMANDS.values()]
         if word == "reset":
             self.sync()
-            self.maxk.reset()
-            self._errors_seen = 0
+            self.maxk.reset()  # errors from before stay seen; a power-up one is new
             archive = self.maxk.board.archive.path
             return [f"reset: firmware flags {self.maxk.board.firmware_state:#010x} "
                     f"({'archive ' + str(archive) if archive else 'archive in memory'})"]

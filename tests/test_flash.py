@@ -303,3 +303,12 @@ def test_linear_moves_in_encoder_mode_take_encoder_counts():
     assert board.run_until_done("X", "Y", timeout=5)
     assert board.query("AA RE").startswith("10,20,")
     assert board.query("AA RP").startswith("5,10,")
+
+
+def test_the_repl_reset_does_not_repeat_old_errors(tmp_path):
+    from maxk.repl import ReplSession
+
+    session = ReplSession(manual_time=True, archive=tmp_path / "flash.json")
+    assert session.handle("XX")[0].startswith("! command error")
+    out = session.handle(":reset")
+    assert len(out) == 1 and out[0].startswith("reset:")
