@@ -59,6 +59,14 @@ def build_parser() -> argparse.ArgumentParser:
                      help="write positions, velocities and flags to a CSV file")
     run.add_argument("--trace-every", metavar="DURATION", default=None,
                      help="trace every DURATION (e.g. 1 ms, 10 ticks) instead of per event")
+    run.add_argument("--plot", type=Path, metavar="PNG",
+                     help="draw the XY path of two axes into a PNG (needs the plot extra)")
+    run.add_argument("--plot-axes", default="X,Y", metavar="A,B",
+                     help="the two axes to plot (default X,Y)")
+    run.add_argument("--plot-bit", type=int, default=None, metavar="BIT",
+                     help="colour the path where this I/O bit is high (e.g. 8)")
+    run.add_argument("--plot-every", metavar="DURATION", default="1 ms",
+                     help="sample the path every DURATION (default 1 ms)")
 
     cmds = sub.add_parser("commands", help="list the command table")
     cmds.add_argument("--markdown", action="store_true",
@@ -154,11 +162,34 @@ def _run(args: argparse.Namespace) -> int:
         def on_step(step):  # type: ignore[no-untyped-def]
             tracer.sample(f"line {step.line}")
 
+    recorder = None
+    if args.plot:
+        from .pathplot import PathRecorder
+
+        try:
+            letters = tuple(a.strip().upper() for a in args.plot_axes.split(","))
+            if len(letters) != 2:
+                raise ValueError("--plot-axes: name two axes, e.g. X,Y")
+            every = max(1, parse_duration(args.plot_every, board.board.update_rate_hz))
+            if args.plot_bit is not None and not 0 <= args.plot_bit <= 15:
+                raise ValueError("--plot-bit: a bit 0-15")
+            recorder = PathRecorder(board.board, letters, every, args.plot_bit)  # type: ignore
+        except (ValueError, KeyError) as error:
+            print(f"maxk run: {error}", file=sys.stderr)
+            return 2
+        recorder.attach()
     try:
         transcript = run_script(script, board=board, check=not args.record, on_step=on_step)
     finally:
         if trace_file is not None:
             trace_file.close()
+    if recorder is not None:
+        recorder.sample(board.board)
+        try:
+            print(f"plot: {recorder.plot(args.plot, title=args.script.name)}", file=sys.stderr)
+        except (ImportError, OSError) as error:
+            print(f"maxk run: --plot: {error}", file=sys.stderr)
+            return 2
     for _line, tick, text, replies in transcript.entries:
         if args.verbose:
             print(f"[{tick:>8}] > {text.strip()}")

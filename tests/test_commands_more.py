@@ -94,6 +94,10 @@ def test_every_table_entry_has_a_behaviour():
             assert m in QUEUED or m in NOT_MODELLED_YET or m in LINEAR_MOVES, m
             if spec.query:
                 assert m in SETTING_QUERIES, m
+        elif spec.timing is Timing.VECTOR:
+            from maxk.commands.vector import _HANDLERS
+
+            assert m in _HANDLERS, m
         assert spec.confidence in "CID", m
         assert spec.source, m
 
@@ -103,7 +107,8 @@ def test_every_mnemonic_is_accepted_by_the_lexer_in_both_cases():
 
     for m, spec in COMMANDS.items():
         operand = {"none": "", "#": "1", "letter": spec.letters[:1],
-                   "pattern": spec.letters[:1] * 4, "hex": "0"}[spec.operand.value]
+                   "pattern": spec.letters[:1] * 4, "hex": "0",
+                   "vector": "1" if spec.arity else ""}[spec.operand.value]
         for text in (m + operand, (m + operand).lower()):
             out = Lexer().feed(text + ";")
             assert len(out) == 1 and isinstance(out[0], ParsedCommand), (text, out)

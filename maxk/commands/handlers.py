@@ -404,7 +404,7 @@ def _bit_level(high: bool) -> QueuedFactory:
                 board.report_error(f"bit {bit} is an input (BD/IO make it an output)",
                                    f"{'BH' if high else 'BL'}{bit}")
                 return
-            board.io.set_output(bit, high)  # type: ignore[arg-type]
+            board.io.set_output(bit, high, board.tick)  # type: ignore[arg-type]
             board.cross_axis_event = True  # an SW may be waiting on this line
 
         return action
@@ -415,7 +415,8 @@ def _bit_level(high: bool) -> QueuedFactory:
 def _set_outputs(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         io = board.io
-        io.outputs = (io.outputs & ~io.direction) | (value & io.direction)  # type: ignore[operator]
+        io.latch((io.outputs & ~io.direction) | (value & io.direction),  # type: ignore[operator]
+                 board.tick)
         board.cross_axis_event = True  # an SW may be waiting on this line
 
     return action
@@ -724,6 +725,19 @@ def _kill_selected(ctx: Context) -> None:
         axis.kill(board)
 
 
+def _clear_queues(ctx: Context) -> None:
+    """SI: flush the flagged axes' queues (the trajectory scan's 'clear motor queue')."""
+    board = ctx.board
+    if ctx.listing and not ctx.command.slots:
+        raise CommandError("SI in AA/AM mode names the axes: SI1,,1")
+    if ctx.listing or ctx.values[0] is not None:
+        targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
+    else:
+        targets = ctx.axes
+    for axis in targets:
+        axis.flush(board)
+
+
 def _clear_done(ctx: Context) -> None:
     for axis in ctx.addressed:
         ctx.board.clear_axis_flags(axis, F.AXIS_DONE)
@@ -894,6 +908,7 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "SA": _stop_all,
     "KL": _kill_all,
     "KS": _kill_selected,
+    "SI": _clear_queues,
     "CA": _clear_done,
     "IC": _interrupt_clear,
     "FL": _flush,

@@ -25,6 +25,7 @@ from .handlers import (
 )
 from .lexer import Lexer, LexError, ParsedCommand
 from .table import AA, Operand, Timing
+from .vector import dispatch_vector
 
 _MODE_NAMES = {"single": "single-axis", "AA": "AA", "AM": "AM"}
 
@@ -99,6 +100,8 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
     mode = board.mode
     if mode not in spec.modes:
         raise CommandError(f"{spec.mnemonic} is not allowed in {_MODE_NAMES[mode]} mode")
+    if spec.timing is Timing.VECTOR:
+        return dispatch_vector(board, cmd)
     axes_all = board.axes
     slots = cmd.slots
     if not spec.per_axis:

@@ -47,6 +47,9 @@ def _mnemonic_at(buf: str, i: int, n: int) -> str | None:
     return None
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
 _HEX_RUN = re.compile(r"[0-9A-Fa-f]*")
+_HEX_LIST_RUN = re.compile(r"[0-9A-Fa-f,]*")
+_HEX_SLOT = re.compile(r"[0-9A-Fa-f]{1,8}\Z")
+_TASK_INDEX = re.compile(r"\[(\d{1,3})\]")
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,6 +60,8 @@ class ParsedCommand:
     slots: tuple[str | None, ...]
     query: bool
     text: str
+    task: int | None = None  # vector commands: the [n] task index, if given
+    form: str = ""  # vector commands: VP's A/R letter, VO's '='
 
     @property
     def mnemonic(self) -> str:
@@ -214,6 +219,14 @@ class Lexer:
                 out.append(ParsedCommand(spec, (buf[j:end],), False, text))
                 i = end
                 continue
+            if kind is Operand.VECTOR:
+                parsed = _vector(spec, buf, i, j, n)
+                if parsed is None:
+                    break  # more bytes decide
+                item, i, skip = parsed
+                out.append(item)
+                self._skipping = skip
+                continue
             if kind is Operand.PATTERN:
                 k = j
                 while k < n and k - j < 4 and buf[k].upper() in spec.letters:
@@ -272,3 +285,61 @@ class Lexer:
             self._skipping = True
         return out
 
+
+
+def _vector(spec: CommandSpec, buf: str, i: int, j: int, n: int
+            ) -> tuple[ParsedCommand | LexError, int, bool] | None:
+    """A vector-task command from j on: `[n]`, then VP's A/R or VO's '=', then a comma
+    list (hex for VIO). None while more bytes could change it; else (item, next index,
+    skip to the next separator)."""
+    mnemonic = spec.mnemonic
+    k = j
+    task = None
+    if k >= n:
+        return None  # '[', a form letter or an operand may follow
+    if buf[k] == "[":
+        match = _TASK_INDEX.match(buf, k)
+        if match is None:
+            if "]" not in buf[k : k + 5] and n - k < 5:
+                return None
+            return LexError(buf[i : k + 1], f"{mnemonic}: malformed task index"), k, True
+        task = int(match.group(1))
+        k = match.end()
+    form = ""
+    if k < n and spec.letters and buf[k].upper() in spec.letters:
+        form = buf[k].upper()
+        k += 1
+    elif k < n and mnemonic == "VO" and buf[k] == "=":
+        form = "="
+        k += 1
+    if spec.arity == 0:
+        if k >= n and task is None:
+            return None
+        return ParsedCommand(spec, (), False, buf[i:k], task, form), k, False
+    hex_operand = mnemonic == "VIO"
+    end = (_HEX_LIST_RUN if hex_operand else _NUMBER_RUN).match(buf, k).end()
+    if end - k > MAX_OPERAND_LENGTH:
+        return LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"), end, True
+    if end >= n:
+        return None  # more digits may follow
+    run = buf[k:end]
+    if run and buf[end] not in SEPARATORS:
+        follower = _mnemonic_at(buf, end, n)
+        if follower is _HOLD:
+            return None
+        if follower is None:
+            return (LexError(buf[i : end + 1], f"{mnemonic}: malformed operand "
+                                               f"{buf[k : end + 1]!r}"), end, True)
+    text = buf[i:end]
+    if not run:
+        if buf[end] not in SEPARATORS and _mnemonic_at(buf, end, n) is None:
+            return (LexError(buf[i : end + 1], f"{mnemonic}: malformed operand "
+                                               f"{buf[end]!r}"), end, True)
+        return ParsedCommand(spec, (), False, text, task, form), end, False
+    slots = tuple(s if s else None for s in run.split(","))
+    check = _HEX_SLOT if hex_operand else _NUMBER
+    bad = next((s for s in slots if s is not None and not check.match(s)), None)
+    if bad is not None:
+        kind = "hexadecimal word" if hex_operand else "number"
+        return LexError(text, f"{mnemonic}: malformed {kind} {bad!r}"), end, False
+    return ParsedCommand(spec, slots, False, text, task, form), end, False

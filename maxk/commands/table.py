@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
+from ..firmware_model.contouring import OVERRIDE_MAX
 from ..firmware_model.models import (
     MAX_ACCELERATION,
     MAX_VELOCITY,
@@ -28,12 +29,14 @@ class Operand(Enum):
     LETTER = "letter"  # one letter of `letters` (or '?' when query=True); lists in AA/AM
     PATTERN = "pattern"  # exactly four characters of `letters` (EH1111)
     HEX = "hex"  # hexadecimal digits (BD, BS); one operand, never a per-axis list
+    VECTOR = "vector"  # vector-task commands: optional [n], a form letter or '=', a list
 
 
 class Timing(Enum):
     MODE = "mode"  # changes the command mode at once
     IMMEDIATE = "immediate"  # acts the moment it is parsed
     QUEUED = "queued"  # goes into the addressed axis queue(s)
+    VECTOR = "vector task"  # goes to the addressed vector task's contour (contouring)
 
 
 SINGLE = "single"
@@ -63,9 +66,12 @@ class CommandSpec:
     operand_optional: bool = False
     per_axis: bool = True  # False: operands are positional (IO3,1), not one per axis
     arity: int = 1  # positional operands when per_axis is False
+    form: str = ""  # the syntax shown in help and the reference, when the default won't do
 
     @property
     def syntax(self) -> str:
+        if self.form:
+            return self.form
         m = self.mnemonic
         if self.operand is Operand.NUMBER:
             form = ",".join(["#"] * self.arity) if not self.per_axis else "#"
@@ -89,6 +95,15 @@ def _q(mnemonic: str, group: str, summary: str, *, units: int = 1, **kw) -> Comm
 
 def _i(mnemonic: str, group: str, summary: str, **kw) -> CommandSpec:
     return CommandSpec(mnemonic, group, summary, Timing.IMMEDIATE, **kw)
+
+
+def _v(mnemonic: str, form: str, summary: str, *, arity: int = 1, **kw) -> CommandSpec:
+    """A vector-task command (contouring): `[n]` picks task 1-8, none means task 1."""
+    kw.setdefault("source", "evidence 2.8 (TRAJ)")
+    kw.setdefault("confidence", "I")
+    kw.setdefault("per_axis", False)
+    return CommandSpec(mnemonic, "contour", summary, Timing.VECTOR, operand=Operand.VECTOR,
+                       arity=arity, form=form, **kw)
 
 
 _VEL = (0.0, float(MAX_VELOCITY))
@@ -559,6 +574,85 @@ _SPECS: list[CommandSpec] = [
        "SySal for `MAXk-`, classic drvMAXv reads the number after the first colon."),
     _i("#WS", "report", "Watchdog status: =0 while healthy.", reply="=0",
        source="evidence 2.5, E1, E2"),
+    # ---- vector contouring (docs/contouring.md) --------------------------------------
+    _v("VA", "VA[n]#", "Vector acceleration for the segments that follow, counts/s^2.",
+       value_range=_ACC, source="manual Appendix C; evidence 2.8 (TRAJ `VA[n]#`)",
+       notes="Each segment keeps the VA in effect when it was defined: its speed changes at "
+       "VA, and on arcs it stays at or below sqrt(VA x radius), so the centripetal "
+       "acceleration stays within VA too (D). Before any VA, the first contour axis's AC "
+       "(D)."),
+    _v("VV", "VV[n][#,]#", "Vector velocity: start and end, or end only, counts/s.", arity=2,
+       value_range=(0.0, 4_194_303.0), source="manual Appendix C (VV1000,1000 ... "
+       "VV1000,0); evidence 2.8 (`VV[n]#`, `VV[n]#,#`)",
+       notes="A segment's speed rises from where it is toward its end velocity at VA (or "
+       "stays at its start velocity and falls at VA to reach a lower end velocity exactly "
+       "at its end); it never exceeds max(start, end) x override. The start velocity is "
+       "taken at once only where the path starts from rest (as a stepper takes its base "
+       "velocity); elsewhere the speed is continuous. `VV#` sets the end and lets the start "
+       "follow on from the previous end. Before any VV: the first axis's VL (D)."),
+    _v("VP", "VP[n][A|R]#,#,...", "Vector position: a straight segment to these "
+       "coordinates (one slot per axis; A absolute, R relative).",
+       value_range=_POS, letters="AR", per_axis=True,
+       source="manual Appendix C (VP0,0); evidence 2.8 (`VP[n]A,p1,p2,...`)",
+       notes="The first VP of a contour names its axes (the filled slots; the addressed axis "
+       "in single-axis mode) and takes one queue unit (its anchor) on each: the contour "
+       "starts when every one of those queues reaches it and the axes are at rest (and after "
+       "VG if VH0 held it). Later VP/VC hold one unit per axis until the path passes them. "
+       "An empty slot keeps that axis where the path is; naming an axis outside the contour "
+       "is a command error. Without A/R: absolute (the MAXk form). The first segment runs "
+       "from wherever the axes stand (D)."),
+    _v("VC", "VC[n]#,#,#", "Circular arc: centre of the contour's first two axes, then the "
+       "angle in degrees (negative clockwise).", arity=3, value_range=_POS,
+       source="manual Appendix C (VC0,5000,-180; VC0,0,-360)", confidence="D",
+       notes="The arc runs in the plane of the contour's first two axes (X before Y ...) from "
+       "where the path is; positive angles turn from the first axis toward the second. "
+       "|angle| up to 3600 (whole circles close exactly); the centre is absolute. A contour "
+       "must be opened by a VP naming at least two axes first."),
+    _v("VE", "VE[n]", "End of the contour: no more segments.", arity=0,
+       source="manual Appendix C; evidence 2.8 (`VE[n]`)",
+       notes="The path always plans to stop at the end of the segments it knows; before VE "
+       "it waits there for more (a host may stream segments while it runs), after VE the "
+       "contour is finished when it stops there, and the axes' queues go on."),
+    _v("VG", "VG[n]", "Start (or resume) task n's contour.", arity=0,
+       notes="Clears a VH hold: a contour held before its start begins, one stopped by VH1 "
+       "goes on from where it stopped. A contour not held starts by itself (the manual's "
+       "example has no VG)."),
+    _v("VH", "VH[n]#", "Hold: VH0 the next contour waits for VG; VH1 stop the running "
+       "contour on its path.", value_range=(0.0, 1.0),
+       notes="VH1 ramps the path down at VA without leaving it; VG resumes (D for the "
+       "resume)."),
+    _v("VID", "VID[n]#", "Done flag when the task finishes: VID1 on, VID0 off.",
+       value_range=(0.0, 1.0),
+       notes="With VID1 a contour clears its axes' done flags when it starts and sets them "
+       "when it finishes (not when stopped), so QI reads N while it runs (D)."),
+    _v("VIO", "VIO[n]hhhh,hhhh,hhhh", "Outputs at each following segment start: on bits, "
+       "off bits, mask (hex).", arity=3, value_range=(0.0, 65535.0),
+       source="manual Appendix C (VIO0100,,0100 ... VIO0,,0100); evidence 2.8",
+       notes="At the start of every segment defined after it, the mask's bits take the on "
+       "bits. With an off word (TRAJ sends one) it is a pulse: one update cycle later they "
+       "take the off bits (D for the width). Without the mask: the bits named. VIO0,0,0 "
+       "stops it. Bit n is I/O line n (the manual's text calls the example's 0100 'I/O7'; "
+       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8)."),
+    _v("VO", "VO[n]=#", "Velocity override, percent of the programmed vector velocity "
+       "(0-200).", value_range=(0.0, OVERRIDE_MAX), confidence="C",
+       source="manual Appendix C; evidence 2.8 (`VO[n]=100`)",
+       notes="Changes speed along the path at VA, never leaving it. 0 holds the path at rest "
+       "(the contour is not finished). Also `VO#`. Replaces a VOA input."),
+    _v("VOA", "VOA#[,#]", "Velocity override from analog input # (0-3): 0 V is 100%, the "
+       "span (volts, default 5) either side reaches 0% and 200%.", arity=2,
+       value_range=(0.0, 10.0), source="manual 4.5.1, Appendix C (VOA0,5)", confidence="D",
+       notes="The operands' meaning is not in the sources: we read VOA0,5 as input 0 with a "
+       "5 V span, so an unconnected input (0 V) runs the program as written and -5..+5 V "
+       "give 0..200%. Read every update cycle."),
+    _v("VRV", "VRV[n]", "Report the task's present vector velocity.", arity=0,
+       reply="1000", notes="0 when not moving."),
+    _v("VRC", "VRC[n]", "Report the task's vector acceleration (the present segment's VA).",
+       arity=0, reply="2000000"),
+    _i("SI", "queue", "Clear the queues of the flagged axes (`AM; SI1,,1;`).",
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
+       source="evidence 2.2 (TRAJ: 'clear motor queue')", confidence="I",
+       notes="As FL for each axis with a 1 in its slot (single-axis mode: the addressed axis); "
+       "a running contour on them ramps down on its path."),
     _i("CC", "report", "Controller cycle counter (update ticks since power-up, 30 bits).",
        reply="123456", source="evidence 2.5, E8 (SySal)", confidence="I",
        notes="Plain decimal, wrapping at 2^30 (SySal checks 0..0x3FFFFFFF)."),
@@ -584,6 +678,7 @@ GROUP_TITLES = {
     "encoder": "Encoders on steppers (PSE axes)",
     "units": "User units",
     "flash": "Parameter flash (power-up defaults)",
+    "contour": "Vector contouring (tasks 1-8)",
 }
 
 

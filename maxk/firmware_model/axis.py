@@ -275,8 +275,8 @@ class Axis:
     def stop(self, board: Board) -> None:
         """Decelerate to VB at the deceleration rate, then stop (ending any home search)."""
         self.homing = None
-        if self.motion is None:
-            return
+        if self.motion is None or getattr(self.motion, "contour", False):
+            return  # a contour axis ramps down with its path (the flush told the contour)
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)

@@ -22,6 +22,7 @@ from .capture import (
     CaptureRing,
     encoder_at,
 )
+from .contouring import TASKS, ContourTask
 from .homing import Homing, home_condition, next_home_position
 from .io import GeneralIO
 from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
@@ -81,6 +82,7 @@ class Board:
         # Observers for traces: [every_ticks or None, next tick due, callback].
         self._observers: list[list] = []
         self._servo_axes: list[Axis] = []  # PSM axes: their loops run every tick
+        self.tasks: dict[int, ContourTask] = {}  # vector tasks (contouring), by index
         self.load_power_up_parameters()
 
     # ---- lookup ----------------------------------------------------------------------
@@ -120,6 +122,10 @@ class Board:
         for _every, due, _callback in self._observers:
             if due is not None and (best is None or due < best):
                 best = due
+        for task in self.tasks.values():
+            t = task.next_event(self)
+            if t is not None and (best is None or t < best):
+                best = t
         if self.capturing_inputs() and self.world.inputs_time_dependent():
             poll = self.tick + 1  # inputs that are functions: look every update cycle
             if best is None or poll < best:
@@ -179,6 +185,10 @@ class Board:
                     if type(wait) is tuple and axis not in due and (
                             wait[0] == "input" or wait[1] <= now):
                         due.append(axis)
+            for task in list(self.tasks.values()):
+                t = task.next_event(self)
+                if t is not None and t <= now:
+                    due.extend(a for a in task.on_event(self) if a not in due)
             self.run_queues(due)
             for axis in due:
                 if axis.config.slip_detect:
@@ -498,6 +508,8 @@ class Board:
             self.check_motion(axis)
             self.check_slip(axis)
             self.maintain(axis)
+        for task in self.tasks.values():
+            task.override_changed(self)  # an analog override input may have moved
         self.run_queues()
 
     # ---- encoder steppers: slip (stall) detection and position maintenance ------------
@@ -710,6 +722,7 @@ class Board:
             axis.kill(self)
         # where the stages stand: a servo's motor is where its encoder says
         physical = [a.steps if a.servo is None else round(a.servo.p) for a in self.axes]
+        self.tasks = {}
         kept = [a.config for a in self.axes]
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         for axis, steps, config in zip(self.axes, physical, kept, strict=True):
@@ -733,6 +746,16 @@ class Board:
         self._cycle_origin = self.tick
         self.load_power_up_parameters()
         self.world_changed()
+
+    # ---- vector tasks ----------------------------------------------------------------
+    def contour_task(self, index: int) -> ContourTask:
+        """Vector task 1-8 (contouring), made on first use."""
+        if index not in TASKS:
+            raise KeyError(f"no vector task {index} (1-{TASKS[-1]})")
+        task = self.tasks.get(index)
+        if task is None:
+            task = self.tasks[index] = ContourTask(index)
+        return task
 
     # ---- whole-board actions ---------------------------------------------------------
     def set_update_rate(self, rate_hz: int) -> None:

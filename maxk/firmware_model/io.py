@@ -8,7 +8,8 @@ the axis is not a servo. Inputs come from the world; outputs are latched here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections import deque
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -22,6 +23,8 @@ ADC_FULL_SCALE = 32767
 class GeneralIO:
     direction: int = FACTORY_DIRECTION
     outputs: int = 0  # output latch (bits configured as inputs keep their latch too)
+    # (tick, latch) after every change: a pulse shorter than a host's poll still shows here
+    changes: deque[tuple[int, int]] = field(default_factory=lambda: deque(maxlen=4096))
 
     def level(self, bit: int, board: Board) -> bool:
         if self.direction >> bit & 1:
@@ -32,11 +35,15 @@ class GeneralIO:
         """The 16 line levels as BX and the shared-memory I/O word report them."""
         return sum(1 << bit for bit in range(16) if self.level(bit, board))
 
-    def set_output(self, bit: int, high: bool) -> None:
-        if high:
-            self.outputs |= 1 << bit
-        else:
-            self.outputs &= ~(1 << bit)
+    def set_output(self, bit: int, high: bool, tick: int) -> None:
+        mask = 1 << bit
+        self.latch((self.outputs | mask) if high else (self.outputs & ~mask), tick)
+
+    def latch(self, word: int, tick: int) -> None:
+        """Set the output latch, remembering the change."""
+        if word != self.outputs:
+            self.outputs = word
+            self.changes.append((tick, word))
 
 
 def volts_to_counts(volts: float) -> int:

@@ -117,6 +117,11 @@ class Phase:
     def length(self) -> float:
         return self.distance(self.duration)
 
+    @property
+    def polynomial(self) -> bool:
+        """Is the position a polynomial in time over this phase? (Cosine ramps are not.)"""
+        return not (self.v1 != self.v2 and self.shape is RampShape.COSINE)
+
 
 @dataclass(slots=True)
 class Motion:

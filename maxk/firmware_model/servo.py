@@ -445,7 +445,7 @@ class ServoLoop:
                 end_t = half
             else:
                 start_t = half
-        polynomial = not (ramp and phase.shape is RampShape.COSINE)
+        polynomial = phase.polynomial  # cosine ramps and contour arcs are not
         start = axis.motion_start + math.ceil(start_t / period - 1e-9)
         if math.isinf(end_t):
             end = axis.motion_end

@@ -1,0 +1,79 @@
+"""XY path plots: where two axes went during a run, and where an output was on.
+
+`maxk run SCRIPT --plot PNG` samples the motor positions (RP) of two axes every update
+cycle or every N ticks while the script runs, and draws the path into a PNG with
+matplotlib (the ``plot`` extra), the stretches where an output bit was high in another
+colour: for a contour with VIO, the torch-on part of the cut.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .firmware_model.board import Board
+from .tuning import PLOT_MISSING
+
+
+class PathRecorder:
+    """Samples two axes' positions (and one output bit) as the board runs."""
+
+    def __init__(self, board: Board, axes: tuple[str, str] = ("X", "Y"),
+                 every_ticks: int = 8, bit: int | None = None) -> None:
+        self.board = board
+        self.axes = (board.axis(axes[0]), board.axis(axes[1]))
+        self.every_ticks = every_ticks
+        self.bit = bit
+        self.time: list[float] = []
+        self.x: list[int] = []
+        self.y: list[int] = []
+        self.on: list[bool] = []
+
+    def attach(self) -> None:
+        self.board.add_observer(self.sample, self.every_ticks)
+        self.sample(self.board)
+
+    def detach(self) -> None:
+        self.board.remove_observer(self.sample)
+
+    def sample(self, board: Board) -> None:
+        a, b = self.axes
+        self.time.append(board.time)
+        self.x.append(a.motor_position(board))
+        self.y.append(b.motor_position(board))
+        self.on.append(self.bit is not None and board.io.level(self.bit, board))
+
+    def plot(self, path: str | Path, title: str = "") -> Path:
+        """Write the path to a PNG. Raises ImportError with advice when matplotlib is not
+        installed."""
+        try:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+        except ImportError as exc:
+            raise ImportError(PLOT_MISSING) from exc
+        path = Path(path)
+        fig, ax = plt.subplots(figsize=(7, 7))
+        ax.plot(self.x, self.y, color="0.6", linewidth=1.0, label="path")
+        if self.bit is not None and any(self.on):
+            # the stretches with the output high, drawn over the path
+            xs: list[float] = []
+            ys: list[float] = []
+            for x, y, on in zip(self.x, self.y, self.on, strict=True):
+                xs.append(x if on else float("nan"))
+                ys.append(y if on else float("nan"))
+            ax.plot(xs, ys, color="tab:red", linewidth=2.0,
+                    label=f"output {self.bit} high")
+        if self.x:
+            ax.plot(self.x[0], self.y[0], "o", color="tab:green", label="start")
+            ax.plot(self.x[-1], self.y[-1], "s", color="tab:blue", label="end")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel(f"{self.axes[0].letter} position, counts")
+        ax.set_ylabel(f"{self.axes[1].letter} position, counts")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best")
+        ax.set_title(title or "maxk path")
+        fig.tight_layout()
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        return path
