@@ -635,10 +635,16 @@ class Contour:
 
     # ---- planning --------------------------------------------------------------------
     def where(self, board: Board) -> tuple[float, float]:
-        """(s, speed) of the path now."""
+        """(s, speed) of the path now (speed 0 once its axes were killed)."""
         if self.plan is None:
             return 0.0, 0.0
-        return self.plan.state((board.tick - self.plan_tick) * board.period)
+        s, v = self.plan.state((board.tick - self.plan_tick) * board.period)
+        return (s, v) if self.followed(board) else (s, 0.0)
+
+    def followed(self, board: Board) -> bool:
+        """Does any axis still follow the present plan? (KS/KL kill them off it.)"""
+        plan = self.plan
+        return any(getattr(board.axes[i].motion, "plan", None) is plan for i in self.axes)
 
     def _index_at(self, s: float) -> int:
         i = self.current
@@ -688,6 +694,8 @@ class Contour:
 
     # ---- events ----------------------------------------------------------------------
     def next_event(self, board: Board) -> int | None:
+        if self.aborted and self.state == "running" and not self.followed(board):
+            return board.tick  # killed: finish now
         best = self.plan_end_tick if self.state == "running" else None
         if self.boundaries and (best is None or self.boundaries[0][0] < best):
             best = self.boundaries[0][0]
@@ -701,6 +709,9 @@ class Contour:
 
     def on_event(self, board: Board) -> list[Axis]:
         now = board.tick
+        if self.aborted and self.state == "running" and not self.followed(board):
+            self.finish(board)
+            return [board.axes[i] for i in self.axes]
         self._enter_segments(board, now)
         if self.state == "running" and self.plan_end_tick is not None \
                 and now >= self.plan_end_tick:
