@@ -136,6 +136,60 @@ def servos_back_to_back(poll_hz: float | None, moves: str = "short",
                   work / wall, "simulated s per wall s", 100.0, label)
 
 
+def trajectory_scan(segments: int = 500, tasks: int = 8) -> list[Figure]:
+    """The EPICS trajectory scan's load and run (evidence 2.8): one vector task per axis,
+    `segments` segments each at varied speeds, started together, polled with QI and
+    nudged with VO every 0.2 s as the sequencer does."""
+    board = MAXk("MAXk-A000")
+    lines = []
+    for task in range(1, tasks + 1):
+        lines += [f"AM; VID[{task}]1;", f"AM; VH[{task}]0;"]
+        position = 0
+        for i in range(segments):
+            speed = 1000 + 500 * (i % 7)
+            position += speed // 10  # 0.1 s per segment at its speed
+            slots = "," * (task - 1) + str(position) + "," * (tasks - task)
+            lines.append(f"AM; VA[{task}]100000;VV[{task}]{speed};VP[{task}]A{slots};")
+        lines.append(f"AM; VE[{task}];")
+    start = time.perf_counter()
+    for line in lines:
+        board.write(line)
+    load_wall = time.perf_counter() - start
+    assert not board.command_error, board.last_error
+    board.send("AM;" + "".join(f"VG[{t}];" for t in range(1, tasks + 1)))
+    start = time.perf_counter()
+    step = board.ticks(0.2)
+    polls = 0
+    while True:
+        board.advance(ticks=step)
+        polls += 1
+        status = board.query("QI")
+        board.send(f"AM; VO[{polls % tasks + 1}]={95 + polls % 11};")
+        if all(status[5 * t + 1] == "D" for t in range(tasks)):
+            break
+    wall = time.perf_counter() - start
+    return [Figure("trajectory_scan_load", len(lines) * 3 / load_wall, "commands/s", None,
+                   f"{tasks} tasks x {segments} segments (VA, VV, VP each)"),
+            Figure("trajectory_scan_run", board.time / wall, "sim s / wall s", 100.0,
+                   f"{tasks} single-axis tasks, QI + VO every 0.2 s, {board.time:.0f} s")]
+
+
+def hole_polled(poll_hz: float = 10.0) -> Figure:
+    """The manual's hole-cutting contour, a host asking RP and VRV at poll_hz."""
+    board = MAXk("MAXk-4000")
+    board.send("AA; VOA0,5; VV1000,1000; VP0,0; VIO0100,,0100; VC0,5000,-180; "
+               "VC0,0,-360; VIO0,,0100; VV1000,0; VP-1000,0; VE; AA ID;")
+    step = board.ticks(1.0 / poll_hz)
+    start = time.perf_counter()
+    while not board.done("X"):
+        board.advance(ticks=step)
+        board.query("AA RP")
+        board.query("VRV")
+    wall = time.perf_counter() - start
+    return Figure("hole_contour_polled", board.time / wall, "sim s / wall s", 100.0,
+                  f"Appendix C contour, RP+VRV at {poll_hz:g} Hz")
+
+
 def command_throughput(n_lines: int = 4000) -> Figure:
     """Commands per second through lexer, interpreter and queues (executing as they go)."""
     line = ("AX;VL5000;AC50000;VB100;MR1000;LP0;ID;RP;AY;VL6000;MA-250;LPE5;CA;"
@@ -209,6 +263,8 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "servos_short": lambda: servos_back_to_back(None, "short", 30.0),
     "servos_long": lambda: servos_back_to_back(None, "long", 120.0),
     "servos_long_polled": lambda: servos_back_to_back(10.0, "long", 60.0),
+    "trajectory_scan": trajectory_scan,
+    "hole_polled": hole_polled,
     "commands": command_throughput,
     "lexer": lexer_throughput,
     "memory": memory_per_board,

@@ -207,6 +207,7 @@ class PathPlan:
         self.starts = [seg.s0 for seg in segments]
         self.pieces = pieces
         self.times = [p.t0 for p in pieces]
+        self.piece_ends = [p.s1 for p in pieces]
         self.s_start = s_start
         self.end_time = end_time
         self.s_end = pieces[-1].s1 if pieces else s_start
@@ -239,12 +240,13 @@ class PathPlan:
         """When the plan reaches s (None if it never does)."""
         if s > self.s_end + _EPS:
             return None
-        for p in self.pieces:
-            if math.isinf(p.duration):
-                return p.t0 if s <= p.s0 + _EPS else None
-            if s <= p.s1 + _EPS:
-                return p.t0 + p.tau_at(s)
-        return self.end_time
+        i = bisect.bisect_left(self.piece_ends, s - _EPS)
+        if i >= len(self.pieces):
+            return self.end_time
+        p = self.pieces[i]
+        if math.isinf(p.duration):
+            return p.t0 if s <= p.s0 + _EPS else None
+        return p.t0 + p.tau_at(s)
 
     def point(self, s: float, k: int) -> float:
         seg = self.segment_at(s)
@@ -379,20 +381,47 @@ class ContourMotion:
         self.final_offset = 0
         if plan.end_time is not None:
             self.final_offset = round(plan.point(plan.s_end, k)) - round(origin)
-        self.phases = _axis_phases(plan, k)
-        moving = [p for p in self.phases if p.v1 or p.v2]
-        self.direction = moving[0].direction if moving else 1
-        self.peak_speed = max((max(p.v1, p.v2) for p in moving), default=0.0)
-        self._times = [p.t0 for p in self.phases]
+        self._phases: list[ContourPhase] | None = None  # made when first asked for
+        self._times: list[float] = []
+        self.direction, self.monotonic = self._directions()
+        self.peak_speed = 0.0  # (only MT/ML scaling reads it)
 
     @property
-    def monotonic(self) -> bool:
-        return all(p.direction == self.direction for p in self.phases if p.v1 or p.v2)
+    def phases(self) -> list[ContourPhase]:
+        """Stretches where this axis moves one way (limit searches, the servo)."""
+        if self._phases is None:
+            self._phases = _axis_phases(self.plan, self.k)
+            self._times = [p.t0 for p in self._phases]
+        return self._phases
+
+    def _directions(self) -> tuple[int, bool]:
+        """The way the axis first moves, and whether it only ever moves that way: from
+        the segments' slopes for straight lines (cheap: no phases), else the phases."""
+        plan, k = self.plan, self.k
+        first = max(0, bisect.bisect_right(plan.starts, plan.s_start) - 1)
+        signs = set()
+        direction = 0
+        for seg in plan.segments[first:]:
+            if seg.s0 >= plan.s_end - _EPS and seg.length > 0 and signs:
+                break
+            if seg.is_arc:
+                moving = [p for p in self.phases if p.v1 or p.v2]
+                d = moving[0].direction if moving else 1
+                return d, all(p.direction == d for p in moving)
+            u = seg.unit[k] if seg.length > 0 else 0.0
+            if u:
+                sign = 1 if u > 0 else -1
+                direction = direction or sign
+                signs.add(sign)
+            if seg.s0 + seg.length >= plan.s_end - _EPS:
+                break
+        return direction or 1, len(signs) <= 1
 
     def _phase_at(self, t: float) -> ContourPhase | None:
-        if not self.phases:
+        phases = self.phases
+        if not phases:
             return None
-        return self.phases[max(0, bisect.bisect_right(self._times, t) - 1)]
+        return phases[max(0, bisect.bisect_right(self._times, t) - 1)]
 
     def offset(self, t: float) -> float:
         if self.end_time is not None and t >= self.end_time:
