@@ -476,3 +476,32 @@ def test_any_path_ends_exactly_on_its_last_point_within_speed(points, speeds, ac
     assert abs(board.position("Y") - end[1]) <= 0.5 + 1e-6
     assert max(samples.speed) <= max(speeds[: len(points)]) * (1 + 1e-12)
     assert max(samples.accelerations(), default=0.0) <= accel * (1 + 1e-9)
+
+
+def test_relative_segments_back_to_back_contours_on_another_task():
+    board = MAXk("MAXk-4000")
+    board.send("AM; VV[3]1000,1000; VP[3]R,100,200,,; VP[3]R,100,-50,,; VE[3]; "
+               "VP[3]R,-200,,,; VE[3]; AA ID")
+    assert not board.command_error, board.last_error
+    assert board.run_until_done("X", "Y", "Z", timeout=20)
+    assert board.query("AA RP") == "0,0,150,0"
+    assert board.query("VRV[3]") == "0"
+
+
+def test_sa_and_reset_end_a_running_contour():
+    board = MAXk("MAXk-4000")
+    board.send("AA; VV1000,1000; VP5000,5000; VE")
+    board.advance(1.0)
+    board.send("SA")
+    board.advance(1.0)
+    x = board.position("X")
+    assert x == board.position("Y") and 0 < x < 1000
+    assert board.board.tasks[1].contours == []
+    board.send("AA; VP0,0; VE; AA CA; ID")
+    assert board.run_until_done("X", timeout=20)
+    assert board.query("AA RP") == "0,0,0,0"
+    board.send("AA; VV1000,1000; VP5000,5000; VE")
+    board.advance(1.0)
+    board.reset()
+    board.advance(1.0)
+    assert board.query("AA RP") == "0,0,0,0" and board.board.tasks == {}
