@@ -505,3 +505,80 @@ def test_sa_and_reset_end_a_running_contour():
     board.reset()
     board.advance(1.0)
     assert board.query("AA RP") == "0,0,0,0" and board.board.tasks == {}
+
+
+def test_segments_sent_while_held_run_after_vg():
+    board = MAXk("MAXk-4000")
+    board.send("AA; VA10000; VV2000,2000; VP0,0; VP10000,0")
+    board.advance(1.0)
+    board.send("VH1")
+    board.advance(1.0)
+    board.send("AA; VP10000,10000; VP0,10000; VE; AA ID; VG")
+    assert board.run_until_done("X", timeout=30)
+    assert board.query("AA RP") == "0,10000,0,0"
+
+
+def test_vh1_on_a_starved_contour_holds_and_vo_still_acts():
+    board = MAXk("MAXk-4000")
+    board.send("AA; VA100000; VV1000,1000; VP0,0; VP1000,0")
+    board.advance(2.0)
+    board.send("VH1; AA; VP20000,0")
+    board.advance(1.0)
+    assert board.query("VRV") == "0" and board.query("AA RP") == "1000,0,0,0"
+    board.send("VG")
+    board.advance(1.0)
+    assert board.query("VRV") == "1000"
+    board.send("VO0")
+    board.advance(0.1)
+    assert board.query("VRV") == "0"
+
+
+def test_vg_during_the_vh1_ramp_goes_on_from_there():
+    board = MAXk("MAXk-4000")
+    board.send("AA; VA1000; VV2000,2000; VP0,0; VP20000,0; VE; AA ID")
+    board.advance(1.0)
+    board.send("VH1")
+    board.advance(0.5)
+    assert 0 < int(board.query("VRV")) < 2000
+    board.send("VG")
+    board.advance(2.0)
+    assert board.query("VRV") == "2000"
+    assert board.run_until_done("X", timeout=30)
+    assert board.query("AA RP") == "20000,0,0,0"
+
+
+def test_queue_units_stay_within_capacity_after_a_stop():
+    board = MAXk("MAXk-4000")
+    board.send("AA; VV1000,1000; VP0,0; VP20000,0; VP0,0; VE")
+    board.advance(1.0)
+    board.send("AX ST; AX MR100; GO; WT500; MR100; GO")
+    board.advance(5.0)
+    assert board.query("AA RQC") == "2559,2559,2559,2559"
+
+
+def test_voa_follows_an_analog_input_that_changes_with_time():
+    board = MAXk("MAXk-4000")
+    board.set_analog(0, lambda b: 2.5 if b.time > 1 else 0.0)
+    board.send("AA; VOA0,5; VV1000,1000; VP0,0; VP20000,0; VE")
+    board.advance(0.5)
+    assert board.query("VRV") == "1000"
+    board.advance(1.5)
+    assert board.query("VRV") == "1500"
+
+
+def test_a_bad_vv_changes_nothing():
+    board = MAXk("MAXk-4000")
+    board.send("VV1000,2000; VV500,")
+    assert board.command_error
+    task = board.board.contour_task(1)
+    assert (task.v_start, task.v_end) == (1000, 2000)
+
+
+def test_a_contour_into_a_pressed_limit_is_refused_even_after_a_zero_length_start():
+    board = MAXk("MAXk-4000")
+    board.set_limits("X", plus=0)
+    board.send("AA; VV1000,1000; VP0,0; VP20000,10000")
+    board.advance(1.0)
+    assert board.query("AA RP") == "0,0,0,0"
+    assert board.doorbell & (1 << 8)
+    assert board.board.tasks[1].contours == []

@@ -81,8 +81,8 @@ def _vv(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:
         start, end = values
     else:
         start, end = None, values[0]
-    task.v_start = start  # None: go on from the previous segment's end velocity
     task.v_end = _required(cmd, end, "an end velocity")
+    task.v_start = start  # None: go on from the previous segment's end velocity
 
 
 def _vio(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:

@@ -539,8 +539,9 @@ class ContourTask:
         if not self.contours:
             return
         head = self.contours[0]
-        if head.state == "held":
-            head.resume(board)
+        if head.state == "held" or (head.state == "running" and head.stopping
+                                    and not head.aborted):
+            head.resume(board)  # (also during the VH1 ramp-down: it goes on from there)
         else:
             head.maybe_start(board)
 
@@ -548,7 +549,9 @@ class ContourTask:
         """VH1: a running contour ramps down on its path and waits for VG."""
         self.hold = True
         head = self.running
-        if head is not None and head.state in ("running", "starved") and not head.stopping:
+        if head is not None and head.state == "starved":
+            head.state = "held"  # at rest already: it waits for VG, segments or not
+        elif head is not None and head.state == "running" and not head.stopping:
             head.hold(board)
 
 
@@ -598,13 +601,17 @@ class Contour:
                 board.axes[i].queue.used_units += 1
                 self.reserved[i] = self.reserved.get(i, 0) + 1
         self.defs.append(defn)
-        if self.state in ("running", "starved"):
-            self._resolve_more()
-            if self.state == "starved":
-                self.state = "running"
-                self.replan(board, from_rest=True)
-            elif not self.stopping:
-                self.replan(board)
+        if self.state == "waiting":
+            return
+        self._resolve_more()  # held or ramping down too: resume will plan with them
+        if self.state == "starved":
+            self.state = "running"
+            self.replan(board, from_rest=True)
+        elif self.state == "running" and not self.stopping:
+            self.replan(board)
+        else:
+            return
+        self._refuse_if_blocked(board)
 
     def close(self, board: Board) -> None:
         """VE: no more segments. A contour starved at the end of its path is done."""
@@ -647,15 +654,7 @@ class Contour:
                 board.clear_axis_flags(axis, F.AXIS_DONE)
         self.state = "running"
         self.replan(board, from_rest=True)
-        blocked = [a for a in axes if a.motion is not None and a.motion.phases
-                   and board.limit_blocks(a, a.motion.direction)]
-        if blocked:  # a contour into a pressed limit is refused whole (as MT/ML)
-            for axis in axes:
-                axis.kill(board)
-            for axis in blocked:
-                board.refuse_into_limit(axis)
-            self.aborted = True
-            self.finish(board)
+        if self._refuse_if_blocked(board):
             return
         for axis in axes:
             axis.linked = [a for a in axes if a is not axis]
@@ -711,14 +710,35 @@ class Contour:
                 break
             self.boundaries.append((board.tick + math.ceil(t / period - 1e-9), j))
 
+    def _refuse_if_blocked(self, board: Board) -> bool:
+        """A path that would start an axis into a pressed limit is refused whole (as an
+        MT/ML move is): the axes stay, the overtravel flag is set, the contour ends."""
+        axes = [board.axes[i] for i in self.axes]
+        blocked = [a for a in axes if a.motion is not None
+                   and a.motion.phases and a.motion.phases[0].t0 == 0.0  # type: ignore
+                   and board.limit_blocks(a, a.motion.direction)]
+        if not blocked:
+            return False
+        for axis in axes:
+            axis.kill(board)
+        for axis in blocked:
+            board.refuse_into_limit(axis)
+        self.aborted = True
+        self.closed = True
+        self.finish(board)
+        return True
+
     def hold(self, board: Board) -> None:
         self.stopping = True
         self.replan(board, stop=True)
 
     def resume(self, board: Board) -> None:
+        moving = self.state == "running" and self.where(board)[1] > 0
         self.stopping = False
         self.state = "running"
-        self.replan(board, from_rest=True)
+        self.replan(board, from_rest=not moving)
+        if self._refuse_if_blocked(board):
+            return
         self._enter_segments(board, board.tick)
 
     # ---- events ----------------------------------------------------------------------
@@ -729,7 +749,7 @@ class Contour:
         if self.boundaries and (best is None or self.boundaries[0][0] < best):
             best = self.boundaries[0][0]
         if self.state == "running" and self.task.override_input is not None \
-                and board.world.inputs_time_dependent():
+                and callable(board.world.analog.get(self.task.override_input[0])):
             if self.next_poll is None or self.next_poll < board.tick:
                 self.next_poll = board.tick + 1  # the analog override, every update cycle
             if best is None or self.next_poll < best:
@@ -798,9 +818,11 @@ class Contour:
         """A member's queue was flushed (ST, SA, FL, KS, SI, a limit, a reset): the
         contour is abandoned. Running, it ramps down on its path at VA (a kill after
         this stops the axes at once); not yet started, it is dropped."""
+        self.reserved.pop(axis.index, None)  # the flush empties that queue's units
         if self.state == "finished" or self.aborted:
             return
         self.aborted = True
+        self.closed = True  # later VPs open a new contour
         if self.state == "running":
             if not self.stopping:
                 self.stopping = True
