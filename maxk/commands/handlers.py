@@ -712,30 +712,26 @@ def _kill_all(ctx: Context) -> None:
     ctx.board.kill_all()
 
 
-def _kill_selected(ctx: Context) -> None:
-    board = ctx.board
+def _flagged_axes(ctx: Context) -> list[Axis]:
+    """KS/SI: the axes with a 1 in their slot (AA/AM), or the addressed axis (KS, KS1)."""
     if ctx.listing and not ctx.command.slots:
-        raise CommandError("KS in AA/AM mode names the axes to kill: KS1,,1")
+        raise CommandError(f"{ctx.command.mnemonic} in AA/AM mode names the axes: "
+                           f"{ctx.command.mnemonic}1,,1")
     if ctx.listing or ctx.values[0] is not None:
-        targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
-    else:
-        targets = ctx.axes  # bare KS in single-axis mode: the addressed axis
-    for axis in targets:
-        axis.flush(board)
-        axis.kill(board)
+        return [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
+    return ctx.axes  # bare KS/SI in single-axis mode: the addressed axis
+
+
+def _kill_selected(ctx: Context) -> None:
+    for axis in _flagged_axes(ctx):
+        axis.flush(ctx.board)
+        axis.kill(ctx.board)
 
 
 def _clear_queues(ctx: Context) -> None:
     """SI: flush the flagged axes' queues (the trajectory scan's 'clear motor queue')."""
-    board = ctx.board
-    if ctx.listing and not ctx.command.slots:
-        raise CommandError("SI in AA/AM mode names the axes: SI1,,1")
-    if ctx.listing or ctx.values[0] is not None:
-        targets = [a for a, v in zip(ctx.axes, ctx.values, strict=True) if v]
-    else:
-        targets = ctx.axes
-    for axis in targets:
-        axis.flush(board)
+    for axis in _flagged_axes(ctx):
+        axis.flush(ctx.board)
 
 
 def _clear_done(ctx: Context) -> None:

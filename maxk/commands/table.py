@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from ..firmware_model.contouring import OVERRIDE_MAX
+from ..firmware_model.contouring import MAX_VECTOR_VELOCITY, OVERRIDE_MAX
 from ..firmware_model.models import (
     MAX_ACCELERATION,
     MAX_VELOCITY,
@@ -582,7 +582,7 @@ _SPECS: list[CommandSpec] = [
        "acceleration stays within VA too (D). Before any VA, the first contour axis's AC "
        "(D)."),
     _v("VV", "VV[n][#,]#", "Vector velocity: start and end, or end only, counts/s.", arity=2,
-       value_range=(0.0, 4_194_303.0), source="manual Appendix C (VV1000,1000 ... "
+       value_range=(0.0, MAX_VECTOR_VELOCITY), source="manual Appendix C (VV1000,1000 ... "
        "VV1000,0); evidence 2.8 (`VV[n]#`, `VV[n]#,#`)",
        notes="A segment's speed rises from where it is toward its end velocity at VA (or "
        "stays at its start velocity and falls at VA to reach a lower end velocity exactly "

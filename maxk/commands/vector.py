@@ -123,8 +123,8 @@ def _open_or_extend(board: Board, task: ContourTask, cmd: ParsedCommand,
     return contour, new  # type: ignore[return-value]
 
 
-def _segment(board: Board, task: ContourTask, contour: Contour, cmd: ParsedCommand,
-             kind: str, values: tuple[float | None, ...], relative: bool = False,
+def _segment(board: Board, task: ContourTask, contour: Contour, kind: str,
+             values: tuple[float | None, ...], relative: bool = False,
              angle: float = 0.0) -> SegmentDef:
     first = board.axes[contour.axes[0]].config
     return SegmentDef(kind, values, relative, angle, task.v_start,
@@ -168,7 +168,7 @@ def _vp(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:
             raise CommandError(f"VP{slot}: operand out of range ({lo:g} to {hi:g})")
         named[i] = float(int(value))  # whole counts; decimals truncate, as MA's do
     contour, new = _open_or_extend(board, task, cmd, named)
-    defn = _segment(board, task, contour, cmd, "line",
+    defn = _segment(board, task, contour, "line",
                     tuple(named.get(i) for i in contour.axes), relative=cmd.form == "R")
     _add(board, task, contour, new, defn, cmd.text)
 
@@ -185,7 +185,7 @@ def _vc(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:
     if contour is None or len(contour.axes) < 2:
         raise CommandError("VC: open the contour with a VP naming at least two axes first")
     contour, new = _open_or_extend(board, task, cmd, {})
-    defn = _segment(board, task, contour, cmd, "arc", (float(int(cx)), float(int(cy))),
+    defn = _segment(board, task, contour, "arc", (float(int(cx)), float(int(cy))),
                     angle=angle)
     _add(board, task, contour, new, defn, cmd.text)
 

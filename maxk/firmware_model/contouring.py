@@ -45,7 +45,7 @@ if TYPE_CHECKING:
 
 TASKS = range(1, 9)
 DEFAULT_TASK = 1
-MAX_VECTOR_VELOCITY = 4_194_303  # the trajectory scan clamps VV to this
+MAX_VECTOR_VELOCITY = 4_194_303.0  # VV's range: the trajectory scan clamps to this
 OVERRIDE_MAX = 200.0
 DEFAULT_VOA_SPAN = 5.0  # volts from 0 V to 0% or 200% (VOA channel[,span])
 PULSE_TICKS = 1  # a VIO pulse (off-mask given) lasts one update cycle
@@ -714,9 +714,10 @@ class Contour:
         """A path that would start an axis into a pressed limit is refused whole (as an
         MT/ML move is): the axes stay, the overtravel flag is set, the contour ends."""
         axes = [board.axes[i] for i in self.axes]
+        # the cheap test first: only an axis standing on a pressed switch needs its phases
         blocked = [a for a in axes if a.motion is not None
-                   and a.motion.phases and a.motion.phases[0].t0 == 0.0  # type: ignore
-                   and board.limit_blocks(a, a.motion.direction)]
+                   and board.limit_blocks(a, a.motion.direction)
+                   and a.motion.phases and a.motion.phases[0].t0 == 0.0]
         if not blocked:
             return False
         for axis in axes:
