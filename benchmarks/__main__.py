@@ -211,7 +211,7 @@ def command_throughput(n_lines: int = 4000) -> Figure:
 
 
 def lexer_throughput(n_lines: int = 4000) -> Figure:
-    from maxk.commands.lexer import Lexer
+    from maxk.commands.max.lexer import Lexer
 
     line = "AX;VL5000;AC50000;MR1000;GO;ID;AM;RI;AM PP;AXMA1000;GDID;LMH,H,H,H;"
     per_line = 14
@@ -240,7 +240,7 @@ def memory_per_board() -> Figure:
 
 
 def doors(seconds: float = 5.0, rate: float | None = None) -> list[Figure]:
-    from .doors import run
+    from benchmarks.doors import run
 
     r = run(seconds, rate=rate)
     load = "as fast as possible" if rate is None else f"polled at {rate:g}/s"

@@ -2,7 +2,7 @@
 
 __version__ = "0.1.0"
 
-from .controller import MAXk  # noqa: E402
+from maxk.controllers.maxk import MAXk  # noqa: E402
 
 
 def _register_pyserial_handler() -> None:

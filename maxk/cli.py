@@ -6,12 +6,12 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import __version__
-from .firmware_model.models import DEFAULT_MODEL, MODELS, UPDATE_RATES_HZ
+from maxk import __version__
+from maxk.personalities.maxk.models import DEFAULT_MODEL, MODELS, UPDATE_RATES_HZ
 
 
 def _model(text: str) -> str:
-    from .firmware_model.models import model_by_name
+    from maxk.personalities.maxk.models import model_by_name
 
     try:
         return model_by_name(text).name
@@ -75,7 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     serve = sub.add_parser("serve", help="boards in real time behind TCP, serial and "
                            "shared-memory doors, for legacy host code")
-    from .host.serve import add_arguments
+    from maxk.host.serve import add_arguments
 
     add_arguments(serve)
 
@@ -102,7 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.command in (None, "repl"):
-        from .repl import run_repl
+        from maxk.repl import run_repl
 
         if args.command is None:
             return run_repl()
@@ -114,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "commands":
         return _commands(args)
     if args.command == "serve":
-        from .host.serve import main as serve_main
+        from maxk.host.serve import main as serve_main
 
         return serve_main(args)
     if args.command == "tune":
@@ -127,9 +127,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .controller import MAXk
-    from .script import ScriptError, load_script, parse_duration, record, run_script
-    from .trace import TraceWriter
+    from maxk.controllers.maxk import MAXk
+    from maxk.script import ScriptError, load_script, parse_duration, record, run_script
+    from maxk.trace import TraceWriter
 
     try:
         script = load_script(args.script)
@@ -164,7 +164,7 @@ def _run(args: argparse.Namespace) -> int:
 
     recorder = None
     if args.plot:
-        from .pathplot import PathRecorder
+        from maxk.pathplot import PathRecorder
 
         try:
             letters = tuple(a.strip().upper() for a in args.plot_axes.split(","))
@@ -210,7 +210,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _tune(args: argparse.Namespace) -> int:
-    from .tuning import DEFAULT_MOVE, tune
+    from maxk.tuning import DEFAULT_MOVE, tune
 
     motor: dict[str, object] = {}
     for item in args.motor:
@@ -246,8 +246,8 @@ def _tune(args: argparse.Namespace) -> int:
 
 
 def _commands(args: argparse.Namespace) -> int:
-    from .commands.reference import help_text, render_markdown
-    from .commands.table import COMMANDS, lookup
+    from maxk.commands.max.reference import help_text, render_markdown
+    from maxk.commands.max.table import COMMANDS, lookup
 
     if args.markdown:
         sys.stdout.write(render_markdown())

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .firmware_model.board import Board
-from .tuning import PLOT_MISSING
+from maxk.personalities.maxk.board import Board
+from maxk.tuning import PLOT_MISSING
 
 
 class PathRecorder:

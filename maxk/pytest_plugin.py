@@ -15,8 +15,8 @@ from typing import Any
 
 import pytest
 
-from .firmware_model.models import UPDATE_RATES_HZ, model_by_name
-from .script import Script, ScriptError, Transcript, load_script, run_script
+from maxk.personalities.maxk.models import UPDATE_RATES_HZ, model_by_name
+from maxk.script import Script, ScriptError, Transcript, load_script, run_script
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

@@ -19,13 +19,13 @@ import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-from .commands.reference import help_text
-from .commands.table import COMMANDS, lookup
-from .controller import MAXk
-from .firmware_model.flags import describe_doorbell
-from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
-from .script import parse_duration
-from .world_settings import describe_world, parse_world
+from maxk.commands.max.reference import help_text
+from maxk.commands.max.table import COMMANDS, lookup
+from maxk.controllers.maxk import MAXk
+from maxk.personalities.maxk.flags import describe_doorbell
+from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from maxk.script import parse_duration
+from maxk.world_settings import describe_world, parse_world
 
 META_HELP = """\
 REPL words (everything else goes to the board):

@@ -30,9 +30,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .controller import MAXk
-from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
-from .world_settings import parse_world
+from maxk.controllers.maxk import MAXk
+from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
+from maxk.world_settings import parse_world
 
 
 class ScriptError(Exception):

@@ -10,8 +10,8 @@ from __future__ import annotations
 import csv
 from typing import TextIO
 
-from .firmware_model.board import Board
-from .firmware_model.flags import AXIS_DONE
+from maxk.personalities.maxk.board import Board
+from maxk.personalities.maxk.flags import AXIS_DONE
 
 
 class TraceWriter:

@@ -19,10 +19,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import fields
 
-from .controller import MAXk
-from .firmware_model.capture import EDGES
-from .firmware_model.servo import MotorPlant
-from .firmware_model.world import SWITCHES
+from maxk.controllers.maxk import MAXk
+from maxk.firmware_model.servo import MotorPlant
+from maxk.firmware_model.world import SWITCHES
+from maxk.personalities.maxk.capture import EDGES
 
 Setting = Callable[[MAXk], str]
 

@@ -3,7 +3,7 @@
 import struct
 
 from maxk import MAXk
-from maxk.firmware_model.capture import (
+from maxk.personalities.maxk.capture import (
     ENCODER_HOME,
     HOME_FALLING,
     HOME_RISING,

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from maxk import MAXk
-from maxk.commands.table import COMMANDS
+from maxk.commands.max.table import COMMANDS
 from maxk.firmware_model.profiles import RampShape
 
 
@@ -78,14 +78,14 @@ def test_manual_tuning_check_on_an_open_loop_stepper():
 
 
 def test_every_table_entry_has_a_behaviour():
-    from maxk.commands.handlers import (
+    from maxk.commands.max.handlers import (
         IMMEDIATE,
         LINEAR_MOVES,
         NOT_MODELLED_YET,
         QUEUED,
         SETTING_QUERIES,
     )
-    from maxk.commands.table import Timing
+    from maxk.commands.max.table import Timing
 
     for m, spec in COMMANDS.items():
         if spec.timing is Timing.IMMEDIATE:
@@ -95,7 +95,7 @@ def test_every_table_entry_has_a_behaviour():
             if spec.query:
                 assert m in SETTING_QUERIES, m
         elif spec.timing is Timing.VECTOR:
-            from maxk.commands.vector import _HANDLERS
+            from maxk.commands.max.vector import _HANDLERS
 
             assert m in _HANDLERS, m
         assert spec.confidence in "CID", m
@@ -103,7 +103,7 @@ def test_every_table_entry_has_a_behaviour():
 
 
 def test_every_mnemonic_is_accepted_by_the_lexer_in_both_cases():
-    from maxk.commands.lexer import Lexer, ParsedCommand
+    from maxk.commands.max.lexer import Lexer, ParsedCommand
 
     for m, spec in COMMANDS.items():
         operand = {"none": "", "#": "1", "letter": spec.letters[:1],

@@ -11,12 +11,12 @@ import serial
 
 import maxk  # noqa: F401
 from maxk import MAXk
-from maxk.firmware_model.capture import CaptureEntry
 from maxk.host import memory_map as M
 from maxk.host.pacing import Pacer
 from maxk.host.server import EOLS, HARD_LIMIT, BoardService, Framing
 from maxk.host.shared_memory import SharedMemoryDoor
 from maxk.host.shm_client import SharedMemoryHost
+from maxk.personalities.maxk.capture import CaptureEntry
 from tests.hosting import HostedBoards, ManualClock
 
 ROOT = Path(__file__).parent.parent

@@ -2,7 +2,7 @@
 maintenance and the EA status letters."""
 
 from maxk import MAXk
-from maxk.firmware_model import flags as F
+from maxk.personalities.maxk import flags as F
 
 
 def encoder_stepper(setup: str = "") -> MAXk:

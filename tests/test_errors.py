@@ -3,7 +3,7 @@
 import pytest
 
 from maxk import MAXk
-from maxk.firmware_model.flags import COMMAND_ERROR
+from maxk.personalities.maxk.flags import COMMAND_ERROR
 
 
 @pytest.mark.parametrize("bad,reason", [

@@ -8,8 +8,8 @@ import time
 import pytest
 
 from maxk import MAXk
-from maxk.firmware_model import flags as F
-from maxk.firmware_model.parameters import ARCHIVED_FIELDS, ParameterArchive, snapshot
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.parameters import ARCHIVED_FIELDS, ParameterArchive, snapshot
 
 # Every archived parameter away from its factory value, on two axes.
 SETUP = ("AX LMS; LF; LTH; MM; AC123456; DC234567; PN7; VL54321; VB123; UU2.5; SE15; PA1; "
@@ -223,7 +223,7 @@ def test_a_serial_break_resets_the_board():
 
 
 def write_archive(path, sets, model="MAXk-4000"):
-    from maxk.firmware_model.parameters import encode
+    from maxk.personalities.maxk.parameters import encode
 
     path.write_bytes(encode(model, sets))
 

@@ -3,7 +3,7 @@
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maxk.commands.lexer import Lexer, LexError, ParsedCommand
+from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
 
 
 def lex(text: str) -> list[tuple[str, tuple, bool] | str]:
@@ -86,7 +86,7 @@ def test_partial_input_is_held_until_it_cannot_change():
 
 
 def lexer_spec(m):
-    from maxk.commands.table import COMMANDS
+    from maxk.commands.max.table import COMMANDS
 
     return COMMANDS[m]
 

@@ -3,7 +3,7 @@
 import pytest
 
 from maxk import MAXk
-from maxk.firmware_model import flags as F
+from maxk.personalities.maxk import flags as F
 
 
 @pytest.fixture

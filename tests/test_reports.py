@@ -3,7 +3,7 @@
 import re
 
 from maxk import MAXk
-from maxk.firmware_model import flags as F
+from maxk.personalities.maxk import flags as F
 
 
 def test_wy_satisfies_manual_asyn_sysal_and_classic_parsers(board):

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from maxk.firmware_model import flags as F
 from maxk.host import memory_map as M
 from maxk.host.shm_client import SharedMemoryHost
+from maxk.personalities.maxk import flags as F
 from tests.hosting import HostedBoards
 
 ROOT = Path(__file__).parent.parent

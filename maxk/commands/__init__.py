@@ -1,8 +1,2 @@
-"""The MAX command language: lexer, command table, handlers and interpreter."""
-
-from .interpreter import Interpreter
-from .lexer import Lexer, LexError, ParsedCommand
-from .table import COMMANDS, CommandSpec, lookup
-
-__all__ = ["COMMANDS", "CommandSpec", "Interpreter", "LexError", "Lexer", "ParsedCommand",
-           "lookup"]
+"""The controllers' languages: bytes in, actions on a personality and replies out. One
+package a language: `max` (the OMS MAX family's ASCII commands)."""

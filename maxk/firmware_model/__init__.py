@@ -1,7 +1,3 @@
-"""The machine: a deterministic MAXk board model that owns virtual time."""
-
-from .board import Board, CommandErrorRecord
-from .models import AXIS_LETTERS, DEFAULT_MODEL, MODELS, BoardModel, model_by_name
-
-__all__ = ["AXIS_LETTERS", "DEFAULT_MODEL", "MODELS", "Board", "BoardModel",
-           "CommandErrorRecord", "model_by_name"]
+"""The shared machine: virtual time and events, axis motion, the path planner, the servo,
+outputs tied to motion and the world around the axes. It knows no controller's language,
+status letters or wire format; every controller's personality is built on it."""

@@ -32,11 +32,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .profiles import RampShape
+from maxk.firmware_model.profiles import RampShape
 
 if TYPE_CHECKING:
-    from .axis import Axis
-    from .board import Board
+    from maxk.personalities.maxk.axis import Axis
+    from maxk.personalities.maxk.board import Board
 
 DAC_LIMIT = 32767.0  # 16-bit DAC: +/-32767 counts = +/-10 V
 VOLTS_PER_COUNT = 10.0 / 32767.0

@@ -20,10 +20,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from .servo import MotorPlant
+from maxk.firmware_model.servo import MotorPlant
 
 if TYPE_CHECKING:
-    from .board import Board
+    from maxk.personalities.maxk.board import Board
 
 STUCK_ACTIVE = "active"
 STUCK_INACTIVE = "inactive"

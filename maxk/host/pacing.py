@@ -12,7 +12,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from ..controller import MAXk
+from maxk.controllers.maxk import MAXk
 
 
 class Pacer:

@@ -21,11 +21,11 @@ import urllib.parse
 import serial
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
-from ..commands.interpreter import Interpreter
-from ..controller import MAXk
-from ..firmware_model.models import DEFAULT_MODEL, model_by_name
-from .pacing import Pacer
-from .server import EOLS, Framing
+from maxk.commands.max.interpreter import Interpreter
+from maxk.controllers.maxk import MAXk
+from maxk.host.pacing import Pacer
+from maxk.host.server import EOLS, Framing
+from maxk.personalities.maxk.models import DEFAULT_MODEL, model_by_name
 
 POLL = 0.0005  # seconds between looks while a read waits (the wall clock is the door's)
 MAX_INCOMING = 1 << 20  # unread bytes kept; beyond this the oldest are lost, as on a line

@@ -10,11 +10,11 @@ import signal
 import sys
 from pathlib import Path
 
-from ..controller import MAXk
-from ..firmware_model.models import model_by_name
-from ..firmware_model.parameters import default_archive_path
-from .pacing import Pacer
-from .server import EOLS, BoardService, Framing, Server
+from maxk.controllers.maxk import MAXk
+from maxk.host.pacing import Pacer
+from maxk.host.server import EOLS, BoardService, Framing, Server
+from maxk.personalities.maxk.models import model_by_name
+from maxk.personalities.maxk.parameters import default_archive_path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -104,7 +104,7 @@ async def serve(args: argparse.Namespace) -> int:
                 path = server.open_pty(service, link)
                 where.append(f"serial {path}" + (f" (link {link})" if link else ""))
             if args.shm:
-                from .shared_memory import SharedMemoryDoor
+                from maxk.host.shared_memory import SharedMemoryDoor
 
                 door = SharedMemoryDoor(service, _numbered(args.shm, n, args.boards))
                 memories.append(door)

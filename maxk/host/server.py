@@ -20,9 +20,9 @@ import termios
 import tty
 from dataclasses import dataclass, field
 
-from ..commands.interpreter import Interpreter
-from ..controller import MAXk
-from .pacing import Pacer
+from maxk.commands.max.interpreter import Interpreter
+from maxk.controllers.maxk import MAXk
+from maxk.host.pacing import Pacer
 
 EOLS = {"lfcr": b"\n\r", "lf": b"\n", "crlf": b"\r\n", "cr": b"\r"}
 ACK = b"\x06"

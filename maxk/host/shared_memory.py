@@ -20,8 +20,8 @@ import mmap
 import os
 import struct
 
-from ..commands.interpreter import Interpreter
-from . import memory_map as M
+from maxk.commands.max.interpreter import Interpreter
+from maxk.host import memory_map as M
 
 _U32 = struct.Struct(">I")
 _I32 = struct.Struct(">i")

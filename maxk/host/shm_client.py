@@ -15,7 +15,7 @@ import os
 import struct
 import time
 
-from . import memory_map as M
+from maxk.host import memory_map as M
 
 _U32 = struct.Struct(">I")
 _I32 = struct.Struct(">i")

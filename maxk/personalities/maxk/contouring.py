@@ -35,13 +35,13 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from . import flags as F
-from .axis import WAIT_REST_RETRY
-from .profiles import RampShape
+from maxk.firmware_model.profiles import RampShape
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.axis import WAIT_REST_RETRY
 
 if TYPE_CHECKING:
-    from .axis import Axis
-    from .board import Board
+    from maxk.personalities.maxk.axis import Axis
+    from maxk.personalities.maxk.board import Board
 
 TASKS = range(1, 9)
 DEFAULT_TASK = 1

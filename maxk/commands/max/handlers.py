@@ -11,12 +11,15 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
-from ..firmware_model import flags as F
-from ..firmware_model.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
-from ..firmware_model.board import Board
-from ..firmware_model.coordinated import LinearMove
-from ..firmware_model.io import volts_to_counts
-from ..firmware_model.models import (
+from maxk.commands.max.lexer import ParsedCommand
+from maxk.firmware_model.profiles import RampShape
+from maxk.firmware_model.servo import ServoLoop
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
+from maxk.personalities.maxk.board import Board
+from maxk.personalities.maxk.coordinated import LinearMove
+from maxk.personalities.maxk.io import volts_to_counts
+from maxk.personalities.maxk.models import (
     FIRMWARE_VERSION,
     FPGA_VERSION,
     POSITION_MAX,
@@ -24,11 +27,8 @@ from ..firmware_model.models import (
     SERIAL_NUMBER,
     UPDATE_RATES_HZ,
 )
-from ..firmware_model.parameters import ArchiveError
-from ..firmware_model.profiles import RampShape
-from ..firmware_model.queue import Action
-from ..firmware_model.servo import ServoLoop
-from .lexer import ParsedCommand
+from maxk.personalities.maxk.parameters import ArchiveError
+from maxk.personalities.maxk.queue import Action
 
 
 class CommandError(Exception):
@@ -95,7 +95,7 @@ def scaled_out_of_range(axis: Axis, board: Board, mnemonic: str, raw: object,
     """With user units on, ranges apply to the scaled value: report one outside."""
     if not axis.units_seen:
         return False  # the operand was range-checked when it arrived
-    from .table import COMMANDS
+    from maxk.commands.max.table import COMMANDS
 
     spec = COMMANDS[mnemonic]
     if spec.value_range is None:

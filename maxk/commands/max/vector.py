@@ -10,8 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from ..firmware_model.board import Board
-from ..firmware_model.contouring import (
+from maxk.commands.max.handlers import CommandError
+from maxk.commands.max.lexer import ParsedCommand
+from maxk.personalities.maxk.board import Board
+from maxk.personalities.maxk.contouring import (
     DEFAULT_TASK,
     DEFAULT_VOA_SPAN,
     TASKS,
@@ -19,9 +21,7 @@ from ..firmware_model.contouring import (
     ContourTask,
     SegmentDef,
 )
-from ..firmware_model.queue import QueueEntry
-from .handlers import CommandError
-from .lexer import ParsedCommand
+from maxk.personalities.maxk.queue import QueueEntry
 
 MAX_ARC_DEGREES = 3600.0
 

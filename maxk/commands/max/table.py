@@ -13,8 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from ..firmware_model.contouring import MAX_VECTOR_VELOCITY, OVERRIDE_MAX
-from ..firmware_model.models import (
+from maxk.personalities.maxk.contouring import MAX_VECTOR_VELOCITY, OVERRIDE_MAX
+from maxk.personalities.maxk.models import (
     MAX_ACCELERATION,
     MAX_VELOCITY,
     POSITION_MAX,

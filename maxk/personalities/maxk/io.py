@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .board import Board
+    from maxk.personalities.maxk.board import Board
 
 FACTORY_DIRECTION = 0xFF00  # 1 = output
 ADC_FULL_SCALE = 32767

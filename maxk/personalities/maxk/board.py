@@ -11,9 +11,11 @@ from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from . import flags as F
-from .axis import Axis, AxisConfig
-from .capture import (
+from maxk.firmware_model.profiles import plan_move
+from maxk.firmware_model.world import World
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.axis import Axis, AxisConfig
+from maxk.personalities.maxk.capture import (
     ENCODER_HOME,
     HOME_FALLING,
     HOME_RISING,
@@ -22,13 +24,16 @@ from .capture import (
     CaptureRing,
     encoder_at,
 )
-from .contouring import TASKS, ContourTask
-from .homing import Homing, home_condition, next_home_position
-from .io import GeneralIO
-from .models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, BoardModel, model_by_name
-from .parameters import ArchiveError, ParameterArchive, restore, snapshot
-from .profiles import plan_move
-from .world import World
+from maxk.personalities.maxk.contouring import TASKS, ContourTask
+from maxk.personalities.maxk.homing import Homing, home_condition, next_home_position
+from maxk.personalities.maxk.io import GeneralIO
+from maxk.personalities.maxk.models import (
+    DEFAULT_MODEL,
+    DEFAULT_UPDATE_RATE_HZ,
+    BoardModel,
+    model_by_name,
+)
+from maxk.personalities.maxk.parameters import ArchiveError, ParameterArchive, restore, snapshot
 
 
 @dataclass(frozen=True)

@@ -6,11 +6,7 @@ it sets the command-error flag (doorbell bit 24), records why, and the stream go
 
 from __future__ import annotations
 
-from ..firmware_model.axis import Axis, StartGroup
-from ..firmware_model.board import Board
-from ..firmware_model.coordinated import LinearMove
-from ..firmware_model.queue import QueueEntry
-from .handlers import (
+from maxk.commands.max.handlers import (
     GO_COMMANDS,
     IMMEDIATE,
     LINEAR_MOVES,
@@ -23,9 +19,13 @@ from .handlers import (
     linear_target,
     validate_queued,
 )
-from .lexer import Lexer, LexError, ParsedCommand
-from .table import AA, Operand, Timing
-from .vector import dispatch_vector
+from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
+from maxk.commands.max.table import AA, Operand, Timing
+from maxk.commands.max.vector import dispatch_vector
+from maxk.personalities.maxk.axis import Axis, StartGroup
+from maxk.personalities.maxk.board import Board
+from maxk.personalities.maxk.coordinated import LinearMove
+from maxk.personalities.maxk.queue import QueueEntry
 
 _MODE_NAMES = {"single": "single-axis", "AA": "AA", "AM": "AM"}
 

@@ -14,11 +14,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .models import QUEUE_CAPACITY
+from maxk.personalities.maxk.models import QUEUE_CAPACITY
 
 if TYPE_CHECKING:
-    from .axis import Axis
-    from .board import Board
+    from maxk.personalities.maxk.axis import Axis
+    from maxk.personalities.maxk.board import Board
 
 
 Action = Callable[["Axis", "Board"], Any]

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .table import COMMANDS, CommandSpec, Operand
+from maxk.commands.max.table import COMMANDS, CommandSpec, Operand
 
 SEPARATORS = frozenset(" \t\r\n;\0")
 MAX_OPERAND_LENGTH = 256

@@ -20,11 +20,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .profiles import Motion, Phase, plan_move
+from maxk.firmware_model.profiles import Motion, Phase, plan_move
 
 if TYPE_CHECKING:
-    from .axis import Axis, StartGroup
-    from .board import Board
+    from maxk.personalities.maxk.axis import Axis, StartGroup
+    from maxk.personalities.maxk.board import Board
 
 
 class LinearMove:

@@ -18,13 +18,13 @@ import math
 import os
 from dataclasses import dataclass, replace
 
-from .commands.interpreter import Interpreter
-from .commands.lexer import SEPARATORS
-from .firmware_model import flags as F
-from .firmware_model.board import Board, CommandErrorRecord
-from .firmware_model.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
-from .firmware_model.parameters import ParameterArchive, default_archive_path
-from .firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
+from maxk.commands.max.interpreter import Interpreter
+from maxk.commands.max.lexer import SEPARATORS
+from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.board import Board, CommandErrorRecord
+from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from maxk.personalities.maxk.parameters import ParameterArchive, default_archive_path
 
 
 @dataclass(frozen=True)

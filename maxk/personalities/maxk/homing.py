@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .axis import Axis
-    from .board import Board
+    from maxk.personalities.maxk.axis import Axis
+    from maxk.personalities.maxk.board import Board
 
 SCAN_LIMIT = 200_000
 """Positions examined when looking for the next encoder-logic home position."""

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .table import COMMANDS, GROUP_TITLES, CommandSpec, Timing
+from maxk.commands.max.table import COMMANDS, GROUP_TITLES, CommandSpec, Timing
 
 _CONFIDENCE = {
     "C": "certain (manual or host code)",

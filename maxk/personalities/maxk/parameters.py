@@ -21,13 +21,13 @@ from dataclasses import fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .axis import AxisConfig
-from .models import MAX_ACCELERATION, MAX_VELOCITY
-from .profiles import RampShape
-from .servo import Gains
+from maxk.firmware_model.profiles import RampShape
+from maxk.firmware_model.servo import Gains
+from maxk.personalities.maxk.axis import AxisConfig
+from maxk.personalities.maxk.models import MAX_ACCELERATION, MAX_VELOCITY
 
 if TYPE_CHECKING:
-    from .board import Board
+    from maxk.personalities.maxk.board import Board
 
 FORMAT = "maxk-parameter-archive"
 VERSION = 1

@@ -6,15 +6,15 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from . import flags as F
-from .profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
-from .queue import CommandQueue
-from .servo import Gains, ServoLoop
+from maxk.firmware_model.profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
+from maxk.firmware_model.servo import Gains, ServoLoop
+from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.queue import CommandQueue
 
 if TYPE_CHECKING:
-    from .board import Board
-    from .coordinated import LinearMove
-    from .homing import Homing
+    from maxk.personalities.maxk.board import Board
+    from maxk.personalities.maxk.coordinated import LinearMove
+    from maxk.personalities.maxk.homing import Homing
 
 
 def wrap32(value: int) -> int:

@@ -1,0 +1,1 @@
+"""Each controller's firmware semantics on the shared machine: one package a controller."""
