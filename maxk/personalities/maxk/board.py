@@ -11,6 +11,7 @@ from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import plan_move
 from maxk.firmware_model.world import World
 from maxk.personalities.maxk import flags as F
@@ -53,12 +54,13 @@ FlagListener = Callable[[int], None]
 one axis, or a command error): what a `%000 SSSSSSSS` notification carries."""
 
 
-class Board:
+class Board(Engine):
     """A MAXk board model in virtual time."""
 
     def __init__(self, model: str | BoardModel = DEFAULT_MODEL,
                  update_rate_hz: int = DEFAULT_UPDATE_RATE_HZ,
                  archive: ParameterArchive | None = None) -> None:
+        super().__init__(update_rate_hz)
         self.model = model if isinstance(model, BoardModel) else model_by_name(model)
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
         self.world = World.default(len(self.axes))
@@ -71,12 +73,6 @@ class Board:
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self._input_levels = 0  # input levels as last seen, for input-edge capture
         self._capturing_inputs = False  # cached: refreshed by world_changed()
-        self.tick = 0
-        self.update_rate_hz = update_rate_hz
-        self.period = 1.0 / update_rate_hz
-        # Virtual time stays continuous across #UR: time = origin + (tick - tick origin) * period
-        self._time_origin = 0.0
-        self._tick_origin = 0
         # Command mode: ("single", axis index) after AX..AK, or "AA" / "AM".
         self.mode: str = "single"
         self.current_axis = 0
@@ -84,10 +80,12 @@ class Board:
         self.cross_axis_event = False  # set when one axis's queue can unblock another's
         self.errors: deque[CommandErrorRecord] = deque(maxlen=200)
         self._listeners: list[FlagListener] = []
-        # Observers for traces: [every_ticks or None, next tick due, callback].
-        self._observers: list[list] = []
         self._servo_axes: list[Axis] = []  # PSM axes: their loops run every tick
         self.tasks: dict[int, ContourTask] = {}  # vector tasks (contouring), by index
+        self._due: list[Axis] = []  # axes whose queues the present tick's events woke
+        self.add_source(_AxesSource(self))
+        self.add_source(_TasksSource(self))
+        self.add_source(_InputPoll(self))
         self.load_power_up_parameters()
 
     # ---- lookup ----------------------------------------------------------------------
@@ -96,16 +94,6 @@ class Board:
         if index < 0 or len(letter) != 1:
             raise KeyError(f"{self.model.name} has no axis {letter!r}")
         return self.axes[index]
-
-    @property
-    def time(self) -> float:
-        """Virtual seconds since power-up (continuous across update-rate changes)."""
-        return self._time_origin + (self.tick - self._tick_origin) * self.period
-
-    def tick_at(self, seconds: float) -> int:
-        """The last tick at or before a virtual time (at the present update rate)."""
-        return self._tick_origin + int((seconds - self._time_origin) * self.update_rate_hz
-                                       + 1e-6)
 
     # ---- time ------------------------------------------------------------------------
     def run_queues(self, axes: Iterable[Axis] | None = None) -> None:
@@ -118,93 +106,27 @@ class Board:
             for axis in self.axes:
                 axis.run_queue(self)
 
-    def next_event(self) -> int | None:
-        best: int | None = None
-        for axis in self.axes:
-            t = axis.next_event(self)
-            if t is not None and (best is None or t < best):
-                best = t
-        for _every, due, _callback in self._observers:
-            if due is not None and (best is None or due < best):
-                best = due
-        for task in self.tasks.values():
-            t = task.next_event(self)
-            if t is not None and (best is None or t < best):
-                best = t
-        if self.capturing_inputs() and self.world.inputs_time_dependent():
-            poll = self.tick + 1  # inputs that are functions: look every update cycle
-            if best is None or poll < best:
-                best = poll
-        return best
-
-    def add_observer(self, callback: Callable[[Board], None],
-                     every_ticks: int | None = None) -> None:
-        """Call back at every event tick, or every N ticks (traces; never in hot paths
-        unless asked for). The callback sees the board after the tick's events ran."""
-        if every_ticks is not None and every_ticks < 1:
-            raise ValueError("every_ticks must be at least 1")
-        due = None if every_ticks is None else self.tick + every_ticks
-        self._observers.append([every_ticks, due, callback])
-
-    def remove_observer(self, callback: Callable[[Board], None]) -> None:
-        self._observers = [o for o in self._observers if o[2] is not callback]
-
-    def _observe(self, now: int) -> None:
-        for observer in self._observers:
-            every, due = observer[0], observer[1]
-            if every is None:
-                observer[2](self)
-            elif due is not None and due <= now:
-                observer[2](self)
-                observer[1] = due + every
-
-    def advance_to(self, tick: int) -> None:
-        """Advance virtual time to an absolute tick, processing every event on the way."""
-        if tick < self.tick:
-            raise ValueError("time only moves forward")
+    def settle(self) -> None:
         self.run_queues()
-        axes = self.axes
-        while True:
-            event = self.next_event()
-            if self.servo_axes:
-                # Servo loops run every tick: simulate them up to the next event (their
-                # inputs change only at events). A following-error trip is an event too.
-                limit = tick if event is None or event > tick else event
-                if self._advance_servos(limit):
-                    continue
-            if event is None or event > tick:
-                break
-            now = self.tick = max(event, self.tick)
-            due = []
-            for axis in axes:
-                if axis.switch_tick is not None and axis.switch_tick <= now:
-                    self._switch_event(axis)
-                    due.append(axis)
-                end = axis.motion_end
-                if end is not None and end <= now:
-                    axis.finish_motion()
-                    if axis not in due:
-                        due.append(axis)
-                else:
-                    wait = axis.wait
-                    if type(wait) is tuple and axis not in due and (
-                            wait[0] == "input" or wait[1] <= now):
-                        due.append(axis)
-            for task in list(self.tasks.values()):
-                t = task.next_event(self)
-                if t is not None and t <= now:
-                    due.extend(a for a in task.on_event(self) if a not in due)
-            self.run_queues(due)
-            for axis in due:
-                if axis.config.slip_detect:
-                    self.check_slip(axis)
-                if axis.holding and axis.motion is None:
-                    self.maintain(axis)
-            if self.capturing_inputs():
-                self._capture_inputs()
-            if self._observers:
-                self._observe(now)
-        self.tick = tick
+
+    def after_events(self, now: int) -> None:
+        """The tick's axes and tasks have acted: run the queues they woke, check slips
+        and position maintenance, record input edges."""
+        due = self._due
+        self._due = []
+        self.run_queues(due)
+        for axis in due:
+            if axis.config.slip_detect:
+                self.check_slip(axis)
+            if axis.holding and axis.motion is None:
+                self.maintain(axis)
+        if self._capturing_inputs:
+            self._capture_inputs()
+
+    def integrate(self, limit: int) -> bool:
+        """Servo loops run every tick: simulate them up to the next event (their inputs
+        change only at events). A following-error trip is an event of their own."""
+        return bool(self._servo_axes) and self._advance_servos(limit)
 
     @property
     def servo_axes(self) -> list[Axis]:
@@ -241,26 +163,9 @@ class Board:
         self.stop_with_linked(axis, hard=True)
         self.set_axis_flag(axis, F.AXIS_SLIP)
 
-    def advance(self, ticks: int) -> None:
-        self.advance_to(self.tick + int(ticks))
-
     def is_idle(self) -> bool:
         """No axis moving and no queue holding work."""
         return all(a.motion is None and a.wait is None and len(a.queue) == 0 for a in self.axes)
-
-    def run_until(self, predicate: Callable[[Board], bool], timeout_ticks: int) -> bool:
-        """Advance event by event until predicate holds; False on timeout (time then stops
-        at the timeout). Predicates are checked at events, so they should depend on
-        board state that changes at events (done flags, idleness, queue waits)."""
-        deadline = self.tick + timeout_ticks
-        self.run_queues()
-        while not predicate(self):
-            event = self.next_event()
-            if event is None or event > deadline:
-                self.advance_to(deadline)
-                return predicate(self)
-            self.advance_to(max(event, self.tick))
-        return True
 
     def run_until_idle(self, timeout_ticks: int) -> bool:
         return self.run_until(Board.is_idle, timeout_ticks)
@@ -765,10 +670,7 @@ class Board:
     # ---- whole-board actions ---------------------------------------------------------
     def set_update_rate(self, rate_hz: int) -> None:
         """#UR: a new update rate resets the position counters (evidence 2.5, TRAJ)."""
-        self._time_origin = self.time
-        self._tick_origin = self.tick
-        self.update_rate_hz = rate_hz
-        self.period = 1.0 / rate_hz
+        self.change_update_rate(rate_hz)
         for axis in self.axes:
             old_motor, old_encoder = axis.counter_offset, axis.encoder_offset
             axis.counter_offset = -axis.steps
@@ -789,3 +691,87 @@ class Board:
         for axis in self.axes:
             axis.flush(self)
             axis.kill(self)
+
+
+class _AxesSource:
+    """The axes as one event source: motions ending, switches and capture edges reached,
+    queue waits expiring. Every axis whose queue may now move is marked for the board's
+    `after_events`, in axis order (an axis waiting on an input looks at every event)."""
+
+    __slots__ = ("board",)
+    every_event = True  # an axis waiting on an input (SW) looks at every event
+
+    def __init__(self, board: Board) -> None:
+        self.board = board
+
+    def next_event(self) -> int | None:
+        board = self.board
+        best: int | None = None
+        for axis in board.axes:
+            t = axis.next_event(board)
+            if t is not None and (best is None or t < best):
+                best = t
+        return best
+
+    def on_event(self, now: int) -> None:
+        board = self.board
+        due = board._due
+        for axis in board.axes:
+            marked = False
+            if axis.switch_tick is not None and axis.switch_tick <= now:
+                board._switch_event(axis)
+                marked = True
+            end = axis.motion_end
+            if end is not None and end <= now:
+                axis.finish_motion()
+                marked = True
+            elif not marked:
+                wait = axis.wait
+                marked = type(wait) is tuple and (wait[0] == "input" or wait[1] <= now)
+            if marked:
+                due.append(axis)
+
+
+class _TasksSource:
+    """The vector tasks: segment starts (VIO), contour ends, holds."""
+
+    __slots__ = ("board",)
+
+    def __init__(self, board: Board) -> None:
+        self.board = board
+
+    def next_event(self) -> int | None:
+        board = self.board
+        best: int | None = None
+        for task in board.tasks.values():
+            t = task.next_event(board)
+            if t is not None and (best is None or t < best):
+                best = t
+        return best
+
+    def on_event(self, now: int) -> None:
+        board = self.board
+        due = board._due
+        for task in list(board.tasks.values()):
+            t = task.next_event(board)
+            if t is not None and t <= now:
+                due.extend(a for a in task.on_event(board) if a not in due)
+
+
+class _InputPoll:
+    """Inputs given as functions of time are looked at every update cycle while an axis
+    captures input edges (the edges themselves are recorded in `after_events`)."""
+
+    __slots__ = ("board",)
+
+    def __init__(self, board: Board) -> None:
+        self.board = board
+
+    def next_event(self) -> int | None:
+        board = self.board
+        if board._capturing_inputs and board.world.inputs_time_dependent():
+            return board.tick + 1
+        return None
+
+    def on_event(self, now: int) -> None:
+        pass
