@@ -6,8 +6,9 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from maxk.firmware_model.profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
-from maxk.firmware_model.servo import Gains, ServoLoop
+from maxk.firmware_model.axis import MotionAxis, MotionPlan
+from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
+from maxk.firmware_model.servo import Gains
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.queue import CommandQueue
 
@@ -62,31 +63,20 @@ class AxisConfig:
 
 
 @dataclass
-class Axis:
-    index: int
-    letter: str
+class Axis(MotionAxis):
+    """A MAXk axis: the shared kinematics plus its parameters, queue and flags. The
+    motor counter is 32-bit wrapped; the encoder is ideal but for the world's missed
+    steps."""
+
     config: AxisConfig = field(default_factory=AxisConfig)
     queue: CommandQueue = field(default_factory=CommandQueue)
-    # Physical position in steps since power-up (what the switches see), at rest or at the
-    # origin of the running motion. The counters the host reads are offsets from it.
-    steps: int = 0
-    counter_offset: int = 0  # motor counter = steps + counter_offset, 32-bit wrapped
-    encoder_offset: int = 0  # encoder counter = steps + encoder_offset (ideal encoder)
-    motion: Motion | None = None
-    motion_start: int = 0  # tick the motion started on
-    motion_end: int | None = None  # tick it ends on (None: endless jog)
-    ramp_end: int = 0  # tick the last speed change of the motion completes
-    switch_tick: int | None = None  # next tick a switch or home condition may change
     capture_pending: list = field(default_factory=list)  # [(tick, home bits, edge steps)]
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     homing: Homing | None = None  # a running HM/HR/KM/KR search
     linked: list = field(default_factory=list)  # the other axes of a running MT/ML move
-    direction: int = 1  # direction of the last or current motion (QA: P/M)
     aux_on: bool = False  # AN / AF
-    rest_since: int = 0  # tick the last motion ended (PA settle timing)
     dac: int = 0  # AO: general purpose analog output count (non-servo axes)
-    servo: ServoLoop | None = None  # the PID loop and motor of a PSM axis
     holding: bool = False  # HN on an encoder stepper: position maintenance
     # The lost steps the counters account for: set where motor and encoder were last
     # made to agree (LP, LO, LPE, ER, PS, homing, #UR) and moved on by every position-
@@ -96,22 +86,6 @@ class Axis:
     units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: object = None  # what the queue is blocked on
-
-    # ---- position and velocity at the board's current tick -------------------------
-    def _t(self, board: Board) -> float:
-        return (board.tick - self.motion_start) * board.period
-
-    def steps_at_tick(self, tick: int, period: float) -> int:
-        """Physical position at any tick of the running motion (or at rest)."""
-        m = self.motion
-        if m is None:
-            return self.steps
-        if self.motion_end is not None and tick >= self.motion_end:
-            return self.steps + m.final_offset
-        return self.steps + int(m.offset((tick - self.motion_start) * period))
-
-    def steps_now(self, board: Board) -> int:
-        return self.steps_at_tick(board.tick, board.period)
 
     def motor_position(self, board: Board) -> int:
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
@@ -161,25 +135,6 @@ class Axis:
         """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
         self.lost_accounted = board.world.axes[self.index].lost_steps
 
-    def velocity(self, board: Board) -> float:
-        m = self.motion
-        if m is None or (self.motion_end is not None and board.tick >= self.motion_end):
-            return 0.0
-        return m.velocity(self._t(board))
-
-    def travel_direction(self, board: Board) -> int:
-        """Which way the axis is travelling now: the velocity's sign, or on a motion's
-        last tick (velocity 0) the way its last update cycle went."""
-        if self.motion is None:
-            return self.direction
-        v = self.velocity(board)
-        if v == 0:
-            step = self.steps_now(board) - self.steps_at_tick(board.tick - 1, board.period)
-            if step == 0:
-                return self.motion.direction
-            return 1 if step > 0 else -1
-        return 1 if v > 0 else -1
-
     @property
     def has_encoder(self) -> bool:
         return self.config.axis_type in ("E", "M")
@@ -191,12 +146,8 @@ class Axis:
             return self.servo.closed and not self.servo.tripped
         return self.holding
 
-    @property
-    def moving(self) -> bool:
-        return self.motion is not None
-
     # ---- motion control --------------------------------------------------------------
-    def start_motion(self, motion: Motion, board: Board, *, stopping: bool = False) -> bool:
+    def start_motion(self, motion: MotionPlan, board: Board, *, stopping: bool = False) -> bool:
         """Start a planned motion now. A motion into an active limit switch is refused
         (the overtravel flag is set instead); a stop is never refused."""
         if not stopping:
@@ -206,39 +157,14 @@ class Axis:
             return False
         if not stopping:
             self.linked = []
-        self.motion = motion
-        self.motion_start = board.tick
-        period = board.period
-        if motion.end_time is None:
-            self.motion_end = None
-        else:
-            self.motion_end = board.tick + math.ceil(motion.end_time / period - 1e-9)
-        self.ramp_end = board.tick + math.ceil(motion.ramp_end_time / period - 1e-9)
-        self.direction = motion.direction
-        if self.motion_end is not None and self.motion_end <= board.tick:
-            self.finish_motion()
+        self.begin(motion, board)
         board.schedule_switches(self)
         return True
 
     def _rebase(self, board: Board) -> tuple[float, float]:
         """Freeze the running motion at this tick; return (fractional residual, velocity)."""
-        m = self.motion
         self.capture_pending = []
-        if m is None:
-            return 0.0, 0.0
-        t = self._t(board)
-        exact = m.offset(t)
-        velocity = m.velocity(t)
-        if velocity:
-            self.direction = 1 if velocity > 0 else -1
-        whole = int(exact)
-        self.steps += whole
-        self._end_correction()
-        self.rest_since = board.tick
-        self.motion = None
-        self.motion_end = None
-        self.switch_tick = None
-        return exact - whole, velocity
+        return self.freeze(board)
 
     def start_move(self, target: int, board: Board) -> bool:
         """GO: a point-to-point move from rest to target. False if nothing to do."""
@@ -290,16 +216,11 @@ class Axis:
         self._rebase(board)
 
     def finish_motion(self) -> None:
-        m = self.motion
-        if m is not None:
-            self.steps += m.final_offset
-            if self.motion_end is not None:
-                self.rest_since = self.motion_end
-            self._end_correction()
-        self.motion = None
-        self.motion_end = None
-        self.switch_tick = None
+        super().finish_motion()
         self.capture_pending = []
+
+    def motion_ended(self) -> None:
+        self._end_correction()
 
     def _end_correction(self) -> None:
         """A position-maintenance move leaves the motor counter where it was: it moved
@@ -336,50 +257,6 @@ class Axis:
         if self.servo is not None:  # LP0 zeroes the position error (manual 2.13)
             self.servo.counters_moved(self.counter_offset - old_motor,
                                       self.encoder_offset - old_encoder)
-
-    def tick_reaching(self, position: float, direction: int, board: Board) -> int | None:
-        """The first tick after now at which the running motion, travelling in
-        `direction`, has reached `position` (steps), or None if it never does.
-
-        Each phase of a motion is monotonic, so a bisection over the ticks of every
-        phase that travels the right way finds the crossing exactly, in O(log n)."""
-        m = self.motion
-        if m is None:
-            return None
-        # A move or a stop never goes past where it ends: most searches end here.
-        if m.end_time is not None and m.monotonic and (
-                m.direction != direction
-                or direction * (self.steps + m.final_offset - position) < 0):
-            return None
-        period = board.period
-        now = board.tick
-
-        def reached(tick: int) -> bool:
-            return direction * (self.steps_at_tick(tick, period) - position) >= 0
-
-        for phase in m.phases:
-            if phase.direction != direction or (phase.v1 == 0 and phase.v2 == 0):
-                continue
-            first = max(now + 1, self.motion_start + int(phase.t0 / period))
-            if math.isinf(phase.duration):
-                here = self.steps_at_tick(first, period)
-                need = max(0.0, direction * (position - here))
-                last = first + math.ceil(need / (phase.v1 * period)) + 2
-            else:
-                last = self.motion_start + math.ceil((phase.t0 + phase.duration) / period)
-            if self.motion_end is not None:
-                last = min(last, self.motion_end)
-            if last < first or not reached(last):
-                continue
-            lo, hi = first, last
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if reached(mid):
-                    hi = mid
-                else:
-                    lo = mid + 1
-            return lo
-        return None
 
     # ---- queue -----------------------------------------------------------------------
     def next_event(self, board: Board) -> int | None:

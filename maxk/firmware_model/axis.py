@@ -1,0 +1,220 @@
+"""An axis's motion in closed form: where it is and how fast at any tick, and when it
+reaches a position. Every controller's axes are built on this; what an axis is told to do
+(queues, modes, flags) belongs to the controller's personality.
+
+A motion is anything with the `MotionPlan` interface: the closed-form profiles of
+`profiles.py`, a linearly interpolated move (a scaled profile), one axis's view of a path
+(`path.ContourMotion`), or pulses given per time slot. Positions are physical steps since
+power-up (what the switches see); counters a host reads are offsets from them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+if TYPE_CHECKING:
+    from maxk.firmware_model.engine import Engine
+    from maxk.firmware_model.servo import ServoLoop
+
+
+class MotionPhase(Protocol):
+    """One monotonic stretch of a motion: it starts at `t0` (s from the motion's start),
+    lasts `duration` (inf for a slew without end) and travels `direction` at speeds
+    between `v1` and `v2`."""
+
+    @property
+    def t0(self) -> float: ...
+    @property
+    def duration(self) -> float: ...
+    @property
+    def direction(self) -> int: ...
+    @property
+    def v1(self) -> float: ...
+    @property
+    def v2(self) -> float: ...
+
+
+class MotionPlan(Protocol):
+    """A planned motion relative to an integer origin, in closed form."""
+
+    @property
+    def phases(self) -> Sequence[MotionPhase]: ...
+    @property
+    def end_time(self) -> float | None: ...  # None: slews until told otherwise
+    @property
+    def final_offset(self) -> int: ...  # the whole steps it ends on
+    @property
+    def ramp_end_time(self) -> float: ...  # when its last speed change completes
+    @property
+    def direction(self) -> int: ...
+    @property
+    def monotonic(self) -> bool: ...
+
+    def offset(self, t: float) -> float:
+        """Signed offset from the origin at `t` seconds after the start (exact float)."""
+        ...
+
+    def velocity(self, t: float) -> float:
+        """Signed velocity at `t`, steps/s."""
+        ...
+
+
+@dataclass
+class MotionAxis:
+    """The kinematic state of one axis: the physical position at rest or at the origin
+    of the running motion, the motion and its ticks, the counters' offsets."""
+
+    index: int
+    letter: str
+    # Physical position in steps since power-up, at rest or at the origin of the motion.
+    steps: int = 0
+    counter_offset: int = 0  # motor counter = steps + counter_offset
+    encoder_offset: int = 0  # encoder counter = encoder counts + encoder_offset
+    motion: MotionPlan | None = None
+    motion_start: int = 0  # tick the motion started on
+    motion_end: int | None = None  # tick it ends on (None: endless jog)
+    ramp_end: int = 0  # tick the last speed change of the motion completes
+    switch_tick: int | None = None  # next tick a switch or trigger may change
+    direction: int = 1  # direction of the last or current motion
+    rest_since: int = 0  # tick the last motion ended
+    servo: ServoLoop | None = None  # the closed loop and motor of a servo axis
+
+    # ---- position and velocity ------------------------------------------------------
+    def steps_at_tick(self, tick: int, period: float) -> int:
+        """Physical position at any tick of the running motion (or at rest): the whole
+        steps the motion has made by then."""
+        m = self.motion
+        if m is None:
+            return self.steps
+        if self.motion_end is not None and tick >= self.motion_end:
+            return self.steps + m.final_offset
+        return self.steps + int(m.offset((tick - self.motion_start) * period))
+
+    def steps_now(self, engine: Engine) -> int:
+        return self.steps_at_tick(engine.tick, engine.period)
+
+    def velocity(self, engine: Engine) -> float:
+        m = self.motion
+        if m is None or (self.motion_end is not None and engine.tick >= self.motion_end):
+            return 0.0
+        return m.velocity((engine.tick - self.motion_start) * engine.period)
+
+    def travel_direction(self, engine: Engine) -> int:
+        """Which way the axis is travelling now: the velocity's sign, or on a motion's
+        last tick (velocity 0) the way its last update cycle went."""
+        if self.motion is None:
+            return self.direction
+        v = self.velocity(engine)
+        if v == 0:
+            step = self.steps_now(engine) - self.steps_at_tick(engine.tick - 1, engine.period)
+            if step == 0:
+                return self.motion.direction
+            return 1 if step > 0 else -1
+        return 1 if v > 0 else -1
+
+    @property
+    def moving(self) -> bool:
+        return self.motion is not None
+
+    # ---- starting and ending motions -------------------------------------------------
+    def begin(self, motion: MotionPlan, engine: Engine) -> None:
+        """Run `motion` from this tick: its end tick is `start + ceil(T / period)`, so a
+        move ends exactly on its target on the first tick at or after its analytic end."""
+        self.motion = motion
+        now = engine.tick
+        self.motion_start = now
+        period = engine.period
+        if motion.end_time is None:
+            self.motion_end = None
+        else:
+            self.motion_end = now + math.ceil(motion.end_time / period - 1e-9)
+        self.ramp_end = now + math.ceil(motion.ramp_end_time / period - 1e-9)
+        self.direction = motion.direction
+        if self.motion_end is not None and self.motion_end <= now:
+            self.finish_motion()
+
+    def freeze(self, engine: Engine) -> tuple[float, float]:
+        """Stop the running motion's clock at this tick: the whole steps made so far
+        become the position; return (fractional residual, velocity) for what follows."""
+        m = self.motion
+        if m is None:
+            return 0.0, 0.0
+        t = (engine.tick - self.motion_start) * engine.period
+        exact = m.offset(t)
+        velocity = m.velocity(t)
+        if velocity:
+            self.direction = 1 if velocity > 0 else -1
+        whole = int(exact)
+        self.steps += whole
+        self.motion_ended()
+        self.rest_since = engine.tick
+        self.motion = None
+        self.motion_end = None
+        self.switch_tick = None
+        return exact - whole, velocity
+
+    def finish_motion(self) -> None:
+        """The motion reached its end tick: the axis stands on its final whole step."""
+        m = self.motion
+        if m is not None:
+            self.steps += m.final_offset
+            if self.motion_end is not None:
+                self.rest_since = self.motion_end
+            self.motion_ended()
+        self.motion = None
+        self.motion_end = None
+        self.switch_tick = None
+
+    def motion_ended(self) -> None:
+        """Called when a motion ends or is frozen, before it is dropped (a personality
+        settles what depended on it)."""
+
+    # ---- when a position is reached ----------------------------------------------------
+    def tick_reaching(self, position: float, direction: int, engine: Engine) -> int | None:
+        """The first tick after now at which the running motion, travelling in
+        `direction`, has reached `position` (steps), or None if it never does.
+
+        Each phase of a motion is monotonic, so a bisection over the ticks of every
+        phase that travels the right way finds the crossing exactly, in O(log n). This
+        is how limit switches, home edges, index marks and position-gated outputs all
+        find their exact tick."""
+        m = self.motion
+        if m is None:
+            return None
+        # A move or a stop never goes past where it ends: most searches end here.
+        if m.end_time is not None and m.monotonic and (
+                m.direction != direction
+                or direction * (self.steps + m.final_offset - position) < 0):
+            return None
+        period = engine.period
+        now = engine.tick
+
+        def reached(tick: int) -> bool:
+            return direction * (self.steps_at_tick(tick, period) - position) >= 0
+
+        for phase in m.phases:
+            if phase.direction != direction or (phase.v1 == 0 and phase.v2 == 0):
+                continue
+            first = max(now + 1, self.motion_start + int(phase.t0 / period))
+            if math.isinf(phase.duration):
+                here = self.steps_at_tick(first, period)
+                need = max(0.0, direction * (position - here))
+                last = first + math.ceil(need / (phase.v1 * period)) + 2
+            else:
+                last = self.motion_start + math.ceil((phase.t0 + phase.duration) / period)
+            if self.motion_end is not None:
+                last = min(last, self.motion_end)
+            if last < first or not reached(last):
+                continue
+            lo, hi = first, last
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if reached(mid):
+                    hi = mid
+                else:
+                    lo = mid + 1
+            return lo
+        return None
