@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from maxk.controllers.maxk import MAXk
-from maxk.firmware_model.servo import VOLTS_PER_COUNT
+from maxk.firmware_model.motor import VOLTS_PER_COUNT
 
 DEFAULT_MOVE = "AC100000; VL5000; MR6400; GO;"
 """A trapezoid with a flat top, short enough to plot clearly (manual 2.13's method)."""

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import fields
 
 from maxk.controllers.maxk import MAXk
-from maxk.firmware_model.servo import MotorPlant
+from maxk.firmware_model.motor import MotorPlant
 from maxk.firmware_model.world import SWITCHES
 from maxk.personalities.maxk.capture import EDGES
 

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from maxk import MAXk
-from maxk.firmware_model.servo import DAC_LIMIT, MotorPlant
+from maxk.firmware_model.motor import MotorPlant
+from maxk.firmware_model.servo import DAC_LIMIT
 from maxk.personalities.maxk import flags as F
 
 TUNED = "KP100; KD400; KI40; KU400; KV680;"  # docs/servo.md: the default motor, tuned

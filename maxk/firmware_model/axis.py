@@ -35,6 +35,8 @@ class MotionPhase(Protocol):
     def v1(self) -> float: ...
     @property
     def v2(self) -> float: ...
+    @property
+    def polynomial(self) -> bool: ...  # position is a polynomial in time (servo jumps)
 
 
 class MotionPlan(Protocol):
@@ -59,6 +61,10 @@ class MotionPlan(Protocol):
 
     def velocity(self, t: float) -> float:
         """Signed velocity at `t`, steps/s."""
+        ...
+
+    def phase_at(self, t: float) -> MotionPhase | None:
+        """The phase running at `t` (None for a motion without phases)."""
         ...
 
 

@@ -145,7 +145,7 @@ class Motion:
         """All phases travel one way (moves and stops; not a reversing jog)."""
         return all(p.direction == self.direction for p in self.phases)
 
-    def _phase_at(self, t: float) -> Phase | None:
+    def phase_at(self, t: float) -> Phase | None:
         phases = self.phases
         if not phases:
             return None
@@ -161,7 +161,7 @@ class Motion:
         """Signed offset from the origin at time t (exact float, not yet whole steps)."""
         if self.end_time is not None and t >= self.end_time:
             return float(self.final_offset)
-        phase = self._phase_at(t)
+        phase = self.phase_at(t)
         if phase is None:
             return float(self.final_offset)
         return phase.s0 + phase.direction * phase.distance(t - phase.t0)
@@ -170,7 +170,7 @@ class Motion:
         """Signed velocity at time t, steps/s."""
         if self.end_time is not None and t >= self.end_time:
             return 0.0
-        phase = self._phase_at(t)
+        phase = self.phase_at(t)
         if phase is None:
             return 0.0
         return phase.direction * phase.speed(t - phase.t0)

@@ -28,110 +28,59 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from maxk.firmware_model.profiles import RampShape
 
 if TYPE_CHECKING:
-    from maxk.personalities.maxk.axis import Axis
-    from maxk.personalities.maxk.board import Board
+    from maxk.firmware_model.axis import MotionPlan
+    from maxk.firmware_model.world import World
+
+
+class ServoSettings(Protocol):
+    """What the loop reads of an axis's parameters."""
+
+    @property
+    def gains(self) -> Gains: ...
+    @property
+    def servo_polarity(self) -> int: ...
+
+
+class ServoAxis(Protocol):
+    """A servo axis as the loop sees it: the shared kinematics (`MotionAxis`) and its
+    settings."""
+
+    index: int
+    steps: int
+    counter_offset: int
+    encoder_offset: int
+    motion: MotionPlan | None
+    motion_start: int
+    motion_end: int | None
+    rest_since: int
+
+    @property
+    def config(self) -> ServoSettings: ...
+
+
+class ServoHost(Protocol):
+    """The machine the loop runs in: its time and the world (the motor plant)."""
+
+    @property
+    def tick(self) -> int: ...
+    @property
+    def period(self) -> float: ...
+    @property
+    def world(self) -> World: ...
 
 DAC_LIMIT = 32767.0  # 16-bit DAC: +/-32767 counts = +/-10 V
-VOLTS_PER_COUNT = 10.0 / 32767.0
 FOLLOWING_ERROR_LIMIT = 32768.0  # manual 2.13: above this the PID is disabled
 INTEGRAL_DIVISOR = 1024.0  # KI acts on sum(e) / 1024
 INTEGRAL_LIMIT_PER_KU = 4.0  # KU limits the integral term to 4*KU DAC counts
 HORIZON = 1 << 22  # ticks a closed-form solution is checked ahead when nothing ends
 SETTLED_ERROR = 1e-3  # counts: stick-slip below this is not simulated (see _breakaway)
-
-
-@dataclass(frozen=True)
-class MotorPlant:
-    """A DC motor, its amplifier and its encoder: the physical axis a servo drives.
-
-    Defaults: a small servo motor with a 2000-line encoder (8000 counts per turn, as in
-    the manual's tuning check) on a voltage-mode amplifier of gain 3: 1 V (KO3277) turns
-    it at about a tenth of its top speed, as the manual's set-up step 4 asks. The factory
-    gains (KP 10, KD 160, KI 1) hold it stably; the manual's tuning procedure behaves as
-    it describes (docs/servo.md).
-    """
-
-    inertia: float = 5e-6  # kg m^2, motor and load
-    viscous_friction: float = 2e-5  # N m s/rad
-    coulomb_friction: float = 0.005  # N m (static friction taken equal)
-    torque_constant: float = 0.1  # N m/A (= back-EMF constant, V s/rad)
-    amplifier: str = "voltage"  # "voltage" (velocity-like) or "current" (torque mode)
-    amplifier_gain: float = 3.0  # V/V in voltage mode, A/V in current mode
-    resistance: float = 2.0  # ohm: the winding, used in voltage mode
-    encoder_lines: int = 2000  # x4 quadrature
-
-    def __post_init__(self) -> None:
-        if self.amplifier not in ("current", "voltage"):
-            raise ValueError("amplifier is 'current' or 'voltage'")
-        for name in ("inertia", "torque_constant", "amplifier_gain", "resistance"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be positive")
-        if self.encoder_lines < 1 or self.viscous_friction < 0 or self.coulomb_friction < 0:
-            raise ValueError("encoder lines >= 1 and frictions >= 0")
-
-    @property
-    def counts_per_rev(self) -> int:
-        return 4 * self.encoder_lines
-
-    @property
-    def counts_per_radian(self) -> float:
-        return self.counts_per_rev / (2.0 * math.pi)
-
-    def _torque_per_count(self) -> float:
-        """Stall torque per DAC count (N m)."""
-        torque_per_volt = self.torque_constant * self.amplifier_gain
-        if self.amplifier == "voltage":
-            torque_per_volt /= self.resistance
-        return torque_per_volt * VOLTS_PER_COUNT
-
-    def coefficients(self) -> tuple[float, float, float]:
-        """(g, a, friction): acceleration in counts/s^2 per DAC count, damping 1/s, and
-        the Coulomb friction as DAC counts. The motor obeys ``y'' = g*u - a*y'``."""
-        return _coefficients(self)
-
-    def _compute_coefficients(self) -> tuple[float, float, float]:
-        damping = self.viscous_friction
-        if self.amplifier == "voltage":  # back-EMF through the winding damps the motor
-            damping += self.torque_constant ** 2 / self.resistance
-        torque = self._torque_per_count()
-        g = torque / self.inertia * self.counts_per_radian
-        return g, damping / self.inertia, self.coulomb_friction / torque
-
-    def transfer_function(self):  # -> control.TransferFunction
-        """Encoder counts per DAC count: ``g / (s (s + a))``."""
-        import control
-
-        g, a, _ = self.coefficients()
-        return control.tf([g], [1.0, a, 0.0])
-
-    def discrete(self, period: float) -> tuple[float, float, float, float, float, float]:
-        return _discretize(self, period)
-
-
-@lru_cache(maxsize=256)
-def _coefficients(plant: MotorPlant) -> tuple[float, float, float]:
-    return plant._compute_coefficients()  # every servo axis asks on every advance: cached
-
-
-@lru_cache(maxsize=256)
-def _discretize(plant: MotorPlant, period: float) -> tuple[float, ...]:
-    """c2d (zero-order hold) of the plant in the physical states (position, velocity):
-    returns a11, a12, a21, a22, b1, b2 of ``x' = A x + B u``."""
-    import control
-
-    g, a, _ = plant.coefficients()
-    continuous = control.ss([[0.0, 1.0], [0.0, -a]], [[0.0], [g]], [[1.0, 0.0]], [[0.0]])
-    sampled = control.c2d(continuous, period, method="zoh")
-    A, B = np.asarray(sampled.A), np.asarray(sampled.B)
-    return (float(A[0, 0]), float(A[0, 1]), float(A[1, 0]), float(A[1, 1]),
-            float(B[0, 0]), float(B[1, 0]))
 
 
 @dataclass(frozen=True)
@@ -394,7 +343,7 @@ class ServoLoop:
         self._cache = None
 
     # ---- simulation ------------------------------------------------------------------
-    def advance(self, axis: Axis, board: Board, to_tick: int) -> None:
+    def advance(self, axis: ServoAxis, board: ServoHost, to_tick: int) -> None:
         """Simulate up to `to_tick` (exclusive of its inputs). Stops early at a
         following-error trip, leaving ``trip_tick`` for the board to act on."""
         if self.trip_tick is not None:
@@ -414,7 +363,7 @@ class ServoLoop:
             if self.trip_tick is not None:
                 return
 
-    def _commanded(self, axis: Axis, board: Board, tick: int) -> float:
+    def _commanded(self, axis: ServoAxis, board: ServoHost, tick: int) -> float:
         """Commanded position (counter frame, exact float) at a tick."""
         m = axis.motion
         base = axis.steps + axis.counter_offset
@@ -424,7 +373,7 @@ class ServoLoop:
             return float(base + m.final_offset)
         return base + m.offset((tick - axis.motion_start) * board.period)
 
-    def _piece(self, axis: Axis, board: Board, tick: int) -> tuple[int, int | None, bool]:
+    def _piece(self, axis: ServoAxis, board: ServoHost, tick: int) -> tuple[int, int | None, bool]:
         """The ticks where the commanded position's present polynomial piece started and
         ends (None: never), and whether it is a polynomial (cosine ramps are not)."""
         m = axis.motion
@@ -434,7 +383,7 @@ class ServoLoop:
             return axis.motion_end, None, True
         period = board.period
         t = (tick - axis.motion_start) * period
-        phase = m._phase_at(t)
+        phase = m.phase_at(t)
         if phase is None:
             return axis.motion_start, axis.motion_end, True
         start_t, end_t = phase.t0, phase.t0 + phase.duration
@@ -456,7 +405,7 @@ class ServoLoop:
             end = max(end, tick + 1)
         return start, end, polynomial
 
-    def _segment(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+    def _segment(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
                  gains: Gains, to_tick: int) -> None:
         """Advance as far as one closed-form jump allows; scalar steps where it can't."""
         cache = self._cache
@@ -499,7 +448,7 @@ class ServoLoop:
             self._scalar(axis, board, matrices, friction, gains,
                          min(n, 2 if taken is None else 16))
 
-    def _inputs(self, axis: Axis, board: Board, n: int, gains: Gains,
+    def _inputs(self, axis: ServoAxis, board: ServoHost, n: int, gains: Gains,
                 friction_drive: float) -> tuple[list[float], list[float]] | None:
         """Polynomial coefficients (in j = tick - self.tick) of the commanded position
         (loop frame) and of the feed-forward sum over the next n ticks."""
@@ -523,7 +472,7 @@ class ServoLoop:
         m = axis.motion
         sign_v = 0.0
         if m is not None and (axis.motion_end is None or self.tick < axis.motion_end):
-            phase = m._phase_at((self.tick - axis.motion_start) * board.period)
+            phase = m.phase_at((self.tick - axis.motion_start) * board.period)
             if phase is not None and (phase.v1 or phase.v2):
                 sign_v = float(phase.direction)
         if not self.closed or self.tripped:
@@ -533,13 +482,13 @@ class ServoLoop:
         ff[0] += gains.kf * sign_v + gains.ko - friction_drive
         return r, ff
 
-    def _key(self, axis: Axis, matrices: tuple, friction: float, gains: Gains) -> tuple:
+    def _key(self, axis: ServoAxis, matrices: tuple, friction: float, gains: Gains) -> tuple:
         """What a cached closed-form solution depends on besides the state it started
         from (the state is ours: any step outside the solution drops the cache)."""
         return (id(axis.motion), axis.motion_start, axis.steps, axis.counter_offset,
                 axis.encoder_offset, gains, self.closed, self.tripped, matrices, friction)
 
-    def _commit(self, axis: Axis, sol: _Solution, r: list[float], j: int) -> None:
+    def _commit(self, axis: ServoAxis, sol: _Solution, r: list[float], j: int) -> None:
         """Take the state `j` ticks into a solution (which started at its tick0)."""
         X = sol.state(j)
         if len(X) == 4:
@@ -552,7 +501,7 @@ class ServoLoop:
         self.r_prev2 = _poly_eval(r, j - 2) + axis.encoder_offset
         self.tick = sol.tick0 + j
 
-    def _jump(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+    def _jump(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
               gains: Gains, n: int, wanted: int) -> bool | None:
         """Solve the next n ticks (the rest of the piece) in closed form, check the loop
         stays linear over them, and take up to `wanted` of them; the rest is cached for
@@ -605,7 +554,7 @@ class ServoLoop:
         else:
             self.stuck = False
 
-    def _stuck_moving(self, axis: Axis, board: Board, gains: Gains, friction: float,
+    def _stuck_moving(self, axis: ServoAxis, board: ServoHost, gains: Gains, friction: float,
                       n: int) -> bool:
         """Closed loop, held by static friction while the commanded position moves (the
         start of a move): the motor stays put until the output exceeds the friction.
@@ -644,7 +593,7 @@ class ServoLoop:
         self.tick += k
         return True
 
-    def _stuck_closed(self, axis: Axis, board: Board, friction: float, gains: Gains,
+    def _stuck_closed(self, axis: ServoAxis, board: ServoHost, friction: float, gains: Gains,
                       limit: int) -> bool:
         """Closed loop, at rest, held by static friction: the error is constant, so only
         the integrator moves. Jump to the tick the output breaks away (or to `limit`)."""
@@ -672,7 +621,7 @@ class ServoLoop:
         self.tick += k
         return True
 
-    def _scalar(self, axis: Axis, board: Board, matrices: tuple, friction: float,
+    def _scalar(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
                 gains: Gains, count: int) -> None:
         """Step tick by tick: the reference semantics, used where the loop is nonlinear."""
         self._cache = None

@@ -18,12 +18,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Any
 
-from maxk.firmware_model.servo import MotorPlant
+from maxk.firmware_model.motor import MotorPlant
 
-if TYPE_CHECKING:
-    from maxk.personalities.maxk.board import Board
+Board = Any  # the controller an input source is a function of (its time, its axes)
 
 STUCK_ACTIVE = "active"
 STUCK_INACTIVE = "inactive"

@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 from maxk.commands.max.handlers import CommandError
 from maxk.commands.max.lexer import ParsedCommand
+from maxk.firmware_model.path import SegmentDef
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.contouring import (
     DEFAULT_TASK,
@@ -19,7 +20,6 @@ from maxk.personalities.maxk.contouring import (
     TASKS,
     Contour,
     ContourTask,
-    SegmentDef,
 )
 from maxk.personalities.maxk.queue import QueueEntry
 

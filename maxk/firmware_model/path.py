@@ -1,0 +1,451 @@
+"""Paths of straight lines and circular arcs, and the speed planned along them.
+
+A path is a list of segments (lines, or arcs given by a centre and an angle) that blend
+without stopping. The speed is planned along the path length ``s``: each segment's speed
+rises toward its end velocity (or stays at its start velocity and falls to a lower end
+velocity) at the segment's acceleration, never above max(start, end) x override, on arcs
+never above sqrt(A R) (so the centripetal acceleration stays within A too), and always
+able to stop at the end of the known path. The result is pieces of constant acceleration
+in time, so position and speed along the path are closed-form at any instant. Points are
+computed from the geometry (arc points from the centre and angle, never accumulated), and
+each axis follows its coordinate of the path as a motion with the shared `MotionPlan`
+interface (`ContourMotion`), split into phases where that axis may turn round, so limit
+searches, outputs tied to positions and the servo work on it unchanged.
+
+Used by the MAXk's vector contouring; the same planner carries any controller's
+interpolated path (the Trio's BASE group moves, the MM4005's trajectory).
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass
+
+from maxk.firmware_model.profiles import RampShape
+
+EPS = 1e-9  # path lengths closer than this are one point
+
+
+# ---- definitions and geometry ---------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class SegmentDef:
+    """A VP or VC as defined, with the VA/VV/VIO values in effect when it was sent."""
+
+    kind: str  # "line" or "arc"
+    values: tuple[float | None, ...]  # line: one coordinate per contour axis; arc: centre
+    relative: bool
+    angle: float  # arc: degrees, positive from the first axis toward the second
+    v_start: float | None  # None: go on at the previous segment's end velocity
+    v_end: float
+    accel: float
+    io: tuple[int, int | None, int] | None
+
+
+def _snap(x: float) -> float:
+    """Arc ends land on whole counts when the geometry says so (90-degree multiples)."""
+    r = round(x)
+    return float(r) if abs(x - r) < 1e-6 else x
+
+
+class Segment:
+    """A resolved segment: where it starts and ends on the path (s0, length)."""
+
+    __slots__ = ("defn", "s0", "length", "start", "end", "unit", "cx", "cy", "radius",
+                 "theta0", "turn", "v_start", "v_end", "accel", "ceiling", "arc_cap")
+
+    def __init__(self, defn: SegmentDef, start: tuple[float, ...], s0: float,
+                 v_previous: float | None) -> None:
+        self.defn = defn
+        self.s0 = s0
+        self.start = start
+        self.accel = defn.accel
+        self.v_end = defn.v_end
+        self.v_start = defn.v_start if defn.v_start is not None else (
+            v_previous if v_previous is not None else defn.v_end)
+        self.ceiling = max(self.v_start, self.v_end)
+        self.arc_cap = math.inf
+        self.unit: tuple[float, ...] = tuple(0.0 for _ in start)
+        self.cx = self.cy = self.radius = self.theta0 = self.turn = 0.0
+        if defn.kind == "line":
+            end = tuple(
+                (start[k] + v if defn.relative else v) if v is not None else start[k]
+                for k, v in enumerate(defn.values))
+            delta = [e - s for e, s in zip(end, start, strict=True)]
+            self.length = math.sqrt(sum(d * d for d in delta))
+            if self.length > 0:
+                self.unit = tuple(d / self.length for d in delta)
+            self.end = end
+        else:
+            self.cx, self.cy = defn.values[0], defn.values[1]  # type: ignore[assignment]
+            dx, dy = start[0] - self.cx, start[1] - self.cy
+            self.radius = math.hypot(dx, dy)
+            self.theta0 = math.atan2(dy, dx)
+            self.turn = math.radians(defn.angle)
+            self.length = self.radius * abs(self.turn)
+            if self.radius > 0:
+                self.arc_cap = math.sqrt(self.accel * self.radius)
+            if self.length > 0 and defn.angle % 360.0 == 0.0:
+                end = start  # whole circles close exactly
+            else:
+                end = list(start)
+                theta = self.theta0 + self.turn
+                end[0] = _snap(self.cx + self.radius * math.cos(theta))
+                end[1] = _snap(self.cy + self.radius * math.sin(theta))
+                end = tuple(end)
+            self.end = end
+
+    @property
+    def is_arc(self) -> bool:
+        return self.defn.kind == "arc"
+
+    def coordinate(self, sigma: float, k: int) -> float:
+        """Axis k's ideal position sigma counts along this segment."""
+        if sigma >= self.length:
+            return self.end[k]
+        if not self.is_arc:
+            return self.start[k] + self.unit[k] * sigma
+        if k > 1 or self.radius == 0:
+            return self.start[k]
+        theta = self.theta0 + math.copysign(sigma / self.radius, self.turn)
+        if k == 0:
+            return self.cx + self.radius * math.cos(theta)
+        return self.cy + self.radius * math.sin(theta)
+
+    def slope(self, sigma: float, k: int) -> float:
+        """d(axis k)/ds: the share of the vector velocity axis k carries."""
+        if not self.is_arc:
+            return self.unit[k]
+        if k > 1 or self.radius == 0:
+            return 0.0
+        sign = 1.0 if self.turn > 0 else -1.0
+        theta = self.theta0 + sign * sigma / self.radius
+        return -sign * math.sin(theta) if k == 0 else sign * math.cos(theta)
+
+    def extremes(self, k: int, a: float, b: float) -> list[float]:
+        """Where axis k turns round within (a, b) on an arc (it is monotonic between)."""
+        if not self.is_arc or k > 1 or self.radius == 0:
+            return []
+        sign = 1.0 if self.turn > 0 else -1.0
+        phase = 0.0 if k == 0 else math.pi / 2  # x turns at m*pi, y at pi/2 + m*pi
+        th_a = self.theta0 + sign * a / self.radius
+        th_b = self.theta0 + sign * b / self.radius
+        lo, hi = min(th_a, th_b), max(th_a, th_b)
+        m = math.ceil((lo - phase) / math.pi)
+        out = []
+        while phase + m * math.pi < hi:
+            theta = phase + m * math.pi
+            sigma = (theta - self.theta0) * sign * self.radius
+            if a + 1e-9 < sigma < b - 1e-9:
+                out.append(sigma)
+            m += 1
+        return sorted(out)
+
+
+# ---- speed along the path -------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class Piece:
+    """A stretch of the path at constant acceleration along it."""
+
+    t0: float
+    duration: float  # math.inf: held at speed 0 (override 0%)
+    s0: float
+    v0: float
+    a: float
+
+    def s(self, tau: float) -> float:
+        return self.s0 + self.v0 * tau + 0.5 * self.a * tau * tau
+
+    def v(self, tau: float) -> float:
+        return self.v0 + self.a * tau
+
+    @property
+    def s1(self) -> float:
+        return self.s0 if math.isinf(self.duration) else self.s(self.duration)
+
+    def tau_at(self, s: float) -> float:
+        d = s - self.s0
+        if d <= 0:
+            return 0.0
+        root = math.sqrt(max(0.0, self.v0 * self.v0 + 2.0 * self.a * d))
+        denominator = self.v0 + root
+        return min(2.0 * d / denominator, self.duration) if denominator > 0 else 0.0
+
+
+class PathPlan:
+    """Where the path is at every time from the plan's start: pieces of constant
+    acceleration, ending at rest (end_time) or held at speed 0 (end_time None)."""
+
+    def __init__(self, segments: list[Segment], pieces: list[Piece], s_start: float,
+                 end_time: float | None) -> None:
+        self.segments = segments
+        self.starts = [seg.s0 for seg in segments]
+        self.pieces = pieces
+        self.times = [p.t0 for p in pieces]
+        self.piece_ends = [p.s1 for p in pieces]
+        self.s_start = s_start
+        self.end_time = end_time
+        self.s_end = pieces[-1].s1 if pieces else s_start
+        self._memo: tuple[float, float, float] = (-1.0, s_start, 0.0)
+
+    def state(self, t: float) -> tuple[float, float]:
+        """(s, speed) at t seconds into the plan."""
+        memo = self._memo
+        if memo[0] == t:
+            return memo[1], memo[2]
+        if not self.pieces or (self.end_time is not None and t >= self.end_time):
+            result = (self.s_end, 0.0)
+        else:
+            i = max(0, bisect.bisect_right(self.times, t) - 1)
+            p = self.pieces[i]
+            tau = min(t - p.t0, p.duration)
+            result = (p.s(tau), max(0.0, p.v(tau)))
+            if i + 1 < len(self.pieces):
+                result = (min(result[0], self.pieces[i + 1].s0), result[1])
+        self._memo = (t, result[0], result[1])
+        return result
+
+    def segment_at(self, s: float) -> Segment:
+        i = max(0, bisect.bisect_right(self.starts, s) - 1)
+        while i > 0 and self.segments[i].length == 0 and self.segments[i].s0 >= s:
+            i -= 1
+        return self.segments[i]
+
+    def time_at(self, s: float) -> float | None:
+        """When the plan reaches s (None if it never does)."""
+        if s > self.s_end + EPS:
+            return None
+        i = bisect.bisect_left(self.piece_ends, s - EPS)
+        if i >= len(self.pieces):
+            return self.end_time
+        p = self.pieces[i]
+        if math.isinf(p.duration):
+            return p.t0 if s <= p.s0 + EPS else None
+        return p.t0 + p.tau_at(s)
+
+    def point(self, s: float, k: int) -> float:
+        seg = self.segment_at(s)
+        return seg.coordinate(s - seg.s0, k)
+
+
+def _caps(segments: list[Segment], i0: int, scale: float) -> tuple[list[float], list[float]]:
+    """Per segment from i0: its speed ceiling, and the cap on the speed at its end."""
+    ceilings = [min(seg.ceiling * scale, seg.arc_cap) for seg in segments[i0:]]
+    ends = []
+    n = len(ceilings)
+    for j, seg in enumerate(segments[i0:]):
+        if j == n - 1:
+            ends.append(0.0)  # the known path ends at rest
+        else:
+            ends.append(min(seg.v_end * scale, ceilings[j], ceilings[j + 1]))
+    return ceilings, ends
+
+
+def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: float,
+                    v_out: float, ceiling: float, accel: float) -> float | None:
+    """Append one segment's pieces (ramp to the top speed, cruise, ramp to v_out).
+    Returns the time at its end, or None if the path is held at speed 0 inside it."""
+    if length <= 0:
+        return t
+    if v_out > ceiling + 1e-9:  # a lowered override: slow down over the whole segment
+        a = (v_out * v_out - v_in * v_in) / (2.0 * length)
+        duration = (v_out - v_in) / a if a else length / max(v_in, EPS)
+        out.append(Piece(t, duration, s, v_in, a))
+        return t + duration
+    peak = min(ceiling, math.sqrt(max(0.0, (v_in * v_in + v_out * v_out) / 2.0
+                                      + accel * length)))
+    peak = max(peak, v_out)
+    d1 = abs(peak * peak - v_in * v_in) / (2.0 * accel)
+    d3 = (peak * peak - v_out * v_out) / (2.0 * accel)
+    cruise = length - d1 - d3
+    if cruise < 0:  # rounding at a triangle's tip
+        d1 = max(0.0, d1 + cruise)
+        cruise = 0.0
+    if abs(peak - v_in) > 1e-12:
+        a = accel if peak > v_in else -accel
+        duration = abs(peak - v_in) / accel
+        out.append(Piece(t, duration, s, v_in, a))
+        t += duration
+        s += d1
+    if cruise > 1e-9:
+        if peak <= 0:
+            out.append(Piece(t, math.inf, s, 0.0, 0.0))
+            return None
+        out.append(Piece(t, cruise / peak, s, peak, 0.0))
+        t += cruise / peak
+        s += cruise
+    if peak - v_out > 1e-12:
+        duration = (peak - v_out) / accel
+        out.append(Piece(t, duration, s, peak, -accel))
+        t += duration
+    return t
+
+
+def plan_path(segments: list[Segment], i0: int, s_now: float, v_now: float | None,
+              scale: float) -> PathPlan:
+    """Plan from s_now (inside segment i0) at speed v_now (None: from rest, taking the
+    segment's start velocity at once, as a stepper takes its base velocity)."""
+    ceilings, ends = _caps(segments, i0, scale)
+    n = len(ceilings)
+    allow = list(ends)
+    for j in range(n - 1, 0, -1):  # backward: every later cap can still be met
+        seg = segments[i0 + j]
+        allow[j - 1] = min(allow[j - 1],
+                           math.sqrt(allow[j] ** 2 + 2.0 * seg.accel * seg.length))
+    first = segments[i0]
+    remaining = max(0.0, first.s0 + first.length - s_now)
+    reachable = math.sqrt(allow[0] ** 2 + 2.0 * first.accel * remaining)
+    if v_now is None:
+        v_now = min(first.v_start * scale, ceilings[0], reachable)
+    pieces: list[Piece] = []
+    t, v_in, s = 0.0, v_now, s_now
+    for j in range(n):
+        seg = segments[i0 + j]
+        length = seg.s0 + seg.length - s
+        a = seg.accel
+        up = math.sqrt(v_in * v_in + 2.0 * a * max(0.0, length))
+        down = math.sqrt(max(0.0, v_in * v_in - 2.0 * a * max(0.0, length)))
+        v_out = max(min(allow[j], up), down)
+        end = _segment_pieces(pieces, t, s, length, v_in, v_out, ceilings[j], a)
+        if end is None:
+            return PathPlan(segments, pieces, s_now, None)
+        t, v_in, s = end, v_out, seg.s0 + seg.length
+    return PathPlan(segments, pieces, s_now, t)
+
+
+def plan_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
+              scale: float) -> PathPlan:
+    """Ramp down along the path at the present segment's VA (VH1, ST, a soft limit)."""
+    accel = segments[i0].accel
+    distance = v_now * v_now / (2.0 * accel)
+    if s_now + distance >= segments[-1].s0 + segments[-1].length:
+        return plan_path(segments, i0, s_now, v_now, scale)  # it stops at the end anyway
+    if v_now <= 0:
+        return PathPlan(segments, [], s_now, 0.0)
+    duration = v_now / accel
+    return PathPlan(segments, [Piece(0.0, duration, s_now, v_now, -accel)], s_now, duration)
+
+
+# ---- what each axis follows -------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class ContourPhase:
+    """A stretch over which one axis moves one way (the Motion phase interface)."""
+
+    t0: float
+    duration: float
+    v1: float
+    v2: float
+    direction: int
+    polynomial: bool  # lines: a quadratic in time; arcs are not
+    shape: RampShape = RampShape.LINEAR
+    s0: float = 0.0
+    mirrored: bool = False
+
+
+class ContourMotion:
+    """One axis's share of a path plan, with the interface of profiles.Motion."""
+
+    contour = True
+
+    def __init__(self, plan: PathPlan, k: int, origin: float) -> None:
+        self.plan = plan
+        self.k = k
+        self.origin = origin  # the axis's motor counter when the plan started
+        self.end_time = plan.end_time
+        self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
+        self.final_offset = 0
+        if plan.end_time is not None:
+            self.final_offset = round(plan.point(plan.s_end, k)) - round(origin)
+        self._phases: list[ContourPhase] | None = None  # made when first asked for
+        self._times: list[float] = []
+        self.direction, self.monotonic = self._directions()
+        self.peak_speed = 0.0  # (only MT/ML scaling reads it)
+
+    @property
+    def phases(self) -> list[ContourPhase]:
+        """Stretches where this axis moves one way (limit searches, the servo)."""
+        if self._phases is None:
+            self._phases = _axis_phases(self.plan, self.k)
+            self._times = [p.t0 for p in self._phases]
+        return self._phases
+
+    def _directions(self) -> tuple[int, bool]:
+        """The way the axis first moves, and whether it only ever moves that way: from
+        the segments' slopes for straight lines (cheap: no phases), else the phases."""
+        plan, k = self.plan, self.k
+        first = max(0, bisect.bisect_right(plan.starts, plan.s_start) - 1)
+        signs = set()
+        direction = 0
+        for seg in plan.segments[first:]:
+            if seg.s0 >= plan.s_end - EPS and seg.length > 0 and signs:
+                break
+            if seg.is_arc:
+                moving = [p for p in self.phases if p.v1 or p.v2]
+                d = moving[0].direction if moving else 1
+                return d, all(p.direction == d for p in moving)
+            u = seg.unit[k] if seg.length > 0 else 0.0
+            if u:
+                sign = 1 if u > 0 else -1
+                direction = direction or sign
+                signs.add(sign)
+            if seg.s0 + seg.length >= plan.s_end - EPS:
+                break
+        return direction or 1, len(signs) <= 1
+
+    def phase_at(self, t: float) -> ContourPhase | None:
+        phases = self.phases
+        if not phases:
+            return None
+        return phases[max(0, bisect.bisect_right(self._times, t) - 1)]
+
+    def offset(self, t: float) -> float:
+        if self.end_time is not None and t >= self.end_time:
+            return float(self.final_offset)
+        s, _v = self.plan.state(t)
+        return self.plan.point(s, self.k) - self.origin
+
+    def velocity(self, t: float) -> float:
+        if self.end_time is not None and t >= self.end_time:
+            return 0.0
+        s, v = self.plan.state(t)
+        seg = self.plan.segment_at(s)
+        return v * seg.slope(s - seg.s0, self.k)
+
+
+def _axis_phases(plan: PathPlan, k: int) -> list[ContourPhase]:
+    """Split the plan where axis k may turn round: segment boundaries, arc extremes."""
+    phases: list[ContourPhase] = []
+    for p in plan.pieces:
+        if math.isinf(p.duration):
+            phases.append(ContourPhase(p.t0, math.inf, 0.0, 0.0, 1, True))
+            continue
+        s_a, s_b = p.s0, p.s1
+        cuts = [s_a]
+        i = max(0, bisect.bisect_right(plan.starts, s_a) - 1)
+        while i < len(plan.segments) and plan.segments[i].s0 < s_b - EPS:
+            seg = plan.segments[i]
+            lo, hi = max(s_a, seg.s0), min(s_b, seg.s0 + seg.length)
+            if hi > lo:
+                if seg.s0 > s_a + EPS:
+                    cuts.append(seg.s0)
+                cuts.extend(seg.s0 + e for e in seg.extremes(k, lo - seg.s0, hi - seg.s0))
+            i += 1
+        cuts.append(s_b)
+        for a, b in zip(cuts, cuts[1:], strict=False):
+            if b - a <= EPS:
+                continue
+            ta, tb = p.tau_at(a), p.tau_at(b)
+            mid = plan.segment_at((a + b) / 2)
+            sm = (a + b) / 2 - mid.s0
+            slope = mid.slope(sm, k)
+            if abs(slope) < 1e-12:
+                phases.append(ContourPhase(p.t0 + ta, tb - ta, 0.0, 0.0, 1, True))
+                continue
+            direction = 1 if slope > 0 else -1
+            v1 = abs(mid.slope(a - mid.s0, k)) * p.v(ta)
+            v2 = abs(mid.slope(b - mid.s0, k)) * p.v(tb)
+            phases.append(ContourPhase(p.t0 + ta, tb - ta, v1, v2, direction,
+                                       not mid.is_arc))
+    return phases
+
+
