@@ -11,61 +11,14 @@ power-up (what the switches see); counters a host reads are offsets from them.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING
+
+from maxk.firmware_model.motion import MotionPlan
 
 if TYPE_CHECKING:
     from maxk.firmware_model.engine import Engine
     from maxk.firmware_model.servo import ServoLoop
-
-
-class MotionPhase(Protocol):
-    """One monotonic stretch of a motion: it starts at `t0` (s from the motion's start),
-    lasts `duration` (inf for a slew without end) and travels `direction` at speeds
-    between `v1` and `v2`."""
-
-    @property
-    def t0(self) -> float: ...
-    @property
-    def duration(self) -> float: ...
-    @property
-    def direction(self) -> int: ...
-    @property
-    def v1(self) -> float: ...
-    @property
-    def v2(self) -> float: ...
-    @property
-    def polynomial(self) -> bool: ...  # position is a polynomial in time (servo jumps)
-
-
-class MotionPlan(Protocol):
-    """A planned motion relative to an integer origin, in closed form."""
-
-    @property
-    def phases(self) -> Sequence[MotionPhase]: ...
-    @property
-    def end_time(self) -> float | None: ...  # None: slews until told otherwise
-    @property
-    def final_offset(self) -> int: ...  # the whole steps it ends on
-    @property
-    def ramp_end_time(self) -> float: ...  # when its last speed change completes
-    @property
-    def direction(self) -> int: ...
-    @property
-    def monotonic(self) -> bool: ...
-
-    def offset(self, t: float) -> float:
-        """Signed offset from the origin at `t` seconds after the start (exact float)."""
-        ...
-
-    def velocity(self, t: float) -> float:
-        """Signed velocity at `t`, steps/s."""
-        ...
-
-    def phase_at(self, t: float) -> MotionPhase | None:
-        """The phase running at `t` (None for a motion without phases)."""
-        ...
 
 
 @dataclass

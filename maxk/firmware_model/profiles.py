@@ -268,3 +268,17 @@ def plan_jog(residual: float, velocity: float, target: float, base: float, accel
         t, s = _append(phases, _ramp(t, s, speed, goal, decel, direction, shape))
     phases.append(Phase(t, math.inf, s, goal, goal, direction, shape))
     return Motion(phases, None, 0, t, direction=direction, peak_speed=max(goal, abs(velocity)))
+
+
+def scaled(reference: Motion, distance: int, reference_distance: int) -> Motion:
+    """The reference profile scaled to one axis's signed distance, ending exactly on it."""
+    f = distance / reference_distance
+    sign = 1 if f >= 0 else -1
+    g = abs(f)
+    phases = [
+        Phase(p.t0, p.duration, p.s0 * f, p.v1 * g, p.v2 * g, p.direction * sign, p.shape,
+              p.mirrored)
+        for p in reference.phases
+    ]
+    return Motion(phases, reference.end_time, distance, reference.ramp_end_time,
+                  direction=sign, peak_speed=reference.peak_speed * g)

@@ -35,7 +35,7 @@ import numpy as np
 from maxk.firmware_model.profiles import RampShape
 
 if TYPE_CHECKING:
-    from maxk.firmware_model.axis import MotionPlan
+    from maxk.firmware_model.motion import MotionPlan
     from maxk.firmware_model.world import World
 
 

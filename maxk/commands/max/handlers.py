@@ -15,9 +15,8 @@ from maxk.commands.max.lexer import ParsedCommand
 from maxk.firmware_model.profiles import RampShape
 from maxk.firmware_model.servo import ServoLoop
 from maxk.personalities.maxk import flags as F
-from maxk.personalities.maxk.axis import WAIT_MOTION, WAIT_REST_RETRY, Axis, StartGroup
+from maxk.personalities.maxk.axis import Axis, LinearMove, StartGroup
 from maxk.personalities.maxk.board import Board
-from maxk.personalities.maxk.coordinated import LinearMove
 from maxk.personalities.maxk.io import volts_to_counts
 from maxk.personalities.maxk.models import (
     FIRMWARE_VERSION,
@@ -29,6 +28,7 @@ from maxk.personalities.maxk.models import (
 )
 from maxk.personalities.maxk.parameters import ArchiveError
 from maxk.personalities.maxk.queue import Action
+from maxk.personalities.maxk.waits import WAIT_MOTION, WAIT_REST_RETRY, InputWait, TickWait
 
 
 class CommandError(Exception):
@@ -276,7 +276,7 @@ def _jog(value: object, ctx: Context) -> Action:
             return None
         axis.start_jog(velocity, board)
         if axis.motion is not None and axis.ramp_end > board.tick:
-            return ("tick", axis.ramp_end)
+            return TickWait(axis.ramp_end)
         return None
 
     return action
@@ -287,7 +287,7 @@ def _one_step(value: object, ctx: Context) -> Action:
         if axis.motion is not None:
             return WAIT_REST_RETRY
         axis.step(axis.config.move_direction, board)
-        return ("tick", board.tick + 1)
+        return TickWait(board.tick + 1)
 
     return action
 
@@ -310,7 +310,7 @@ def _load(motor: bool, encoder: bool) -> QueuedFactory:
 def _wait(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
         ticks = math.ceil(value / 1000.0 / board.period - 1e-9)  # type: ignore[operator]
-        return ("tick", board.tick + ticks) if ticks > 0 else None
+        return TickWait(board.tick + ticks) if ticks > 0 else None
 
     return action
 
@@ -332,7 +332,7 @@ def _loop_start(value: object, ctx: Context) -> Action:
 def _loop_end(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
         # Jumping back takes one update cycle, so no loop can spin within a tick.
-        return ("tick", board.tick + 1) if axis.queue.loop_end() else None
+        return TickWait(board.tick + 1) if axis.queue.loop_end() else None
 
     return action
 
@@ -447,7 +447,7 @@ def _wait_input(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> object:
         if board.io.level(value, board):  # type: ignore[arg-type]
             return None
-        return ("input", value)
+        return InputWait(value)
 
     return action
 

@@ -22,9 +22,8 @@ from maxk.commands.max.handlers import (
 from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
 from maxk.commands.max.table import AA, Operand, Timing
 from maxk.commands.max.vector import dispatch_vector
-from maxk.personalities.maxk.axis import Axis, StartGroup
+from maxk.personalities.maxk.axis import Axis, LinearMove, StartGroup
 from maxk.personalities.maxk.board import Board
-from maxk.personalities.maxk.coordinated import LinearMove
 from maxk.personalities.maxk.queue import QueueEntry
 
 _MODE_NAMES = {"single": "single-axis", "AA": "AA", "AM": "AM"}

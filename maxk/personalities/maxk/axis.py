@@ -1,65 +1,62 @@
-"""One axis of the board: its parameters, its queue and its motion in closed form."""
+"""One axis of the board: its parameters, its queue and its motion in closed form; the
+AA-mode start groups and MT/ML linear moves that start axes together.
+
+MT/ML linear interpolation (manual Appendix C): "The controller would calculate the
+relative velocities required to perform a straight line move from the current position
+to the desired absolute position so that all axes arrive at their destinations at the
+same time." One reference profile is planned for the longest distance; each axis follows
+it scaled by its own distance (`profiles.scaled`), so every point lies on the line. The
+reference's speed, acceleration and deceleration are the largest that keep every axis
+within its own VL, AC and DC (and VB); the ramp shape is the first axis's. Limits (D):
+an axis that would start into a pressed limit refuses the whole move; a limit tripped on
+one axis stops every axis of the move the same way and flushes their queues.
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
-from maxk.firmware_model.axis import MotionAxis, MotionPlan
-from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
-from maxk.firmware_model.servo import Gains
+from maxk.firmware_model.axis import MotionAxis
+from maxk.firmware_model.motion import MotionPlan
+from maxk.firmware_model.profiles import plan_jog, plan_move, plan_stop, scaled
 from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.config import AxisConfig, wrap32
+from maxk.personalities.maxk.homing import Homing
 from maxk.personalities.maxk.queue import CommandQueue
+from maxk.personalities.maxk.waits import (
+    WAIT_MOTION,
+    WAIT_REST_RETRY,
+    InputWait,
+    TickWait,
+    Wait,
+)
 
 if TYPE_CHECKING:
-    from maxk.personalities.maxk.board import Board
-    from maxk.personalities.maxk.coordinated import LinearMove
-    from maxk.personalities.maxk.homing import Homing
+    from maxk.firmware_model.world import World
+    from maxk.personalities.maxk.io import GeneralIO
 
 
-def wrap32(value: int) -> int:
-    """Position counters are signed 32-bit registers: they wrap, as the hardware's do."""
-    return ((value + 0x8000_0000) & 0xFFFF_FFFF) - 0x8000_0000
+class AxisHost(Protocol):
+    """What an axis, a start group and a linear move ask of the board they are on (the
+    MAXk `Board`, which sits above this module)."""
 
+    tick: int
+    period: float
+    cross_axis_event: bool
 
-# Waits a queue entry can leave the axis in. A tuple ("tick", t) waits for a tick.
-WAIT_MOTION = "motion"  # until the running motion has ended, then go on
-WAIT_REST_RETRY = "rest-retry"  # until the axis is at rest, then run the same entry again
+    @property
+    def axes(self) -> Sequence[Axis]: ...
+    @property
+    def world(self) -> World: ...
+    @property
+    def io(self) -> GeneralIO: ...
 
-
-@dataclass
-class AxisConfig:
-    """The axis parameters that commands set; factory defaults from manual 2.14."""
-
-    velocity: int = 200_000  # VL, steps/s
-    base_velocity: int = 0  # VB
-    acceleration: int = 2_000_000  # AC (also sets the deceleration)
-    deceleration: int = 2_000_000  # DC
-    ramp: RampShape = RampShape.LINEAR
-    ramp_factor: int = 0  # PN# operand, stored only (its meaning is not in the evidence)
-    scurve_factor: int = 0  # SS#, stored only
-    ramp_parameter: int = 0  # PR#, stored only
-    axis_type: str = "O"  # PSO open-loop stepper, PSE stepper with encoder, PSM servo
-    limit_active_high: bool = False  # LTL factory: active low
-    limits_enabled: bool = True  # LN/LF, LMN/LMF
-    limit_hard_stop: bool = True  # LMH stop at once (factory "hard"), LMS decelerate
-    home_active_high: bool = False  # manual 2.14: "Home Active 'Low'" (HT/HH/HL)
-    home_encoder: bool = False  # HE: encoder home logic; HS (factory): home switch alone
-    home_pattern: str = "1111"  # EH: +A, -B, Index, Home switch (1 true, 0 false, X ignore)
-    move_direction: int = 1  # MP / MM
-    aux_auto: bool = False  # PA1: aux output on while moving
-    settle_ms: int = 0  # SE: aux stays on this long after the axis comes to rest
-    gains: Gains = field(default_factory=Gains)  # KP KI KD KU KV KA KF KO (servo)
-    servo_bipolar: bool = True  # SVB1 +/-10 V (factory), SVB0 unipolar 0..10 V + sign
-    servo_polarity: int = 1  # SVN normal (factory); SVI inverts the DAC output
-    encoder_ratio: tuple[int, int] = (1, 1)  # ER: encoder counts, motor steps
-    slip_tolerance: int = 0  # ES: encoder counts of disagreement before a slip
-    slip_detect: bool = False  # TN/TF: stall (slip) detection on/off
-    hold_velocity: int = 0  # HV: position maintenance correction velocity
-    hold_deadband: int = 0  # HD: position maintenance deadband, encoder counts
-    hold_gain: int = 0  # HG: position maintenance gain (stored)
-    user_units: float | None = None  # UU: counts per user unit; None after UF (factory)
+    def limit_blocks(self, axis: Axis, direction: int) -> bool: ...
+    def refuse_into_limit(self, axis: Axis) -> None: ...
+    def schedule_switches(self, axis: Axis) -> None: ...
 
 
 @dataclass
@@ -85,17 +82,17 @@ class Axis(MotionAxis):
     correcting: int | None = None  # steps at the start of a position-maintenance move
     units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
-    wait: object = None  # what the queue is blocked on
+    wait: Wait | None = None  # what the queue is blocked on
 
-    def motor_position(self, board: Board) -> int:
+    def motor_position(self, board: AxisHost) -> int:
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
 
-    def encoder_position(self, board: Board) -> int:
+    def encoder_position(self, board: AxisHost) -> int:
         if self.servo is not None:
             return wrap32(self.servo.encoder_counts() + self.encoder_offset)
         return wrap32(self.encoder_counts(self.steps_now(board), board) + self.encoder_offset)
 
-    def encoder_counts(self, steps: int, board: Board) -> int:
+    def encoder_counts(self, steps: int, board: AxisHost) -> int:
         """What a stepper's encoder counts at a motor position: the stage lags the motor
         by the steps it missed (a world fault), scaled by the ER ratio."""
         stage = steps - board.world.axes[self.index].lost_steps
@@ -104,7 +101,7 @@ class Axis(MotionAxis):
             return stage
         return stage * counts // motor_steps
 
-    def keep_encoder_reading(self, reading: int, board: Board) -> None:
+    def keep_encoder_reading(self, reading: int, board: AxisHost) -> None:
         """After a change of type or ratio the encoder counter reads on from `reading`,
         and motor and encoder agree from here."""
         self.encoder_offset = 0
@@ -117,7 +114,7 @@ class Axis(MotionAxis):
         counts_per, steps_per = self.config.encoder_ratio
         return counts if counts_per == steps_per else counts * steps_per / counts_per
 
-    def position_error(self, board: Board) -> int:
+    def position_error(self, board: AxisHost) -> int:
         """Encoder stepper: how far the encoder reads from where it would, had no steps
         been missed since the counters last agreed (encoder counts; exact at any ER
         ratio: the same rounding on both sides)."""
@@ -131,7 +128,7 @@ class Axis(MotionAxis):
         return ((steps - self.lost_accounted) * counts // motor_steps
                 - (steps - lost) * counts // motor_steps)
 
-    def resync(self, board: Board) -> None:
+    def resync(self, board: AxisHost) -> None:
         """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
         self.lost_accounted = board.world.axes[self.index].lost_steps
 
@@ -147,7 +144,7 @@ class Axis(MotionAxis):
         return self.holding
 
     # ---- motion control --------------------------------------------------------------
-    def start_motion(self, motion: MotionPlan, board: Board, *, stopping: bool = False) -> bool:
+    def start_motion(self, motion: MotionPlan, board: AxisHost, *, stopping: bool = False) -> bool:
         """Start a planned motion now. A motion into an active limit switch is refused
         (the overtravel flag is set instead); a stop is never refused."""
         if not stopping:
@@ -161,12 +158,12 @@ class Axis(MotionAxis):
         board.schedule_switches(self)
         return True
 
-    def _rebase(self, board: Board) -> tuple[float, float]:
+    def _rebase(self, board: AxisHost) -> tuple[float, float]:
         """Freeze the running motion at this tick; return (fractional residual, velocity)."""
         self.capture_pending = []
         return self.freeze(board)
 
-    def start_move(self, target: int, board: Board) -> bool:
+    def start_move(self, target: int, board: AxisHost) -> bool:
         """GO: a point-to-point move from rest to target. False if nothing to do."""
         distance = target - self.motor_position(board)
         if distance == 0:
@@ -176,7 +173,7 @@ class Axis(MotionAxis):
                            c.deceleration, c.ramp)
         return self.start_motion(motion, board)
 
-    def start_jog(self, velocity: int, board: Board) -> bool:
+    def start_jog(self, velocity: int, board: AxisHost) -> bool:
         """JG: ramp from the present velocity to a signed jog velocity and slew."""
         residual, current = self._rebase(board)
         c = self.config
@@ -184,7 +181,7 @@ class Axis(MotionAxis):
                           c.deceleration, c.ramp)
         return self.start_motion(motion, board, stopping=velocity == 0)
 
-    def stop_and_flush(self, board: Board) -> None:
+    def stop_and_flush(self, board: AxisHost) -> None:
         """ST/SA: flush the queue and decelerate; later entries wait until the axis rests.
 
         An AC or DC the host queued just before the stop (`AX AC200000; ST ID;`, evidence
@@ -198,7 +195,7 @@ class Axis(MotionAxis):
         if self.motion is not None:
             self.wait = WAIT_REST_RETRY
 
-    def stop(self, board: Board) -> None:
+    def stop(self, board: AxisHost) -> None:
         """Decelerate to VB at the deceleration rate, then stop (ending any home search)."""
         self.homing = None
         if self.motion is None or getattr(self.motion, "contour", False):
@@ -208,7 +205,7 @@ class Axis(MotionAxis):
         motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)
         self.start_motion(motion, board, stopping=True)
 
-    def kill(self, board: Board) -> None:
+    def kill(self, board: AxisHost) -> None:
         """KL/KS: stop at once, no deceleration; the position keeps the whole steps made."""
         self.homing = None
         if self.motion is None:
@@ -231,7 +228,7 @@ class Axis(MotionAxis):
             self.lost_accounted += moved
             self.correcting = None
 
-    def step(self, direction: int, board: Board) -> bool:
+    def step(self, direction: int, board: AxisHost) -> bool:
         """MO: one step in the MP/MM direction (refused into an active limit)."""
         if board.limit_blocks(self, direction):
             board.refuse_into_limit(self)
@@ -240,7 +237,7 @@ class Axis(MotionAxis):
         self.direction = direction
         return True
 
-    def load_position(self, value: int, motor: bool, encoder: bool, board: Board) -> None:
+    def load_position(self, value: int, motor: bool, encoder: bool, board: AxisHost) -> None:
         """LP (both), LO (motor only), LPE (encoder only): counters move, the stage not."""
         steps = self.steps_now(board)
         old_motor, old_encoder = self.counter_offset, self.encoder_offset
@@ -259,16 +256,16 @@ class Axis(MotionAxis):
                                       self.encoder_offset - old_encoder)
 
     # ---- queue -----------------------------------------------------------------------
-    def next_event(self, board: Board) -> int | None:
+    def next_event(self, board: AxisHost) -> int | None:
         """The next tick at which something changes for this axis, if any."""
         best = self.motion_end
         switch = self.switch_tick
         if switch is not None and (best is None or switch < best):
             best = switch
         wait = self.wait
-        if type(wait) is tuple:
-            if wait[0] == "tick":
-                t = wait[1]
+        if isinstance(wait, TickWait | InputWait):
+            if isinstance(wait, TickWait):
+                t = wait.tick
             elif board.world.inputs_time_dependent():
                 t = board.tick + 1  # an input that is a function: look every update cycle
             else:
@@ -277,32 +274,34 @@ class Axis(MotionAxis):
                 best = t
         return best
 
-    def run_queue(self, board: Board) -> bool:
+    def run_queue(self, board: AxisHost) -> bool:
         """Execute queue entries at the current tick until one blocks. True if progress."""
         progressed = False
         queue = self.queue
         while True:
             wait = self.wait
             if wait is not None:
-                if wait == WAIT_MOTION:
+                if wait is WAIT_MOTION:
                     if self.motion is not None:
                         return progressed
                     self.wait = None
                     queue.advance()
-                elif wait == WAIT_REST_RETRY:
+                elif wait is WAIT_REST_RETRY:
                     if self.motion is not None:
                         return progressed
                     self.wait = None
-                elif type(wait) is tuple:
-                    if wait[0] == "input":  # SW: wait for an input bit to read high
-                        if not board.io.level(wait[1], board):
-                            return progressed
-                    elif board.tick < wait[1]:
+                elif isinstance(wait, TickWait):
+                    if board.tick < wait.tick:
                         return progressed
                     self.wait = None
                     queue.advance()
-                else:  # a synchronisation group (AA-mode GO)
-                    if not wait.ready(board):  # type: ignore[attr-defined]
+                elif isinstance(wait, InputWait):
+                    if not board.io.level(wait.bit, board):
+                        return progressed
+                    self.wait = None
+                    queue.advance()
+                else:  # a synchronisation group (AA-mode GO) or a contour's anchor
+                    if not wait.ready(board):
                         return progressed
                     self.wait = WAIT_MOTION
                     continue
@@ -317,7 +316,7 @@ class Axis(MotionAxis):
             else:
                 self.wait = result
 
-    def flush(self, board: Board) -> None:
+    def flush(self, board: AxisHost) -> None:
         """Drop every pending entry. An AA start group this axis had not yet joined no
         longer waits for it: the remaining members may start on this very tick."""
         queue = self.queue
@@ -334,7 +333,7 @@ class Axis(MotionAxis):
         self.wait = None
         self.pending_target = None
 
-    def aux_level(self, board: Board) -> bool:
+    def aux_level(self, board: AxisHost) -> bool:
         """The aux output: AN/AF, or in PA1 mode on while moving and SE ms after."""
         if self.aux_on:
             return True
@@ -346,7 +345,7 @@ class Axis(MotionAxis):
         return board.tick < self.rest_since + settle
 
     # ---- flags -----------------------------------------------------------------------
-    def status_string(self, board: Board) -> str:
+    def status_string(self, board: AxisHost) -> str:
         """QA/RA: direction P|M, done D|N, on a limit L|N, home H|N (evidence 3.4).
 
         L and H are the live switch states; the latched overtravel flag is the doorbell's
@@ -377,19 +376,19 @@ class StartGroup:
         self.arrivals: dict[int, int] = {}
         self.fired = 0  # rounds fired so far
 
-    def arrive(self, axis: Axis, board: Board) -> GroupWait:
+    def arrive(self, axis: Axis, board: AxisHost) -> GroupWait:
         round_ = self.arrivals.get(axis.index, 0)
         self.arrivals[axis.index] = round_ + 1
         board.cross_axis_event = True  # other members' queues may now move
         self._maybe_fire(board)
         return GroupWait(self, round_)
 
-    def withdraw(self, axis: Axis, board: Board) -> None:
+    def withdraw(self, axis: Axis, board: AxisHost) -> None:
         self.members.discard(axis.index)
         self.arrivals.pop(axis.index, None)
         board.cross_axis_event = True
 
-    def _maybe_fire(self, board: Board) -> None:
+    def _maybe_fire(self, board: AxisHost) -> None:
         while self.members and all(self.arrivals.get(m, 0) > self.fired for m in self.members):
             self.fired += 1
             for index in sorted(self.members):
@@ -411,6 +410,52 @@ class GroupWait:
         self.group = group
         self.round = round_
 
-    def ready(self, board: Board) -> bool:
+    def ready(self, board: AxisHost) -> bool:
         self.group._maybe_fire(board)
         return self.group.fired > self.round
+
+
+class LinearMove:
+    """The axes and targets of one MT/ML command; its start group waits for their GOs."""
+
+    def __init__(self, group: StartGroup) -> None:
+        self.group = group
+        self.targets: dict[int, int] = {}
+
+    def set_target(self, axis: Axis, target: int) -> None:
+        self.targets[axis.index] = target
+        axis.pending_target = None
+        axis.pending_linear = self
+
+    def withdraw(self, axis: Axis, board: AxisHost) -> None:
+        self.targets.pop(axis.index, None)
+        self.group.withdraw(axis, board)
+
+    def start(self, board: AxisHost) -> None:
+        axes = [board.axes[i] for i in sorted(self.targets)]
+        for axis in axes:
+            axis.pending_linear = None
+        distances = {a.index: self.targets[a.index] - a.motor_position(board) for a in axes}
+        moving = [a for a in axes if distances[a.index] != 0]
+        self.targets.clear()
+        if not moving:
+            return
+        reference = max(abs(distances[a.index]) for a in moving)
+        # Scale each axis's limits up to the reference distance; the tightest one wins.
+        scale = {a.index: reference / abs(distances[a.index]) for a in moving}
+        peak = min(a.config.velocity * scale[a.index] for a in moving)
+        base = min(a.config.base_velocity * scale[a.index] for a in moving)
+        accel = min(a.config.acceleration * scale[a.index] for a in moving)
+        decel = min(a.config.deceleration * scale[a.index] for a in moving)
+        motion = plan_move(reference, min(base, peak), peak, accel, decel, moving[0].config.ramp)
+        # One axis blocked by a pressed limit refuses the whole move: moving the others
+        # alone would leave the line (D).
+        blocked = [a for a in moving
+                   if board.limit_blocks(a, 1 if distances[a.index] > 0 else -1)]
+        if blocked:
+            for axis in blocked:
+                board.refuse_into_limit(axis)
+            return
+        for axis in moving:
+            axis.start_motion(scaled(motion, distances[axis.index], reference), board)
+            axis.linked = [a for a in moving if a is not axis]

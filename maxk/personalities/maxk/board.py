@@ -15,7 +15,7 @@ from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import plan_move
 from maxk.firmware_model.world import World
 from maxk.personalities.maxk import flags as F
-from maxk.personalities.maxk.axis import Axis, AxisConfig
+from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.capture import (
     ENCODER_HOME,
     HOME_FALLING,
@@ -25,6 +25,7 @@ from maxk.personalities.maxk.capture import (
     CaptureRing,
     encoder_at,
 )
+from maxk.personalities.maxk.config import AxisConfig
 from maxk.personalities.maxk.contouring import TASKS, ContourTask
 from maxk.personalities.maxk.homing import Homing, home_condition, next_home_position
 from maxk.personalities.maxk.io import GeneralIO
@@ -35,6 +36,7 @@ from maxk.personalities.maxk.models import (
     model_by_name,
 )
 from maxk.personalities.maxk.parameters import ArchiveError, ParameterArchive, restore, snapshot
+from maxk.personalities.maxk.waits import InputWait, TickWait
 
 
 @dataclass(frozen=True)
@@ -282,7 +284,8 @@ class Board(Engine):
                         candidates.append(tick)
         homing = axis.homing
         if homing is not None:
-            target = next_home_position(axis, self, axis.steps_now(self), homing.direction)
+            target = next_home_position(axis.config, self.world.axes[axis.index],
+                                        axis.steps_now(self), homing.direction)
             if target is not None:
                 tick = axis.tick_reaching(target, homing.direction, self)
                 if tick is not None:
@@ -466,7 +469,7 @@ class Board(Engine):
         if abs(steps - previous) > 100_000:
             previous = steps - step * 100_000
         for p in range(previous, steps + step, step):
-            if home_condition(axis, self, p):
+            if home_condition(axis.config, self.world.axes[axis.index], p):
                 return p
         return None
 
@@ -491,7 +494,7 @@ class Board(Engine):
         """HM/HR/KM/KR: see homing.py for the search. False when home is already here."""
         homing = Homing(direction, load_value)
         here = axis.steps_now(self)
-        if home_condition(axis, self, here):
+        if home_condition(axis.config, self.world.axes[axis.index], here):
             self.home_found(axis, homing, here)
             return False
         axis.homing = homing
@@ -600,7 +603,7 @@ class Board(Engine):
         """APP: the working parameters become the power-up defaults. A failed write
         sets the programming-error bit (13) and raises ArchiveError."""
         try:
-            self.archive.save(self)
+            self.archive.save(self.model.name, [a.config for a in self.axes])
         except ArchiveError:
             self.firmware_state |= F.ARCHIVE_PROGRAMMING_ERROR
             raise
@@ -727,7 +730,8 @@ class _AxesSource:
                 marked = True
             elif not marked:
                 wait = axis.wait
-                marked = type(wait) is tuple and (wait[0] == "input" or wait[1] <= now)
+                marked = isinstance(wait, InputWait) or (
+                    isinstance(wait, TickWait) and wait.tick <= now)
             if marked:
                 due.append(axis)
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
-from maxk.personalities.maxk.axis import wrap32
+from maxk.personalities.maxk.config import wrap32
 
 RING_ENTRIES = 55
 ENTRY_SIZE = 10

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from maxk.firmware_model.path import (
     EPS,
@@ -44,11 +44,18 @@ from maxk.firmware_model.path import (
     plan_stop,
 )
 from maxk.personalities.maxk import flags as F
-from maxk.personalities.maxk.axis import WAIT_REST_RETRY
+from maxk.personalities.maxk.axis import Axis, AxisHost
+from maxk.personalities.maxk.waits import WAIT_REST_RETRY
 
-if TYPE_CHECKING:
-    from maxk.personalities.maxk.axis import Axis
-    from maxk.personalities.maxk.board import Board
+
+class ContourHost(AxisHost, Protocol):
+    """What a contour asks of the board beyond what its axes do: the done flags."""
+
+    def set_axis_flag(self, axis: Axis, bit: int) -> None: ...
+    def clear_axis_flags(self, axis: Axis, bits: int) -> None: ...
+
+
+Board = ContourHost  # the contour's board, as the annotations below name it
 
 TASKS = range(1, 9)
 DEFAULT_TASK = 1

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from maxk.personalities.maxk.axis import Axis
-    from maxk.personalities.maxk.board import Board
+    from maxk.firmware_model.world import AxisWorld
+    from maxk.personalities.maxk.config import AxisConfig
 
 SCAN_LIMIT = 200_000
 """Positions examined when looking for the next encoder-logic home position."""
@@ -42,15 +42,14 @@ def quadrature(steps: int) -> tuple[bool, bool]:
     return q in (0, 1), q in (1, 2)
 
 
-def home_condition(axis: Axis, board: Board, steps: int) -> bool:
+def home_condition(config: AxisConfig, world: AxisWorld, steps: int) -> bool:
     """Is the configured home condition true at this physical position?"""
-    world = board.world.axes[axis.index]
     home = world.home.active(steps)
-    if not axis.config.home_encoder:
+    if not config.home_encoder:
         return home
     a, b = quadrature(steps)
     terms = (a, not b, world.index_active(steps), home)
-    for term, want in zip(terms, axis.config.home_pattern, strict=True):
+    for term, want in zip(terms, config.home_pattern, strict=True):
         if want == "1" and not term:
             return False
         if want == "0" and term:
@@ -58,11 +57,11 @@ def home_condition(axis: Axis, board: Board, steps: int) -> bool:
     return True
 
 
-def next_home_position(axis: Axis, board: Board, start: int, direction: int) -> int | None:
+def next_home_position(config: AxisConfig, world: AxisWorld, start: int,
+                       direction: int) -> int | None:
     """The nearest position after `start` in `direction` where the home condition holds."""
-    world = board.world.axes[axis.index]
     home = world.home
-    if not axis.config.home_encoder:
+    if not config.home_encoder:
         # The switch's own transitions (bounce included): where it becomes active moving
         # this way.
         if direction > 0:
@@ -70,7 +69,7 @@ def next_home_position(axis: Axis, board: Board, start: int, direction: int) -> 
             return min(ahead) if ahead else None
         behind = [p - 1 for p, active in home.transitions() if not active and p - 1 < start]
         return max(behind) if behind else None
-    pattern = axis.config.home_pattern
+    pattern = config.home_pattern
     p = start + direction
     if pattern[3] == "1" and home.fault is None and home.present:
         # The home switch is required: jump straight to its window.
@@ -86,7 +85,7 @@ def next_home_position(axis: Axis, board: Board, start: int, direction: int) -> 
             p = min(p, int(high))
     scanned = 0
     while scanned < SCAN_LIMIT:
-        if home_condition(axis, board, p):
+        if home_condition(config, world, p):
             return p
         if pattern[2] == "1" and world.index_period > 0:
             rel = (p - world.index_offset) % world.index_period

@@ -10,10 +10,18 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
-    from maxk.personalities.maxk.board import Board
+    from maxk.firmware_model.world import World
+
+
+class _InWorld(Protocol):
+    """A controller with a world around it (whose inputs may be functions of it)."""
+
+    @property
+    def world(self) -> World: ...
+
 
 FACTORY_DIRECTION = 0xFF00  # 1 = output
 ADC_FULL_SCALE = 32767
@@ -26,12 +34,12 @@ class GeneralIO:
     # (tick, latch) after every change: a pulse shorter than a host's poll still shows here
     changes: deque[tuple[int, int]] = field(default_factory=lambda: deque(maxlen=4096))
 
-    def level(self, bit: int, board: Board) -> bool:
+    def level(self, bit: int, board: _InWorld) -> bool:
         if self.direction >> bit & 1:
             return bool(self.outputs >> bit & 1)
         return board.world.digital_level(bit, board)
 
-    def word(self, board: Board) -> int:
+    def word(self, board: _InWorld) -> int:
         """The 16 line levels as BX and the shared-memory I/O word report them."""
         return sum(1 << bit for bit in range(16) if self.level(bit, board))
 

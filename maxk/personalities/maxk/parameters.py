@@ -19,15 +19,11 @@ import tempfile
 import time
 from dataclasses import fields, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from maxk.firmware_model.profiles import RampShape
 from maxk.firmware_model.servo import Gains
-from maxk.personalities.maxk.axis import AxisConfig
+from maxk.personalities.maxk.config import AxisConfig
 from maxk.personalities.maxk.models import MAX_ACCELERATION, MAX_VELOCITY
-
-if TYPE_CHECKING:
-    from maxk.personalities.maxk.board import Board
 
 FORMAT = "maxk-parameter-archive"
 VERSION = 1
@@ -213,8 +209,8 @@ class ParameterArchive:
         self.path = None if path is None else Path(path)
         self._memory: bytes | None = None
 
-    def save(self, board: Board) -> None:
-        data = encode(board.model.name, [snapshot(a.config) for a in board.axes])
+    def save(self, model: str, configs: list[AxisConfig]) -> None:
+        data = encode(model, [snapshot(c) for c in configs])
         if self.path is None:
             self._memory = data
             return

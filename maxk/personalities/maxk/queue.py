@@ -12,17 +12,15 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from maxk.personalities.maxk.models import QUEUE_CAPACITY
+from maxk.personalities.maxk.waits import Wait
 
-if TYPE_CHECKING:
-    from maxk.personalities.maxk.axis import Axis
-    from maxk.personalities.maxk.board import Board
-
-
-Action = Callable[["Axis", "Board"], Any]
-"""A queued command's effect. Returns None when finished, or a wait (see Axis.run_queue)."""
+Action = Callable[[Any, Any], Wait | None]
+"""A queued command's effect, called with (axis, board): None when finished, or a wait
+(see Axis.run_queue). The axis and board are the MAXk's `Axis` and `Board`, which sit
+above the queue; they are not named here so that the queue imports neither."""
 
 
 @dataclass(slots=True)

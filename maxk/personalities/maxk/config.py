@@ -1,0 +1,51 @@
+"""A MAXk axis's parameters (what commands set and the archive keeps) and its counters'
+width. Kept below every other module of the personality: the archive, the capture ring,
+homing and the axis all read it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from maxk.firmware_model.profiles import RampShape
+from maxk.firmware_model.servo import Gains
+
+
+def wrap32(value: int) -> int:
+    """Position counters are signed 32-bit registers: they wrap, as the hardware's do."""
+    return ((value + 0x8000_0000) & 0xFFFF_FFFF) - 0x8000_0000
+
+
+
+
+@dataclass
+class AxisConfig:
+    """The axis parameters that commands set; factory defaults from manual 2.14."""
+
+    velocity: int = 200_000  # VL, steps/s
+    base_velocity: int = 0  # VB
+    acceleration: int = 2_000_000  # AC (also sets the deceleration)
+    deceleration: int = 2_000_000  # DC
+    ramp: RampShape = RampShape.LINEAR
+    ramp_factor: int = 0  # PN# operand, stored only (its meaning is not in the evidence)
+    scurve_factor: int = 0  # SS#, stored only
+    ramp_parameter: int = 0  # PR#, stored only
+    axis_type: str = "O"  # PSO open-loop stepper, PSE stepper with encoder, PSM servo
+    limit_active_high: bool = False  # LTL factory: active low
+    limits_enabled: bool = True  # LN/LF, LMN/LMF
+    limit_hard_stop: bool = True  # LMH stop at once (factory "hard"), LMS decelerate
+    home_active_high: bool = False  # manual 2.14: "Home Active 'Low'" (HT/HH/HL)
+    home_encoder: bool = False  # HE: encoder home logic; HS (factory): home switch alone
+    home_pattern: str = "1111"  # EH: +A, -B, Index, Home switch (1 true, 0 false, X ignore)
+    move_direction: int = 1  # MP / MM
+    aux_auto: bool = False  # PA1: aux output on while moving
+    settle_ms: int = 0  # SE: aux stays on this long after the axis comes to rest
+    gains: Gains = field(default_factory=Gains)  # KP KI KD KU KV KA KF KO (servo)
+    servo_bipolar: bool = True  # SVB1 +/-10 V (factory), SVB0 unipolar 0..10 V + sign
+    servo_polarity: int = 1  # SVN normal (factory); SVI inverts the DAC output
+    encoder_ratio: tuple[int, int] = (1, 1)  # ER: encoder counts, motor steps
+    slip_tolerance: int = 0  # ES: encoder counts of disagreement before a slip
+    slip_detect: bool = False  # TN/TF: stall (slip) detection on/off
+    hold_velocity: int = 0  # HV: position maintenance correction velocity
+    hold_deadband: int = 0  # HD: position maintenance deadband, encoder counts
+    hold_gain: int = 0  # HG: position maintenance gain (stored)
+    user_units: float | None = None  # UU: counts per user unit; None after UF (factory)
