@@ -35,6 +35,7 @@ from maxk.personalities.maxk.waits import (
 )
 
 if TYPE_CHECKING:
+    from maxk.firmware_model.outputs import PositionTrigger
     from maxk.firmware_model.world import World
     from maxk.personalities.maxk.io import GeneralIO
 
@@ -67,7 +68,8 @@ class Axis(MotionAxis):
 
     config: AxisConfig = field(default_factory=AxisConfig)
     queue: CommandQueue = field(default_factory=CommandQueue)
-    capture_pending: list = field(default_factory=list)  # [(tick, home bits, edge steps)]
+    # position-capture edges ahead: (tick reached, trigger with the entry's home bits)
+    capture_pending: list[tuple[int, PositionTrigger[int]]] = field(default_factory=list)
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
     homing: Homing | None = None  # a running HM/HR/KM/KR search

@@ -17,13 +17,12 @@ from maxk.firmware_model.world import World
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.capture import (
-    ENCODER_HOME,
-    HOME_FALLING,
-    HOME_RISING,
     CaptureConfig,
-    CaptureEntry,
     CaptureRing,
-    encoder_at,
+    capture_inputs,
+    capture_triggers,
+    fire_captures,
+    read_inputs,
 )
 from maxk.personalities.maxk.config import AxisConfig
 from maxk.personalities.maxk.contouring import TASKS, ContourTask
@@ -123,7 +122,7 @@ class Board(Engine):
             if axis.holding and axis.motion is None:
                 self.maintain(axis)
         if self._capturing_inputs:
-            self._capture_inputs()
+            capture_inputs(self)
 
     def integrate(self, limit: int) -> bool:
         """Servo loops run every tick: simulate them up to the next event (their inputs
@@ -290,91 +289,10 @@ class Board(Engine):
                 tick = axis.tick_reaching(target, homing.direction, self)
                 if tick is not None:
                     candidates.append(tick)
-        axis.capture_pending = self._capture_candidates(axis)
-        candidates.extend(t for t, _bits, _pos in axis.capture_pending)
+        axis.capture_pending = capture_triggers(self, axis)
+        candidates.extend(t for t, _trigger in axis.capture_pending)
         if candidates:
             axis.switch_tick = min(candidates)
-
-    def _capture_candidates(self, axis: Axis) -> list[tuple[int, int, int]]:
-        """The next home-switch edges and index mark ahead of the axis, each with the
-        tick the running motion reaches it."""
-        config = self.capture_config[axis.index]
-        if not config.on_position or not axis.has_encoder:
-            return []
-        world = self.world.axes[axis.index]
-        here = axis.steps_now(self)
-        edges: list[tuple[int, int, int]] = []  # (direction, home bits, position)
-        home = world.home
-        if config.home is not None:
-            rising = config.home in ("rising", "both")
-            falling = config.home in ("falling", "both")
-            for position, active_above in home.transitions():
-                # Crossing upward into `position` turns the switch to active_above;
-                # crossing downward out of it (to position - 1) does the opposite.
-                if (rising and active_above) or (falling and not active_above):
-                    edges.append((1, HOME_RISING if active_above else HOME_FALLING, position))
-                if (rising and not active_above) or (falling and active_above):
-                    edges.append((-1, HOME_FALLING if active_above else HOME_RISING,
-                                  position - 1))
-        if config.index and world.index_period > 0:
-            period, offset, width = world.index_period, world.index_offset, world.index_width
-            # a mark covers offset + k*period .. + width - 1; moving up it is met at its
-            # first count, moving down at its last
-            ahead = (offset - here) % period
-            edges.append((1, ENCODER_HOME, here + (ahead or period)))
-            behind = (here - (offset + width - 1)) % period
-            edges.append((-1, ENCODER_HOME, here - (behind or period)))
-        out = []
-        for direction, bits, position in edges:
-            if direction * (position - here) <= 0:
-                continue
-            tick = axis.tick_reaching(position, direction, self)
-            if tick is not None:
-                out.append((tick, bits, position))
-        return out
-
-    def _fire_captures(self, axis: Axis) -> None:
-        """Record every edge reached by now. Only the next index mark each way was
-        scheduled, so the marks after it passed within the same update cycle are added
-        here: every mark is captured, like every home-switch transition."""
-        now = self.tick
-        here = axis.steps_now(self)
-        world = self.world.axes[axis.index]
-        due = []
-        for tick, bits, position in axis.capture_pending:
-            if tick > now:
-                continue
-            due.append((bits, position))
-            if bits == ENCODER_HOME and world.index_period > 0:
-                direction = 1 if here >= position else -1
-                mark = position + direction * world.index_period
-                while direction * (here - mark) >= 0:
-                    due.append((bits, mark))
-                    mark += direction * world.index_period
-        direction = axis.travel_direction(self)
-        for bits, position in sorted(due, key=lambda d: d[1] * direction):
-            self.capture_ring.push(CaptureEntry(
-                encoder_at(axis.encoder_counts(position, self), axis.encoder_offset),
-                axis.index, bits))
-
-    def _read_inputs(self) -> int:
-        io = self.io
-        return sum(1 << b for b in range(16)
-                   if not io.direction >> b & 1 and self.world.digital_level(b, self))
-
-    def _capture_inputs(self) -> None:
-        """Record input edges for every axis that captures on them."""
-        levels = self._read_inputs()
-        changed = levels ^ self._input_levels
-        self._input_levels = levels
-        if not changed:
-            return
-        rose, fell = changed & levels, changed & ~levels
-        for axis, config in zip(self.axes, self.capture_config, strict=True):
-            r, f = rose & config.io_rising, fell & config.io_falling
-            if (r or f) and axis.has_encoder:
-                self.capture_ring.push(CaptureEntry(axis.encoder_position(self), axis.index,
-                                                    0, r, f))
 
     def capturing_inputs(self) -> bool:
         """Does any axis capture input edges? Cached; world_changed() refreshes it."""
@@ -386,7 +304,7 @@ class Board(Engine):
         if axis.motion is None:
             return
         if axis.capture_pending:
-            self._fire_captures(axis)
+            fire_captures(self, axis)
         self.check_motion(axis)
 
     def check_motion(self, axis: Axis) -> None:
@@ -415,8 +333,8 @@ class Board(Engine):
         self._capturing_inputs = any(c.on_inputs for c in self.capture_config)
         if self._capturing_inputs:
             if not was_capturing:
-                self._input_levels = self._read_inputs()  # no edge for what was already so
-            self._capture_inputs()
+                self._input_levels = read_inputs(self)  # no edge for what was already so
+            capture_inputs(self)
         for axis in self.axes:
             self.check_motion(axis)
             self.check_slip(axis)

@@ -15,7 +15,15 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass
+from typing import Protocol
 
+from maxk.firmware_model.outputs import (
+    PositionTrigger,
+    next_periodic_marks,
+    periodic_marks_passed,
+    trigger_ticks,
+)
+from maxk.personalities.maxk.axis import Axis, AxisHost
 from maxk.personalities.maxk.config import wrap32
 
 RING_ENTRIES = 55
@@ -104,3 +112,87 @@ class CaptureRing:
 
 def encoder_at(steps: int, encoder_offset: int) -> int:
     return wrap32(steps + encoder_offset)
+
+
+# ---- capturing: position triggers from the shared outputs mechanism ---------------------
+class CaptureHost(AxisHost, Protocol):
+    """What capture asks of the board: its configuration, ring and inputs' last levels."""
+
+    capture_config: list[CaptureConfig]
+    capture_ring: CaptureRing
+    _input_levels: int
+
+
+def capture_triggers(board: CaptureHost, axis: Axis) -> list[tuple[int, PositionTrigger[int]]]:
+    """The next home-switch edges and index mark each way ahead of the axis, as position
+    triggers (payload: the home bits of the entry), each with the tick the running motion
+    reaches it."""
+    config = board.capture_config[axis.index]
+    if not config.on_position or not axis.has_encoder:
+        return []
+    world = board.world.axes[axis.index]
+    triggers: list[PositionTrigger[int]] = []
+    if config.home is not None:
+        rising = config.home in ("rising", "both")
+        falling = config.home in ("falling", "both")
+        for position, active_above in world.home.transitions():
+            # Crossing upward into `position` turns the switch to active_above;
+            # crossing downward out of it (to position - 1) does the opposite.
+            if (rising and active_above) or (falling and not active_above):
+                triggers.append(PositionTrigger(
+                    position, 1, HOME_RISING if active_above else HOME_FALLING))
+            if (rising and not active_above) or (falling and active_above):
+                triggers.append(PositionTrigger(
+                    position - 1, -1, HOME_FALLING if active_above else HOME_RISING))
+    if config.index and world.index_period > 0:
+        up, down = next_periodic_marks(axis.steps_now(board), world.index_offset,
+                                       world.index_period, world.index_width)
+        triggers.append(PositionTrigger(up, 1, ENCODER_HOME))
+        triggers.append(PositionTrigger(down, -1, ENCODER_HOME))
+    return trigger_ticks(axis, board, triggers)
+
+
+def fire_captures(board: CaptureHost, axis: Axis) -> None:
+    """Record every edge reached by now. Only the next index mark each way was
+    scheduled, so the marks after it passed within the same update cycle are added
+    here: every mark is captured, like every home-switch transition."""
+    now = board.tick
+    here = axis.steps_now(board)
+    period = board.world.axes[axis.index].index_period
+    due: list[tuple[int, int]] = []  # (bits, position)
+    for tick, trigger in axis.capture_pending:
+        if tick > now:
+            continue
+        position = int(trigger.position)
+        if trigger.payload == ENCODER_HOME and period > 0:
+            due.extend((ENCODER_HOME, mark) for mark in
+                       periodic_marks_passed(position, period, here))
+        else:
+            due.append((trigger.payload, position))
+    direction = axis.travel_direction(board)
+    for bits, position in sorted(due, key=lambda d: d[1] * direction):
+        board.capture_ring.push(CaptureEntry(
+            encoder_at(axis.encoder_counts(position, board), axis.encoder_offset),
+            axis.index, bits))
+
+
+def read_inputs(board: CaptureHost) -> int:
+    """The levels of the lines configured as inputs."""
+    io = board.io
+    return sum(1 << b for b in range(16)
+               if not io.direction >> b & 1 and board.world.digital_level(b, board))
+
+
+def capture_inputs(board: CaptureHost) -> None:
+    """Record input edges for every axis that captures on them."""
+    levels = read_inputs(board)
+    changed = levels ^ board._input_levels
+    board._input_levels = levels
+    if not changed:
+        return
+    rose, fell = changed & levels, changed & ~levels
+    for axis, config in zip(board.axes, board.capture_config, strict=True):
+        r, f = rose & config.io_rising, fell & config.io_falling
+        if (r or f) and axis.has_encoder:
+            board.capture_ring.push(CaptureEntry(axis.encoder_position(board), axis.index,
+                                                 0, r, f))

@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from maxk.firmware_model.outputs import path_trigger_ticks
 from maxk.firmware_model.path import (
     EPS,
     ContourMotion,
@@ -294,12 +295,10 @@ class Contour:
             axis._rebase(board)
             motion = ContourMotion(plan, k, float(axis.steps + axis.counter_offset))
             axis.start_motion(motion, board, stopping=True)  # type: ignore[arg-type]
-        self.boundaries = []
-        for j in range(self.current + 1, len(self.segments)):
-            t = plan.time_at(self.segments[j].s0)
-            if t is None:
-                break
-            self.boundaries.append((board.tick + math.ceil(t / period - 1e-9), j))
+        # segment starts ahead (VIO, queue units): path triggers at their distances
+        self.boundaries = path_trigger_ticks(
+            plan, board.tick, period,
+            ((self.segments[j].s0, j) for j in range(self.current + 1, len(self.segments))))
 
     def _refuse_if_blocked(self, board: Board) -> bool:
         """A path that would start an axis into a pressed limit is refused whole (as an
