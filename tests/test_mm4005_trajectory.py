@@ -105,6 +105,17 @@ def test_seed_runs_and_reports_the_element_under_execution() -> None:
     assert _ask(s, "AT", "TP", "MS") == b"AT0\r1TP10.0000,2TP30.0000\r1MSD,2MSD\r"
 
 
+def test_moves_on_trajectory_axes_are_refused_while_it_runs_and_st_stops_it() -> None:
+    machine, s = _seed()
+    _ask(s, "ET")
+    machine.advance(5000)
+    assert _ask(s, "1PA0", "TE") == b"TED\r"
+    assert _ask(s, "2OR", "TE") == b"TED\r"
+    assert _ask(s, "ST", "AT", "TP") == b"AT0\r1TP5.0000,2TP0.0000\r"
+    machine.advance(5000)
+    assert _ask(s, "MS", "TP") == b"1MSD,2MSD\r1TP5.0000,2TP0.0000\r"
+
+
 # --- ET conditions ---------------------------------------------------------------------------
 def test_et_without_elements_is_refused() -> None:
     machine, s = _session()

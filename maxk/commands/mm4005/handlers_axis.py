@@ -35,6 +35,11 @@ def _required_axis(cmd: Command) -> int:
     return cmd.axis
 
 
+def _in_trajectory(ctx: Context, axis: int) -> bool:
+    m = ctx.machine
+    return m.trajectory_element() != 0 and axis in (m.trajectory.x_axis, m.trajectory.y_axis)
+
+
 def _number(cmd: Command) -> float:
     assert isinstance(cmd.value, float)  # the lexer enforces Operand.NUMBER
     return cmd.value
@@ -179,6 +184,7 @@ def move_absolute(ctx: Context, cmd: Command) -> list[str]:
     axis = _required_axis(cmd)
     target = _number(cmd)
     m = ctx.machine
+    axis_rules.check_not_in_trajectory(_in_trajectory(ctx, axis))
     axis_rules.check_move(m.status(axis), m.travel_limits(axis), target)
     m.move_to(axis, target)
     return []
@@ -189,6 +195,7 @@ def move_relative(ctx: Context, cmd: Command) -> list[str]:
     axis = _required_axis(cmd)
     m = ctx.machine
     target = m.target(axis) + _number(cmd)
+    axis_rules.check_not_in_trajectory(_in_trajectory(ctx, axis))
     axis_rules.check_move(m.status(axis), m.travel_limits(axis), target)
     m.move_to(axis, target)
     return []
@@ -205,6 +212,7 @@ def search_home(ctx: Context, cmd: Command) -> list[str]:
     """OR: home search on one axis or all; every addressed axis is checked first."""
     axes = axes_of(ctx, cmd)
     for axis in axes:
+        axis_rules.check_not_in_trajectory(_in_trajectory(ctx, axis))
         axis_rules.check_home_search(ctx.machine.status(axis))
     mode = cmd.value if isinstance(cmd.value, int) else 0
     for axis in axes:

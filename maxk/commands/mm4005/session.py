@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from typing import Final
 
 from maxk.personalities.mm4005 import ErrorRegister, MM4005Error
+from maxk.personalities.mm4005.errors import UNKNOWN_MESSAGE
 
 from .lexer import MAX_LINE, parse_line
 from .machine import MM4005Machine
@@ -77,9 +78,10 @@ class MM4005Session:
     def _end_line(self) -> None:
         text = self._line.decode("latin-1")
         self._line.clear()
-        if self._overflow:
+        if self._overflow:  # longer than 110 characters: refused like parse_line does
             self._overflow = False
-            text = text + "?" * (MAX_LINE + 1 - len(text))  # still too long: refused
+            self.interpreter.errors.record(UNKNOWN_MESSAGE)
+            return
         if not text.strip(" \t"):
             return
         for reply in self.interpreter.execute_line(text):

@@ -17,6 +17,12 @@ def check_move(status: AxisStatus, limits: tuple[float, float], target: float) -
         raise MM4005Error(PARAMETER, "destination outside the travel limits")
 
 
+def check_not_in_trajectory(in_trajectory: bool) -> None:
+    """PA/PR/OR on an axis that a running trajectory drives: refused (D)."""
+    if in_trajectory:
+        raise MM4005Error(UNAUTHORIZED, "axis driven by the running trajectory")
+
+
 def check_home_search(status: AxisStatus) -> None:
     """OR: needs motor power and a stationary axis (D)."""
     if status.power_off or status.moving:
