@@ -80,12 +80,18 @@ class Line:
 @dataclass(frozen=True, slots=True)
 class Arc:
     """An arc of circle: ``start_angle`` is the polar angle of its first point seen from
-    ``centre``; ``sweep`` is signed, positive counter-clockwise (trigonometric)."""
+    ``centre``; ``sweep`` is signed, positive counter-clockwise (trigonometric).
+
+    The end points are kept as given rather than recomputed from the centre, so that an
+    element starts exactly where the previous one ended and a CY arc ends exactly on
+    (CX, CY) even when its radius is huge."""
 
     centre: Point
     radius: float
     start_angle: float
     sweep: float
+    start: Point
+    end: Point
 
     @property
     def length(self) -> float:
@@ -100,14 +106,6 @@ class Arc:
                 self.centre[1] + self.radius * sin_deg(angle))
 
     @property
-    def start(self) -> Point:
-        return self._polar(self.start_angle)
-
-    @property
-    def end(self) -> Point:
-        return self._polar(self.end_angle)
-
-    @property
     def entry_angle(self) -> float:
         return self.start_angle + (90.0 if self.sweep > 0 else -90.0)
 
@@ -119,6 +117,8 @@ class Arc:
         """The point s units along the arc from its start (clamped to the arc)."""
         length = self.length
         u = min(max(s / length, 0.0), 1.0) if length else 0.0
+        if u == 0.0:
+            return self.start
         if u == 1.0:
             return self.end
         return self._polar(self.start_angle + u * self.sweep)
@@ -151,7 +151,10 @@ def arc_by_sweep(start: Point, entry_angle: float, radius: float, sweep: float) 
     side = 90.0 if sweep > 0 else -90.0
     centre = (start[0] + radius * cos_deg(entry_angle + side),
               start[1] + radius * sin_deg(entry_angle + side))
-    return Arc(centre, radius, entry_angle - side, sweep)
+    start_angle = entry_angle - side
+    end = (centre[0] + radius * cos_deg(start_angle + sweep),
+           centre[1] + radius * sin_deg(start_angle + sweep))
+    return Arc(centre, radius, start_angle, sweep, start, end)
 
 
 def arc_to_point(start: Point, entry_angle: float, end: Point) -> Arc | None:
@@ -175,4 +178,4 @@ def arc_to_point(start: Point, entry_angle: float, end: Point) -> Arc | None:
     sweep = (a1 - a0) % 360.0 if rho > 0 else -((a0 - a1) % 360.0)
     if sweep == 0.0:
         return None
-    return Arc(centre, abs(rho), a0, sweep)
+    return Arc(centre, abs(rho), a0, sweep, start, end)
