@@ -1,0 +1,102 @@
+"""Manual 3.3.1: a line holds commands ``xxAAnn`` separated by ',' or ';', blanks are
+ignored anywhere (even inside a number), at most 110 characters a line; mnemonics are
+case insensitive. ``nn`` is a value or '?'.
+
+A line is parsed whole before anything runs: a malformed command (unknown mnemonic A,
+bad axis B, bad operand C) rejects the entire line (our decision: nothing half-done).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Final
+
+from maxk.personalities.mm4005.errors import (
+    AXIS_NUMBER,
+    PARAMETER,
+    UNKNOWN_MESSAGE,
+    MM4005Error,
+)
+
+from .spec import AxisRule, Command, CommandSpec, Operand
+
+MAX_LINE: Final = 110  # manual 3.3.1.3
+BLANKS: Final = " \t"
+SEPARATORS: Final = re.compile(r"[,;]")
+_COMMAND: Final = re.compile(r"(\d*)([A-Za-z]{2})(.*)\Z", re.S)
+_NUMBER: Final = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\Z")
+_INTEGER: Final = re.compile(r"[+-]?\d+\Z")
+MODES: Final = range(0, 3)  # OR0..OR2 (D: modes seen in a public Tcl driver)
+
+
+def split_line(line: str) -> list[str]:
+    """The non-empty commands of one line, blanks removed."""
+    if len(line) > MAX_LINE:
+        raise MM4005Error(UNKNOWN_MESSAGE, f"line longer than {MAX_LINE} characters")
+    compact = "".join(ch for ch in line if ch not in BLANKS)
+    return [piece for piece in SEPARATORS.split(compact) if piece]
+
+
+def _axis(rule: AxisRule, digits: str, axis_count: int) -> int | None:
+    number = int(digits) if digits else None
+    if rule is AxisRule.NONE:
+        if number is not None:
+            raise MM4005Error(AXIS_NUMBER, "this command takes no axis number")
+        return None
+    if rule is AxisRule.ELEMENT:
+        return number or None
+    if rule is AxisRule.ALL_OR_ONE and not number:
+        return None
+    if rule is AxisRule.PHYSICAL and number is None:
+        return None
+    if number is None or not 1 <= number <= axis_count:
+        raise MM4005Error(AXIS_NUMBER, f"axis {digits or 'missing'}")
+    return number
+
+
+def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bool]:
+    if text == "?":
+        if spec.query or spec.replies:
+            return None, True
+        raise MM4005Error(PARAMETER, f"{spec.mnemonic} cannot be queried")
+    kind = spec.operand
+    if kind is Operand.CHAR:
+        if len(text) > 1:
+            raise MM4005Error(PARAMETER, "one character expected")
+        return (text.upper() or None), False
+    if not text:
+        if kind in (Operand.NUMBER, Operand.INTEGER):
+            raise MM4005Error(PARAMETER, f"{spec.mnemonic} needs a value")
+        return (0 if kind is Operand.MODE else None), False
+    if kind is Operand.NONE:
+        raise MM4005Error(PARAMETER, f"{spec.mnemonic} takes no value")
+    if kind is Operand.NUMBER:
+        if not _NUMBER.match(text):
+            raise MM4005Error(PARAMETER, f"not a number: {text!r}")
+        return float(text), False
+    if not _INTEGER.match(text):
+        raise MM4005Error(PARAMETER, f"not an integer: {text!r}")
+    value = int(text)
+    if kind is Operand.MODE and value not in MODES:
+        raise MM4005Error(PARAMETER, f"mode {value}")
+    return value, False
+
+
+def parse_command(piece: str, table: Mapping[str, CommandSpec], axis_count: int) -> Command:
+    """One ``xxAAnn`` command (blanks already removed)."""
+    match = _COMMAND.match(piece)
+    if match is None:
+        raise MM4005Error(UNKNOWN_MESSAGE, piece)
+    digits, mnemonic, rest = match.groups()
+    spec = table.get(mnemonic.upper())
+    if spec is None:
+        raise MM4005Error(UNKNOWN_MESSAGE, mnemonic)
+    axis = _axis(spec.axis, digits, axis_count)
+    value, query = _operand(spec, rest)
+    return Command(spec, axis, value, query)
+
+
+def parse_line(line: str, table: Mapping[str, CommandSpec], axis_count: int) -> list[Command]:
+    """Every command of a line, or MM4005Error for the first malformed one."""
+    return [parse_command(piece, table, axis_count) for piece in split_line(line)]

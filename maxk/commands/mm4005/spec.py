@@ -1,0 +1,69 @@
+"""The shapes shared by the MM4005 lexer, command table and handlers."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from enum import Enum
+
+from maxk.personalities.mm4005 import ErrorRegister
+
+from .machine import MM4005Machine
+
+
+class AxisRule(Enum):
+    """What the optional number before the mnemonic (``xx`` in ``xxAAnn``) means."""
+
+    NONE = "none"  # controller command: a number is an axis error (B)
+    ALL_OR_ONE = "all or one"  # missing or 0: every axis (manual 3.75 MS: 'Missing: 0')
+    REQUIRED = "required"  # 1..axis count, else B
+    PHYSICAL = "physical axis"  # AX/AY: the axis to assign; missing reports the assignment
+    ELEMENT = "element"  # LT: an element number, missing lists them all
+
+
+class Operand(Enum):
+    """What may follow the mnemonic (``nn``)."""
+
+    NONE = "none"
+    NUMBER = "number"
+    INTEGER = "integer"
+    CHAR = "char"  # TB's error code
+    MODE = "mode"  # OR's optional search mode 0..2
+
+
+@dataclass(slots=True)
+class Context:
+    """What a handler works on: the machine and the error register."""
+
+    machine: MM4005Machine
+    errors: ErrorRegister = field(default_factory=ErrorRegister)
+
+
+@dataclass(frozen=True, slots=True)
+class Command:
+    """One parsed command: ``axis`` is None for 'all axes' or no number; ``value`` is the
+    operand (None when absent); ``query`` is a trailing '?'."""
+
+    spec: CommandSpec
+    axis: int | None
+    value: float | int | str | None
+    query: bool
+
+
+Handler = Callable[[Context, Command], list[str]]
+
+
+@dataclass(frozen=True, slots=True)
+class CommandSpec:
+    """A command table entry: behaviour bound to the mnemonic, with its evidence."""
+
+    mnemonic: str
+    handler: Handler
+    axis: AxisRule
+    operand: Operand
+    query: bool  # accepts '?' and then replies
+    replies: bool  # replies without '?' (a 'tell' command)
+    summary: str
+    source: str
+    confidence: str  # C certain / I inferred / D our decision
+    note: str = ""
