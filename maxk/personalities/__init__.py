@@ -1,0 +1,1 @@
+"""Controller personalities: each controller's firmware semantics, below its language."""
