@@ -189,13 +189,12 @@ class FakeTrioMachine:
         self.tick += 1
         self._path_step = {}
         self.vp_speed = [0.0] * self._axis_count
-        started: set[int] = set()
+        running: dict[int, _Move] = {}  # moves at the head of all their axes' queues
         for queue in self.queues:
-            if queue and id(queue[0]) not in started:
-                move = queue[0]
-                if all(self.queues[a][0] is move for a in move.axes):
-                    started.add(id(move))
-                    self._advance(move)
+            if queue and all(self.queues[a][0] is queue[0] for a in queue[0].axes):
+                running[id(queue[0])] = queue[0]
+        for move in running.values():
+            self._advance(move)
         for axis, (base, ratio) in self.connpaths.items():
             self.dpos[axis] += ratio * self._path_step.get(base, 0.0)
         for axis, cam in list(self.cams.items()):

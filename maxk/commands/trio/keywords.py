@@ -133,7 +133,8 @@ _ENTRIES: list[Keyword] = [
           "user units/s.", writable=False, source=f"{SEED}; {TOK}",
           note="Read only (tokentable). PWM_CONTROL(2/8) links to it."),
     _axis("IDLE", "TRUE (-1) when the axis has no move running or buffered.",
-          writable=False, source=f"{MAN}; {TOK}", confidence="I"),
+          writable=False, source=f"{MAN}; {TOK}", confidence="I",
+          note="Reads -1/0 like the manual's TRUE/FALSE flags (I)."),
     _axis("PWM_CYCLE", "Clocks of 20 MHz in one PWM period (mark + space).", default=1000,
           value_range=(1, PWM_REGISTER_MAX), source=f"{SEED}; {TOK}",
           note="Maximum 65535 (seed). 0 is refused and the power-up 1000 (20 kHz) is ours "
@@ -218,7 +219,7 @@ _ENTRIES: list[Keyword] = [
     _command("DEL", "Delete a program.", (0, 2), source=REF, string_arg=True),
     _command("LIST", "List a program's lines.", (0, 1), source=REF, string_arg=True),
     _command("NEW", "Clear the lines of a program.", (0, 1), source=TOK, string_arg=True,
-             confidence="I"),
+             confidence="I", note="NEW \"N\" or the selected program (I from its name)."),
     _command("COMPILE", "Compile the selected program.", (0, 1), source=REF,
              note="Structure and syntax are checked here; errors are printed as "
              "%[Program NAME Line n] lines (D)."),
@@ -232,7 +233,9 @@ _ENTRIES: list[Keyword] = [
     _command("STOP", "Stop one program.", (0, 2), source=TOK, string_arg=True),
     _command("HALT", "Stop every program.", (0, 0), source=f"{REF}; {TOK}",
              note="Moves already loaded continue (I)."),
-    _command("PROCESS", "List the running processes.", (0, 1), source=REF, confidence="D"),
+    _command("PROCESS", "List the running processes.", (0, 1), source=REF, confidence="D",
+             note="One 'Process p:Program NAME - Running' line per process: the form is "
+             "ours (atrio only sends it)."),
     _command("AUTORUN", "Start every program set to run at power up.", (0, 0), source=REF,
              note="Prints '%[Process p:Program NAME] - Running' per program (atrio test)."),
     _command("EX", "Restart the controller.", (0, 1), source=REF,
@@ -246,7 +249,8 @@ _ENTRIES: list[Keyword] = [
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
               source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count D)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
-              string_arg=True, confidence="I"),
+              string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
+              "TrioBASIC's TRUE (I)."),
     _function("PROG_TYPE", "The program's type code, -1 when missing.", (1, 1), source=REF,
               string_arg=True),
     # ---- statements ---------------------------------------------------------------------------

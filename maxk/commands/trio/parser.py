@@ -356,7 +356,7 @@ class _Parser:
                 self.advance()
                 args.append(self.expression())
         axis = self.axis_modifier() if keyword.axis_modifier else None
-        low, high = keyword.args
+        low, high = keyword.args if keyword.kind is Kind.COMMAND else (1, 1)
         if not low <= len(args) <= high:
             raise TrioError("Syntax error")
         return Command(keyword, tuple(args), axis)

@@ -3,9 +3,10 @@
 COMPILE turns a program's lines into a flat list of steps with the block statements
 linked into jumps, checking the structure (every WHILE has its WEND ...). A process runs
 the steps as one generator: it yields when a statement waits and once at every loop
-back-edge, so each loop pass takes one servo cycle (decision D: the controller
-time-slices its processes; one pass per cycle keeps a busy loop from starving the
-others and keeps timing deterministic).
+back-edge of a pass that has not waited already, so each loop pass takes at least one
+servo cycle (decision D: the controller time-slices its processes; one pass per cycle
+keeps a busy loop from starving the others and keeps timing deterministic, and a pass
+that waited, e.g. in WA(2), loops straight on so WA(2) paces a loop at 2 cycles).
 """
 
 from __future__ import annotations
@@ -125,6 +126,7 @@ class Task:
     def _program(self) -> Generator[None, None, None]:
         interp, ctx, steps = self.interpreter, self.ctx, self.steps
         pc = 0
+        waited = False  # this loop pass already gave up a servo cycle
         while pc < len(steps):
             step = steps[pc]
             ctx.line = step.line
@@ -136,13 +138,17 @@ class Task:
             elif isinstance(stmt, (EndIf, Repeat)):
                 pc += 1
             elif isinstance(stmt, Wend):
-                yield
+                if not waited:
+                    yield
+                waited = False
                 pc = step.target
             elif isinstance(stmt, Until):
                 if self._true(stmt.condition):
                     pc += 1
                 else:
-                    yield
+                    if not waited:
+                        yield
+                    waited = False
                     pc = step.target
             elif isinstance(stmt, For):
                 start = interp.number(stmt.start, ctx)
@@ -161,12 +167,16 @@ class Task:
                 value = ctx.variables.get(loop.variable, 0.0) + increment
                 ctx.variables[loop.variable] = value
                 if _in_range(value, end, increment):
-                    yield
+                    if not waited:
+                        yield
+                    waited = False
                     pc = step.target
                 else:
                     pc += 1
             else:
-                yield from interp.execute(stmt, ctx)
+                for _ in interp.execute(stmt, ctx):
+                    waited = True
+                    yield
                 pc += 1
 
     def _true(self, condition: Expr) -> bool:
