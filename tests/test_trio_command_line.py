@@ -320,3 +320,35 @@ def test_program_run_time_error_line() -> None:
     rig.command('RUN "ERR",3')
     assert rig.cycles(1) == b"%[Process 3:Program ERR Line 2] - Divide by zero\r\n"
     assert rig.command("PROCESS") == b""
+
+
+# ---- robustness: whatever is typed, the controller answers and the session survives ---------
+
+_WORDS = ["?", "PRINT ", "1", "0", "2.5", "-", "+", "*", "/", "^", "(", ")", ",", ";", ":",
+          "=", "<>", " AND ", " NOT ", " MOD ", "SPEED", " AXIS(", "AXIS(99)", "PWM_MARK",
+          "PWM_CONTROL(", "TABLE(", "VR(", '"', "'", "a", "IF ", " THEN ", " ELSE ", "MOVE(",
+          "BASE(", "DEFPOS(", "CAMBOX(", "CONNPATH(", "1e999", "$FFFFFFFFFFFFFFFFFFF", "SQR(",
+          "LN(", "DIR", "SELECT ", '"X"', "RUNTYPE", "EDPROG", "ETHERCAT(", "FOR ", "WHILE ",
+          "!X,0R", "NEW", "DEL ", "LIST ", "COMPILE", "HALT", "STOP ", "RUN ", "PWM_ENCODER",
+          "IDLE", " ", "MPE", "ACC(", "SERVO_PERIOD", "UNITS", "INT(", "EXP(", "1e300", "NEXT"]
+
+
+@given(st.lists(st.sampled_from(_WORDS), max_size=12))
+def test_any_line_gets_an_answer(words: list[str]) -> None:
+    rig = Rig()
+    rig.command('SELECT "X",0')
+    line = "".join(words)
+    reply = rig.send(line)
+    assert reply.startswith(line.encode() + b"\r\n")
+    assert reply.endswith(TRAILER)
+    assert rig.send("?1+1").endswith(b"2\r\n>>" + TRAILER)
+
+
+@given(st.binary(max_size=64))
+def test_any_bytes_leave_the_session_working(data: bytes) -> None:
+    rig = Rig()
+    rig.session.feed(data.replace(b"\r", b"") + b"\xff\xf0")  # whatever: no exception
+    rig.session.read()
+    rig.session.feed(b"\r\n")
+    rig.session.read()
+    assert rig.send("?3").endswith(b"3\r\n>>" + TRAILER)

@@ -169,6 +169,8 @@ class Interpreter:
             raise TrioError("Syntax error")
         try:
             if name in _MATH and len(numbers) == 1:
+                if name in ("SQR", "LN") and numbers[0] < (0 if name == "SQR" else 1e-308):
+                    raise TrioError("Parameter out of range")
                 result = _MATH[name](numbers[0])
             elif name == "ATAN2" and len(numbers) == 2:
                 result = math.atan2(numbers[0], numbers[1])
@@ -178,8 +180,12 @@ class Interpreter:
                 result = self.machine.vr_read(self._index(numbers[0]))
             else:
                 raise TrioError("Syntax error")
-        except (ValueError, OverflowError) as exc:
+        except OverflowError:
+            raise TrioError("Arithmetic error") from None
+        except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
+        if not math.isfinite(result):
+            raise TrioError("Arithmetic error")
         return float(result)
 
     @staticmethod

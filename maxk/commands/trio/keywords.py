@@ -20,6 +20,7 @@ from enum import Enum
 
 from ...personalities.trio.memory import TABLE_SIZE, VR_COUNT
 from ...personalities.trio.pwm import PWM_REGISTER_MAX
+from .lexer import TrioError
 
 
 class Kind(Enum):
@@ -50,8 +51,6 @@ class Keyword:
 
     def check(self, value: float) -> None:
         """Refuse a value outside the range (nothing is written)."""
-        from .lexer import TrioError
-
         if not math.isfinite(value):
             raise TrioError("Parameter out of range")
         if self.value_range is not None:

@@ -81,7 +81,10 @@ def tokenize(line: str) -> list[Token]:
                 j += 2
                 while j < n and line[j].isdigit():
                     j += 1
-            tokens.append(Token(Tok.NUMBER, line[i:j], float(line[i:j]), column=i))
+            value = float(line[i:j])
+            if value == float("inf"):
+                raise TrioError("Arithmetic error")  # a literal beyond the float range (D)
+            tokens.append(Token(Tok.NUMBER, line[i:j], value, column=i))
             i = j
         elif c == "$":
             j = i + 1
@@ -89,6 +92,8 @@ def tokenize(line: str) -> list[Token]:
                 j += 1
             if j == i + 1:
                 raise TrioError("Syntax error")
+            if j - i > 17:
+                raise TrioError("Arithmetic error")  # more than 64 bits of hex (D)
             tokens.append(Token(Tok.NUMBER, line[i:j], float(int(line[i + 1:j], 16)), column=i))
             i = j
         elif c.isalpha() or c == "_":

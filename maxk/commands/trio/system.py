@@ -196,16 +196,19 @@ class ProgramCommands:
             self.output(f"Process {process}:Program {task.ctx.program} - Running\r\n")
 
     def start_autorun(self, announce: bool) -> None:
-        for name in self.programs.names():
-            info = self.programs.info[name]
-            if info.type == 0 and info.autorun:
-                try:
-                    process = self.start(name, info.process)
-                except TrioError as exc:
-                    self.output(f"%[Program {name}] - {exc.message}\r\n")
-                    continue
-                if announce:
-                    self.output(f"%[Process {process}:Program {name}] - Running\r\n")
+        """AUTORUN; and power up (announce False), which starts MC_CONFIG (type 9) first."""
+        infos = [self.programs.info[n] for n in self.programs.names()]
+        wanted = [i for i in infos if i.type == 0 and i.autorun]
+        if not announce:
+            wanted = [i for i in infos if i.type == 9] + wanted
+        for info in wanted:
+            try:
+                process = self.start(info.name, info.process if info.type == 0 else -1)
+            except TrioError as exc:
+                self.output(f"%[Program {info.name}] - {exc.message}\r\n")
+                continue
+            if announce:
+                self.output(f"%[Process {process}:Program {info.name}] - Running\r\n")
 
     def cmd_autorun(self, args: list[Value]) -> None:
         self.start_autorun(announce=True)
