@@ -37,6 +37,8 @@ class Token:
     column: int = 0
 
 
+_DIGITS = frozenset("0123456789")
+_LETTERS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
 _TWO_CHAR_OPS = ("<=", ">=", "<>")
 _ONE_CHAR_OPS = "+-*/^=<>(),;:?"
 
@@ -66,20 +68,20 @@ def tokenize(line: str) -> list[Token]:
                 j += 1
             tokens.append(Token(Tok.STRING, "".join(text), column=i))
             i = j + 1
-        elif c.isdigit() or (c == "." and i + 1 < n and line[i + 1].isdigit()):
+        elif c in _DIGITS or (c == "." and i + 1 < n and line[i + 1] in _DIGITS):
             j = i
-            while j < n and line[j].isdigit():
+            while j < n and line[j] in _DIGITS:
                 j += 1
             if j < n and line[j] == ".":
                 j += 1
-                while j < n and line[j].isdigit():
+                while j < n and line[j] in _DIGITS:
                     j += 1
             if j < n and line[j] in "eE" and j + 1 < n and (
-                line[j + 1].isdigit()
-                or (line[j + 1] in "+-" and j + 2 < n and line[j + 2].isdigit())
+                line[j + 1] in _DIGITS
+                or (line[j + 1] in "+-" and j + 2 < n and line[j + 2] in _DIGITS)
             ):
                 j += 2
-                while j < n and line[j].isdigit():
+                while j < n and line[j] in _DIGITS:
                     j += 1
             value = float(line[i:j])
             if value == float("inf"):
@@ -96,9 +98,9 @@ def tokenize(line: str) -> list[Token]:
                 raise TrioError("Arithmetic error")  # more than 64 bits of hex (D)
             tokens.append(Token(Tok.NUMBER, line[i:j], float(int(line[i + 1:j], 16)), column=i))
             i = j
-        elif c.isalpha() or c == "_":
+        elif c in _LETTERS:
             j = i
-            while j < n and (line[j].isalnum() or line[j] in "_$"):
+            while j < n and (line[j] in _LETTERS or line[j] in _DIGITS or line[j] == "$"):
                 j += 1
             word = line[i:j].upper()
             if word == "REM":
