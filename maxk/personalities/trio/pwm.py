@@ -90,8 +90,11 @@ DECISIONS: Final = (
     Decision("mode 7", "PWM_CONTROL(7) is refused", "D", "seed: 'Reserved'"),
     Decision("output conditions", "output only with WDOG=ON and ATYPE 35 or 36", "I",
              "seed: 'the WDOG must be ON for PWM generation'; ATYPE table"),
-    Decision("PWM axes", "axes 0-4 only; PWM keywords on other axes are refused", "I",
+    Decision("PWM axes", "axes 0-4 have a PWM circuit", "C",
              "seed: 'works with axes 0, 1, 2, 3 and 4'"),
+    Decision("PWM keywords on other axes", "PWM_CYCLE, PWM_MARK, PWM_ENCODER and "
+             "PWM_CONTROL on axes 5 and up are refused ('Axis n has no PWM output')", "D",
+             "a virtual axis has no Z output to drive"),
 )
 
 
