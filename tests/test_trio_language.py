@@ -261,3 +261,24 @@ def test_table_defaults_are_what_the_fake_powers_up_with() -> None:
     for keyword in KEYWORDS.values():
         if keyword.kind is Kind.AXIS_PARAMETER and keyword.writable:
             assert machine.axis_parameter(keyword.name, 0) == keyword.default, keyword.name
+
+
+_INTS = st.integers(-999, 999)
+
+
+@st.composite
+def integer_expressions(draw: st.DrawFn, depth: int = 3) -> tuple[str, int]:
+    """(TrioBASIC text, its value) for +, - and * on integers, with brackets."""
+    if depth == 0 or draw(st.booleans()):
+        n = draw(_INTS)
+        return (f"({n})" if n < 0 else str(n)), n
+    op = draw(st.sampled_from("+-*"))
+    (a, x), (b, y) = draw(integer_expressions(depth - 1)), draw(integer_expressions(depth - 1))
+    value = x + y if op == "+" else x - y if op == "-" else x * y
+    return f"({a}{op}{b})", value
+
+
+@given(integer_expressions())
+def test_integer_arithmetic_prints_exactly(case: tuple[str, int]) -> None:
+    text, value = case
+    assert ask(text) == str(value)
