@@ -277,8 +277,11 @@ def test_store_writes_atomically_leaving_no_temporaries(tmp_path) -> None:
     rig = Rig(tmp_path)
     rig.load("A", "PRINT 1\nPRINT 2")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["A.BAS", "directory.json"]
-    assert (tmp_path / "A.BAS").read_text() == "PRINT 1\nPRINT 2"
+    assert (tmp_path / "A.BAS").read_text() == "PRINT 1\nPRINT 2\n"
     assert ProgramStore(tmp_path).lines["A"] == ["PRINT 1", "PRINT 2"]
+    rig.command('SELECT "B",3')
+    rig.command("!B,0R")  # one empty line survives the round trip
+    assert ProgramStore(tmp_path).lines["B"] == [""]
 
 
 def test_checksum_changes_with_programs() -> None:

@@ -1,6 +1,6 @@
 """Program storage: the controller's programs as a directory of files.
 
-Each program is ``NAME.<ext>`` (its lines, LF separated) and the directory's
+Each program is ``NAME.<ext>`` (its lines, each ending in LF) and the directory's
 ``directory.json`` holds each program's type, run type and compiled size. Every change
 is written to a temporary file and moved into place with ``os.replace``, so a crash
 never leaves a half-written program and the store survives a restart (EX) or a new
@@ -79,7 +79,7 @@ class ProgramStore:
             path = self.directory / (info.name + PROGRAM_TYPES.get(info.type, ".BAS"))
             text = path.read_text(encoding="latin-1") if path.exists() else ""
             self.info[info.name] = info
-            self.lines[info.name] = text.split("\n") if text else []
+            self.lines[info.name] = text.split("\n")[:-1]  # each line ends in LF
 
     def _write(self, path: Path, text: str) -> None:
         fd, temp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
@@ -102,7 +102,7 @@ class ProgramStore:
             return
         info = self.info[name]
         self._write(self.directory / (name + PROGRAM_TYPES[info.type]),
-                    "\n".join(self.lines[name]))
+                    "".join(line + "\n" for line in self.lines[name]))
         self._save_index()
 
     # ---- operations ---------------------------------------------------------------------
