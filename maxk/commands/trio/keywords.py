@@ -271,7 +271,8 @@ _ENTRIES: list[Keyword] = [
     _statement("NEXT", "Ends FOR."),
     _statement("WAIT", "WAIT IDLE (the base axis finished every move) or WAIT UNTIL cond.",
                source=f"{SEED}; {TOK}; {MAN}",
-               note="WAIT UNTIL tests once per servo cycle (D)."),
+               note="WAIT UNTIL tests once per servo cycle (D). Allowed on the command "
+               "line too, holding its prompt (D: the manual may restrict it to programs)."),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),
