@@ -1,0 +1,247 @@
+"""A small in-memory TrioMachine for testing the language without the engine.
+
+Deliberately simple motion: a move runs at its base axis's SPEED with no ramps, taking
+whole servo cycles, and moves on one axis run one after another (MERGE is ignored).
+CONNPATH adds the driving group's path distance to its axis each cycle; CAMBOX follows
+its TABLE profile by linear interpolation over the link axis's travel. PWM, TABLE and VR
+are the real personality objects, so PWM marks, the gating FIFO and PWM_ENCODER behave
+as they will on the engine. Measured positions equal demand positions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ...personalities.trio.memory import TableMemory, VrMemory
+from ...personalities.trio.pwm import PwmBank
+from .keywords import KEYWORDS, Kind
+
+MOVE_BUFFER = 16  # moves an axis holds (running + buffered) in the fake
+SERVO_PERIODS = (250, 500, 1000, 2000)
+_PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
+
+
+@dataclass
+class _Move:
+    axes: list[int]
+    values: list[float]
+    absolute: bool
+    start: list[float] | None = None
+    delta: list[float] | None = None
+    ticks: int = 0
+    elapsed: int = 0
+
+
+@dataclass
+class _Cam:
+    start: int
+    end: int
+    multiplier: float
+    distance: float
+    link: int
+    link_origin: float
+    origin: float
+
+
+class FakeTrioMachine:
+    def __init__(self, axis_count: int = 16, servo_period_us: int = 1000) -> None:
+        self._axis_count = axis_count
+        self.tick = 0
+        self._period = servo_period_us
+        self.axis_params = [
+            {k.name: k.default for k in KEYWORDS.values()
+             if k.kind is Kind.AXIS_PARAMETER and k.name not in _PWM_PARAMETERS}
+            for _ in range(axis_count)
+        ]
+        self.system = {k.name: k.default for k in KEYWORDS.values()
+                       if k.kind is Kind.SYSTEM_PARAMETER}
+        self.system["SERVO_PERIOD"] = servo_period_us
+        self.pwm = PwmBank(axis_count)
+        self.table = TableMemory()
+        self.vr = VrMemory()
+        self.dpos = [0.0] * axis_count
+        self.vp_speed = [0.0] * axis_count
+        self._counts = [0] * axis_count  # PWM encoder baseline, counts
+        self.queues: list[deque[_Move]] = [deque() for _ in range(axis_count)]
+        self.connpaths: dict[int, tuple[int, float]] = {}
+        self.cams: dict[int, _Cam] = {}
+        self.gate_events: list[tuple[int, int, bool]] = []  # (tick, axis, gate level)
+        self._path_step: dict[int, float] = {}
+
+    # ---- TrioMachine -----------------------------------------------------------------
+    @property
+    def axis_count(self) -> int:
+        return self._axis_count
+
+    def servo_tick(self) -> int:
+        return self.tick
+
+    def servo_period_us(self) -> int:
+        return self._period
+
+    def axis_parameter(self, name: str, axis: int) -> float:
+        if name == "DPOS" or name == "MPOS":
+            return self.dpos[axis]
+        if name == "VP_SPEED":
+            return self.vp_speed[axis]
+        if name == "PWM_CYCLE":
+            return self.pwm[axis].cycle
+        if name == "PWM_MARK":
+            return self.pwm[axis].mark
+        if name == "PWM_ENCODER":
+            return self.pwm[axis].encoder
+        return self.axis_params[axis][name]
+
+    def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
+        if name == "PWM_CYCLE":
+            self.pwm[axis].set_cycle(value)
+        elif name == "PWM_MARK":
+            self.pwm[axis].set_mark(value)
+        else:
+            self.axis_params[axis][name] = value
+
+    def system_parameter(self, name: str) -> float:
+        return self.system[name]
+
+    def set_system_parameter(self, name: str, value: float) -> None:
+        if name == "SERVO_PERIOD" and value not in SERVO_PERIODS:
+            raise ValueError("Parameter out of range")
+        self.system[name] = value  # SERVO_PERIOD: in effect from the next restart
+
+    def can_load(self, axes: Sequence[int]) -> bool:
+        return all(len(self.queues[a]) < MOVE_BUFFER for a in axes)
+
+    def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
+        self._load(_Move(list(axes), list(distances), absolute=False))
+
+    def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        self._load(_Move(list(axes), list(positions), absolute=True))
+
+    def _load(self, move: _Move) -> None:
+        for a in move.axes:
+            self.queues[a].append(move)
+
+    def axis_idle(self, axis: int) -> bool:
+        return not self.queues[axis] and axis not in self.connpaths and axis not in self.cams
+
+    def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        for a, p in zip(axes, positions, strict=True):
+            self.dpos[a] = p
+            self._counts[a] = self._encoder_counts(a)  # PWM_ENCODER does not jump
+
+    def set_acc(self, axis: int, rate: float) -> None:
+        self.axis_params[axis]["ACCEL"] = self.axis_params[axis]["DECEL"] = rate
+
+    def cancel(self, axis: int) -> None:
+        if self.queues[axis]:
+            move = self.queues[axis][0]
+            for a in move.axes:
+                self.queues[a].popleft()
+                self.vp_speed[a] = 0.0
+        self.connpaths.pop(axis, None)
+        self.cams.pop(axis, None)
+
+    def rapidstop(self) -> None:
+        for queue in self.queues:
+            queue.clear()
+        self.connpaths.clear()
+        self.cams.clear()
+        self.vp_speed = [0.0] * self._axis_count
+
+    def connpath(self, axis: int, args: Sequence[float]) -> None:
+        base = args[0]
+        if base != int(base) or not 0 <= base < self._axis_count:
+            raise ValueError("Invalid axis number")
+        self.connpaths[axis] = (int(base), args[1] if len(args) > 1 else 1.0)
+
+    def cambox(self, axis: int, args: Sequence[float]) -> None:
+        start, end, multiplier, distance, link = args[:5]
+        if link != int(link) or not 0 <= link < self._axis_count or distance <= 0:
+            raise ValueError("Parameter out of range")
+        if start != int(start) or end != int(end) or end <= start:
+            raise ValueError("Parameter out of range")
+        self.table.read_run(int(start), int(end))  # refuses a run outside TABLE
+        self.cams[axis] = _Cam(int(start), int(end), multiplier, distance, int(link),
+                               self.dpos[int(link)], self.dpos[axis])
+
+    def pwm_control(self, axis: int, args: Sequence[float]) -> None:
+        self.pwm[axis].control(args, self.table, self.axis_params[axis]["UNITS"],
+                               self._axis_count)
+
+    def table_read(self, index: int) -> float:
+        return self.table.read(index)
+
+    def table_write(self, start: int, values: Sequence[float]) -> None:
+        self.table.write(start, values)
+
+    def vr_read(self, index: int) -> float:
+        return self.vr.read(index)
+
+    def vr_write(self, index: int, value: float) -> None:
+        self.vr.write(index, value)
+
+    # ---- one servo cycle -----------------------------------------------------------------
+    def cycle(self) -> None:
+        """Advance one servo cycle: moves, linked axes, PWM encoder and marks."""
+        self.tick += 1
+        self._path_step = {}
+        self.vp_speed = [0.0] * self._axis_count
+        running: dict[int, _Move] = {}  # moves at the head of all their axes' queues
+        for queue in self.queues:
+            if queue and all(self.queues[a][0] is queue[0] for a in queue[0].axes):
+                running[id(queue[0])] = queue[0]
+        for move in running.values():
+            self._advance(move)
+        for axis, (base, ratio) in self.connpaths.items():
+            self.dpos[axis] += ratio * self._path_step.get(base, 0.0)
+        for axis, cam in list(self.cams.items()):
+            self._follow(axis, cam)
+        for axis, output in self.pwm.outputs.items():
+            counts = self._encoder_counts(axis)
+            for entry in output.move_encoder(counts - self._counts[axis]):
+                self.gate_events.append((self.tick, axis, entry.level))
+            self._counts[axis] = counts
+        self.pwm.servo_cycle(lambda a: self.vp_speed[a], lambda a: self.dpos[a])
+
+    def run(self, cycles: int) -> None:
+        for _ in range(cycles):
+            self.cycle()
+
+    def _encoder_counts(self, axis: int) -> int:
+        return round(self.dpos[axis] * self.axis_params[axis]["UNITS"])
+
+    def _advance(self, move: _Move) -> None:
+        if move.start is None:
+            move.start = [self.dpos[a] for a in move.axes]
+            move.delta = [v - s if move.absolute else v for v, s in zip(move.values, move.start,
+                                                                        strict=True)]
+            length = math.sqrt(sum(d * d for d in move.delta))
+            speed = self.axis_params[move.axes[0]]["SPEED"]
+            seconds = length / speed if speed > 0 else math.inf
+            move.ticks = max(1, math.ceil(round(seconds * 1e6 / self._period, 9)))
+        assert move.delta is not None
+        move.elapsed += 1
+        fraction = move.elapsed / move.ticks
+        length = math.sqrt(sum(d * d for d in move.delta))
+        self._path_step[move.axes[0]] = length / move.ticks
+        for a, s, d in zip(move.axes, move.start, move.delta, strict=True):
+            self.dpos[a] = s + d * fraction if move.elapsed < move.ticks else s + d
+            self.vp_speed[a] = length / move.ticks * 1e6 / self._period
+        if move.elapsed >= move.ticks:
+            for a in move.axes:
+                self.queues[a].popleft()
+
+    def _follow(self, axis: int, cam: _Cam) -> None:
+        travelled = self.dpos[cam.link] - cam.link_origin
+        span = cam.end - cam.start
+        position = min(max(travelled / cam.distance, 0.0), 1.0) * span
+        index = min(int(position), span - 1)
+        low = self.table.read(cam.start + index)
+        high = self.table.read(cam.start + index + 1)
+        value = low + (high - low) * (position - index)
+        self.dpos[axis] = cam.origin + value * cam.multiplier / self.axis_params[axis]["UNITS"]
+        if travelled >= cam.distance:
+            del self.cams[axis]

@@ -1,0 +1,294 @@
+"""The TrioBASIC keyword table: one declarative entry per keyword.
+
+The parser, the interpreter's range checks, the fake machine's defaults and
+docs/trio.md read this table. Each entry records where its behaviour comes from and how
+sure we are (C certain, I inferred, D our decision, explained in ``note``). Sources:
+
+- ``seed``: the MC405 PWM application note (shared/seeds/trio-mc405-pwm.txt);
+- ``ref``: what atrio sends and needs (shared/reference/trio-command-line.md);
+- ``tokentable``: the token table shipped in atrio (AbundantRobotics/atrio,
+  ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
+  argument counts and whether a parameter is writable;
+- ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+
+from ...personalities.trio.memory import TABLE_SIZE, VR_COUNT
+from ...personalities.trio.pwm import PWM_REGISTER_MAX
+from .lexer import TrioError
+
+
+class Kind(Enum):
+    AXIS_PARAMETER = "axis parameter"
+    SYSTEM_PARAMETER = "system parameter"
+    COMMAND = "command"
+    FUNCTION = "function"
+    STATEMENT = "statement"
+    CONSTANT = "constant"
+    OPERATOR = "operator"
+    MODIFIER = "modifier"
+
+
+@dataclass(frozen=True)
+class Keyword:
+    name: str
+    kind: Kind
+    summary: str
+    source: str
+    confidence: str = "C"
+    note: str = ""
+    value_range: tuple[float, float] | None = None  # accepted values (parameters, constants)
+    writable: bool = True  # parameters: False = read only
+    default: float = 0.0  # parameters: power-up value; constants: the value
+    args: tuple[int, int] = (0, 0)  # commands/functions: min, max arguments
+    axis_modifier: bool = False  # accepts AXIS(n) after it
+    string_arg: bool = False  # first argument is a program name in quotes
+
+    def check(self, value: float) -> None:
+        """Refuse a value outside the range (nothing is written)."""
+        if not math.isfinite(value):
+            raise TrioError("Parameter out of range")
+        if self.value_range is not None:
+            low, high = self.value_range
+            if not low <= value <= high:
+                raise TrioError("Parameter out of range")
+
+
+SEED = "seed"
+TOK = "tokentable"
+REF = "ref"
+MAN = "manual"
+_BIG = 1e15
+
+
+def _axis(name: str, summary: str, *, default: float = 0.0, writable: bool = True,
+          value_range: tuple[float, float] | None = (-_BIG, _BIG), source: str = TOK,
+          confidence: str = "C", note: str = "") -> Keyword:
+    return Keyword(name, Kind.AXIS_PARAMETER, summary, source, confidence, note, value_range,
+                   writable, default, axis_modifier=True)
+
+
+def _system(name: str, summary: str, *, default: float = 0.0, writable: bool = True,
+            value_range: tuple[float, float] | None = (-_BIG, _BIG), source: str = TOK,
+            confidence: str = "C", note: str = "") -> Keyword:
+    return Keyword(name, Kind.SYSTEM_PARAMETER, summary, source, confidence, note,
+                   value_range, writable, default)
+
+
+def _command(name: str, summary: str, args: tuple[int, int], *, axis: bool = False,
+             source: str = TOK, confidence: str = "C", note: str = "",
+             string_arg: bool = False) -> Keyword:
+    return Keyword(name, Kind.COMMAND, summary, source, confidence, note, args=args,
+                   axis_modifier=axis, string_arg=string_arg)
+
+
+def _function(name: str, summary: str, args: tuple[int, int], *, source: str = TOK,
+              confidence: str = "C", note: str = "", string_arg: bool = False) -> Keyword:
+    return Keyword(name, Kind.FUNCTION, summary, source, confidence, note, args=args,
+                   string_arg=string_arg)
+
+
+def _statement(name: str, summary: str, *, source: str = TOK, confidence: str = "C",
+               note: str = "") -> Keyword:
+    return Keyword(name, Kind.STATEMENT, summary, source, confidence, note)
+
+
+def _constant(name: str, value: float, *, source: str = TOK, note: str = "") -> Keyword:
+    return Keyword(name, Kind.CONSTANT, f"Constant {value:g}.", source, "C", note,
+                   default=value)
+
+
+_REGISTER = (0.0, float(PWM_REGISTER_MAX))
+
+_ENTRIES: list[Keyword] = [
+    # ---- axis parameters ------------------------------------------------------------
+    _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
+          "output on the Z channel.", default=43, value_range=(0, 255), source=f"{SEED}; {TOK}",
+          confidence="I", note="Power-up 43, the seed's 'recommended default' (I). Any "
+          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35)."),
+    _axis("UNITS", "Counts per user unit: positions, speeds and gate positions are scaled "
+          "by it.", default=1, value_range=(1e-9, _BIG), source=f"{MAN}; {TOK}",
+          note="0 and negatives are refused (D)."),
+    _axis("SPEED", "Programmed speed of moves, user units/s.", default=1000,
+          value_range=(0, _BIG), source=f"{MAN}; {TOK}", confidence="I",
+          note="Power-up value 1000 is our decision (D)."),
+    _axis("ACCEL", "Acceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+    _axis("DECEL", "Deceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+    _axis("MERGE", "Merge consecutive moves without stopping (ON/OFF).", default=0,
+          value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}"),
+    _axis("FE_LIMIT", "Following error limit, user units.", default=2000,
+          value_range=(0, _BIG), source=f"{SEED} example 3; {TOK}", confidence="I",
+          note="Stored; power-up 2000 (D)."),
+    _axis("DPOS", "Demand position, user units.", writable=False, source=f"{MAN}; {TOK}"),
+    _axis("MPOS", "Measured position, user units.", writable=False, source=f"{MAN}; {TOK}"),
+    _axis("VP_SPEED", "Velocity profile speed: the path speed of the move this axis runs, "
+          "user units/s.", writable=False, source=f"{SEED}; {TOK}",
+          note="Read only (tokentable). PWM_CONTROL(2/8) links to it."),
+    _axis("IDLE", "TRUE (-1) when the axis has no move running or buffered.",
+          writable=False, source=f"{MAN}; {TOK}", confidence="I",
+          note="Reads -1/0 like the manual's TRUE/FALSE flags (I)."),
+    _axis("PWM_CYCLE", "Clocks of 20 MHz in one PWM period (mark + space).", default=1000,
+          value_range=(1, PWM_REGISTER_MAX), source=f"{SEED}; {TOK}",
+          note="Maximum 65535 (seed). 0 is refused and the power-up 1000 (20 kHz) is ours "
+          "(D). Axes 0-4 only."),
+    _axis("PWM_MARK", "Clocks the output is on in each period; >= PWM_CYCLE: always on.",
+          value_range=_REGISTER, source=f"{SEED}; {TOK}",
+          note="Maximum 65535 (seed). In PWM_CONTROL modes 2 and 8 it reads the mark "
+          "computed on the last servo cycle (I). Fractions truncate (D)."),
+    _axis("PWM_ENCODER", "The 29-bit hardware position register the gating FIFO compares "
+          "with.", writable=False, source=SEED, confidence="I",
+          note="Read only; cleared by PWM_CONTROL(6), untouched by DEFPOS/OFFPOS (seed). "
+          "Reads raw counts, unsigned 0..2^29-1 (D)."),
+    # ---- system parameters -----------------------------------------------------------
+    _system("WDOG", "Enable switch for the drives; PWM is generated only with WDOG=ON.",
+            value_range=(-1, 1), source=f"{SEED}; {TOK}"),
+    _system("SERVO_PERIOD", "Servo cycle in microseconds (one tick of the emulator).",
+            default=1000, value_range=(250, 2000), source=f"{MAN}; {TOK}", confidence="D",
+            note="MC405 default 1000 us. 250, 500, 1000 or 2000 accepted; the new period "
+            "applies from the next restart (EX), as on the controller (I)."),
+    _system("VERSION", "System software version.", default=2.0299, writable=False,
+            source=REF, confidence="D",
+            note="2.0299: at least 2.0229 for PWM (seed) and 2.0297 (atrio's own test)."),
+    _system("MPE", "Channel handshake mode; Motion Perfect sets it non-zero.", writable=False,
+            source=f"{REF}; {TOK}", value_range=(0, 0), note="Must print 0 for atrio to "
+            "connect (ref 3). Set with the command MPE(mode): only MPE(0) is accepted, the "
+            "emulator has no Motion Perfect channel protocol (D)."),
+    _system("SYSTEM_ERROR", "System error bit flags.", writable=False, source=REF,
+            note="Always 0: no system errors are modelled."),
+    _system("SYSTEM_LOAD_MAX", "Highest processor load seen, percent.", value_range=(0, 100),
+            source=REF, confidence="D", note="Reads the value last written (atrio writes 0)."),
+    _system("FLASH_STATUS", "0 when no flash write is pending.", writable=False, source=REF,
+            confidence="I", note="Program stores finish at once, so always 0 (D)."),
+    _system("CHECKSUM", "Checksum of all programs, after COMPILE_ALL.", writable=False,
+            source=REF, confidence="D",
+            note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
+    _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
+            source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    # ---- motion and axis commands ----------------------------------------------------------
+    _command("MOVE", "Relative interpolated move on the BASE axes.", (1, 128), axis=True,
+             source=f"{SEED}; {TOK}"),
+    _command("MOVEABS", "Absolute interpolated move on the BASE axes.", (1, 128), axis=True,
+             source=f"{SEED}; {TOK}"),
+    _command("DEFPOS", "Define the present positions of the BASE axes.", (1, 128),
+             axis=True, source=f"{SEED}; {TOK}; {MAN}",
+             note="Does not change PWM_ENCODER (seed)."),
+    _command("ACC", "Set ACCEL and DECEL of the base axis.", (1, 1), axis=True,
+             source=f"{SEED}; {TOK}"),
+    _command("CANCEL", "Cancel the move running on the base axis.", (0, 1), axis=True,
+             source=f"{TOK}; {MAN}"),
+    _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}"),
+    _command("PWM_CONTROL", "PWM mode of the base axis: (0) off, (1) PWM_MARK, (2,...) "
+             "speed link, (3,...) gate positions, (4) empty FIFO, (5) gating on, (6) clear "
+             "PWM_ENCODER, (8,...) speed x profile.", (1, 6), axis=True,
+             source=f"{SEED}; {TOK}", note="An axis function: AXIS() or BASE() picks the "
+             "axis (seed). Refusals leave everything unchanged (personality DECISIONS)."),
+    _command("CONNPATH", "Link an axis to the path distance of an interpolating group.",
+             (1, 2), axis=True, source=f"{SEED}; {TOK}", confidence="I",
+             note="First argument: the first axis of the driving group (seed example "
+             "CONNPATH(0) AXIS(8) for BASE(0,1)); the optional second is a ratio, default 1 "
+             "(D)."),
+    _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
+             "end, multiplier, link distance, link axis[, options[, link position]]).",
+             (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}"),
+    _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
+             source=f"{SEED}; {TOK}; {MAN}", confidence="I",
+             note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
+    _command("TABLE", "TABLE(start, v1, v2, ...) writes a run of TABLE values; TABLE(i) "
+             "reads one.", (1, 128), source=f"{SEED}; {TOK}"),
+    _command("WA", "Wait this many milliseconds.", (1, 1), source=f"{SEED}; {TOK}",
+             note="Rounded up to whole servo cycles; the process sleeps, the command line "
+             "answers when it ends (D)."),
+    _command("ETHERCAT", "EtherCAT master functions ($87 reinit, $22 state, $21 ...).",
+             (1, 20), source=REF, confidence="D",
+             note="No EtherCAT network: $22 with VR index -1 prints 0 (no network), others "
+             "are accepted and do nothing."),
+    # ---- program handling ------------------------------------------------------------------
+    _command("DIR", "List the programs.", (0, 1), source=REF,
+             note="Header ending in dashes, one line per program, then OK (ref 5)."),
+    _command("SELECT", "Select (and create) a program: SELECT \"N\",type.", (1, 2),
+             source=REF, string_arg=True,
+             note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. Creates it when missing."),
+    _command("DEL", "Delete a program.", (0, 2), source=REF, string_arg=True),
+    _command("LIST", "List a program's lines.", (0, 1), source=REF, string_arg=True),
+    _command("NEW", "Clear the lines of a program.", (0, 1), source=TOK, string_arg=True,
+             confidence="I", note="NEW \"N\" or the selected program (I from its name)."),
+    _command("COMPILE", "Compile the selected program.", (0, 1), source=REF,
+             note="Structure and syntax are checked here; errors are printed as "
+             "%[Program NAME Line n] lines (D)."),
+    _command("COMPILE_ALL", "Compile every program.", (0, 0), source=REF),
+    _command("EDPROG", "EDPROG\"N\",10 prints the program's CRC-16.", (2, 5), source=REF,
+             string_arg=True, note="Only function 10 (checksum) is modelled."),
+    _command("RUNTYPE", "RUNTYPE\"N\",1,proc: run at power up; RUNTYPE\"N\",0,-1: manual.",
+             (2, 3), source=REF, string_arg=True),
+    _command("RUN", "Start a program: RUN \"N\"[,process].", (0, 2), source=TOK,
+             string_arg=True, note="Compiles it first when edited (I)."),
+    _command("STOP", "Stop one program.", (0, 2), source=TOK, string_arg=True),
+    _command("HALT", "Stop every program.", (0, 0), source=f"{REF}; {TOK}",
+             note="Moves already loaded continue (I)."),
+    _command("PROCESS", "List the running processes.", (0, 1), source=REF, confidence="D",
+             note="One 'Process p:Program NAME - Running' line per process: the form is "
+             "ours (atrio only sends it)."),
+    _command("AUTORUN", "Start every program set to run at power up.", (0, 0), source=REF,
+             note="Prints '%[Process p:Program NAME] - Running' per program (atrio test)."),
+    _command("EX", "Restart the controller.", (0, 1), source=REF,
+             note="Echoes EX and CR LF, then nothing: the door closes the session and "
+             "starts a new one (ref 5)."),
+    # ---- functions ---------------------------------------------------------------------------
+    *[_function(name, f"{name}(x).", (1, 1), source=f"{TOK}; {MAN}")
+      for name in ("ABS", "INT", "FRAC", "SGN", "SQR", "SIN", "COS", "TAN", "ATAN", "EXP",
+                   "LN")],
+    _function("ATAN2", "ATAN2(y, x).", (2, 2)),
+    _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
+              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count D)."),
+    _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
+              string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
+              "TrioBASIC's TRUE (I)."),
+    _function("PROG_TYPE", "The program's type code, -1 when missing.", (1, 1), source=REF,
+              string_arg=True),
+    # ---- statements ---------------------------------------------------------------------------
+    _statement("PRINT", "Print expressions and strings; ',' tabs, ';' joins, a final ';' "
+               "keeps the line open. '?' is the same.", source=f"{REF}; {MAN}",
+               note="Integer values print without decimals (ref 3), others with 4 (manual)."),
+    _statement("IF", "IF cond THEN ... [ELSE ...] on one line, or a block to ENDIF."),
+    _statement("THEN", "Part of IF."),
+    _statement("ELSE", "Part of IF."),
+    _statement("ENDIF", "Ends a block IF."),
+    _statement("WHILE", "WHILE cond ... WEND.", note="One pass per servo cycle (D)."),
+    _statement("WEND", "Ends WHILE."),
+    _statement("REPEAT", "REPEAT ... UNTIL cond.", note="One pass per servo cycle (D)."),
+    _statement("UNTIL", "Ends REPEAT."),
+    _statement("FOR", "FOR v = a TO b [STEP s] ... NEXT v.", note="One pass per servo cycle "
+               "(D)."),
+    _statement("TO", "Part of FOR."),
+    _statement("STEP", "Part of FOR."),
+    _statement("NEXT", "Ends FOR."),
+    _statement("WAIT", "WAIT IDLE (the base axis finished every move) or WAIT UNTIL cond.",
+               source=f"{SEED}; {TOK}; {MAN}",
+               note="WAIT UNTIL tests once per servo cycle (D). Allowed on the command "
+               "line too, holding its prompt (D: the manual may restrict it to programs)."),
+    # ---- constants, operators, modifiers --------------------------------------------------------
+    _constant("TRUE", -1.0),
+    _constant("FALSE", 0.0),
+    _constant("ON", 1.0, source=f"{SEED}; {TOK}", note="ON is 1 (OFF is 0)."),
+    _constant("OFF", 0.0),
+    _constant("PI", math.pi),
+    *[Keyword(op, Kind.OPERATOR, f"{op} operator.", f"{TOK}; {MAN}", "C",
+              "Bitwise on the integer parts; comparisons give TRUE (-1) or FALSE (0)."
+              if op != "MOD" else "Remainder of the integer parts (I).")
+      for op in ("AND", "OR", "XOR", "NOT", "MOD")],
+    Keyword("AXIS", Kind.MODIFIER, "AXIS(n) after a parameter or command: axis n instead of "
+            "the base axis.", f"{SEED}; {TOK}", args=(1, 1)),
+]
+
+KEYWORDS: dict[str, Keyword] = {k.name: k for k in _ENTRIES}
+
+
+def lookup(name: str) -> Keyword | None:
+    return KEYWORDS.get(name.upper())

@@ -1,0 +1,103 @@
+"""What TrioBASIC needs from the machine below it.
+
+The language evaluates and checks every argument (ranges from the keyword table) before
+it calls one of these methods, and calls each at most once per statement, so a refusal
+leaves nothing half-applied. A method refuses by raising ``ValueError`` with the
+controller's error text (``PwmError`` and ``MemoryRangeError`` of the personality are
+ValueErrors); the language prints it as the statement's error.
+
+Positions, distances and speeds are in user units (the axis's UNITS applied by the
+machine), time is the integer servo-cycle count.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+
+class TrioMachine(Protocol):
+    @property
+    def axis_count(self) -> int:
+        """Axes the controller has (MC405: 0..axis_count-1, virtual axes included)."""
+        ...
+
+    def servo_tick(self) -> int:
+        """Servo cycles since power-up: the clock of WA and WAIT."""
+        ...
+
+    def servo_period_us(self) -> int:
+        """Length of one servo cycle in microseconds (SERVO_PERIOD in effect)."""
+        ...
+
+    # ---- parameters -----------------------------------------------------------------
+    def axis_parameter(self, name: str, axis: int) -> float:
+        """ATYPE UNITS SPEED ACCEL DECEL MERGE FE_LIMIT DPOS MPOS VP_SPEED PWM_CYCLE
+        PWM_MARK PWM_ENCODER of one axis."""
+        ...
+
+    def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
+        ...
+
+    def system_parameter(self, name: str) -> float:
+        """WDOG SERVO_PERIOD VERSION SYSTEM_ERROR SYSTEM_LOAD_MAX TSIZE."""
+        ...
+
+    def set_system_parameter(self, name: str, value: float) -> None:
+        ...
+
+    # ---- motion ---------------------------------------------------------------------
+    def can_load(self, axes: Sequence[int]) -> bool:
+        """Room for one more move on every one of these axes (else the process waits)."""
+        ...
+
+    def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
+        """MOVE: load a relative interpolated move; axes[0] is the path's base axis."""
+        ...
+
+    def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        """MOVEABS: load an absolute interpolated move."""
+        ...
+
+    def axis_idle(self, axis: int) -> bool:
+        """No move running or buffered on the axis (IDLE, WAIT IDLE)."""
+        ...
+
+    def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        """DEFPOS: redefine the present positions (PWM_ENCODER is not changed)."""
+        ...
+
+    def set_acc(self, axis: int, rate: float) -> None:
+        """ACC(rate): ACCEL and DECEL together."""
+        ...
+
+    def cancel(self, axis: int) -> None:
+        ...
+
+    def rapidstop(self) -> None:
+        ...
+
+    def connpath(self, axis: int, args: Sequence[float]) -> None:
+        """CONNPATH(base axis of the driving group[, ratio]) AXIS(axis)."""
+        ...
+
+    def cambox(self, axis: int, args: Sequence[float]) -> None:
+        """CAMBOX(start, end, multiplier, link distance, link axis[, options[, pos]])."""
+        ...
+
+    # ---- PWM and memory ---------------------------------------------------------------
+    def pwm_control(self, axis: int, args: Sequence[float]) -> None:
+        """PWM_CONTROL(mode, ...) on one axis (personality PwmOutput.control)."""
+        ...
+
+    def table_read(self, index: int) -> float:
+        ...
+
+    def table_write(self, start: int, values: Sequence[float]) -> None:
+        ...
+
+    def vr_read(self, index: int) -> float:
+        ...
+
+    def vr_write(self, index: int, value: float) -> None:
+        ...

@@ -1,0 +1,472 @@
+"""TrioBASIC syntax: one line into statements, expressions into trees.
+
+A line holds statements separated by ``:``. ``IF c THEN`` at the end of a line opens a
+block IF (closed by ENDIF); with statements after THEN it is a one-line IF whose
+statements run to the end of the line (ELSE splits them). Block statements (WHILE,
+WEND, REPEAT, UNTIL, FOR, NEXT, block IF/ELSE/ENDIF) are markers here; the interpreter
+links them into jumps when a program is compiled.
+
+Precedence, loosest first (D where the manual is silent): OR XOR, AND, NOT,
+comparisons, + -, * / MOD, unary minus, ^.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .keywords import Keyword, Kind, lookup
+from .lexer import Tok, Token, TrioError, tokenize
+
+# ---- expressions ---------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Num:
+    value: float
+
+
+@dataclass(frozen=True)
+class Str:
+    text: str
+
+
+@dataclass(frozen=True)
+class Var:
+    name: str
+
+
+@dataclass(frozen=True)
+class Param:
+    keyword: Keyword
+    axis: Expr | None  # AXIS(n) modifier
+
+
+@dataclass(frozen=True)
+class Call:
+    name: str
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Unary:
+    op: str
+    operand: Expr
+
+
+@dataclass(frozen=True)
+class Binary:
+    op: str
+    left: Expr
+    right: Expr
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary
+
+# ---- statements ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Print:
+    items: tuple[tuple[Expr, str], ...]  # (expression, separator after it: ',' ';' or '')
+    newline: bool
+
+
+@dataclass(frozen=True)
+class Assign:
+    target: Var | Param | Call  # Call only for VR(i)
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Command:
+    keyword: Keyword
+    args: tuple[Expr, ...]
+    axis: Expr | None
+
+
+@dataclass(frozen=True)
+class WaitIdle:
+    axis: Expr | None
+
+
+@dataclass(frozen=True)
+class WaitUntil:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class IfLine:
+    condition: Expr
+    then: tuple[Stmt, ...]
+    otherwise: tuple[Stmt, ...]
+
+
+@dataclass(frozen=True)
+class IfBlock:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class Else:
+    pass
+
+
+@dataclass(frozen=True)
+class EndIf:
+    pass
+
+
+@dataclass(frozen=True)
+class While:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class Wend:
+    pass
+
+
+@dataclass(frozen=True)
+class Repeat:
+    pass
+
+
+@dataclass(frozen=True)
+class Until:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class For:
+    variable: str
+    start: Expr
+    end: Expr
+    step: Expr | None
+
+
+@dataclass(frozen=True)
+class Next:
+    variable: str | None
+
+
+Stmt = (Print | Assign | Command | WaitIdle | WaitUntil | IfLine | IfBlock | Else | EndIf
+        | While | Wend | Repeat | Until | For | Next)
+BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next)
+
+_EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
+_PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
+
+
+def parse_line(text: str) -> list[Stmt]:
+    """All statements of one line (empty for a blank or comment line)."""
+    return _Parser(tokenize(text)).line()
+
+
+def parse_expression(text: str) -> Expr:
+    parser = _Parser(tokenize(text))
+    expr = parser.expression()
+    parser.expect_end()
+    return expr
+
+
+class _Parser:
+    def __init__(self, tokens: list[Token]) -> None:
+        self.tokens = tokens
+        self.pos = 0
+
+    # ---- token helpers ---------------------------------------------------------------
+    @property
+    def tok(self) -> Token:
+        return self.tokens[self.pos]
+
+    def advance(self) -> Token:
+        tok = self.tokens[self.pos]
+        if tok.kind is not Tok.END:
+            self.pos += 1
+        return tok
+
+    def at_op(self, *ops: str) -> bool:
+        return self.tok.kind is Tok.OP and self.tok.text in ops
+
+    def at_name(self, *names: str) -> bool:
+        return self.tok.kind is Tok.NAME and self.tok.text in names
+
+    def expect_op(self, op: str) -> None:
+        if not self.at_op(op):
+            raise TrioError("Syntax error")
+        self.advance()
+
+    def expect_end(self) -> None:
+        if self.tok.kind is not Tok.END:
+            raise TrioError("Syntax error")
+
+    def at_statement_end(self) -> bool:
+        return self.tok.kind is Tok.END or self.at_op(":") or self.at_name("ELSE")
+
+    # ---- statements --------------------------------------------------------------------
+    def line(self) -> list[Stmt]:
+        statements: list[Stmt] = []
+        while self.tok.kind is not Tok.END:
+            if self.at_op(":"):
+                self.advance()
+                continue
+            statement = self.statement()
+            statements.append(statement)
+            if isinstance(statement, IfLine):
+                break  # a one-line IF takes the rest of the line
+            if self.tok.kind is not Tok.END:
+                self.expect_op(":")
+        return statements
+
+    def statements_until_else(self) -> tuple[Stmt, ...]:
+        out: list[Stmt] = []
+        while self.tok.kind is not Tok.END and not self.at_name("ELSE"):
+            if self.at_op(":"):
+                self.advance()
+                continue
+            statement = self.statement()
+            if isinstance(statement, BLOCK_STATEMENTS):
+                raise TrioError("Syntax error")
+            out.append(statement)
+            if not self.at_statement_end():
+                raise TrioError("Syntax error")
+        return tuple(out)
+
+    def statement(self) -> Stmt:
+        tok = self.tok
+        if self.at_op("?"):
+            self.advance()
+            return self.print_rest()
+        if tok.kind is not Tok.NAME:
+            raise TrioError("Syntax error")
+        name = tok.text
+        keyword = lookup(name)
+        if keyword is None:
+            self.advance()
+            self.expect_op("=")
+            return Assign(Var(name), self.expression())
+        self.advance()
+        if keyword.kind is Kind.STATEMENT:
+            return self.block_or_statement(name)
+        if keyword.kind is Kind.COMMAND:
+            return self.command(keyword)
+        if name in _PARAM_COMMANDS and self.at_op("("):
+            return self.command(keyword)
+        if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
+            axis = self.axis_modifier() if keyword.axis_modifier else None
+            self.expect_op("=")
+            return Assign(Param(keyword, axis), self.expression())
+        if name == "VR":
+            self.expect_op("(")
+            index = self.expression()
+            self.expect_op(")")
+            self.expect_op("=")
+            return Assign(Call("VR", (index,)), self.expression())
+        raise TrioError("Syntax error")
+
+    def block_or_statement(self, name: str) -> Stmt:
+        if name == "PRINT":
+            return self.print_rest()
+        if name == "IF":
+            condition = self.expression()
+            if not self.at_name("THEN"):
+                raise TrioError("Syntax error")
+            self.advance()
+            if self.tok.kind is Tok.END:
+                return IfBlock(condition)
+            then = self.statements_until_else()
+            otherwise: tuple[Stmt, ...] = ()
+            if self.at_name("ELSE"):
+                self.advance()
+                otherwise = self.statements_until_else()
+                if self.tok.kind is not Tok.END:
+                    raise TrioError("Syntax error")
+            return IfLine(condition, then, otherwise)
+        if name == "ELSE":
+            return Else()
+        if name == "ENDIF":
+            return EndIf()
+        if name == "WHILE":
+            return While(self.expression())
+        if name == "WEND":
+            return Wend()
+        if name == "REPEAT":
+            return Repeat()
+        if name == "UNTIL":
+            return Until(self.expression())
+        if name == "FOR":
+            return self.for_statement()
+        if name == "NEXT":
+            if self.tok.kind is Tok.NAME and lookup(self.tok.text) is None:
+                return Next(self.advance().text)
+            return Next(None)
+        if name == "WAIT":
+            if self.at_name("IDLE"):
+                self.advance()
+                return WaitIdle(self.axis_modifier())
+            if self.at_name("UNTIL"):
+                self.advance()
+                return WaitUntil(self.expression())
+        raise TrioError("Syntax error")
+
+    def for_statement(self) -> For:
+        tok = self.advance()
+        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        self.expect_op("=")
+        start = self.expression()
+        if not self.at_name("TO"):
+            raise TrioError("Syntax error")
+        self.advance()
+        end = self.expression()
+        step = None
+        if self.at_name("STEP"):
+            self.advance()
+            step = self.expression()
+        return For(tok.text, start, end, step)
+
+    def print_rest(self) -> Print:
+        items: list[tuple[Expr, str]] = []
+        newline = True
+        while not self.at_statement_end():
+            expr = self.expression()
+            separator = ""
+            if self.at_op(",", ";"):
+                separator = self.advance().text
+            items.append((expr, separator))
+            if not separator:
+                break
+        if items and items[-1][1]:
+            newline = False  # a trailing ',' or ';' keeps the line open
+        return Print(tuple(items), newline)
+
+    def command(self, keyword: Keyword) -> Command:
+        args: list[Expr] = []
+        if self.at_op("("):
+            self.advance()
+            if not self.at_op(")"):
+                args.append(self.expression())
+                while self.at_op(","):
+                    self.advance()
+                    args.append(self.expression())
+            self.expect_op(")")
+        elif not self.at_statement_end() and not self.at_name("AXIS"):
+            args.append(self.expression())
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
+        axis = self.axis_modifier() if keyword.axis_modifier else None
+        low, high = keyword.args if keyword.kind is Kind.COMMAND else (1, 1)
+        if not low <= len(args) <= high:
+            raise TrioError("Syntax error")
+        return Command(keyword, tuple(args), axis)
+
+    def axis_modifier(self) -> Expr | None:
+        if not self.at_name("AXIS"):
+            return None
+        self.advance()
+        self.expect_op("(")
+        axis = self.expression()
+        self.expect_op(")")
+        return axis
+
+    # ---- expressions ---------------------------------------------------------------------
+    def expression(self) -> Expr:
+        left = self.and_expr()
+        while self.at_name("OR", "XOR"):
+            op = self.advance().text
+            left = Binary(op, left, self.and_expr())
+        return left
+
+    def and_expr(self) -> Expr:
+        left = self.not_expr()
+        while self.at_name("AND"):
+            self.advance()
+            left = Binary("AND", left, self.not_expr())
+        return left
+
+    def not_expr(self) -> Expr:
+        if self.at_name("NOT"):
+            self.advance()
+            return Unary("NOT", self.not_expr())
+        return self.comparison()
+
+    def comparison(self) -> Expr:
+        left = self.additive()
+        while self.at_op("=", "<>", "<", ">", "<=", ">="):
+            op = self.advance().text
+            left = Binary(op, left, self.additive())
+        return left
+
+    def additive(self) -> Expr:
+        left = self.term()
+        while self.at_op("+", "-"):
+            op = self.advance().text
+            left = Binary(op, left, self.term())
+        return left
+
+    def term(self) -> Expr:
+        left = self.unary()
+        while self.at_op("*", "/") or self.at_name("MOD"):
+            op = self.advance().text
+            left = Binary(op, left, self.unary())
+        return left
+
+    def unary(self) -> Expr:
+        if self.at_op("-", "+"):
+            op = self.advance().text
+            operand = self.unary()
+            return Unary("-", operand) if op == "-" else operand
+        return self.power()
+
+    def power(self) -> Expr:
+        left = self.primary()
+        while self.at_op("^"):
+            self.advance()
+            left = Binary("^", left, self.unary_primary())
+        return left
+
+    def unary_primary(self) -> Expr:
+        if self.at_op("-"):
+            self.advance()
+            return Unary("-", self.primary())
+        return self.primary()
+
+    def primary(self) -> Expr:
+        tok = self.advance()
+        if tok.kind is Tok.NUMBER:
+            return Num(tok.value)
+        if tok.kind is Tok.STRING:
+            return Str(tok.text)
+        if tok.kind is Tok.OP and tok.text == "(":
+            expr = self.expression()
+            self.expect_op(")")
+            return expr
+        if tok.kind is not Tok.NAME:
+            raise TrioError("Syntax error")
+        keyword = lookup(tok.text)
+        if keyword is None:
+            return Var(tok.text)
+        if keyword.kind is Kind.CONSTANT:
+            return Num(keyword.default)
+        if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
+            axis = self.axis_modifier() if keyword.axis_modifier else None
+            return Param(keyword, axis)
+        if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS:
+            return Call(tok.text, self.call_args(keyword))
+        raise TrioError("Syntax error")
+
+    def call_args(self, keyword: Keyword) -> tuple[Expr, ...]:
+        if keyword.string_arg and self.tok.kind is Tok.STRING:
+            return (Str(self.advance().text),)
+        if not self.at_op("("):
+            if keyword.name == "BASE":
+                return ()
+            raise TrioError("Syntax error")
+        self.advance()
+        args = [self.expression()]
+        while self.at_op(","):
+            self.advance()
+            args.append(self.expression())
+        self.expect_op(")")
+        return tuple(args)

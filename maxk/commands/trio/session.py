@@ -1,0 +1,169 @@
+"""The Trio command line over telnet, byte for byte as atrio needs it.
+
+For ``?1+1`` CR LF the controller sends: the echo of each character as it arrives, CR LF
+for the CR, the output lines (each CR LF), the prompt ``>>`` (no trailing space); then
+for the LF: the LF itself, ``Control char : 0x10000000A`` CR LF and ``>>`` again. An
+error is one ``%[COMMAND LINE] - <text>`` line (D: atrio needs ``%[COMMAND`` and CR LF;
+the rest of the text is ours), followed by the prompt as usual. Telnet negotiation
+(IAC ...) and NUL bytes are dropped from the input.
+
+A command that waits (``WA(100)``, ``WAIT IDLE``) holds the command line: its output and
+prompt come when it ends, and bytes received meanwhile are kept and handled after it.
+Programs run as processes beside the command line; the door calls
+:meth:`TrioCommandLine.servo_cycle` once per servo cycle, after the machine's cycle.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Generator
+
+from .interpreter import Interpreter, ProcessContext
+from .lexer import TrioError
+from .machine import TrioMachine
+from .parser import BLOCK_STATEMENTS, Stmt, parse_line
+from .programs import ProgramStore
+from .system import ProgramCommands
+
+PROMPT = b">>"
+LINE_LIMIT = 1024  # characters in one command line (D)
+_IAC, _SB, _SE = 0xFF, 0xFA, 0xF0
+_EDIT = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),(\d+)([RID])(.*)", re.DOTALL)
+_EDIT_CONTROL = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),([A-Z])")
+_EX = re.compile(r"\s*EX\s*(\(\s*\d*\s*\))?\s*", re.IGNORECASE)
+
+
+class TrioCommandLine:
+    """One telnet command-line session (the Session contract: feed / read)."""
+
+    def __init__(self, machine: TrioMachine,
+                 programs: ProgramStore | str | os.PathLike[str] | None = None) -> None:
+        self.machine = machine
+        store = programs if isinstance(programs, ProgramStore) else ProgramStore(programs)
+        self.system = ProgramCommands(machine, store, self._print)
+        self.interpreter = Interpreter(machine, self.system, self._print)
+        self.system.interpreter = self.interpreter
+        self.context = ProcessContext(process=-1)
+        self.restart_requested = False
+        self._input = bytearray()
+        self._line = bytearray()
+        self._out = bytearray()
+        self._telnet = 0  # 0 data, 1 after IAC, 2 option byte, 3 in SB, 4 IAC in SB
+        self._busy: Generator[None, None, None] | None = None
+
+    @property
+    def programs(self) -> ProgramStore:
+        return self.system.programs
+
+    # ---- the Session contract ---------------------------------------------------------------
+    def feed(self, data: bytes) -> None:
+        self._input += data
+        self._pump()
+
+    def read(self) -> bytes:
+        out = bytes(self._out)
+        self._out.clear()
+        return out
+
+    def servo_cycle(self) -> None:
+        """One servo cycle of the processes, then of a waiting command-line statement."""
+        self.system.run_processes()
+        if self._busy is not None:
+            self._advance()
+            self._pump()
+
+    def power_up(self) -> None:
+        """Start the programs set to run at power up (after a restart of the door)."""
+        self.system.start_autorun(announce=False)
+
+    # ---- input bytes --------------------------------------------------------------------------
+    def _print(self, text: str) -> None:
+        self._out += text.encode("latin-1", "replace")
+
+    def _pump(self) -> None:
+        while self._input and self._busy is None and not self.restart_requested:
+            byte = self._input.pop(0)
+            if self._telnet or byte == _IAC:
+                self._telnet_byte(byte)
+            elif byte == 0:
+                continue
+            elif byte == 0x0D:
+                self._out += b"\r\n"
+                line = self._line.decode("latin-1")
+                self._line.clear()
+                self._execute(line)
+            elif byte < 0x20 or byte == 0x7F:
+                self._out.append(byte)
+                self._out += f"Control char : 0x1{byte:08X}\r\n".encode() + PROMPT
+            else:
+                self._line.append(byte)
+                self._out.append(byte)
+
+    def _telnet_byte(self, byte: int) -> None:
+        state = self._telnet
+        if state == 0:
+            self._telnet = 1
+        elif state == 1:
+            self._telnet = 2 if 0xFB <= byte <= 0xFE else 3 if byte == _SB else 0
+        elif state == 2:
+            self._telnet = 0
+        elif state == 3:
+            self._telnet = 4 if byte == _IAC else 3
+        else:
+            self._telnet = 0 if byte == _SE else 3
+
+    # ---- one command line ---------------------------------------------------------------------
+    def _execute(self, line: str) -> None:
+        if _EX.fullmatch(line):
+            self.system.halt()
+            self.restart_requested = True  # no prompt, no trailer: the door restarts
+            return
+        try:
+            if len(line) > LINE_LIMIT:
+                raise TrioError("Line too long")
+            if line.startswith("!"):
+                self._edit(line)
+                statements: list[Stmt] = []
+            elif line.strip().upper() == "&M":
+                statements = []  # Motion Perfect's channel marker: accepted, no effect (D)
+            else:
+                statements = parse_line(line)
+                if any(isinstance(s, BLOCK_STATEMENTS) for s in statements):
+                    raise TrioError("Structure error")
+        except TrioError as exc:
+            self._error(exc)
+            return
+        self._busy = self._run(statements)
+        self._advance()
+
+    def _run(self, statements: list[Stmt]) -> Generator[None, None, None]:
+        for stmt in statements:
+            yield from self.interpreter.execute(stmt, self.context)
+
+    def _advance(self) -> None:
+        assert self._busy is not None
+        try:
+            next(self._busy)
+            return  # still waiting
+        except StopIteration:
+            self._out += PROMPT
+        except TrioError as exc:
+            self._error(exc)
+        self._busy = None
+
+    def _error(self, exc: TrioError) -> None:
+        self._print(f"%[COMMAND LINE] - {exc.message}\r\n")
+        self._out += PROMPT
+
+    def _edit(self, line: str) -> None:
+        """atrio's program download: ``!NAME,nR<text>`` per line, ``!NAME,M``, ``!NAME,Z``."""
+        match = _EDIT.fullmatch(line)
+        if match:
+            name, number, action, text = match.groups()
+            self.system.edit(name, int(number), action, text)
+            return
+        control = _EDIT_CONTROL.fullmatch(line)
+        if control is None or control.group(2) not in ("M", "Z"):
+            raise TrioError("Syntax error")
+        self.system.edit_control(control.group(1), control.group(2))

@@ -1,0 +1,260 @@
+"""Program handling and processes: DIR, SELECT, LIST, COMPILE, RUN, HALT, the checksums.
+
+What atrio sends (reference section 5) and what it parses back: DIR's table, the
+type codes of SELECT and PROG_TYPE, EDPROG's CRC, RUNTYPE and AUTORUN. Programs run as
+processes, one task each, stepped once per servo cycle in process order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Generator
+
+from .interpreter import Interpreter, ProcessContext, Value, Wait
+from .keywords import Keyword
+from .lexer import TrioError
+from .machine import TrioMachine
+from .programs import ProgramStore, crc16
+from .tasks import Step, Task, compile_program
+
+PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 10)
+_BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
+
+
+class ProgramCommands:
+    """The SystemHook of the interpreter: commands that act on programs and processes."""
+
+    def __init__(self, machine: TrioMachine, programs: ProgramStore,
+                 output: Callable[[str], None]) -> None:
+        self.machine = machine
+        self.programs = programs
+        self.output = output
+        self.interpreter: Interpreter | None = None  # set by the session
+        self.selected: str | None = None
+        self.tasks: dict[int, Task] = {}
+        self.compiled: dict[str, list[Step]] = {}
+
+    # ---- SystemHook ---------------------------------------------------------------------
+    def system_parameter(self, name: str) -> float | None:
+        if name in ("MPE", "FLASH_STATUS"):
+            return 0.0
+        if name == "CHECKSUM":
+            crc = 0
+            for program in self.programs.names():
+                crc = crc16(self.programs.checksum(program).to_bytes(2, "big"), crc)
+            return float(crc)
+        return None
+
+    def system_function(self, name: str, args: list[Value]) -> float:
+        program = _name(args)
+        if name == "IS_PROG":
+            return -1.0 if self.programs.exists(program) else 0.0
+        return float(self.programs.get(program).type) if self.programs.exists(program) else -1.0
+
+    def system_command(self, keyword: Keyword, args: list[Value],
+                       ctx: ProcessContext) -> Wait:
+        handler = getattr(self, "cmd_" + keyword.name.lower())
+        handler(args)
+        return _done()
+
+    # ---- program handling -----------------------------------------------------------------
+    def _target(self, args: list[Value]) -> str:
+        """The program named by the first argument, else the selected one."""
+        if args and isinstance(args[0], str):
+            return self.programs.get(args[0]).name
+        if args or self.selected is None or not self.programs.exists(self.selected):
+            raise TrioError("Program not found")
+        return self.selected
+
+    def _not_running(self, name: str) -> None:
+        if any(t.ctx.program == name for t in self.tasks.values()):
+            raise TrioError("Program is running")
+
+    def cmd_dir(self, args: list[Value]) -> None:
+        for line in self.programs.directory_lines():
+            self.output(line + "\r\n")
+
+    def cmd_select(self, args: list[Value]) -> None:
+        name = _name(args[:1])
+        if len(args) == 2:
+            program_type = _integer(args[1])
+            info = self.programs.create(name, program_type)
+        else:
+            info = self.programs.get(name)
+        self.selected = info.name
+
+    def cmd_del(self, args: list[Value]) -> None:
+        name = self._target(args[:1])
+        self._not_running(name)
+        self.programs.delete(name)
+        self.compiled.pop(name, None)
+        if self.selected == name:
+            self.selected = None
+
+    def cmd_new(self, args: list[Value]) -> None:
+        name = self._target(args)
+        self._not_running(name)
+        self.programs.clear(name)
+        self.compiled.pop(name, None)
+
+    def cmd_list(self, args: list[Value]) -> None:
+        name = self._target(args)
+        for line in self.programs.lines[name]:
+            self.output(line + "\r\n")
+
+    def edit(self, name: str, number: int, action: str, text: str) -> None:
+        program = self.programs.get(name).name
+        self._not_running(program)
+        self.programs.edit(program, number, action, text)
+        self.compiled.pop(program, None)
+
+    def edit_control(self, name: str, action: str) -> None:
+        """``!NAME,M`` / ``!NAME,Z``: end of a download; the store is already written (D)."""
+        self.programs.get(name)
+
+    def compile(self, name: str) -> list[Step]:
+        """Compile one program; its errors carry the line number."""
+        steps = compile_program(self.programs.lines[name])
+        self.compiled[name] = steps
+        self.programs.set_compiled(name, 4 * len(steps))
+        return steps
+
+    def _compile_reporting(self, name: str) -> None:
+        if self.programs.get(name).type not in _BASIC_TYPES:
+            return
+        try:
+            self.compile(name)
+        except TrioError as exc:
+            self.output(f"%[Program {name} Line {exc.line}] - {exc.message}\r\n")
+
+    def cmd_compile(self, args: list[Value]) -> None:
+        self._compile_reporting(self._target(args))
+
+    def cmd_compile_all(self, args: list[Value]) -> None:
+        for name in self.programs.names():
+            self._compile_reporting(name)
+
+    def cmd_edprog(self, args: list[Value]) -> None:
+        name = self._target(args[:1])
+        if len(args) != 2 or _integer(args[1]) != 10:
+            raise TrioError("Parameter out of range")
+        self.output(f"{self.programs.checksum(name)}\r\n")
+
+    def cmd_runtype(self, args: list[Value]) -> None:
+        name = self._target(args[:1])
+        autorun = _integer(args[1])
+        process = _integer(args[2]) if len(args) > 2 else -1
+        if autorun not in (0, 1) or not -1 <= process < PROCESS_COUNT:
+            raise TrioError("Parameter out of range")
+        self.programs.set_runtype(name, autorun == 1, process if autorun else -1)
+
+    # ---- processes ------------------------------------------------------------------------
+    def start(self, name: str, process: int = -1) -> int:
+        """RUN: compile when edited, then start on the process given (or the highest free)."""
+        info = self.programs.get(name)
+        if info.type not in _BASIC_TYPES:
+            raise TrioError("Program cannot be run")
+        self._not_running(info.name)
+        if process == -1:
+            free = [p for p in range(PROCESS_COUNT - 1, -1, -1) if p not in self.tasks]
+            if not free:
+                raise TrioError("No free process")
+            process = free[0]
+        elif not 0 <= process < PROCESS_COUNT:
+            raise TrioError("Parameter out of range")
+        elif process in self.tasks:
+            raise TrioError("Process is busy")
+        steps = self.compiled.get(info.name)
+        if steps is None:
+            try:
+                steps = self.compile(info.name)
+            except TrioError as exc:
+                raise TrioError(f"Program {info.name} line {exc.line}: {exc.message}") from None
+        assert self.interpreter is not None
+        ctx = ProcessContext(process=process, program=info.name)
+        self.tasks[process] = Task(self.interpreter, steps, ctx)
+        return process
+
+    def cmd_run(self, args: list[Value]) -> None:
+        process = _integer(args[1]) if len(args) > 1 else -1
+        self.start(self._target(args[:1]), process)
+
+    def cmd_stop(self, args: list[Value]) -> None:
+        name = self._target(args[:1])
+        for process, task in list(self.tasks.items()):
+            if task.ctx.program == name:
+                del self.tasks[process]
+
+    def halt(self) -> None:
+        self.tasks.clear()
+
+    def cmd_halt(self, args: list[Value]) -> None:
+        self.halt()
+
+    def cmd_process(self, args: list[Value]) -> None:
+        for process in sorted(self.tasks):
+            task = self.tasks[process]
+            self.output(f"Process {process}:Program {task.ctx.program} - Running\r\n")
+
+    def start_autorun(self, announce: bool) -> None:
+        """AUTORUN; and power up (announce False), which starts MC_CONFIG (type 9) first."""
+        infos = [self.programs.info[n] for n in self.programs.names()]
+        wanted = [i for i in infos if i.type == 0 and i.autorun]
+        if not announce:
+            wanted = [i for i in infos if i.type == 9] + wanted
+        for info in wanted:
+            try:
+                process = self.start(info.name, info.process if info.type == 0 else -1)
+            except TrioError as exc:
+                self.output(f"%[Program {info.name}] - {exc.message}\r\n")
+                continue
+            if announce:
+                self.output(f"%[Process {process}:Program {info.name}] - Running\r\n")
+
+    def cmd_autorun(self, args: list[Value]) -> None:
+        self.start_autorun(announce=True)
+
+    def cmd_ex(self, args: list[Value]) -> None:
+        raise TrioError("Syntax error")  # EX restarts only when alone on its line (D)
+
+    def cmd_ethercat(self, args: list[Value]) -> None:
+        numbers = [_number(a) for a in args]
+        if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:
+            self.output("0\r\n")  # no EtherCAT network: state 0 (D)
+
+    def run_processes(self) -> None:
+        """One servo cycle of every process, lowest number first."""
+        for process in sorted(self.tasks):
+            task = self.tasks.get(process)
+            if task is None:
+                continue  # stopped by an earlier process this cycle
+            try:
+                task.step()
+            except TrioError as exc:
+                self.output(f"%[Process {process}:Program {task.ctx.program} "
+                            f"Line {exc.line}] - {exc.message}\r\n")
+            if task.finished and self.tasks.get(process) is task:
+                del self.tasks[process]
+
+
+def _done() -> Generator[None, None, None]:
+    return
+    yield  # a generator that finishes at once
+
+
+def _name(args: list[Value]) -> str:
+    if len(args) != 1 or not isinstance(args[0], str):
+        raise TrioError("Syntax error")
+    return args[0].upper()
+
+
+def _number(value: Value) -> float:
+    if isinstance(value, str):
+        raise TrioError("Syntax error")
+    return value
+
+
+def _integer(value: Value) -> int:
+    number = _number(value)
+    if number != int(number):
+        raise TrioError("Parameter out of range")
+    return int(number)
