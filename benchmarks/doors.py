@@ -9,7 +9,7 @@ import time
 
 from maxk import MAXk
 from maxk.host.pacing import Pacer
-from maxk.host.server import EOLS, BoardService, Framing, Server
+from maxk.host.server import Server, Service
 
 BUSY = ("AA; VL50000,40000,30000,20000,10000,50000,40000,30000,20000,10000;"
         "AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
@@ -23,7 +23,7 @@ def _serve(boards: int, seconds: float, ports_out, stats_out) -> None:  # type: 
     for n in range(1, boards + 1):
         maxk = MAXk("MAXk-A000")
         maxk.send(BUSY)
-        services.append(BoardService(n, maxk, Pacer(maxk), Framing(EOLS["lfcr"])))
+        services.append(Service(n, maxk, Pacer(maxk)))
     server = Server(services)
     worst = {"lag": 0.0, "gap": 0.0}
     last = [time.monotonic()]

@@ -7,8 +7,10 @@ import socket
 import threading
 
 from maxk import MAXk
+from maxk.commands.max.session import EOLS, Framing
+from maxk.controllers.registry import build
 from maxk.host.pacing import Pacer
-from maxk.host.server import EOLS, BoardService, Framing, Server
+from maxk.host.server import Server, Service
 
 
 class ManualClock:
@@ -33,11 +35,14 @@ class HostedBoards:
         framing = Framing(EOLS[eol], ack)
         self.services = []
         for n, model in enumerate(models, start=1):
-            maxk = MAXk(model)
-            self.services.append(BoardService(n, maxk, Pacer(maxk, speed, self.clock), framing))
+            controller = build(model)
+            if isinstance(controller, MAXk):
+                controller.framing = framing
+            self.services.append(Service(n, controller, Pacer(controller, speed, self.clock)))
         self.server = Server(self.services)
         self.loop = asyncio.new_event_loop()
         self.ports = []
+        self.udp_ports = []
         self.ptys = []
         self.memories = []
         ready = threading.Event()
@@ -47,7 +52,12 @@ class HostedBoards:
 
             async def main():
                 for service in self.services:
-                    self.ports.append((await self.server.open_tcp(service, "127.0.0.1", 0))[1])
+                    if "tcp" in service.controller.transports:
+                        self.ports.append(
+                            (await self.server.open_tcp(service, "127.0.0.1", 0))[1])
+                    if "udp" in service.controller.transports:
+                        self.udp_ports.append(
+                            (await self.server.open_udp(service, "127.0.0.1", 0))[1])
                     if pty:
                         self.ptys.append(self.server.open_pty(service))
                     if shm_paths:

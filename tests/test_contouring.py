@@ -429,7 +429,7 @@ def test_trajectory_scan_over_tcp():
                 c.command(line)
         c.command("AM;VO[1]=100;VO[2]=100;")
         c.command("AM;VG[1];VG[2];")
-        hosted.call(lambda: hosted.services[0].maxk.set_input(3, True))
+        hosted.call(lambda: hosted.services[0].controller.set_input(3, True))
         polls = []
         for _ in range(30):
             hosted.advance(0.2)

@@ -13,7 +13,7 @@ import maxk  # noqa: F401
 from maxk import MAXk
 from maxk.host import memory_map as M
 from maxk.host.pacing import Pacer
-from maxk.host.server import EOLS, HARD_LIMIT, BoardService, Framing
+from maxk.host.server import HARD_LIMIT, Service
 from maxk.host.shared_memory import SharedMemoryDoor
 from maxk.host.shm_client import SharedMemoryHost
 from maxk.personalities.maxk.capture import CaptureEntry
@@ -24,7 +24,7 @@ ROOT = Path(__file__).parent.parent
 
 def door(tmp_path):
     m = MAXk()
-    service = BoardService(1, m, Pacer(m, 1.0, ManualClock()), Framing(EOLS["lfcr"]))
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
     d = SharedMemoryDoor(service, str(tmp_path / "map"))
     return m, d, SharedMemoryHost(d.path)
 
@@ -109,7 +109,7 @@ def test_tcp_client_that_never_reads_has_bounded_output():
             pass
 
     m = MAXk()
-    service = BoardService(1, m, Pacer(m, 1.0, ManualClock()), Framing(EOLS["lfcr"]))
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
     client = TcpClient(service)
     client.connection_made(Transport())
     for _ in range(200_000):

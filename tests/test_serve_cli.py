@@ -43,7 +43,7 @@ def test_serve_prints_its_doors_answers_and_cleans_up(tmp_path):
 
 def test_serve_refuses_bad_arguments():
     for args, message in ((["--boards", "17"], "1..16"),
-                          (["--model", "MAXk-9999"], "unknown board model"),
+                          (["--model", "MAXk-9999"], "unknown controller model"),
                           (["--boards", "2", "--model", "MAXk-1000,MAXk-2000,MAXk-3000"],
                            "one per board")):
         result = subprocess.run([sys.executable, "-m", "maxk", "serve", "--seconds", "0.1",

@@ -129,7 +129,7 @@ def test_robustness_disconnects_floods_garbage_and_many_clients(hosted):
     assert hosted.connect().query("WY").startswith("MAXk-8000")
     # the flood was cut off as one bad command, and memory stays bounded
     service = hosted.services[0]
-    assert hosted.call(lambda: service.maxk.command_error)
+    assert hosted.call(lambda: service.controller.command_error)
     flood.send(b";\n")
     assert flood.query("AX RP") == "0"
     for c in [flood, junk, *clients]:

@@ -20,6 +20,8 @@ from dataclasses import dataclass, replace
 
 from maxk.commands.max.interpreter import Interpreter
 from maxk.commands.max.lexer import SEPARATORS
+from maxk.commands.max.session import Framing, MaxSession
+from maxk.controllers.contract import Notify, Transport
 from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.board import Board, CommandErrorRecord
@@ -55,13 +57,37 @@ class MAXk:
         store = ParameterArchive(None if archive in (None, False) else archive)  # type: ignore
         self.board = Board(model, update_rate_hz, archive=store)
         self.interpreter = Interpreter(self.board)
+        self.framing = Framing()  # how sessions frame replies (`maxk serve --eol/--ack`)
+        self._sessions: list[MaxSession] = []
+
+    # ---- the door contract (controllers/contract.py) ---------------------------------
+    kind = "MAXk"
+    transports: tuple[Transport, ...] = ("tcp", "pty")
+    packet_size = None
+
+    @property
+    def model(self) -> str:
+        return self.board.model.name
+
+    @property
+    def engine(self) -> Board:
+        return self.board
+
+    def open_session(self, notify: Notify | None = None) -> MaxSession:
+        """A host's line session: its own lexer, MAXnet-framed replies, notifications."""
+        session = MaxSession(self.board, self.framing, notify)
+        self._sessions.append(session)
+        return session
 
     def reset(self) -> None:
         """Reset the controller (the DLL's ResetOmsController): motion stops at once,
         the power-up sequence runs again with the archived parameters. A command half
-        received is lost."""
+        received is lost, in every session."""
         self.board.reset()
         self.interpreter = Interpreter(self.board)
+        self._sessions = [s for s in self._sessions if not s.closed]
+        for session in self._sessions:
+            session.lose_partial_command()
 
     @property
     def firmware_flags(self) -> int:

@@ -1,4 +1,5 @@
-"""pyserial URL handler: `serial.serial_for_url("maxk://MAXk-4000")` is an in-process board.
+"""pyserial URL handler: `serial.serial_for_url("maxk://MAXk-4000")` is an in-process
+controller (any model `maxk serve` knows, through the controller contract).
 
 Registered the way pyserial documents for protocol handlers: importing maxk appends
 "maxk.host" to `serial.protocol_handler_packages`, and pyserial then finds this module,
@@ -21,11 +22,11 @@ import urllib.parse
 import serial
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
-from maxk.commands.max.interpreter import Interpreter
-from maxk.controllers.maxk import MAXk
+from maxk.commands.max.session import EOLS
+from maxk.controllers.contract import BuildOptions, Controller, Session
+from maxk.controllers.registry import build, canonical_model
 from maxk.host.pacing import Pacer
-from maxk.host.server import EOLS, Framing
-from maxk.personalities.maxk.models import DEFAULT_MODEL, model_by_name
+from maxk.personalities.maxk.models import DEFAULT_MODEL
 
 POLL = 0.0005  # seconds between looks while a read waits (the wall clock is the door's)
 MAX_INCOMING = 1 << 20  # unread bytes kept; beyond this the oldest are lost, as on a line
@@ -39,19 +40,30 @@ class Serial(SerialBase):
             raise SerialException("port must be configured before it can be used")
         if self.is_open:
             raise SerialException("port already open")
-        model, speed, framing = self._parse(self._port)
-        if getattr(self, "maxk", None) is None or self.maxk.board.model.name != model:
-            # The board is powered as long as this object lives: closing and reopening
-            # the port keeps its state, as unplugging a cable would.
-            self.maxk = MAXk(model)
-            self.pacer = Pacer(self.maxk, speed)
-            self.interpreter = Interpreter(self.maxk.board)
+        model, speed, line_options = self._parse(self._port)
+        if getattr(self, "controller", None) is None or self.controller.model != model:
+            # The controller is powered as long as this object lives: closing and
+            # reopening the port keeps its state, as unplugging a cable would.
+            self.controller: Controller = build(model, BuildOptions(line_options=line_options))
+            self.pacer = Pacer(self.controller, speed)
             self._incoming = bytearray()
             self._lock = threading.RLock()  # a reader thread and a writer may share it
-            self.maxk.board.add_flag_listener(
-                lambda word: self._receive(self.framing.notification(word)))
-        self.framing = framing
+            self.session: Session | None = None
+        if self.session is None or line_options != self._line_options:
+            if self.session is not None:
+                self.session.close()
+            framing = getattr(self.controller, "framing", None)
+            if framing is not None:  # a MAXk: the URL's eol/ack frame its replies
+                self.controller.framing = type(framing).from_options(  # type: ignore[attr-defined]
+                    line_options)
+            self.session = self.controller.open_session(notify=self._drain)
+            self._line_options = line_options
         self.is_open = True
+
+    def _drain(self) -> None:
+        """The session has output (replies, notifications): keep it for read()."""
+        if self.session is not None:
+            self._receive(self.session.read())
 
     def _receive(self, data: bytes) -> None:
         self._incoming.extend(data)
@@ -59,13 +71,13 @@ class Serial(SerialBase):
             del self._incoming[: len(self._incoming) - MAX_INCOMING]
 
     @staticmethod
-    def _parse(url: str) -> tuple[str, float, Framing]:
+    def _parse(url: str) -> tuple[str, float, dict[str, str]]:
         parts = urllib.parse.urlsplit(url)
         if parts.scheme != "maxk":
             raise SerialException(f"expected a maxk:// URL, got {url!r}")
         name = (parts.netloc + parts.path).strip("/") or DEFAULT_MODEL
         try:
-            model = model_by_name(name).name
+            model = canonical_model(name)
         except ValueError as error:
             raise SerialException(str(error)) from None
         options = urllib.parse.parse_qs(parts.query, keep_blank_values=True)
@@ -82,7 +94,7 @@ class Serial(SerialBase):
         eol = options.get("eol", ["lfcr"])[0]
         if eol not in EOLS:
             raise SerialException(f"eol is one of {', '.join(sorted(EOLS))}")
-        return model, speed, Framing(EOLS[eol], "ack" in options)
+        return model, speed, {"eol": eol, **({"ack": ""} if "ack" in options else {})}
 
     def close(self) -> None:
         self.is_open = False
@@ -108,8 +120,9 @@ class Serial(SerialBase):
         data = serial.to_bytes(data)
         with self._lock:
             self.pacer.sync()
-            for reply in self.interpreter.write(data):
-                self._receive(self.framing.reply(reply))
+            assert self.session is not None
+            self.session.feed(data)
+            self._drain()
         return len(data)
 
     def read(self, size: int = 1) -> bytes:
@@ -174,8 +187,7 @@ class Serial(SerialBase):
         if self._break_state and self.is_open:
             with self._lock:
                 self.pacer.sync()
-                self.maxk.reset()
-                self.interpreter = Interpreter(self.maxk.board)
+                self.controller.reset()
 
     def send_break(self, duration: float = 0.25) -> None:
         """Reset the board; no wall-clock wait (the emulated line needs none)."""

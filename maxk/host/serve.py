@@ -1,4 +1,5 @@
-"""The `maxk serve` command: start boards and their doors, print where they are."""
+"""The `maxk serve` command: start controllers of any kinds and their doors, print where
+they are (one line a controller, `board N: MODEL tcp HOST:PORT, ...`, for scripts)."""
 
 from __future__ import annotations
 
@@ -10,18 +11,20 @@ import signal
 import sys
 from pathlib import Path
 
-from maxk.controllers.maxk import MAXk
+from maxk.commands.max.session import EOLS
+from maxk.controllers.contract import BuildOptions
+from maxk.controllers.registry import build, canonical_model, kind_of
 from maxk.host.pacing import Pacer
-from maxk.host.server import EOLS, BoardService, Framing, Server
-from maxk.personalities.maxk.models import model_by_name
+from maxk.host.server import Server, Service
 from maxk.personalities.maxk.parameters import default_archive_path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--boards", type=int, default=1, help="how many boards (1-16, J5 "
-                        "jumper numbers 1..N)")
+    parser.add_argument("--boards", type=int, default=None, help="how many controllers "
+                        "(1-16; J5 jumper numbers 1..N); default: one per model given")
     parser.add_argument("--model", default="MAXk-8000",
-                        help="board model, or a comma list with one model per board")
+                        help="controller model, or a comma list with one model per "
+                        "controller (kinds may be mixed)")
     store = parser.add_mutually_exclusive_group()
     store.add_argument("--archive-dir", default=None,
                        help="directory of the boards' parameter archives (APP/power-up; "
@@ -64,54 +67,59 @@ def _numbered(path: str, number: int, count: int) -> str:
 
 
 async def serve(args: argparse.Namespace) -> int:
-    if not 1 <= args.boards <= 16:
+    names = [m.strip() for m in args.model.split(",")]
+    boards = args.boards if args.boards is not None else len(names)
+    if not 1 <= boards <= 16:
         print("maxk serve: --boards is 1..16 (the J5 jumper)", file=sys.stderr)
         return 2
-    if args.port and not 0 < args.port <= 65536 - args.boards:
-        print(f"maxk serve: --port {args.port} leaves no room for {args.boards} board(s)",
+    if args.port and not 0 < args.port <= 65536 - boards:
+        print(f"maxk serve: --port {args.port} leaves no room for {boards} board(s)",
               file=sys.stderr)
         return 2
-    names = [m.strip() for m in args.model.split(",")]
-    if len(names) not in (1, args.boards):
+    if len(names) not in (1, boards):
         print("maxk serve: give one model, or one per board", file=sys.stderr)
         return 2
     try:
-        models = [model_by_name(n).name for n in names] * (args.boards if len(names) == 1
-                                                          else 1)
+        models = [canonical_model(n) for n in names] * (boards if len(names) == 1 else 1)
     except ValueError as error:
         print(f"maxk serve: {error}", file=sys.stderr)
         return 2
-    framing = Framing(EOLS[args.eol], args.ack)
+    line_options = {"eol": args.eol, **({"ack": ""} if args.ack else {})}
     services = []
     for number, model in enumerate(models, start=1):
-        archive = None if args.no_archive else (
+        archive = None if args.no_archive else str(
             Path(args.archive_dir) / f"{model}-board{number}.params.json"
             if args.archive_dir else default_archive_path(model, number))
-        maxk = MAXk(model, archive=archive, board_number=number)
-        services.append(BoardService(number, maxk, Pacer(maxk, args.speed), framing))
+        controller = build(model, BuildOptions(number, archive, None, line_options))
+        services.append(Service(number, controller, Pacer(controller, args.speed)))
     server = Server(services)
     memories = []
     try:
         for service in services:
             n = service.number
+            controller = service.controller
+            transports = controller.transports
             where = []
-            if not args.no_tcp:
+            if not args.no_tcp and "tcp" in transports:
                 port = 0 if args.port == 0 else args.port + n - 1
                 host, bound = await server.open_tcp(service, args.host, port)
                 where.append(f"tcp {host}:{bound}")
-            if args.pty or args.pty_link:
-                link = _numbered(args.pty_link, n, args.boards) if args.pty_link else None
+            if not args.no_tcp and "udp" in transports:
+                port = 0 if args.port == 0 else args.port + n - 1
+                host, bound = await server.open_udp(service, args.host, port)
+                where.append(f"udp {host}:{bound}")
+            if (args.pty or args.pty_link) and "pty" in transports:
+                link = _numbered(args.pty_link, n, boards) if args.pty_link else None
                 path = server.open_pty(service, link)
                 where.append(f"serial {path}" + (f" (link {link})" if link else ""))
-            if args.shm:
+            if args.shm and kind_of(controller.model).name == "MAXk":
                 from maxk.host.shared_memory import SharedMemoryDoor
 
-                door = SharedMemoryDoor(service, _numbered(args.shm, n, args.boards))
+                door = SharedMemoryDoor(service, _numbered(args.shm, n, boards))
                 memories.append(door)
                 server.after_pacing(door.update)
                 where.append(f"shared memory {door.path}")
-            print(f"board {n}: {service.maxk.board.model.name} " + ", ".join(where),
-                  flush=True)
+            print(f"board {n}: {controller.model} " + ", ".join(where), flush=True)
     except OSError as error:
         print(f"maxk serve: {error}", file=sys.stderr)
         server.stop()

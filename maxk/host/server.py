@@ -1,13 +1,13 @@
-"""`maxk serve`: boards in real time behind MAXnet-style TCP ports, serial ptys and
-shared-memory files, all on one asyncio loop.
+"""The doors for legacy hosts: TCP, UDP and serial ptys, for any controller, on one
+asyncio loop.
 
-Framing (evidence 3.1-3.3): commands end at `;`, CR or LF (the lexer's job); a query's
-reply is its text followed by the line ending (LF CR by default: the EPICS MAXnet
-driver's input terminator), optionally led by ACK 0x06; commands without a reply send
-nothing. When a done, overtravel, slip or command-error flag sets, every client of that
-board receives `%000 SSSSSSSS` (the MAXnet flag word in 8 hex digits). Each connection
-has its own lexer, so half a command from one client never mixes with another's; the
-command mode (AX/AA/AM) belongs to the board, as on the real controller.
+Written once against the controller contract (controllers/contract.py): a door opens a
+session per host, brings the controller to "now" (its pacer) before feeding it the
+host's bytes, and sends what the session has to say. A session can also speak unasked
+(a MAXk's flag notification, heard by every host of that board): it calls the door back
+and the door sends it at once. Line controllers get TCP and a pty; a packet controller
+(PoKeys) gets TCP framed in fixed-size packets and UDP with one reply datagram per
+request, answered to the sender's address.
 """
 
 from __future__ import annotations
@@ -18,81 +18,79 @@ import os
 import sys
 import termios
 import tty
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from maxk.commands.max.interpreter import Interpreter
-from maxk.controllers.maxk import MAXk
+from maxk.controllers.contract import Controller, Session
 from maxk.host.pacing import Pacer
 
-EOLS = {"lfcr": b"\n\r", "lf": b"\n", "crlf": b"\r\n", "cr": b"\r"}
-ACK = b"\x06"
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before we stop reading a client
 HARD_LIMIT = 1024 * 1024  # beyond this, notifications to a client that never reads are lost
+UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
 
 
 @dataclass
-class Framing:
-    eol: bytes = EOLS["lfcr"]
-    ack: bool = False
-
-    def reply(self, text: str) -> bytes:
-        return (ACK if self.ack else b"") + text.encode("latin-1") + self.eol
-
-    def notification(self, word: int) -> bytes:
-        return f"%000 {word:08X}".encode() + self.eol
-
-
-@dataclass
-class BoardService:
-    """One board with its clock and everything attached to it."""
+class Service:
+    """One controller with its clock and everything attached to it."""
 
     number: int
-    maxk: MAXk
+    controller: Controller
     pacer: Pacer
-    framing: Framing
     clients: set[Client] = field(default_factory=set)
     ports: list[tuple[str, int]] = field(default_factory=list)
+    udp_ports: list[tuple[str, int]] = field(default_factory=list)
     ptys: list[str] = field(default_factory=list)
 
-    def __post_init__(self) -> None:
-        self.maxk.board.add_flag_listener(self._flags_set)
+    def open_session(self, client: Client) -> Session:
+        return self.controller.open_session(notify=client.flush_session)
 
-    def _flags_set(self, word: int) -> None:
-        message = self.framing.notification(word)
-        for client in list(self.clients):
-            client.send(message)
-
-    def handle(self, interpreter: Interpreter, data: bytes) -> list[bytes]:
-        """Bring the board to now, feed the bytes, frame the replies."""
+    def handle(self, session: Session, data: bytes) -> bytes:
+        """Bring the controller to now, feed the bytes, return what the session says."""
         self.pacer.sync()
-        return [self.framing.reply(r) for r in interpreter.write(data)]
+        session.feed(data)
+        return session.read()
 
 
 class Client:
-    """Anything that receives a board's output: a TCP connection or a pty."""
+    """Anything that receives a controller's output: a TCP connection or a pty."""
+
+    session: Session | None = None
 
     def send(self, data: bytes) -> None:  # pragma: no cover - interface
         raise NotImplementedError
 
+    def flush_session(self) -> None:
+        """The session has something to say unasked: send it now."""
+        if self.session is not None:
+            out = self.session.read()
+            if out:
+                self.send(out)
+
 
 class TcpClient(asyncio.Protocol, Client):
-    def __init__(self, service: BoardService) -> None:
+    def __init__(self, service: Service) -> None:
         self.service = service
-        self.interpreter = Interpreter(service.maxk.board)
         self.transport: asyncio.Transport | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         self.transport = transport  # type: ignore[assignment]
         transport.set_write_buffer_limits(high=HIGH_WATER)  # type: ignore[attr-defined]
+        self.session = self.service.open_session(self)
         self.service.clients.add(self)
 
     def connection_lost(self, exc: Exception | None) -> None:
         self.service.clients.discard(self)
+        if self.session is not None:
+            self.session.close()
+            self.session = None
         self.transport = None
 
     def data_received(self, data: bytes) -> None:
-        for reply in self.service.handle(self.interpreter, data):
-            self.send(reply)
+        if self.session is None:
+            return
+        out = self.service.handle(self.session, data)
+        if out:
+            self.send(out)
 
     def send(self, data: bytes) -> None:
         transport = self.transport
@@ -113,13 +111,46 @@ class TcpClient(asyncio.Protocol, Client):
             self.transport.resume_reading()
 
 
+class UdpDoor(asyncio.DatagramProtocol):
+    """Datagrams for a packet controller: each datagram is one request, answered by one
+    datagram to the address it came from (a session per host address)."""
+
+    def __init__(self, service: Service) -> None:
+        self.service = service
+        self.transport: asyncio.DatagramTransport | None = None
+        self.sessions: dict[object, Session] = {}
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        self.transport = transport  # type: ignore[assignment]
+
+    def datagram_received(self, data: bytes, addr: tuple[str, int]) -> None:
+        session = self.sessions.pop(addr, None)
+        if session is None:
+            session = self.service.controller.open_session()
+            if len(self.sessions) >= UDP_PEERS:
+                oldest = next(iter(self.sessions))
+                self.sessions.pop(oldest).close()
+        self.sessions[addr] = session  # most recent last
+        out = self.service.handle(session, data)
+        size = self.service.controller.packet_size or len(out) or 1
+        if self.transport is not None:
+            for i in range(0, len(out), size):
+                self.transport.sendto(out[i:i + size], addr)
+
+    def close(self) -> None:
+        for session in self.sessions.values():
+            session.close()
+        self.sessions.clear()
+        if self.transport is not None:
+            self.transport.close()
+
+
 class PtyClient(Client):
     """A pseudo-terminal: legacy serial code opens the slave side like a real port."""
 
-    def __init__(self, service: BoardService, loop: asyncio.AbstractEventLoop,
+    def __init__(self, service: Service, loop: asyncio.AbstractEventLoop,
                  link: str | None = None) -> None:
         self.service = service
-        self.interpreter = Interpreter(service.maxk.board)
         self.master, slave = os.openpty()
         tty.setraw(slave)  # no echo, no CR/LF translation: bytes as on a real line
         attrs = termios.tcgetattr(slave)
@@ -139,6 +170,7 @@ class PtyClient(Client):
         self._out = bytearray()  # output the pty could not take yet
         os.set_blocking(self.master, False)
         self.loop = loop
+        self.session = service.open_session(self)
         loop.add_reader(self.master, self._readable)
         service.clients.add(self)
 
@@ -149,8 +181,11 @@ class PtyClient(Client):
             return
         except OSError:
             return  # EIO while no client has the slave open
-        for reply in self.service.handle(self.interpreter, data):
-            self.send(reply)
+        if self.session is None:
+            return
+        out = self.service.handle(self.session, data)
+        if out:
+            self.send(out)
 
     def send(self, data: bytes) -> None:
         """Queue output and write what the pty takes; while much waits, stop reading the
@@ -182,6 +217,9 @@ class PtyClient(Client):
         self.loop.remove_reader(self.master)
         self.loop.remove_writer(self.master)
         self.service.clients.discard(self)
+        if self.session is not None:
+            self.session.close()
+            self.session = None
         for fd in (self.master, self.slave_fd):
             with contextlib.suppress(OSError):
                 os.close(fd)
@@ -191,17 +229,18 @@ class PtyClient(Client):
 
 
 class Server:
-    """Every board, its doors and the pacer, on one event loop."""
+    """Every controller, its doors and the pacer, on one event loop."""
 
-    def __init__(self, services: list[BoardService], pace_interval: float = 0.001) -> None:
+    def __init__(self, services: list[Service], pace_interval: float = 0.001) -> None:
         self.services = services
         self.pace_interval = pace_interval
         self._servers: list[asyncio.base_events.Server] = []
+        self._udp: list[UdpDoor] = []
         self._ptys: list[PtyClient] = []
-        self._extra_pacing: list = []  # callables run after each pacing pass (shared memory)
+        self._extra_pacing: list[Callable[[], None]] = []  # run after each pacing pass
         self._stop = asyncio.Event()
 
-    async def open_tcp(self, service: BoardService, host: str, port: int) -> tuple[str, int]:
+    async def open_tcp(self, service: Service, host: str, port: int) -> tuple[str, int]:
         loop = asyncio.get_running_loop()
         server = await loop.create_server(lambda: TcpClient(service), host, port)
         self._servers.append(server)
@@ -209,18 +248,27 @@ class Server:
         service.ports.append(address)
         return address
 
-    def open_pty(self, service: BoardService, link: str | None = None) -> str:
+    async def open_udp(self, service: Service, host: str, port: int) -> tuple[str, int]:
+        loop = asyncio.get_running_loop()
+        transport, door = await loop.create_datagram_endpoint(
+            lambda: UdpDoor(service), local_addr=(host, port))
+        self._udp.append(door)
+        address = transport.get_extra_info("sockname")[:2]
+        service.udp_ports.append(address)
+        return address
+
+    def open_pty(self, service: Service, link: str | None = None) -> str:
         pty = PtyClient(service, asyncio.get_running_loop(), link)
         self._ptys.append(pty)
         service.ptys.append(pty.path)
         return pty.path
 
-    def after_pacing(self, callback) -> None:  # type: ignore[no-untyped-def]
+    def after_pacing(self, callback: Callable[[], None]) -> None:
         self._extra_pacing.append(callback)
 
     async def pace(self) -> None:
-        """Keep every board at now; never blocks request handling for long, since the
-        engine jumps from event to event."""
+        """Keep every controller at now; never blocks request handling for long, since
+        the engine jumps from event to event."""
         while not self._stop.is_set():
             for step in [*(s.pacer.sync for s in self.services), *self._extra_pacing]:
                 try:
@@ -239,5 +287,7 @@ class Server:
         finally:
             for server in self._servers:
                 server.close()
+            for door in self._udp:
+                door.close()
             for pty in self._ptys:
                 pty.close()

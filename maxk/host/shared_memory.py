@@ -31,8 +31,8 @@ MAX_PENDING_REPLIES = 64 * 1024  # bytes held while the host does not read the r
 class SharedMemoryDoor:
     def __init__(self, service, path: str) -> None:  # type: ignore[no-untyped-def]
         self.service = service
-        self.maxk = service.maxk
-        self.board = service.maxk.board
+        self.maxk = service.controller  # a MAXk: the PCI map is a MAXk door
+        self.board = service.controller.board
         self.interpreter = Interpreter(self.board)
         self.path = path
         fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o666)

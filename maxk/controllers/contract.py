@@ -1,0 +1,81 @@
+"""The one contract between controllers and doors.
+
+A controller owns an engine (virtual time), opens sessions, resets, and tells its
+sessions when it has something to say unasked. Every door (TCP, UDP, pty, the pyserial
+URL, the REPL, command scripts, the pytest plugin) and the pacer are written once against
+these protocols, so a new controller gets every door by declaring its session:
+
+- a *line* session (MAXk, Trio, MM4005): bytes of command text in, reply bytes out,
+  framed as that controller frames them (the MAXnet LF CR, the Trio's echo and prompt,
+  the MM4005's CR);
+- a *packet* session (PoKeys): fixed-size requests in, one fixed-size reply each.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal, Protocol
+
+if TYPE_CHECKING:
+    from maxk.firmware_model.engine import Engine
+
+Transport = Literal["tcp", "udp", "pty"]
+Notify = Callable[[], None]
+"""Called by a session when it has output nobody asked for (a flag notification, a
+program's PRINT): the door then reads the session and sends what it has."""
+
+
+class Session(Protocol):
+    """One host's conversation with a controller. Its own parser state: half a command
+    from one host never mixes with another's."""
+
+    def feed(self, data: bytes) -> None:
+        """Bytes from the host, split anywhere; runs what is complete."""
+        ...
+
+    def read(self) -> bytes:
+        """Everything the controller has to send to this host now (and forget it)."""
+        ...
+
+    def close(self) -> None:
+        """The host went away: stop telling this session anything."""
+        ...
+
+
+class Controller(Protocol):
+    """A controller as the doors see it."""
+
+    @property
+    def kind(self) -> str: ...  # "MAXk", "PoKeys", "MC405", "MM4005"
+    @property
+    def model(self) -> str: ...  # the model name, as `--model` takes it
+    @property
+    def engine(self) -> Engine: ...  # virtual time; a door advances it to "now"
+    @property
+    def transports(self) -> Sequence[Transport]: ...  # the doors it has
+    @property
+    def packet_size(self) -> int | None: ...  # None: a stream of lines
+
+    def open_session(self, notify: Notify | None = None) -> Session: ...
+    def reset(self) -> None: ...
+
+
+@dataclass(frozen=True)
+class BuildOptions:
+    """What `maxk serve`, the REPL and scripts may say about a controller they start."""
+
+    number: int = 1  # board number (J5 jumper for a MAXk; the order given otherwise)
+    archive: str | None = None  # the flash file (MAXk parameters, Trio programs); None: memory
+    update_rate_hz: int | None = None  # None: the controller's default
+    line_options: dict[str, str] = field(default_factory=dict)  # e.g. {"eol": "lf", "ack": ""}
+
+
+@dataclass(frozen=True)
+class ControllerKind:
+    """A family of controllers: its models and how to build one."""
+
+    name: str
+    models: Sequence[str]
+    build: Callable[[str, BuildOptions], Controller]
+    summary: str = ""

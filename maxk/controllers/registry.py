@@ -1,0 +1,52 @@
+"""Every controller `maxk` can be: found by model name (`--model MAXk-8000,MC405`)."""
+
+from __future__ import annotations
+
+from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
+from maxk.controllers.maxk import MAXk
+from maxk.personalities.maxk.models import MODELS, model_by_name
+
+
+def _build_maxk(model: str, options: BuildOptions) -> Controller:
+    from maxk.commands.max.session import Framing
+
+    kwargs = {} if options.update_rate_hz is None else {"update_rate_hz":
+                                                         options.update_rate_hz}
+    controller = MAXk(model, archive=options.archive, board_number=options.number, **kwargs)
+    controller.framing = Framing.from_options(options.line_options)
+    return controller
+
+
+KINDS: tuple[ControllerKind, ...] = (
+    ControllerKind("MAXk", tuple(MODELS), _build_maxk,
+                   "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes"),
+)
+
+
+def kind_of(model: str) -> ControllerKind:
+    """The kind a model name belongs to (case-insensitive), or ValueError naming them."""
+    for kind in KINDS:
+        if kind.name == "MAXk":
+            try:
+                model_by_name(model)
+            except ValueError:
+                continue
+            return kind
+        if model.lower() in (m.lower() for m in kind.models):
+            return kind
+    known = ", ".join(m for kind in KINDS for m in kind.models)
+    raise ValueError(f"unknown controller model {model!r} (models: {known})")
+
+
+def canonical_model(model: str) -> str:
+    """The model's name as its kind spells it."""
+    kind = kind_of(model)
+    if kind.name == "MAXk":
+        return model_by_name(model).name
+    return next(m for m in kind.models if m.lower() == model.lower())
+
+
+def build(model: str, options: BuildOptions | None = None) -> Controller:
+    """A controller of that model, powered up."""
+    name = canonical_model(model)
+    return kind_of(name).build(name, options or BuildOptions())
