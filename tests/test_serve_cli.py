@@ -49,3 +49,48 @@ def test_serve_refuses_bad_arguments():
         result = subprocess.run([sys.executable, "-m", "maxk", "serve", "--seconds", "0.1",
                                  *args], capture_output=True, text=True, timeout=30, cwd=ROOT)
         assert result.returncode == 2 and message in result.stderr, (args, result.stderr)
+
+
+def test_serve_refuses_a_map_path_that_is_not_its_own_and_keeps_the_file(tmp_path):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    link = tmp_path / "link"
+    link.symlink_to(notes)
+    for path, message in ((notes, "not a maxk map"), (link, "symbolic link")):
+        result = subprocess.run([sys.executable, "-m", "maxk", "serve", "--no-tcp", "--shm",
+                                 str(path), "--seconds", "5"],
+                                capture_output=True, text=True, timeout=60, cwd=ROOT)
+        assert result.returncode == 1 and message in result.stderr, result.stderr
+        assert "Traceback" not in result.stderr
+    assert notes.read_text() == "my notes\n" and link.is_symlink()
+
+
+def test_a_second_server_on_one_map_refuses_and_the_first_keeps_serving(tmp_path):
+    shm = tmp_path / "maxk"
+    first = subprocess.Popen([sys.executable, "-m", "maxk", "serve", "--shm", str(shm),
+                              "--seconds", "60"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        line = first.stdout.readline()
+        port = int(re.match(r"board 1: \S+ tcp 127\.0\.0\.1:(\d+)", line)[1])
+        second = subprocess.run([sys.executable, "-m", "maxk", "serve", "--shm", str(shm),
+                                 "--seconds", "5"],
+                                capture_output=True, text=True, timeout=60, cwd=ROOT)
+        assert second.returncode == 1 and "in use" in second.stderr, second.stderr
+        assert shm.exists()
+        from maxk.host.shm_client import SharedMemoryHost
+
+        host = SharedMemoryHost(str(shm))
+        assert host.query("WY").startswith("MAXk-8000")
+        host.close()
+        with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+            sock.sendall(b"AX RP;\n")
+            data = b""
+            while not data.endswith(b"\n\r"):
+                data += sock.recv(100)
+            assert data == b"0\n\r"
+    finally:
+        first.send_signal(signal.SIGTERM)
+        _, err = first.communicate(timeout=20)
+    assert first.returncode == 0, err
+    assert not shm.exists()

@@ -11,13 +11,22 @@ After every pacing pass (about every millisecond of wall time) the door:
 Replies in the response ring end with LF, as MAXv replies do from firmware 1.30
 (evidence 3.2). Layout and every choice the manual leaves open: memory_map.py and
 docs/shared-memory.md.
+
+The map file (decisions D, issue 18): a new file is created exclusively; an existing
+path is taken over only when it is a regular file holding a map of this board number
+(the layout tag and board number a killed server left), and then cleared. A symbolic
+link is never followed, anything else is refused untouched. The server holds an
+exclusive flock on its map for as long as it runs, so a second server on the same path
+refuses. On exit the file is deleted only while the path still names the file we used.
 """
 
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import mmap
 import os
+import stat
 import struct
 
 from ..commands.interpreter import Interpreter
@@ -35,12 +44,16 @@ class SharedMemoryDoor:
         self.board = service.maxk.board
         self.interpreter = Interpreter(self.board)
         self.path = path
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC, 0o666)
+        self.fd = _open_map(path, service.number)
         try:
-            os.ftruncate(fd, M.SIZE)
-            self.mem = mmap.mmap(fd, M.SIZE)
-        finally:
-            os.close(fd)
+            os.ftruncate(self.fd, 0)  # ours now: nothing of an earlier run stays
+            os.ftruncate(self.fd, M.SIZE)
+            self.mem = mmap.mmap(self.fd, M.SIZE)
+        except BaseException:
+            self._remove_file()
+            os.close(self.fd)
+            raise
+        self._identity = _identity(os.fstat(self.fd))
         self._pending = bytearray()  # replies not yet in the response ring
         self._put(M.FIRMWARE_FLAGS, self.board.firmware_flags)
         self.mem[M.LAYOUT : M.LAYOUT + 4] = M.LAYOUT_MAGIC
@@ -157,6 +170,64 @@ class SharedMemoryDoor:
     def close(self) -> None:
         with contextlib.suppress(ValueError):
             self.mem.close()
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(self.path)
+        if self.fd < 0:
+            return
+        self._remove_file()
+        os.close(self.fd)  # releases the lock, after the file is gone
+        self.fd = -1
+
+    def _remove_file(self) -> None:
+        """Delete the map, but only while the path still names our file (another
+        process may have put its own file there)."""
+        with contextlib.suppress(OSError):
+            if _identity(os.lstat(self.path)) == _identity(os.fstat(self.fd)):
+                os.unlink(self.path)
+
+
+def _identity(st: os.stat_result) -> tuple[int, int]:
+    return st.st_dev, st.st_ino
+
+
+def _open_map(path: str, board_number: int) -> int:
+    """The map file, open and exclusively locked: created new, or a map a killed server
+    of this board left. Refuses (OSError) a symlink, a second server and anything else."""
+    flags = os.O_RDWR | os.O_NOFOLLOW | os.O_NOCTTY | os.O_CLOEXEC
+    try:
+        fd = os.open(path, flags | os.O_CREAT | os.O_EXCL, 0o666)
+    except FileExistsError:
+        pass
+    else:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)  # a checker may hold it for a moment, no more
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(path)
+            os.close(fd)
+            raise
+        return fd
+    if os.path.islink(path):
+        raise OSError(f"--shm {path} is a symbolic link: not followed, not touched")
+    try:
+        fd = os.open(path, flags)
+    except OSError as error:
+        if os.path.islink(path):  # replaced by a link since we looked
+            raise OSError(f"--shm {path} is a symbolic link: not followed, not touched"
+                          ) from None
+        raise OSError(f"--shm {path}: {error.strerror or error}") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise OSError(f"--shm {path} exists and is not a regular file: not touched")
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise OSError(f"--shm {path} is in use by another maxk serve") from None
+        if (st.st_size != M.SIZE or os.pread(fd, 4, M.LAYOUT) != M.LAYOUT_MAGIC
+                or _U32.unpack(os.pread(fd, 4, M.BOARD_NUMBER))[0] != board_number):
+            raise OSError(f"--shm {path} exists and is not a maxk map of board "
+                          f"{board_number}: not touched (remove it or choose another path)")
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
 
