@@ -94,3 +94,59 @@ def test_a_second_server_on_one_map_refuses_and_the_first_keeps_serving(tmp_path
         _, err = first.communicate(timeout=20)
     assert first.returncode == 0, err
     assert not shm.exists()
+
+
+def _lines(stream):
+    """A queue of the stream's lines, read by a thread (so waits can be bounded)."""
+    import queue
+    import threading
+
+    lines: queue.Queue = queue.Queue()
+
+    def pump():
+        for line in stream:
+            lines.put(line)
+        lines.put("")  # end of stream
+
+    threading.Thread(target=pump, daemon=True).start()
+    return lines
+
+
+def _tcp_query(port, text):
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+        sock.sendall(text.encode() + b"\n")
+        data = b""
+        while not data.endswith(b"\n\r"):
+            chunk = sock.recv(100)
+            assert chunk, "connection closed"
+            data += chunk
+        return data[:-2].decode()
+
+
+def test_a_truncated_map_closes_that_door_alone_and_the_server_goes_on(tmp_path):
+    from maxk.host.shm_client import SharedMemoryHost
+
+    shm = tmp_path / "maxk"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "maxk", "serve", "--boards", "2", "--shm", str(shm),
+         "--seconds", "120"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    errors = _lines(proc.stderr)
+    try:
+        ports = [int(re.match(r"board \d: \S+ tcp 127\.0\.0\.1:(\d+)", proc.stdout.readline())[1])
+                 for _ in range(2)]
+        shm2 = Path(f"{shm}2")
+        os.truncate(shm, 0)  # another process breaks board 1's map
+        report = errors.get(timeout=30)
+        assert "truncated" in report and str(shm) in report, report
+        assert proc.poll() is None  # still serving
+        host = SharedMemoryHost(str(shm2))
+        assert host.query("AX RP") == "0"  # board 2's map works on
+        host.close()
+        assert _tcp_query(ports[0], "WY").startswith("MAXk-8000")  # board 1 too, by TCP
+        assert _tcp_query(ports[1], "AY RP") == "0"
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+    assert proc.returncode == 0
+    assert not shm.exists() and not shm2.exists()  # cleaned up

@@ -214,3 +214,60 @@ def test_a_map_left_by_a_killed_server_is_taken_over_cleared_and_removed(tmp_pat
     assert struct.unpack_from(">i", path.read_bytes(), M.motor_offset(0))[0] == 0  # cleared
     door.close()
     assert not path.exists()
+
+
+def test_a_truncated_map_stops_that_door_once_and_the_others_go_on(tmp_path, capsys):
+    p1, p2 = tmp_path / "map", tmp_path / "map2"
+    d1, d2 = _door(p1, 1), _door(p2, 2)
+    host2 = SharedMemoryHost(str(p2))
+    try:
+        os.truncate(p1, 0x1000)  # another process cuts board 1's map
+        d1.update()
+        d1.update()
+        err = capsys.readouterr().err
+        assert err.count(f"board 1: shared memory {p1} was truncated to 4096 bytes") == 1
+        assert d1.stopped and p1.stat().st_size == 0x1000  # nothing written after
+        host2.send("WY;")
+        d2.update()
+        assert host2.read_line().startswith("MAXk-4000")
+        assert d2.stopped is None
+    finally:
+        host2.close()
+        d1.close()
+        d2.close()
+    assert not p1.exists() and not p2.exists()
+
+
+def test_a_map_truncated_in_the_middle_of_a_pass_stops_the_door(tmp_path, capsys):
+    path = tmp_path / "map"
+    door = _door(path)
+    host = SharedMemoryHost(str(path))
+    host.send("WY;")
+    host.close()
+    door._check_file = lambda: None  # the cut lands after the check, before the reads
+    os.truncate(path, M.CMD_RING + 1)
+    door.update()
+    assert "was truncated" in capsys.readouterr().err and door.stopped
+    door.close()
+    assert not path.exists()
+
+
+def test_a_removed_or_replaced_map_stops_that_door(tmp_path, capsys):
+    path = tmp_path / "map"
+    door = _door(path)
+    path.unlink()
+    door.update()
+    assert f"shared memory {path} was removed" in capsys.readouterr().err
+    door.close()
+    other = tmp_path / "other"
+    door = _door(other)
+    os.replace(_new_file(tmp_path / "new"), other)
+    door.update()
+    assert "was replaced by another file" in capsys.readouterr().err
+    door.close()
+    assert other.read_text() == "new"  # not ours: kept
+
+
+def _new_file(path):
+    path.write_text("new")
+    return path
