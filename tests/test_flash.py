@@ -70,7 +70,8 @@ def test_rdf_and_rdp_switch_between_factory_and_saved_sets(tmp_path):
     assert board.firmware_flags == F.FIRMWARE_RUNNING | F.USER_DEFAULTS_LOADED
 
 
-@pytest.mark.parametrize("damage", ["flip", "truncate", "empty", "garbage"])
+@pytest.mark.parametrize("damage", ["flip", "truncate", "empty", "garbage", "nested",
+                                    "nested-object"])
 def test_a_damaged_archive_loads_the_factory_set_with_the_checksum_bit(tmp_path, damage):
     path = tmp_path / "flash.json"
     board = power_up(path)
@@ -83,6 +84,11 @@ def test_a_damaged_archive_loads_the_factory_set_with_the_checksum_bit(tmp_path,
         raw = raw[: len(raw) // 2]
     elif damage == "empty":
         raw = bytearray()
+    elif damage == "nested":  # thousands deep: the JSON reader's recursion gives up
+        raw = bytearray(b"[" * 100_000 + b"]" * 100_000)
+    elif damage == "nested-object":
+        raw = bytearray(b'{"checksum": "0", "axes": ' + b'{"a": ' * 5000 + b"1"
+                        + b"}" * 5001)
     else:
         raw = bytearray(os.urandom(200))
     path.write_bytes(bytes(raw))

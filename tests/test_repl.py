@@ -3,6 +3,7 @@
 import subprocess
 import sys
 
+from maxk.firmware_model import flags as F
 from maxk.repl import MnemonicCompleter, ReplSession
 
 
@@ -105,3 +106,16 @@ def test_piped_repl_as_a_process():
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == [
         "MAXk-8000, ver:1.33, S/N: 000001, FPGA:20", "idle at tick 37", "10"]
+
+
+def test_a_deeply_nested_archive_is_a_damaged_one_in_the_repl(tmp_path):
+    archive = tmp_path / "flash.json"
+    archive.write_bytes(b"[" * 100_000 + b"]" * 100_000)
+    s = ReplSession(manual_time=True, archive=archive)
+    assert s.handle(":advance 1 ticks") == [
+        "tick 1", "! command error: power-up: unreadable archive (RecursionError)"]
+    assert s.maxk.board.firmware_flags == (F.FIRMWARE_RUNNING | F.ARCHIVE_CHECKSUM_ERROR
+                                           | F.FACTORY_DEFAULTS_LOADED)
+    out = s.handle("RDP")
+    assert len(out) == 1 and out[0].startswith("! command error")
+    assert s.handle("WY") == ["MAXk-8000, ver:1.33, S/N: 000001, FPGA:20"]

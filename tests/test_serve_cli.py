@@ -150,3 +150,26 @@ def test_a_truncated_map_closes_that_door_alone_and_the_server_goes_on(tmp_path)
         proc.wait(timeout=20)
     assert proc.returncode == 0
     assert not shm.exists() and not shm2.exists()  # cleaned up
+
+
+def test_serve_starts_on_a_deeply_nested_archive_and_rdp_is_a_command_error(tmp_path):
+    (tmp_path / "MAXk-8000-board1.params.json").write_bytes(b"[" * 100_000 + b"]" * 100_000)
+    proc = subprocess.Popen([sys.executable, "-m", "maxk", "serve", "--archive-dir",
+                             str(tmp_path), "--seconds", "60"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        line = proc.stdout.readline()
+        match = re.match(r"board 1: MAXk-8000 tcp 127\.0\.0\.1:(\d+)", line)
+        assert match, (line, proc.stderr.read() if proc.poll() is not None else "")
+        with socket.create_connection(("127.0.0.1", int(match[1])), timeout=10) as sock:
+            sock.sendall(b"RDP\nWY\n")
+            data = b""
+            while b"MAXk-8000, ver" not in data:
+                chunk = sock.recv(1000)
+                assert chunk, data  # the connection lives on
+                data += chunk
+        assert b"%000 01000000" in data  # the command error, notified
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=20)
+    assert proc.returncode == 0

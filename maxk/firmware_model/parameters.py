@@ -161,9 +161,12 @@ def decode(raw: bytes, model: str) -> list[dict]:
     try:
         document = json.loads(raw.decode("utf-8"))
         checksum = document.pop("checksum")
-    except (UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError) as exc:
+        computed = _checksum(document)
+    # RecursionError: JSON nested thousands deep, read or re-encoded for the checksum
+    except (UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError,
+            RecursionError) as exc:
         raise ArchiveError(f"unreadable archive ({exc.__class__.__name__})") from None
-    if _checksum(document) != checksum:
+    if computed != checksum:
         raise ArchiveError("archive checksum does not match its contents")
     if document.get("format") != FORMAT or document.get("version") != VERSION:
         raise ArchiveError("not a maxk parameter archive of this version")
