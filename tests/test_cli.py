@@ -101,3 +101,13 @@ def test_trace_csv_per_event_and_per_period(tmp_path):
     positions = [int(r["X_position"]) for r in samples]
     assert positions == sorted(positions) == [50, 150, 250, 350, 450]
     assert rows[-1]["note"] == "line 3" and rows[-1]["X_position"] == "500"
+
+
+def test_run_malformed_wait_timeout_is_a_script_error(tmp_path, capsys):
+    for timeout in ("abc", "-1 s"):
+        script = tmp_path / "bad.maxk"
+        script.write_text(f"AX RP\n@wait until X done within {timeout}\n")
+        assert main(["run", str(script)]) == 2
+        captured = capsys.readouterr()
+        assert f"bad.maxk:2: not a duration: {timeout!r}" in captured.err
+        assert "Traceback" not in captured.err and captured.out == ""
