@@ -21,7 +21,9 @@ def _model(text: str) -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="maxk", description="An emulator of the OMS MAXk motion controller.")
+        prog="maxk", description="An emulator of the OMS MAXk motion controller.",
+        epilog="Without a command maxk runs the REPL, whose options may be given "
+        "directly: maxk --manual-time.")
     parser.add_argument("--version", action="version", version=f"maxk {__version__}")
     sub = parser.add_subparsers(dest="command")
 
@@ -100,6 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version"):
+        argv = ["repl", *argv]  # the REPL is the default command, its options too
     args = build_parser().parse_args(argv)
     if args.command in (None, "repl"):
         from maxk.repl import run_repl

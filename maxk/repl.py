@@ -14,18 +14,30 @@ The session logic lives in ReplSession so it can be tested without a terminal.
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from maxk.commands.max.reference import help_text
 from maxk.commands.max.table import COMMANDS, lookup
-from maxk.controllers.maxk import MAXk
-from maxk.personalities.maxk.flags import describe_doorbell
+from maxk.controllers.maxk import AxisStatus, MAXk
+from maxk.personalities.maxk.flags import (
+    COMMAND_ERROR,
+    K_NOTIFY,
+    OVERTRAVEL_SHIFT,
+    SLIP_SHIFT,
+    W_NOTIFY,
+    describe_doorbell,
+)
 from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 from maxk.script import parse_duration
 from maxk.world_settings import describe_world, parse_world
+
+if TYPE_CHECKING:
+    from prompt_toolkit.history import History
 
 META_HELP = """\
 REPL words (everything else goes to the board):
@@ -189,21 +201,86 @@ class ReplSession:
         mode = f"A{b.model.axis_letters[b.current_axis]}" if b.mode == "single" else b.mode
         return f"{b.model.name} {mode}> "
 
-    def toolbar(self) -> str:
+    def toolbar(self, width: int = 80) -> str:
         self.sync()
         b = self.maxk.board
-        parts = []
-        for s in self.maxk.status():
-            mark = "D" if s.done else ("~" if s.moving else " ")
-            parts.append(f"{s.letter}{s.position}{mark}")
-        flags = describe_doorbell(b.doorbell, b.model.axis_letters)
-        return f" t={b.time:.3f}s  {' '.join(parts)}  flags: {flags}"
+        return status_line(b.time, self.maxk.status(), b.doorbell, b.model.axis_letters,
+                           width)
+
+
+def status_line(seconds: float, axes: Sequence[AxisStatus], doorbell: int, letters: str,
+                width: int = 80) -> str:
+    """The bottom line: time, each axis's position with D (done) or ~ (moving), flags.
+    In full when it fits `width`; else compact (decision D): positions in at most four
+    characters (123k, -.1M, 2.1G; :status has them exact), done shown by the D marks
+    only, the other flags abbreviated (err, ovt, slip, W!, K!) and cut last, so every
+    axis stays visible (10 on a MAXk-A000 in 80 columns)."""
+    marks = ["D" if a.done else ("~" if a.moving else " ") for a in axes]
+    full = (f" t={seconds:.3f}s  "
+            + " ".join(f"{a.letter}{a.position}{m}" for a, m in zip(axes, marks, strict=True))
+            + f"  flags: {describe_doorbell(doorbell, letters)}")
+    if len(full) <= width:
+        return full
+    tokens = " ".join(f"{a.letter}{_abbreviate(a.position)}{m.strip()}"
+                      for a, m in zip(axes, marks, strict=True))
+    done = {a.letter for a in axes if a.done}
+    flags = ["err"] if doorbell & COMMAND_ERROR else []
+    for name, shift in (("ovt", OVERTRAVEL_SHIFT), ("slip", SLIP_SHIFT)):
+        hit = "".join(x for i, x in enumerate(letters[:8]) if doorbell >> (shift + i) & 1)
+        if hit:
+            flags.append(f"{name} {hit}")
+    for letter, bit in (("W", W_NOTIFY), ("K", K_NOTIFY)):
+        if doorbell & bit and letter not in done:  # a W/K flag its D mark does not explain
+            flags.append(f"{letter}!")
+    tail = "  " + " ".join(flags) if flags else ""
+    for decimals in (3, 1, 0):  # the time's precision gives way first
+        line = f"t={seconds:.{decimals}f}s {tokens}"
+        if len(line) + len(tail) <= width:
+            break
+    room = width - len(line)
+    if len(tail) <= room:
+        line += tail
+    elif room >= 5:
+        line += tail[:room - 1] + "…"
+    return line[:width]
+
+
+def _abbreviate(value: int) -> str:
+    """A position in at most four characters, for a glance: 1234, -999, 12k, -.1M, 2.1G."""
+    text = str(value)
+    if len(text) <= 4:
+        return text
+    for suffix, scale in (("k", 1e3), ("M", 1e6), ("G", 1e9)):
+        for decimals in (1, 0):
+            number = f"{value / scale:.{decimals}f}"
+            if number.startswith(("0.", "-0.")):
+                number = number.replace("0.", ".", 1)
+            if len(number) + 1 <= 4:
+                return number + suffix
+    return text  # not reached for 32-bit positions
 
 
 def _history_path(path: Path | None) -> Path:
     if path is not None:
         return path
     return Path(os.environ.get("MAXK_HISTORY", Path.home() / ".maxk_history"))
+
+
+def _history(path: Path | None) -> History:
+    """The history file; history in memory only when it cannot be written (no home
+    directory, a read-only one), rather than an error on every Enter."""
+    from prompt_toolkit.history import FileHistory, InMemoryHistory
+
+    target = None
+    try:
+        target = _history_path(path)
+        with open(target, "ab"):
+            pass
+    except (OSError, RuntimeError):  # RuntimeError: Path.home() without a home
+        where = f"{target} cannot be written" if target else "no home directory"
+        print(f"maxk: history kept in memory only ({where})", file=sys.stderr)
+        return InMemoryHistory()
+    return FileHistory(str(target))
 
 
 def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
@@ -215,14 +292,13 @@ def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
         return _run_piped(session, sys.stdin)
     try:
         from prompt_toolkit import PromptSession
-        from prompt_toolkit.history import FileHistory
     except ImportError:  # pragma: no cover - prompt_toolkit is a dependency
         return _run_piped(session, sys.stdin, prompt=True)
     prompt_session: PromptSession[str] = PromptSession(
-        history=FileHistory(str(_history_path(history))),
+        history=_history(history),
         completer=MnemonicCompleter(),
         complete_while_typing=False,
-        bottom_toolbar=session.toolbar,
+        bottom_toolbar=lambda: session.toolbar(shutil.get_terminal_size().columns),
         refresh_interval=None if manual_time else 0.25,
     )
     print(f"maxk: {session.maxk.board.model.name} emulator. Type help for REPL words, "

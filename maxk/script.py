@@ -152,6 +152,7 @@ def _parse_wait(line: int, rest: str) -> Step:
     m = _UNTIL.match(rest)
     if m:
         timeout = m["timeout"] or f"{DEFAULT_TIMEOUT_S} s"
+        parse_duration(timeout, DEFAULT_UPDATE_RATE_HZ)  # ValueError now, not mid-run
         if m["axes"]:
             what = ("done", m["axes"].upper())
         elif m["what"].lower() == "idle":
@@ -164,6 +165,7 @@ def _parse_wait(line: int, rest: str) -> Step:
     if not _DURATION.match(rest):
         raise ValueError(f"not a duration: {rest!r} (say e.g. 0.5 s, 250 ms, 100 ticks, "
                          "or until X done)")
+    parse_duration(rest, DEFAULT_UPDATE_RATE_HZ)  # e.g. 1.5 ticks: refused now, not mid-run
     return Step(line, "wait", rest)
 
 

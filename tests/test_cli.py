@@ -101,3 +101,33 @@ def test_trace_csv_per_event_and_per_period(tmp_path):
     positions = [int(r["X_position"]) for r in samples]
     assert positions == sorted(positions) == [50, 150, 250, 350, 450]
     assert rows[-1]["note"] == "line 3" and rows[-1]["X_position"] == "500"
+
+
+def test_run_malformed_wait_timeout_is_a_script_error(tmp_path, capsys):
+    for timeout in ("abc", "-1 s"):
+        script = tmp_path / "bad.maxk"
+        script.write_text(f"AX RP\n@wait until X done within {timeout}\n")
+        assert main(["run", str(script)]) == 2
+        captured = capsys.readouterr()
+        assert f"bad.maxk:2: not a duration: {timeout!r}" in captured.err
+        assert "Traceback" not in captured.err and captured.out == ""
+
+
+def test_the_repl_options_work_without_the_word_repl(monkeypatch, capsys):
+    """The README's `python3 -m maxk --manual-time`: no command means the REPL."""
+    import io
+
+    monkeypatch.setattr(sys, "stdin", io.StringIO("AX; MR10; GO; ID;\n:run\nAX RP\nWY\nquit\n"))
+    assert main(["--manual-time", "--model", "MAXk-4000", "--no-archive"]) == 0
+    assert capsys.readouterr().out.splitlines() == [
+        "idle at tick 37", "10", "MAXk-4000, ver:1.33, S/N: 000001, FPGA:20"]
+
+
+def test_python_m_maxk_manual_time_as_a_process():
+    result = subprocess.run([sys.executable, "-m", "maxk", "--manual-time", "--no-archive"],
+                            input="WY\n:time\nquit\n", capture_output=True, text=True,
+                            timeout=60, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0] == "MAXk-8000, ver:1.33, S/N: 000001, FPGA:20"
+    assert lines[1].startswith("tick 0, 0.000000 s virtual (manual")

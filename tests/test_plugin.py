@@ -75,3 +75,11 @@ def test_plain_python_tests_still_run_beside_scripts(pytester):
     pytester.makefile(".maxk", move=MOVE)
     pytester.makepyfile(test_other="def test_ok():\n    assert True\n")
     pytester.runpytest().assert_outcomes(passed=2)
+
+
+def test_a_malformed_wait_timeout_is_a_collection_error(pytester):
+    pytester.makefile(".maxk", bad="AX; MR5; GO;\n@wait until X done within abc\n")
+    result = pytester.runpytest()
+    result.assert_outcomes(errors=1)
+    result.stdout.fnmatch_lines(["*bad.maxk:2: not a duration: 'abc'*"])
+    assert "Traceback" not in result.stdout.str()

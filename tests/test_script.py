@@ -57,6 +57,10 @@ def test_board_and_rate_directives():
     ("@wait soon\n", "not a duration"),
     ("@expect X happy\n", "cannot read @expect"),
     ("@rate 1000\n", "@rate takes"),
+    ("@wait until X done within abc\n", "not a duration: 'abc'"),
+    ("@wait until idle within -1 s\n", "not a duration: '-1 s'"),
+    ("@wait until all done within 1.5 ticks\n", "ticks must be whole"),
+    ("@wait 2.5 ticks\n", "ticks must be whole"),
 ])
 def test_malformed_scripts_name_the_line(text, message):
     with pytest.raises(ScriptError) as info:

@@ -1,6 +1,7 @@
 """The PCI shared-memory door: a separate host process drives the board through the
 mapped file only (rings, indices, doorbell, mailboxes)."""
 
+import os
 import shutil
 import struct
 import subprocess
@@ -99,3 +100,174 @@ def test_the_c_example_drives_a_move(shm, tmp_path):
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "done X, RP 1000, map X 1000"
+
+
+# ---- the map file: never clobber, never follow, never delete what is not ours ----------
+def _service(number=1, model="MAXk-4000"):
+    from maxk import MAXk
+    from maxk.host.pacing import Pacer
+    from maxk.host.server import Service
+
+    maxk = MAXk(model)
+    return Service(number, maxk, Pacer(maxk, 1.0, lambda: 0.0))
+
+
+def _door(path, number=1):
+    from maxk.host.shared_memory import SharedMemoryDoor
+
+    return SharedMemoryDoor(_service(number), str(path))
+
+
+def test_an_existing_file_that_is_not_a_map_is_refused_and_kept(tmp_path):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    with pytest.raises(OSError, match="not a maxk map"):
+        _door(notes)
+    assert notes.read_text() == "my notes\n"
+    blank = tmp_path / "blank"  # the right size, but nothing of ours in it
+    blank.write_bytes(bytes(M.SIZE))
+    with pytest.raises(OSError, match="not a maxk map"):
+        _door(blank)
+    assert blank.read_bytes() == bytes(M.SIZE)
+
+
+def _stale_map(path, number):
+    """A map as a killed server of board `number` leaves it."""
+    raw = bytearray(M.SIZE)
+    raw[M.LAYOUT:M.LAYOUT + 4] = M.LAYOUT_MAGIC
+    struct.pack_into(">I", raw, M.BOARD_NUMBER, number)
+    struct.pack_into(">i", raw, M.motor_offset(0), 4242)
+    path.write_bytes(bytes(raw))
+    return bytes(raw)
+
+
+def test_a_map_of_another_board_is_not_this_boards(tmp_path):
+    path = tmp_path / "map"
+    raw = _stale_map(path, 2)
+    with pytest.raises(OSError, match="not a maxk map of board 1"):
+        _door(path, number=1)
+    assert path.read_bytes() == raw
+    _door(path, number=2).close()  # board 2 takes its own map over
+    assert not path.exists()
+
+
+def test_a_symlink_is_never_followed(tmp_path):
+    target = tmp_path / "target.txt"
+    target.write_text("keep me")
+    link = tmp_path / "map"
+    link.symlink_to(target)
+    with pytest.raises(OSError, match="symbolic link"):
+        _door(link)
+    assert target.read_text() == "keep me" and link.is_symlink()
+    dangling = tmp_path / "dangling"
+    dangling.symlink_to(tmp_path / "nowhere")
+    with pytest.raises(OSError, match="symbolic link"):
+        _door(dangling)
+    assert not (tmp_path / "nowhere").exists() and dangling.is_symlink()
+
+
+def test_a_second_door_on_one_map_refuses_and_the_first_keeps_it(tmp_path):
+    path = tmp_path / "map"
+    first = _door(path)
+    try:
+        first.update()
+        with pytest.raises(OSError, match="in use"):
+            _door(path)
+        assert path.exists()
+        assert path.read_bytes()[M.LAYOUT:M.LAYOUT + 4] == M.LAYOUT_MAGIC
+        host = SharedMemoryHost(str(path))
+        host.send("WY;")
+        first.update()
+        assert host.read_line().startswith("MAXk-4000")
+        host.close()
+    finally:
+        first.close()
+    assert not path.exists()
+
+
+def test_close_never_deletes_a_file_that_replaced_the_map(tmp_path):
+    path = tmp_path / "map"
+    door = _door(path)
+    other = tmp_path / "other"
+    other.write_text("someone else's")
+    os.replace(other, path)
+    door.close()
+    assert path.read_text() == "someone else's"
+
+
+def test_a_map_left_by_a_killed_server_is_taken_over_cleared_and_removed(tmp_path):
+    path = tmp_path / "map"
+    proc = subprocess.Popen([sys.executable, "-m", "maxk", "serve", "--no-tcp", "--shm",
+                             str(path), "--model", "MAXk-4000", "--seconds", "60"],
+                            stdout=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        assert proc.stdout.readline().startswith("board 1: MAXk-4000")
+        host = SharedMemoryHost(str(path))
+        host.send("AX;LP777;")
+        assert host.query("AX RP") == "777"
+        host.close()
+    finally:
+        proc.kill()
+        proc.wait(20)
+    assert path.exists()  # a killed server cannot clean up
+    door = _door(path)
+    assert struct.unpack_from(">i", path.read_bytes(), M.motor_offset(0))[0] == 0  # cleared
+    door.close()
+    assert not path.exists()
+
+
+def test_a_truncated_map_stops_that_door_once_and_the_others_go_on(tmp_path, capsys):
+    p1, p2 = tmp_path / "map", tmp_path / "map2"
+    d1, d2 = _door(p1, 1), _door(p2, 2)
+    host2 = SharedMemoryHost(str(p2))
+    try:
+        os.truncate(p1, 0x1000)  # another process cuts board 1's map
+        d1.update()
+        d1.update()
+        err = capsys.readouterr().err
+        assert err.count(f"board 1: shared memory {p1} was truncated to 4096 bytes") == 1
+        assert d1.stopped and p1.stat().st_size == 0x1000  # nothing written after
+        host2.send("WY;")
+        d2.update()
+        assert host2.read_line().startswith("MAXk-4000")
+        assert d2.stopped is None
+    finally:
+        host2.close()
+        d1.close()
+        d2.close()
+    assert not p1.exists() and not p2.exists()
+
+
+def test_a_map_truncated_in_the_middle_of_a_pass_stops_the_door(tmp_path, capsys):
+    path = tmp_path / "map"
+    door = _door(path)
+    host = SharedMemoryHost(str(path))
+    host.send("WY;")
+    host.close()
+    door._check_file = lambda: None  # the cut lands after the check, before the reads
+    os.truncate(path, M.CMD_RING + 1)
+    door.update()
+    assert "was truncated" in capsys.readouterr().err and door.stopped
+    door.close()
+    assert not path.exists()
+
+
+def test_a_removed_or_replaced_map_stops_that_door(tmp_path, capsys):
+    path = tmp_path / "map"
+    door = _door(path)
+    path.unlink()
+    door.update()
+    assert f"shared memory {path} was removed" in capsys.readouterr().err
+    door.close()
+    other = tmp_path / "other"
+    door = _door(other)
+    os.replace(_new_file(tmp_path / "new"), other)
+    door.update()
+    assert "was replaced by another file" in capsys.readouterr().err
+    door.close()
+    assert other.read_text() == "new"  # not ours: kept
+
+
+def _new_file(path):
+    path.write_text("new")
+    return path

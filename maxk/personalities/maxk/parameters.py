@@ -6,17 +6,23 @@ file beside it, flushed to disk, then renamed over the old one, so a crash or a 
 any moment leaves either the old archive or the new one, never a torn file. A SHA-256
 checksum over the contents catches a corrupted or truncated file at power-up, which
 then loads the factory set and says so in the firmware state flags (Table 3-4).
+
+A writer holds an exclusive flock on its temporary file until the rename, so the
+temporaries a killed APP leaves (unlocked, named as tempfile.mkstemp names ours:
+.<archive name>.<8 characters>.tmp) can be told from one being written, and are swept
+when the archive is attached at start-up and before each APP (decision D).
 """
 
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import hashlib
 import json
 import math
 import os
+import re
 import tempfile
-import time
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -157,9 +163,12 @@ def decode(raw: bytes, model: str) -> list[dict]:
     try:
         document = json.loads(raw.decode("utf-8"))
         checksum = document.pop("checksum")
-    except (UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError) as exc:
+        computed = _checksum(document)
+    # RecursionError: JSON nested thousands deep, read or re-encoded for the checksum
+    except (UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError,
+            RecursionError) as exc:
         raise ArchiveError(f"unreadable archive ({exc.__class__.__name__})") from None
-    if _checksum(document) != checksum:
+    if computed != checksum:
         raise ArchiveError("archive checksum does not match its contents")
     if document.get("format") != FORMAT or document.get("version") != VERSION:
         raise ArchiveError("not a maxk parameter archive of this version")
@@ -171,22 +180,63 @@ def decode(raw: bytes, model: str) -> list[dict]:
     return axes
 
 
+def sweep_temporaries(path: Path) -> None:
+    """Delete the temporary files writers of `path` were killed before renaming: only
+    regular files named exactly as write_atomically names them, and only when no
+    writer holds their lock. Never follows a symlink; errors leave a file alone."""
+    pattern = re.compile(re.escape(f".{path.name}.") + r"[a-z0-9_]{8}" + re.escape(".tmp"))
+    try:
+        entries = list(os.scandir(path.parent))
+    except OSError:
+        return
+    for entry in entries:
+        if not pattern.fullmatch(entry.name):
+            continue
+        with contextlib.suppress(OSError):
+            if not entry.is_file(follow_symlinks=False):
+                continue
+            fd = os.open(entry.path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK
+                         | os.O_CLOEXEC)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # fails while written
+                st, now = os.fstat(fd), os.lstat(entry.path)
+                if (st.st_dev, st.st_ino) == (now.st_dev, now.st_ino):
+                    os.unlink(entry.path)
+            finally:
+                os.close(fd)
+
+
+def _locked_temporary(path: Path) -> tuple[int, str]:
+    """A new temporary file beside `path`, locked against sweep_temporaries. A sweeper
+    may delete it between creation and lock: then it is not ours any more, try again."""
+    while True:
+        fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
+                                         dir=path.parent)
+        try:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX)
+            except OSError:  # no locks on this file system: no sweeper can lock it either
+                return fd, temporary
+            if os.fstat(fd).st_nlink:
+                return fd, temporary
+        except BaseException:
+            os.close(fd)
+            raise
+        os.close(fd)
+
+
 def write_atomically(path: Path, data: bytes) -> None:
     """Replace `path` with `data` so that a crash at any moment leaves the old file or
     the new one: temporary file in the same directory, fsync, rename, fsync the dir."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    # temporary files left by a writer killed mid-way (not one still writing: old ones)
-    for stale in path.parent.glob(f".{path.name}.*.tmp"):
-        with contextlib.suppress(OSError):
-            if time.time() - stale.stat().st_mtime > 600:
-                stale.unlink()
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    sweep_temporaries(path)  # left by a writer killed mid-way
+    fd, temporary = _locked_temporary(path)
     try:
         with os.fdopen(fd, "wb") as file:
             file.write(data)
             file.flush()
             os.fsync(file.fileno())
-        os.replace(temporary, path)
+            os.replace(temporary, path)  # before the close: the lock lasts until here
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
@@ -208,6 +258,8 @@ class ParameterArchive:
     def __init__(self, path: str | os.PathLike | None = None) -> None:
         self.path = None if path is None else Path(path)
         self._memory: bytes | None = None
+        if self.path is not None:
+            sweep_temporaries(self.path)  # start-up: what a killed APP left
 
     def save(self, model: str, configs: list[AxisConfig]) -> None:
         data = encode(model, [snapshot(c) for c in configs])
