@@ -43,6 +43,27 @@ class Session(Protocol):
         ...
 
 
+class Console(Protocol):
+    """A person's view of a controller, for the REPL and command scripts: lines typed in,
+    lines of output back (no wire framing, no echo), help and completion from the
+    language's table, a status line. A packet controller's console is a small command
+    language of its own, since its wire protocol is binary."""
+
+    def execute(self, line: str) -> list[str]:
+        """Run one typed line; its output lines, and a `! ...` line for each error."""
+        ...
+
+    def prompt(self) -> str: ...
+    def status_line(self) -> str: ...  # one line, fits 80 columns
+    def status_lines(self) -> list[str]: ...  # the full picture (`:status`)
+    def help(self, topic: str) -> list[str] | None: ...  # None: no such command
+    def words(self) -> list[str]: ...  # what Tab completes
+    def is_idle(self) -> bool: ...  # nothing moving, nothing waiting (`:run`, `@wait idle`)
+    def repl_word(self, word: str, rest: str) -> list[str] | None:
+        """A controller's own `:word` of the REPL (None: not one of its words)."""
+        ...
+
+
 class Controller(Protocol):
     """A controller as the doors see it."""
 
@@ -58,6 +79,7 @@ class Controller(Protocol):
     def packet_size(self) -> int | None: ...  # None: a stream of lines
 
     def open_session(self, notify: Notify | None = None) -> Session: ...
+    def console(self) -> Console: ...
     def reset(self) -> None: ...
 
 
