@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from maxk.controllers.maxk import MAXk
+from maxk.controllers.world_settings import parse_world
 from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
-from maxk.world_settings import parse_world
 
 
 class ScriptError(Exception):

@@ -5,6 +5,7 @@ from __future__ import annotations
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
 from maxk.personalities.maxk.models import MODELS, model_by_name
+from maxk.personalities.maxk.parameters import default_archive_path
 
 
 def _build_maxk(model: str, options: BuildOptions) -> Controller:
@@ -19,7 +20,8 @@ def _build_maxk(model: str, options: BuildOptions) -> Controller:
 
 KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
-                   "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes"),
+                   "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
+                   default_archive_path),
 )
 
 
@@ -44,6 +46,14 @@ def canonical_model(model: str) -> str:
     if kind.name == "MAXk":
         return model_by_name(model).name
     return next(m for m in kind.models if m.lower() == model.lower())
+
+
+def default_archive(model: str, number: int = 1) -> str | None:
+    """The per-user flash file of a controller (None: that kind keeps nothing)."""
+    kind = kind_of(model)
+    if kind.default_archive is None:
+        return None
+    return str(kind.default_archive(canonical_model(model), number))
 
 
 def build(model: str, options: BuildOptions | None = None) -> Controller:
