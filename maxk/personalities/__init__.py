@@ -1,0 +1,1 @@
+"""Personalities: each controller's firmware semantics, free of any wire format."""
