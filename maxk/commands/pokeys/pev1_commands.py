@@ -127,10 +127,10 @@ def axis_config(device: PoKeysDevice, req: Request) -> Reply | None:
                 on = bool(bits >> a.index & 1)
                 if isinstance(flag, SwitchBits):
                     sw = a.settings.switches
-                    a.settings.switches = sw | flag if on else sw & ~flag
+                    a.settings.switches = int(sw | flag if on else sw & ~flag)
                 else:
                     cf = a.settings.config
-                    a.settings.config = cf | flag if on else cf & ~flag
+                    a.settings.config = int(cf | flag if on else cf & ~flag)
     r = Reply(req)
     for i, flag in enumerate(_AXIS_CONFIG):
         r[8 + i] = _axes_bits(e, flag)

@@ -8,7 +8,6 @@ import struct
 import numpy as np
 
 from ...personalities.pokeys.axis import AxisSettings
-from ...personalities.pokeys.constants import AxisConfigBits, SwitchBits
 from ...personalities.pokeys.device import PoKeysDevice
 from ...personalities.pokeys.pev2 import PulseEngineV2
 from .packet import Reply, Request
@@ -139,7 +138,7 @@ def encode_axis(settings: AxisSettings) -> bytes:
 def decode_axis(raw: bytes) -> AxisSettings:
     speed, acc, dec, smin, smax, mult = struct.unpack_from("<fffiih", raw, 8)
     return AxisSettings(
-        config=AxisConfigBits(raw[0]), switches=SwitchBits(raw[1]), pin_home=raw[2],
+        config=raw[0], switches=raw[1], pin_home=raw[2],
         pin_limit_n=raw[3], pin_limit_p=raw[4], homing_speed=raw[5],
         homing_return_speed=raw[6], mpg_encoder=raw[7], max_speed=speed,
         max_acceleration=acc, max_deceleration=dec, soft_limit_min=smin,

@@ -9,13 +9,22 @@ from .constants import AxisConfigBits, AxisState, SwitchBits
 from .motion import SlotMotion
 from .world import SwitchLevels
 
+# Plain ints: the slot loop tests these bits often, and IntFlag operations are slow.
+_INTERNAL = int(AxisConfigBits.INTERNAL_PLANNER)
+_POSITION = int(AxisConfigBits.POSITION_MODE)
+_SOFT = int(AxisConfigBits.SOFT_LIMIT_ENABLED)
+_INV_N, _INV_P, _INV_H = (int(SwitchBits.INVERT_LIMIT_N), int(SwitchBits.INVERT_LIMIT_P),
+                          int(SwitchBits.INVERT_HOME))
+_HOME_N, _HOME_P = int(SwitchBits.HOME_ON_LIMIT_N), int(SwitchBits.HOME_ON_LIMIT_P)
+_ANY_HOME = int(SwitchBits.HOME) | _HOME_N | _HOME_P
+
 
 @dataclass
 class AxisSettings:
     """Field names follow PoKeysLib's sPoKeysPEv2 arrays; speeds in pulses/ms."""
 
-    config: AxisConfigBits = AxisConfigBits(0)
-    switches: SwitchBits = SwitchBits(0)
+    config: int = 0  # AxisConfigBits
+    switches: int = 0  # SwitchBits
     pin_home: int = 0
     pin_limit_n: int = 0
     pin_limit_p: int = 0
@@ -30,33 +39,37 @@ class AxisSettings:
     mpg_multiplier: int = 1
     raw: bytearray = field(default_factory=lambda: bytearray(45))  # request [8..52] as sent
 
+    def __setattr__(self, name: str, value: object) -> None:
+        if name in ("config", "switches"):
+            value = int(value)  # type: ignore[call-overload]
+        object.__setattr__(self, name, value)
+
     @property
     def internal(self) -> bool:
-        return AxisConfigBits.INTERNAL_PLANNER in self.config
+        return bool(self.config & _INTERNAL)
 
     @property
     def position_mode(self) -> bool:
-        return AxisConfigBits.POSITION_MODE in self.config
+        return bool(self.config & _POSITION)
 
     @property
     def soft_limits(self) -> bool:
-        return AxisConfigBits.SOFT_LIMIT_ENABLED in self.config
+        return bool(self.config & _SOFT)
 
     def tripped(self, levels: SwitchLevels) -> tuple[bool, bool, bool]:
         """(limit-, limit+, home) activated: high unless inverted (NC switches)."""
         sw = self.switches
-        lim_n = levels.limit_n != (SwitchBits.INVERT_LIMIT_N in sw)
-        lim_p = levels.limit_p != (SwitchBits.INVERT_LIMIT_P in sw)
-        home = levels.home != (SwitchBits.INVERT_HOME in sw)
-        if SwitchBits.HOME_ON_LIMIT_N in sw:
+        lim_n = levels.limit_n != bool(sw & _INV_N)
+        lim_p = levels.limit_p != bool(sw & _INV_P)
+        home = levels.home != bool(sw & _INV_H)
+        if sw & _HOME_N:
             home = lim_n
-        elif SwitchBits.HOME_ON_LIMIT_P in sw:
+        elif sw & _HOME_P:
             home = lim_p
         return lim_n, lim_p, home
 
     def homing_input_available(self) -> bool:
-        return bool(self.switches & (SwitchBits.HOME | SwitchBits.HOME_ON_LIMIT_N
-                                     | SwitchBits.HOME_ON_LIMIT_P))
+        return bool(self.switches & _ANY_HOME)
 
 
 @dataclass
@@ -72,4 +85,3 @@ class Axis:
     mpg_last: int | None = None
     mpg_pending: int = 0
     direction_out: bool = False  # the direction pin, held between pulses
-    clipped_pulses: int = 0  # pulses asked for beyond the engine's per-slot maximum

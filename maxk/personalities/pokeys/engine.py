@@ -26,6 +26,9 @@ from .slot_buffer import SlotBuffer
 from .world import BenchWorld, PulseEngineWorld
 
 HORIZON = 1 << 40
+_LIMIT_N, _LIMIT_P = int(SwitchBits.LIMIT_N), int(SwitchBits.LIMIT_P)
+_HOME_N, _HOME_P = int(SwitchBits.HOME_ON_LIMIT_N), int(SwitchBits.HOME_ON_LIMIT_P)
+_INVERTED, _INVERTED_HOME = int(AxisConfigBits.INVERTED), int(AxisConfigBits.INVERTED_HOME)
 
 
 class SlotRecord(NamedTuple):
@@ -50,7 +53,7 @@ class PulseEngine:
         self.slot = 0
         self.state = EngineState.STOPPED
         self.axes = [Axis(i) for i in range(spec.axes)]
-        self.buffer = SlotBuffer(spec.axes)
+        self.buffer = SlotBuffer(spec.axes, spec.max_pulses_per_slot)
         self.limit_override = 0
         self.estop_polarity = 0
         self.estop_tripped = False
@@ -134,7 +137,7 @@ class PulseEngine:
             self.hard_stop(EngineState.STOP_EMERGENCY, (), all_error=True)
             self.notify("estop")
             return
-        if self.limits_checked():
+        if (lim_n | lim_p) and self.limits_checked():
             tripped = [a.index for a in self.axes if self.active(a) and self._limit_stops(
                 a, bool(lim_n >> a.index & 1), bool(lim_p >> a.index & 1))]
             if tripped:
@@ -155,11 +158,9 @@ class PulseEngine:
         sw = axis.settings.switches
         homing = self.state == EngineState.HOMING and axis.held_state in (
             AxisState.HOMING_START, AxisState.HOMING_SEARCH, AxisState.HOMING_BACK)
-        if lim_n and SwitchBits.LIMIT_N in sw and not (
-                homing and SwitchBits.HOME_ON_LIMIT_N in sw):
+        if lim_n and sw & _LIMIT_N and not (homing and sw & _HOME_N):
             return True
-        return lim_p and SwitchBits.LIMIT_P in sw and not (
-            homing and SwitchBits.HOME_ON_LIMIT_P in sw)
+        return bool(lim_p and sw & _LIMIT_P and not (homing and sw & _HOME_P))
 
     def hard_stop(self, state: EngineState, tripped: Iterable[int], all_error: bool = False
                   ) -> None:
@@ -184,7 +185,7 @@ class PulseEngine:
                             AxisState.HOMING_BACK):
                 continue
             tripped = bool(home_bits >> a.index & 1)
-            toward = 1 if AxisConfigBits.INVERTED_HOME in a.settings.config else -1
+            toward = 1 if a.settings.config & _INVERTED_HOME else -1
             search, back = self.homing_speeds(a)
             if held == AxisState.HOMING_START:
                 held = AxisState.HOMING_SEARCH
@@ -255,47 +256,53 @@ class PulseEngine:
             return n
         if any(a.mpg_pending for a in self.axes):
             return 1
-        m = self.spec.max_pulses_per_slot
         consuming = self.consumes_buffer()
-        rows = None
-        if consuming and self.buffer.count:
-            n = min(n, self.buffer.count)
-            rows = np.clip(self.buffer.peek(n), -m, m)
+        fed: list[Axis] = []
         for a in self.axes:
             if not self.active(a):
                 continue
             if consuming and self.buffered(a):
-                if rows is not None:
-                    n = min(n, self._buffered_span(a, np.cumsum(rows[:n, a.index])))
+                fed.append(a)
             elif a.motion is not None:
                 end = a.motion.end_slot()
                 if end is not None and end > s:
                     n = min(n, end - s)
-                n = min(n, self._motion_span(a, a.motion, n))
-            if n <= 1:
-                return 1
+                n = self._motion_span(a, a.motion, n)
+                if n <= 1:
+                    return 1
+        if fed and self.buffer.count:
+            n = self._buffered_span(fed, min(n, self.buffer.count))
+        return max(n, 1)
+
+    def _buffered_span(self, fed: list[Axis], n: int) -> int:
+        """Slots of the buffer that run before a buffered axis crosses a switch edge at a
+        slot boundary (that slot included) or would pass a soft limit (that slot not)."""
+        rows = self.buffer.peek(n)
+        if len(fed) < rows.shape[1]:
+            rows = rows[:, [a.index for a in fed]]
+        cum = np.cumsum(rows, axis=0)
+        up: list[int] = []
+        down: list[int] = []
+        for a in fed:
+            e_up, e_down = self._edges(a)
+            up.append(HORIZON if e_up is None else e_up)
+            down.append(HORIZON if e_down is None else e_down)
+        hits = ((cum >= np.array(up)) | (cum <= -np.array(down))).any(axis=1)
+        if hits.any():
+            n = min(n, int(np.argmax(hits)) + 1)  # the crossing slot itself still runs
+        soft = [i for i, a in enumerate(fed) if a.settings.soft_limits]
+        if soft:
+            pos = cum[:n, soft] + np.array([fed[i].position for i in soft])
+            lo = np.array([fed[i].settings.soft_limit_min for i in soft])
+            hi = np.array([fed[i].settings.soft_limit_max for i in soft])
+            out = ((pos > hi) | (pos < lo)).any(axis=1)
+            if out.any():
+                n = min(n, int(np.argmax(out)))  # the clipped slot runs alone
         return n
 
     def _edges(self, a: Axis) -> tuple[int | None, int | None]:
         return (self.world.next_switch_edge(a.index, a.position, 1),
                 self.world.next_switch_edge(a.index, a.position, -1))
-
-    def _buffered_span(self, a: Axis, cum: np.ndarray) -> int:
-        n = len(cum)
-        up, down = self._edges(a)
-        hits = np.zeros(n, dtype=bool)
-        if up is not None:
-            hits |= cum >= up
-        if down is not None:
-            hits |= cum <= -down
-        if hits.any():
-            n = min(n, int(np.argmax(hits)) + 1)  # the crossing slot itself still runs
-        if a.settings.soft_limits:
-            pos = a.position + cum
-            out = (pos > a.settings.soft_limit_max) | (pos < a.settings.soft_limit_min)
-            if out.any():
-                n = min(n, int(np.argmax(out)))  # the clipped slot runs alone
-        return n
 
     def _motion_span(self, a: Axis, motion: SlotMotion, n: int) -> int:
         s, p0 = self.slot, a.position
@@ -323,22 +330,25 @@ class PulseEngine:
         generating = self.state in GENERATING
         consuming = generating and self.consumes_buffer()
         rows = self.buffer.pop(n) if consuming and self.buffer.count else None
+        sums: list[int] = []
+        last: list[int] = []
+        if rows is not None:
+            sums = rows.sum(axis=0).tolist()
+            # The last nonzero pulse count of each column (0 if none) sets its direction pin.
+            at = len(rows) - 1 - np.argmax(rows[::-1] != 0, axis=0)
+            last = rows[at, np.arange(rows.shape[1])].tolist()
         m = self.spec.max_pulses_per_slot
         pulses = [0] * self.spec.axes
         for a in self.axes:
             if not generating or not self.active(a):
                 continue
             p0 = a.position
+            step = 0
             if consuming and self.buffered(a):
                 if rows is None:
                     continue
-                col = rows[:, a.index]
-                clipped = np.clip(col, -m, m)
-                a.clipped_pulses += int(np.abs(col - clipped).sum())
-                new = p0 + int(clipped.sum())
-                nz = np.flatnonzero(clipped)
-                if len(nz):
-                    self._direction(a, int(clipped[nz[-1]]))
+                new = p0 + sums[a.index]
+                step = last[a.index]
             elif a.motion is not None:
                 new = a.motion.position_at(s + n)
             elif a.mpg_pending:
@@ -349,9 +359,8 @@ class PulseEngine:
                 continue
             if n == 1:
                 new = self._clip_single(a, new)
-            if new != p0:
-                if rows is None:
-                    self._direction(a, new - p0)
+            if new != p0 or step:
+                self._direction(a, step or new - p0)
                 a.position = new
                 pulses[a.index] = new - p0
         self.slot = s + n
@@ -380,7 +389,7 @@ class PulseEngine:
         return new
 
     def _direction(self, a: Axis, step: int) -> None:
-        a.direction_out = (step < 0) != (AxisConfigBits.INVERTED in a.settings.config)
+        a.direction_out = (step < 0) != bool(a.settings.config & _INVERTED)
 
     # ---- status ------------------------------------------------------------------------
     def axis_states(self) -> list[AxisState]:

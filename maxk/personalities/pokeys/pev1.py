@@ -37,7 +37,7 @@ class PulseEngineV1(PulseEngine):
         self.kb48cnc = 0
         self.mpg_config = bytearray(16)  # 0x03: [8] on, [9..20] multipliers, [21..23] encoders
         for a in self.axes:
-            a.settings.config = AxisConfigBits.ENABLED
+            a.settings.config = int(AxisConfigBits.ENABLED)
 
     # ---- engine answers -----------------------------------------------------------------
     def active(self, axis: Axis) -> bool:

@@ -13,9 +13,11 @@ from .constants import BUFFER_DEPTH
 
 
 class SlotBuffer:
-    def __init__(self, axes: int, depth: int = BUFFER_DEPTH) -> None:
+    def __init__(self, axes: int, max_pulses: int, depth: int = BUFFER_DEPTH) -> None:
         self.depth = depth
         self.axes = axes
+        self.max_pulses = max_pulses
+        self.clipped = np.zeros(axes, dtype=np.int64)  # pulses beyond max_pulses, per axis
         self._rows = np.zeros((depth, axes), dtype=np.int32)
         self._head = 0
         self.count = 0
@@ -26,25 +28,34 @@ class SlotBuffer:
 
     def accept(self, entries: np.ndarray) -> int:
         """Append as many leading entries (rows of up to `axes` columns) as fit; return
-        how many were taken. Columns beyond the entries' width are zero."""
+        how many were taken. Columns beyond the entries' width are zero. A slot never
+        carries more than max_pulses: the excess is dropped here and counted."""
         take = min(len(entries), self.free)
         if take <= 0:
             return 0
         width = entries.shape[1]
+        taken = entries[:take]
+        m = self.max_pulses
+        clipped = taken
+        if np.abs(taken).max() > m:
+            clipped = np.clip(taken, -m, m)
+            self.clipped[:width] += np.abs(taken - clipped).sum(axis=0)
         idx = (self._head + self.count + np.arange(take)) % self.depth
         self._rows[idx] = 0
-        self._rows[idx, :width] = entries[:take]
+        self._rows[idx, :width] = clipped
         self.count += take
         return take
 
     def peek(self, n: int) -> np.ndarray:
         """The next n entries (n <= count) without consuming them."""
+        if self._head + n <= self.depth:
+            return self._rows[self._head:self._head + n]
         idx = (self._head + np.arange(n)) % self.depth
         return self._rows[idx]
 
     def pop(self, n: int) -> np.ndarray:
         n = min(n, self.count)
-        rows = self.peek(n)
+        rows = self.peek(n).copy()
         self._head = (self._head + n) % self.depth
         self.count -= n
         return rows
