@@ -37,7 +37,8 @@ class Segment:
     def end_slot(self) -> int | None:
         if self.motion.end_time is None:
             return None
-        return self.start + max(0, math.ceil(self.motion.end_time / SLOT_SECONDS - 1e-9))
+        # The slack absorbs float noise (an "instant" ramp still lasts ~1e-8 ms).
+        return self.start + max(0, math.ceil(self.motion.end_time / SLOT_SECONDS - 1e-6))
 
 
 class SlotMotion:
