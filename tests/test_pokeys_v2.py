@@ -167,7 +167,7 @@ def test_internal_position_move_is_the_closed_form_profile() -> None:
     stream(e, [[0, 2]] * 100)
     records = run(e, 800, traced=True)
     motion = plan_move(3000, 0.0, 10000.0, 50000.0, 50000.0, RampShape.LINEAR)
-    expected = [math.floor(motion.offset(k * 1e-3) + 1e-7) for k in range(794)]
+    expected = [math.floor(motion.offset(k * 1e-3) + 1e-6) for k in range(794)]
     got = [0]
     for r in records:
         got.append(got[-1] + r.pulses[0])

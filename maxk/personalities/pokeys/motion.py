@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from ...firmware_model.profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
 from .constants import SLOT_SECONDS
 
-_EPS = 1e-7  # float slack so that 2500 * 0.004 counts as 10 whole pulses, not 9
+_EPS = 1e-6  # float slack so that 2500 * 0.004 counts as 10 whole pulses, not 9
 _SHAPE = RampShape.LINEAR
 
 
@@ -95,8 +95,8 @@ def _limits(max_speed_per_ms: float, accel_per_ms2: float, decel_per_ms2: float
             ) -> tuple[float, float, float]:
     """Axis parameters in pulses/s and pulses/s^2 (a zero ramp means an instant change)."""
     peak = max_speed_per_ms * 1e3
-    acc = accel_per_ms2 * 1e6 if accel_per_ms2 > 0 else 1e15
-    dec = decel_per_ms2 * 1e6 if decel_per_ms2 > 0 else 1e15
+    acc = accel_per_ms2 * 1e6 if accel_per_ms2 > 0 else 1e18
+    dec = decel_per_ms2 * 1e6 if decel_per_ms2 > 0 else 1e18
     return peak, acc, dec
 
 
