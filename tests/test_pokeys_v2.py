@@ -321,3 +321,16 @@ def test_next_event_reports_buffer_dry_move_end_and_switches() -> None:
     assert e.next_event() == 55  # 41 at the end of slot 54
     e.run_to(55)
     assert e.next_event() == 60  # the move ends
+
+
+def test_leaving_a_limit_needs_the_override() -> None:
+    e, _, _ = _limit_case(traced=False)
+    e.set_state(EngineState.RUNNING, 0, 0)
+    stream(e, [[-10]] * 5)
+    e.run_to(121)
+    assert e.state == EngineState.STOP_LIMIT and e.positions()[0] == 1010
+    e.set_state(EngineState.RUNNING, 0b1, 0)
+    stream(e, [[-10]] * 5)
+    e.run_to(130)
+    assert e.state == EngineState.RUNNING and e.positions()[0] == 960
+    assert e.switch_bits() == (0, 0, 0)
