@@ -334,3 +334,31 @@ def test_leaving_a_limit_needs_the_override() -> None:
     e.run_to(130)
     assert e.state == EngineState.RUNNING and e.positions()[0] == 960
     assert e.switch_bits() == (0, 0, 0)
+
+
+def _retarget(first: int, second: int, at: int) -> tuple[PulseEngineV2, list[int]]:
+    e = engine(axes=1, config=INTERNAL_POS, max_speed=10.0, accel=0.05)
+    e.set_state(EngineState.RUNNING, 0, 0)
+    e.move([first] + [0] * 7)
+    records = run(e, at, traced=True)
+    e.move([second] + [0] * 7)
+    records += run(e, 2000, traced=True)
+    return e, [r.pulses[0] for r in records]
+
+
+def test_a_new_target_ahead_carries_on_without_stopping() -> None:
+    e, pulses = _retarget(1000, 5000, 100)
+    last = max(i for i, p in enumerate(pulses) if p)
+    assert min(pulses[100:last - 100]) >= 5  # 5 pulses/slot at slot 100; 200 slots down
+    assert max(pulses) == 10 and e.positions()[0] == 5000
+    # Stop (100 slots) and a fresh 4750-pulse move (675 slots) would end at slot 875.
+    assert last < 800
+
+
+def test_a_new_target_behind_stops_then_comes_back() -> None:
+    e, pulses = _retarget(5000, 1000, 300)
+    position = np.cumsum(pulses)
+    turn = int(np.argmax(position))
+    # At 10 pulses/ms, 0.05 pulses/ms^2 down: 1000 more pulses to stop, then back.
+    assert position[turn] == position[299] + 1000
+    assert min(pulses[turn + 1:]) >= -10 and e.positions()[0] == 1000

@@ -87,7 +87,8 @@ ENTRIES: Final[list[CommandEntry]] = [
        "pulses/ms are capped (D)."),
     _e(PEV2, 0x20, "PK_PEv2_PulseEngineMove", v2.move, "reference 6, 8", "C",
        "RUNNING, internal-planner axes only: position, or speed in pulses/s (reference 8, I). "
-       "A new position while moving: stop within deceleration, then move (D)."),
+       "A new position while moving carries on from the present speed if the axis can "
+       "still stop there, else stops and comes back (D)."),
     _e(PEV2, 0x25, "PK_PEv2_PulseEngineMovePV", v2.move_pv, "reference 6", "I",
        "[3] = axis mask (I); velocity u16/65535 scales the max speed; 0 = axis left alone (D)."),
     _e(PEV2, 0x21, "PK_PEv2_HomingStart", v2.homing_start, "reference 6, 9; seed v2", "C",

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ...firmware_model.profiles import Motion, RampShape, plan_jog, plan_move, plan_stop
+from ...firmware_model.profiles import Motion, Phase, RampShape, plan_jog, plan_move, plan_stop
 from .constants import SLOT_SECONDS
 
 _EPS = 1e-6  # float slack so that 2500 * 0.004 counts as 10 whole pulses, not 9
@@ -103,7 +103,9 @@ def _limits(max_speed_per_ms: float, accel_per_ms2: float, decel_per_ms2: float
 def plan_position(current: SlotMotion | None, position: int, slot: int, target: int,
                   max_speed: float, accel: float, decel: float,
                   peak_fraction: float = 1.0) -> SlotMotion | None:
-    """Move to target within the axis limits; a moving axis first stops, then moves."""
+    """Move to target within the axis limits. A moving axis that can still stop in time
+    carries on from its present speed; one that cannot (or runs the other way) first
+    stops within its deceleration, then moves back."""
     peak, acc, dec = _limits(max_speed, accel, decel)
     peak *= peak_fraction
     if peak <= 0:
@@ -113,6 +115,9 @@ def plan_position(current: SlotMotion | None, position: int, slot: int, target: 
     if current is not None:
         pos, residual, velocity = current.exact_at(slot)
         if velocity != 0.0:
+            onward = _continue(residual, velocity, target - pos, peak, acc, dec)
+            if onward is not None:
+                return SlotMotion([Segment(slot, pos, onward)])
             stop = plan_stop(residual, velocity, 0.0, dec, _SHAPE)
             seg = Segment(slot, pos, stop)
             segments.append(seg)
@@ -122,6 +127,31 @@ def plan_position(current: SlotMotion | None, position: int, slot: int, target: 
     if distance != 0:
         segments.append(Segment(start, origin, plan_move(distance, 0.0, peak, acc, dec, _SHAPE)))
     return SlotMotion(segments) if segments else None
+
+
+def _continue(residual: float, velocity: float, final: int, peak: float, acc: float,
+              dec: float) -> Motion | None:
+    """Linear-ramp profile from offset `residual` at `velocity` to rest at `final`:
+    ramp to the peak the distance allows, slew, ramp down; None if it cannot stop there."""
+    distance = final - residual
+    direction = 1 if distance > 0 else -1
+    speed = velocity * direction
+    length = abs(distance)
+    if speed <= 0 or speed * speed / (2 * dec) > length:
+        return None
+    top = peak if speed > peak else min(peak, math.sqrt(
+        (2 * acc * dec * length + dec * speed * speed) / (acc + dec)))
+    first = abs(top - speed) / (acc if top >= speed else dec)
+    last = top / dec
+    along = (speed + top) / 2 * first
+    down = top / 2 * last
+    slew = max(0.0, length - along - down) / top if top > 0 else 0.0
+    phases = [Phase(0.0, first, residual, speed, top, direction, _SHAPE),
+              Phase(first, slew, residual + direction * along, top, top, direction, _SHAPE),
+              Phase(first + slew, last, final - direction * down, top, 0.0, direction, _SHAPE)]
+    end = first + slew + last
+    return Motion([p for p in phases if p.duration > 0], end, final, first,
+                  direction=direction, peak_speed=top)
 
 
 def plan_speed(current: SlotMotion | None, position: int, slot: int, speed: float,
