@@ -277,16 +277,23 @@ class PulseEngine:
     def _buffered_span(self, fed: list[Axis], n: int) -> int:
         """Slots of the buffer that run before a buffered axis crosses a switch edge at a
         slot boundary (that slot included) or would pass a soft limit (that slot not)."""
-        rows = self.buffer.peek(n)
-        if len(fed) < rows.shape[1]:
-            rows = rows[:, [a.index for a in fed]]
-        cum = np.cumsum(rows, axis=0)
+        reach = n * self.spec.max_pulses_per_slot  # no axis can travel farther in n slots
         up: list[int] = []
         down: list[int] = []
+        near = False
         for a in fed:
             e_up, e_down = self._edges(a)
             up.append(HORIZON if e_up is None else e_up)
             down.append(HORIZON if e_down is None else e_down)
+            st = a.settings
+            near = near or up[-1] <= reach or down[-1] <= reach or (st.soft_limits and (
+                st.soft_limit_max - a.position < reach or a.position - st.soft_limit_min < reach))
+        if not near:
+            return n
+        rows = self.buffer.peek(n)
+        if len(fed) < rows.shape[1]:
+            rows = rows[:, [a.index for a in fed]]
+        cum = np.cumsum(rows, axis=0)
         hits = ((cum >= np.array(up)) | (cum <= -np.array(down))).any(axis=1)
         if hits.any():
             n = min(n, int(np.argmax(hits)) + 1)  # the crossing slot itself still runs
