@@ -85,11 +85,6 @@ def encoder_mode(axis: Axis) -> bool:
     return axis.config.axis_type == "E" and counts != steps
 
 
-USER_UNIT_COMMANDS = frozenset({"MA", "MR", "MT", "ML", "JG", "VL", "VB", "AC", "DC", "LP",
-                                "LO", "LPE", "HV"})
-"""Operands in user units while UU is on (counts otherwise)."""
-
-
 def scaled_out_of_range(axis: Axis, board: Board, mnemonic: str, raw: object,
                         value: int) -> bool:
     """With user units on, ranges apply to the scaled value: report one outside."""
@@ -660,10 +655,6 @@ QUEUED: dict[str, QueuedFactory] = {
     "LN": _limits_on(True),
     "LF": _limits_on(False),
 }
-
-GO_COMMANDS = frozenset({"GO", "GD", "GN"})
-LINEAR_MOVES = {"MT": False, "ML": True}  # mnemonic -> relative
-
 
 NOT_MODELLED_YET: dict[str, str] = {}
 """Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""

@@ -309,14 +309,14 @@ def _vector(spec: CommandSpec, buf: str, i: int, j: int, n: int
     if k < n and spec.letters and buf[k].upper() in spec.letters:
         form = buf[k].upper()
         k += 1
-    elif k < n and mnemonic == "VO" and buf[k] == "=":
+    elif k < n and spec.assign_form and buf[k] == "=":
         form = "="
         k += 1
     if spec.arity == 0:
         if k >= n and task is None:
             return None
         return ParsedCommand(spec, (), False, buf[i:k], task, form), k, False
-    hex_operand = mnemonic == "VIO"
+    hex_operand = spec.hex_operands
     end = (_HEX_LIST_RUN if hex_operand else _NUMBER_RUN).match(buf, k).end()
     if end - k > MAX_OPERAND_LENGTH:
         return LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"), end, True

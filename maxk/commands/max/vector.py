@@ -52,7 +52,7 @@ def _numbers(cmd: ParsedCommand, least: int) -> list[float | None]:
         if slot is None:
             values.append(None)
             continue
-        value = float(int(slot, 16)) if spec.mnemonic == "VIO" else float(slot)
+        value = float(int(slot, 16)) if spec.hex_operands else float(slot)
         if spec.value_range is not None:
             lo, hi = spec.value_range
             if not lo <= value <= hi:

@@ -190,7 +190,7 @@ class Axis(MotionAxis):
         E4) is applied first, so the stop uses the deceleration the host asked for.
         """
         for entry in self.queue.pending():
-            if entry.mnemonic in ("AC", "DC"):
+            if entry.applied_at_stop:
                 entry.action(self, board)
         self.flush(board)
         self.stop(board)
