@@ -80,7 +80,8 @@ def test_manual_tuning_check_on_an_open_loop_stepper():
 def test_every_table_entry_has_a_behaviour_and_every_behaviour_an_entry():
     """A command's behaviour is bound once: by its table entry's timing (and properties
     such as `start`) to exactly one handler; no handler exists without an entry."""
-    from maxk.commands.max.handlers import IMMEDIATE, NOT_MODELLED_YET, QUEUED, SETTING_QUERIES
+    from maxk.commands.max.immediate import IMMEDIATE
+    from maxk.commands.max.queued import NOT_MODELLED_YET, QUEUED, SETTING_QUERIES
     from maxk.commands.max.table import Start, Timing
     from maxk.commands.max.vector import _HANDLERS
 

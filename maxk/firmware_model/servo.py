@@ -21,6 +21,10 @@ KU, friction not changing sign) the closed loop has a closed-form solution: moda
 decomposition plus a polynomial particular solution. The engine jumps over such
 stretches in O(1), checks per tick only where a bound says a limit might be reached,
 and steps tick by tick only where the loop is really nonlinear (saturation, stiction).
+
+Long module: one algorithm (the loop, its closed-form solution, the checks that decide
+where it holds and the scalar steps where it does not) whose parts share the solution's
+state; split, each part would only make sense beside the others.
 """
 
 from __future__ import annotations

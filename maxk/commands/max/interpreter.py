@@ -6,17 +6,11 @@ it sets the command-error flag (doorbell bit 24), records why, and the stream go
 
 from __future__ import annotations
 
-from maxk.commands.max.handlers import (
-    IMMEDIATE,
-    QUEUED,
-    SETTING_QUERIES,
-    CommandError,
-    Context,
-    go_together,
-    linear_target,
-    validate_queued,
-)
+from maxk.commands.max.context import CommandError, Context
+from maxk.commands.max.immediate import IMMEDIATE
 from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
+from maxk.commands.max.queued import QUEUED, SETTING_QUERIES, validate_queued
+from maxk.commands.max.queued_motion import go_together, linear_target
 from maxk.commands.max.table import AA, Operand, Start, Timing
 from maxk.commands.max.vector import dispatch_vector
 from maxk.personalities.maxk.axis import Axis, LinearMove, StartGroup

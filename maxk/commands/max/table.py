@@ -6,6 +6,9 @@ this table. Each entry says where its behaviour comes from and how sure we are:
 - ``C`` certain: stated by the MAXk manual or seen literally in host code (evidence C);
 - ``I`` inferred: deduced from how host code uses the command (evidence I);
 - ``D`` decided: neither settles it; this is our choice, explained in ``notes``.
+
+Long module: it is data, one entry per mnemonic (about 170), kept in one file so that
+the single source of truth is one place to read and to review.
 """
 
 from __future__ import annotations

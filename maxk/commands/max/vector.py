@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from maxk.commands.max.handlers import CommandError
+from maxk.commands.max.context import CommandError
 from maxk.commands.max.lexer import ParsedCommand
 from maxk.firmware_model.path import SegmentDef
 from maxk.personalities.maxk.board import Board

@@ -1,8 +1,12 @@
-"""The board: axes, flags and the tick engine. No sockets, threads or wall clock here.
+"""The MAXk board: axes, flags and doorbell, switches, power-up, on the shared engine.
 
 Time is an integer tick counter at the update period (1/8192 s = 122.07 us by default).
 The engine is event driven: stepper motions are closed-form, so advancing jumps from
 one event (a motion ending, a wait expiring) to the next and runs the queues there.
+
+Long module: the board's flags, switches, homing, slip and power-up all act on the one
+state its axes share (flags latched per axis, the doorbell image, the archive); capture
+lives in capture.py, vector tasks in contouring.py, the queues in axis.py.
 """
 
 from __future__ import annotations
