@@ -200,8 +200,8 @@ def _run(args: argparse.Namespace) -> int:
             print(f"[{tick:>8}] > {text.strip()}")
         for reply in replies:
             print(reply)
-    for error in board.board.errors:
-        print(f"maxk run: command error at tick {error.tick}: {error}", file=sys.stderr)
+    for record_ in board.board.errors:
+        print(f"maxk run: command error at tick {record_.tick}: {record_}", file=sys.stderr)
     if args.record:
         args.script.write_text(record(script, transcript), encoding="utf-8")
         print(f"maxk run: recorded {len(transcript.replies)} replies into {args.script}",

@@ -195,7 +195,7 @@ def run_repl(model: str = DEFAULT_MODEL, rate: int | None = None,
         completer=MnemonicCompleter(session.console),
         complete_while_typing=False,
         bottom_toolbar=lambda: session.toolbar(shutil.get_terminal_size().columns),
-        refresh_interval=None if manual_time else 0.25,
+        refresh_interval=0 if manual_time else 0.25,  # 0: no refresh
     )
     print(f"maxk: {session.controller.model} emulator. Type help for REPL words, "
           "help XX for a command, Ctrl-D to leave.")

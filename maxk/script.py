@@ -87,7 +87,7 @@ _UNTIL = re.compile(
 DEFAULT_TIMEOUT_S = 60.0
 
 
-def parse_duration(text: str, update_rate_hz: int) -> int:
+def parse_duration(text: str, update_rate_hz: float) -> int:
     """A duration to ticks: '0.5 s', '250 ms', '100 ticks' (a bare number is seconds)."""
     m = _DURATION.match(text.strip())
     if not m:

@@ -184,6 +184,8 @@ class _Solution:
 
     __slots__ = ("modal", "P", "delta", "W", "tick0", "poly_out")
 
+    tick0: int  # the tick the solution starts at (set by its user)
+
     def __init__(self, modal: _Modal, X0: list[float], W: list[list[float]]) -> None:
         self.modal = modal
         Wa = np.zeros((len(W), 5))
@@ -367,7 +369,7 @@ class ServoLoop:
             if self.trip_tick is not None:
                 return
 
-    def _commanded(self, axis: ServoAxis, board: ServoHost, tick: int) -> float:
+    def _commanded(self, axis: ServoAxis, board: ServoHost, tick: float) -> float:
         """Commanded position (counter frame, exact float) at a tick."""
         m = axis.motion
         base = axis.steps + axis.counter_offset

@@ -126,7 +126,8 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         return reply
     if cmd.query:
         return ctx.per_axis(SETTING_QUERIES[spec.mnemonic])
-    return _enqueue(ctx)
+    _enqueue(ctx)
+    return None
 
 
 def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
@@ -149,7 +150,8 @@ def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
     if spec.timing is Timing.IMMEDIATE:
         return IMMEDIATE[spec.mnemonic](ctx)
     if board.mode == "single":
-        return _enqueue(ctx)
+        _enqueue(ctx)
+        return None
     validate_queued(ctx)
     action = QUEUED[spec.mnemonic](value, ctx)
     if action(axis, board) is not None:

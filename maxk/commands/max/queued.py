@@ -42,7 +42,7 @@ from maxk.firmware_model.servo import ServoLoop
 from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.queue import Action
-from maxk.personalities.maxk.waits import WAIT_REST_RETRY, InputWait
+from maxk.personalities.maxk.waits import WAIT_REST_RETRY, InputWait, Wait
 
 
 def _bit_level(high: bool) -> QueuedFactory:
@@ -80,7 +80,7 @@ def _direction_mask(value: object, ctx: Context) -> Action:
 
 
 def _configure_bit(value: object, ctx: Context) -> Action:
-    bit, output = value  # type: ignore[misc]
+    bit, output = (int(v) for v in value)  # type: ignore[attr-defined]
 
     def action(axis: Axis, board: Board) -> None:
         if output:
@@ -93,10 +93,10 @@ def _configure_bit(value: object, ctx: Context) -> Action:
 
 
 def _wait_input(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         if board.io.level(value, board):  # type: ignore[arg-type]
             return None
-        return InputWait(value)
+        return InputWait(int(value))  # type: ignore[call-overload]
 
     return action
 
@@ -126,7 +126,7 @@ def _axis_type(value: object, ctx: Context) -> Action:
     """PSO/PSE/PSM. The type changes at rest (a running move finishes first); the
     counters carry on where they were, so RP and RE do not jump."""
 
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         if axis.motion is not None:
             return WAIT_REST_RETRY
         old = axis.config.axis_type
@@ -191,7 +191,7 @@ def _loop(on: bool, mnemonic: str) -> QueuedFactory:
 def _encoder_ratio(value: object, ctx: Context) -> Action:
     """ER counts,steps: the encoder ratio; an encoder stepper other than 1:1 is then in
     encoder mode (evidence 2.4). Motor and encoder are taken to agree from here."""
-    counts, steps = value  # type: ignore[misc]
+    counts, steps = (int(v) for v in value)  # type: ignore[attr-defined]
 
     def action(axis: Axis, board: Board) -> None:
         if counts <= 0 or steps <= 0:

@@ -24,7 +24,7 @@ from maxk.personalities.maxk.models import (
     POSITION_MIN,
 )
 from maxk.personalities.maxk.queue import Action
-from maxk.personalities.maxk.waits import WAIT_MOTION, WAIT_REST_RETRY, TickWait
+from maxk.personalities.maxk.waits import WAIT_MOTION, WAIT_REST_RETRY, TickWait, Wait
 
 
 def _velocity(raw: object, ctx: Context) -> Action:
@@ -136,7 +136,7 @@ def _move_relative(value: object, ctx: Context) -> Action:
 
 
 def _go(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         if axis.motion is not None:
             return WAIT_REST_RETRY
         if axis.pending_linear is not None:
@@ -154,7 +154,7 @@ def _go(value: object, ctx: Context) -> Action:
 
 
 def go_together(group: StartGroup) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         if axis.motion is not None:
             return WAIT_REST_RETRY
         return group.arrive(axis, board)
@@ -163,7 +163,7 @@ def go_together(group: StartGroup) -> Action:
 
 
 def _jog(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         velocity = in_steps(axis, value)
         if scaled_out_of_range(axis, board, "JG", value, velocity):
             return None
@@ -176,7 +176,7 @@ def _jog(value: object, ctx: Context) -> Action:
 
 
 def _one_step(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         if axis.motion is not None:
             return WAIT_REST_RETRY
         axis.step(axis.config.move_direction, board)
@@ -201,7 +201,7 @@ def _load(motor: bool, encoder: bool) -> QueuedFactory:
 
 
 def _wait(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         ticks = math.ceil(value / 1000.0 / board.period - 1e-9)  # type: ignore[operator]
         return TickWait(board.tick + ticks) if ticks > 0 else None
 
@@ -223,7 +223,7 @@ def _loop_start(value: object, ctx: Context) -> Action:
 
 
 def _loop_end(value: object, ctx: Context) -> Action:
-    def action(axis: Axis, board: Board) -> object:
+    def action(axis: Axis, board: Board) -> Wait | None:
         # Jumping back takes one update cycle, so no loop can spin within a tick.
         return TickWait(board.tick + 1) if axis.queue.loop_end() else None
 
@@ -269,7 +269,7 @@ def _limit_level_for(attr: str) -> QueuedFactory:
 
 def _home(direction: int, load: bool) -> QueuedFactory:
     def factory(value: object, ctx: Context) -> Action:
-        def action(axis: Axis, board: Board) -> object:
+        def action(axis: Axis, board: Board) -> Wait | None:
             if axis.motion is not None:
                 return WAIT_REST_RETRY
             load_value = (value if value is not None else 0) if load else None

@@ -30,6 +30,7 @@ from maxk.personalities.maxk.waits import (
     WAIT_MOTION,
     WAIT_REST_RETRY,
     InputWait,
+    RestWait,
     TickWait,
     Wait,
 )
@@ -303,6 +304,7 @@ class Axis(MotionAxis):
                     self.wait = None
                     queue.advance()
                 else:  # a synchronisation group (AA-mode GO) or a contour's anchor
+                    assert not isinstance(wait, RestWait)
                     if not wait.ready(board):
                         return progressed
                     self.wait = WAIT_MOTION

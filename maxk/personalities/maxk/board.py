@@ -148,7 +148,8 @@ class Board(Engine):
         trips = [a for a in self._servo_axes if a.servo.trip_tick is not None]  # type: ignore
         if not trips:
             return False
-        first = min(a.servo.trip_tick for a in trips)  # type: ignore[union-attr]
+        first = min(t for a in trips if a.servo is not None
+                    and (t := a.servo.trip_tick) is not None)
         self.tick = max(self.tick, first)
         for axis in trips:
             if axis.servo.trip_tick == first:  # type: ignore[union-attr]
