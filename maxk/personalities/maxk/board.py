@@ -653,8 +653,8 @@ class _AxesSource:
                 marked = True
             elif not marked:
                 wait = axis.wait
-                marked = isinstance(wait, InputWait) or (
-                    isinstance(wait, TickWait) and wait.tick <= now)
+                kind = type(wait)
+                marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
             if marked:
                 due.append(axis)
 
