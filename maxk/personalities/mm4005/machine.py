@@ -170,9 +170,12 @@ class MM4005(Engine):
         residual, velocity = a.freeze(self)
         decel = a.counts_per_second(a.acceleration)
         motion = plan_stop(residual, velocity, 0.0, decel, _RAMP)
-        a.begin(motion, self)
         a.target_counts = a.steps + motion.final_offset + a.counter_offset
-        self.schedule_switches(a)
+        a.begin(motion, self)
+        if a.motion is None:  # it was at rest already: what follows a stop follows now
+            self._motion_done(a)
+        else:
+            self.schedule_switches(a)
 
     def stop(self, axis: int) -> None:
         """ST: decelerate at AC (a trajectory's axes ramp down along the path at VS)."""
