@@ -147,7 +147,19 @@ class MM4005Controller:
 
     def run_until_idle(self, timeout: float = 600.0) -> bool:
         """Advance until no axis moves and no trajectory runs; False on timeout."""
-        return self.machine.run_until(lambda m: m.is_idle(), self.ticks(timeout))
+        machine = self.machine
+        deadline = machine.tick + self.ticks(timeout)
+        while not machine.is_idle():
+            # jump to the latest end the machine knows of (a trajectory's last tick, a
+            # move's end) in one pass over its events; then look again (a stop hands
+            # over to a move, a home search goes on)
+            end = machine.known_end()
+            if end is None or end <= machine.tick:
+                return machine.run_until(lambda m: m.is_idle(), deadline - machine.tick)
+            machine.advance_to(min(end, deadline))
+            if machine.tick >= deadline:
+                return machine.is_idle()
+        return True
 
     # ---- the world and what came out -------------------------------------------------------
     def stage(self, axis: int) -> AxisWorld:

@@ -164,7 +164,7 @@ class TrajectoryExecution:
         self._pulse_distances: EvenlySpaced | None = None
         self._pulse_end = 0.0
         self._next_pulse = 0  # index of the first pulse not yet scheduled or fired
-        self._due: list[tuple[int, int]] = []  # (tick, index), ascending
+        self._due: list[tuple[int, int]] = []  # (tick, index), the next one last
         plan = run.pulses
         if plan is not None:
             first = self.segments[plan.start_element - 1].s0
@@ -201,7 +201,7 @@ class TrajectoryExecution:
             return
         batch = path_trigger_ticks(self.plan, self.plan_tick, self.engine.period,
                                    itertools.islice(self._distances(), PULSE_BATCH))
-        self._due = batch
+        self._due = batch[::-1]
         if batch:
             self._next_pulse = batch[-1][1] + 1
 
@@ -217,7 +217,7 @@ class TrajectoryExecution:
         self.stopping = True
         self.plan = plan_stop(self.segments, self.segment_index(s), s, v, 1.0)
         self.plan_tick = engine.tick
-        self._next_pulse = self._due[0][1] if self._due else self._next_pulse
+        self._next_pulse = self._due[-1][1] if self._due else self._next_pulse
         self._begin()
 
     def abort(self) -> None:
@@ -257,28 +257,45 @@ class TrajectoryExecution:
         if self.finished:
             return None
         best = self.end_tick
-        if self._due and (best is None or self._due[0][0] < best):
-            best = self._due[0][0]
+        due = self._due
+        if due and (best is None or due[-1][0] < best):
+            best = due[-1][0]
         return best
 
     def on_event(self, now: int) -> None:
-        while self._due and self._due[0][0] <= now:
-            tick, index = self._due.pop(0)
+        due = self._due
+        while due and due[-1][0] <= now:
+            tick, index = due.pop()
             self._fire(index, tick)
-            if not self._due:
+            if not due:
                 self._schedule_pulses()
+                due = self._due
         if self.end_tick is not None and now >= self.end_tick:
             self._finish()
 
     def _fire(self, index: int, tick: int) -> None:
         spaced = self._pulse_distances
-        assert spaced is not None and self.run.pulses is not None
-        distance = spaced.start + index * spaced.step
-        if index == spaced.count - 1:
-            distance = self._pulse_end
+        plan = self.run.pulses
+        assert spaced is not None and plan is not None
+        last = index == spaced.count - 1
+        distance = self._pulse_end if last else spaced.start + index * spaced.step
+        x, y = self.axes
+        xc, yc = self._counts_at(tick)
+        self.pulses.append(PulseRecord(index, tick, distance, plan.points[index].element,
+                                       xc, yc, xc * x.resolution, yc * y.resolution))
+
+    def _counts_at(self, tick: int) -> tuple[int, int]:
+        """X and Y counts at a tick of the running plan: what `counts_at` gives, with the
+        path located once for both axes (the pulse hot path)."""
         x, y = self.axes
         period = self.engine.period
-        xc, yc = x.counts_at(tick, period), y.counts_at(tick, period)
-        self.pulses.append(PulseRecord(
-            index, tick, distance, self.segment_index(distance) + 1 if index < spaced.count - 1
-            else self.run.pulses.end_element, xc, yc, xc * x.resolution, yc * y.resolution))
+        mx, my = x.motion, y.motion
+        if (not isinstance(mx, PathAxisMotion) or not isinstance(my, PathAxisMotion)
+                or mx.plan is not self.plan or my.plan is not self.plan
+                or x.motion_end is None or tick >= x.motion_end):
+            return x.counts_at(tick, period), y.counts_at(tick, period)
+        s, _v = self.plan.state((tick - x.motion_start) * period)
+        seg = self.plan.segment_at(s)
+        sigma = s - seg.s0
+        return (x.steps + int(seg.coordinate(sigma, 0) * mx.scale - mx.origin) + x.counter_offset,
+                y.steps + int(seg.coordinate(sigma, 1) * my.scale - my.origin) + y.counter_offset)

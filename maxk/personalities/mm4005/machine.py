@@ -139,6 +139,20 @@ class MM4005(Engine):
         return (all(a.motion is None and a.homing is None for a in self.axes)
                 and (run is None or run.finished))
 
+    def known_end(self) -> int | None:
+        """The last tick at which a motion or trajectory now running is planned to end
+        (None: one runs without a planned end, a home search seeking its switch)."""
+        ends: list[int] = []
+        for a in self.axes:
+            if a.motion is not None:
+                if a.motion_end is None:
+                    return None
+                ends.append(a.motion_end)
+        run = self.execution
+        if run is not None and not run.finished and run.end_tick is not None:
+            ends.append(run.end_tick)
+        return max(ends) if ends else None
+
     # ---- commands that move ---------------------------------------------------------------
     def move_to(self, axis: int, position: float) -> None:
         """PA/PR: a trapezoidal move at VA and AC. Given while the axis moves, the axis
