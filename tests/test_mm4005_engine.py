@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from maxk.controllers.mm4005 import MM4005Controller, axis_count_of
@@ -253,6 +253,7 @@ def test_reset_stops_everything_and_counters_read_zero() -> None:
 @given(target=st.integers(-99_000, 99_000).filter(lambda n: n != 0),
        speed=st.sampled_from([0.1, 0.5, 1.0, 2.5, 10.0]),
        accel=st.sampled_from([0.5, 2.0, 5.0, 50.0]))
+@example(target=1234, speed=0.1, accel=0.5)  # ends on the home switch's first count
 def test_moves_end_exactly_on_their_target(target: int, speed: float, accel: float) -> None:
     """Any PA lands on its count on the tick the profile's end rounds up to, and MS
     shows it moving until then."""
@@ -261,10 +262,13 @@ def test_moves_end_exactly_on_their_target(target: int, speed: float, accel: flo
     motion = mm.machine.axis(1).motion
     assert motion is not None and motion.end_time is not None
     end = _ticks(motion.end_time)
+    direction = 0x04 if target > 0 else 0
     mm.advance(ticks=end - 1)
-    assert mm.query("1MS") in ("1MSE", "1MSA")
+    home = 0x20 if 1234 <= mm.machine.axis(1).steps_now(mm.machine) <= 1333 else 0
+    assert mm.query("1MS") == "1MS" + chr(0x41 | direction | home)  # the home window too
     mm.advance(ticks=1)
-    assert mm.query("1MS") in ("1MSD", "1MS@")
+    home = 0x20 if 1234 <= target <= 1333 else 0
+    assert mm.query("1MS") == "1MS" + chr(0x40 | direction | home)
     assert mm.machine.axis(1).counts(mm.machine) == target
 
 
@@ -310,3 +314,19 @@ def test_pulse_log_csv_and_repl_word(tmp_path) -> None:  # type: ignore[no-untyp
     assert mm.console().repl_word("pulses-csv", str(target)) == [
         f"11 pulses written to {target}"]
     assert target.read_text().splitlines() == lines
+
+
+def test_path_trace_samples_the_trajectory_and_the_pulses_lie_on_it() -> None:
+    mm = _mm()
+    trace = mm.trace_path(every_ticks=2)  # every 1 ms: under a count apart at VV 1
+    _run_seed(mm)
+    mm.run_until_idle()
+    trace.detach()
+    samples = trace.samples
+    assert samples[0][1:] == (0, 0) and samples[-1][1:] == (10_000, 30_000)
+    by_tick = {t: (x, y) for t, x, y in samples}
+    for pulse in mm.pulses:  # a pulse's position is the path's at its tick
+        near = by_tick.get(pulse.tick) or by_tick.get(pulse.tick + 1)
+        assert near is not None
+        assert abs(near[0] - pulse.x_counts) <= 1 and abs(near[1] - pulse.y_counts) <= 1
+    assert trace.csv().splitlines()[0] == "tick,x_counts,y_counts"

@@ -170,6 +170,14 @@ class MM4005Controller:
     def world_changed(self) -> None:
         self.machine.world_changed()
 
+    def trace_path(self, axes: tuple[int, int] | None = None,
+                   every_ticks: int = 20) -> PathTrace:
+        """Start sampling two axes (default: the trajectory's AX and AY) every N ticks
+        (default 10 ms); `detach()` stops it."""
+        if axes is None:
+            axes = (self.machine.trajectory.x_axis, self.machine.trajectory.y_axis)
+        return PathTrace(self.machine, axes, every_ticks).attach()
+
     @property
     def pulses(self) -> list[PulseRecord]:
         """The synchronized pulses of the running or last trajectory."""
@@ -191,6 +199,32 @@ class MM4005Controller:
         if path is not None:
             Path(path).write_text(text)
         return text
+
+
+class PathTrace:
+    """Where two axes were (whole counts) every N ticks while the machine ran: the data
+    a path plot draws, with the pulse log as the marks on it."""
+
+    def __init__(self, machine: MM4005, axes: tuple[int, int], every_ticks: int) -> None:
+        self.machine = machine
+        self.axes = (machine.axis(axes[0]), machine.axis(axes[1]))
+        self.every_ticks = every_ticks
+        self.samples: list[tuple[int, int, int]] = []  # (tick, x counts, y counts)
+
+    def attach(self) -> PathTrace:
+        self.machine.add_observer(self.sample, self.every_ticks)
+        self.sample(self.machine)
+        return self
+
+    def detach(self) -> None:
+        self.machine.remove_observer(self.sample)
+
+    def sample(self, machine: MM4005) -> None:
+        x, y = self.axes
+        self.samples.append((machine.tick, x.counts(machine), y.counts(machine)))
+
+    def csv(self) -> str:
+        return "tick,x_counts,y_counts\n" + "".join(f"{t},{x},{y}\n" for t, x, y in self.samples)
 
 
 class MM4005Console:
