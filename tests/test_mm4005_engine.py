@@ -330,3 +330,25 @@ def test_path_trace_samples_the_trajectory_and_the_pulses_lie_on_it() -> None:
         assert near is not None
         assert abs(near[0] - pulse.x_counts) <= 1 and abs(near[1] - pulse.y_counts) <= 1
     assert trace.csv().splitlines()[0] == "tick,x_counts,y_counts"
+
+
+def test_or_without_a_usable_home_switch_runs_until_a_limit() -> None:
+    mm = _mm()
+    mm.stage(1).set_home(None, None)
+    mm.stage(1).set_plus_limit(500)
+    mm.send("1VA1;1AC5;1OR")
+    assert mm.run_until_idle()
+    assert 500 <= mm.machine.axis(1).steps <= 600  # braked at AC past the switch
+    assert mm.query("1MS") == "1MSL"  # on the + limit, nothing homed
+    assert mm.query("1TP") == f"1TP{mm.machine.axis(1).steps / 1000:.4f}"
+
+
+def test_et_while_a_trajectory_runs_is_refused_and_changes_nothing() -> None:
+    mm = _mm()
+    _run_seed(mm)
+    mm.send("3AX;4AY")  # two idle axes (MM4005-2 has none: refused as B)
+    assert mm.query("TE") == "TEB"
+    mm.send(SEED_PULSES + ";NS;ET")
+    assert mm.query("TE") == "TED"
+    assert mm.machine.trajectory.pulses.armed  # NS still waits for the next ET
+    assert mm.run_until_idle() and len(mm.pulses) == 11

@@ -70,9 +70,8 @@ class MM4005Controller:
     packet_size = None
 
     def __init__(self, model: str = DEFAULT_MODEL) -> None:
-        self._model = next(m for m in MODELS if m.lower() == model.lower()) \
-            if model.lower() in (m.lower() for m in MODELS) else model
         self.machine = MM4005(axis_count_of(model))
+        self._model = next(m for m in MODELS if m.lower() == model.lower())
         self.interpreter = self._new_interpreter()
         self._sessions: list[MM4005Session] = []
         self._console: MM4005Console | None = None

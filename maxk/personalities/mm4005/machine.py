@@ -233,8 +233,10 @@ class MM4005(Engine):
         a.begin(motion, self)
         self.schedule_switches(a)
 
-    def _home_edge(self, a: MM4005Axis) -> tuple[int, int]:
-        """The home position (steps) and which way the search starts from here."""
+    def _home_edge(self, a: MM4005Axis) -> tuple[int | None, int]:
+        """The home position (steps) and which way the search starts from here; without
+        a usable switch (none, or stuck by a fault) the search goes up until a limit
+        stops it (D)."""
         switch = self.world.axes[a.index].home
         here = a.steps_now(self)
         if switch.fault is None and switch.low is not None:
@@ -243,7 +245,7 @@ class MM4005(Engine):
         if switch.fault is None and switch.high is not None:
             edge = math.floor(switch.high)
             return edge, (-1 if here > edge else 1)
-        return here, 1  # no usable switch: the search runs until a limit stops it
+        return None, 1
 
     def start_trajectory(self, run: TrajectoryRun) -> None:
         """ET accepted: X and Y follow the planned path; NS's pulses fire on the way."""
@@ -288,6 +290,8 @@ class MM4005(Engine):
             self._plan_stop(a)
 
     def _home_met(self, a: MM4005Axis, homing: HomeSearch) -> bool:
+        if homing.edge is None:
+            return False
         here = a.steps_now(self)
         if homing.direction > 0:
             return here >= homing.edge
@@ -316,6 +320,7 @@ class MM4005(Engine):
         if homing is not None:
             if homing.stage is HomeStage.BRAKE:
                 homing.stage = HomeStage.RETURN
+                assert homing.edge is not None  # only a met edge brakes a search
                 distance = homing.edge - a.steps_now(self)
                 if distance:
                     c = a.counts_per_second
@@ -358,7 +363,7 @@ class MM4005(Engine):
             if tick is not None:
                 candidates.append(tick)
         homing = a.homing
-        if homing is not None and homing.stage is HomeStage.SEEK:
+        if homing is not None and homing.stage is HomeStage.SEEK and homing.edge is not None:
             goal = homing.edge if homing.direction > 0 else homing.edge - 1
             tick = a.tick_reaching(goal, homing.direction, self)
             if tick is not None:

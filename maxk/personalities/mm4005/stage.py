@@ -40,7 +40,7 @@ class HomeStage(Enum):
 class HomeSearch:
     stage: HomeStage
     direction: int  # the way the search travels while seeking
-    edge: int  # physical position (steps) that becomes the home preset
+    edge: int | None  # physical count that becomes the home preset (None: no usable switch)
 
 
 @dataclass(eq=False)
