@@ -289,17 +289,26 @@ def test_console() -> None:
     mm.advance(0.5)
     line = console.status_line()
     assert len(line) <= 80 and line.startswith("0.500s 1:") and "*" in line
-    assert console.execute("1PA500") == ["! C Parameter out of limits"]
+    assert console.new_errors() == []
+    assert console.execute("1PA500") == []
+    assert console.new_errors() == ["! C Parameter out of limits"]
+    assert console.new_errors() == []
     assert console.execute("TE") == ["TEC"]  # the console saw it without clearing it
-    assert console.execute("XX") == ["! A Unknown message code"]
+    session = mm.open_session()  # a host's error shows too
+    session.feed(b"XX\r")
+    assert console.new_errors() == ["! A Unknown message code"]
     assert console.help("ms")[0].startswith("MS: ")
     assert console.help("ZZ") is None
-    assert "NN" in console.words() and ":pulses" in console.words()
+    assert "NN" in console.words() and console.summary("nn").startswith("NN: number")
+    assert any(":pulses" in line for line in console.repl_help())
+    assert len(console.status_line(40)) <= 40
     assert not console.is_idle()
     assert console.repl_word("status", "") is None
     assert len(console.status_lines()) == 1 + 4 + 2
     mm.run_until_idle()
     assert console.is_idle()
+    mm.reset()
+    assert console.after_reset()[0].startswith("reset: 4 axes")
 
 
 def test_pulse_log_csv_and_repl_word(tmp_path) -> None:  # type: ignore[no-untyped-def]

@@ -23,6 +23,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections import deque
 from pathlib import Path
 from typing import Final
 
@@ -51,11 +52,12 @@ def axis_count_of(model: str) -> int:
 
 class _NotedRegister(ErrorRegister):
     """The controller's error register, also noting each error for the console (which
-    shows it without reading it, so a host's TE still sees it)."""
+    shows it without reading it, so a host's TE still sees it); the newest 200 are kept
+    between two looks."""
 
     def __init__(self) -> None:
         super().__init__()
-        self.noted: list[ErrorCode] = []
+        self.noted: deque[ErrorCode] = deque(maxlen=200)
 
     def record(self, code: ErrorCode) -> None:
         super().record(code)
@@ -233,11 +235,17 @@ class MM4005Console:
         self.controller = controller
 
     def execute(self, line: str) -> list[str]:
+        """The replies of one line (without CR)."""
+        return self.controller.send(line)
+
+    def new_errors(self) -> list[str]:
+        """`! C Parameter out of limits` for each error since the last look (this
+        console's lines and every host's), without reading the register."""
         register = self.controller.interpreter.errors
         assert isinstance(register, _NotedRegister)
+        lines = [f"! {code.char} {code.text}" for code in register.noted]
         register.noted.clear()
-        replies = self.controller.send(line)
-        return replies + [f"! {code.char} {code.text}" for code in register.noted]
+        return lines
 
     def prompt(self) -> str:
         return f"{self.controller.model}> "
@@ -246,7 +254,7 @@ class MM4005Console:
         m = self.controller.machine
         return fixed(m.position(axis), position_decimals(m.resolution(axis)))
 
-    def status_line(self) -> str:
+    def status_line(self, width: int = STATUS_WIDTH) -> str:
         m = self.controller.machine
         parts = [f"{m.time:.3f}s"]
         for axis in range(1, m.axis_count + 1):
@@ -259,9 +267,9 @@ class MM4005Console:
         if self.controller.pulses:
             parts.append(f"P{len(self.controller.pulses)}")
         line = " ".join(parts)
-        if len(line) > STATUS_WIDTH:  # 4 long positions: drop the decimals beyond 2
+        if len(line) > width:  # 4 long positions: drop the decimals beyond 2
             parts = [parts[0]] + [_shorten(p) for p in parts[1:]]
-            line = " ".join(parts)[:STATUS_WIDTH]
+            line = " ".join(parts)[:width]
         return line
 
     def status_lines(self) -> list[str]:
@@ -294,7 +302,20 @@ class MM4005Console:
         return lines
 
     def words(self) -> list[str]:
-        return sorted(COMMANDS) + [":pulses", ":pulses-csv"]
+        return sorted(COMMANDS)
+
+    def summary(self, word: str) -> str:
+        spec = COMMANDS.get(word.strip().upper())
+        return "" if spec is None else spec.summary
+
+    def repl_help(self) -> list[str]:
+        return ["  :pulses      the pulse log of the running or last trajectory (CSV lines)",
+                "  :pulses-csv FILE   write it to FILE"]
+
+    def after_reset(self) -> list[str]:
+        m = self.controller.machine
+        return [f"reset: {m.axis_count} axes, counters 0, trajectory cleared, "
+                f"error register clear (tick {m.tick})"]
 
     def is_idle(self) -> bool:
         return self.controller.machine.is_idle()
