@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
+from maxk.controllers.mm4005 import MODELS as MM4005_MODELS
+from maxk.controllers.mm4005 import MM4005Controller
 from maxk.personalities.maxk.models import MODELS, model_by_name
 from maxk.personalities.maxk.parameters import default_archive_path
 
@@ -18,10 +20,17 @@ def _build_maxk(model: str, options: BuildOptions) -> Controller:
     return controller
 
 
+def _build_mm4005(model: str, options: BuildOptions) -> Controller:
+    return MM4005Controller(model)  # nothing of BuildOptions applies (no flash modelled)
+
+
 KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
                    default_archive_path),
+    ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
+                   "Newport MM4005 4-axis controller with trajectories and synchronized "
+                   "pulses (MM4005-n: n axes installed)"),
 )
 
 
