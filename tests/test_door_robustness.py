@@ -1,6 +1,8 @@
 """Regression tests for door defects found in review: bounded memory, no lost output,
 no lost doorbell clears, capture overruns in shared memory, thread-safe pyserial."""
 
+import asyncio
+import socket
 import subprocess
 import sys
 import threading
@@ -13,7 +15,7 @@ import maxk  # noqa: F401
 from maxk import MAXk
 from maxk.host import memory_map as M
 from maxk.host.pacing import Pacer
-from maxk.host.server import HARD_LIMIT, Service
+from maxk.host.server import HARD_LIMIT, Service, TcpClient
 from maxk.host.shared_memory import SharedMemoryDoor
 from maxk.host.shm_client import SharedMemoryHost
 from maxk.personalities.maxk.capture import CaptureEntry
@@ -111,9 +113,13 @@ def test_tcp_client_that_never_reads_has_bounded_output():
     m = MAXk()
     service = Service(1, m, Pacer(m, 1.0, ManualClock()))
     client = TcpClient(service)
-    client.connection_made(Transport())
-    for _ in range(200_000):
-        client.send(b"%000 01000000\n\r")
+
+    async def connect_and_notify():
+        client.connection_made(Transport())
+        for _ in range(200_000):
+            client.send(b"%000 01000000\n\r", droppable=True)
+
+    asyncio.run(connect_and_notify())
     assert client.transport.buffered <= HARD_LIMIT + 16
 
 
@@ -177,3 +183,114 @@ def test_pty_link_never_replaces_an_ordinary_file(tmp_path):
     assert precious.read_text() == "keep me"
     assert not shm.exists()  # the failed start cleaned up after itself
     assert not any(p.name.startswith("map") for p in tmp_path.iterdir() if p != precious)
+
+
+# ---- one host cannot starve another; replies are never dropped ------------------------
+class _RecordingTransport:
+    """A transport whose host reads everything at once; every write goes in one log
+    shared by all hosts, so the order of replies across hosts can be read back."""
+
+    def __init__(self, log, name):
+        self.log = log
+        self.name = name
+
+    def is_closing(self):
+        return False
+
+    def get_write_buffer_size(self):
+        return 0
+
+    def write(self, data):
+        self.log.append((self.name, bytes(data)))
+
+    def set_write_buffer_limits(self, high):
+        pass
+
+    def pause_reading(self):
+        pass
+
+    def resume_reading(self):
+        pass
+
+
+def test_a_flooding_client_gets_one_turn_before_a_fresh_clients_query():
+    """1 MB of queries from one host, then one WY from another: the WY is answered after
+    at most a slice or two of the flood (it used to wait for every byte read before it)."""
+    m = MAXk()
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
+    flooder, fresh = TcpClient(service), TcpClient(service)
+    log = []
+    flood = b"AX RP;" * (1_000_000 // 6)
+
+    async def scenario():
+        flooder.connection_made(_RecordingTransport(log, "flooder"))
+        fresh.connection_made(_RecordingTransport(log, "fresh"))
+        flooder.data_received(flood)
+        fresh.data_received(b"WY\r")
+        while not any(name == "fresh" for name, _ in log):
+            await asyncio.sleep(0)
+
+    asyncio.run(scenario())
+    first_fresh = next(k for k, (name, _) in enumerate(log) if name == "fresh")
+    assert log[first_fresh][1].startswith(b"MAXk-8000, ver:")
+    replies_before = sum(data.count(b"\n\r") for _, data in log[:first_fresh])
+    assert replies_before <= 2 * 2048 // 6  # at most two slices of the flood's queries
+
+
+class _SlowHostTransport(_RecordingTransport):
+    """A host that reads only when told: unread bytes pile up, and past the high-water
+    mark the transport tells its protocol to pause writing, as asyncio's does."""
+
+    def __init__(self, protocol, high):
+        super().__init__([], "host")
+        self.protocol = protocol
+        self.high = high
+        self.unread = 0
+        self.paused = False
+
+    def get_write_buffer_size(self):
+        return self.unread
+
+    def write(self, data):
+        super().write(data)
+        self.unread += len(data)
+        if self.unread > self.high and not self.paused:
+            self.paused = True
+            self.protocol.pause_writing()
+
+    def host_reads(self):
+        self.unread = 0
+        if self.paused:
+            self.paused = False
+            self.protocol.resume_writing()
+
+
+def test_replies_are_never_dropped_for_a_client_that_reads_late():
+    """200,000 WY arrive in one read (9 MB of replies, far past HARD_LIMIT) from a host
+    that reads late: while it does not read, its input waits unrun; once it reads, every
+    reply comes, in order. (They used to be discarded past HARD_LIMIT.)"""
+    from maxk.host.server import HARD_LIMIT, HIGH_WATER
+
+    n = 200_000
+    m = MAXk()
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
+    client = TcpClient(service)
+    expected = b"MAXk-8000, ver:1.33, S/N: 000001, FPGA:20\n\r"
+    assert n * len(expected) > 8 * HARD_LIMIT
+
+    async def scenario():
+        transport = _SlowHostTransport(client, HIGH_WATER)
+        client.connection_made(transport)
+        client.data_received(b"WY\r" * n)
+        for _ in range(100):  # the host is busy elsewhere: the server gets turns
+            await asyncio.sleep(0)
+        assert transport.unread <= HIGH_WATER + 64 * 1024  # at most a slice's replies past
+        while True:  # now the host reads whenever there is something
+            transport.host_reads()
+            await asyncio.sleep(0)
+            if not transport.unread and not client._inbox:
+                return transport
+
+    transport = asyncio.run(scenario())
+    data = b"".join(chunk for _name, chunk in transport.log)
+    assert data == expected * n

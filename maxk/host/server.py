@@ -24,8 +24,10 @@ from dataclasses import dataclass, field
 from maxk.controllers.contract import Controller, Session
 from maxk.host.pacing import Pacer
 
-HIGH_WATER = 256 * 1024  # bytes of unsent replies before we stop reading a client
+HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
 HARD_LIMIT = 1024 * 1024  # beyond this, notifications to a client that never reads are lost
+SLICE = 2048  # bytes of one client's input run at one turn; then every other client's turn
+INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
 UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
 
 
@@ -52,63 +54,141 @@ class Service:
 
 
 class Client:
-    """Anything that receives a controller's output: a TCP connection or a pty."""
+    """A host on a stream (a TCP connection or a pty): its session, and its input run in
+    slices that take turns with every other client, so one flooding host never stalls
+    another (a fresh host's query waits at most one slice per busy host). Replies are
+    never dropped: while the host does not read them (its output above HIGH_WATER), its
+    input waits, unrun, and reading from it stops once INBOX_LIMIT is held. Only
+    notifications, which nobody asked for, are lost past HARD_LIMIT."""
 
     session: Session | None = None
+    service: Service
+    loop: asyncio.AbstractEventLoop
 
-    def send(self, data: bytes) -> None:  # pragma: no cover - interface
+    def _client_init(self) -> None:
+        self._inbox = bytearray()
+        self._scheduled = False
+        self._output_full = False  # unread replies above HIGH_WATER
+        self._input_held = False  # reading paused (inbox full or output full)
+
+    # what a stream provides
+    def _write(self, data: bytes) -> None:  # pragma: no cover - interface
         raise NotImplementedError
+
+    def _unsent(self) -> int:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def _hold_input(self, hold: bool) -> None:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    # the shared mechanism
+    def send(self, data: bytes, *, droppable: bool = False) -> None:
+        if droppable and self._unsent() > HARD_LIMIT:
+            return  # a notification to a host that never reads: lost, memory bounded
+        self._write(data)
 
     def flush_session(self) -> None:
         """The session has something to say unasked: send it now."""
         if self.session is not None:
             out = self.session.read()
             if out:
-                self.send(out)
+                self.send(out, droppable=True)
+
+    def receive(self, data: bytes) -> None:
+        """Input from the host: held, and run in turns."""
+        if self.session is None:
+            return
+        self._inbox += data
+        self._update_input()
+        self._schedule()
+
+    def _schedule(self) -> None:
+        if self._scheduled or not self._inbox or self._output_full:
+            return
+        self._scheduled = True
+        self.loop.call_soon(self._run_slice)
+
+    def _run_slice(self) -> None:
+        self._scheduled = False
+        if self.session is None or self._output_full or not self._inbox:
+            return
+        chunk = bytes(self._inbox[:SLICE])
+        del self._inbox[:SLICE]
+        out = self.service.handle(self.session, chunk)
+        if out:
+            self.send(out)
+        self._output_full = self._unsent() > HIGH_WATER
+        self._update_input()
+        self._schedule()
+
+    def output_drained(self) -> None:
+        """The host read its replies: its input may run again."""
+        self._output_full = self._unsent() > HIGH_WATER
+        self._update_input()
+        self._schedule()
+
+    def output_full(self) -> None:
+        self._output_full = True
+        self._update_input()
+
+    def _update_input(self) -> None:
+        hold = self._output_full or len(self._inbox) >= INBOX_LIMIT
+        if hold != self._input_held:
+            self._input_held = hold
+            self._hold_input(hold)
+
+    def _drop_session(self) -> None:
+        self.service.clients.discard(self)
+        if self.session is not None:
+            self.session.close()
+            self.session = None
+        self._inbox.clear()
 
 
 class TcpClient(asyncio.Protocol, Client):
     def __init__(self, service: Service) -> None:
         self.service = service
         self.transport: asyncio.Transport | None = None
+        self._client_init()
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         self.transport = transport  # type: ignore[assignment]
+        self.loop = asyncio.get_running_loop()
         transport.set_write_buffer_limits(high=HIGH_WATER)  # type: ignore[attr-defined]
         self.session = self.service.open_session(self)
         self.service.clients.add(self)
 
     def connection_lost(self, exc: Exception | None) -> None:
-        self.service.clients.discard(self)
-        if self.session is not None:
-            self.session.close()
-            self.session = None
+        self._drop_session()
         self.transport = None
 
     def data_received(self, data: bytes) -> None:
-        if self.session is None:
-            return
-        out = self.service.handle(self.session, data)
-        if out:
-            self.send(out)
+        self.receive(data)
 
-    def send(self, data: bytes) -> None:
+    def _write(self, data: bytes) -> None:
+        transport = self.transport
+        if transport is not None and not transport.is_closing():
+            transport.write(data)
+
+    def _unsent(self) -> int:
+        transport = self.transport
+        return 0 if transport is None else transport.get_write_buffer_size()
+
+    def _hold_input(self, hold: bool) -> None:
         transport = self.transport
         if transport is None or transport.is_closing():
             return
-        if transport.get_write_buffer_size() > HARD_LIMIT:
-            return  # a client that never reads loses output, as on a line; memory is bounded
-        transport.write(data)
+        if hold:
+            transport.pause_reading()
+        else:
+            transport.resume_reading()
 
-    # Flow control: a client that never reads its replies stops being read, so the
-    # server's memory stays bounded while everyone else is served.
+    # asyncio's flow control: the host stopped reading / read again
     def pause_writing(self) -> None:
-        if self.transport is not None:
-            self.transport.pause_reading()
+        self.output_full()
 
     def resume_writing(self) -> None:
-        if self.transport is not None:
-            self.transport.resume_reading()
+        self.output_drained()
 
 
 class UdpDoor(asyncio.DatagramProtocol):
@@ -170,7 +250,9 @@ class PtyClient(Client):
         self._out = bytearray()  # output the pty could not take yet
         os.set_blocking(self.master, False)
         self.loop = loop
+        self._client_init()
         self.session = service.open_session(self)
+        self._reading = True
         loop.add_reader(self.master, self._readable)
         service.clients.add(self)
 
@@ -181,24 +263,27 @@ class PtyClient(Client):
             return
         except OSError:
             return  # EIO while no client has the slave open
-        if self.session is None:
-            return
-        out = self.service.handle(self.session, data)
-        if out:
-            self.send(out)
+        self.receive(data)
 
-    def send(self, data: bytes) -> None:
-        """Queue output and write what the pty takes; while much waits, stop reading the
-        client's input (as TCP does), so replies are not lost to a slow reader."""
-        if len(self._out) + len(data) > HARD_LIMIT:
-            return  # nobody reads this port: output is lost, memory is bounded
+    def _write(self, data: bytes) -> None:
+        """Queue output and write what the pty takes now; the rest when it can."""
         was_empty = not self._out
         self._out += data
         self._flush()
         if was_empty and self._out:
             self.loop.add_writer(self.master, self._flush)
         if len(self._out) > HIGH_WATER:
+            self.output_full()
+
+    def _unsent(self) -> int:
+        return len(self._out)
+
+    def _hold_input(self, hold: bool) -> None:
+        if hold and self._reading:
             self.loop.remove_reader(self.master)
+        elif not hold and not self._reading:
+            self.loop.add_reader(self.master, self._readable)
+        self._reading = not hold
 
     def _flush(self) -> None:
         while self._out:
@@ -211,15 +296,12 @@ class PtyClient(Client):
                 break
             del self._out[:n]
         self.loop.remove_writer(self.master)
-        self.loop.add_reader(self.master, self._readable)
+        self.output_drained()
 
     def close(self) -> None:
         self.loop.remove_reader(self.master)
         self.loop.remove_writer(self.master)
-        self.service.clients.discard(self)
-        if self.session is not None:
-            self.session.close()
-            self.session = None
+        self._drop_session()
         for fd in (self.master, self.slave_fd):
             with contextlib.suppress(OSError):
                 os.close(fd)
