@@ -17,9 +17,17 @@ def _build_maxk(model: str, options: BuildOptions) -> Controller:
     return controller
 
 
+def _build_mc405(model: str, options: BuildOptions) -> Controller:
+    from maxk.controllers.trio import MC405
+
+    return MC405(archive=options.archive)
+
+
 KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes"),
+    ControllerKind("MC405", ("MC405",), _build_mc405,
+                   "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs"),
 )
 
 
