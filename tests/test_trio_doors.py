@@ -213,12 +213,12 @@ def test_a_waiting_command_holds_only_its_prompt(hosted, host) -> None:
     other = TrioHost(hosted.ports[0])
     other.connect()
     host.sock.sendall(b"WA(500)\r\n")
+    assert host.unasked() == b"WA(500)\r\n"  # echoed; its prompt waits, so does the LF
     assert other.cmd("?3") == "3"  # the other host is served meanwhile
-    hosted.advance(0.4)
-    assert b">>" not in host.unasked(0.2)
-    hosted.advance(0.1)
-    got = host.unasked()
-    assert got.startswith(b"WA(500)\r\n>>") or b">>" in got
+    hosted.advance(0.499)
+    assert host.unasked(0.2) == b""
+    hosted.advance(0.001)
+    assert host.unasked() == b">>\nControl char : 0x10000000A\r\n>>"
     other.close()
 
 

@@ -213,7 +213,7 @@ class TrioConsole:
         m = self.controller.machine
         out = []
         for axis, output in m.pwm.outputs.items():
-            m._sync_encoder(axis)
+            m.outputs.sync_encoder(axis)
             out.append(f"PWM{axis}: mode {int(output.mode)} PWM_CYCLE {output.cycle} "
                        f"PWM_MARK {m.mark(axis)} duty {m.duty(axis):.4f} gating "
                        f"{'ON' if output.gating else 'OFF'} gate "

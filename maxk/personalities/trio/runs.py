@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from maxk.firmware_model.axis import MotionAxis
 from maxk.firmware_model.path import (
     ContourMotion,
     PathPlan,
@@ -61,6 +62,9 @@ class PlanArrays:
 
     def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         plan = self.plan
+        if t.size == 1:  # one reading: the plan's own (memoised) evaluation
+            s1, v1 = plan.state(float(t.flat[0]))
+            return np.full(t.shape, s1), np.full(t.shape, v1)
         if not plan.pieces:
             return np.full(t.shape, plan.s_end), np.zeros(t.shape)
         i = np.maximum(np.searchsorted(self.t0, t, side="right") - 1, 0)
@@ -249,3 +253,19 @@ class Cambox:
 
 
 Link = Connpath | Cambox
+
+
+@dataclass
+class TrioAxis(MotionAxis):
+    """One axis: the shared kinematics plus what the MC405 keeps per axis."""
+
+    params: dict[str, float] = field(default_factory=dict)
+    fraction: float = 0.0  # demand beyond `steps` at rest (a linked axis stops anywhere)
+    datum: float = 0.0  # DEFPOS: DPOS = (demand counts + datum) / UNITS
+    link: Link | None = None
+    pending_link: Link | None = None  # CONNPATH/CAMBOX loaded behind buffered moves
+    link_end: int | None = None  # CAMBOX: the tick it completes (cached per revision)
+
+    @property
+    def units(self) -> float:
+        return self.params["UNITS"]
