@@ -165,6 +165,20 @@ def test_a_full_move_buffer_holds_the_program_until_a_move_ends() -> None:
     assert trio.query("?VR(9)") == "1" and trio.query("?DPOS AXIS(3)") == "200"
 
 
+def test_a_merged_path_frees_a_buffer_slot_on_the_tick_a_move_finishes() -> None:
+    trio = MC405()
+    moves = "\n".join(["MOVE(10)"] * 20)
+    trio.load("MRG", f"BASE(3)\nSPEED=1000\nACC(1000000)\nMERGE=ON\n{moves}\nVR(9)=1")
+    trio.send('RUN "MRG"')
+    # 16 moves load on tick 1; the path reaches 1000/s in 1 ms (0.5 units), so move k
+    # finishes at 10k units, 10k + 0.5 ms after tick 1: the 20th loads on tick 42
+    trio.advance(ticks=41)
+    assert trio.query("?VR(9)") == "0"
+    trio.advance(ticks=1)
+    assert trio.query("?VR(9)") == "1"
+    assert trio.run_until_idle(5) and trio.query("?DPOS AXIS(3)") == "200"
+
+
 # ---- traces ----------------------------------------------------------------------------------
 def test_trace_csv_and_plot_of_example_1(tmp_path) -> None:
     trio = MC405()

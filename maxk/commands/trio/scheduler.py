@@ -70,6 +70,7 @@ class ProcessScheduler:
         return min(found) if found else None
 
     def on_event(self, now: int) -> None:
+        self.sessions = [s for s in self.sessions if not s.closed]
         runtime = self.runtime
         for process, task in sorted(runtime.tasks.items()):
             if runtime.tasks.get(process) is not task:

@@ -414,20 +414,25 @@ class MC405Machine(Kinematics, Engine):
 
 
 class _MotionEvents:
-    """Runs and CAMBOXes ending: the ticks the motion changes by itself."""
+    """Runs, their moves and CAMBOXes ending: the ticks the motion changes by itself."""
 
     def __init__(self, machine: MC405Machine) -> None:
         self.machine = machine
-        self._cache: tuple[int, int, int | None] = (-1, -1, None)
+        self._cache: tuple[int, int | None] = (-1, None)  # (revision, next event)
 
     def next_event(self) -> int | None:
         m = self.machine
-        if self._cache[0] == m.revision and self._cache[1] == m.tick:
-            return self._cache[2]
+        if self._cache[0] == m.revision:  # (an event due now stays due until it acts)
+            return self._cache[1]
         best: int | None = None
         for queue in m.queues:
-            if queue and queue[0].started and (best is None or queue[0].end_tick < best):
-                best = queue[0].end_tick
+            run = queue[0] if queue else None
+            if run is None or not run.started:
+                continue
+            boundary = run.next_boundary(m.tick, m.period)  # a buffered move finished
+            for tick in (run.end_tick, boundary):
+                if tick is not None and (best is None or tick < best):
+                    best = tick
         for a, axis in enumerate(m.axes):
             if isinstance(axis.link, Cambox):
                 axis.link_end = m.cambox_end_tick(a)
@@ -435,7 +440,7 @@ class _MotionEvents:
                     best = axis.link_end
         if best is not None:
             best = max(best, m.tick)
-        self._cache = (m.revision, m.tick, best)
+        self._cache = (m.revision, best)
         return best
 
     def on_event(self, now: int) -> None:

@@ -176,6 +176,24 @@ class Run:
         s, _v = self.plan.state((tick - self.plan_tick) * period)
         return len(self.deltas) - self.segment_index(s)
 
+    def next_boundary(self, now: int, period: float) -> int | None:
+        """The next tick the path finishes one of its moves (a move buffer slot frees),
+        while more moves follow; None for a single-axis profile or the last move."""
+        if self.plan is None or self.profile is not None:
+            return None
+        s, _v = self.plan.state((now - self.plan_tick) * period)
+        i = self.segment_index(s)
+        while i < len(self.segments) - 1:
+            segment = self.segments[i]
+            t = self.plan.time_at(segment.s0 + segment.length)
+            if t is None:
+                return None
+            tick = self.plan_tick + math.ceil(t / period - 1e-9)
+            if tick > now:
+                return tick
+            i += 1
+        return None
+
     # ---- where the run is -------------------------------------------------------------
     def distance_speed(self, ticks: Ticks, period: float) -> tuple[np.ndarray, np.ndarray]:
         """Path distance from the run's start (counts) and path speed (counts/s)."""
