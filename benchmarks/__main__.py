@@ -282,6 +282,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "lexer": lexer_throughput,
     "memory": memory_per_board,
     "doors": doors,
+    "mm4005": lambda: __import__("benchmarks.mm4005", fromlist=["figures"]).figures(),
     "trio": trio_example_2,
 }
 

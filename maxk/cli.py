@@ -5,16 +5,17 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 from maxk import __version__
 from maxk.personalities.maxk.models import DEFAULT_MODEL, MODELS, UPDATE_RATES_HZ
 
 
 def _model(text: str) -> str:
-    from maxk.personalities.maxk.models import model_by_name
+    from maxk.controllers.registry import canonical_model
 
     try:
-        return model_by_name(text).name
+        return canonical_model(text)
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
 
@@ -29,9 +30,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     repl = sub.add_parser("repl", help="interactive terminal, like MAXkComm (the default)")
     repl.add_argument("--model", type=_model, default=DEFAULT_MODEL,
-                      help=f"board model, MAXk-1000..MAXk-A000 (default {DEFAULT_MODEL})")
-    repl.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=8192,
-                      help="update rate in Hz (default 8192: 122.07 us)")
+                      help=f"controller model: MAXk-1000..MAXk-A000, MM4005, ... (maxk "
+                      f"models; default {DEFAULT_MODEL})")
+    repl.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=None,
+                      help="a MAXk's update rate in Hz (default 8192: 122.07 us)")
     clock = repl.add_mutually_exclusive_group()
     clock.add_argument("--manual-time", action="store_true",
                        help="virtual time moves only on :advance / :run (default: follows "
@@ -125,15 +127,21 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "tune":
         return _tune(args)
     if args.command == "models":
+        from maxk.controllers.registry import KINDS
+
         for name, model in MODELS.items():
             print(f"{name}  {model.axes} axes  {model.axis_letters}")
+        for kind in KINDS[1:]:
+            print(f"{', '.join(kind.models)}  {kind.summary}")
         return 0
     return 2
 
 
 def _run(args: argparse.Namespace) -> int:
+    from maxk.controllers.contract import BuildOptions
     from maxk.controllers.maxk import MAXk
-    from maxk.script import ScriptError, load_script, parse_duration, record, run_script
+    from maxk.controllers.registry import build
+    from maxk.script import ScriptError, load_script, parse_duration, run_script
     from maxk.trace import TraceWriter
 
     try:
@@ -145,7 +153,18 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ScriptError) as error:
         print(f"maxk run: {error}", file=sys.stderr)
         return 2
-    board = MAXk(args.model or script.model, args.rate or script.update_rate_hz)
+    model = args.model or script.model
+    controller = build(model, BuildOptions(update_rate_hz=args.rate or (
+        script.update_rate_hz if script.rate_given or model.lower().startswith("maxk")
+        else None)))
+    if not isinstance(controller, MAXk):
+        if args.trace or args.plot:
+            print(f"maxk run: --trace and --plot draw a MAXk board, not the {controller.kind}",
+                  file=sys.stderr)
+            return 2
+        return _report(args, script, run_script(script, board=controller,
+                                                check=not args.record), [])
+    board = controller
     trace_file = None
     on_step = None
     if args.trace:
@@ -195,13 +214,21 @@ def _run(args: argparse.Namespace) -> int:
         except (ImportError, OSError) as error:
             print(f"maxk run: --plot: {error}", file=sys.stderr)
             return 2
+    return _report(args, script, transcript,
+                   [f"command error at tick {r.tick}: {r}" for r in board.board.errors])
+
+
+def _report(args: argparse.Namespace, script: Any, transcript: Any, errors: list[str]) -> int:
+    """Print the replies (and errors), record or report failures: the run's exit code."""
+    from maxk.script import record
+
     for _line, tick, text, replies in transcript.entries:
         if args.verbose:
             print(f"[{tick:>8}] > {text.strip()}")
         for reply in replies:
             print(reply)
-    for error in board.board.errors:
-        print(f"maxk run: command error at tick {error.tick}: {error}", file=sys.stderr)
+    for error in errors:
+        print(f"maxk run: {error}", file=sys.stderr)
     if args.record:
         args.script.write_text(record(script, transcript), encoding="utf-8")
         print(f"maxk run: recorded {len(transcript.replies)} replies into {args.script}",

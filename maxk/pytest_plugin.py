@@ -15,7 +15,8 @@ from typing import Any
 
 import pytest
 
-from maxk.personalities.maxk.models import UPDATE_RATES_HZ, model_by_name
+from maxk.controllers.registry import canonical_model
+from maxk.personalities.maxk.models import UPDATE_RATES_HZ
 from maxk.script import Script, ScriptError, Transcript, load_script, run_script
 
 
@@ -48,7 +49,7 @@ class MaxkScriptFile(pytest.File):
         models = config.getoption("maxk_model") or script.models
         rates = config.getoption("maxk_rate") or script.update_rates_hz
         try:
-            models = [model_by_name(m).name for m in models]
+            models = [canonical_model(m) for m in models]
         except ValueError as error:
             raise self.CollectError(f"--maxk-model: {error}") from None
         bad = [r for r in rates if r not in UPDATE_RATES_HZ]

@@ -17,57 +17,50 @@ import os
 import shutil
 import sys
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from maxk.commands.max.reference import help_text
-from maxk.commands.max.table import COMMANDS, lookup
-from maxk.controllers.maxk import AxisStatus, MAXk
-from maxk.personalities.maxk.flags import (
-    COMMAND_ERROR,
-    K_NOTIFY,
-    OVERTRAVEL_SHIFT,
-    SLIP_SHIFT,
-    W_NOTIFY,
-    describe_doorbell,
-)
-from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from maxk.controllers.contract import BuildOptions, Console, Controller
+from maxk.controllers.registry import build, default_archive
+from maxk.personalities.maxk.models import DEFAULT_MODEL
 from maxk.script import parse_duration
-from maxk.world_settings import describe_world, parse_world
 
 if TYPE_CHECKING:
     from prompt_toolkit.history import History
 
 META_HELP = """\
-REPL words (everything else goes to the board):
+REPL words (everything else goes to the controller):
   help              this text          help XX      one command from the table
-  :status           every axis         :errors      recent command errors and why
-  :time             virtual time       :clock realtime|manual
-  :advance 0.5 s    move virtual time (also ms, ticks)
-  :run [10 s]       advance until every axis is idle (timeout, default 60 s)
-  :doorbell         doorbell flags     :clear       write ones to clear every doorbell bit
-  :world            the stage          :world X limits 5000 -5000   (docs/io.md)
-  :capture          read the capture ring (as a host would)
-  :reset            reset the controller (power-up parameters from the archive)
-  :commands         list mnemonics     quit / exit / Ctrl-D
+  :status           every axis         :time        virtual time
+  :clock realtime|manual               :advance 0.5 s  move virtual time (also ms, ticks)
+  :run [10 s]       advance until the controller is idle (timeout, default 60 s)
+  :reset            reset the controller (power-up, archived parameters)
+  quit / exit / Ctrl-D
+{controller}'s own words:
 """
 
 
 class ReplSession:
-    """One REPL session on one board: turns typed lines into output lines."""
+    """One REPL session on one controller: turns typed lines into output lines. Written
+    against the controller contract: the controller's console runs the lines, gives
+    help, completion and the status line; time is its engine's."""
 
-    def __init__(self, model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
+    def __init__(self, model: str = DEFAULT_MODEL, rate: int | None = None,
                  manual_time: bool = False, speed: float = 1.0,
                  clock: Callable[[], float] = time.monotonic,
                  archive: str | os.PathLike | bool | None = None) -> None:
-        self.maxk = MAXk(model, rate, archive=archive)
+        if archive is True:
+            archive = default_archive(model)
+        self.controller: Controller = build(model, BuildOptions(
+            archive=None if archive in (None, False) else str(archive),
+            update_rate_hz=rate))
+        self.console: Console = self.controller.console()
         self.manual_time = manual_time
         self.speed = speed
         self._clock = clock
         self._epoch = clock()
-        self._tick_at_epoch = 0
-        self._errors_seen = 0
+        self._tick_at_epoch = self.controller.engine.tick
         self.finished = False
 
     # ---- time -----------------------------------------------------------------------
@@ -75,17 +68,17 @@ class ReplSession:
         """Bring virtual time up to the wall clock (realtime mode only)."""
         if self.manual_time:
             return
-        board = self.maxk.board
+        engine = self.controller.engine
         elapsed = (self._clock() - self._epoch) * self.speed
-        target = self._tick_at_epoch + int(elapsed * board.update_rate_hz + 1e-6)
-        if target > board.tick:
-            board.advance_to(target)
+        target = self._tick_at_epoch + int(elapsed * engine.update_rate_hz + 1e-6)
+        if target > engine.tick:
+            engine.advance_to(target)
 
     def set_clock(self, manual: bool) -> None:
         self.sync()
         self.manual_time = manual
         self._epoch = self._clock()
-        self._tick_at_epoch = self.maxk.board.tick
+        self._tick_at_epoch = self.controller.engine.tick
 
     # ---- lines ----------------------------------------------------------------------
     def handle(self, line: str) -> list[str]:
@@ -98,41 +91,27 @@ class ReplSession:
         if word == "help" or word.startswith("help ") or text.startswith(":"):
             out = self._meta(text)
         else:
-            out = list(self.maxk.send(line))
-        return out + self._new_errors()
-
-    def _new_errors(self) -> list[str]:
-        errors = list(self.maxk.board.errors)
-        total = len(errors)
-        # The deque keeps the newest 200; count what appeared since the last line.
-        new = errors[-(total - self._errors_seen):] if total > self._errors_seen else []
-        self._errors_seen = total
-        return [f"! command error: {record}" for record in new]
+            out = self.console.execute(line)
+        return out + self.console.new_errors()
 
     def _meta(self, text: str) -> list[str]:
         body = text[1:] if text.startswith(":") else text
         word, _, rest = body.strip().partition(" ")
         word = word.lower()
         rest = rest.strip()
+        engine = self.controller.engine
         if word == "help":
             if not rest:
-                return META_HELP.rstrip("\n").splitlines()
-            spec = lookup(rest)
-            if spec is None:
-                return [f"no command {rest!r}; try :commands"]
-            return help_text(spec).splitlines()
+                head = META_HELP.format(controller=self.controller.kind)
+                return head.rstrip("\n").splitlines() + self.console.repl_help()
+            lines = self.console.help(rest)
+            return [f"no command {rest!r}; try :commands"] if lines is None else lines
         if word == "status":
-            return self.status_lines()
-        if word == "errors":
-            errors = list(self.maxk.board.errors)[-20:]
-            if not errors:
-                return ["no command errors"]
-            return [f"tick {e.tick}: {e}" for e in errors]
+            return self.console.status_lines()
         if word == "time":
-            b = self.maxk.board
             mode = "manual" if self.manual_time else f"realtime x{self.speed:g}"
-            return [f"tick {b.tick}, {b.time:.6f} s virtual ({mode}; "
-                    f"{b.period * 1e6:.2f} us per tick)"]
+            return [f"tick {engine.tick}, {engine.time:.6f} s virtual ({mode}; "
+                    f"{engine.period * 1e6:.2f} us per tick)"]
         if word == "clock":
             if rest not in ("realtime", "manual"):
                 return ["say :clock realtime or :clock manual"]
@@ -140,124 +119,41 @@ class ReplSession:
             return [f"clock: {rest}"]
         if word == "advance":
             try:
-                ticks = parse_duration(rest or "0", self.maxk.board.update_rate_hz)
+                ticks = parse_duration(rest or "0", engine.update_rate_hz)
             except ValueError as error:
                 return [str(error)]
-            self.maxk.board.advance(ticks)
+            engine.advance(ticks)
             self._tick_at_epoch += ticks
-            return [f"tick {self.maxk.board.tick}"]
+            return [f"tick {engine.tick}"]
         if word == "run":
             try:
-                ticks = parse_duration(rest or "60 s", self.maxk.board.update_rate_hz)
+                ticks = parse_duration(rest or "60 s", engine.update_rate_hz)
             except ValueError as error:
                 return [str(error)]
-            start = self.maxk.board.tick
-            idle = self.maxk.board.run_until_idle(ticks)
-            self._tick_at_epoch += self.maxk.board.tick - start
-            return [("idle" if idle else "still busy") + f" at tick {self.maxk.board.tick}"]
-        if word == "doorbell":
-            b = self.maxk.board
-            return [f"0x{b.doorbell:08x}: {describe_doorbell(b.doorbell, b.model.axis_letters)}"]
-        if word == "clear":
-            self.maxk.board.write_doorbell(0xFFFF_FFFF)
-            return ["doorbell cleared"]
-        if word == "world":
-            if not rest:
-                return describe_world(self.maxk)
-            try:
-                return [parse_world(rest)(self.maxk)]
-            except (KeyError, ValueError, OverflowError) as error:
-                return [f"world: {error}"]
-        if word == "capture":
-            entries = self.maxk.board.capture_ring.read()
-            if not entries:
-                return ["capture ring empty"]
-            letters = self.maxk.board.model.axis_letters
-            return [f"{letters[e.axis]} encoder {e.encoder} home {e.home_events:#04x} "
-                    f"inputs +{e.io_rising:#06x} -{e.io_falling:#06x}" for e in entries]
-        if word == "commands":
-            return [f"{s.syntax:<16} {s.summary}" for s in COMMANDS.values()]
+            start = engine.tick
+            console = self.console
+            idle = engine.run_until(lambda _e: console.is_idle(), ticks)
+            self._tick_at_epoch += engine.tick - start
+            return [("idle" if idle else "still busy") + f" at tick {engine.tick}"]
         if word == "reset":
             self.sync()
-            self.maxk.reset()  # errors from before stay seen; a power-up one is new
-            archive = self.maxk.board.archive.path
-            return [f"reset: firmware flags {self.maxk.board.firmware_state:#010x} "
-                    f"({'archive ' + str(archive) if archive else 'archive in memory'})"]
+            self.controller.reset()  # errors from before stay seen; a power-up one is new
+            return self.console.after_reset()
+        out = self.console.repl_word(word, rest)
+        if out is not None:
+            return out
         return [f"unknown REPL word :{word}; type help"]
 
     # ---- display --------------------------------------------------------------------
     def status_lines(self) -> list[str]:
-        lines = ["axis  position   encoder  velocity  status  queue"]
-        for s in self.maxk.status():
-            lines.append(f"{s.letter:>4} {s.position:>9} {s.encoder:>9} {s.velocity:>9}  "
-                         f"{s.status}    {s.queued}")
-        b = self.maxk.board
-        flags = describe_doorbell(b.doorbell, b.model.axis_letters)
-        lines.append(f"doorbell 0x{b.doorbell:08x} ({flags})")
-        return lines
+        return self.console.status_lines()
 
     def prompt(self) -> str:
-        b = self.maxk.board
-        mode = f"A{b.model.axis_letters[b.current_axis]}" if b.mode == "single" else b.mode
-        return f"{b.model.name} {mode}> "
+        return self.console.prompt()
 
     def toolbar(self, width: int = 80) -> str:
         self.sync()
-        b = self.maxk.board
-        return status_line(b.time, self.maxk.status(), b.doorbell, b.model.axis_letters,
-                           width)
-
-
-def status_line(seconds: float, axes: Sequence[AxisStatus], doorbell: int, letters: str,
-                width: int = 80) -> str:
-    """The bottom line: time, each axis's position with D (done) or ~ (moving), flags.
-    In full when it fits `width`; else compact (decision D): positions in at most four
-    characters (123k, -.1M, 2.1G; :status has them exact), done shown by the D marks
-    only, the other flags abbreviated (err, ovt, slip, W!, K!) and cut last, so every
-    axis stays visible (10 on a MAXk-A000 in 80 columns)."""
-    marks = ["D" if a.done else ("~" if a.moving else " ") for a in axes]
-    full = (f" t={seconds:.3f}s  "
-            + " ".join(f"{a.letter}{a.position}{m}" for a, m in zip(axes, marks, strict=True))
-            + f"  flags: {describe_doorbell(doorbell, letters)}")
-    if len(full) <= width:
-        return full
-    tokens = " ".join(f"{a.letter}{_abbreviate(a.position)}{m.strip()}"
-                      for a, m in zip(axes, marks, strict=True))
-    done = {a.letter for a in axes if a.done}
-    flags = ["err"] if doorbell & COMMAND_ERROR else []
-    for name, shift in (("ovt", OVERTRAVEL_SHIFT), ("slip", SLIP_SHIFT)):
-        hit = "".join(x for i, x in enumerate(letters[:8]) if doorbell >> (shift + i) & 1)
-        if hit:
-            flags.append(f"{name} {hit}")
-    for letter, bit in (("W", W_NOTIFY), ("K", K_NOTIFY)):
-        if doorbell & bit and letter not in done:  # a W/K flag its D mark does not explain
-            flags.append(f"{letter}!")
-    tail = "  " + " ".join(flags) if flags else ""
-    for decimals in (3, 1, 0):  # the time's precision gives way first
-        line = f"t={seconds:.{decimals}f}s {tokens}"
-        if len(line) + len(tail) <= width:
-            break
-    room = width - len(line)
-    if len(tail) <= room:
-        line += tail
-    elif room >= 5:
-        line += tail[:room - 1] + "…"
-    return line[:width]
-
-
-def _abbreviate(value: int) -> str:
-    """A position in at most four characters, for a glance: 1234, -999, 12k, -.1M, 2.1G."""
-    text = str(value)
-    if len(text) <= 4:
-        return text
-    for suffix, scale in (("k", 1e3), ("M", 1e6), ("G", 1e9)):
-        for decimals in (1, 0):
-            number = f"{value / scale:.{decimals}f}"
-            if number.startswith(("0.", "-0.")):
-                number = number.replace("0.", ".", 1)
-            if len(number) + 1 <= 4:
-                return number + suffix
-    return text  # not reached for 32-bit positions
+        return self.console.status_line(width)
 
 
 def _history_path(path: Path | None) -> Path:
@@ -283,7 +179,7 @@ def _history(path: Path | None) -> History:
     return FileHistory(str(target))
 
 
-def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
+def run_repl(model: str = DEFAULT_MODEL, rate: int | None = None,
              manual_time: bool = False, speed: float = 1.0,
              history: Path | None = None,
              archive: str | os.PathLike | bool | None = True) -> int:
@@ -296,12 +192,12 @@ def run_repl(model: str = DEFAULT_MODEL, rate: int = DEFAULT_UPDATE_RATE_HZ,
         return _run_piped(session, sys.stdin, prompt=True)
     prompt_session: PromptSession[str] = PromptSession(
         history=_history(history),
-        completer=MnemonicCompleter(),
+        completer=MnemonicCompleter(session.console),
         complete_while_typing=False,
         bottom_toolbar=lambda: session.toolbar(shutil.get_terminal_size().columns),
-        refresh_interval=None if manual_time else 0.25,
+        refresh_interval=0 if manual_time else 0.25,  # 0: no refresh
     )
-    print(f"maxk: {session.maxk.board.model.name} emulator. Type help for REPL words, "
+    print(f"maxk: {session.controller.model} emulator. Type help for REPL words, "
           "help XX for a command, Ctrl-D to leave.")
     while not session.finished:
         try:
@@ -331,7 +227,10 @@ try:
     from prompt_toolkit.completion import Completer, Completion
 
     class MnemonicCompleter(Completer):
-        """Tab completion from the command table (and the REPL's own words)."""
+        """Tab completion from the controller's command table."""
+
+        def __init__(self, console: Console | None = None) -> None:
+            self.console = console if console is not None else build(DEFAULT_MODEL).console()
 
         def get_completions(self, document, complete_event):  # type: ignore[no-untyped-def]
             text = document.text_before_cursor
@@ -339,17 +238,17 @@ try:
                 return
             word = ""
             for ch in reversed(text):
-                if ch.isalpha() or ch in "#?":
+                if ch.isalpha() or ch in "#?_":
                     word = ch + word
                 else:
                     break
             if not word:
                 return
             key = word.upper()
-            for spec in COMMANDS.values():
-                if spec.mnemonic.startswith(key):
-                    yield Completion(spec.mnemonic, start_position=-len(word),
-                                     display_meta=spec.summary)
+            for candidate in self.console.words():
+                if candidate.upper().startswith(key):
+                    yield Completion(candidate, start_position=-len(word),
+                                     display_meta=self.console.summary(candidate))
 
 except ImportError:  # pragma: no cover
     MnemonicCompleter = None  # type: ignore[assignment,misc]

@@ -30,9 +30,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from maxk.controllers.contract import BuildOptions, Controller
 from maxk.controllers.maxk import MAXk
-from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ, model_by_name
-from maxk.world_settings import parse_world
+from maxk.controllers.registry import build, canonical_model
+from maxk.controllers.world_settings import parse_world
+from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 
 
 class ScriptError(Exception):
@@ -60,6 +62,7 @@ class Script:
     models: list[str] = field(default_factory=lambda: [DEFAULT_MODEL])
     update_rates_hz: list[int] = field(default_factory=lambda: [DEFAULT_UPDATE_RATE_HZ])
     lines: list[str] = field(default_factory=list)
+    rate_given: bool = False  # an @rate line (else a non-MAXk runs at its own rate)
 
     @property
     def model(self) -> str:
@@ -84,7 +87,7 @@ _UNTIL = re.compile(
 DEFAULT_TIMEOUT_S = 60.0
 
 
-def parse_duration(text: str, update_rate_hz: int) -> int:
+def parse_duration(text: str, update_rate_hz: float) -> int:
     """A duration to ticks: '0.5 s', '250 ms', '100 ticks' (a bare number is seconds)."""
     m = _DURATION.match(text.strip())
     if not m:
@@ -123,7 +126,7 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                     names = rest.replace(",", " ").split()
                     if not names:
                         raise ValueError("@board needs a model, e.g. @board MAXk-4000")
-                    script.models = [model_by_name(n).name for n in names]
+                    script.models = [canonical_model(n) for n in names]
                 elif word == "rate":
                     if seen_command:
                         raise ValueError("@rate must come before the first command")
@@ -132,6 +135,7 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                                         for r in rates):
                         raise ValueError("@rate takes 1024, 2048, 4096 or 8192 (Hz)")
                     script.update_rates_hz = [int(r) for r in rates]
+                    script.rate_given = True
                 elif word == "wait":
                     script.steps.append(_parse_wait(number, rest))
                 elif word == "expect":
@@ -211,8 +215,13 @@ class Failure:
         return "\n".join([str(self), "  board state:", *("    " + s for s in self.state)])
 
 
-def board_state(board: MAXk) -> list[str]:
-    """A compact picture of the board: what a failure report shows."""
+def board_state(controller: Controller) -> list[str]:
+    """A compact picture of the controller: what a failure report shows."""
+    if not isinstance(controller, MAXk):
+        engine = controller.engine
+        return [f"tick {engine.tick} ({engine.time:.6f} s), {controller.model}",
+                *controller.console().status_lines()]
+    board = controller
     b = board.board
     lines = [f"tick {b.tick} ({b.time:.6f} s), {b.model.name} at {b.update_rate_hz} Hz, "
              f"mode {b.mode if b.mode != 'single' else 'A' + b.axes[b.current_axis].letter}"]
@@ -230,7 +239,7 @@ class Transcript:
 
     entries: list[tuple[int, int, str, list[str]]] = field(default_factory=list)
     failures: list[Failure] = field(default_factory=list)
-    board: MAXk | None = None
+    board: Controller | None = None
 
     @property
     def replies(self) -> list[str]:
@@ -239,32 +248,49 @@ class Transcript:
 
 def run_script(script: Script, *, model: str | None = None,
                update_rate_hz: int | None = None, check: bool = True,
-               board: MAXk | None = None,
+               board: Controller | None = None,
                on_step: Callable[[Step], None] | None = None) -> Transcript:
-    """Run a script on a fresh board; the same script always gives the same transcript.
+    """Run a script on a fresh controller; the same script always gives the same
+    transcript. Written against the controller contract: its console runs the command
+    lines, its engine owns time; `@expect`, `@world` and `@wait until X done` speak of a
+    MAXk's axes and flags, and fail on another controller.
 
     With check=False nothing is compared (what `--record` uses). A caller may pass its
-    own fresh board, e.g. one with a trace observer attached, and an on_step callback
-    that runs after every step.
+    own fresh controller, e.g. one with a trace observer attached, and an on_step
+    callback that runs after every step.
     """
     if board is None:
-        board = MAXk(model or script.model, update_rate_hz or script.update_rate_hz)
-    transcript = Transcript(board=board)
+        name = model or script.model
+        rate = update_rate_hz or (script.update_rate_hz if script.rate_given or
+                                  isinstance(board, MAXk) or name.lower().startswith("maxk")
+                                  else None)
+        board = build(name, BuildOptions(update_rate_hz=rate))
+    controller = board
+    console = controller.console()
+    engine = controller.engine
+    transcript = Transcript(board=controller)
     pending: list[str] = []  # replies of the last command line not yet matched
     last_command, last_line = "", 0
     strict = check and script.checks_replies
 
     def fail(line: int, command: str, expected: str, actual: str) -> None:
         transcript.failures.append(
-            Failure(line, command, expected, actual, board.tick, board_state(board)))
+            Failure(line, command, expected, actual, engine.tick, board_state(controller)))
 
     for step in script.steps:
         if strict and pending and step.kind != "expect-reply":
             fail(last_line, last_command, "(no more replies)", pending[0])
             pending.clear()
+        maxk = controller if isinstance(controller, MAXk) else None
+        maxk_only = step.kind in ("world", "expect") or (
+            step.kind == "wait-until" and step.args[0][0] != "idle")
+        if maxk_only and maxk is None:
+            fail(step.line, f"@{step.kind.split('-')[0]} {step.text}", step.text,
+                 f"not a directive for the {controller.kind}")
+            continue
         if step.kind == "send":
-            replies = board.send(step.text)
-            transcript.entries.append((step.line, board.tick, step.text, replies))
+            replies = console.execute(step.text)
+            transcript.entries.append((step.line, engine.tick, step.text, replies))
             pending = list(replies)
             last_command, last_line = step.text, step.line
         elif step.kind == "expect-reply":
@@ -274,15 +300,16 @@ def run_script(script: Script, *, model: str | None = None,
             if actual != step.text:
                 fail(step.line, last_command, step.text, actual)
         elif step.kind == "wait":
-            board.board.advance(parse_duration(step.text, board.board.update_rate_hz))
+            engine.advance(parse_duration(step.text, int(engine.update_rate_hz)))
         elif step.kind == "wait-until":
             (what, axes), timeout_text = step.args
-            timeout = parse_duration(timeout_text, board.board.update_rate_hz)
+            timeout = parse_duration(timeout_text, int(engine.update_rate_hz))
             try:
                 if what == "idle":
-                    ok = board.board.run_until_idle(timeout)
+                    ok = engine.run_until(lambda _e: console.is_idle(), timeout)
                 else:
-                    ok = board.run_until_done(*axes, timeout=timeout * board.board.period)
+                    assert maxk is not None
+                    ok = maxk.run_until_done(*axes, timeout=timeout * engine.period)
             except KeyError as error:  # an axis this model does not have
                 fail(step.line, f"@wait {step.text}", step.text, str(error.args[0]))
                 continue
@@ -291,11 +318,12 @@ def run_script(script: Script, *, model: str | None = None,
                      f"timed out after {timeout_text}")
         elif step.kind == "world":
             try:
-                step.args[0](board)
+                step.args[0](maxk)
             except (KeyError, ValueError) as error:
                 fail(step.line, f"@world {step.text}", step.text, str(error))
         elif step.kind == "expect" and check:
-            problem = _check_expect(board, step)
+            assert maxk is not None
+            problem = _check_expect(maxk, step)
             if problem is not None:
                 fail(step.line, f"@expect {step.text}", step.text, problem)
         if on_step is not None:

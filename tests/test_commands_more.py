@@ -77,29 +77,29 @@ def test_manual_tuning_check_on_an_open_loop_stepper():
     assert b.query("RE") == b.query("RP") == "64000"
 
 
-def test_every_table_entry_has_a_behaviour():
-    from maxk.commands.max.handlers import (
-        IMMEDIATE,
-        LINEAR_MOVES,
-        NOT_MODELLED_YET,
-        QUEUED,
-        SETTING_QUERIES,
-    )
-    from maxk.commands.max.table import Timing
+def test_every_table_entry_has_a_behaviour_and_every_behaviour_an_entry():
+    """A command's behaviour is bound once: by its table entry's timing (and properties
+    such as `start`) to exactly one handler; no handler exists without an entry."""
+    from maxk.commands.max.immediate import IMMEDIATE
+    from maxk.commands.max.queued import NOT_MODELLED_YET, QUEUED, SETTING_QUERIES
+    from maxk.commands.max.table import Start, Timing
+    from maxk.commands.max.vector import _HANDLERS
 
     for m, spec in COMMANDS.items():
-        if spec.timing is Timing.IMMEDIATE:
-            assert m in IMMEDIATE, m
-        elif spec.timing is Timing.QUEUED:
-            assert m in QUEUED or m in NOT_MODELLED_YET or m in LINEAR_MOVES, m
-            if spec.query:
-                assert m in SETTING_QUERIES, m
-        elif spec.timing is Timing.VECTOR:
-            from maxk.commands.max.vector import _HANDLERS
-
-            assert m in _HANDLERS, m
+        linear = spec.start in (Start.LINEAR_ABSOLUTE, Start.LINEAR_RELATIVE)
+        bound = [m in IMMEDIATE, m in QUEUED, m in NOT_MODELLED_YET, linear, m in _HANDLERS]
+        if spec.timing is Timing.MODE:
+            assert not any(bound), m
+        else:
+            assert sum(bound) == 1, (m, bound)
+            assert spec.timing is {0: Timing.IMMEDIATE, 1: Timing.QUEUED, 2: Timing.QUEUED,
+                                   3: Timing.QUEUED, 4: Timing.VECTOR}[bound.index(True)], m
+        if spec.timing is Timing.QUEUED and spec.query:
+            assert m in SETTING_QUERIES, m
         assert spec.confidence in "CID", m
         assert spec.source, m
+    for handlers in (IMMEDIATE, QUEUED, NOT_MODELLED_YET, SETTING_QUERIES, _HANDLERS):
+        assert set(handlers) <= set(COMMANDS), set(handlers) - set(COMMANDS)
 
 
 def test_every_mnemonic_is_accepted_by_the_lexer_in_both_cases():

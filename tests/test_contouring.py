@@ -570,8 +570,13 @@ def test_a_bad_vv_changes_nothing():
     board = MAXk("MAXk-4000")
     board.send("VV1000,2000; VV500,")
     assert board.command_error
-    task = board.board.contour_task(1)
-    assert (task.v_start, task.v_end) == (1000, 2000)
+    # the next contour starts at 1000 and rises to 2000, as the good VV said (a half
+    # applied VV500 would start it at 500)
+    board.send("AA; VA100000; VP100000,0; VE")
+    board.advance(ticks=1)
+    assert board.query("VRV") == "1012"  # 1000 + 100000 counts/s^2 over one cycle
+    board.advance(1.0)
+    assert board.query("VRV") == "2000"
 
 
 def test_a_contour_into_a_pressed_limit_is_refused_even_after_a_zero_length_start():

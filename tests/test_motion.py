@@ -71,24 +71,51 @@ def test_dc_sets_a_separate_deceleration(board):
     assert analytic <= tick < analytic + 1
 
 
+def _positions(board: MAXk, letters: str, seconds: float) -> dict[str, list[tuple[int, int]]]:
+    """Every update cycle's position of each axis over `seconds` (what a host polling RP
+    every cycle would see), as (tick, position) pairs."""
+    seen: dict[str, list[tuple[int, int]]] = {x: [] for x in letters}
+
+    def sample(_engine) -> None:
+        for x in letters:
+            seen[x].append((board.tick, board.position(x)))
+
+    board.board.add_observer(sample, every_ticks=1)
+    board.advance(seconds)
+    board.board.remove_observer(sample)
+    return seen
+
+
+def _first(samples: list[tuple[int, int]], test) -> int | None:
+    return next((t for t, p in samples if test(p)), None)
+
+
 def test_aa_mode_starts_every_axis_on_the_same_tick(board):
+    reference = MAXk()  # the same AA move from rest at tick 0: when its first step shows
+    reference.send("AA; VL5000,5000,5000; MR1000,2000,3000; GO;")
+    first_step = _first(_positions(reference, "X", 1.0)["X"], lambda p: p != 0)
     board.send("AY; VL1000; MR5000; GO;")  # Y busy for 5 s
     board.send("AA; VL5000,5000,5000; MR1000,2000,3000; GO; ID;")
-    board.advance(1.0)
+    seen = _positions(board, "XYZ", 1.0)
     # AA GO waits for Y: nothing else has started yet
     assert board.query("PP").split(",")[:3] == ["0", board.query("AY RP"), "0"]
-    y_end = board.board.axis("Y").motion_end
-    board.advance(10.0)
+    assert _first(seen["X"], lambda p: p != 0) is None
+    seen = _positions(board, "XYZ", 10.0)
     assert board.query("PP").split(",")[:3] == ["1000", "7000", "3000"]
     # X and Z started on the tick Y's first move ended, when Y reached the AA GO
-    x_start = board.board.axis("X").motion_start
-    assert x_start == board.board.axis("Z").motion_start == y_end
+    y_end = _first(seen["Y"], lambda p: p == 5000)
+    x_moved = _first(seen["X"], lambda p: p != 0)
+    assert x_moved == _first(seen["Z"], lambda p: p != 0) == y_end + first_step
 
 
 def test_aa_go_starts_together_when_idle(board):
     board.send("AA; VL5000,5000,5000; AC50000,50000,50000; MR1000,2000,3000; GO;")
-    axes = board.board.axes
-    assert axes[0].motion_start == axes[1].motion_start == axes[2].motion_start == 0
+    seen = _positions(board, "XYZ", 0.5)
+    reference = MAXk()
+    reference.send("AX; VL5000; AC50000; MR1000; GO;")
+    alone = _first(_positions(reference, "X", 0.5)["X"], lambda p: p != 0)
+    assert alone is not None
+    assert all(_first(seen[x], lambda p: p != 0) == alone for x in "XYZ")
     assert board.run_until_idle()
     assert board.query("PP") == "1000,2000,3000,0,0,0,0,0"
 

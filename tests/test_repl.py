@@ -55,7 +55,7 @@ def test_speed_scales_the_clock():
     s = ReplSession(clock=clock, speed=10.0)
     clock.now += 0.1
     s.handle("RP")
-    assert s.maxk.tick == 8192
+    assert s.controller.tick == 8192
 
 
 def test_manual_time_and_meta_commands():
@@ -122,7 +122,7 @@ def test_a_deeply_nested_archive_is_a_damaged_one_in_the_repl(tmp_path):
     s = ReplSession(manual_time=True, archive=archive)
     assert s.handle(":advance 1 ticks") == [
         "tick 1", "! command error: power-up: unreadable archive (RecursionError)"]
-    assert s.maxk.board.firmware_flags == (F.FIRMWARE_RUNNING | F.ARCHIVE_CHECKSUM_ERROR
+    assert s.controller.board.firmware_flags == (F.FIRMWARE_RUNNING | F.ARCHIVE_CHECKSUM_ERROR
                                            | F.FACTORY_DEFAULTS_LOADED)
     out = s.handle("RDP")
     assert len(out) == 1 and out[0].startswith("! command error")
@@ -152,7 +152,7 @@ def test_the_status_line_of_a_maxk_a000_fits_80_columns():
 
 
 def test_the_status_line_abbreviates_positions_only_when_it_must():
-    from maxk.repl import status_line
+    from maxk.controllers.maxk_console import status_line
 
     statuses = [AxisStatus(letter, position, 0, 0, done, moving, 0, "")
                 for letter, position, done, moving in zip(
@@ -171,7 +171,7 @@ def test_the_status_line_abbreviates_positions_only_when_it_must():
        doorbell=st.integers(0, 2**27 - 1), seconds=st.floats(0, 1e6))
 def test_the_status_line_always_fits_and_always_shows_every_axis(positions, done, moving,
                                                                  doorbell, seconds):
-    from maxk.repl import status_line
+    from maxk.controllers.maxk_console import status_line
 
     statuses = [AxisStatus(letter, *values) for letter, values in zip(
         "XYZTUVRSWK", [(p, p, 0, d, m, 0, "") for p, d, m in zip(positions, done, moving,

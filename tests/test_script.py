@@ -53,7 +53,7 @@ def test_board_and_rate_directives():
     ("@frobnicate\n", "unknown directive @frobnicate"),
     ("< 10\n", "an expected reply must follow a command line"),
     ("AX RP\n@board MAXk-1000\n", "@board must come before the first command"),
-    ("@board MAXk-9999\n", "unknown board model"),
+    ("@board MAXk-9999\n", "unknown controller model"),
     ("@wait soon\n", "not a duration"),
     ("@expect X happy\n", "cannot read @expect"),
     ("@rate 1000\n", "@rate takes"),

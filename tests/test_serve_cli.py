@@ -173,3 +173,29 @@ def test_serve_starts_on_a_deeply_nested_archive_and_rdp_is_a_command_error(tmp_
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
     assert proc.returncode == 0
+
+
+def test_serve_takes_one_controller_per_model_listed():
+    """`--model A,B` alone starts two controllers (`--boards` follows from the list),
+    each answering on its own port as its own model."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "maxk", "serve", "--model", "MAXk-8000,MAXk-2000",
+         "--no-archive"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        lines = [proc.stdout.readline() for _ in range(2)]
+        ports = []
+        for n, model in ((1, "MAXk-8000"), (2, "MAXk-2000")):
+            m = re.match(rf"board {n}: {model} tcp 127\.0\.0\.1:(\d+)$", lines[n - 1].strip())
+            assert m, lines
+            ports.append(int(m[1]))
+        for port, model in zip(ports, ("MAXk-8000", "MAXk-2000"), strict=True):
+            with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+                sock.sendall(b"WY\r")
+                data = b""
+                while not data.endswith(b"\n\r"):
+                    data += sock.recv(100)
+                assert data.startswith(model.encode() + b", ver:"), data
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=20)
+    assert proc.returncode == 0, err

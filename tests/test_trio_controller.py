@@ -40,8 +40,11 @@ def test_console_lines_errors_help_words_status() -> None:
     console = trio.console()
     assert console.prompt() == ">>"
     assert console.execute("?1/3") == ["0.3333"]
-    assert console.execute("FOO") == ["! Syntax error"]
-    assert console.execute("PWM_CYCLE AXIS(9)=100") == ["! Axis 9 has no PWM output"]
+    assert console.execute("FOO") == [] and console.new_errors() == ["! Syntax error"]
+    assert console.new_errors() == []
+    assert console.execute("PWM_CYCLE AXIS(9)=100") == []
+    assert console.new_errors() == ["! Axis 9 has no PWM output"]
+    assert trio.send("?1+") == ["! Syntax error"]  # the API shows both
     assert console.execute("a=5: ?a*2; : ?a") == ["105"]
     assert console.execute("") == []
     assert "PWM_CONTROL" in console.words() and "CAMBOX" in console.words()
@@ -51,10 +54,15 @@ def test_console_lines_errors_help_words_status() -> None:
     assert any("axis parameter" in line for line in console.help("") or [])
     assert console.repl_word("nosuch", "") is None
     assert len(console.repl_word("pwm", "") or []) == 5
+    assert console.summary("MERGE").startswith("Merge consecutive moves")
+    assert console.summary("NOSUCH") == ""
+    assert any(":trace" in line for line in console.repl_help())
+    assert console.after_reset()[0].startswith("reset: MC405 powered up")
     assert console.is_idle()
     console.execute("BASE(0,1): SPEED=100: MOVE(10000,-20000)")
     assert not console.is_idle()
     trio.advance(1.0)
+    assert len(console.status_line(30)) <= 30
     line = console.status_line()
     assert len(line) <= 80 and line.startswith("MC405 1.000s 0:") and "1:-" in line
     assert any(s.startswith("axis 0: DPOS") and "MOVING" in s for s in console.status_lines())
@@ -261,3 +269,36 @@ def test_trace_equals_readings_every_cycle_through_events() -> None:
                                                             strict=True)] == readings
     assert max(m for m, _a, _b in readings) == 610 and readings[-1][0] == 10
     assert math.isclose(readings[-1][1], 2000) and math.isclose(readings[-1][2], 1000)
+
+
+# ---- the REPL and command scripts (written against the console) ---------------------------------
+def test_the_repl_drives_an_mc405() -> None:
+    from maxk.repl import ReplSession
+
+    repl = ReplSession("MC405", manual_time=True)
+    assert repl.handle("?1+1") == ["2"]
+    assert repl.handle("FOO") == ["! Syntax error"]
+    assert repl.prompt() == ">>"
+    repl.handle("BASE(0,1): SPEED=1000: ACC(10000): MOVE(500,500)")
+    assert repl.handle(":trace")[0].startswith("tracing every servo cycle")
+    assert repl.handle(":run 5 s")[0].startswith("idle at tick")
+    assert repl.handle("?DPOS AXIS(1)") == ["500"]
+    assert any(line.startswith("PWM4:") for line in repl.handle(":pwm"))
+    assert repl.handle(":reset")[0].startswith("reset: MC405")
+    assert len(repl.toolbar(60)) <= 60
+
+
+def test_the_example_script_passes_and_a_wrong_reply_fails(tmp_path) -> None:
+    from pathlib import Path
+
+    from maxk.script import load_script, parse_script, run_script
+
+    example = Path(__file__).parent.parent / "examples" / "mc405_pwm_speed_link.maxk"
+    transcript = run_script(load_script(example))
+    assert transcript.failures == []
+    failed = run_script(parse_script("@board MC405\n?2*2\n< 5\n"))
+    assert [(f.expected, f.actual) for f in failed.failures] == [("5", "4")]
+    fast = build("MC405", BuildOptions(update_rate_hz=2000))
+    assert fast.engine.period == 0.0005 and fast.console().execute("?SERVO_PERIOD") == ["500"]
+    with pytest.raises(ValueError):
+        MC405(update_rate_hz=3000)

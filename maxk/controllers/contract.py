@@ -50,15 +50,22 @@ class Console(Protocol):
     language of its own, since its wire protocol is binary."""
 
     def execute(self, line: str) -> list[str]:
-        """Run one typed line; its output lines, and a `! ...` line for each error."""
+        """Run one typed line; its output lines."""
+        ...
+
+    def new_errors(self) -> list[str]:
+        """A `! ...` line for each error since the last look (bad commands, power-up)."""
         ...
 
     def prompt(self) -> str: ...
-    def status_line(self) -> str: ...  # one line, fits 80 columns
+    def status_line(self, width: int = 80) -> str: ...  # one line, fits `width` columns
     def status_lines(self) -> list[str]: ...  # the full picture (`:status`)
     def help(self, topic: str) -> list[str] | None: ...  # None: no such command
     def words(self) -> list[str]: ...  # what Tab completes
+    def summary(self, word: str) -> str: ...  # one line about a word, beside a completion
     def is_idle(self) -> bool: ...  # nothing moving, nothing waiting (`:run`, `@wait idle`)
+    def repl_help(self) -> list[str]: ...  # its own REPL words, for `help`
+    def after_reset(self) -> list[str]: ...  # what `:reset` reports
     def repl_word(self, word: str, rest: str) -> list[str] | None:
         """A controller's own `:word` of the REPL (None: not one of its words)."""
         ...
@@ -101,3 +108,4 @@ class ControllerKind:
     models: Sequence[str]
     build: Callable[[str, BuildOptions], Controller]
     summary: str = ""
+    default_archive: Callable[[str, int], object] | None = None  # (model, number) -> path

@@ -16,31 +16,18 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from maxk.commands.max.interpreter import Interpreter
 from maxk.commands.max.lexer import SEPARATORS
 from maxk.commands.max.session import Framing, MaxSession
 from maxk.controllers.contract import Notify, Transport
+from maxk.controllers.maxk_console import AxisStatus, MaxConsole
 from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.board import Board, CommandErrorRecord
 from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 from maxk.personalities.maxk.parameters import ParameterArchive, default_archive_path
-
-
-@dataclass(frozen=True)
-class AxisStatus:
-    """A snapshot of one axis for status lines and assertions."""
-
-    letter: str
-    position: int
-    encoder: int
-    velocity: int
-    done: bool
-    moving: bool
-    queued: int
-    status: str
 
 
 class MAXk:
@@ -72,6 +59,10 @@ class MAXk:
     @property
     def engine(self) -> Board:
         return self.board
+
+    def console(self) -> MaxConsole:
+        """A person's view: the REPL and command scripts use it."""
+        return MaxConsole(self)
 
     def open_session(self, notify: Notify | None = None) -> MaxSession:
         """A host's line session: its own lexer, MAXnet-framed replies, notifications."""

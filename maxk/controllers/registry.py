@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
+from maxk.controllers.mm4005 import MODELS as MM4005_MODELS
+from maxk.controllers.mm4005 import MM4005Controller
 from maxk.personalities.maxk.models import MODELS, model_by_name
+from maxk.personalities.maxk.parameters import default_archive_dir, default_archive_path
 
 
 def _build_maxk(model: str, options: BuildOptions) -> Controller:
@@ -17,17 +22,31 @@ def _build_maxk(model: str, options: BuildOptions) -> Controller:
     return controller
 
 
+def _build_mm4005(model: str, options: BuildOptions) -> Controller:
+    return MM4005Controller(model)  # nothing of BuildOptions applies (no flash modelled)
+
+
 def _build_mc405(model: str, options: BuildOptions) -> Controller:
     from maxk.controllers.trio import MC405
 
-    return MC405(archive=options.archive)
+    return MC405(archive=options.archive, update_rate_hz=options.update_rate_hz)
+
+
+def _mc405_programs(model: str, number: int) -> Path:
+    """The MC405's program directory (its flash) per user, beside the MAXk archives."""
+    return default_archive_dir() / f"{model}-board{number}.programs"
 
 
 KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
-                   "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes"),
+                   "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
+                   default_archive_path),
+    ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
+                   "Newport MM4005 4-axis controller with trajectories and synchronized "
+                   "pulses (MM4005-n: n axes installed)"),
     ControllerKind("MC405", ("MC405",), _build_mc405,
-                   "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs"),
+                   "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs",
+                   _mc405_programs),
 )
 
 
@@ -52,6 +71,14 @@ def canonical_model(model: str) -> str:
     if kind.name == "MAXk":
         return model_by_name(model).name
     return next(m for m in kind.models if m.lower() == model.lower())
+
+
+def default_archive(model: str, number: int = 1) -> str | None:
+    """The per-user flash file of a controller (None: that kind keeps nothing)."""
+    kind = kind_of(model)
+    if kind.default_archive is None:
+        return None
+    return str(kind.default_archive(canonical_model(model), number))
 
 
 def build(model: str, options: BuildOptions | None = None) -> Controller:

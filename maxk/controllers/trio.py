@@ -29,7 +29,7 @@ from maxk.commands.trio.scheduler import ProcessScheduler
 from maxk.commands.trio.session import TrioCommandLine
 from maxk.commands.trio.system import ProgramCommands
 from maxk.controllers.contract import Notify, Transport
-from maxk.personalities.trio.machine import MC405Machine
+from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
 
@@ -60,11 +60,20 @@ class MC405:
     transports: tuple[Transport, ...] = ("tcp",)
     packet_size = None
 
-    def __init__(self, archive: str | os.PathLike[str] | None = None) -> None:
+    def __init__(self, archive: str | os.PathLike[str] | None = None,
+                 update_rate_hz: float | None = None) -> None:
+        """`update_rate_hz`: the servo rate to power up with (500, 1000, 2000 or 4000 Hz:
+        SERVO_PERIOD 2000..250 us); None: the MC405's 1000 us."""
         axis_defaults = {k.name: k.default for k in KEYWORDS.values()
                          if k.kind is Kind.AXIS_PARAMETER and k.name not in _NOT_STORED}
         system_defaults = {k.name: k.default for k in KEYWORDS.values()
                            if k.kind is Kind.SYSTEM_PARAMETER}
+        if update_rate_hz is not None:
+            period = 1e6 / update_rate_hz
+            if round(period) not in SERVO_PERIODS or abs(period - round(period)) > 1e-9:
+                raise ValueError(f"the MC405 servo rate is one of "
+                                 f"{', '.join(str(10**6 // p) for p in SERVO_PERIODS)} Hz")
+            system_defaults["SERVO_PERIOD"] = float(round(period))
         self.machine = MC405Machine(axis_defaults, system_defaults)
         self.programs = ProgramStore(program_directory(archive))
         self.runtime = ProgramCommands(self.machine, self.programs, self._nowhere)
@@ -115,8 +124,9 @@ class MC405:
 
     # ---- the Python API, in virtual time -----------------------------------------------------
     def send(self, line: str) -> list[str]:
-        """One command line, as typed: its output lines (`! ...` for an error)."""
-        return self.console().execute(line)
+        """One command line, as typed: its output lines, then `! <text>` for an error."""
+        console = self.console()
+        return console.execute(line) + console.new_errors()
 
     def query(self, line: str) -> str:
         """A line that prints exactly one line; that line."""
@@ -162,9 +172,11 @@ class TrioConsole:
     def __init__(self, controller: MC405) -> None:
         self.controller = controller
         self.session = controller.open_session()
+        self._errors: list[str] = []
 
     def execute(self, line: str) -> list[str]:
-        """Run a typed line; a statement that waits runs virtual time until it ends."""
+        """Run a typed line: its output lines (no echo, no prompt; an error goes to
+        `new_errors`). A statement that waits runs virtual time until it ends."""
         session = self.session
         if session.closed:
             session = self.session = self.controller.open_session()
@@ -173,12 +185,19 @@ class TrioConsole:
         if session.waiting:
             machine.run_until(lambda _m: not session.waiting,
                               self.controller.ticks(CONSOLE_WAIT_S))
-        return _lines(session.read().decode("latin-1"), line)
+        out, errors = _lines(session.read().decode("latin-1"), line)
+        self._errors += errors
+        return out
+
+    def new_errors(self) -> list[str]:
+        """`! <text>` for each command-line error since the last look."""
+        errors, self._errors = self._errors, []
+        return errors
 
     def prompt(self) -> str:
         return ">>"
 
-    def status_line(self) -> str:
+    def status_line(self, width: int = 80) -> str:
         m = self.controller.machine
         parts = [f"MC405 {m.time:.3f}s"]
         for axis in range(m.axis_count):
@@ -192,7 +211,7 @@ class TrioConsole:
         if running:
             parts.append(f"{running} prog")
         line = " ".join(parts)
-        return line if len(line) <= 80 else line[:79] + "~"
+        return line if len(line) <= width else line[:width - 1] + "~"
 
     def status_lines(self) -> list[str]:
         m = self.controller.machine
@@ -240,6 +259,23 @@ class TrioConsole:
     def words(self) -> list[str]:
         return sorted(KEYWORDS)
 
+    def summary(self, word: str) -> str:
+        keyword = lookup(word.strip())
+        return "" if keyword is None else keyword.summary
+
+    def repl_help(self) -> list[str]:
+        return ["  :pwm               the PWM outputs (mode, cycle, mark, duty, gate, FIFO)",
+                "  :gates             every gate toggle so far (tick, axis, level, position)",
+                "  :trace             record every servo cycle from now (XY 0,1; PWM 0-4)",
+                "  :trace FILE.csv    write what was recorded",
+                "  :plot FILE.png [AXIS]  the XY path coloured by that axis's PWM duty"]
+
+    def after_reset(self) -> list[str]:
+        m = self.controller.machine
+        return [f"reset: MC405 powered up at tick {m.tick}, servo period "
+                f"{m.servo_period_us()} us, {len(self.controller.runtime.tasks)} program(s) "
+                "started"]
+
     def is_idle(self) -> bool:
         m = self.controller.machine
         return (all(m.axis_idle(a) for a in range(m.axis_count))
@@ -247,28 +283,47 @@ class TrioConsole:
                 and not any(s.waiting for s in self.controller.scheduler.sessions))
 
     def repl_word(self, word: str, rest: str) -> list[str] | None:
-        """`:pwm` the PWM outputs; `:gates` the gate edges so far."""
+        """`:pwm`, `:gates`, `:trace [FILE]`, `:plot FILE [AXIS]` (see repl_help)."""
+        word = word.lstrip(":").lower()
+        machine = self.controller.machine
         if word == "pwm":
             return self.pwm_lines()
         if word == "gates":
             return [f"tick {e.tick}: axis {e.axis} gate {'ON' if e.level else 'OFF'} at "
-                    f"PWM_ENCODER {e.position}" for e in self.controller.machine.gate_edges]
+                    f"PWM_ENCODER {e.position}" for e in machine.gate_edges]
+        if word == "trace":
+            if not rest:
+                self.controller.trace(pwm_axes=tuple(machine.pwm.outputs))
+                return [f"tracing every servo cycle from tick {machine.tick}"]
+            if machine.tracer is None:
+                return ["! nothing traced: say :trace first"]
+            path = machine.tracer.write_csv(rest)
+            return [f"{len(machine.tracer)} servo cycles written to {path}"]
+        if word == "plot":
+            name, _, axis = rest.partition(" ")
+            if machine.tracer is None or not name:
+                return ["! say :trace, run, then :plot FILE.png [AXIS]"]
+            try:
+                path = machine.tracer.plot(name, int(axis) if axis.strip() else None)
+            except (ImportError, ValueError, KeyError) as error:
+                return [f"! {error}"]
+            return [f"plot written to {path}"]
         return None
 
 
-def _lines(text: str, line: str) -> list[str]:
-    """A session's bytes for one typed line as lines: the echo and prompt dropped, an
-    error as `! <text>`."""
+def _lines(text: str, line: str) -> tuple[list[str], list[str]]:
+    """A session's bytes for one typed line as (output lines, errors): the echo and the
+    prompt dropped, a `%[COMMAND LINE] - text` error as `! text`."""
     echo = line + "\r\n"
     at = text.find(echo)
     if at >= 0:
         text = text[:at] + text[at + len(echo):]
     if text.endswith(">>"):
         text = text[:-2]
-    out = []
+    out, errors = [], []
     for item in text.split("\r\n"):
         if item.startswith("%[COMMAND LINE] - "):
-            out.append("! " + item[len("%[COMMAND LINE] - "):])
+            errors.append("! " + item[len("%[COMMAND LINE] - "):])
         elif item:
             out.append(item)
-    return out
+    return out, errors

@@ -14,10 +14,9 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from maxk.firmware_model.motion import MotionPlan
+from maxk.firmware_model.motion import Clock, MotionPlan
 
 if TYPE_CHECKING:
-    from maxk.firmware_model.engine import Engine
     from maxk.firmware_model.servo import ServoLoop
 
 
@@ -52,16 +51,16 @@ class MotionAxis:
             return self.steps + m.final_offset
         return self.steps + int(m.offset((tick - self.motion_start) * period))
 
-    def steps_now(self, engine: Engine) -> int:
+    def steps_now(self, engine: Clock) -> int:
         return self.steps_at_tick(engine.tick, engine.period)
 
-    def velocity(self, engine: Engine) -> float:
+    def velocity(self, engine: Clock) -> float:
         m = self.motion
         if m is None or (self.motion_end is not None and engine.tick >= self.motion_end):
             return 0.0
         return m.velocity((engine.tick - self.motion_start) * engine.period)
 
-    def travel_direction(self, engine: Engine) -> int:
+    def travel_direction(self, engine: Clock) -> int:
         """Which way the axis is travelling now: the velocity's sign, or on a motion's
         last tick (velocity 0) the way its last update cycle went."""
         if self.motion is None:
@@ -79,7 +78,7 @@ class MotionAxis:
         return self.motion is not None
 
     # ---- starting and ending motions -------------------------------------------------
-    def begin(self, motion: MotionPlan, engine: Engine) -> None:
+    def begin(self, motion: MotionPlan, engine: Clock) -> None:
         """Run `motion` from this tick: its end tick is `start + ceil(T / period)`, so a
         move ends exactly on its target on the first tick at or after its analytic end."""
         self.motion = motion
@@ -95,7 +94,7 @@ class MotionAxis:
         if self.motion_end is not None and self.motion_end <= now:
             self.finish_motion()
 
-    def freeze(self, engine: Engine) -> tuple[float, float]:
+    def freeze(self, engine: Clock) -> tuple[float, float]:
         """Stop the running motion's clock at this tick: the whole steps made so far
         become the position; return (fractional residual, velocity) for what follows."""
         m = self.motion
@@ -132,7 +131,7 @@ class MotionAxis:
         settles what depended on it)."""
 
     # ---- when a position is reached ----------------------------------------------------
-    def tick_reaching(self, position: float, direction: int, engine: Engine) -> int | None:
+    def tick_reaching(self, position: float, direction: int, engine: Clock) -> int | None:
         """The first tick after now at which the running motion, travelling in
         `direction`, has reached `position` (steps), or None if it never does.
 

@@ -15,6 +15,14 @@ from typing import Protocol
 from maxk.firmware_model.profiles import RampShape
 
 
+class Clock(Protocol):
+    """Where time stands: the tick and the update period (an `Engine`, or any controller
+    that says so), which is all a motion needs to be evaluated."""
+
+    tick: int
+    period: float
+
+
 class MotionPhase(Protocol):
     """One monotonic stretch of a motion: it starts at `t0` (s from the motion's start),
     lasts `duration` (inf for a slew without end) and travels `direction` at speeds

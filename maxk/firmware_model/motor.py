@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 VOLTS_PER_COUNT = 10.0 / 32767.0  # a 16-bit DAC: +/-32767 counts = +/-10 V
+PlantMatrices = tuple[float, float, float, float, float, float]  # a11 a12 a21 a22 b1 b2
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,7 @@ class MotorPlant:
         g, a, _ = self.coefficients()
         return control.tf([g], [1.0, a, 0.0])
 
-    def discrete(self, period: float) -> tuple[float, float, float, float, float, float]:
+    def discrete(self, period: float) -> PlantMatrices:
         return _discretize(self, period)
 
 
@@ -89,7 +90,7 @@ def _coefficients(plant: MotorPlant) -> tuple[float, float, float]:
 
 
 @lru_cache(maxsize=256)
-def _discretize(plant: MotorPlant, period: float) -> tuple[float, ...]:
+def _discretize(plant: MotorPlant, period: float) -> PlantMatrices:
     """c2d (zero-order hold) of the plant in the physical states (position, velocity):
     returns a11, a12, a21, a22, b1, b2 of ``x' = A x + B u``."""
     import control
@@ -99,6 +100,6 @@ def _discretize(plant: MotorPlant, period: float) -> tuple[float, ...]:
     sampled = control.c2d(continuous, period, method="zoh")
     A, B = np.asarray(sampled.A), np.asarray(sampled.B)
     return (float(A[0, 0]), float(A[0, 1]), float(A[1, 0]), float(A[1, 1]),
-            float(B[0, 0]), float(B[1, 0]))
+            float(B[0, 0]), float(B[1, 0]))  # (a11, a12, a21, a22, b1, b2)
 
 

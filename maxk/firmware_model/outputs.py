@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Generic, TypeVar
 
 if TYPE_CHECKING:
     from maxk.firmware_model.axis import MotionAxis
-    from maxk.firmware_model.engine import Engine
+    from maxk.firmware_model.motion import Clock
     from maxk.firmware_model.path import PathPlan
 
 Payload = TypeVar("Payload")
@@ -44,7 +44,7 @@ class PositionTrigger(Generic[Payload]):
     payload: Payload
 
 
-def trigger_ticks(axis: MotionAxis, engine: Engine,
+def trigger_ticks(axis: MotionAxis, engine: Clock,
                   triggers: Iterable[PositionTrigger[Payload]]
                   ) -> list[tuple[int, PositionTrigger[Payload]]]:
     """The tick at which the running motion first meets each trigger ahead of it (in its
@@ -145,7 +145,7 @@ class ComputedOutput:
         return [self.value_at(t) for t in range(first, last + 1)]
 
 
-def axis_speed(axis: MotionAxis, engine: Engine) -> Callable[[int], float]:
+def axis_speed(axis: MotionAxis, engine: Clock) -> Callable[[int], float]:
     """An axis's speed (steps/s, unsigned) at any tick of its running motion."""
 
     def speed(tick: int) -> float:
@@ -157,6 +157,6 @@ def axis_speed(axis: MotionAxis, engine: Engine) -> Callable[[int], float]:
     return speed
 
 
-def axis_position(axis: MotionAxis, engine: Engine) -> Callable[[int], float]:
+def axis_position(axis: MotionAxis, engine: Clock) -> Callable[[int], float]:
     """An axis's physical position (whole steps) at any tick of its running motion."""
     return lambda tick: float(axis.steps_at_tick(tick, engine.period))

@@ -88,11 +88,9 @@ class Segment:
             if self.length > 0 and defn.angle % 360.0 == 0.0:
                 end = start  # whole circles close exactly
             else:
-                end = list(start)
                 theta = self.theta0 + self.turn
-                end[0] = _snap(self.cx + self.radius * math.cos(theta))
-                end[1] = _snap(self.cy + self.radius * math.sin(theta))
-                end = tuple(end)
+                end = (_snap(self.cx + self.radius * math.cos(theta)),
+                       _snap(self.cy + self.radius * math.sin(theta)), *start[2:])
             self.end = end
 
     @property
@@ -374,7 +372,7 @@ class ContourMotion:
         the segments' slopes for straight lines (cheap: no phases), else the phases."""
         plan, k = self.plan, self.k
         first = max(0, bisect.bisect_right(plan.starts, plan.s_start) - 1)
-        signs = set()
+        signs: set[int] = set()
         direction = 0
         for seg in plan.segments[first:]:
             if seg.s0 >= plan.s_end - EPS and seg.length > 0 and signs:

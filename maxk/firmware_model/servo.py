@@ -21,6 +21,10 @@ KU, friction not changing sign) the closed loop has a closed-form solution: moda
 decomposition plus a polynomial particular solution. The engine jumps over such
 stretches in O(1), checks per tick only where a bound says a limit might be reached,
 and steps tick by tick only where the loop is really nonlinear (saturation, stiction).
+
+Long module: one algorithm (the loop, its closed-form solution, the checks that decide
+where it holds and the scalar steps where it does not) whose parts share the solution's
+state; split, each part would only make sense beside the others.
 """
 
 from __future__ import annotations
@@ -179,6 +183,8 @@ class _Solution:
     inputs: each mode is a polynomial particular part plus a decaying lambda^j part."""
 
     __slots__ = ("modal", "P", "delta", "W", "tick0", "poly_out")
+
+    tick0: int  # the tick the solution starts at (set by its user)
 
     def __init__(self, modal: _Modal, X0: list[float], W: list[list[float]]) -> None:
         self.modal = modal
@@ -363,7 +369,7 @@ class ServoLoop:
             if self.trip_tick is not None:
                 return
 
-    def _commanded(self, axis: ServoAxis, board: ServoHost, tick: int) -> float:
+    def _commanded(self, axis: ServoAxis, board: ServoHost, tick: float) -> float:
         """Commanded position (counter frame, exact float) at a tick."""
         m = axis.motion
         base = axis.steps + axis.counter_offset

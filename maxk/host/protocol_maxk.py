@@ -35,6 +35,9 @@ MAX_INCOMING = 1 << 20  # unread bytes kept; beyond this the oldest are lost, as
 class Serial(SerialBase):
     """A serial port whose other end is an emulated MAXk."""
 
+    is_open: bool
+    _line_options: dict[str, str]
+
     def open(self) -> None:
         if self._port is None:
             raise SerialException("port must be configured before it can be used")

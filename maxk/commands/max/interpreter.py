@@ -6,21 +6,12 @@ it sets the command-error flag (doorbell bit 24), records why, and the stream go
 
 from __future__ import annotations
 
-from maxk.commands.max.handlers import (
-    GO_COMMANDS,
-    IMMEDIATE,
-    LINEAR_MOVES,
-    QUEUED,
-    SETTING_QUERIES,
-    USER_UNIT_COMMANDS,
-    CommandError,
-    Context,
-    go_together,
-    linear_target,
-    validate_queued,
-)
+from maxk.commands.max.context import CommandError, Context
+from maxk.commands.max.immediate import IMMEDIATE
 from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
-from maxk.commands.max.table import AA, Operand, Timing
+from maxk.commands.max.queued import QUEUED, SETTING_QUERIES, validate_queued
+from maxk.commands.max.queued_motion import go_together, linear_target
+from maxk.commands.max.table import AA, Operand, Start, Timing
 from maxk.commands.max.vector import dispatch_vector
 from maxk.personalities.maxk.axis import Axis, LinearMove, StartGroup
 from maxk.personalities.maxk.board import Board
@@ -64,7 +55,7 @@ def _convert(cmd: ParsedCommand, slot: str, axis: Axis | None = None) -> object:
     if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
     value = float(int(slot, 16)) if spec.operand is Operand.HEX else float(slot)
-    if axis is not None and axis.units_seen and spec.mnemonic in USER_UNIT_COMMANDS:
+    if axis is not None and axis.units_seen and spec.user_units:
         return value  # maybe user units (UU may be queued): the action checks the counts
     if spec.value_range is not None:
         lo, hi = spec.value_range
@@ -135,7 +126,8 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         return reply
     if cmd.query:
         return ctx.per_axis(SETTING_QUERIES[spec.mnemonic])
-    return _enqueue(ctx)
+    _enqueue(ctx)
+    return None
 
 
 def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
@@ -158,7 +150,8 @@ def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
     if spec.timing is Timing.IMMEDIATE:
         return IMMEDIATE[spec.mnemonic](ctx)
     if board.mode == "single":
-        return _enqueue(ctx)
+        _enqueue(ctx)
+        return None
     validate_queued(ctx)
     action = QUEUED[spec.mnemonic](value, ctx)
     if action(axis, board) is not None:
@@ -178,16 +171,17 @@ def _enqueue(ctx: Context) -> None:
     if short:
         raise CommandError(f"{mnemonic}: command queue full on axis {','.join(short)}")
     text = ctx.command.text
-    if mnemonic in GO_COMMANDS and board.mode == AA:
+    if spec.start is Start.GO and board.mode == AA:
         group = StartGroup(ctx.axes)
         for axis in ctx.axes:
             axis.queue.push(QueueEntry(mnemonic, units, go_together(group), text, group))
         board.run_queues(ctx.axes)
         return None
     sync = None
-    if mnemonic in LINEAR_MOVES:
+    if spec.start in (Start.LINEAR_ABSOLUTE, Start.LINEAR_RELATIVE):
         sync = LinearMove(StartGroup(ctx.axes))  # a flush of one axis withdraws it
-        actions = [linear_target(sync, v, LINEAR_MOVES[mnemonic]) for v in ctx.values]
+        relative = spec.start is Start.LINEAR_RELATIVE
+        actions = [linear_target(sync, v, relative) for v in ctx.values]
     else:
         factory = QUEUED[mnemonic]
         actions = [factory(value, ctx) for value in ctx.values]
@@ -200,10 +194,10 @@ def _enqueue(ctx: Context) -> None:
             result = action(axis, board)
             if result is None:
                 continue
-            queue.push(QueueEntry(mnemonic, units, action, text, sync))
+            queue.push(QueueEntry(mnemonic, units, action, text, sync, spec.applied_at_stop))
             axis.wait = result
         else:
-            queue.push(QueueEntry(mnemonic, units, action, text, sync))
+            queue.push(QueueEntry(mnemonic, units, action, text, sync, spec.applied_at_stop))
         axis.run_queue(board)
     if board.cross_axis_event:
         board.run_queues()

@@ -32,6 +32,13 @@ _NUMBER_START = frozenset("+-0123456789.,")
 _HOLD = "hold"
 
 
+def _run_end(pattern: re.Pattern[str], buf: str, start: int) -> int:
+    """Where a run of `pattern` (which may be empty, so it always matches) ends."""
+    match = pattern.match(buf, start)
+    assert match is not None
+    return match.end()
+
+
 def _mnemonic_at(buf: str, i: int, n: int) -> str | None:
     """The mnemonic starting at i (greedy), None if none can, _HOLD if more input decides."""
     rem = n - i
@@ -157,13 +164,13 @@ class Lexer:
                 blanks = 0
                 if not spec.operand_optional and buf[j] in " \t":
                     # `LP 10,20,30` (evidence 1.4): blanks may stand before an operand.
-                    k = _BLANKS.match(buf, j).end()
+                    k = _run_end(_BLANKS, buf, j)
                     if k >= n:
                         break
                     if buf[k] in _NUMBER_START:
                         blanks = k - j
                         j = k
-                end = _NUMBER_RUN.match(buf, j).end()
+                end = _run_end(_NUMBER_RUN, buf, j)
                 if end - j > MAX_OPERAND_LENGTH:
                     out.append(LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"))
                     self._skipping = True
@@ -203,7 +210,7 @@ class Lexer:
                 out.append(ParsedCommand(spec, slots, False, text))
                 continue
             if kind is Operand.HEX:
-                end = _HEX_RUN.match(buf, j).end()
+                end = _run_end(_HEX_RUN, buf, j)
                 if end >= n and end - j <= 8:
                     break  # more hex digits may follow
                 text = buf[i:end]
@@ -309,15 +316,15 @@ def _vector(spec: CommandSpec, buf: str, i: int, j: int, n: int
     if k < n and spec.letters and buf[k].upper() in spec.letters:
         form = buf[k].upper()
         k += 1
-    elif k < n and mnemonic == "VO" and buf[k] == "=":
+    elif k < n and spec.assign_form and buf[k] == "=":
         form = "="
         k += 1
     if spec.arity == 0:
         if k >= n and task is None:
             return None
         return ParsedCommand(spec, (), False, buf[i:k], task, form), k, False
-    hex_operand = mnemonic == "VIO"
-    end = (_HEX_LIST_RUN if hex_operand else _NUMBER_RUN).match(buf, k).end()
+    hex_operand = spec.hex_operands
+    end = _run_end(_HEX_LIST_RUN if hex_operand else _NUMBER_RUN, buf, k)
     if end - k > MAX_OPERAND_LENGTH:
         return LexError(buf[i : i + 16] + "...", f"{mnemonic}: operand too long"), end, True
     if end >= n:

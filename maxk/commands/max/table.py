@@ -6,6 +6,9 @@ this table. Each entry says where its behaviour comes from and how sure we are:
 - ``C`` certain: stated by the MAXk manual or seen literally in host code (evidence C);
 - ``I`` inferred: deduced from how host code uses the command (evidence I);
 - ``D`` decided: neither settles it; this is our choice, explained in ``notes``.
+
+Long module: it is data, one entry per mnemonic (about 170), kept in one file so that
+the single source of truth is one place to read and to review.
 """
 
 from __future__ import annotations
@@ -39,6 +42,15 @@ class Timing(Enum):
     VECTOR = "vector task"  # goes to the addressed vector task's contour (contouring)
 
 
+class Start(Enum):
+    """How a queued command starts motion on the axes it addresses."""
+
+    NONE = "none"
+    GO = "go"  # in AA mode every addressed axis starts on one tick (a start group)
+    LINEAR_ABSOLUTE = "linear absolute"  # MT: one straight line, all axes arrive together
+    LINEAR_RELATIVE = "linear relative"  # ML
+
+
 SINGLE = "single"
 AA = "AA"
 AM = "AM"
@@ -67,6 +79,12 @@ class CommandSpec:
     per_axis: bool = True  # False: operands are positional (IO3,1), not one per axis
     arity: int = 1  # positional operands when per_axis is False
     form: str = ""  # the syntax shown in help and the reference, when the default won't do
+    # How the command behaves, bound here rather than in lists of mnemonics elsewhere:
+    user_units: bool = False  # operands in user units while UU is on (counts otherwise)
+    start: Start = Start.NONE  # how a queued GO/MT/ML starts axes
+    applied_at_stop: bool = False  # queued just before ST/SA, it acts first (evidence E4)
+    assign_form: bool = False  # `VO=#`: '=' may stand for the form letter
+    hex_operands: bool = False  # operands in hexadecimal (VIO)
 
     @property
     def syntax(self) -> str:
@@ -138,18 +156,20 @@ _SPECS: list[CommandSpec] = [
        value_range=(1.0, float(MAX_VELOCITY)), source="manual 2.14 (factory 200,000); evidence 2.2",
        notes="Range 1..4,176,000 (Appendix C): VL0 is refused, since VL must stay above VB "
        "(evidence: 'OMS errors if VB = VL'); VL not above VB is a command error when it "
-       "executes."),
+       "executes.", user_units=True),
     _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2,
        integer=False, operand=Operand.NUMBER,
        value_range=_VEL, source="manual 2.14 (factory 0); evidence 2.2",
-       notes="Must stay below VL: VB >= VL is a command error when it executes."),
+       notes="Must stay below VL: VB >= VL is a command error when it executes.", user_units=True),
     _q("AC", "motion", "Acceleration, steps/s^2; also sets the deceleration.", units=2,
        integer=False, operand=Operand.NUMBER, value_range=_ACC,
        source="manual 2.14 (factory 2,000,000); evidence 2.2",
        confidence="I", notes="AC sets both rates and DC afterwards overrides the deceleration "
-       "(SySal sends AC then DC). Range 1..8,000,000: hosts clamp to 1 (DLL-H)."),
+       "(SySal sends AC then DC). Range 1..8,000,000: hosts clamp to 1 (DLL-H).",
+       user_units=True, applied_at_stop=True),
     _q("DC", "motion", "Deceleration, steps/s^2.", units=2, integer=False, operand=Operand.NUMBER,
-       value_range=_ACC, source="evidence 2.2 (SySal usage)", confidence="I"),
+       value_range=_ACC, source="evidence 2.2 (SySal usage)", confidence="I",
+    user_units=True, applied_at_stop=True),
     _q("LA", "profile", "Linear ramps: trapezoid, or triangle on short moves (factory).",
        source="evidence 2.7 (DLL SelectOmsLinearRamp)", confidence="I"),
     _q("PN", "profile", "Parabolic ramps: acceleration highest at low speed.", units=2,
@@ -174,13 +194,14 @@ _SPECS: list[CommandSpec] = [
 
        integer=False, operand=Operand.NUMBER, value_range=_POS,
        source="evidence 2.2; manual Appendix C",
-       notes="Positions are signed 32-bit; a target outside +/-2,147,483,647 is a command error."),
+       notes="Positions are signed 32-bit; a target outside +/-2,147,483,647 is a command error.",
+       user_units=True),
     _q("MR", "motion", "Prepare a relative move; GO starts it.", units=2,
        integer=False, operand=Operand.NUMBER,
        value_range=_SPAN, source="evidence 2.2",
        notes="Decimals truncate toward zero (MR-200.9 moves -200): classic EPICS sends "
        "n.9 for a move of n steps (decision D). A resulting target outside the 32-bit range is "
-       "a command error when it executes."),
+       "a command error when it executes.", user_units=True),
     _q("MT", "motion", "Linear move to absolute positions: the axes move on a straight line and "
        "arrive together; GO starts it.", units=2,
        integer=False, operand=Operand.NUMBER, modes=LIST_MODES,
@@ -189,27 +210,30 @@ _SPECS: list[CommandSpec] = [
        notes="AA/AM only: a command error in single-axis mode. One reference profile for the "
        "longest distance, scaled per axis: each axis stays within its own VL/AC/DC/VB and all "
        "end on the same tick, exactly on target; the ramp shape is the first axis's (D). In AM "
-       "mode the move starts when every axis in it has reached its GO."),
+       "mode the move starts when every axis in it has reached its GO.",
+       user_units=True, start=Start.LINEAR_ABSOLUTE),
     _q("ML", "motion", "Linear move by relative distances (see MT).", units=2,
        integer=False, operand=Operand.NUMBER, modes=LIST_MODES, value_range=_SPAN,
-       source="evidence 2.2 (DLL AAML/AMML)", confidence="I", notes="As MT, relative."),
+       source="evidence 2.2 (DLL AAML/AMML)", confidence="I", notes="As MT, relative.",
+       user_units=True, start=Start.LINEAR_RELATIVE),
     _q("GO", "motion", "Start the prepared move(s): ramp up, slew, ramp down.", units=4,
        source="evidence 2.2; manual 6.2 (GO expands into start, ramp up, slew, ramp down)",
        notes="Costs 4 units (its expansion). The queue waits for the axis to be at rest, starts "
        "the move, and holds the next entry until the move ends. Without a prepared move GO does "
-       "nothing (D)."),
+       "nothing (D).", start=Start.GO),
     _q("GD", "motion", "Go, as used by classic EPICS and the vendor DLL (MA#;GDID).", units=4,
        source="evidence 2.2", confidence="I",
-       notes="The difference to GO is not recovered; modelled exactly as GO."),
+       notes="The difference to GO is not recovered; modelled exactly as GO.", start=Start.GO),
     _q("GN", "motion", "Go, as used by the VIPER MAXv client.", units=4, source="evidence 2.2",
-       confidence="I", notes="Modelled exactly as GO."),
+       confidence="I", notes="Modelled exactly as GO.", start=Start.GO),
     _q("JG", "motion", "Jog at a signed velocity until stopped (no GO needed).", units=2,
 
        integer=False, operand=Operand.NUMBER, value_range=(-float(MAX_VELOCITY),
        float(MAX_VELOCITY)),
        source="evidence 2.2, E4",
        notes="Ramps from the present velocity (through zero when reversing) and slews. The queue "
-       "holds the next entry until the new speed is reached, so `JG0 ID` sets done at rest (D)."),
+       "holds the next entry until the new speed is reached, so `JG0 ID` sets done at rest (D).",
+       user_units=True),
     _q("MP", "motion", "Direction logic plus: MO steps forward.", source="evidence 2.2",
        confidence="I"),
     _q("MM", "motion", "Direction logic minus: MO steps backward.", source="evidence 2.2",
@@ -232,16 +256,17 @@ _SPECS: list[CommandSpec] = [
        notes="Single-axis mode: KS (or KS1) kills the addressed axis, KS0 nothing. AA/AM: a 1 "
        "in an axis's slot kills it; a bare KS is refused (D)."),
     _q("LP", "position", "Load position: motor and encoder counters.", units=2,
-       integer=False, operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4"),
+       integer=False, operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E4",
+    user_units=True),
     _q("LO", "position", "Load the motor (commanded) position only.", units=2,
 
        integer=False, operand=Operand.NUMBER, value_range=_POS, source="evidence 2.3, E3",
-       confidence="I"),
+       confidence="I", user_units=True),
     _q("LPE", "position", "Load the encoder position only.", units=2,
        integer=False, operand=Operand.NUMBER,
        value_range=_POS, source="evidence 2.3, E4",
        notes="Open-loop axes read an ideal encoder that follows the motor; LPE offsets it, so "
-       "RE then differs from RP by the loaded amount."),
+       "RE then differs from RP by the loaded amount.", user_units=True),
     _q("WT", "queue", "Wait a number of milliseconds before the next queued command.", units=2,
        operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0), source="evidence 2.2 (SySal)",
        confidence="D", notes="Milliseconds, rounded up to whole ticks. The evidence guesses "
@@ -481,7 +506,8 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.4 (DLL-BIN)", confidence="I", notes="Modelled as TN."),
     _q("HV", "encoder", "Position maintenance hold velocity (0: the axis's VL).", units=2,
        integer=False, operand=Operand.NUMBER, value_range=(0.0, float(MAX_VELOCITY)),
-       source="evidence 2.4 (VIPER `HV# HD# HG# HN`); manual 2.14", confidence="I"),
+       source="evidence 2.4 (VIPER `HV# HD# HG# HN`); manual 2.14", confidence="I",
+       user_units=True),
     _q("HD", "encoder", "Position maintenance deadband, encoder counts.", units=2,
        operand=Operand.NUMBER, value_range=(0.0, 32767.0),
        source="evidence 2.4; manual 2.14", confidence="I"),
@@ -632,12 +658,13 @@ _SPECS: list[CommandSpec] = [
        "bits. With an off word (TRAJ sends one) it is a pulse: one update cycle later they "
        "take the off bits (D for the width). Without the mask: the bits named. VIO0,0,0 "
        "stops it. Bit n is I/O line n (the manual's text calls the example's 0100 'I/O7'; "
-       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8)."),
+       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8).",
+       hex_operands=True),
     _v("VO", "VO[n]=#", "Velocity override, percent of the programmed vector velocity "
        "(0-200).", value_range=(0.0, OVERRIDE_MAX), confidence="C",
        source="manual Appendix C; evidence 2.8 (`VO[n]=100`)",
        notes="Changes speed along the path at VA, never leaving it. 0 holds the path at rest "
-       "(the contour is not finished). Also `VO#`. Replaces a VOA input."),
+       "(the contour is not finished). Also `VO#`. Replaces a VOA input.", assign_form=True),
     _v("VOA", "VOA#[,#]", "Velocity override from analog input # (0-3): 0 V is 100%, the "
        "span (volts, default 5) either side reaches 0% and 200%.", arity=2,
        value_range=(0.0, 10.0), source="manual 4.5.1, Appendix C (VOA0,5)", confidence="D",

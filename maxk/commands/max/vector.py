@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from maxk.commands.max.handlers import CommandError
+from maxk.commands.max.context import CommandError
 from maxk.commands.max.lexer import ParsedCommand
 from maxk.firmware_model.path import SegmentDef
 from maxk.personalities.maxk.board import Board
@@ -52,7 +52,7 @@ def _numbers(cmd: ParsedCommand, least: int) -> list[float | None]:
         if slot is None:
             values.append(None)
             continue
-        value = float(int(slot, 16)) if spec.mnemonic == "VIO" else float(slot)
+        value = float(int(slot, 16)) if spec.hex_operands else float(slot)
         if spec.value_range is not None:
             lo, hi = spec.value_range
             if not lo <= value <= hi:

@@ -280,6 +280,8 @@ def execute_trajectory(ctx: Context, cmd: Command) -> list[str]:
     run. An MPN substitution is reported through TE while the trajectory runs."""
     m = ctx.machine
     traj = m.trajectory
+    if m.trajectory_element() != 0:
+        raise MM4005Error(UNAUTHORIZED, "a trajectory is running")  # (D)
     x, y = traj.x_axis, traj.y_axis
     if x == y or not (1 <= x <= m.axis_count and 1 <= y <= m.axis_count):
         raise MM4005Error(PARAMETER, "X and Y must be two different installed axes")

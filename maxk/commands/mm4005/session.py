@@ -60,6 +60,17 @@ class MM4005Session:
         self._line = bytearray()
         self._overflow = False
         self._out = bytearray()
+        self.closed = False
+
+    def close(self) -> None:
+        """The host went away: the MM4005 never speaks unasked, so only forget its line."""
+        self.closed = True
+        self.discard_partial_line()
+
+    def discard_partial_line(self) -> None:
+        """A reset loses a line half received."""
+        self._line.clear()
+        self._overflow = False
 
     def feed(self, data: bytes) -> None:
         for byte in data:

@@ -74,7 +74,8 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = (
     _set("ST", ax.stop, _ONE, _NONE, "EPICS '1ST;' and model 1 'ST;' (all axes)", "C",
          query=False),
     _set("OR", ax.search_home, _ONE, Operand.MODE, "EPICS '1OR;'; Tcl OR0/OR1/OR2", "C",
-         "mode 0..2 accepted, the fake ignores it (D)", query=False),
+         "mode 0..2 accepted; every mode searches the home switch, brakes and returns onto "
+         "its first count (D)", query=False),
     _set("SH", ax.set_home, _REQ, _NUM, "EPICS set position '2SH5.00000;2DH;2SH0.00000'", "C"),
     _set("DH", ax.define_home, _REQ, _NONE, "EPICS set position", "C",
          "limits shift with the origin (I, Tcl log)", query=False),

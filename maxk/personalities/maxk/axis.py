@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Protocol, cast
 
 from maxk.firmware_model.axis import MotionAxis
 from maxk.firmware_model.motion import MotionPlan
@@ -30,6 +30,7 @@ from maxk.personalities.maxk.waits import (
     WAIT_MOTION,
     WAIT_REST_RETRY,
     InputWait,
+    SyncWait,
     TickWait,
     Wait,
 )
@@ -190,7 +191,7 @@ class Axis(MotionAxis):
         E4) is applied first, so the stop uses the deceleration the host asked for.
         """
         for entry in self.queue.pending():
-            if entry.mnemonic in ("AC", "DC"):
+            if entry.applied_at_stop:
                 entry.action(self, board)
         self.flush(board)
         self.stop(board)
@@ -265,9 +266,10 @@ class Axis(MotionAxis):
         if switch is not None and (best is None or switch < best):
             best = switch
         wait = self.wait
-        if isinstance(wait, TickWait | InputWait):
-            if isinstance(wait, TickWait):
-                t = wait.tick
+        kind = type(wait)  # exact types: this runs for every axis at every event
+        if kind is TickWait or kind is InputWait:
+            if kind is TickWait:
+                t = cast(TickWait, wait).tick
             elif board.world.inputs_time_dependent():
                 t = board.tick + 1  # an input that is a function: look every update cycle
             else:
@@ -292,18 +294,18 @@ class Axis(MotionAxis):
                     if self.motion is not None:
                         return progressed
                     self.wait = None
-                elif isinstance(wait, TickWait):
+                elif type(wait) is TickWait:
                     if board.tick < wait.tick:
                         return progressed
                     self.wait = None
                     queue.advance()
-                elif isinstance(wait, InputWait):
+                elif type(wait) is InputWait:
                     if not board.io.level(wait.bit, board):
                         return progressed
                     self.wait = None
                     queue.advance()
                 else:  # a synchronisation group (AA-mode GO) or a contour's anchor
-                    if not wait.ready(board):
+                    if not cast(SyncWait, wait).ready(board):
                         return progressed
                     self.wait = WAIT_MOTION
                     continue

@@ -1,8 +1,12 @@
-"""The board: axes, flags and the tick engine. No sockets, threads or wall clock here.
+"""The MAXk board: axes, flags and doorbell, switches, power-up, on the shared engine.
 
 Time is an integer tick counter at the update period (1/8192 s = 122.07 us by default).
 The engine is event driven: stepper motions are closed-form, so advancing jumps from
 one event (a motion ending, a wait expiring) to the next and runs the queues there.
+
+Long module: the board's flags, switches, homing, slip and power-up all act on the one
+state its axes share (flags latched per axis, the doorbell image, the archive); capture
+lives in capture.py, vector tasks in contouring.py, the queues in axis.py.
 """
 
 from __future__ import annotations
@@ -144,7 +148,8 @@ class Board(Engine):
         trips = [a for a in self._servo_axes if a.servo.trip_tick is not None]  # type: ignore
         if not trips:
             return False
-        first = min(a.servo.trip_tick for a in trips)  # type: ignore[union-attr]
+        first = min(t for a in trips if a.servo is not None
+                    and (t := a.servo.trip_tick) is not None)
         self.tick = max(self.tick, first)
         for axis in trips:
             if axis.servo.trip_tick == first:  # type: ignore[union-attr]
@@ -648,8 +653,8 @@ class _AxesSource:
                 marked = True
             elif not marked:
                 wait = axis.wait
-                marked = isinstance(wait, InputWait) or (
-                    isinstance(wait, TickWait) and wait.tick <= now)
+                kind = type(wait)
+                marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
             if marked:
                 due.append(axis)
 

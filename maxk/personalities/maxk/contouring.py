@@ -47,7 +47,7 @@ from maxk.firmware_model.path import (
 )
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis, AxisHost
-from maxk.personalities.maxk.waits import WAIT_REST_RETRY
+from maxk.personalities.maxk.waits import WAIT_REST_RETRY, Wait
 
 
 class ContourHost(AxisHost, Protocol):
@@ -233,7 +233,7 @@ class Contour:
             self.segments.append(seg)
 
     # ---- start -----------------------------------------------------------------------
-    def arrive(self, axis: Axis, board: Board) -> object:
+    def arrive(self, axis: Axis, board: Board) -> Wait | None:
         """The anchor's queue action: wait for rest, then for the other axes."""
         if axis.motion is not None:
             return WAIT_REST_RETRY

@@ -30,6 +30,7 @@ class QueueEntry:
     action: Action
     text: str = ""  # the command as the host sent it, for traces and the REPL
     sync: Any = None  # an AA GO's StartGroup or an MT/ML LinearMove: a flush withdraws
+    applied_at_stop: bool = False  # an AC/DC just before ST/SA acts first (evidence E4)
 
 
 class QueueFull(Exception):

@@ -18,11 +18,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import fields
+from typing import Any
 
-from maxk.controllers.maxk import MAXk
 from maxk.firmware_model.motor import MotorPlant
 from maxk.firmware_model.world import SWITCHES
 from maxk.personalities.maxk.capture import EDGES
+
+MAXk = Any
+"""The controller a setting applies to: a `maxk.controllers.maxk.MAXk` (its world API:
+set_limits, set_home, fault, capture, set_input...). Not imported here: the controller's
+console imports this module."""
 
 Setting = Callable[[MAXk], str]
 

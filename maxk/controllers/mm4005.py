@@ -1,0 +1,347 @@
+"""The Newport MM4005 behind the doors, and from Python in virtual time.
+
+    >>> from maxk.controllers.mm4005 import MM4005Controller
+    >>> mm = MM4005Controller("MM4005-2")
+    >>> mm.send("1VA1;1AC5;1PA2.5")
+    []
+    >>> mm.run_until_idle()
+    True
+    >>> mm.query("1TP")
+    '1TP2.5000'
+
+One machine (`personalities/mm4005/machine.py`), one interpreter and so one error
+register (TE/TB read the controller's only error buffer, whoever asks), and a line
+session per host with its own half-received line. Nothing here reads the wall clock.
+
+Models: "MM4005" has the four axes an MM4005 drives; "MM4005-1".."MM4005-4" name how
+many are installed (our decision: the EPICS driver counts the TP fields, and the
+reference exchanges were recorded against two).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections import deque
+from pathlib import Path
+from typing import Final
+
+from maxk.commands.mm4005 import COMMANDS, Interpreter, MM4005Session
+from maxk.commands.mm4005.fmt import fixed, position_decimals
+from maxk.controllers.contract import Notify, Transport
+from maxk.firmware_model.world import AxisWorld
+from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
+from maxk.personalities.mm4005.execution import PulseRecord
+from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
+
+DEFAULT_MODEL: Final = "MM4005"
+MODELS: Final = (DEFAULT_MODEL, *(f"MM4005-{n}" for n in range(1, MAX_AXES + 1)))
+STATUS_WIDTH: Final = 80
+PULSE_CSV_HEADER: Final = ("pulse", "tick", "time_s", "distance", "element", "x_counts",
+                           "y_counts", "x", "y")
+
+
+def axis_count_of(model: str) -> int:
+    """'MM4005' -> 4, 'MM4005-2' -> 2; ValueError for anything else."""
+    for name in MODELS:
+        if name.lower() == model.lower():
+            return MAX_AXES if name == DEFAULT_MODEL else int(name.rsplit("-", 1)[1])
+    raise ValueError(f"unknown MM4005 model {model!r} (models: {', '.join(MODELS)})")
+
+
+class _NotedRegister(ErrorRegister):
+    """The controller's error register, also noting each error for the console (which
+    shows it without reading it, so a host's TE still sees it); the newest 200 are kept
+    between two looks."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.noted: deque[ErrorCode] = deque(maxlen=200)
+
+    def record(self, code: ErrorCode) -> None:
+        super().record(code)
+        self.noted.append(code)
+
+
+class MM4005Controller:
+    """An MM4005: the door contract (controllers/contract.py) and a Python API."""
+
+    kind = "MM4005"
+    transports: tuple[Transport, ...] = ("tcp", "pty")
+    packet_size = None
+
+    def __init__(self, model: str = DEFAULT_MODEL) -> None:
+        self.machine = MM4005(axis_count_of(model))
+        self._model = next(m for m in MODELS if m.lower() == model.lower())
+        self.interpreter = self._new_interpreter()
+        self._sessions: list[MM4005Session] = []
+        self._console: MM4005Console | None = None
+
+    def _new_interpreter(self) -> Interpreter:
+        interpreter = Interpreter(self.machine)
+        interpreter.context.errors = _NotedRegister()
+        return interpreter
+
+    # ---- the door contract -----------------------------------------------------------------
+    @property
+    def model(self) -> str:
+        return self._model
+
+    @property
+    def engine(self) -> MM4005:
+        return self.machine
+
+    def open_session(self, notify: Notify | None = None) -> MM4005Session:
+        """A host's CR-framed line session; the MM4005 never speaks unasked, so `notify`
+        is never called."""
+        session = MM4005Session(self.machine, self.interpreter)
+        self._sessions = [s for s in self._sessions if not s.closed] + [session]
+        return session
+
+    def console(self) -> MM4005Console:
+        if self._console is None:
+            self._console = MM4005Console(self)
+        return self._console
+
+    def reset(self) -> None:
+        """Power-up again: motion stops at once, defaults back, the error register clear;
+        a line half received by any host is lost."""
+        self.machine.reset()
+        self.interpreter = self._new_interpreter()
+        self._sessions = [s for s in self._sessions if not s.closed]
+        for session in self._sessions:
+            session.interpreter = self.interpreter
+            session.discard_partial_line()
+
+    # ---- talking to it ------------------------------------------------------------------
+    def send(self, line: str) -> list[str]:
+        """One command line (no CR needed); its replies, without CR."""
+        return self.interpreter.execute_line(line.rstrip("\r"))
+
+    def query(self, line: str) -> str:
+        """A line that must give exactly one reply."""
+        replies = self.send(line)
+        if len(replies) != 1:
+            raise ValueError(f"{line!r} gave {len(replies)} replies, expected 1 "
+                             f"(error register: {self.errors.peek().char})")
+        return replies[0]
+
+    @property
+    def errors(self) -> ErrorRegister:
+        return self.interpreter.errors
+
+    # ---- time -----------------------------------------------------------------------------
+    @property
+    def tick(self) -> int:
+        return self.machine.tick
+
+    @property
+    def time(self) -> float:
+        return self.machine.time
+
+    def ticks(self, seconds: float) -> int:
+        return math.ceil(seconds / self.machine.period - 1e-9)
+
+    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
+        self.machine.advance(self.ticks(seconds) + ticks)
+
+    def run_until_idle(self, timeout: float = 600.0) -> bool:
+        """Advance until no axis moves and no trajectory runs; False on timeout."""
+        machine = self.machine
+        deadline = machine.tick + self.ticks(timeout)
+        while not machine.is_idle():
+            # jump to the latest end the machine knows of (a trajectory's last tick, a
+            # move's end) in one pass over its events; then look again (a stop hands
+            # over to a move, a home search goes on)
+            end = machine.known_end()
+            if end is None or end <= machine.tick:
+                return machine.run_until(lambda m: m.is_idle(), deadline - machine.tick)
+            machine.advance_to(min(end, deadline))
+            if machine.tick >= deadline:
+                return machine.is_idle()
+        return True
+
+    # ---- the world and what came out -------------------------------------------------------
+    def stage(self, axis: int) -> AxisWorld:
+        """Axis n's stage (switch positions in counts since power-up). Call
+        `world_changed()` after changing it while something moves."""
+        return self.machine.world.axes[axis - 1]
+
+    def world_changed(self) -> None:
+        self.machine.world_changed()
+
+    def trace_path(self, axes: tuple[int, int] | None = None,
+                   every_ticks: int = 20) -> PathTrace:
+        """Start sampling two axes (default: the trajectory's AX and AY) every N ticks
+        (default 10 ms); `detach()` stops it."""
+        if axes is None:
+            axes = (self.machine.trajectory.x_axis, self.machine.trajectory.y_axis)
+        return PathTrace(self.machine, axes, every_ticks).attach()
+
+    @property
+    def pulses(self) -> list[PulseRecord]:
+        """The synchronized pulses of the running or last trajectory."""
+        return self.machine.pulse_log
+
+    def pulse_rows(self) -> list[tuple[object, ...]]:
+        period = self.machine.period
+        return [(p.index, p.tick, f"{p.tick * period:.4f}", f"{p.distance:.6f}", p.element,
+                 p.x_counts, p.y_counts, p.x, p.y) for p in self.pulses]
+
+    def pulse_csv(self, path: str | Path | None = None) -> str:
+        """The pulse trace as CSV (tick, time, path distance, element, X/Y); written to
+        `path` when given."""
+        out = io.StringIO()
+        writer = csv.writer(out, lineterminator="\n")
+        writer.writerow(PULSE_CSV_HEADER)
+        writer.writerows(self.pulse_rows())
+        text = out.getvalue()
+        if path is not None:
+            Path(path).write_text(text)
+        return text
+
+
+class PathTrace:
+    """Where two axes were (whole counts) every N ticks while the machine ran: the data
+    a path plot draws, with the pulse log as the marks on it."""
+
+    def __init__(self, machine: MM4005, axes: tuple[int, int], every_ticks: int) -> None:
+        self.machine = machine
+        self.axes = (machine.axis(axes[0]), machine.axis(axes[1]))
+        self.every_ticks = every_ticks
+        self.samples: list[tuple[int, int, int]] = []  # (tick, x counts, y counts)
+
+    def attach(self) -> PathTrace:
+        self.machine.add_observer(self.sample, self.every_ticks)
+        self.sample(self.machine)
+        return self
+
+    def detach(self) -> None:
+        self.machine.remove_observer(self.sample)
+
+    def sample(self, machine: MM4005) -> None:
+        x, y = self.axes
+        self.samples.append((machine.tick, x.counts(machine), y.counts(machine)))
+
+    def csv(self) -> str:
+        return "tick,x_counts,y_counts\n" + "".join(f"{t},{x},{y}\n" for t, x, y in self.samples)
+
+
+class MM4005Console:
+    """The REPL's and scripts' view of an MM4005 (the `Console` contract)."""
+
+    def __init__(self, controller: MM4005Controller) -> None:
+        self.controller = controller
+
+    def execute(self, line: str) -> list[str]:
+        """The replies of one line (without CR)."""
+        return self.controller.send(line)
+
+    def new_errors(self) -> list[str]:
+        """`! C Parameter out of limits` for each error since the last look (this
+        console's lines and every host's), without reading the register."""
+        register = self.controller.interpreter.errors
+        assert isinstance(register, _NotedRegister)
+        lines = [f"! {code.char} {code.text}" for code in register.noted]
+        register.noted.clear()
+        return lines
+
+    def prompt(self) -> str:
+        return f"{self.controller.model}> "
+
+    def _position_text(self, axis: int) -> str:
+        m = self.controller.machine
+        return fixed(m.position(axis), position_decimals(m.resolution(axis)))
+
+    def status_line(self, width: int = STATUS_WIDTH) -> str:
+        m = self.controller.machine
+        parts = [f"{m.time:.3f}s"]
+        for axis in range(1, m.axis_count + 1):
+            status = m.status(axis)
+            flag = "*" if status.moving else ("o" if status.power_off else "")
+            parts.append(f"{axis}:{self._position_text(axis)}{flag}")
+        element = m.trajectory_element()
+        if element:
+            parts.append(f"AT{element}")
+        if self.controller.pulses:
+            parts.append(f"P{len(self.controller.pulses)}")
+        line = " ".join(parts)
+        if len(line) > width:  # 4 long positions: drop the decimals beyond 2
+            parts = [parts[0]] + [_shorten(p) for p in parts[1:]]
+            line = " ".join(parts)[:width]
+        return line
+
+    def status_lines(self) -> list[str]:
+        m = self.controller.machine
+        lines = [f"{self.controller.model} at {m.time:.4f} s (tick {m.tick}, "
+                 f"{m.update_rate_hz:g} Hz)"]
+        for axis in range(1, m.axis_count + 1):
+            status = m.status(axis)
+            left, right = m.travel_limits(axis)
+            lines.append(
+                f"axis {axis}: TP {self._position_text(axis)} DP {m.target(axis):.4f} "
+                f"MS {status.char} ({status.byte:#04x}) VA {m.velocity(axis):g} "
+                f"AC {m.acceleration(axis):g} TU {m.resolution(axis):g} "
+                f"limits {left:g}..{right:g}")
+        traj = m.trajectory
+        lines.append(f"trajectory: {len(traj.elements)} elements, AT{m.trajectory_element()}, "
+                     f"X axis {traj.x_axis}, Y axis {traj.y_axis}, VV {traj.velocity:g}, "
+                     f"VS {traj.acceleration:g}; pulses fired {len(self.controller.pulses)}")
+        lines.append(f"error register: {self.controller.errors.peek().char}")
+        return lines
+
+    def help(self, topic: str) -> list[str] | None:
+        spec = COMMANDS.get(topic.strip().upper())
+        if spec is None:
+            return None
+        lines = [f"{spec.mnemonic}: {spec.summary}",
+                 f"  source: {spec.source} ({spec.confidence})"]
+        if spec.note:
+            lines.append(f"  note: {spec.note}")
+        return lines
+
+    def words(self) -> list[str]:
+        return sorted(COMMANDS)
+
+    def summary(self, word: str) -> str:
+        spec = COMMANDS.get(word.strip().upper())
+        return "" if spec is None else spec.summary
+
+    def repl_help(self) -> list[str]:
+        return ["  :pulses      the pulse log of the running or last trajectory (CSV lines)",
+                "  :pulses-csv FILE   write it to FILE"]
+
+    def after_reset(self) -> list[str]:
+        m = self.controller.machine
+        return [f"reset: {m.axis_count} axes, counters 0, trajectory cleared, "
+                f"error register clear (tick {m.tick})"]
+
+    def is_idle(self) -> bool:
+        return self.controller.machine.is_idle()
+
+    def repl_word(self, word: str, rest: str) -> list[str] | None:
+        """`:pulses` lists the pulse log; `:pulses-csv FILE` writes it as CSV."""
+        word = word.lstrip(":").lower()
+        if word == "pulses":
+            rows = self.controller.pulse_rows()
+            return [",".join(PULSE_CSV_HEADER)] + [",".join(map(str, r)) for r in rows]
+        if word == "pulses-csv":
+            if not rest.strip():
+                return ["! :pulses-csv needs a file name"]
+            path = Path(rest.strip())
+            self.controller.pulse_csv(path)
+            return [f"{len(self.controller.pulses)} pulses written to {path}"]
+        return None
+
+
+def _shorten(part: str) -> str:
+    """'1:-12345.6789*' -> '1:-12345.68*': positions to two decimals."""
+    head, _, value = part.partition(":")
+    flag = value[-1] if value and value[-1] in "*o" else ""
+    number = value[:-1] if flag else value
+    try:
+        return f"{head}:{float(number):.2f}{flag}"
+    except ValueError:
+        return part
+

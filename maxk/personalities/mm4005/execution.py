@@ -1,0 +1,301 @@
+"""A verified trajectory running on the shared path planner, with its synchronized pulses.
+
+The elements become the planner's segments (`firmware_model/path.py`: lines to absolute
+end points, arcs by centre and sweep), in the trajectory's own coordinates (user units,
+relative to where X and Y stood at ET). The speed is planned along the path at VV with
+VS as the acceleration: from rest, blending every seam without stopping, down to rest at
+the end of the last element (arcs are also held to sqrt(VS R), the planner's centripetal
+rule). X and Y each follow their coordinate of the plan, in counts of their own TU
+(`PathAxisMotion`), so the two axes may have different resolutions and the arcs stay
+circles in user units.
+
+Pulses (manual 6.1.2): NN pulses at equal curvilinear distances from the start of
+element NB to the end of element NE, each fired on the first update tick at which the
+path has reached its distance (`outputs.path_trigger_ticks` over `EvenlySpaced`
+distances, a batch at a time, so an MPN of a million pulses costs nothing until they are
+due). Each pulse is logged with its tick and where X and Y stood then (whole counts).
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Final
+
+from maxk.firmware_model.outputs import EvenlySpaced, path_trigger_ticks
+from maxk.firmware_model.path import (
+    ContourMotion,
+    ContourPhase,
+    PathPlan,
+    Segment,
+    SegmentDef,
+    plan_path,
+    plan_stop,
+)
+
+from .geometry import Arc, Geometry
+from .stage import MM4005Axis
+from .trajectory import TrajectoryRun, path_extent
+
+if TYPE_CHECKING:
+    from maxk.firmware_model.engine import Engine
+
+PULSE_BATCH: Final = 256  # pulse ticks computed ahead at a time
+
+
+class PathAxisMotion:
+    """One axis's coordinate of a path plan (user units) as a motion in its counts: the
+    shared `MotionPlan` interface, so the engine, the switch searches and the traces
+    treat it like any other motion. ``origin`` is the whole counts the axis had already
+    moved along this trajectory when the plan began (0 at ET, more after a stop re-plan).
+    """
+
+    contour = True
+
+    def __init__(self, plan: PathPlan, k: int, resolution: float, origin: int,
+                 span: tuple[float, float]) -> None:
+        self.plan = plan
+        self.k = k
+        self.scale = 1.0 / resolution
+        self.origin = origin
+        inner = ContourMotion(plan, k, 0.0)  # its directions and phases, in user units
+        self._inner = inner
+        self.direction = inner.direction
+        self.monotonic = inner.monotonic
+        self.end_time = plan.end_time
+        self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
+        self.final_offset = 0
+        if plan.end_time is not None:
+            self.final_offset = round(plan.point(plan.s_end, k) * self.scale) - origin
+        # the offsets (counts) the axis can reach along the whole path: limit searches
+        # skip the phases when a switch lies beyond them
+        self.span = (span[0] * self.scale - origin - 1.0, span[1] * self.scale - origin + 1.0)
+        self._phases: list[ContourPhase] | None = None  # made when first asked for
+        self._times: list[float] = []
+
+    @property
+    def phases(self) -> list[ContourPhase]:
+        if self._phases is None:
+            s = self.scale
+            self._phases = [replace(p, v1=p.v1 * s, v2=p.v2 * s) for p in self._inner.phases]
+            self._times = [p.t0 for p in self._phases]
+        return self._phases
+
+    def phase_at(self, t: float) -> ContourPhase | None:
+        phases = self.phases
+        if not phases:
+            return None
+        return phases[max(0, bisect.bisect_right(self._times, t) - 1)]
+
+    def offset(self, t: float) -> float:
+        if self.end_time is not None and t >= self.end_time:
+            return float(self.final_offset)
+        s, _v = self.plan.state(t)
+        return self.plan.point(s, self.k) * self.scale - self.origin
+
+    def velocity(self, t: float) -> float:
+        return self._inner.velocity(t) * self.scale
+
+
+def segment_defs(elements: tuple[Geometry, ...], velocity: float,
+                 acceleration: float) -> list[SegmentDef]:
+    """The elements as the planner's segments: every seam blended at VV, VS throughout."""
+    defs = []
+    for g in elements:
+        if isinstance(g, Arc):
+            defs.append(SegmentDef("arc", g.centre, False, g.sweep, None, velocity,
+                                   acceleration, None))
+        else:
+            defs.append(SegmentDef("line", g.end, False, 0.0, None, velocity,
+                                   acceleration, None))
+    return defs
+
+
+def resolve(defs: list[SegmentDef]) -> list[Segment]:
+    segments: list[Segment] = []
+    for defn in defs:
+        if segments:
+            last = segments[-1]
+            segments.append(Segment(defn, last.end, last.s0 + last.length, last.v_end))
+        else:
+            segments.append(Segment(defn, (0.0, 0.0), 0.0, None))
+    return segments
+
+
+@dataclass(frozen=True, slots=True)
+class PulseRecord:
+    """One pulse on the auxiliary output: its number (0 first), the tick it fired on, the
+    path distance it was planned at, the element it belongs to, and X/Y then (whole
+    counts, and the same in user units)."""
+
+    index: int
+    tick: int
+    distance: float
+    element: int
+    x_counts: int
+    y_counts: int
+    x: float
+    y: float
+
+
+class TrajectoryExecution:
+    """ET's run: the plan, the axes following it, the pulses, AT. An event source."""
+
+    def __init__(self, run: TrajectoryRun, x: MM4005Axis, y: MM4005Axis,
+                 engine: Engine) -> None:
+        self.run = run
+        self.axes = (x, y)
+        self.engine = engine
+        self.segments = resolve(segment_defs(run.elements, run.velocity, run.acceleration))
+        self.starts = [seg.s0 for seg in self.segments]
+        x0, x1, y0, y1 = path_extent(run.elements)
+        self._spans = ((x0, x1), (y0, y1))
+        self.start_counts = (x.counts(engine), y.counts(engine))
+        self._moved_origin = (x.steps, y.steps)  # physical steps at ET
+        self.plan: PathPlan = plan_path(self.segments, 0, 0.0, 0.0, 1.0)
+        self.plan_tick = engine.tick
+        self.end_tick: int | None = None
+        self.finished = False
+        self.stopping = False
+        self.pulses: list[PulseRecord] = []
+        self._pulse_distances: EvenlySpaced | None = None
+        self._pulse_end = 0.0
+        self._next_pulse = 0  # index of the first pulse not yet scheduled or fired
+        self._due: list[tuple[int, int]] = []  # (tick, index), the next one last
+        plan = run.pulses
+        if plan is not None:
+            first = self.segments[plan.start_element - 1].s0
+            last_seg = self.segments[plan.end_element - 1]
+            self._pulse_end = last_seg.s0 + last_seg.length
+            self._pulse_distances = EvenlySpaced(
+                first, (self._pulse_end - first) / (plan.count - 1), plan.count)
+        self._begin()
+
+    # ---- planning --------------------------------------------------------------------
+    def _begin(self) -> None:
+        engine = self.engine
+        plan = self.plan
+        self.end_tick = None if plan.end_time is None else (
+            self.plan_tick + math.ceil(plan.end_time / engine.period - 1e-9))
+        for k, axis in enumerate(self.axes):
+            moved = axis.steps - self._moved_origin[k]
+            motion = PathAxisMotion(plan, k, axis.resolution, moved, self._spans[k])
+            axis.begin(motion, engine)  # type: ignore[arg-type]
+            axis.target_counts = self.start_counts[k] + moved + motion.final_offset
+        self._due = []
+        self._schedule_pulses()
+
+    def _distances(self) -> Iterator[tuple[float, int]]:
+        """The pulses not yet scheduled; the last one lands exactly on the end of NE."""
+        spaced = self._pulse_distances
+        assert spaced is not None
+        end = self._pulse_end
+        for distance, index in spaced.from_index(self._next_pulse):
+            yield (end if index == spaced.count - 1 else min(distance, end)), index
+
+    def _schedule_pulses(self) -> None:
+        if self._pulse_distances is None or self._due:
+            return
+        batch = path_trigger_ticks(self.plan, self.plan_tick, self.engine.period,
+                                   itertools.islice(self._distances(), PULSE_BATCH))
+        self._due = batch[::-1]
+        if batch:
+            self._next_pulse = batch[-1][1] + 1
+
+    def stop(self) -> None:
+        """ST, a limit: ramp down along the path at VS; later pulses are not reached."""
+        if self.finished or self.stopping:
+            return
+        engine = self.engine
+        t = (engine.tick - self.plan_tick) * engine.period
+        s, v = self.plan.state(t)
+        for axis in self.axes:
+            axis.freeze(engine)
+        self.stopping = True
+        self.plan = plan_stop(self.segments, self.segment_index(s), s, v, 1.0)
+        self.plan_tick = engine.tick
+        self._next_pulse = self._due[-1][1] if self._due else self._next_pulse
+        self._begin()
+
+    def abort(self) -> None:
+        """Motor power off: both axes stop where they are, at once."""
+        engine = self.engine
+        for axis in self.axes:
+            axis.freeze(engine)
+            axis.target_counts = axis.counts(engine)
+        self._finish()
+
+    def _finish(self) -> None:
+        self.finished = True
+        self._due = []
+        self._pulse_distances = None
+        for axis in self.axes:
+            axis.in_trajectory = False
+
+    # ---- where the path is -------------------------------------------------------------
+    def distance(self, tick: int | None = None) -> float:
+        engine = self.engine
+        now = engine.tick if tick is None else tick
+        s, _v = self.plan.state((now - self.plan_tick) * engine.period)
+        return s
+
+    def segment_index(self, s: float) -> int:
+        i = max(0, bisect.bisect_right(self.starts, s) - 1)
+        return min(i, len(self.segments) - 1)
+
+    def element(self) -> int:
+        """AT: the element under execution (1-based), 0 once the run has ended."""
+        if self.finished:
+            return 0
+        return self.segment_index(self.distance()) + 1
+
+    # ---- events ------------------------------------------------------------------------
+    def next_event(self) -> int | None:
+        if self.finished:
+            return None
+        best = self.end_tick
+        due = self._due
+        if due and (best is None or due[-1][0] < best):
+            best = due[-1][0]
+        return best
+
+    def on_event(self, now: int) -> None:
+        due = self._due
+        while due and due[-1][0] <= now:
+            tick, index = due.pop()
+            self._fire(index, tick)
+            if not due:
+                self._schedule_pulses()
+                due = self._due
+        if self.end_tick is not None and now >= self.end_tick:
+            self._finish()
+
+    def _fire(self, index: int, tick: int) -> None:
+        spaced = self._pulse_distances
+        plan = self.run.pulses
+        assert spaced is not None and plan is not None
+        last = index == spaced.count - 1
+        distance = self._pulse_end if last else spaced.start + index * spaced.step
+        x, y = self.axes
+        xc, yc = self._counts_at(tick)
+        self.pulses.append(PulseRecord(index, tick, distance, plan.points[index].element,
+                                       xc, yc, xc * x.resolution, yc * y.resolution))
+
+    def _counts_at(self, tick: int) -> tuple[int, int]:
+        """X and Y counts at a tick of the running plan: what `counts_at` gives, with the
+        path located once for both axes (the pulse hot path)."""
+        x, y = self.axes
+        period = self.engine.period
+        mx, my = x.motion, y.motion
+        if (not isinstance(mx, PathAxisMotion) or not isinstance(my, PathAxisMotion)
+                or mx.plan is not self.plan or my.plan is not self.plan
+                or x.motion_end is None or tick >= x.motion_end):
+            return x.counts_at(tick, period), y.counts_at(tick, period)
+        s, _v = self.plan.state((tick - x.motion_start) * period)
+        seg = self.plan.segment_at(s)
+        sigma = s - seg.s0
+        return (x.steps + int(seg.coordinate(sigma, 0) * mx.scale - mx.origin) + x.counter_offset,
+                y.steps + int(seg.coordinate(sigma, 1) * my.scale - my.origin) + y.counter_offset)

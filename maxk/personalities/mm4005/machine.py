@@ -1,0 +1,401 @@
+"""The MM4005 on the shared machine: an `Engine` at the servo update rate whose axes are
+`MotionAxis` runs of closed-form profiles, whose trajectory runs on the path planner and
+whose pulses are path triggers. It is what the language's `MM4005Machine` protocol asks
+for (maxk/commands/mm4005/machine.py), with no wire format.
+
+Time: integer ticks of the servo update cycle, 0.5 ms (manual 7.1.1: "the servo update
+cycle (0.0005s)", C). The MPN's Tbase is that cycle too (I: the pulse output is set once
+per cycle, which is what VV x Tbase bounds: at most one pulse per cycle).
+
+Decisions (D) beyond the manual are listed in docs/mm4005.md: the home search's edge and
+stages, a stop at a hardware limit, a PA/PR while moving (stop, then go), MF stopping at
+once, the power-up state.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Final
+
+from maxk.firmware_model.engine import Engine
+from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
+from maxk.firmware_model.world import Switch, World
+
+from .errors import UNAUTHORIZED, MM4005Error
+from .execution import PulseRecord, TrajectoryExecution
+from .stage import HomeSearch, HomeStage, MM4005Axis
+from .status import AxisStatus
+from .trajectory import Trajectory, TrajectoryRun
+
+UPDATE_RATE_HZ: Final = 2000  # manual 7.1.1: servo update cycle 0.0005 s (C)
+VERSION: Final = "MM4005 Version 2.42"  # as the EPICS test device answered (I)
+MAX_AXES: Final = 4  # the MM4005 drives up to 4 axes (manual title, C)
+_RAMP: Final = RampShape.LINEAR  # trapezoidal profile (MM4006 manual 4.4.1, I)
+
+
+class MM4005(Engine):
+    """An MM4005 controller's axes, trajectory and pulses in virtual time."""
+
+    def __init__(self, axis_count: int = MAX_AXES, update_rate_hz: float = UPDATE_RATE_HZ,
+                 version: str = VERSION) -> None:
+        if not 1 <= axis_count <= MAX_AXES:
+            raise ValueError(f"an MM4005 has 1 to {MAX_AXES} axes, not {axis_count}")
+        super().__init__(update_rate_hz)
+        self.version = version
+        self.world = World.default(axis_count)
+        self.axes = [MM4005Axis(i, str(i + 1), host=self) for i in range(axis_count)]
+        for axis in self.axes:
+            self.add_source(axis)
+        self.trajectory = Trajectory()
+        self.execution: TrajectoryExecution | None = None  # the running or last run
+
+    # ---- what the language reads ----------------------------------------------------------
+    @property
+    def axis_count(self) -> int:
+        return len(self.axes)
+
+    @property
+    def tick_period(self) -> float:
+        return self.period
+
+    @property
+    def trajectory_base_period(self) -> float:
+        """Tbase of the MPN formula: the servo update cycle (I)."""
+        return self.period
+
+    def axis(self, number: int) -> MM4005Axis:
+        return self.axes[number - 1]
+
+    def position(self, axis: int) -> float:
+        a = self.axis(axis)
+        return a.counts(self) * a.resolution
+
+    def theoretical_position(self, axis: int) -> float:
+        a = self.axis(axis)
+        return a.exact_counts(self) * a.resolution
+
+    def target(self, axis: int) -> float:
+        a = self.axis(axis)
+        return a.target_counts * a.resolution
+
+    def velocity(self, axis: int) -> float:
+        return self.axis(axis).speed
+
+    def set_velocity(self, axis: int, value: float) -> None:
+        self.axis(axis).speed = value
+
+    def acceleration(self, axis: int) -> float:
+        return self.axis(axis).acceleration
+
+    def set_acceleration(self, axis: int, value: float) -> None:
+        self.axis(axis).acceleration = value
+
+    def resolution(self, axis: int) -> float:
+        return self.axis(axis).resolution
+
+    def loop_type(self, axis: int) -> int:
+        return self.axis(axis).loop_type
+
+    def travel_limits(self, axis: int) -> tuple[float, float]:
+        return self.axis(axis).limits
+
+    def set_travel_limits(self, axis: int, left: float, right: float) -> None:
+        self.axis(axis).limits = (left, right)
+
+    def home_preset(self, axis: int) -> float:
+        return self.axis(axis).home_preset
+
+    def set_home_preset(self, axis: int, value: float) -> None:
+        self.axis(axis).home_preset = value
+
+    def define_home(self, axis: int, limits: tuple[float, float]) -> None:
+        a = self.axis(axis)
+        a.load_position(a.to_counts(a.home_preset), self)
+        a.limits = limits
+
+    def status(self, axis: int) -> AxisStatus:
+        a = self.axis(axis)
+        world = self.world.axes[a.index]
+        steps = a.steps_now(self)
+        moving = a.motion is not None or a.homing is not None
+        direction = a.travel_direction(self) if a.motion is not None else a.direction
+        return AxisStatus(moving=moving, power_off=not a.powered,
+                          direction_positive=direction > 0,
+                          plus_limit=world.plus_limit.active(steps),
+                          minus_limit=world.minus_limit.active(steps),
+                          home_signal=world.home.active(steps))
+
+    def trajectory_element(self) -> int:
+        run = self.execution
+        return 0 if run is None else run.element()
+
+    @property
+    def pulse_log(self) -> list[PulseRecord]:
+        """The pulses of the running or last trajectory, in firing order."""
+        return [] if self.execution is None else self.execution.pulses
+
+    def is_idle(self) -> bool:
+        run = self.execution
+        return (all(a.motion is None and a.homing is None for a in self.axes)
+                and (run is None or run.finished))
+
+    def known_end(self) -> int | None:
+        """The last tick at which a motion or trajectory now running is planned to end
+        (None: one runs without a planned end, a home search seeking its switch)."""
+        ends: list[int] = []
+        for a in self.axes:
+            if a.motion is not None:
+                if a.motion_end is None:
+                    return None
+                ends.append(a.motion_end)
+        run = self.execution
+        if run is not None and not run.finished and run.end_tick is not None:
+            ends.append(run.end_tick)
+        return max(ends) if ends else None
+
+    # ---- commands that move ---------------------------------------------------------------
+    def move_to(self, axis: int, position: float) -> None:
+        """PA/PR: a trapezoidal move at VA and AC. Given while the axis moves, the axis
+        first stops at AC and then goes to the new destination (D)."""
+        a = self.axis(axis)
+        target = a.to_counts(position)
+        if a.motion is not None:
+            a.homing = None
+            a.pending_target = target
+            self._plan_stop(a)
+            a.target_counts = target
+            return
+        self._start_move(a, target)
+
+    def _start_move(self, a: MM4005Axis, target: int) -> None:
+        a.target_counts = target
+        distance = target - a.counts(self)
+        if distance == 0:
+            return
+        if self._limit_pressed(a, 1 if distance > 0 else -1):
+            raise MM4005Error(UNAUTHORIZED, "travel limit switch pressed that way")
+        c = a.counts_per_second
+        motion = plan_move(distance, 0.0, c(a.speed), c(a.acceleration), c(a.acceleration),
+                           _RAMP)
+        a.begin(motion, self)
+        self.schedule_switches(a)
+
+    def _plan_stop(self, a: MM4005Axis) -> None:
+        residual, velocity = a.freeze(self)
+        decel = a.counts_per_second(a.acceleration)
+        motion = plan_stop(residual, velocity, 0.0, decel, _RAMP)
+        a.target_counts = a.steps + motion.final_offset + a.counter_offset
+        a.begin(motion, self)
+        if a.motion is None:  # it was at rest already: what follows a stop follows now
+            self._motion_done(a)
+        else:
+            self.schedule_switches(a)
+
+    def stop(self, axis: int) -> None:
+        """ST: decelerate at AC (a trajectory's axes ramp down along the path at VS)."""
+        a = self.axis(axis)
+        run = self.execution
+        if a.in_trajectory and run is not None:
+            run.stop()
+            for member in run.axes:
+                self.schedule_switches(member)
+            return
+        a.pending_target = None
+        a.homing = None
+        if a.motion is not None:
+            self._plan_stop(a)
+
+    def set_power(self, axis: int, on: bool) -> None:
+        """MO/MF. Power off stops the axis where it is, at once (and a trajectory it is in)."""
+        a = self.axis(axis)
+        if not on:
+            run = self.execution
+            if a.in_trajectory and run is not None:
+                run.abort()
+            a.homing = None
+            a.pending_target = None
+            if a.motion is not None:
+                a.freeze(self)
+            a.target_counts = a.counts(self)
+        a.powered = on
+
+    def search_home(self, axis: int, mode: int) -> None:
+        """OR: travel at VA toward the home switch's edge (the first active count met
+        moving up), latch it, brake at AC, come back onto it; it then reads XH (D: every
+        mode searches the switch; the encoder index is not modelled)."""
+        a = self.axis(axis)
+        edge, direction = self._home_edge(a)
+        a.pending_target = None
+        a.homing = HomeSearch(HomeStage.SEEK, direction, edge)
+        c = a.counts_per_second
+        motion = plan_jog(0.0, 0.0, direction * c(a.speed), 0.0, c(a.acceleration),
+                          c(a.acceleration), _RAMP)
+        a.begin(motion, self)
+        self.schedule_switches(a)
+
+    def _home_edge(self, a: MM4005Axis) -> tuple[int | None, int]:
+        """The home position (steps) and which way the search starts from here; without
+        a usable switch (none, or stuck by a fault) the search goes up until a limit
+        stops it (D)."""
+        switch = self.world.axes[a.index].home
+        here = a.steps_now(self)
+        if switch.fault is None and switch.low is not None:
+            edge = math.ceil(switch.low)
+            return edge, (1 if here < edge else -1)
+        if switch.fault is None and switch.high is not None:
+            edge = math.floor(switch.high)
+            return edge, (-1 if here > edge else 1)
+        return None, 1
+
+    def start_trajectory(self, run: TrajectoryRun) -> None:
+        """ET accepted: X and Y follow the planned path; NS's pulses fire on the way."""
+        previous = self.execution
+        if previous is not None and not previous.finished:
+            raise MM4005Error(UNAUTHORIZED, "a trajectory is running")
+        if previous is not None:
+            self.remove_source(previous)
+        x, y = self.axis(run.x_axis), self.axis(run.y_axis)
+        for a in (x, y):
+            a.pending_target = None
+            a.homing = None
+            a.in_trajectory = True
+        execution = TrajectoryExecution(run, x, y, self)
+        self.execution = execution
+        self.add_source(execution)
+        for a in (x, y):
+            self.schedule_switches(a)
+
+    # ---- events ----------------------------------------------------------------------------
+    def axis_event(self, axis: MM4005Axis, now: int) -> None:
+        """One of the axis's ticks has come: a switch edge, or its motion's end."""
+        if axis.switch_tick is not None and now >= axis.switch_tick:
+            axis.switch_tick = None
+            self._switch_event(axis)
+        if axis.motion_end is not None and now >= axis.motion_end:
+            axis.finish_motion()
+            self._motion_done(axis)
+        elif axis.motion is not None and axis.switch_tick is None:
+            self.schedule_switches(axis)
+
+    def _switch_event(self, a: MM4005Axis) -> None:
+        if a.motion is None:
+            return
+        direction = a.travel_direction(self)
+        if self._limit_pressed(a, direction):
+            self._limit_tripped(a)
+            return
+        homing = a.homing
+        if homing is not None and homing.stage is HomeStage.SEEK and self._home_met(a, homing):
+            homing.stage = HomeStage.BRAKE
+            self._plan_stop(a)
+
+    def _home_met(self, a: MM4005Axis, homing: HomeSearch) -> bool:
+        if homing.edge is None:
+            return False
+        here = a.steps_now(self)
+        if homing.direction > 0:
+            return here >= homing.edge
+        return here <= homing.edge - 1
+
+    def _limit_pressed(self, a: MM4005Axis, direction: int) -> bool:
+        world = self.world.axes[a.index]
+        switch = world.plus_limit if direction > 0 else world.minus_limit
+        return switch.active(a.steps_now(self))
+
+    def _limit_tripped(self, a: MM4005Axis) -> None:
+        """A hardware travel limit: the axis brakes at AC (a trajectory along its path at
+        VS); a home search or a waiting destination is abandoned (D)."""
+        a.homing = None
+        a.pending_target = None
+        run = self.execution
+        if a.in_trajectory and run is not None:
+            run.stop()
+            for member in run.axes:
+                self.schedule_switches(member)
+        else:
+            self._plan_stop(a)
+
+    def _motion_done(self, a: MM4005Axis) -> None:
+        homing = a.homing
+        if homing is not None:
+            if homing.stage is HomeStage.BRAKE:
+                homing.stage = HomeStage.RETURN
+                assert homing.edge is not None  # only a met edge brakes a search
+                distance = homing.edge - a.steps_now(self)
+                if distance:
+                    c = a.counts_per_second
+                    a.begin(plan_move(distance, 0.0, c(a.speed), c(a.acceleration),
+                                      c(a.acceleration), _RAMP), self)
+                    self.schedule_switches(a)
+                    return
+            a.homing = None
+            a.load_position(a.to_counts(a.home_preset), self)
+            return
+        if a.pending_target is not None:
+            target, a.pending_target = a.pending_target, None
+            try:
+                self._start_move(a, target)
+            except MM4005Error:
+                a.target_counts = a.counts(self)  # into a pressed limit: it stays (D)
+
+    def schedule_switches(self, a: MM4005Axis) -> None:
+        """The next tick at which the running motion meets a limit switch or, searching
+        home, the home edge (bisection over its monotonic phases, exact to the tick)."""
+        a.switch_tick = None
+        m = a.motion
+        if m is None:
+            return
+        world = self.world.axes[a.index]
+        here = a.steps_now(self)
+        span = getattr(m, "span", None)
+        candidates: list[int] = []
+        for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
+            edge = _edge(switch, direction)
+            if edge is None or switch.active(here):
+                continue
+            if span is not None and not a.steps - 1 + span[0] <= edge <= a.steps + 1 + span[1]:
+                continue  # the path never gets there
+            if m.end_time is not None and m.monotonic and (
+                    m.direction != direction
+                    or direction * (a.steps + m.final_offset - edge) < 0):
+                continue
+            tick = a.tick_reaching(edge, direction, self)
+            if tick is not None:
+                candidates.append(tick)
+        homing = a.homing
+        if homing is not None and homing.stage is HomeStage.SEEK and homing.edge is not None:
+            goal = homing.edge if homing.direction > 0 else homing.edge - 1
+            tick = a.tick_reaching(goal, homing.direction, self)
+            if tick is not None:
+                candidates.append(tick)
+        if candidates:
+            a.switch_tick = min(candidates)
+
+    # ---- power-up --------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Power-up again (D): motion stops at once, settings and the trajectory go back to
+        their defaults, each counter reads 0 where its stage stands (the stage keeps its
+        place in the world); virtual time goes on."""
+        if self.execution is not None:
+            self.remove_source(self.execution)
+            self.execution = None
+        for i, old in enumerate(self.axes):
+            old.freeze(self)
+            self.remove_source(old)
+            axis = MM4005Axis(i, str(i + 1), host=self, steps=old.steps)
+            axis.counter_offset = -old.steps
+            self.axes[i] = axis
+            self.add_source(axis)
+        self.trajectory = Trajectory()
+
+    def world_changed(self) -> None:
+        """A switch moved or a fault was set: every running motion looks again."""
+        for a in self.axes:
+            self.schedule_switches(a)
+
+
+def _edge(switch: Switch, direction: int) -> float | None:
+    """Where a limit switch becomes active travelling `direction` (None: never)."""
+    if switch.fault is not None:
+        return None
+    return switch.low if direction > 0 else switch.high

@@ -1,0 +1,76 @@
+"""A PoKeys device as the host sees it at connect time: identity, network setup, name,
+activated options, and its pulse engine (v1 on the PoKeys56E, v2 on the 57 series)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Final
+
+from .pev1 import PulseEngineV1
+from .pev2 import PulseEngineV2
+from .world import PulseEngineWorld
+
+
+@dataclass(frozen=True)
+class Identity:
+    """What a model reports about itself (reference section 4)."""
+
+    model: str
+    serial: int
+    firmware: tuple[int, int]  # (major, minor) bytes [4]/[5]: 0x33,6 reads "4.3.6"
+    hw_type: int  # DeviceType byte [18] of an extended-ID reply (0 for old-ID devices)
+    extended_id: bool  # 'PKEx' layout of the 0x00 reply
+    build_date: str  # 11 characters, "Mmm dd yyyy"
+    engine_version: int
+    activated_options: int  # 0x8F [8]; bit 0 = pulse engine (reference section 10)
+    product_id: int = 0
+
+
+MODELS: Final[dict[str, Identity]] = {
+    # Old-ID device: serial in 20000-65535, FW major 32 = "3.0.x", >= 3.0.59 has the
+    # pulse engine without activation (reference 10): the library reads PEv1.
+    "PoKeys56E": Identity("PoKeys56E", 27431, (32, 61), 11, False, "Mar 14 2014", 1, 0x01),
+    "PoKeys57E": Identity("PoKeys57E", 31877, (0x33, 5), 31, True, "Nov 03 2017", 2, 0x01),
+    "PoKeys57CNC": Identity("PoKeys57CNC", 32123, (0x33, 6), 32, True, "Jan 10 2018", 2, 0x01),
+}
+
+
+@dataclass
+class NetworkConfig:
+    """The 0xE0 reply: addresses as the four bytes the wire carries."""
+
+    dhcp: int = 0
+    ip_setup: tuple[int, int, int, int] = (127, 0, 0, 1)
+    ip_current: tuple[int, int, int, int] = (127, 0, 0, 1)
+    tcp_timeout: int = 1000  # ms
+    gateway: tuple[int, int, int, int] = (127, 0, 0, 1)
+    subnet_mask: tuple[int, int, int, int] = (255, 0, 0, 0)
+    options: int = 0xA0  # kept by the library only if (options & 0xA0) == 0xA0
+
+
+@dataclass
+class PoKeysDevice:
+    identity: Identity
+    engine: PulseEngineV1 | PulseEngineV2
+    network: NetworkConfig = field(default_factory=NetworkConfig)
+    name: str = ""
+    user_id: int = 0
+    lock_status: int = 0
+
+    @classmethod
+    def create(cls, model: str = "PoKeys57CNC", world: PulseEngineWorld | None = None,
+               serial: int | None = None) -> PoKeysDevice:
+        ident = MODELS[model]
+        if serial is not None:
+            ident = Identity(**{**ident.__dict__, "serial": serial})
+        engine: PulseEngineV1 | PulseEngineV2 = (
+            PulseEngineV1(world) if ident.engine_version == 1 else PulseEngineV2(world))
+        return cls(ident, engine, name=ident.model)
+
+    @property
+    def slot(self) -> int:
+        return self.engine.slot
+
+    def run_to(self, slot: int) -> None:
+        """Advance the device to `slot` (1 ms slots since power-up)."""
+        self.engine.run_to(slot)
