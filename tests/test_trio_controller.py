@@ -89,6 +89,14 @@ def test_a_typed_wait_runs_virtual_time_in_the_console() -> None:
     assert trio.tick == 250 + 200  # 0.1 s ramps at 10000 reach 1000 in 50 units
 
 
+def test_a_console_wait_that_never_ends_is_abandoned() -> None:
+    trio = MC405()
+    trio.send("TABLE(10,0,5): CAMBOX(10,11,1,100,0) AXIS(1)")  # axis 0 never moves
+    assert trio.send("BASE(0,1): MOVE(5,5)") == ["! still waiting after 600 s: abandoned"]
+    assert trio.time == pytest.approx(600.0)
+    assert trio.query("?IDLE AXIS(0)") == "-1"  # nothing half-done: the move never loaded
+
+
 def test_query_refuses_anything_but_one_line() -> None:
     trio = MC405()
     with pytest.raises(ValueError):
@@ -302,3 +310,43 @@ def test_the_example_script_passes_and_a_wrong_reply_fails(tmp_path) -> None:
     assert fast.engine.period == 0.0005 and fast.console().execute("?SERVO_PERIOD") == ["500"]
     with pytest.raises(ValueError):
         MC405(update_rate_hz=3000)
+
+
+# ---- robustness: any mix of motion commands and time ---------------------------------------------
+_AXES = st.integers(0, 9)
+_NUM = st.sampled_from(["0", "1", "-1", "10", "2.5", "-300", "1000", "1e6", "0.001"])
+_COMMANDS = st.one_of(
+    st.builds("BASE({},{}): MOVE({},{})".format, _AXES, _AXES, _NUM, _NUM),
+    st.builds("MOVEABS({}) AXIS({})".format, _NUM, _AXES),
+    st.builds("MERGE AXIS({})={}".format, _AXES, st.sampled_from(["ON", "OFF"])),
+    st.builds("SPEED AXIS({})={}".format, _AXES, _NUM),
+    st.builds("ACC({}) AXIS({})".format, _NUM, _AXES),
+    st.builds("UNITS AXIS({})={}".format, _AXES, _NUM),
+    st.builds("CANCEL AXIS({})".format, _AXES),
+    st.just("RAPIDSTOP"),
+    st.builds("CONNPATH({}) AXIS({})".format, _AXES, _AXES),
+    st.builds("CAMBOX(10,14,{},{},{}) AXIS({})".format, _NUM, _NUM, _AXES, _AXES),
+    st.builds("DEFPOS({}) AXIS({})".format, _NUM, _AXES),
+    st.builds("PWM_CONTROL({}) AXIS({})".format, st.sampled_from(
+        ["0", "1", "4", "5", "6", "2,0.1,50,500,0", "8,0.001,5,900,0,9", "3,1,ON,10,14",
+         "3,0,OFF,10,12"]), st.integers(0, 4)),
+    st.builds("?DPOS AXIS({}), VP_SPEED AXIS({}), PWM_MARK AXIS({})".format, _AXES, _AXES,
+              st.integers(0, 4)),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(_COMMANDS, st.integers(0, 300)), max_size=12))
+def test_any_mix_of_commands_and_time_never_breaks_the_machine(steps) -> None:
+    trio = MC405()
+    trio.send("TABLE(10,0,5,-3,8,1): BASE(4): ATYPE=35: WDOG=ON")
+    trace = trio.trace(pwm_axes=(0, 4), xy=(0, 1))
+    for command, ticks in steps:
+        for line in trio.send(command):  # output or a TrioBASIC error, never an exception
+            assert isinstance(line, str)
+        trio.advance(ticks=ticks)
+    trio.send("RAPIDSTOP")
+    trio.advance(2.0)
+    assert len(trace) == trio.tick + 1
+    for axis in range(10):
+        assert math.isfinite(float(trio.query(f"?DPOS AXIS({axis})")))

@@ -185,8 +185,13 @@ class TrioConsole:
         if session.waiting:
             machine.run_until(lambda _m: not session.waiting,
                               self.controller.ticks(CONSOLE_WAIT_S))
+        abandoned = session.waiting
+        if abandoned:  # a person cannot type a break: give up the statement (D)
+            session.abandon()
         out, errors = _lines(session.read().decode("latin-1"), line)
         self._errors += errors
+        if abandoned:
+            self._errors.append(f"! still waiting after {CONSOLE_WAIT_S:g} s: abandoned")
         return out
 
     def new_errors(self) -> list[str]:

@@ -101,6 +101,15 @@ class TrioCommandLine:
         """A command-line statement is waiting (its prompt has not come yet)."""
         return self._busy is not None
 
+    def abandon(self) -> None:
+        """Give up a waiting statement (a console's break): its prompt comes now and the
+        bytes received meanwhile are handled."""
+        if self._busy is not None:
+            self._busy.close()
+            self._busy = None
+            self._out += PROMPT
+            self._pump()
+
     def resume(self) -> None:
         """Give a waiting command-line statement its servo cycle, then handle the bytes
         that arrived meanwhile."""
