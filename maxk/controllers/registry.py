@@ -27,9 +27,12 @@ def _build_mm4005(model: str, options: BuildOptions) -> Controller:
 
 
 def _build_mc405(model: str, options: BuildOptions) -> Controller:
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio import MC405, SERVO_RATES_HZ
 
-    return MC405(archive=options.archive, update_rate_hz=options.update_rate_hz)
+    # a rate it cannot run (the scripts plugin passes the MAXk's 8192 Hz to every board)
+    # leaves the MC405 at its own 1000 us servo period, as the MM4005 keeps its own
+    rate = options.update_rate_hz if options.update_rate_hz in SERVO_RATES_HZ else None
+    return MC405(archive=options.archive, update_rate_hz=rate)
 
 
 def _mc405_programs(model: str, number: int) -> Path:

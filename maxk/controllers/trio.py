@@ -34,6 +34,7 @@ from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
 
 MODEL = "MC405"
+SERVO_RATES_HZ = (500, 1000, 2000, 4000)  # SERVO_PERIOD 2000, 1000, 500, 250 us
 CONSOLE_WAIT_S = 600.0  # a typed WA/WAIT IDLE runs virtual time at most this long (D)
 _NOT_STORED = frozenset({"DPOS", "MPOS", "VP_SPEED", "IDLE", "PWM_CYCLE", "PWM_MARK",
                          "PWM_ENCODER"})
