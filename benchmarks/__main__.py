@@ -256,6 +256,19 @@ def doors(seconds: float = 5.0, rate: float | None = None) -> list[Figure]:
     ]
 
 
+def trio_example_2() -> list[Figure]:
+    """The MC405 PWM note's example 2 for 10 simulated minutes, every mark traced."""
+    from benchmarks.trio import TARGET, example_2
+
+    figures = []
+    for name, poll in (("trio_example_2_free", None), ("trio_example_2_polled", 10.0)):
+        ratio, cycles = example_2(poll_hz=poll)
+        note = f"{cycles:,} servo cycles' marks traced" + (", PWM_MARK read at 10 Hz"
+                                                          if poll else "")
+        figures.append(Figure(name, ratio, "simulated s per wall s", TARGET, note))
+    return figures
+
+
 BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "steppers_free": lambda: steppers_back_to_back(None),
     "steppers_polled": lambda: steppers_back_to_back(10.0, sim_seconds=120.0),
@@ -270,6 +283,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "memory": memory_per_board,
     "doors": doors,
     "mm4005": lambda: __import__("benchmarks.mm4005", fromlist=["figures"]).figures(),
+    "trio": trio_example_2,
 }
 
 

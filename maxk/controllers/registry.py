@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
 from maxk.controllers.mm4005 import MODELS as MM4005_MODELS
 from maxk.controllers.mm4005 import MM4005Controller
 from maxk.personalities.maxk.models import MODELS, model_by_name
-from maxk.personalities.maxk.parameters import default_archive_path
+from maxk.personalities.maxk.parameters import default_archive_dir, default_archive_path
 
 
 def _build_maxk(model: str, options: BuildOptions) -> Controller:
@@ -24,6 +26,20 @@ def _build_mm4005(model: str, options: BuildOptions) -> Controller:
     return MM4005Controller(model)  # nothing of BuildOptions applies (no flash modelled)
 
 
+def _build_mc405(model: str, options: BuildOptions) -> Controller:
+    from maxk.controllers.trio import MC405, SERVO_RATES_HZ
+
+    # a rate it cannot run (the scripts plugin passes the MAXk's 8192 Hz to every board)
+    # leaves the MC405 at its own 1000 us servo period, as the MM4005 keeps its own
+    rate = options.update_rate_hz if options.update_rate_hz in SERVO_RATES_HZ else None
+    return MC405(archive=options.archive, update_rate_hz=rate)
+
+
+def _mc405_programs(model: str, number: int) -> Path:
+    """The MC405's program directory (its flash) per user, beside the MAXk archives."""
+    return default_archive_dir() / f"{model}-board{number}.programs"
+
+
 KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
@@ -31,6 +47,9 @@ KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
                    "Newport MM4005 4-axis controller with trajectories and synchronized "
                    "pulses (MM4005-n: n axes installed)"),
+    ControllerKind("MC405", ("MC405",), _build_mc405,
+                   "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs",
+                   _mc405_programs),
 )
 
 

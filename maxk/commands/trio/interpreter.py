@@ -36,7 +36,27 @@ from .parser import (
 )
 
 Value = float | str
-Wait = Generator[None, None, None]
+
+
+@dataclass(frozen=True, slots=True)
+class Wake:
+    """What a waiting statement waits for, so a scheduler can sleep until then: a servo
+    tick (WA), or `tick` None for a change of the machine (WAIT IDLE, a full move buffer:
+    they can only end when motion or another statement changes something). A bare
+    ``yield None`` means "try again next servo cycle" (WAIT UNTIL, loop passes)."""
+
+    tick: int | None = None
+
+
+ON_CHANGE = Wake(None)
+
+
+def due_after(wake: Wake | None, now: int) -> int | None:
+    """The tick a statement that yielded `wake` at `now` runs again (None: on a change)."""
+    if wake is None:
+        return now + 1
+    return wake.tick
+Wait = Generator[Wake | None, None, None]
 
 
 def format_number(value: float) -> str:
@@ -231,10 +251,10 @@ class Interpreter:
         elif isinstance(stmt, WaitIdle):
             axis = self.axis_of(stmt.axis, ctx)
             while not self.machine.axis_idle(axis):
-                yield
+                yield ON_CHANGE
         elif isinstance(stmt, WaitUntil):
             while self.number(stmt.condition, ctx) == 0:
-                yield
+                yield None
         elif isinstance(stmt, IfLine):
             branch = stmt.then if self.number(stmt.condition, ctx) != 0 else stmt.otherwise
             for inner in branch:
@@ -295,7 +315,7 @@ class Interpreter:
         if name in ("MOVE", "MOVEABS"):
             axes = self.group(stmt.axis, ctx, len(args))
             while not m.can_load(axes):
-                yield
+                yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
         elif name == "DEFPOS":
@@ -305,7 +325,7 @@ class Interpreter:
             ticks = math.ceil(args[0] * 1000 / m.servo_period_us()) if args[0] > 0 else 0
             wake = m.servo_tick() + ticks
             while m.servo_tick() < wake:
-                yield
+                yield Wake(wake)
         elif name == "BASE":
             ctx.base = base_array([self._axis_number(a) for a in args], m.axis_count)
         elif name == "TABLE":
@@ -336,7 +356,7 @@ class Interpreter:
             self._act(lambda: m.pwm_control(axis, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
-                yield
+                yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
 

@@ -122,15 +122,20 @@ _ENTRIES: list[Keyword] = [
     _axis("DECEL", "Deceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
           source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
     _axis("MERGE", "Merge consecutive moves without stopping (ON/OFF).", default=0,
-          value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}"),
+          value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}", confidence="I",
+          note="A move joins the one before it (one path, corners at full speed) when MERGE "
+          "of its base axis is ON as it is loaded and both are on the same axes (I)."),
     _axis("FE_LIMIT", "Following error limit, user units.", default=2000,
           value_range=(0, _BIG), source=f"{SEED} example 3; {TOK}", confidence="I",
           note="Stored; power-up 2000 (D)."),
-    _axis("DPOS", "Demand position, user units.", writable=False, source=f"{MAN}; {TOK}"),
-    _axis("MPOS", "Measured position, user units.", writable=False, source=f"{MAN}; {TOK}"),
+    _axis("DPOS", "Demand position, user units.", writable=False, source=f"{MAN}; {TOK}",
+          note="The exact demand, fractions of a count included (D)."),
+    _axis("MPOS", "Measured position, user units.", writable=False, source=f"{MAN}; {TOK}",
+          confidence="D", note="Equals DPOS: no following error is modelled (D)."),
     _axis("VP_SPEED", "Velocity profile speed: the path speed of the move this axis runs, "
           "user units/s.", writable=False, source=f"{SEED}; {TOK}",
-          note="Read only (tokentable). PWM_CONTROL(2/8) links to it."),
+          note="Read only (tokentable). PWM_CONTROL(2/8) links to it. Every axis of an "
+          "interpolated group reads the group's path speed (I)."),
     _axis("IDLE", "TRUE (-1) when the axis has no move running or buffered.",
           writable=False, source=f"{MAN}; {TOK}", confidence="I",
           note="Reads -1/0 like the manual's TRUE/FALSE flags (I)."),
@@ -173,17 +178,21 @@ _ENTRIES: list[Keyword] = [
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
     # ---- motion and axis commands ----------------------------------------------------------
     _command("MOVE", "Relative interpolated move on the BASE axes.", (1, 128), axis=True,
-             source=f"{SEED}; {TOK}"),
+             source=f"{SEED}; {TOK}", note="A path at the base axis's SPEED and ACCEL taken "
+             "when loaded, distances rounded to whole counts (D); 16 moves buffered per "
+             "axis (D)."),
     _command("MOVEABS", "Absolute interpolated move on the BASE axes.", (1, 128), axis=True,
-             source=f"{SEED}; {TOK}"),
+             source=f"{SEED}; {TOK}", note="As MOVE, to positions (DPOS, after DEFPOS)."),
     _command("DEFPOS", "Define the present positions of the BASE axes.", (1, 128),
              axis=True, source=f"{SEED}; {TOK}; {MAN}",
              note="Does not change PWM_ENCODER (seed)."),
     _command("ACC", "Set ACCEL and DECEL of the base axis.", (1, 1), axis=True,
              source=f"{SEED}; {TOK}"),
     _command("CANCEL", "Cancel the move running on the base axis.", (0, 1), axis=True,
-             source=f"{TOK}; {MAN}"),
-    _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}"),
+             source=f"{TOK}; {MAN}", confidence="I", note="Ramps down (a path at its ACCEL, "
+             "one axis at DECEL); buffered moves run after it; ends a CONNPATH/CAMBOX (I)."),
+    _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}",
+             confidence="I", note="Drops every buffered move, ramps the running ones down."),
     _command("PWM_CONTROL", "PWM mode of the base axis: (0) off, (1) PWM_MARK, (2,...) "
              "speed link, (3,...) gate positions, (4) empty FIFO, (5) gating on, (6) clear "
              "PWM_ENCODER, (8,...) speed x profile.", (1, 6), axis=True,
@@ -193,10 +202,14 @@ _ENTRIES: list[Keyword] = [
              (1, 2), axis=True, source=f"{SEED}; {TOK}", confidence="I",
              note="First argument: the first axis of the driving group (seed example "
              "CONNPATH(0) AXIS(8) for BASE(0,1)); the optional second is a ratio, default 1 "
-             "(D)."),
+             "(D). The axis moves by ratio x the path distance (base user units) until "
+             "CANCEL (D)."),
     _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
              "end, multiplier, link distance, link axis[, options[, link position]]).",
-             (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}"),
+             (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}", confidence="I",
+             note="TABLE values are counts x multiplier, interpolated linearly over the "
+             "link distance; ends when the link axis has travelled it. Options other than "
+             "0 are refused (D)."),
     _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Generator
+from collections.abc import Callable, Generator
 
-from .interpreter import Interpreter, ProcessContext
+from .interpreter import Interpreter, ProcessContext, Wake, due_after
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import BLOCK_STATEMENTS, Stmt, parse_line
@@ -38,19 +38,36 @@ class TrioCommandLine:
     """One telnet command-line session (the Session contract: feed / read)."""
 
     def __init__(self, machine: TrioMachine,
-                 programs: ProgramStore | str | os.PathLike[str] | None = None) -> None:
+                 programs: ProgramStore | str | os.PathLike[str] | None = None, *,
+                 runtime: ProgramCommands | None = None,
+                 notify: Callable[[], None] | None = None,
+                 on_restart: Callable[[TrioCommandLine], None] | None = None) -> None:
+        """`runtime`: the controller's programs and processes, shared by every session
+        of one controller (None: this session has its own, as in the language tests);
+        `notify`: called when output nobody asked for is waiting (a waiting command
+        ended, a program printed); `on_restart`: called after EX."""
         self.machine = machine
-        store = programs if isinstance(programs, ProgramStore) else ProgramStore(programs)
-        self.system = ProgramCommands(machine, store, self._print)
-        self.interpreter = Interpreter(machine, self.system, self._print)
-        self.system.interpreter = self.interpreter
+        self.notify = notify
+        self.on_restart = on_restart
+        if runtime is None:
+            store = programs if isinstance(programs, ProgramStore) else ProgramStore(programs)
+            runtime = ProgramCommands(machine, store, self._print)
+            self.interpreter = Interpreter(machine, runtime, self._print)
+            runtime.interpreter = self.interpreter
+        else:
+            self.interpreter = Interpreter(machine, runtime, self._print)
+        self.system = runtime
         self.context = ProcessContext(process=-1)
         self.restart_requested = False
+        self.closed = False
         self._input = bytearray()
         self._line = bytearray()
         self._out = bytearray()
         self._telnet = 0  # 0 data, 1 after IAC, 2 option byte, 3 in SB, 4 IAC in SB
-        self._busy: Generator[None, None, None] | None = None
+        self._busy: Generator[Wake | None, None, None] | None = None
+        self.busy_wake: Wake | None = None  # what a waiting command-line statement awaits
+        self.busy_due: int | None = None  # scheduler: the tick to resume it
+        self.busy_seen = -1  # scheduler: machine revision seen when it last waited
 
     @property
     def programs(self) -> ProgramStore:
@@ -66,9 +83,36 @@ class TrioCommandLine:
         self._out.clear()
         return out
 
+    def close(self) -> None:
+        self.closed = True
+
     def servo_cycle(self) -> None:
         """One servo cycle of the processes, then of a waiting command-line statement."""
         self.system.run_processes()
+        self.resume()
+
+    @property
+    def pending(self) -> bool:
+        """Output is waiting to be read."""
+        return bool(self._out)
+
+    @property
+    def waiting(self) -> bool:
+        """A command-line statement is waiting (its prompt has not come yet)."""
+        return self._busy is not None
+
+    def abandon(self) -> None:
+        """Give up a waiting statement (a console's break): its prompt comes now and the
+        bytes received meanwhile are handled."""
+        if self._busy is not None:
+            self._busy.close()
+            self._busy = None
+            self._out += PROMPT
+            self._pump()
+
+    def resume(self) -> None:
+        """Give a waiting command-line statement its servo cycle, then handle the bytes
+        that arrived meanwhile."""
         if self._busy is not None:
             self._advance()
             self._pump()
@@ -80,6 +124,11 @@ class TrioCommandLine:
     # ---- input bytes --------------------------------------------------------------------------
     def _print(self, text: str) -> None:
         self._out += text.encode("latin-1", "replace")
+
+    def hear(self, text: str) -> None:
+        """Output of a running program (every session of the controller hears it)."""
+        if not self.closed:
+            self._print(text)
 
     def _pump(self) -> None:
         while self._input and self._busy is None and not self.restart_requested:
@@ -118,6 +167,8 @@ class TrioCommandLine:
         if _EX.fullmatch(line):
             self.system.halt()
             self.restart_requested = True  # no prompt, no trailer: the door restarts
+            if self.on_restart is not None:
+                self.on_restart(self)
             return
         try:
             if len(line) > LINE_LIMIT:
@@ -137,14 +188,17 @@ class TrioCommandLine:
         self._busy = self._run(statements)
         self._advance()
 
-    def _run(self, statements: list[Stmt]) -> Generator[None, None, None]:
+    def _run(self, statements: list[Stmt]) -> Generator[Wake | None, None, None]:
         for stmt in statements:
             yield from self.interpreter.execute(stmt, self.context)
 
     def _advance(self) -> None:
         assert self._busy is not None
+        self.system.output = self._print  # replies of program commands come here
         try:
-            next(self._busy)
+            self.busy_wake = next(self._busy)
+            self.busy_due = due_after(self.busy_wake, self.machine.servo_tick())
+            self.busy_seen = -1
             return  # still waiting
         except StopIteration:
             self._out += PROMPT

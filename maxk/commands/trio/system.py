@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 
-from .interpreter import Interpreter, ProcessContext, Value, Wait
+from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -27,8 +27,9 @@ class ProgramCommands:
                  output: Callable[[str], None]) -> None:
         self.machine = machine
         self.programs = programs
-        self.output = output
-        self.interpreter: Interpreter | None = None  # set by the session
+        self.output = output  # replies to the command line that asked
+        self.process_output = output  # what running programs report (errors)
+        self.interpreter: Interpreter | None = None  # runs the programs (set by the owner)
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
@@ -227,16 +228,20 @@ class ProgramCommands:
             task = self.tasks.get(process)
             if task is None:
                 continue  # stopped by an earlier process this cycle
-            try:
-                task.step()
-            except TrioError as exc:
-                self.output(f"%[Process {process}:Program {task.ctx.program} "
-                            f"Line {exc.line}] - {exc.message}\r\n")
-            if task.finished and self.tasks.get(process) is task:
-                del self.tasks[process]
+            self.step_task(process, task)
+
+    def step_task(self, process: int, task: Task) -> None:
+        """One servo cycle of one process; an error ends it with a message."""
+        try:
+            task.step()
+        except TrioError as exc:
+            self.process_output(f"%[Process {process}:Program {task.ctx.program} "
+                                f"Line {exc.line}] - {exc.message}\r\n")
+        if task.finished and self.tasks.get(process) is task:
+            del self.tasks[process]
 
 
-def _done() -> Generator[None, None, None]:
+def _done() -> Generator[Wake | None, None, None]:
     return
     yield  # a generator that finishes at once
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Generator
 from dataclasses import dataclass
 
-from .interpreter import Interpreter, ProcessContext
+from .interpreter import Interpreter, ProcessContext, Wake
 from .lexer import TrioError
 from .parser import (
     Else,
@@ -106,24 +106,30 @@ class Task:
         self.ctx = ctx
         self._run = self._program()
         self.finished = False
+        self.wake: Wake | None = None  # what the last step waits for (None: next cycle)
+        self.due: int | None = None  # scheduler: the tick to run next (None: on a change)
+        self.seen = -1  # scheduler: the machine revision its last step saw (-1: fresh)
 
-    def step(self) -> None:
-        """Run until the program waits, ends a loop pass or finishes (one servo cycle).
+    def step(self) -> Wake | None:
+        """Run until the program waits, ends a loop pass or finishes (one servo cycle);
+        return what it waits for (None: the next servo cycle).
 
         A TrioError carries the line it happened on; the task is finished after it.
         """
         if self.finished:
-            return
+            return None
         try:
-            next(self._run)
+            self.wake = next(self._run)
         except StopIteration:
             self.finished = True
+            self.wake = None
         except TrioError as exc:
             self.finished = True
             exc.line = self.ctx.line
             raise
+        return self.wake
 
-    def _program(self) -> Generator[None, None, None]:
+    def _program(self) -> Generator[Wake | None, None, None]:
         interp, ctx, steps = self.interpreter, self.ctx, self.steps
         pc = 0
         waited = False  # this loop pass already gave up a servo cycle
@@ -139,7 +145,7 @@ class Task:
                 pc += 1
             elif isinstance(stmt, Wend):
                 if not waited:
-                    yield
+                    yield None
                 waited = False
                 pc = step.target
             elif isinstance(stmt, Until):
@@ -147,7 +153,7 @@ class Task:
                     pc += 1
                 else:
                     if not waited:
-                        yield
+                        yield None
                     waited = False
                     pc = step.target
             elif isinstance(stmt, For):
@@ -168,15 +174,15 @@ class Task:
                 ctx.variables[loop.variable] = value
                 if _in_range(value, end, increment):
                     if not waited:
-                        yield
+                        yield None
                     waited = False
                     pc = step.target
                 else:
                     pc += 1
             else:
-                for _ in interp.execute(stmt, ctx):
+                for wake in interp.execute(stmt, ctx):
                     waited = True
-                    yield
+                    yield wake
                 pc += 1
 
     def _true(self, condition: Expr) -> bool:

@@ -1,7 +1,10 @@
-"""The Trio MC405 personality: PWM outputs with their gating FIFO, TABLE and VR memory.
+"""The Trio MC405 personality: the machine on the shared engine (`machine.MC405Machine`:
+axes, buffered and merged moves, CONNPATH, CAMBOX), PWM outputs with their gating FIFO
+tied to the motion, traces, TABLE and VR memory.
 
 Pure firmware logic with no wire format: the TrioBASIC language (maxk.commands.trio)
-calls it, and the engine drives it each servo cycle.
+calls it through its `TrioMachine` protocol. (The machine is imported from its module,
+so the language's keyword table does not pull in the engine.)
 """
 
 from .memory import TABLE_SIZE, VR_COUNT, TableMemory, VrMemory

@@ -160,6 +160,8 @@ class PwmOutput:
         self.gate_level = False
         self.fifo: deque[GateEntry] = deque()
         self.encoder = 0
+        # told of every FIFO entry as it fires (the engine logs the gate edges)
+        self.on_gate: Callable[[int, GateEntry], None] | None = None
 
     # ---- registers ------------------------------------------------------------------
     @property
@@ -250,17 +252,29 @@ class PwmOutput:
             return self.velocity_axis, self.amplitude_axis
         return None, None
 
-    def servo_cycle(self, link_speed: float = 0.0, amplitude: float = 1.0) -> None:
-        """Reload PWM_MARK from the link axis's VP_SPEED (modes 2 and 8)."""
-        if self.mode is PwmMode.SPEED:
-            value = link_speed * self.multiplier + self.offset
-        elif self.mode is PwmMode.SPEED_PROFILE:
+    @property
+    def computed(self) -> bool:
+        """The mark is recomputed every servo cycle (modes 2 and 8)."""
+        return self.mode in (PwmMode.SPEED, PwmMode.SPEED_PROFILE)
+
+    def computed_mark(self, link_speed: float, amplitude: float = 1.0) -> int:
+        """The mark modes 2 and 8 load from a servo cycle's VP_SPEED (and DPOS)."""
+        if self.mode is PwmMode.SPEED_PROFILE:
             value = link_speed * amplitude * self.multiplier + self.offset
         else:
-            return
+            value = link_speed * self.multiplier + self.offset
         value = min(value, self.limit)
         value = min(max(value, 0.0), float(PWM_REGISTER_MAX)) if math.isfinite(value) else 0.0
-        self._mark = int(value)
+        return int(value)
+
+    def load_mark(self, mark: int) -> None:
+        """A servo cycle loaded a computed mark into the register."""
+        self._mark = mark
+
+    def servo_cycle(self, link_speed: float = 0.0, amplitude: float = 1.0) -> None:
+        """Reload PWM_MARK from the link axis's VP_SPEED (modes 2 and 8)."""
+        if self.computed:
+            self._mark = self.computed_mark(link_speed, amplitude)
 
     # ---- the gating FIFO ------------------------------------------------------------------
     def move_encoder(self, counts: int) -> list[GateEntry]:
@@ -274,6 +288,8 @@ class PwmOutput:
             entry = self.fifo.popleft()
             self.gate_level = entry.level
             fired.append(entry)
+            if self.on_gate is not None:
+                self.on_gate(self.axis, entry)
         return fired
 
     def next_gate(self) -> GateEntry | None:

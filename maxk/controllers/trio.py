@@ -1,0 +1,335 @@
+"""The Trio MC405 behind the doors: its TrioBASIC command line over the shared engine.
+
+    >>> from maxk.controllers.trio import MC405
+    >>> trio = MC405()
+    >>> trio.send("BASE(0,1): SPEED=5000: ACC(50000): MOVE(10000,0)")
+    []
+    >>> trio.run_until_idle()
+    True
+    >>> trio.query("?DPOS AXIS(0)")
+    '10000'
+
+One machine (`MC405Machine`, an engine at the servo period), one set of programs and
+processes, and a command-line session per host: every session drives the same machine,
+programs print to every session, and a statement that waits (WA, WAIT IDLE) holds only
+its own session's prompt. Programs are stored in a directory (`BuildOptions.archive`)
+and survive a restart of the emulator, as the controller's flash does.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+from maxk.commands.trio.interpreter import Interpreter
+from maxk.commands.trio.keywords import KEYWORDS, Kind, lookup
+from maxk.commands.trio.programs import ProgramStore
+from maxk.commands.trio.scheduler import ProcessScheduler
+from maxk.commands.trio.session import TrioCommandLine
+from maxk.commands.trio.system import ProgramCommands
+from maxk.controllers.contract import Notify, Transport
+from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
+from maxk.personalities.trio.pwm import PwmMode
+from maxk.personalities.trio.trace import PwmTrace
+
+MODEL = "MC405"
+SERVO_RATES_HZ = (500, 1000, 2000, 4000)  # SERVO_PERIOD 2000, 1000, 500, 250 us
+CONSOLE_WAIT_S = 600.0  # a typed WA/WAIT IDLE runs virtual time at most this long (D)
+_NOT_STORED = frozenset({"DPOS", "MPOS", "VP_SPEED", "IDLE", "PWM_CYCLE", "PWM_MARK",
+                         "PWM_ENCODER"})
+
+
+def program_directory(archive: str | os.PathLike[str] | None) -> Path | None:
+    """Where the programs live: the archive path as a directory; a `.json` file name (as
+    `maxk serve` gives every board) becomes the directory beside it named `.programs`."""
+    if archive is None:
+        return None
+    path = Path(archive)
+    if path.suffix == ".json":
+        stem = path.name[:-len(".params.json")] if path.name.endswith(".params.json") \
+            else path.stem
+        return path.with_name(stem + ".programs")
+    return path
+
+
+class MC405:
+    """A Trio MC405: the door contract, a console, and a small API in virtual time."""
+
+    kind = "MC405"
+    model = MODEL
+    transports: tuple[Transport, ...] = ("tcp",)
+    packet_size = None
+
+    def __init__(self, archive: str | os.PathLike[str] | None = None,
+                 update_rate_hz: float | None = None) -> None:
+        """`update_rate_hz`: the servo rate to power up with (500, 1000, 2000 or 4000 Hz:
+        SERVO_PERIOD 2000..250 us); None: the MC405's 1000 us."""
+        axis_defaults = {k.name: k.default for k in KEYWORDS.values()
+                         if k.kind is Kind.AXIS_PARAMETER and k.name not in _NOT_STORED}
+        system_defaults = {k.name: k.default for k in KEYWORDS.values()
+                           if k.kind is Kind.SYSTEM_PARAMETER}
+        if update_rate_hz is not None:
+            period = 1e6 / update_rate_hz
+            if round(period) not in SERVO_PERIODS or abs(period - round(period)) > 1e-9:
+                raise ValueError(f"the MC405 servo rate is one of "
+                                 f"{', '.join(str(10**6 // p) for p in SERVO_PERIODS)} Hz")
+            system_defaults["SERVO_PERIOD"] = float(round(period))
+        self.machine = MC405Machine(axis_defaults, system_defaults)
+        self.programs = ProgramStore(program_directory(archive))
+        self.runtime = ProgramCommands(self.machine, self.programs, self._nowhere)
+        self.runtime.interpreter = Interpreter(self.machine, self.runtime, self._broadcast)
+        self.runtime.process_output = self._broadcast
+        self.scheduler = ProcessScheduler(self.machine, self.runtime)
+        self.machine.add_source(self.scheduler)
+        self._console: TrioConsole | None = None
+        self.runtime.start_autorun(announce=False)
+
+    # ---- the door contract -------------------------------------------------------------------
+    @property
+    def engine(self) -> MC405Machine:
+        return self.machine
+
+    def open_session(self, notify: Notify | None = None) -> TrioCommandLine:
+        """A host's telnet command line on this controller."""
+        session = TrioCommandLine(self.machine, runtime=self.runtime, notify=notify,
+                                  on_restart=self._restart)
+        self.scheduler.sessions = [s for s in self.scheduler.sessions if not s.closed]
+        self.scheduler.add(session)
+        return session
+
+    def console(self) -> TrioConsole:
+        if self._console is None:
+            self._console = TrioConsole(self)
+        return self._console
+
+    def reset(self) -> None:
+        """Restart the controller (EX): programs stop, the machine powers up again (a new
+        SERVO_PERIOD takes effect), then MC_CONFIG and the autorun programs start."""
+        self.runtime.halt()
+        self.machine.restart()
+        self.runtime.start_autorun(announce=False)
+
+    def _restart(self, session: TrioCommandLine) -> None:
+        """EX typed on a session: that session is finished (atrio reconnects), the others
+        carry on with the restarted controller (D)."""
+        session.close()
+        self.reset()
+
+    def _nowhere(self, text: str) -> None:
+        """Replies of program commands go to the session that asked (it sets `output`)."""
+
+    def _broadcast(self, text: str) -> None:
+        for session in self.scheduler.sessions:
+            session.hear(text)
+
+    # ---- the Python API, in virtual time -----------------------------------------------------
+    def send(self, line: str) -> list[str]:
+        """One command line, as typed: its output lines, then `! <text>` for an error."""
+        console = self.console()
+        return console.execute(line) + console.new_errors()
+
+    def query(self, line: str) -> str:
+        """A line that prints exactly one line; that line."""
+        lines = self.send(line)
+        if len(lines) != 1 or lines[0].startswith("! "):
+            raise ValueError(f"{line!r} gave {lines!r}, expected one line")
+        return lines[0]
+
+    def load(self, name: str, text: str, program_type: int = 0) -> list[str]:
+        """Store a program as atrio does (SELECT, one !NAME,nR line each, COMPILE)."""
+        out = self.send(f'SELECT "{name}",{program_type}')
+        for n, line in enumerate(text.splitlines()):
+            out += self.send(f"!{name},{n}R{line}")
+        return out + self.send("COMPILE")
+
+    @property
+    def tick(self) -> int:
+        return self.machine.tick
+
+    @property
+    def time(self) -> float:
+        return self.machine.time
+
+    def ticks(self, seconds: float) -> int:
+        return math.ceil(seconds / self.machine.period - 1e-9)
+
+    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
+        self.machine.advance(self.ticks(seconds) + ticks)
+
+    def run_until_idle(self, timeout: float = 60.0) -> bool:
+        """Advance until nothing moves and no program runs; False on timeout."""
+        console = self.console()
+        return self.machine.run_until(lambda _m: console.is_idle(), self.ticks(timeout))
+
+    def trace(self, pwm_axes: tuple[int, ...] = (4,), xy: tuple[int, int] = (0, 1)) -> PwmTrace:
+        """Record every servo cycle from now: the XY path, PWM marks, gates and duty."""
+        return self.machine.trace(pwm_axes, xy)
+
+
+class TrioConsole:
+    """The REPL's and scripts' view of an MC405 (the Console contract)."""
+
+    def __init__(self, controller: MC405) -> None:
+        self.controller = controller
+        self.session = controller.open_session()
+        self._errors: list[str] = []
+
+    def execute(self, line: str) -> list[str]:
+        """Run a typed line: its output lines (no echo, no prompt; an error goes to
+        `new_errors`). A statement that waits runs virtual time until it ends."""
+        session = self.session
+        if session.closed:
+            session = self.session = self.controller.open_session()
+        session.feed(line.encode("latin-1", "replace") + b"\r")
+        machine = self.controller.machine
+        if session.waiting:
+            machine.run_until(lambda _m: not session.waiting,
+                              self.controller.ticks(CONSOLE_WAIT_S))
+        abandoned = session.waiting
+        if abandoned:  # a person cannot type a break: give up the statement (D)
+            session.abandon()
+        out, errors = _lines(session.read().decode("latin-1"), line)
+        self._errors += errors
+        if abandoned:
+            self._errors.append(f"! still waiting after {CONSOLE_WAIT_S:g} s: abandoned")
+        return out
+
+    def new_errors(self) -> list[str]:
+        """`! <text>` for each command-line error since the last look."""
+        errors, self._errors = self._errors, []
+        return errors
+
+    def prompt(self) -> str:
+        return ">>"
+
+    def status_line(self, width: int = 80) -> str:
+        m = self.controller.machine
+        parts = [f"MC405 {m.time:.3f}s"]
+        for axis in range(m.axis_count):
+            if axis < 2 or not m.axis_idle(axis) or m.dpos(axis) != 0:
+                parts.append(f"{axis}:{m.dpos(axis):.6g}")
+        for axis, output in m.pwm.outputs.items():
+            if output.mode is not PwmMode.OFF:
+                gate = "" if not output.gating else (" on" if output.gate_level else " off")
+                parts.append(f"PWM{axis} {m.mark(axis)}/{output.cycle}{gate}")
+        running = len(self.controller.runtime.tasks)
+        if running:
+            parts.append(f"{running} prog")
+        line = " ".join(parts)
+        return line if len(line) <= width else line[:width - 1] + "~"
+
+    def status_lines(self) -> list[str]:
+        m = self.controller.machine
+        lines = [f"MC405 tick {m.tick} ({m.time:.3f} s), servo period "
+                 f"{m.servo_period_us()} us, WDOG {'ON' if m.system['WDOG'] else 'OFF'}"]
+        for axis in range(m.axis_count):
+            a = m.axes[axis]
+            link = type(a.link).__name__.upper() if a.link is not None else "-"
+            lines.append(f"axis {axis}: DPOS {m.dpos(axis):.4f} VP_SPEED {m.vp_speed(axis):.4f} "
+                         f"{'IDLE' if m.axis_idle(axis) else 'MOVING'} ATYPE "
+                         f"{int(a.params['ATYPE'])} UNITS {a.params['UNITS']:g} link {link}")
+        lines += self.pwm_lines()
+        for process, task in sorted(self.controller.runtime.tasks.items()):
+            lines.append(f"process {process}: {task.ctx.program} line {task.ctx.line}")
+        return lines
+
+    def pwm_lines(self) -> list[str]:
+        m = self.controller.machine
+        out = []
+        for axis, output in m.pwm.outputs.items():
+            m.outputs.sync_encoder(axis)
+            out.append(f"PWM{axis}: mode {int(output.mode)} PWM_CYCLE {output.cycle} "
+                       f"PWM_MARK {m.mark(axis)} duty {m.duty(axis):.4f} gating "
+                       f"{'ON' if output.gating else 'OFF'} gate "
+                       f"{'open' if output.gate_open else 'closed'} FIFO {len(output.fifo)} "
+                       f"PWM_ENCODER {output.encoder}")
+        return out
+
+    def help(self, topic: str) -> list[str] | None:
+        if not topic.strip():
+            lines = ["TrioBASIC keywords (help WORD for one):"]
+            for kind in Kind:
+                names = sorted(k.name for k in KEYWORDS.values() if k.kind is kind)
+                lines.append(f"{kind.value}: {' '.join(names)}")
+            return lines
+        keyword = lookup(topic.strip())
+        if keyword is None:
+            return None
+        lines = [f"{keyword.name} ({keyword.kind.value}): {keyword.summary}",
+                 f"source {keyword.source}, confidence {keyword.confidence}"]
+        if keyword.note:
+            lines.append(keyword.note)
+        return lines
+
+    def words(self) -> list[str]:
+        return sorted(KEYWORDS)
+
+    def summary(self, word: str) -> str:
+        keyword = lookup(word.strip())
+        return "" if keyword is None else keyword.summary
+
+    def repl_help(self) -> list[str]:
+        return ["  :pwm               the PWM outputs (mode, cycle, mark, duty, gate, FIFO)",
+                "  :gates             every gate toggle so far (tick, axis, level, position)",
+                "  :trace             record every servo cycle from now (XY 0,1; PWM 0-4)",
+                "  :trace FILE.csv    write what was recorded",
+                "  :plot FILE.png [AXIS]  the XY path coloured by that axis's PWM duty"]
+
+    def after_reset(self) -> list[str]:
+        m = self.controller.machine
+        return [f"reset: MC405 powered up at tick {m.tick}, servo period "
+                f"{m.servo_period_us()} us, {len(self.controller.runtime.tasks)} program(s) "
+                "started"]
+
+    def is_idle(self) -> bool:
+        m = self.controller.machine
+        return (all(m.axis_idle(a) for a in range(m.axis_count))
+                and not self.controller.runtime.tasks
+                and not any(s.waiting for s in self.controller.scheduler.sessions))
+
+    def repl_word(self, word: str, rest: str) -> list[str] | None:
+        """`:pwm`, `:gates`, `:trace [FILE]`, `:plot FILE [AXIS]` (see repl_help)."""
+        word = word.lstrip(":").lower()
+        machine = self.controller.machine
+        if word == "pwm":
+            return self.pwm_lines()
+        if word == "gates":
+            return [f"tick {e.tick}: axis {e.axis} gate {'ON' if e.level else 'OFF'} at "
+                    f"PWM_ENCODER {e.position}" for e in machine.gate_edges]
+        if word == "trace":
+            if not rest:
+                self.controller.trace(pwm_axes=tuple(machine.pwm.outputs))
+                return [f"tracing every servo cycle from tick {machine.tick}"]
+            if machine.tracer is None:
+                return ["! nothing traced: say :trace first"]
+            path = machine.tracer.write_csv(rest)
+            return [f"{len(machine.tracer)} servo cycles written to {path}"]
+        if word == "plot":
+            name, _, axis = rest.partition(" ")
+            if machine.tracer is None or not name:
+                return ["! say :trace, run, then :plot FILE.png [AXIS]"]
+            try:
+                path = machine.tracer.plot(name, int(axis) if axis.strip() else None)
+            except (ImportError, ValueError, KeyError) as error:
+                return [f"! {error}"]
+            return [f"plot written to {path}"]
+        return None
+
+
+def _lines(text: str, line: str) -> tuple[list[str], list[str]]:
+    """A session's bytes for one typed line as (output lines, errors): the echo and the
+    prompt dropped, a `%[COMMAND LINE] - text` error as `! text`."""
+    echo = line + "\r\n"
+    at = text.find(echo)
+    if at >= 0:
+        text = text[:at] + text[at + len(echo):]
+    if text.endswith(">>"):
+        text = text[:-2]
+    out, errors = [], []
+    for item in text.split("\r\n"):
+        if item.startswith("%[COMMAND LINE] - "):
+            errors.append("! " + item[len("%[COMMAND LINE] - "):])
+        elif item:
+            out.append(item)
+    return out, errors

@@ -1,0 +1,454 @@
+"""The MC405 on the shared engine: axes, buffered moves, linked axes and PWM outputs.
+
+`MC405Machine` is an `Engine` whose tick is one servo cycle (SERVO_PERIOD, 1000 us by
+default) and implements what TrioBASIC needs of a controller (the language's
+`TrioMachine` protocol, structurally). Moves are runs of the shared machine
+(`runs.py`); the engine jumps from event to event (a run ends, a CAMBOX ends, a gate
+position is passed), and everything between is closed form:
+
+- PWM modes 2 and 8: the mark is a `ComputedOutput` of the link axis's VP_SPEED and the
+  amplitude axis's DPOS, evaluated at whatever servo tick it is read, traced or plotted.
+- The gating FIFO: the head entry is a `PositionTrigger` on its axis; `trigger_ticks`
+  finds the exact tick the axis passes it (bisection), and the gate toggles there.
+- PWM_ENCODER follows the axis's whole counts and ignores DEFPOS.
+
+`revision` counts every change a waiting program could notice; the process scheduler
+of the language uses it to wake WAIT IDLE and full-buffer waits.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from maxk.firmware_model.engine import Engine
+from maxk.firmware_model.path import PathPlan
+from maxk.firmware_model.profiles import plan_stop as profile_stop
+
+from .kinematics import Kinematics
+from .memory import TableMemory, VrMemory
+from .pwm import PwmBank, PwmError
+from .pwm_link import GateEdge, PwmLinks
+from .runs import (
+    SHAPE,
+    Cambox,
+    Connpath,
+    Link,
+    PlanArrays,
+    Run,
+    TrioAxis,
+    single_profile,
+)
+from .trace import PwmTrace
+
+MOVE_BUFFER = 16  # moves an axis holds, running and buffered (D)
+SERVO_PERIODS = (250, 500, 1000, 2000)
+AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
+_PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+
+
+class MC405Machine(Kinematics, Engine):
+    """The MC405's firmware on the shared engine (one tick = one servo cycle)."""
+
+    def __init__(self, axis_defaults: Mapping[str, float], system_defaults: Mapping[str, float],
+                 axis_count: int = AXIS_COUNT) -> None:
+        self._axis_defaults = dict(axis_defaults)
+        self._system_defaults = dict(system_defaults)
+        self._axis_count = axis_count
+        period = int(self._system_defaults.get("SERVO_PERIOD", 1000))
+        super().__init__(1e6 / period)
+        self.revision = 0
+        self.tracer: PwmTrace | None = None
+        self.axes: list[TrioAxis] = []
+        self._power_up()
+        self.outputs = PwmLinks(self)
+        self.add_source(_MotionEvents(self))
+        self.add_source(self.outputs)
+
+    def _power_up(self) -> None:
+        """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
+        self.system = dict(self._system_defaults)
+        self.axes = [TrioAxis(i, str(i), params=dict(self._axis_defaults))
+                     for i in range(self._axis_count)]
+        self.queues: list[deque[Run]] = [deque() for _ in range(self._axis_count)]
+        self.distance_done = [0.0] * self._axis_count  # path distance per base, user units
+        self.table = TableMemory()
+        self.vr = VrMemory()
+        if hasattr(self, "outputs"):
+            self.outputs.reset()
+        self.changed()
+
+    def restart(self) -> None:
+        """EX: the controller restarts; a new SERVO_PERIOD takes effect now."""
+        period = int(self.system.get("SERVO_PERIOD", 1000))
+        self._system_defaults["SERVO_PERIOD"] = period
+        if abs(self.period - period / 1e6) > 1e-12:
+            self.change_update_rate(1e6 / period)
+        self._power_up()
+
+    def changed(self) -> None:
+        """Something a waiting program, a cache or an event search depends on changed."""
+        self.revision += 1
+
+    @property
+    def pwm(self) -> PwmBank:
+        return self.outputs.bank
+
+    @property
+    def gate_edges(self) -> list[GateEdge]:
+        return self.outputs.edges
+
+    def mark(self, axis: int) -> int:
+        return self.outputs.mark(axis)
+
+    def marks_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        return self.outputs.marks_at(axis, ticks)
+
+    def duty(self, axis: int) -> float:
+        return self.outputs.duty(axis)
+
+    # ---- the engine's hooks: traces see every servo cycle ---------------------------------
+    def integrate(self, limit: int) -> bool:
+        if self.tracer is not None and limit > self.tick:
+            self.tracer.stretch(self.tick + 1, limit)
+        return False
+
+    def after_events(self, now: int) -> None:
+        if self.tracer is not None:
+            self.tracer.at_event(now)
+
+    def trace(self, pwm_axes: tuple[int, ...] = (4,), xy: tuple[int, int] = (0, 1)) -> PwmTrace:
+        """Record every servo cycle from now on (the XY path and the PWM outputs)."""
+        self.tracer = PwmTrace(self, pwm_axes, xy)
+        self.tracer.at_event(self.tick)
+        return self.tracer
+
+    # ---- the TrioMachine protocol -----------------------------------------------------------
+    @property
+    def axis_count(self) -> int:
+        return self._axis_count
+
+    def servo_tick(self) -> int:
+        return self.tick
+
+    def servo_period_us(self) -> int:
+        return round(self.period * 1e6)
+
+    def axis_parameter(self, name: str, axis: int) -> float:
+        if name in _PWM_PARAMETERS:
+            output = self.pwm[axis]
+            if name == "PWM_CYCLE":
+                return output.cycle
+            if name == "PWM_MARK":
+                return self.mark(axis)
+            self.outputs.sync_encoder(axis)
+            return output.encoder
+        if name in ("DPOS", "MPOS"):  # MPOS = DPOS: no following error is modelled (D)
+            return self.dpos(axis)
+        if name == "VP_SPEED":
+            return self.vp_speed(axis)
+        return self.axes[axis].params[name]
+
+    def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
+        if name == "PWM_CYCLE":
+            self.pwm[axis].set_cycle(value)
+        elif name == "PWM_MARK":
+            self.pwm[axis].set_mark(value)
+        elif name in _COMPUTED or name not in self.axes[axis].params:
+            raise ValueError("Parameter is read only")
+        else:
+            self.axes[axis].params[name] = value
+        self.changed()
+
+    def system_parameter(self, name: str) -> float:
+        return self.system[name]
+
+    def set_system_parameter(self, name: str, value: float) -> None:
+        if name == "SERVO_PERIOD" and value not in SERVO_PERIODS:
+            raise ValueError("Parameter out of range")
+        self.system[name] = value  # SERVO_PERIOD: from the next restart (EX)
+        self.changed()
+
+    def can_load(self, axes: Sequence[int]) -> bool:
+        return all(self._buffered(a) < MOVE_BUFFER and self.axes[a].link is None
+                   and self.axes[a].pending_link is None for a in axes)
+
+    def _buffered(self, axis: int) -> int:
+        return sum(run.moves_left(self.tick, self.period) for run in self.queues[axis])
+
+    def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
+        deltas = [round(d * self.axes[a].units) for a, d in zip(axes, distances, strict=True)]
+        self._load(tuple(axes), deltas)
+
+    def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        deltas = []
+        for a, p in zip(axes, positions, strict=True):
+            axis = self.axes[a]
+            target = round(p * axis.units) - axis.datum  # physical counts
+            deltas.append(round(target - self._end_counts(a)))
+        self._load(tuple(axes), deltas)
+
+    def axis_idle(self, axis: int) -> bool:
+        a = self.axes[axis]
+        return not self.queues[axis] and a.link is None and a.pending_link is None
+
+    def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        for a, p in zip(axes, positions, strict=True):
+            axis = self.axes[a]
+            axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
+        self.changed()
+
+    def set_acc(self, axis: int, rate: float) -> None:
+        params = self.axes[axis].params
+        params["ACCEL"] = params["DECEL"] = rate
+        self.changed()
+
+    def cancel(self, axis: int) -> None:
+        a = self.axes[axis]
+        if a.link is not None or a.pending_link is not None:
+            self._unlink(axis)
+        elif self.queues[axis] and self.queues[axis][0].started:
+            self._stop(self.queues[axis][0])
+        self.changed()
+
+    def rapidstop(self) -> None:
+        for axis in range(self._axis_count):
+            queue = self.queues[axis]
+            while queue and not queue[-1].started:
+                queue.pop()
+            if self.axes[axis].link is not None or self.axes[axis].pending_link is not None:
+                self._unlink(axis)
+        for queue in self.queues:
+            if queue and queue[0].started and not queue[0].stopping:
+                self._stop(queue[0])
+        self.changed()
+
+    def connpath(self, axis: int, args: Sequence[float]) -> None:
+        base = args[0]
+        if base != int(base) or not 0 <= base < self._axis_count or int(base) == axis:
+            raise ValueError("Invalid axis number")
+        ratio = args[1] if len(args) > 1 else 1.0
+        link = Connpath(int(base), ratio, 0.0, 0.0)
+        self._link(axis, link)
+
+    def cambox(self, axis: int, args: Sequence[float]) -> None:
+        start, end, multiplier, distance, link_axis = args[:5]
+        if len(args) > 5 and args[5] != 0:
+            raise ValueError("CAMBOX options are not supported")
+        if link_axis != int(link_axis) or not 0 <= link_axis < self._axis_count \
+                or int(link_axis) == axis:
+            raise ValueError("Invalid axis number")
+        if distance <= 0 or start != int(start) or end != int(end) or end <= start:
+            raise ValueError("Parameter out of range")
+        values = np.array(self.table.read_run(int(start), int(end)))
+        self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
+
+    def pwm_control(self, axis: int, args: Sequence[float]) -> None:
+        self.outputs.control(axis, args)
+        self.changed()
+
+    def table_read(self, index: int) -> float:
+        return self.table.read(index)
+
+    def table_write(self, start: int, values: Sequence[float]) -> None:
+        self.table.write(start, values)
+        self.changed()
+
+    def vr_read(self, index: int) -> float:
+        return self.vr.read(index)
+
+    def vr_write(self, index: int, value: float) -> None:
+        self.vr.write(index, value)
+        self.changed()
+
+    # ---- loading moves -------------------------------------------------------------------------
+    def _end_counts(self, axis: int) -> float:
+        """Where the axis stands once its buffered moves are done (physical counts)."""
+        position = self.demand(axis)
+        for run in self.queues[axis]:
+            k = run.axes.index(axis)
+            if run.started and run.profile is None and run.plan is not None:
+                position = float(round(run.plan.point(run.plan.s_end, k)))
+            elif run.started and run.profile is not None:
+                position = float(self.axes[axis].steps + run.profile.final_offset) \
+                    if self.axes[axis].motion is not None else position
+            else:
+                position += sum(delta[k] for delta in run.deltas)
+        return position
+
+    def _load(self, axes: tuple[int, ...], deltas: list[int]) -> None:
+        base = self.axes[axes[0]]
+        speed = base.params["SPEED"] * base.units
+        accel = base.params["ACCEL"] * base.units
+        decel = base.params["DECEL"] * base.units
+        if speed <= 0 or accel <= 0 or decel <= 0:
+            raise ValueError("Parameter out of range")
+        merge = base.params["MERGE"] != 0
+        last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
+        if (merge and last is not None and last.axes == axes and last.mergeable
+                and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
+            last.deltas.append(tuple(deltas))
+            last.speeds.append(speed)
+            last.accels.append(accel)
+            if last.started:
+                last.resolve(())
+                self._apply_plan(last, last.plan_new(self.tick, period=self.period))
+            self.changed()
+            return
+        run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
+                  single=len(axes) == 1 and not merge)
+        for a in axes:
+            self.queues[a].append(run)
+        self._start_ready()
+        self.changed()
+
+    def _start_ready(self) -> None:
+        """Start every run at the head of all its axes' queues whose axes are free."""
+        for queue in self.queues:
+            run = queue[0] if queue else None
+            if run is None or run.started:
+                continue
+            if all(self.queues[a][0] is run and self.axes[a].link is None
+                   and self.axes[a].pending_link is None for a in run.axes):
+                self._start(run)
+
+    def _start(self, run: Run) -> None:
+        now = self.tick
+        run.started = True
+        run.start_tick = now
+        for a in run.axes:  # a linked axis that stopped between counts starts from a count
+            axis = self.axes[a]
+            axis.steps, axis.fraction = round(axis.steps + axis.fraction), 0.0
+        if run.single:
+            axis = self.axes[run.base]
+            run.profile = single_profile(run.deltas[0][0], run.speeds[0], run.accels[0],
+                                         run.decel)
+            axis.begin(run.profile, self)
+            run.end_tick = axis.motion_end if axis.motion_end is not None else now
+            return
+        run.resolve(tuple(float(self.axes[a].steps) for a in run.axes))
+        self._apply_plan(run, run.plan_new(now, period=self.period))
+
+    def _apply_plan(self, run: Run, plan: PathPlan) -> None:
+        now = self.tick
+        run.plan = plan
+        run.arrays = PlanArrays(plan)
+        run.plan_tick = now
+        end = plan.end_time if plan.end_time is not None else 0.0
+        run.end_tick = now + math.ceil(end / self.period - 1e-9)
+        for k, a in enumerate(run.axes):
+            axis = self.axes[a]
+            axis.steps = axis.steps_at_tick(now, self.period)
+            axis.begin(run.motion_for(plan, k, axis.steps), self)
+
+    def _stop(self, run: Run) -> None:
+        """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
+        DECEL); the moves buffered behind it then run."""
+        run.stopping = True
+        if run.profile is not None:
+            axis = self.axes[run.base]
+            residual, velocity = axis.freeze(self)
+            run.profile = profile_stop(residual, velocity, 0.0, run.decel, SHAPE)
+            run.start_tick = self.tick
+            axis.begin(run.profile, self)
+            run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
+            run.deltas = run.deltas[:1]
+            return
+        self._apply_plan(run, run.plan_new(self.tick, stop=True, period=self.period))
+        run.deltas = run.deltas[:len(run.segments)]
+
+    def _finish_runs(self, now: int) -> None:
+        for queue in self.queues:
+            run = queue[0] if queue else None
+            if run is None or not run.started or run.end_tick > now:
+                continue
+            for a in run.axes:
+                axis = self.axes[a]
+                if axis.motion is not None:
+                    axis.finish_motion()
+                self.queues[a].popleft()
+            self.distance_done[run.base] += run.length() / run.units
+        for a, axis in enumerate(self.axes):
+            if axis.pending_link is not None and not self.queues[a]:
+                link, axis.pending_link = axis.pending_link, None
+                self._attach(a, link)
+        self._start_ready()
+
+    # ---- linked axes --------------------------------------------------------------------------
+    def _link(self, axis: int, link: Link) -> None:
+        a = self.axes[axis]
+        if self.queues[axis]:
+            a.pending_link = link  # it starts when the buffered moves are done
+        else:
+            self._attach(axis, link)
+        self.changed()
+
+    def _attach(self, axis: int, link: Link) -> None:
+        link.origin = self.demand(axis)
+        if isinstance(link, Connpath):
+            link.distance0 = float(self.path_distance(link.base, self._now())[0])
+        else:
+            link.link_origin = self.dpos(link.link)
+        self.axes[axis].link = link
+
+    def _unlink(self, axis: int) -> None:
+        a = self.axes[axis]
+        if a.link is not None:
+            position = self.demand(axis)
+            a.link = None
+            a.steps = math.floor(position)
+            a.fraction = position - a.steps
+        a.pending_link = None
+        a.link_end = None
+
+    def _finish_camboxes(self, now: int) -> None:
+        for a, axis in enumerate(self.axes):
+            if isinstance(axis.link, Cambox) and axis.link_end is not None \
+                    and axis.link_end <= now:
+                self._unlink(a)
+                self.changed()
+
+
+class _MotionEvents:
+    """Runs, their moves and CAMBOXes ending: the ticks the motion changes by itself."""
+
+    def __init__(self, machine: MC405Machine) -> None:
+        self.machine = machine
+        self._cache: tuple[int, int | None] = (-1, None)  # (revision, next event)
+
+    def next_event(self) -> int | None:
+        m = self.machine
+        if self._cache[0] == m.revision:  # (an event due now stays due until it acts)
+            return self._cache[1]
+        best: int | None = None
+        for queue in m.queues:
+            run = queue[0] if queue else None
+            if run is None or not run.started:
+                continue
+            boundary = run.next_boundary(m.tick, m.period)  # a buffered move finished
+            for tick in (run.end_tick, boundary):
+                if tick is not None and (best is None or tick < best):
+                    best = tick
+        for a, axis in enumerate(m.axes):
+            if isinstance(axis.link, Cambox):
+                axis.link_end = m.cambox_end_tick(a)
+                if axis.link_end is not None and (best is None or axis.link_end < best):
+                    best = axis.link_end
+        if best is not None:
+            best = max(best, m.tick)
+        self._cache = (m.revision, best)
+        return best
+
+    def on_event(self, now: int) -> None:
+        m = self.machine
+        m.outputs.sync_all()  # the encoders see the motion before it changes
+        m._finish_camboxes(now)
+        m._finish_runs(now)
+        m.changed()
+
+
+__all__ = ["MOVE_BUFFER", "SERVO_PERIODS", "GateEdge", "MC405Machine", "PwmError", "TrioAxis"]

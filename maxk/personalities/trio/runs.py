@@ -1,0 +1,289 @@
+"""Moves of the MC405 on the shared machine: runs of buffered moves, and linked axes.
+
+A *run* is what one BASE group does from rest to rest: one interpolated path on the
+shared path planner (`firmware_model/path.py`) whose segments are the group's moves,
+joined without stopping while MERGE is ON, or one single-axis move as a closed-form
+profile (`profiles.plan_move`). Each axis of a path run follows its coordinate of the
+path as a `ContourMotion`, a single-axis run its profile, through `MotionAxis.begin`,
+so positions, limit and trigger searches work on them unchanged.
+
+A *linked* axis has no motion of its own: CONNPATH moves it by the path distance of a
+group, CAMBOX by a TABLE profile over another axis's travel. Its demand position is a
+closed-form function of the tick through the motions it follows.
+
+Everything here evaluates on arrays of ticks (numpy), so a trace of every servo cycle
+of a stretch costs a few array operations; a single reading is an array of one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from maxk.firmware_model.axis import MotionAxis
+from maxk.firmware_model.path import (
+    ContourMotion,
+    PathPlan,
+    Segment,
+    SegmentDef,
+    plan_path,
+    plan_stop,
+)
+from maxk.firmware_model.profiles import Motion, RampShape, plan_move
+
+Ticks = np.ndarray  # integer servo ticks
+SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
+
+
+# ---- closed-form motions on arrays of times ------------------------------------------------
+class PlanArrays:
+    """A path plan's pieces and segments as arrays: (s, speed) and the points of the
+    path at many times at once, exactly as `PathPlan.state` and `PathPlan.point` give
+    them one at a time."""
+
+    def __init__(self, plan: PathPlan) -> None:
+        self.plan = plan
+        pieces = plan.pieces
+        self.t0 = np.array([p.t0 for p in pieces], dtype=float)
+        self.duration = np.array([p.duration for p in pieces], dtype=float)
+        self.s0 = np.array([p.s0 for p in pieces], dtype=float)
+        self.v0 = np.array([p.v0 for p in pieces], dtype=float)
+        self.a = np.array([p.a for p in pieces], dtype=float)
+        nxt = [pieces[i + 1].s0 for i in range(len(pieces) - 1)] + [math.inf]
+        self.next_s0 = np.array(nxt if pieces else [], dtype=float)
+        segs = plan.segments
+        self.seg_s0 = np.array([g.s0 for g in segs], dtype=float)
+        self.seg_length = np.array([g.length for g in segs], dtype=float)
+        self.seg_start = np.array([g.start for g in segs], dtype=float)
+        self.seg_end = np.array([g.end for g in segs], dtype=float)
+        self.seg_unit = np.array([g.unit for g in segs], dtype=float)
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        plan = self.plan
+        if t.size == 1:  # one reading: the plan's own (memoised) evaluation
+            s1, v1 = plan.state(float(t.flat[0]))
+            return np.full(t.shape, s1), np.full(t.shape, v1)
+        if not plan.pieces:
+            return np.full(t.shape, plan.s_end), np.zeros(t.shape)
+        i = np.maximum(np.searchsorted(self.t0, t, side="right") - 1, 0)
+        tau = np.minimum(t - self.t0[i], self.duration[i])
+        s = self.s0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau * tau
+        v = np.maximum(0.0, self.v0[i] + self.a[i] * tau)
+        s = np.minimum(s, self.next_s0[i])
+        if plan.end_time is not None:
+            done = t >= plan.end_time
+            s = np.where(done, plan.s_end, s)
+            v = np.where(done, 0.0, v)
+        return s, v
+
+    def point(self, s: np.ndarray, k: int) -> np.ndarray:
+        """Axis k's coordinate at path distances s (straight segments: MOVE, MOVEABS)."""
+        j = np.maximum(np.searchsorted(self.seg_s0, s, side="right") - 1, 0)
+        # (PathPlan.segment_at steps back over zero-length segments: they add nothing here,
+        # a zero-length segment's start and end are the same point)
+        sigma = s - self.seg_s0[j]
+        inside = self.seg_start[j, k] + self.seg_unit[j, k] * sigma
+        return np.where(sigma >= self.seg_length[j], self.seg_end[j, k], inside)
+
+
+def profile_offset_speed(motion: Motion, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A linear-ramp profile's signed offset and speed (unsigned) at many times."""
+    phases = motion.phases
+    if not phases:
+        return np.full(t.shape, float(motion.final_offset)), np.zeros(t.shape)
+    t0 = np.array([p.t0 for p in phases])
+    i = np.maximum(np.searchsorted(t0, t, side="right") - 1, 0)
+    dur = np.array([p.duration for p in phases])[i]
+    s0 = np.array([p.s0 for p in phases])[i]
+    v1 = np.array([p.v1 for p in phases])[i]
+    v2 = np.array([p.v2 for p in phases])[i]
+    direction = np.array([p.direction for p in phases], dtype=float)[i]
+    tau = t - t0[i]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.clip(np.where(dur > 0, tau / dur, 0.0), 0.0, 1.0)
+    ramp = v1 != v2
+    distance = np.where(ramp, v1 * tau + (v2 - v1) * dur * (u * u / 2.0), v1 * tau)
+    speed = np.where(ramp & (dur > 0), v1 + (v2 - v1) * u, v1)
+    offset = s0 + direction * distance
+    if motion.end_time is not None:
+        done = t >= motion.end_time
+        offset = np.where(done, float(motion.final_offset), offset)
+        speed = np.where(done, 0.0, speed)
+    return offset, speed
+
+
+# ---- runs -----------------------------------------------------------------------------
+@dataclass
+class Run:
+    """Buffered moves of one BASE group that run from rest to rest."""
+
+    axes: tuple[int, ...]  # axes[0] is the base axis: its SPEED/ACCEL/UNITS drive the path
+    deltas: list[tuple[int, ...]]  # per move, counts per axis
+    speeds: list[float]  # per move, vector speed, counts/s
+    accels: list[float]  # per move, counts/s^2
+    decel: float  # the base axis's DECEL (single-axis profiles), counts/s^2
+    units: float  # the base axis's UNITS when loaded: VP_SPEED is in its user units
+    single: bool  # one axis, MERGE OFF: a closed-form profile, nothing merges into it
+    started: bool = False
+    stopping: bool = False  # CANCEL/RAPIDSTOP: ramping down, takes no more moves
+    start_tick: int = 0
+    plan: PathPlan | None = None
+    arrays: PlanArrays | None = None
+    plan_tick: int = 0
+    end_tick: int = 0
+    profile: Motion | None = None  # single-axis runs
+    segments: list[Segment] = field(default_factory=list)
+
+    @property
+    def base(self) -> int:
+        return self.axes[0]
+
+    @property
+    def mergeable(self) -> bool:
+        return not self.single and not self.stopping
+
+    def definitions(self) -> list[SegmentDef]:
+        """Each move a relative straight segment; the first starts from rest (v_start 0),
+        the others go on at the speed the path has (MERGE: no stop in between)."""
+        return [SegmentDef("line", tuple(float(d) for d in delta), True, 0.0,
+                           0.0 if j == 0 else None, self.speeds[j], self.accels[j], None)
+                for j, delta in enumerate(self.deltas)]
+
+    def resolve(self, origin: tuple[float, ...]) -> None:
+        """Segments of every move loaded so far, from the group's start position."""
+        defs = self.definitions()
+        while len(self.segments) < len(defs):
+            defn = defs[len(self.segments)]
+            if self.segments:
+                last = self.segments[-1]
+                self.segments.append(Segment(defn, last.end, last.s0 + last.length, last.v_end))
+            else:
+                self.segments.append(Segment(defn, origin, 0.0, None))
+
+    def segment_index(self, s: float) -> int:
+        i = 0
+        while (i + 1 < len(self.segments)
+               and self.segments[i].s0 + self.segments[i].length <= s + 1e-9):
+            i += 1
+        return i
+
+    def moves_left(self, tick: int, period: float) -> int:
+        """Moves not yet finished (they hold the axes' move buffer)."""
+        if not self.started or self.plan is None:
+            return len(self.deltas)
+        s, _v = self.plan.state((tick - self.plan_tick) * period)
+        return len(self.deltas) - self.segment_index(s)
+
+    def next_boundary(self, now: int, period: float) -> int | None:
+        """The next tick the path finishes one of its moves (a move buffer slot frees),
+        while more moves follow; None for a single-axis profile or the last move."""
+        if self.plan is None or self.profile is not None:
+            return None
+        s, _v = self.plan.state((now - self.plan_tick) * period)
+        i = self.segment_index(s)
+        while i < len(self.segments) - 1:
+            segment = self.segments[i]
+            t = self.plan.time_at(segment.s0 + segment.length)
+            if t is None:
+                return None
+            tick = self.plan_tick + math.ceil(t / period - 1e-9)
+            if tick > now:
+                return tick
+            i += 1
+        return None
+
+    # ---- where the run is -------------------------------------------------------------
+    def distance_speed(self, ticks: Ticks, period: float) -> tuple[np.ndarray, np.ndarray]:
+        """Path distance from the run's start (counts) and path speed (counts/s)."""
+        if self.profile is not None:
+            offset, speed = profile_offset_speed(self.profile,
+                                                 (ticks - self.start_tick) * period)
+            return np.abs(offset), speed
+        assert self.arrays is not None
+        return self.arrays.state((ticks - self.plan_tick) * period)
+
+    def length(self) -> float:
+        """The path length the run ends at (counts)."""
+        if self.profile is not None:
+            return abs(float(self.profile.final_offset))
+        assert self.plan is not None
+        return self.plan.s_end
+
+    def plan_new(self, now: int, stop: bool = False, period: float = 0.001) -> PathPlan:
+        """The path planned from where it is now (from rest when it starts now)."""
+        if self.plan is None:
+            return plan_path(self.segments, 0, 0.0, 0.0, 1.0)
+        s, v = self.plan.state((now - self.plan_tick) * period)
+        i = self.segment_index(s)
+        if stop:
+            return plan_stop(self.segments, i, s, v, 1.0)
+        return plan_path(self.segments, i, s, v, 1.0)
+
+    def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
+        return ContourMotion(plan, k, float(origin))
+
+
+def single_profile(distance: int, speed: float, accel: float, decel: float) -> Motion:
+    """A single-axis move from rest: trapezoid (or triangle) at ACCEL/DECEL, linear ramps."""
+    return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+
+
+# ---- linked axes ----------------------------------------------------------------------------
+@dataclass
+class Connpath:
+    """CONNPATH(base[, ratio]) AXIS(n): n moves by ratio x the path distance of the group
+    based on `base` (in the base axis's user units, converted with n's UNITS)."""
+
+    base: int
+    ratio: float
+    origin: float  # n's demand position (counts) when linked
+    distance0: float  # the base group's path distance (user units) when linked
+
+
+@dataclass
+class Cambox:
+    """CAMBOX(start, end, multiplier, link distance, link axis) AXIS(n): while the link
+    axis travels `distance` user units from where it was, n follows the TABLE values
+    start..end (counts, times the multiplier), interpolated linearly."""
+
+    values: np.ndarray  # TABLE(start..end)
+    multiplier: float
+    distance: float  # link axis user units
+    link: int
+    link_origin: float  # the link axis's DPOS when the CAMBOX started
+    origin: float  # n's demand position (counts) when it started
+
+    def counts(self, travelled: np.ndarray) -> np.ndarray:
+        n = len(self.values)
+        x = np.clip(travelled / self.distance, 0.0, 1.0) * (n - 1)
+        return self.origin + self.multiplier * np.interp(x, np.arange(n), self.values)
+
+    def slope(self, travelled: np.ndarray) -> np.ndarray:
+        """d(counts)/d(link travel) of the profile."""
+        n = len(self.values)
+        x = np.clip(travelled / self.distance, 0.0, 1.0) * (n - 1)
+        j = np.minimum(x.astype(int), n - 2)
+        step = self.values[j + 1] - self.values[j]
+        inside = (travelled >= 0) & (travelled < self.distance)
+        return np.where(inside, self.multiplier * step * (n - 1) / self.distance, 0.0)
+
+
+Link = Connpath | Cambox
+
+
+@dataclass
+class TrioAxis(MotionAxis):
+    """One axis: the shared kinematics plus what the MC405 keeps per axis."""
+
+    params: dict[str, float] = field(default_factory=dict)
+    fraction: float = 0.0  # demand beyond `steps` at rest (a linked axis stops anywhere)
+    datum: float = 0.0  # DEFPOS: DPOS = (demand counts + datum) / UNITS
+    link: Link | None = None
+    pending_link: Link | None = None  # CONNPATH/CAMBOX loaded behind buffered moves
+    link_end: int | None = None  # CAMBOX: the tick it completes (cached per revision)
+
+    @property
+    def units(self) -> float:
+        return self.params["UNITS"]
