@@ -2,7 +2,6 @@
 no lost doorbell clears, capture overruns in shared memory, thread-safe pyserial."""
 
 import asyncio
-import socket
 import subprocess
 import sys
 import threading
