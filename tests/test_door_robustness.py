@@ -293,3 +293,45 @@ def test_replies_are_never_dropped_for_a_client_that_reads_late():
     transport = asyncio.run(scenario())
     data = b"".join(chunk for _name, chunk in transport.log)
     assert data == expected * n
+
+
+def _line(fd: int, timeout: float = 5.0) -> bytes:
+    """One reply line from a raw file descriptor (bounded wait)."""
+    import os
+    import select
+
+    data = b""
+    while not data.endswith(b"\n\r"):
+        ready, _, _ = select.select([fd], [], [], timeout)
+        assert ready, f"no line within {timeout} s (got {data!r})"
+        data += os.read(fd, 1)
+    return data
+
+
+def test_a_freshly_opened_pty_starts_clean():
+    """Notifications raised while nobody has the port open never reach the next host
+    that opens it (a real line loses them): its first bytes are its own reply. The port
+    is opened raw, as C code does (pyserial would flush its input on open anyway)."""
+    import os
+
+
+    hosted = HostedBoards(pty=True)
+    try:
+        tcp = hosted.connect()
+        for _ in range(300):  # 300 done notifications, nobody on the serial port
+            tcp.command("AX ID;")
+        fd = os.open(hosted.ptys[0], os.O_RDWR | os.O_NOCTTY)
+
+        os.write(fd, b"WY\r")
+        assert _line(fd) == b"MAXk-8000, ver:1.33, S/N: 000001, FPGA:20\n\r"
+        tcp.command("AY ID;")  # while the port is open, notifications do arrive
+        assert _line(fd) == b"%000 00000002\n\r"
+        os.close(fd)
+        tcp.command("AZ ID;")  # closed again: lost
+        fd = os.open(hosted.ptys[0], os.O_RDWR | os.O_NOCTTY)
+
+        os.write(fd, b"AX RP\r")
+        assert _line(fd) == b"0\n\r"
+        os.close(fd)
+    finally:
+        hosted.close()

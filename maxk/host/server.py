@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import ctypes
 import os
+import struct
 import sys
 import termios
 import tty
@@ -225,8 +227,62 @@ class UdpDoor(asyncio.DatagramProtocol):
             self.transport.close()
 
 
+class _OpenWatch:
+    """Who has a device file open, from the kernel's inotify open/close events (Linux):
+    a pty's host opening and closing the port. None where inotify is not available."""
+
+    IN_OPEN, IN_CLOSE_WRITE, IN_CLOSE_NOWRITE = 0x20, 0x08, 0x10
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+
+    @classmethod
+    def on(cls, path: str) -> _OpenWatch | None:
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            fd = libc.inotify_init1(os.O_NONBLOCK | os.O_CLOEXEC)
+            if fd < 0:
+                return None
+            mask = cls.IN_OPEN | cls.IN_CLOSE_WRITE | cls.IN_CLOSE_NOWRITE
+            if libc.inotify_add_watch(fd, path.encode(), mask) < 0:
+                os.close(fd)
+                return None
+        except (OSError, AttributeError):
+            return None
+        return cls(fd)
+
+    def changes(self) -> int:
+        """Opens minus closes since the last look."""
+        delta = 0
+        while True:
+            try:
+                data = os.read(self.fd, 4096)
+            except (BlockingIOError, InterruptedError):
+                return delta
+            except OSError:
+                return delta
+            offset = 0
+            while offset + 16 <= len(data):
+                _wd, mask, _cookie, length = struct.unpack_from("iIII", data, offset)
+                offset += 16 + length
+                if mask & self.IN_OPEN:
+                    delta += 1
+                if mask & (self.IN_CLOSE_WRITE | self.IN_CLOSE_NOWRITE):
+                    delta -= 1
+
+    def close(self) -> None:
+        with contextlib.suppress(OSError):
+            os.close(self.fd)
+
+
 class PtyClient(Client):
-    """A pseudo-terminal: legacy serial code opens the slave side like a real port."""
+    """A pseudo-terminal: legacy serial code opens the slave side like a real port.
+
+    As on a real serial line, nothing from before the host opened the port reaches it:
+    while no host has the port open, notifications are not sent, and when a host opens
+    it whatever was left unread (by a host that went away) is discarded. Who has the
+    port open is known from the kernel's open/close events on the slave (Linux inotify);
+    without them the pty behaves as a line that is always listened to."""
 
     def __init__(self, service: Service, loop: asyncio.AbstractEventLoop,
                  link: str | None = None) -> None:
@@ -253,10 +309,36 @@ class PtyClient(Client):
         self._client_init()
         self.session = service.open_session(self)
         self._reading = True
+        self._watch = _OpenWatch.on(self.path)
+        self._hosts = 0  # hosts that have the port open (when known)
+        if self._watch is not None:
+            loop.add_reader(self._watch.fd, self._opens_changed)
         loop.add_reader(self.master, self._readable)
         service.clients.add(self)
 
+    def _opens_changed(self) -> None:
+        if self._watch is None:
+            return
+        before = self._hosts
+        self._hosts = max(0, self._hosts + self._watch.changes())
+        if before == 0 and self._hosts > 0:
+            # a host opened the port: it starts clean, as a real serial line does
+            with contextlib.suppress(OSError, termios.error):
+                termios.tcflush(self.slave_fd, termios.TCIFLUSH)
+            self._out.clear()
+
+    def flush_session(self) -> None:
+        """Notifications reach a host that has the port open; with nobody listening
+        they are lost, as bytes on an unplugged line are."""
+        if self._watch is not None and self._hosts == 0 and self.session is not None:
+            self._opens_changed()  # an open event not yet seen by the loop
+            if self._hosts == 0:
+                self.session.read()
+                return
+        super().flush_session()
+
     def _readable(self) -> None:
+        self._opens_changed()  # a host that opened and wrote at once: flush before replying
         try:
             data = os.read(self.master, 65536)
         except (BlockingIOError, InterruptedError):
@@ -301,6 +383,9 @@ class PtyClient(Client):
     def close(self) -> None:
         self.loop.remove_reader(self.master)
         self.loop.remove_writer(self.master)
+        if self._watch is not None:
+            self.loop.remove_reader(self._watch.fd)
+            self._watch.close()
         self._drop_session()
         for fd in (self.master, self.slave_fd):
             with contextlib.suppress(OSError):
