@@ -158,12 +158,7 @@ def _run(args: argparse.Namespace) -> int:
         script.update_rate_hz if script.rate_given or model.lower().startswith("maxk")
         else None)))
     if not isinstance(controller, MAXk):
-        if args.trace or args.plot:
-            print(f"maxk run: --trace and --plot draw a MAXk board, not the {controller.kind}",
-                  file=sys.stderr)
-            return 2
-        return _report(args, script, run_script(script, board=controller,
-                                                check=not args.record), [])
+        return _run_other(args, script, controller)
     board = controller
     trace_file = None
     on_step = None
@@ -216,6 +211,38 @@ def _run(args: argparse.Namespace) -> int:
             return 2
     return _report(args, script, transcript,
                    [f"command error at tick {r.tick}: {r}" for r in board.board.errors])
+
+
+def _run_other(args: argparse.Namespace, script: Any, controller: Any) -> int:
+    """Another controller's script: its own recording for --trace and --plot."""
+    from maxk.pathplot import draw_path
+    from maxk.script import parse_duration, run_script
+
+    recording = None
+    if args.trace or args.plot:
+        record = getattr(controller, "record", None)
+        if record is None:
+            print(f"maxk run: the {controller.kind} keeps no trace or plot", file=sys.stderr)
+            return 2
+        try:
+            every = (max(1, parse_duration(args.plot_every, controller.engine.update_rate_hz))
+                     if args.plot_every else 20)
+        except ValueError as error:
+            print(f"maxk run: {error}", file=sys.stderr)
+            return 2
+        recording = record(every)
+    transcript = run_script(script, board=controller, check=not args.record)
+    if recording is not None:
+        try:
+            if args.trace:
+                recording.write_csv(str(args.trace))
+            if args.plot:
+                recording.plot(str(args.plot), args.script.name, draw_path)
+                print(f"plot: {args.plot}", file=sys.stderr)
+        except (ImportError, OSError) as error:
+            print(f"maxk run: {error}", file=sys.stderr)
+            return 2
+    return _report(args, script, transcript, [])
 
 
 def _report(args: argparse.Namespace, script: Any, transcript: Any, errors: list[str]) -> int:

@@ -8,6 +8,7 @@ colour: for a contour with VIO, the torch-on part of the cut.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from maxk.personalities.maxk.board import Board
@@ -45,35 +46,46 @@ class PathRecorder:
     def plot(self, path: str | Path, title: str = "") -> Path:
         """Write the path to a PNG. Raises ImportError with advice when matplotlib is not
         installed."""
-        try:
-            import matplotlib
+        return draw_path(path, self.x, self.y,
+                         on=self.on if self.bit is not None else None,
+                         on_label=f"output {self.bit} high",
+                         axis_names=(self.axes[0].letter, self.axes[1].letter), title=title)
 
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError as exc:
-            raise ImportError(PLOT_MISSING) from exc
-        path = Path(path)
-        fig, ax = plt.subplots(figsize=(7, 7))
-        ax.plot(self.x, self.y, color="0.6", linewidth=1.0, label="path")
-        if self.bit is not None and any(self.on):
-            # the stretches with the output high, drawn over the path
-            xs: list[float] = []
-            ys: list[float] = []
-            for x, y, on in zip(self.x, self.y, self.on, strict=True):
-                xs.append(x if on else float("nan"))
-                ys.append(y if on else float("nan"))
-            ax.plot(xs, ys, color="tab:red", linewidth=2.0,
-                    label=f"output {self.bit} high")
-        if self.x:
-            ax.plot(self.x[0], self.y[0], "o", color="tab:green", label="start")
-            ax.plot(self.x[-1], self.y[-1], "s", color="tab:blue", label="end")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel(f"{self.axes[0].letter} position, counts")
-        ax.set_ylabel(f"{self.axes[1].letter} position, counts")
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="best")
-        ax.set_title(title or "maxk path")
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return path
+
+def draw_path(path: str | Path, x: Sequence[float], y: Sequence[float], *,
+              on: Sequence[bool] | None = None, on_label: str = "output high",
+              marks: Sequence[tuple[float, float]] = (), marks_label: str = "pulses",
+              axis_names: tuple[str, str] = ("X", "Y"), title: str = "") -> Path:
+    """An XY path as a PNG: the stretches where an output was on drawn over it, and
+    points marked on it (the MM4005's synchronized pulses). Any controller's samples."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise ImportError(PLOT_MISSING) from exc
+    path = Path(path)
+    fig, ax = plt.subplots(figsize=(7, 7))
+    ax.plot(x, y, color="0.6", linewidth=1.0, label="path")
+    if on is not None and any(on):
+        # the stretches with the output high, drawn over the path
+        xs = [a if lit else float("nan") for a, lit in zip(x, on, strict=True)]
+        ys = [b if lit else float("nan") for b, lit in zip(y, on, strict=True)]
+        ax.plot(xs, ys, color="tab:red", linewidth=2.0, label=on_label)
+    if marks:
+        ax.plot([m[0] for m in marks], [m[1] for m in marks], "x", color="tab:red",
+                markersize=7, label=f"{marks_label} ({len(marks)})")
+    if len(x):
+        ax.plot(x[0], y[0], "o", color="tab:green", label="start")
+        ax.plot(x[-1], y[-1], "s", color="tab:blue", label="end")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(f"{axis_names[0]} position, counts")
+    ax.set_ylabel(f"{axis_names[1]} position, counts")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best")
+    ax.set_title(title or "maxk path")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path

@@ -131,3 +131,25 @@ def test_python_m_maxk_manual_time_as_a_process():
     lines = result.stdout.splitlines()
     assert lines[0] == "MAXk-8000, ver:1.33, S/N: 000001, FPGA:20"
     assert lines[1].startswith("tick 0, 0.000000 s virtual (manual")
+
+
+def test_run_traces_and_plots_another_controller(tmp_path):
+    """`maxk run --trace/--plot` on an MM4005 script: the path samples, the pulse trace
+    beside them (11 pulses, the manual's example), and the path with the pulses marked."""
+    import csv
+
+    import pytest
+
+    from maxk.cli import main
+
+    trace = tmp_path / "path.csv"
+    script = Path(__file__).parent.parent / "examples" / "mm4005_trajectory_pulses.maxk"
+    assert main(["run", str(script), "--trace", str(trace)]) == 0
+    pulses = list(csv.DictReader((tmp_path / "path.pulses.csv").open()))
+    assert len(pulses) == 11
+    assert (pulses[0]["x_counts"], pulses[0]["y_counts"]) == ("10000", "0")
+    assert trace.read_text().startswith("tick,x_counts,y_counts\n")
+    pytest.importorskip("matplotlib")
+    plot = tmp_path / "path.png"
+    assert main(["run", str(script), "--plot", str(plot)]) == 0
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

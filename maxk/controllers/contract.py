@@ -90,6 +90,16 @@ class Controller(Protocol):
     def reset(self) -> None: ...
 
 
+class Recording(Protocol):
+    """What `maxk run --trace CSV --plot PNG` keeps of a run (a controller that can say
+    so has `record(every_ticks) -> Recording`): its samples as CSV, its XY path as a
+    picture. `draw` is the door's path drawing (`maxk.pathplot.draw_path`), handed in so
+    that a controller need not import a door."""
+
+    def write_csv(self, path: str) -> None: ...
+    def plot(self, path: str, title: str, draw: Callable[..., object]) -> None: ...
+
+
 @dataclass(frozen=True)
 class BuildOptions:
     """What `maxk serve`, the REPL and scripts may say about a controller they start."""

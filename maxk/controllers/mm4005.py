@@ -24,6 +24,7 @@ import csv
 import io
 import math
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
 from typing import Final
 
@@ -179,6 +180,11 @@ class MM4005Controller:
             axes = (self.machine.trajectory.x_axis, self.machine.trajectory.y_axis)
         return PathTrace(self.machine, axes, every_ticks).attach()
 
+    def record(self, every_ticks: int = 20) -> MM4005Recording:
+        """The trajectory's XY path sampled every N ticks, with the pulses marked on it
+        (`maxk run --trace/--plot`)."""
+        return MM4005Recording(self, self.trace_path(every_ticks=every_ticks))
+
     @property
     def pulses(self) -> list[PulseRecord]:
         """The synchronized pulses of the running or last trajectory."""
@@ -226,6 +232,29 @@ class PathTrace:
 
     def csv(self) -> str:
         return "tick,x_counts,y_counts\n" + "".join(f"{t},{x},{y}\n" for t, x, y in self.samples)
+
+
+class MM4005Recording:
+    """A run's path samples and pulses: CSV (the pulses beside it as NAME.pulses.csv)
+    and the XY path with every pulse marked on it."""
+
+    def __init__(self, controller: MM4005Controller, trace: PathTrace) -> None:
+        self.controller = controller
+        self.trace = trace
+
+    def write_csv(self, path: str) -> None:
+        self.trace.sample(self.controller.machine)
+        Path(path).write_text(self.trace.csv())
+        self.controller.pulse_csv(str(Path(path).with_suffix(".pulses.csv")))
+
+    def plot(self, path: str, title: str, draw: Callable[..., object]) -> None:
+        self.trace.sample(self.controller.machine)
+        samples = self.trace.samples
+        x_axis, y_axis = (a.index + 1 for a in self.trace.axes)
+        draw(path, [s[1] for s in samples], [s[2] for s in samples],
+             marks=[(p.x_counts, p.y_counts) for p in self.controller.pulses],
+             marks_label="synchronized pulses",
+             axis_names=(f"axis {x_axis}", f"axis {y_axis}"), title=title or "MM4005 path")
 
 
 class MM4005Console:

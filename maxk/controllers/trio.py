@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 from maxk.commands.trio.interpreter import Interpreter
@@ -165,6 +166,26 @@ class MC405:
     def trace(self, pwm_axes: tuple[int, ...] = (4,), xy: tuple[int, int] = (0, 1)) -> PwmTrace:
         """Record every servo cycle from now: the XY path, PWM marks, gates and duty."""
         return self.machine.trace(pwm_axes, xy)
+
+    def record(self, every_ticks: int = 1) -> MC405Recording:
+        """`maxk run --trace/--plot`: every servo cycle's path and PWM outputs (the trace
+        keeps every cycle; `every_ticks` is not needed)."""
+        pwm_axes = tuple(axis for axis, out in self.machine.pwm.outputs.items()
+                         if out.mode != PwmMode.OFF) or (4,)
+        return MC405Recording(self.trace(pwm_axes))
+
+
+class MC405Recording:
+    """A run's PWM trace: CSV, and the XY path with the PWM duty drawn along it."""
+
+    def __init__(self, trace: PwmTrace) -> None:
+        self.trace = trace
+
+    def write_csv(self, path: str) -> None:
+        self.trace.write_csv(path)
+
+    def plot(self, path: str, title: str, draw: Callable[..., object]) -> None:
+        self.trace.plot(path, title=title)
 
 
 class TrioConsole:
