@@ -19,6 +19,7 @@ import os
 import struct
 import sys
 import termios
+import time
 import tty
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -28,7 +29,9 @@ from maxk.host.pacing import Pacer
 
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
 HARD_LIMIT = 1024 * 1024  # beyond this, notifications to a client that never reads are lost
-SLICE = 2048  # bytes of one client's input run at one turn; then every other client's turn
+SLICE = 2048  # at most this much of one client's input runs at one turn ...
+SLICE_SECONDS = 0.0005  # ... and for at most about this long; then every other client's turn
+PIECE = 128  # input is fed in pieces this size while a turn lasts
 INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
 UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
 
@@ -97,10 +100,15 @@ class Client:
                 self.send(out, droppable=True)
 
     def receive(self, data: bytes) -> None:
-        """Input from the host: held, and run in turns."""
+        """Input from the host: held, and run in turns. A host with nothing waiting (a
+        poll, a query) is served at once: only a backlog waits for its turn."""
         if self.session is None:
             return
+        idle = not self._inbox and not self._scheduled
         self._inbox += data
+        if idle and not self._output_full:
+            self._run_slice()
+            return
         self._update_input()
         self._schedule()
 
@@ -114,9 +122,18 @@ class Client:
         self._scheduled = False
         if self.session is None or self._output_full or not self._inbox:
             return
-        chunk = bytes(self._inbox[:SLICE])
-        del self._inbox[:SLICE]
-        out = self.service.handle(self.session, chunk)
+        self.service.pacer.sync()
+        session = self.session
+        taken = 0
+        deadline = time.perf_counter() + SLICE_SECONDS
+        while taken < SLICE and self._inbox:
+            piece = bytes(self._inbox[:PIECE])
+            del self._inbox[:PIECE]
+            session.feed(piece)
+            taken += len(piece)
+            if time.perf_counter() >= deadline:
+                break
+        out = session.read()
         if out:
             self.send(out)
         self._output_full = self._unsent() > HIGH_WATER
