@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import multiprocessing
+import os
 import re
 import socket
 import threading
@@ -172,7 +173,8 @@ def figures(seconds: float = 10.0, rate: float = 20.0,
             lat = phase.latencies_ms
             tag = f"fairness_{count}_abusers"
             note = (f"WY at {rate:g}/s for {seconds:g} s on board 1 of 4; {count} host(s) "
-                    f"flooding {FLOOD.decode()} and never reading")
+                    f"flooding {FLOOD.decode()} and never reading; load average "
+                    f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
             result += [
                 Figure(f"{tag}_p50", percentile(lat, 0.50), "ms", None, note),
                 Figure(f"{tag}_p99", percentile(lat, 0.99), "ms", None,
