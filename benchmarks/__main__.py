@@ -284,6 +284,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "doors": doors,
     "mm4005": lambda: __import__("benchmarks.mm4005", fromlist=["figures"]).figures(),
     "trio": trio_example_2,
+    "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
 }
 
 
