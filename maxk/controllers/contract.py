@@ -13,6 +13,7 @@ these protocols, so a new controller gets every door by declaring its session:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal, Protocol
@@ -98,6 +99,31 @@ class Recording(Protocol):
 
     def write_csv(self, path: str) -> None: ...
     def plot(self, path: str, title: str, draw: Callable[..., object]) -> None: ...
+
+
+class VirtualTime:
+    """The Python API's clock words, the same on every controller: virtual time moves
+    only when asked (`advance`), in the controller's own ticks."""
+
+    @property
+    def engine(self) -> Engine:  # pragma: no cover - every controller has one
+        raise NotImplementedError
+
+    @property
+    def tick(self) -> int:
+        return self.engine.tick
+
+    @property
+    def time(self) -> float:
+        return self.engine.time
+
+    def ticks(self, seconds: float) -> int:
+        """Seconds as whole ticks, rounded up (a wait is never short)."""
+        return math.ceil(seconds / self.engine.period - 1e-9)
+
+    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
+        """Advance virtual time by seconds and/or ticks."""
+        self.engine.advance(self.ticks(seconds) + ticks)
 
 
 @dataclass(frozen=True)

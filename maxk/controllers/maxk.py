@@ -21,7 +21,7 @@ from dataclasses import replace
 from maxk.commands.max.interpreter import Interpreter
 from maxk.commands.max.lexer import SEPARATORS
 from maxk.commands.max.session import Framing, MaxSession
-from maxk.controllers.contract import Notify, Transport
+from maxk.controllers.contract import Notify, Transport, VirtualTime
 from maxk.controllers.maxk_console import AxisStatus, MaxConsole
 from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
 from maxk.personalities.maxk import flags as F
@@ -30,7 +30,7 @@ from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 from maxk.personalities.maxk.parameters import ParameterArchive, default_archive_path
 
 
-class MAXk:
+class MAXk(VirtualTime):
     """A board plus a command stream: the API the REPL, scripts and tests use."""
 
     def __init__(self, model: str = DEFAULT_MODEL,
@@ -106,21 +106,6 @@ class MAXk:
         return replies[0]
 
     # ---- time -----------------------------------------------------------------------
-    @property
-    def tick(self) -> int:
-        return self.board.tick
-
-    @property
-    def time(self) -> float:
-        return self.board.time
-
-    def ticks(self, seconds: float) -> int:
-        return math.ceil(seconds / self.board.period - 1e-9)
-
-    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
-        """Advance virtual time by seconds and/or ticks."""
-        self.board.advance(self.ticks(seconds) + ticks)
-
     def run_until_idle(self, timeout: float = 60.0) -> bool:
         """Advance until no axis moves and no queue holds work; False on timeout."""
         return self.board.run_until_idle(self.ticks(timeout))

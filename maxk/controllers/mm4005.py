@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from collections import deque
 from collections.abc import Callable
 from pathlib import Path
@@ -30,7 +29,7 @@ from typing import Final
 
 from maxk.commands.mm4005 import COMMANDS, Interpreter, MM4005Session
 from maxk.commands.mm4005.fmt import fixed, position_decimals
-from maxk.controllers.contract import Notify, Transport
+from maxk.controllers.contract import Notify, Transport, VirtualTime
 from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
@@ -65,7 +64,7 @@ class _NotedRegister(ErrorRegister):
         self.noted.append(code)
 
 
-class MM4005Controller:
+class MM4005Controller(VirtualTime):
     """An MM4005: the door contract (controllers/contract.py) and a Python API."""
 
     kind = "MM4005"
@@ -133,20 +132,6 @@ class MM4005Controller:
         return self.interpreter.errors
 
     # ---- time -----------------------------------------------------------------------------
-    @property
-    def tick(self) -> int:
-        return self.machine.tick
-
-    @property
-    def time(self) -> float:
-        return self.machine.time
-
-    def ticks(self, seconds: float) -> int:
-        return math.ceil(seconds / self.machine.period - 1e-9)
-
-    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
-        self.machine.advance(self.ticks(seconds) + ticks)
-
     def run_until_idle(self, timeout: float = 600.0) -> bool:
         """Advance until no axis moves and no trajectory runs; False on timeout."""
         machine = self.machine

@@ -18,7 +18,6 @@ and survive a restart of the emulator, as the controller's flash does.
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -29,7 +28,7 @@ from maxk.commands.trio.programs import ProgramStore
 from maxk.commands.trio.scheduler import ProcessScheduler
 from maxk.commands.trio.session import TrioCommandLine
 from maxk.commands.trio.system import ProgramCommands
-from maxk.controllers.contract import Notify, Transport
+from maxk.controllers.contract import Notify, Transport, VirtualTime
 from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
@@ -54,7 +53,7 @@ def program_directory(archive: str | os.PathLike[str] | None) -> Path | None:
     return path
 
 
-class MC405:
+class MC405(VirtualTime):
     """A Trio MC405: the door contract, a console, and a small API in virtual time."""
 
     kind = "MC405"
@@ -143,20 +142,6 @@ class MC405:
         for n, line in enumerate(text.splitlines()):
             out += self.send(f"!{name},{n}R{line}")
         return out + self.send("COMPILE")
-
-    @property
-    def tick(self) -> int:
-        return self.machine.tick
-
-    @property
-    def time(self) -> float:
-        return self.machine.time
-
-    def ticks(self, seconds: float) -> int:
-        return math.ceil(seconds / self.machine.period - 1e-9)
-
-    def advance(self, seconds: float = 0.0, *, ticks: int = 0) -> None:
-        self.machine.advance(self.ticks(seconds) + ticks)
 
     def run_until_idle(self, timeout: float = 60.0) -> bool:
         """Advance until nothing moves and no program runs; False on timeout."""
