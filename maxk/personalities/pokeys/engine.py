@@ -22,6 +22,7 @@ import numpy as np
 from .axis import Axis
 from .constants import GENERATING, AxisConfigBits, AxisState, EngineSpec, EngineState, SwitchBits
 from .motion import SlotMotion, constant_speed
+from .plans import AxisPlan, pulse_plan, segment_plan
 from .slot_buffer import SlotBuffer
 from .world import BenchWorld, PulseEngineWorld
 
@@ -104,6 +105,21 @@ class PulseEngine:
         n = self._quiet_span(HORIZON)
         return None if n >= HORIZON else self.slot + n
 
+    def on_event(self, now: int) -> None:
+        """As the shared engine's event source: run the slots up to `now`."""
+        self.run_to(now)
+
+    def motion_plan(self, index: int) -> AxisPlan | None:
+        """The axis's motion from now as a `MotionPlan` (None: it stands still): the
+        buffered slots as a step function, or its internal controller's profiles."""
+        a = self.axes[index]
+        if self.state not in GENERATING or not self.active(a):
+            return None
+        if self.consumes_buffer() and self.buffered(a):
+            rows = self.buffer.peek(self.buffer.count)
+            return pulse_plan(self.slot, a.position, rows[:, index])
+        return None if a.motion is None else segment_plan(a.motion)
+
     def notify(self, event: str, axis: int = -1, slot: int | None = None) -> None:
         for listener in self.listeners:
             listener(self.slot if slot is None else slot, event, axis)
@@ -122,7 +138,7 @@ class PulseEngine:
         """(limit+, limit-, home) activated bits at the present positions."""
         lim_p = lim_n = home = 0
         for a in self.axes:
-            n, p, h = a.settings.tripped(self.world.switch_levels(a.index, a.position))
+            n, p, h = a.settings.tripped(self.world.switch_levels(a.index, a.stage))
             lim_n |= n << a.index
             lim_p |= p << a.index
             home |= h << a.index
@@ -195,7 +211,7 @@ class PulseEngine:
                 a.motion = constant_speed(a.position, self.slot, -toward * back)
             elif held == AxisState.HOMING_BACK and not tripped:
                 a.motion = None
-                a.position = a.home_offset
+                a.set_counter(a.home_offset)
                 held = AxisState.HOME
                 self.notify("home", a.index)
             a.held_state = held
@@ -208,7 +224,7 @@ class PulseEngine:
         probing = [a for a in self.axes if a.held_state in (AxisState.PROBE_START,
                                                             AxisState.PROBE_SEARCH)]
         positions = [a.position for a in self.axes]
-        level = self.world.probe_level(self.probe_input, self.slot, positions)
+        level = self.world.probe_level(self.probe_input, self.slot, self.stages())
         if level == bool(self.probe_polarity):
             self.probe_positions = positions
             self.probe_status = 1
@@ -308,8 +324,8 @@ class PulseEngine:
         return n
 
     def _edges(self, a: Axis) -> tuple[int | None, int | None]:
-        return (self.world.next_switch_edge(a.index, a.position, 1),
-                self.world.next_switch_edge(a.index, a.position, -1))
+        return (self.world.next_switch_edge(a.index, a.stage, 1),
+                self.world.next_switch_edge(a.index, a.stage, -1))
 
     def _motion_span(self, a: Axis, motion: SlotMotion, n: int) -> int:
         s, p0 = self.slot, a.position
@@ -319,7 +335,7 @@ class PulseEngine:
         if not dirs:
             return n
         d = dirs.pop()
-        edge = self.world.next_switch_edge(a.index, p0, d)
+        edge = self.world.next_switch_edge(a.index, a.stage, d)
         if edge is not None:
             k = _first_slot(lambda k: (motion.position_at(k) - p0) * d >= edge, s + 1, s + n)
             if k is not None:
@@ -417,6 +433,10 @@ class PulseEngine:
 
     def positions(self) -> list[int]:
         return [a.position for a in self.axes]
+
+    def stages(self) -> list[int]:
+        """Physical positions (where the switches see the axes)."""
+        return [a.stage for a in self.axes]
 
 
 def _first_slot(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:
