@@ -124,6 +124,11 @@ class PulseEngine:
         for listener in self.listeners:
             listener(self.slot if slot is None else slot, event, axis)
 
+    def idle(self) -> bool:
+        """Nothing will move until told: no buffer being consumed, no motion, homing or
+        probing."""
+        return self._idle()
+
     def _idle(self) -> bool:
         if self.state not in GENERATING:
             return True
