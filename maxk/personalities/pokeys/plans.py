@@ -93,10 +93,17 @@ class SegmentPlan:
         return (seg.start - self.start) * SLOT_SECONDS, seg.origin - self.origin, seg.motion
 
     def offset(self, t: float) -> float:
+        """The closed-form offset, so that its whole part (truncated toward zero, as
+        `MotionAxis` counts) is the engine's count: each segment counts whole pulses
+        from its own origin, so a fraction that would cross a whole pulse toward zero
+        (a return move starting on the far side) is left out."""
         t0, base, motion = self._segment(t)
-        exact = base + motion.offset(max(0.0, t - t0))  # type: ignore[attr-defined]
-        near = round(exact)
-        return float(near) if abs(exact - near) < _SNAP else exact
+        x = motion.offset(max(0.0, t - t0))  # type: ignore[attr-defined]
+        whole = base + whole_pulses(x)
+        residual = x - whole_pulses(x)
+        if abs(residual) < _SNAP or residual * whole < 0:
+            return float(whole)
+        return whole + residual
 
     def velocity(self, t: float) -> float:
         t0, _base, motion = self._segment(t)
