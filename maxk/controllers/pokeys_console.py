@@ -166,20 +166,29 @@ class PoKeysConsole:
         return f"{self.dev.model}> "
 
     def status_line(self, width: int = 80) -> str:
+        """Time, engine state, buffer fill, each axis's counter (~ while it moves). In
+        full when it fits; else positions in at most four characters (-2G, 123k) and a
+        shorter head (D), so 8 axes fit 80 columns (`status` has them exact)."""
         e = self.dev.pulse_engine
-        state = e.state.name
+        t = self.dev.engine.time
         marks = []
         for a in e.axes:
             if e.active(a) or self.dev.version == 1:
                 moving = e.moving(a) or (e.consumes_buffer() and e.buffered(a)
                                          and e.buffer.count > 0)
                 marks.append((AXIS_LETTERS[a.index], a.position, "~" if moving else ""))
-        head = f"t={self.dev.engine.time:.3f}s {state} buf {e.buffer.count}/{e.buffer.depth}"
-        full = head + " " + " ".join(f"{x}{p}{m}" for x, p, m in marks)
+        fill = f"{e.buffer.count}/{e.buffer.depth}"
+        full = f"t={t:.3f}s {e.state.name} buf {fill} " + " ".join(
+            f"{x}{p}{m}" for x, p, m in marks)
         if len(full) <= width:
-            return full
-        short = head + " " + " ".join(f"{x}{_short(p)}{m}" for x, p, m in marks)
-        return short[:width]
+            return full.rstrip()
+        axes = " ".join(f"{x}{_short(p)}{m}" for x, p, m in marks)
+        for head in (f"t={t:.3f}s {e.state.name} buf {fill}", f"t={t:.1f}s {e.state.name} {fill}",
+                     f"t={t:.0f}s {_STATE_SHORT.get(e.state.name, e.state.name)} {fill}"):
+            line = f"{head} {axes}"
+            if len(line) <= width:
+                return line
+        return line[:width]
 
     def status_lines(self) -> list[str]:
         return self._do_status([])
@@ -249,6 +258,8 @@ class PoKeysConsole:
     def _do_pos(self, args: list[str]) -> list[str]:
         s = self.dev.status()
         count = s.enabled_axes if self.dev.version == 2 else 3
+        if not count:
+            return ["no axes enabled (setup N)"]
         return [" ".join(f"{AXIS_LETTERS[i]} {s.positions[i]}" for i in range(count))]
 
     # ---- settings ----------------------------------------------------------------------
@@ -515,12 +526,23 @@ def _num(value: float | None) -> str:
     return "none" if value is None else f"{value:g}"
 
 
+_STATE_SHORT = {"STOPPED": "STOP", "RUNNING": "RUN", "JOGGING": "JOG", "STOPPING": "STPG",
+                "HOMING": "HMNG", "INTERNAL": "INT", "BUFFER": "BUF", "PROBE": "PRB",
+                "PROBE_COMPLETE": "PRBD", "PROBE_ERROR": "PRB!", "STOP_LIMIT": "LIM!",
+                "STOP_EMERGENCY": "EST!", "HYBRID_PROBE_STOPPING": "HPRB",
+                "HYBRID_PROBE_COMPLETE": "HPRD"}
+
+
 def _short(value: int) -> str:
+    """A position in at most four characters, for a glance: 1234, -999, 12k, -.1M, -2G."""
     text = str(value)
-    if len(text) <= 5:
+    if len(text) <= 4:
         return text
     for suffix, scale in (("k", 1e3), ("M", 1e6), ("G", 1e9)):
-        number = f"{value / scale:.1f}"
-        if len(number) <= 4:
-            return number + suffix
+        for decimals in (1, 0):
+            number = f"{value / scale:.{decimals}f}"
+            if number.startswith(("0.", "-0.")):
+                number = number.replace("0.", ".", 1)
+            if len(number) + 1 <= 4:
+                return number + suffix
     return text
