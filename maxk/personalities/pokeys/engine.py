@@ -29,6 +29,7 @@ from .world import BenchWorld, PulseEngineWorld
 HORIZON = 1 << 40
 _LIMIT_N, _LIMIT_P = int(SwitchBits.LIMIT_N), int(SwitchBits.LIMIT_P)
 _HOME_N, _HOME_P = int(SwitchBits.HOME_ON_LIMIT_N), int(SwitchBits.HOME_ON_LIMIT_P)
+_LIMITS = _LIMIT_N | _LIMIT_P
 _INVERTED, _INVERTED_HOME = int(AxisConfigBits.INVERTED), int(AxisConfigBits.INVERTED_HOME)
 
 
@@ -328,7 +329,14 @@ class PulseEngine:
                 n = min(n, int(np.argmax(out)))  # the clipped slot runs alone
         return n
 
+    def _switches_act(self, a: Axis) -> bool:
+        """Can a switch edge change anything for this axis? Only an enabled limit, or the
+        home input while homing (the status reads levels when asked, needing no event)."""
+        return self.state == EngineState.HOMING or bool(a.settings.switches & _LIMITS)
+
     def _edges(self, a: Axis) -> tuple[int | None, int | None]:
+        if not self._switches_act(a):
+            return None, None
         return (self.world.next_switch_edge(a.index, a.stage, 1),
                 self.world.next_switch_edge(a.index, a.stage, -1))
 
@@ -340,7 +348,8 @@ class PulseEngine:
         if not dirs:
             return n
         d = dirs.pop()
-        edge = self.world.next_switch_edge(a.index, a.stage, d)
+        edge = self.world.next_switch_edge(a.index, a.stage, d) if self._switches_act(a) \
+            else None
         if edge is not None:
             k = _first_slot(lambda k: (motion.position_at(k) - p0) * d >= edge, s + 1, s + n)
             if k is not None:
