@@ -62,6 +62,7 @@ class PoKeys:
                                           serial)
         self._session = PoKeysSession(self.device)
         self._request_id = 0
+        self._console: PoKeysConsole | None = None
 
     # ---- the door contract ---------------------------------------------------------
     @property
@@ -82,8 +83,11 @@ class PoKeys:
         return PoKeysSession(self.device, datagrams=True)
 
     def console(self) -> PoKeysConsole:
-        """A person's view (the REPL, command scripts): a small command language."""
-        return PoKeysConsole(self)
+        """A person's view (the REPL, command scripts): a small command language. One
+        per device, so the stops it reports are not heard twice."""
+        if self._console is None:
+            self._console = PoKeysConsole(self)
+        return self._console
 
     def reset(self) -> None:
         """Power the device up again: the pulse engine stops with an empty buffer, its
@@ -404,4 +408,5 @@ def build(model: str, options: BuildOptions | None = None) -> PoKeys:
     return PoKeys(model)
 
 
-__all__ = ["EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build", "pokeys_world"]
+__all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
+           "pokeys_world"]

@@ -12,20 +12,27 @@ X Y Z A B C U V or 1..8.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping, Sequence
-from typing import Any, Protocol
+from collections.abc import Callable
+from typing import Any
 
 from maxk.commands.pokeys.table import ENTRIES
 from maxk.controllers.pokeys_status import (
+    STATE_SHORT,
+    SWITCH_WORDS,
     V1_STATES,
     V2_STATES,
-    EngineStatus,
+    ConsoleError,
+    PoKeysControls,
     PoKeysError,
     axis_index,
+    letters_of,
+    on_off,
+    short_position,
+    show_number,
 )
 from maxk.controllers.pokeys_trace import SlotRecorder
-from maxk.firmware_model.world import World, axis_position_source
-from maxk.personalities.pokeys import AXIS_LETTERS, SlotEngine, SwitchBits
+from maxk.firmware_model.world import axis_position_source
+from maxk.personalities.pokeys import AXIS_LETTERS
 from maxk.personalities.pokeys.engine import PulseEngine
 
 WORDS: dict[str, tuple[str, str]] = {
@@ -63,57 +70,6 @@ REPL_WORDS = """\
   :plot FILE   draw the traced slots: position, pulse rate, buffer fill (PNG)
   :plan X      the axis's motion as a plan (phases)
   :requests    the device's requests with source and confidence"""
-
-
-class PoKeysControls(Protocol):
-    """The PoKeys API the console uses (maxk.controllers.pokeys.PoKeys)."""
-
-    @property
-    def model(self) -> str: ...
-    @property
-    def version(self) -> int: ...
-    @property
-    def axes(self) -> int: ...
-    @property
-    def engine(self) -> SlotEngine: ...
-    @property
-    def pulse_engine(self) -> PulseEngine: ...
-    @property
-    def world(self) -> World: ...
-
-    def status(self) -> EngineStatus: ...
-    def setup(self, axes: int) -> None: ...
-    def set_state(self, state: str | int, limit_override: int = 0) -> None: ...
-    def configure_axis(self, axis: int, *, enabled: bool = True, internal: bool = False,
-                       position_mode: bool = True, max_speed: float | None = None,
-                       accel: float | None = None, decel: float | None = None,
-                       switches: int | None = None, invert: bool | None = None,
-                       invert_home: bool | None = None,
-                       soft_limits: tuple[int, int] | None = None,
-                       homing: tuple[int, int] | None = None) -> None: ...
-    def move(self, targets: Mapping[int, int | float], fraction: float = 1.0) -> None: ...
-    def set_positions(self, positions: Mapping[int, int]) -> None: ...
-    def fill(self, entries: Sequence[Sequence[int]], *, wide: bool | None = None,
-             large: bool = False) -> int: ...
-    def clear_buffer(self) -> None: ...
-    def home(self, axes: Sequence[int], offsets: Mapping[int, int] | None = None) -> None: ...
-    def homing_finish(self, state: str | int = "stopped") -> None: ...
-    def probe(self, targets: Mapping[int, int], speed: float = 0.5, probe_input: int = 1,
-              polarity: int = 1) -> None: ...
-    def probing_finish(self) -> tuple[tuple[int, ...], int]: ...
-    def request(self, command: int, p1: int = 0, p2: int = 0, p3: int = 0, p4: int = 0,
-                payload: bytes = b"") -> bytes | None: ...
-    def set_limits(self, axis: int, *, plus: float | None | str = "keep",
-                   minus: float | None | str = "keep") -> None: ...
-    def set_home(self, axis: int, low: float | None, high: float | None) -> None: ...
-    def set_input(self, number: int, level: object) -> None: ...
-    def press_estop(self, pressed: bool = True) -> None: ...
-    def is_idle(self) -> bool: ...
-    def reboot(self) -> None: ...
-
-
-class ConsoleError(ValueError):
-    """A line the console cannot read."""
 
 
 _EVENTS = {"limit": "a limit switch stopped the engine",
@@ -182,9 +138,9 @@ class PoKeysConsole:
             f"{x}{p}{m}" for x, p, m in marks)
         if len(full) <= width:
             return full.rstrip()
-        axes = " ".join(f"{x}{_short(p)}{m}" for x, p, m in marks)
+        axes = " ".join(f"{x}{short_position(p)}{m}" for x, p, m in marks)
         for head in (f"t={t:.3f}s {e.state.name} buf {fill}", f"t={t:.1f}s {e.state.name} {fill}",
-                     f"t={t:.0f}s {_STATE_SHORT.get(e.state.name, e.state.name)} {fill}"):
+                     f"t={t:.0f}s {STATE_SHORT.get(e.state.name, e.state.name)} {fill}"):
             line = f"{head} {axes}"
             if len(line) <= width:
                 return line
@@ -248,7 +204,7 @@ class PoKeysConsole:
             lines.append("no axes enabled (setup N)")
         for i in range(count):
             lines.append(f"{AXIS_LETTERS[i]} {s.positions[i]} {s.axis_state_name(i)}")
-        switches = [f"{name} {_letters(bits)}" for name, bits in (
+        switches = [f"{name} {letters_of(bits)}" for name, bits in (
             ("limit+", s.limit_plus), ("limit-", s.limit_minus), ("home", s.home),
             ("soft", s.soft_limit)) if bits]
         if switches:
@@ -300,8 +256,8 @@ class PoKeysConsole:
                 fields["invert"] = True
             elif w == "switches":
                 bits = 0
-                while i + 1 < len(rest) and rest[i + 1] in _SWITCH_WORDS:
-                    bits |= _SWITCH_WORDS[rest[i + 1]]
+                while i + 1 < len(rest) and rest[i + 1] in SWITCH_WORDS:
+                    bits |= SWITCH_WORDS[rest[i + 1]]
                     i += 1
                 fields["switches"] = bits
             else:
@@ -412,20 +368,20 @@ class PoKeysConsole:
         out = []
         for i, stage in enumerate(self.dev.world.axes[:self.dev.axes]):
             plus, minus, home = stage.plus_limit.low, stage.minus_limit.high, stage.home
-            out.append(f"{AXIS_LETTERS[i]} limits {_num(plus)} {_num(minus)} "
-                       f"home {_num(home.low)} {_num(home.high)}, "
+            out.append(f"{AXIS_LETTERS[i]} limits {show_number(plus)} {show_number(minus)} "
+                       f"home {show_number(home.low)} {show_number(home.high)}, "
                        f"stage at {self.dev.pulse_engine.axes[i].stage}")
         return out
 
     def _do_estop(self, args: list[str]) -> list[str]:
         (level,) = args
-        self.dev.press_estop(_on(level))
+        self.dev.press_estop(on_off(level))
         return []
 
     def _do_input(self, args: list[str]) -> list[str]:
         number = int(args[0])
         if len(args) == 2:
-            self.dev.set_input(number, _on(args[1]))
+            self.dev.set_input(number, on_off(args[1]))
             return []
         m = re.fullmatch(r"when\s+(\w)\s*(<=|>=)\s*(-?\d+)", " ".join(args[1:]), re.I)
         if m is None:
@@ -503,46 +459,6 @@ class PoKeysConsole:
             return [f"{AXIS_LETTERS[axis]} stands still"]
         plan = found.plan
         head = (f"{AXIS_LETTERS[axis]} from slot {found.start} at {found.origin}: "
-                f"ends {_num(plan.end_time)} s, {plan.final_offset:+d} pulses")
+                f"ends {show_number(plan.end_time)} s, {plan.final_offset:+d} pulses")
         return [head] + [f"  t0 {p.t0:.3f} s  {p.duration:.3f} s  dir {p.direction:+d}  "
                          f"{p.v1:g}..{p.v2:g} pulses/s" for p in plan.phases]
-
-
-_SWITCH_WORDS = {"lim-": int(SwitchBits.LIMIT_N), "lim+": int(SwitchBits.LIMIT_P),
-                 "home": int(SwitchBits.HOME), "none": 0}
-
-
-def _on(word: str) -> bool:
-    if word.lower() not in ("on", "off"):
-        raise ConsoleError(f"say on or off, not {word!r}")
-    return word.lower() == "on"
-
-
-def _letters(bits: int) -> str:
-    return "".join(AXIS_LETTERS[i] for i in range(8) if bits >> i & 1)
-
-
-def _num(value: float | None) -> str:
-    return "none" if value is None else f"{value:g}"
-
-
-_STATE_SHORT = {"STOPPED": "STOP", "RUNNING": "RUN", "JOGGING": "JOG", "STOPPING": "STPG",
-                "HOMING": "HMNG", "INTERNAL": "INT", "BUFFER": "BUF", "PROBE": "PRB",
-                "PROBE_COMPLETE": "PRBD", "PROBE_ERROR": "PRB!", "STOP_LIMIT": "LIM!",
-                "STOP_EMERGENCY": "EST!", "HYBRID_PROBE_STOPPING": "HPRB",
-                "HYBRID_PROBE_COMPLETE": "HPRD"}
-
-
-def _short(value: int) -> str:
-    """A position in at most four characters, for a glance: 1234, -999, 12k, -.1M, -2G."""
-    text = str(value)
-    if len(text) <= 4:
-        return text
-    for suffix, scale in (("k", 1e3), ("M", 1e6), ("G", 1e9)):
-        for decimals in (1, 0):
-            number = f"{value / scale:.{decimals}f}"
-            if number.startswith(("0.", "-0.")):
-                number = number.replace("0.", ".", 1)
-            if len(number) + 1 <= 4:
-                return number + suffix
-    return text

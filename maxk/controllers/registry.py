@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
+from maxk.controllers import pokeys
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
-from maxk.controllers.pokeys import build as _build_pokeys
-from maxk.personalities.pokeys import MODELS as POKEYS_MODELS
 from maxk.personalities.maxk.models import MODELS, model_by_name
 from maxk.personalities.maxk.parameters import default_archive_path
 
@@ -24,7 +23,7 @@ KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
                    default_archive_path),
-    ControllerKind("PoKeys", tuple(POKEYS_MODELS), _build_pokeys,
+    ControllerKind("PoKeys", tuple(pokeys.MODELS), pokeys.build,
                    "PoLabs PoKeys56E (pulse engine v1) and PoKeys57E/57CNC (v2), "
                    "64-byte requests over TCP and UDP"),
 )
