@@ -98,11 +98,19 @@ def test_v1_jogging_ignores_limits_internal_mode_does_not() -> None:
     assert e.positions()[0] == 200 and e.state == EngineState.JOGGING
     e.set_state(EngineState.STOPPED)
     e.clear_buffer()
+    # Loading the counter does not move the stage: the axis still stands on the limit,
+    # so the internal controller is stopped in its first slot.
     e.set_positions([0, 0, 0])
     e.set_state(EngineState.INTERNAL)
     e.move([1000, 0, 0])
     e.run_to(100)
-    # 20 pulses/slot: 60 at the end of slot 42, read at slot 43.
+    assert e.positions()[0] == 0 and e.state == EngineState.STOP_LIMIT
+    e = engine(world)
+    e.axes[0].settings.switches = S.LIMIT_P
+    e.set_state(EngineState.INTERNAL)
+    e.move([1000, 0, 0])
+    e.run_to(100)
+    # 20 pulses/slot: 60 at the end of slot 2, read at slot 3.
     assert e.positions()[0] == 60 and e.state == EngineState.STOP_LIMIT
     assert e.axis_states()[0] == AxisState.LIMIT
 

@@ -308,10 +308,14 @@ def test_mpg_jog_follows_the_encoder_times_the_multiplier() -> None:
 
 
 def test_next_event_reports_buffer_dry_move_end_and_switches() -> None:
-    e = engine(axes=2, world=BenchWorld(zones=[Zone(1, "home", 30, 40)]))
+    # A limit switch enabled (overridden, so it does not stop the axis) makes its edges
+    # events; a home switch outside homing changes nothing, so its edges are not.
+    e = engine(axes=2, world=BenchWorld(zones=[Zone(1, "limit_p", 30, 40),
+                                               Zone(0, "home", 10, 20)]))
+    e.axes[1].settings.switches = S.LIMIT_P
     assert e.next_event() is None
     stream(e, [[1, 0]] * 50)
-    e.set_state(EngineState.RUNNING, 0, 0)
+    e.set_state(EngineState.RUNNING, 0b10, 0)
     assert e.next_event() == 50
     e.run_to(50)
     e.axes[1].settings.config = INTERNAL_POS

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from maxk.controllers import pokeys
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
 from maxk.controllers.mm4005 import MODELS as MM4005_MODELS
@@ -50,6 +51,9 @@ KINDS: tuple[ControllerKind, ...] = (
     ControllerKind("MC405", ("MC405",), _build_mc405,
                    "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs",
                    _mc405_programs),
+    ControllerKind("PoKeys", tuple(pokeys.MODELS), pokeys.build,
+                   "PoLabs PoKeys56E (pulse engine v1) and PoKeys57E/57CNC (v2), "
+                   "64-byte requests over TCP and UDP"),
 )
 
 

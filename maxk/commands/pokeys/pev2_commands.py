@@ -58,7 +58,7 @@ def status2_get(device: PoKeysDevice, req: Request) -> Reply | None:
         return None
     r = Reply(req)
     for a in e.axes:
-        levels = e.world.switch_levels(a.index, a.position)
+        levels = e.world.switch_levels(a.index, a.stage)
         r.frame[8] |= levels.limit_n << a.index
         r.frame[9] |= levels.limit_p << a.index
         r.frame[10] |= levels.home << a.index

@@ -3,12 +3,24 @@
 from .constants import PEV1, PEV2, AxisConfigBits, AxisState, EngineState, SwitchBits
 from .device import MODELS, Identity, NetworkConfig, PoKeysDevice
 from .engine import PulseEngine, SlotRecord
+from .machine import AXIS_LETTERS, SlotEngine
 from .pev1 import PulseEngineV1
 from .pev2 import PulseEngineV2
-from .world import BenchWorld, PulseEngineWorld, SwitchLevels, Zone
+from .plans import AxisPlan, PulsePlan, SegmentPlan
+from .world import (
+    ESTOP_INPUT,
+    BenchWorld,
+    PulseEngineWorld,
+    SharedWorld,
+    SwitchLevels,
+    Zone,
+    pokeys_world,
+)
 
 __all__ = [
-    "MODELS", "PEV1", "PEV2", "AxisConfigBits", "AxisState", "BenchWorld", "EngineState",
-    "Identity", "NetworkConfig", "PoKeysDevice", "PulseEngine", "PulseEngineV1",
-    "PulseEngineV2", "PulseEngineWorld", "SlotRecord", "SwitchBits", "SwitchLevels", "Zone",
+    "AXIS_LETTERS", "ESTOP_INPUT", "MODELS", "PEV1", "PEV2", "AxisConfigBits", "AxisPlan",
+    "AxisState", "BenchWorld", "EngineState", "Identity", "NetworkConfig", "PoKeysDevice",
+    "PulseEngine", "PulseEngineV1", "PulseEngineV2", "PulseEngineWorld", "PulsePlan",
+    "SegmentPlan", "SharedWorld", "SlotEngine", "SlotRecord", "SwitchBits", "SwitchLevels",
+    "Zone", "pokeys_world",
 ]

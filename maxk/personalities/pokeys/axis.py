@@ -76,7 +76,8 @@ class AxisSettings:
 class Axis:
     index: int
     settings: AxisSettings = field(default_factory=AxisSettings)
-    position: int = 0
+    position: int = 0  # the position counter the host reads (pulses)
+    counter_offset: int = 0  # counter - physical: PositionSet and homing move the counter only
     motion: SlotMotion | None = None  # internal controller, homing or probing motion
     target: float | None = None  # last position or speed given to the internal controller
     held_state: AxisState | None = None  # homing/probing/limit/error; None = from the mode
@@ -85,3 +86,14 @@ class Axis:
     mpg_last: int | None = None
     mpg_pending: int = 0
     direction_out: bool = False  # the direction pin, held between pulses
+
+    @property
+    def stage(self) -> int:
+        """Physical position: the pulses emitted since power-up, where the switches are
+        (setting the counter does not move the stage)."""
+        return self.position - self.counter_offset
+
+    def set_counter(self, value: int) -> None:
+        """Load the position counter; the stage stays where it is."""
+        self.counter_offset += value - self.position
+        self.position = value

@@ -6,9 +6,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Final
 
+from .machine import SlotEngine
 from .pev1 import PulseEngineV1
 from .pev2 import PulseEngineV2
-from .world import PulseEngineWorld
+from .world import PulseEngineWorld, SharedWorld, pokeys_world
 
 
 @dataclass(frozen=True)
@@ -56,21 +57,40 @@ class PoKeysDevice:
     name: str = ""
     user_id: int = 0
     lock_status: int = 0
+    machine: SlotEngine = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.machine = SlotEngine(self.engine)
 
     @classmethod
     def create(cls, model: str = "PoKeys57CNC", world: PulseEngineWorld | None = None,
                serial: int | None = None) -> PoKeysDevice:
+        """A device at power-up; its switches, e-stop and probe come from the shared
+        world (`pokeys_world`) unless another `PulseEngineWorld` is given."""
         ident = MODELS[model]
         if serial is not None:
             ident = Identity(**{**ident.__dict__, "serial": serial})
-        engine: PulseEngineV1 | PulseEngineV2 = (
-            PulseEngineV1(world) if ident.engine_version == 1 else PulseEngineV2(world))
-        return cls(ident, engine, name=ident.model)
+        if world is None:
+            world = SharedWorld(pokeys_world(3 if ident.engine_version == 1 else 8))
+        return cls(ident, new_engine(ident, world), name=ident.model)
 
     @property
     def slot(self) -> int:
-        return self.engine.slot
+        return self.machine.tick
 
     def run_to(self, slot: int) -> None:
-        """Advance the device to `slot` (1 ms slots since power-up)."""
-        self.engine.run_to(slot)
+        """Advance the device to `slot` (1 ms slots since power-up), on the shared engine."""
+        self.machine.advance_to(slot)
+
+    def power_up(self) -> None:
+        """A reset: the pulse engine starts again (stopped, empty buffer, counters 0,
+        configuration lost); identity, name and network setup are kept (flash)."""
+        old = self.engine
+        self.engine = new_engine(self.identity, old.world)
+        for a, before in zip(self.engine.axes, old.axes, strict=True):
+            a.counter_offset = -before.stage  # the stage stays where it stood
+        self.machine.replace_pulse_engine(self.engine)
+
+
+def new_engine(ident: Identity, world: PulseEngineWorld) -> PulseEngineV1 | PulseEngineV2:
+    return PulseEngineV1(world) if ident.engine_version == 1 else PulseEngineV2(world)

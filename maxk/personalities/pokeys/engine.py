@@ -22,12 +22,14 @@ import numpy as np
 from .axis import Axis
 from .constants import GENERATING, AxisConfigBits, AxisState, EngineSpec, EngineState, SwitchBits
 from .motion import SlotMotion, constant_speed
+from .plans import AxisPlan, pulse_plan, segment_plan
 from .slot_buffer import SlotBuffer
 from .world import BenchWorld, PulseEngineWorld
 
 HORIZON = 1 << 40
 _LIMIT_N, _LIMIT_P = int(SwitchBits.LIMIT_N), int(SwitchBits.LIMIT_P)
 _HOME_N, _HOME_P = int(SwitchBits.HOME_ON_LIMIT_N), int(SwitchBits.HOME_ON_LIMIT_P)
+_LIMITS = _LIMIT_N | _LIMIT_P
 _INVERTED, _INVERTED_HOME = int(AxisConfigBits.INVERTED), int(AxisConfigBits.INVERTED_HOME)
 
 
@@ -104,9 +106,29 @@ class PulseEngine:
         n = self._quiet_span(HORIZON)
         return None if n >= HORIZON else self.slot + n
 
+    def on_event(self, now: int) -> None:
+        """As the shared engine's event source: run the slots up to `now`."""
+        self.run_to(now)
+
+    def motion_plan(self, index: int) -> AxisPlan | None:
+        """The axis's motion from now as a `MotionPlan` (None: it stands still): the
+        buffered slots as a step function, or its internal controller's profiles."""
+        a = self.axes[index]
+        if self.state not in GENERATING or not self.active(a):
+            return None
+        if self.consumes_buffer() and self.buffered(a):
+            rows = self.buffer.peek(self.buffer.count)
+            return pulse_plan(self.slot, a.position, rows[:, index])
+        return None if a.motion is None else segment_plan(a.motion)
+
     def notify(self, event: str, axis: int = -1, slot: int | None = None) -> None:
         for listener in self.listeners:
             listener(self.slot if slot is None else slot, event, axis)
+
+    def idle(self) -> bool:
+        """Nothing will move until told: no buffer being consumed, no motion, homing or
+        probing."""
+        return self._idle()
 
     def _idle(self) -> bool:
         if self.state not in GENERATING:
@@ -122,7 +144,7 @@ class PulseEngine:
         """(limit+, limit-, home) activated bits at the present positions."""
         lim_p = lim_n = home = 0
         for a in self.axes:
-            n, p, h = a.settings.tripped(self.world.switch_levels(a.index, a.position))
+            n, p, h = a.settings.tripped(self.world.switch_levels(a.index, a.stage))
             lim_n |= n << a.index
             lim_p |= p << a.index
             home |= h << a.index
@@ -195,7 +217,7 @@ class PulseEngine:
                 a.motion = constant_speed(a.position, self.slot, -toward * back)
             elif held == AxisState.HOMING_BACK and not tripped:
                 a.motion = None
-                a.position = a.home_offset
+                a.set_counter(a.home_offset)
                 held = AxisState.HOME
                 self.notify("home", a.index)
             a.held_state = held
@@ -208,7 +230,7 @@ class PulseEngine:
         probing = [a for a in self.axes if a.held_state in (AxisState.PROBE_START,
                                                             AxisState.PROBE_SEARCH)]
         positions = [a.position for a in self.axes]
-        level = self.world.probe_level(self.probe_input, self.slot, positions)
+        level = self.world.probe_level(self.probe_input, self.slot, self.stages())
         if level == bool(self.probe_polarity):
             self.probe_positions = positions
             self.probe_status = 1
@@ -307,9 +329,16 @@ class PulseEngine:
                 n = min(n, int(np.argmax(out)))  # the clipped slot runs alone
         return n
 
+    def _switches_act(self, a: Axis) -> bool:
+        """Can a switch edge change anything for this axis? Only an enabled limit, or the
+        home input while homing (the status reads levels when asked, needing no event)."""
+        return self.state == EngineState.HOMING or bool(a.settings.switches & _LIMITS)
+
     def _edges(self, a: Axis) -> tuple[int | None, int | None]:
-        return (self.world.next_switch_edge(a.index, a.position, 1),
-                self.world.next_switch_edge(a.index, a.position, -1))
+        if not self._switches_act(a):
+            return None, None
+        return (self.world.next_switch_edge(a.index, a.stage, 1),
+                self.world.next_switch_edge(a.index, a.stage, -1))
 
     def _motion_span(self, a: Axis, motion: SlotMotion, n: int) -> int:
         s, p0 = self.slot, a.position
@@ -319,7 +348,8 @@ class PulseEngine:
         if not dirs:
             return n
         d = dirs.pop()
-        edge = self.world.next_switch_edge(a.index, p0, d)
+        edge = self.world.next_switch_edge(a.index, a.stage, d) if self._switches_act(a) \
+            else None
         if edge is not None:
             k = _first_slot(lambda k: (motion.position_at(k) - p0) * d >= edge, s + 1, s + n)
             if k is not None:
@@ -417,6 +447,10 @@ class PulseEngine:
 
     def positions(self) -> list[int]:
         return [a.position for a in self.axes]
+
+    def stages(self) -> list[int]:
+        """Physical positions (where the switches see the axes)."""
+        return [a.stage for a in self.axes]
 
 
 def _first_slot(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:

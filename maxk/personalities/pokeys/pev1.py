@@ -141,7 +141,7 @@ class PulseEngineV1(PulseEngine):
 
     def set_positions(self, values: Sequence[int]) -> None:
         for a in self.axes:
-            a.position = values[a.index]
+            a.set_counter(values[a.index])
             a.motion, a.target = None, None
 
     def homing_start(self, flags: Sequence[int]) -> None:

@@ -93,7 +93,7 @@ class PulseEngineV2(PulseEngine):
         for a in self.axes:
             if mask >> a.index & 1:
                 delta = values[a.index] - a.position
-                a.position = values[a.index]
+                a.set_counter(values[a.index])
                 if a.motion is not None:
                     for i, seg in enumerate(a.motion.segments):
                         a.motion.segments[i] = type(seg)(seg.start, seg.origin + delta, seg.motion)
@@ -149,7 +149,7 @@ class PulseEngineV2(PulseEngine):
         self._enter(EngineState.STOPPED)
         self.buffer.clear()
         for a in self.axes:
-            a.position = 0
+            a.set_counter(0)
 
     def homing_start(self, mask: int, offsets: Sequence[int]) -> None:
         homing = [a for a in self.axes if mask >> a.index & 1 and self.active(a)]

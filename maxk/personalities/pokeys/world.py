@@ -9,9 +9,11 @@ two ``next_*`` questions let the engine jump over stretches where nothing change
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol
+
+from ...firmware_model.world import AxisWorld, Switch, World
 
 
 class SwitchLevels(NamedTuple):
@@ -117,3 +119,86 @@ class BenchWorld:
         times += [at for schedule in self.mpg.values() for at, _ in schedule]
         later = [t for t in times if t > slot]
         return min(later) if later else None
+
+
+ESTOP_INPUT = 0
+"""World digital input 0 is the dedicated e-stop input (D: the 57CNC has one; an e-stop
+pin set by 0x85/0x06 takes its place). Probe input n is world digital input n."""
+
+POKEYS_HOME = (-1333, -1234)
+"""A PoKeys stage's home switch: the MAXk default window mirrored, since PoKeys homing
+searches toward negative unless the axis's homing direction is inverted (D)."""
+
+MpgSource = Callable[[Any], int]
+
+
+def pokeys_world(axes: int) -> World:
+    """The shared world as a PoKeys machine sees it at power-up: limit switches far out,
+    a home switch a little below the power-up position, every input low."""
+    world = World([AxisWorld() for _ in range(axes)])
+    for stage in world.axes:
+        stage.set_home(*POKEYS_HOME)
+    return world
+
+
+def _edge_distance(switch: Switch, position: int, direction: int) -> int | None:
+    best: int | None = None
+    for p, _active in switch.transitions():
+        # A transition at p: the switch differs at p and p - 1.
+        d = p - position if direction > 0 else position - p + 1
+        if d >= 1 and (best is None or d < best):
+            best = d
+    return best
+
+
+@dataclass
+class SharedWorld:
+    """The shared machine's `World` behind ``PulseEngineWorld``: each axis's stage gives
+    its limit and home switches (active = pressed = the NC contact open = pin high), the
+    digital inputs give the e-stop and the probe, MPG encoders count what `mpg` says.
+
+    ``board`` is what an input source is called with: the PoKeys engine (its ``time``)."""
+
+    world: World
+    board: Any = None
+    estop_input: int = ESTOP_INPUT
+    mpg: dict[int, int | MpgSource] = field(default_factory=dict)
+
+    def _stage(self, axis: int) -> AxisWorld | None:
+        axes = self.world.axes
+        return axes[axis] if axis < len(axes) else None
+
+    def switch_levels(self, axis: int, position: int) -> SwitchLevels:
+        stage = self._stage(axis)
+        if stage is None:
+            return CLOSED
+        return SwitchLevels(stage.minus_limit.active(position),
+                            stage.plus_limit.active(position), stage.home.active(position))
+
+    def next_switch_edge(self, axis: int, position: int, direction: int) -> int | None:
+        stage = self._stage(axis)
+        if stage is None:
+            return None
+        found = [d for sw in (stage.minus_limit, stage.plus_limit, stage.home)
+                 if (d := _edge_distance(sw, position, direction)) is not None]
+        return min(found) if found else None
+
+    def _digital(self, bit: int) -> bool:
+        return self.world.digital_level(bit, self.board)
+
+    def estop_level(self, slot: int) -> bool:
+        return self._digital(self.estop_input)
+
+    def probe_level(self, probe_input: int, slot: int, positions: Sequence[int]) -> bool:
+        return self._digital(probe_input)
+
+    def mpg_count(self, encoder: int, slot: int) -> int:
+        source = self.mpg.get(encoder, 0)
+        return int(source(self.board) if callable(source) else source)
+
+    def next_input_change(self, slot: int) -> int | None:
+        """A constant input never changes by itself; a function of time may change at
+        any slot, so the engine then goes slot by slot."""
+        timed = callable(self.world.digital.get(self.estop_input)) or any(
+            callable(s) for s in self.mpg.values())
+        return slot + 1 if timed else None
