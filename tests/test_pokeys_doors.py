@@ -403,3 +403,16 @@ def test_decode_status_agrees_with_the_api(hosted: HostedBoards) -> None:
         assert mine["state"] == theirs.state and mine["enabled"] == theirs.enabled_axes
     finally:
         session.close()
+
+
+def test_a_stray_udp_datagram_of_another_size_is_ignored_whole(hosted: HostedBoards) -> None:
+    """A datagram that is not a whole request (10 bytes, 100 bytes) gets silence and
+    leaves nothing behind: the next request is read from its own first byte."""
+    session = UdpSession(hosted.udp_ports[0])
+    host = host_on(hosted, session)
+    try:
+        expect_silence(host, bytes([0xBB]) + bytes(9))
+        expect_silence(host, bytes([0xBB]) + bytes(99))
+        assert status(host)["state"] == 0
+    finally:
+        session.close()

@@ -225,7 +225,11 @@ class UdpDoor(asyncio.DatagramProtocol):
     def datagram_received(self, data: bytes, addr: tuple[str, int]) -> None:
         session = self.sessions.pop(addr, None)
         if session is None:
-            session = self.service.controller.open_session()
+            controller = self.service.controller
+            # a packet controller may frame datagrams itself (each feed one datagram:
+            # a stray size is ignored whole instead of misaligning the next request)
+            opener = getattr(controller, "open_datagram_session", controller.open_session)
+            session = opener()
             if len(self.sessions) >= UDP_PEERS:
                 oldest = next(iter(self.sessions))
                 self.sessions.pop(oldest).close()
