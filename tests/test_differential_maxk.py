@@ -1,6 +1,6 @@
 """The MAXk before and after the engine refactor, side by side (skipped without the old
 tree at /tmp/before, or $MAXK_BEFORE). The refactor's rule: nothing changes for a MAXk
-user. What this found is documented here: a regression as a strict xfail, an intended
+user. What this found is documented here: a regression (fixed) as a test, an intended
 door change as a test of what changed and what did not.
 
 The long runs are the standalone runners (tests/differential_maxk.py,
@@ -66,6 +66,9 @@ def test_scripts_are_identical(pair):
     for name, text in scripts:
         if "MAXk-9999" in text:
             continue
+        boards = [line.split()[1:] for line in text.splitlines() if line.startswith("@board")]
+        if any(not m.lower().startswith("maxk") for b in boards for m in b):
+            continue  # another controller's script: the old tree had only the MAXk
         old, new = pair.run({"kind": "script", "text": text, "path": name})
         assert old == new, name
 
@@ -130,30 +133,7 @@ def test_a_burst_above_2k_hears_its_notification_in_slice_order():
     assert "%000 01000000" not in new.split("]")[0]
 
 
-CLOSE = """
-import socket, time
-from tests.hosting import HostedBoards, Client
-hosted = HostedBoards(models=("MAXk-4000",))
-s = socket.create_connection(("127.0.0.1", hosted.ports[0]))
-s.sendall("".join(f"AX LP{n};" for n in range(1, 1001)).encode())  # 8.9 KB
-s.close()  # the host writes its commands and hangs up at once
-time.sleep(0.5)
-print(Client(hosted.ports[0]).query("AX RP"))
-hosted.close()
-"""
-
-
-@pytest.mark.xfail(strict=True, reason=(
-    "regression: TcpClient.connection_lost drops the input not yet run (_drop_session "
-    "clears the inbox), so what a host sends right before it closes is lost beyond the "
-    "first ~2 slices (old door: every received byte was run in data_received)"))
-def test_bytes_sent_just_before_a_close_are_all_run():
-    old = run_in(diff.OLD_TREE, CLOSE)
-    new = run_in(diff.NEW_TREE, CLOSE)
-    assert old.strip() == "1000"
-    assert new.strip() == old.strip()
-
-
-def test_real_servers_give_the_same_bytes():
-    """`python -m maxk serve --speed 1000 --no-archive` of both trees, TCP."""
-    assert doors.serve_compare(4, seed=7) == []
+# What a host sends just before it hangs up still runs: found here as a regression of
+# the sliced door, fixed, and held by tests/test_door_robustness.py (deterministic). The
+# real servers' comparison depends on wall-clock time, so it is the standalone runner's
+# (`python3 tests/differential_doors.py --serve N`), not a test.

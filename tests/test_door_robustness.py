@@ -335,3 +335,20 @@ def test_a_freshly_opened_pty_starts_clean():
         os.close(fd)
     finally:
         hosted.close()
+
+
+def test_commands_sent_just_before_a_hang_up_all_run():
+    """A host writes 1,000 commands (8.9 KB, more than a turn) and closes at once: every
+    one of them runs, as on the board (the sliced door once dropped what was left)."""
+    m = MAXk("MAXk-4000")
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
+    client = TcpClient(service)
+    log = []
+
+    async def scenario():
+        client.connection_made(_RecordingTransport(log, "host"))
+        client.data_received(b"".join(f"AX LP{i};".encode() for i in range(1, 1001)))
+        client.connection_lost(None)
+
+    asyncio.run(scenario())
+    assert m.query("AX RP") == "1000"

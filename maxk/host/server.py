@@ -156,6 +156,15 @@ class Client:
             self._input_held = hold
             self._hold_input(hold)
 
+    def _run_what_was_sent(self) -> None:
+        """A host that sent commands and hung up: what it sent still runs (as the board
+        would run what reached it), with nobody left to read the replies."""
+        if self.session is not None and self._inbox:
+            self.service.pacer.sync()
+            self.session.feed(bytes(self._inbox))
+            self._inbox.clear()
+            self.session.read()
+
     def _drop_session(self) -> None:
         self.service.clients.discard(self)
         if self.session is not None:
@@ -178,8 +187,9 @@ class TcpClient(asyncio.Protocol, Client):
         self.service.clients.add(self)
 
     def connection_lost(self, exc: Exception | None) -> None:
-        self._drop_session()
         self.transport = None
+        self._run_what_was_sent()
+        self._drop_session()
 
     def data_received(self, data: bytes) -> None:
         self.receive(data)
@@ -351,11 +361,10 @@ class PtyClient(Client):
     def flush_session(self) -> None:
         """Notifications reach a host that has the port open; with nobody listening
         they are lost, as bytes on an unplugged line are."""
+        self._opens_changed()  # open/close events the loop has not handled yet
         if self._watch is not None and self._hosts == 0 and self.session is not None:
-            self._opens_changed()  # an open event not yet seen by the loop
-            if self._hosts == 0:
-                self.session.read()
-                return
+            self.session.read()
+            return
         super().flush_session()
 
     def _readable(self) -> None:
