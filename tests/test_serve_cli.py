@@ -199,3 +199,21 @@ def test_serve_takes_one_controller_per_model_listed():
         proc.send_signal(signal.SIGTERM)
         out, err = proc.communicate(timeout=20)
     assert proc.returncode == 0, err
+
+
+def test_a_pokeys_listens_on_its_library_port_by_default():
+    """PoKeysLib has 20055 built in: without --port a PoKeys is served there (or, when
+    20055 cannot be had, on a free port with a note saying so)."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "maxk", "serve", "--model", "PoKeys57CNC", "--no-archive",
+         "--seconds", "5"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        cwd=ROOT)
+    try:
+        line = proc.stdout.readline()
+        m = re.match(r"board 1: PoKeys57CNC tcp 127\.0\.0\.1:(\d+), udp 127\.0\.0\.1:(\d+)",
+                     line)
+        assert m, line
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=20)
+    assert (m[1], m[2]) == ("20055", "20055") or "port 20055" in err, (line, err)

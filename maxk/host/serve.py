@@ -10,6 +10,7 @@ import math
 import signal
 import sys
 from pathlib import Path
+from typing import Any
 
 from maxk.commands.max.session import EOLS
 from maxk.controllers.contract import BuildOptions
@@ -33,8 +34,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="keep saved parameters in memory only")
     parser.add_argument("--host", default="127.0.0.1",
                         help="address to listen on (default 127.0.0.1; 0.0.0.0 for all)")
-    parser.add_argument("--port", type=int, default=0, help="TCP port of board 1 (the next "
-                        "boards take the following ports); 0 picks free ports")
+    parser.add_argument("--port", type=int, default=None, help="port of board 1 (board N "
+                        "takes port + N - 1); 0 picks free ports; default: free ports, but "
+                        "a controller whose host software has its port built in is tried "
+                        "on it first (PoKeys 20055, MC405 23)")
     parser.add_argument("--no-tcp", action="store_true", help="no TCP ports")
     parser.add_argument("--pty", action="store_true", help="a serial pseudo-terminal per "
                         "board")
@@ -60,6 +63,27 @@ def _speed(text: str) -> float:
     if not math.isfinite(value) or value <= 0:
         raise argparse.ArgumentTypeError("--speed must be a positive number")
     return value
+
+
+DEFAULT_PORTS = {"PoKeys": 20055, "MC405": 23}
+"""Ports the hosts' software has built in: PoKeysLib's 20055, atrio's telnet 23."""
+
+
+async def _open(opener: Any, service: Service, args: argparse.Namespace,
+                number: int) -> tuple[str, int]:
+    """A door on `--port` + N - 1; without --port, a free port, or first the one the
+    controller's host software has built in (free ports if that one cannot be had: in
+    use, or 23 without the right to bind it)."""
+    if args.port is not None:
+        return await opener(service, args.host, 0 if args.port == 0 else args.port + number - 1)
+    built_in = DEFAULT_PORTS.get(service.controller.kind)
+    if built_in is not None:
+        try:
+            return await opener(service, args.host, built_in)
+        except OSError as error:
+            print(f"maxk serve: board {number}: port {built_in} ({error.strerror}); a free "
+                  "port instead", file=sys.stderr, flush=True)
+    return await opener(service, args.host, 0)
 
 
 def _numbered(path: str, number: int, count: int) -> str:
@@ -101,12 +125,10 @@ async def serve(args: argparse.Namespace) -> int:
             transports = controller.transports
             where = []
             if not args.no_tcp and "tcp" in transports:
-                port = 0 if args.port == 0 else args.port + n - 1
-                host, bound = await server.open_tcp(service, args.host, port)
+                host, bound = await _open(server.open_tcp, service, args, n)
                 where.append(f"tcp {host}:{bound}")
             if not args.no_tcp and "udp" in transports:
-                port = 0 if args.port == 0 else args.port + n - 1
-                host, bound = await server.open_udp(service, args.host, port)
+                host, bound = await _open(server.open_udp, service, args, n)
                 where.append(f"udp {host}:{bound}")
             if (args.pty or args.pty_link) and "pty" in transports:
                 link = _numbered(args.pty_link, n, boards) if args.pty_link else None
