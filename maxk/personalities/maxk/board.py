@@ -662,27 +662,34 @@ class _AxesSource:
 class _TasksSource:
     """The vector tasks: segment starts (VIO), contour ends, holds."""
 
-    __slots__ = ("board",)
+    __slots__ = ("board", "_asked")
 
     def __init__(self, board: Board) -> None:
         self.board = board
+        self._asked: list[tuple[ContourTask, int | None]] = []
 
     def next_event(self) -> int | None:
         board = self.board
         best: int | None = None
+        asked = self._asked = []
         for task in board.tasks.values():
             t = task.next_event(board)
+            asked.append((task, t))
             if t is not None and (best is None or t < best):
                 best = t
         return best
 
     def on_event(self, now: int) -> None:
+        # the engine asked next_event() just before this call: the tasks' answers hold
+        # (asked again for the tasks after one that acted, as it may have changed them)
         board = self.board
         due = board._due
-        for task in list(board.tasks.values()):
-            t = task.next_event(board)
+        acted = False
+        for task, asked in self._asked:
+            t = task.next_event(board) if acted else asked
             if t is not None and t <= now:
                 due.extend(a for a in task.on_event(board) if a not in due)
+                acted = True
 
 
 class _InputPoll:
