@@ -53,6 +53,7 @@ class Engine:
         self._tick_origin = 0
         self._sources: list[EventSource] = []
         self._watchers: list[bool] = []  # per source: acts at every event tick
+        self._acting: list[tuple[EventSource, bool]] = []  # the two, zipped once
         self._observers: list[_Observer] = []
 
     # ---- time ------------------------------------------------------------------------
@@ -78,12 +79,14 @@ class Engine:
         """Sources act in the order they were added when they fall on one tick."""
         self._sources.append(source)
         self._watchers.append(bool(getattr(source, "every_event", False)))
+        self._acting = list(zip(self._sources, self._watchers, strict=True))
 
     def remove_source(self, source: EventSource) -> None:
         kept = [(s, w) for s, w in zip(self._sources, self._watchers, strict=True)
                 if s is not source]
         self._sources = [s for s, _w in kept]
         self._watchers = [w for _s, w in kept]
+        self._acting = kept
 
     def add_observer(self, callback: Callable[[Self], None],
                      every_ticks: int | None = None) -> None:
@@ -144,7 +147,7 @@ class Engine:
             if event is None or event > tick:
                 break
             now = self.tick = max(event, self.tick)
-            for source, watcher in zip(self._sources, self._watchers, strict=True):
+            for source, watcher in self._acting:
                 if watcher:
                     source.on_event(now)
                     continue

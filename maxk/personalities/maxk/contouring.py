@@ -76,6 +76,12 @@ OVERRIDE_MAX = 200.0
 DEFAULT_VOA_SPAN = 5.0  # volts from 0 V to 0% or 200% (VOA channel[,span])
 PULSE_TICKS = 1  # a VIO pulse (off-mask given) lasts one update cycle
 
+# Module constants: the states are compared on every event, and a module global is read
+# several times faster than an enum member through its class.
+WAITING, RUNNING, STARVED, HELD, FINISHED = (
+    ContourState.WAITING, ContourState.RUNNING, ContourState.STARVED, ContourState.HELD,
+    ContourState.FINISHED)
+
 
 # ---- tasks and contours ---------------------------------------------------------------
 @dataclass
@@ -104,7 +110,7 @@ class ContourTask:
     @property
     def running(self) -> Contour | None:
         head = self.contours[0] if self.contours else None
-        return head if head is not None and head.state != ContourState.WAITING else None
+        return head if head is not None and head.state is not WAITING else None
 
     def scale(self, board: Board) -> float:
         """The override as a factor: VO, or VOA's input with 0 V at 100% and the span
@@ -133,7 +139,7 @@ class ContourTask:
 
     def override_changed(self, board: Board) -> None:
         head = self.running
-        if head is not None and head.state == ContourState.RUNNING and not head.stopping:
+        if head is not None and head.state is RUNNING and not head.stopping:
             head.replan(board)
 
     def go(self, board: Board) -> None:
@@ -142,7 +148,7 @@ class ContourTask:
         if not self.contours:
             return
         head = self.contours[0]
-        if head.state == ContourState.HELD or (head.state == ContourState.RUNNING and head.stopping
+        if head.state is HELD or (head.state is RUNNING and head.stopping
                                     and not head.aborted):
             head.resume(board)  # (also during the VH1 ramp-down: it goes on from there)
         else:
@@ -152,9 +158,9 @@ class ContourTask:
         """VH1: a running contour ramps down on its path and waits for VG."""
         self.hold = True
         head = self.running
-        if head is not None and head.state == ContourState.STARVED:
-            head.state = ContourState.HELD  # at rest already: it waits for VG, segments or not
-        elif head is not None and head.state == ContourState.RUNNING and not head.stopping:
+        if head is not None and head.state is STARVED:
+            head.state = HELD  # at rest already: it waits for VG, segments or not
+        elif head is not None and head.state is RUNNING and not head.stopping:
             head.hold(board)
 
 
@@ -167,7 +173,7 @@ class ContourWait:
         self.contour = contour
 
     def ready(self, board: Board) -> bool:
-        return self.contour.state == ContourState.FINISHED
+        return self.contour.state is FINISHED
 
 
 class Contour:
@@ -179,7 +185,7 @@ class Contour:
         self.defs: list[SegmentDef] = []
         self.closed = False
         # waiting (for its axes or VG) -> running / starved / held -> finished
-        self.state = ContourState.WAITING
+        self.state = WAITING
         self.arrived: set[int] = set()
         self.segments: list[Segment] = []
         self.current = 0  # the segment the path is in
@@ -204,13 +210,13 @@ class Contour:
                 board.axes[i].queue.used_units += 1
                 self.reserved[i] = self.reserved.get(i, 0) + 1
         self.defs.append(defn)
-        if self.state == ContourState.WAITING:
+        if self.state is WAITING:
             return
         self._resolve_more()  # held or ramping down too: resume will plan with them
-        if self.state == ContourState.STARVED:
-            self.state = ContourState.RUNNING
+        if self.state is STARVED:
+            self.state = RUNNING
             self.replan(board, from_rest=True)
-        elif self.state == ContourState.RUNNING and not self.stopping:
+        elif self.state is RUNNING and not self.stopping:
             self.replan(board)
         else:
             return
@@ -219,7 +225,7 @@ class Contour:
     def close(self, board: Board) -> None:
         """VE: no more segments. A contour starved at the end of its path is done."""
         self.closed = True
-        if self.state == ContourState.STARVED:
+        if self.state is STARVED:
             self.finish(board)
 
     def _resolve_more(self) -> None:
@@ -237,7 +243,7 @@ class Contour:
         """The anchor's queue action: wait for rest, then for the other axes."""
         if axis.motion is not None:
             return WAIT_REST_RETRY
-        if self.state == ContourState.FINISHED:
+        if self.state is FINISHED:
             return None
         self.arrived.add(axis.index)
         self.maybe_start(board)
@@ -245,7 +251,7 @@ class Contour:
 
     def maybe_start(self, board: Board) -> None:
         task = self.task
-        if (self.state != ContourState.WAITING or task.hold or not self.defs
+        if (self.state is not WAITING or task.hold or not self.defs
                 or task.contours[0] is not self or len(self.arrived) < len(self.axes)):
             return
         axes = [board.axes[i] for i in self.axes]
@@ -255,7 +261,7 @@ class Contour:
         if self.done_flag:
             for axis in axes:
                 board.clear_axis_flags(axis, F.AXIS_DONE)
-        self.state = ContourState.RUNNING
+        self.state = RUNNING
         self.replan(board, from_rest=True)
         if self._refuse_if_blocked(board):
             return
@@ -335,9 +341,9 @@ class Contour:
         self.replan(board, stop=True)
 
     def resume(self, board: Board) -> None:
-        moving = self.state == ContourState.RUNNING and self.where(board)[1] > 0
+        moving = self.state is RUNNING and self.where(board)[1] > 0
         self.stopping = False
-        self.state = ContourState.RUNNING
+        self.state = RUNNING
         self.replan(board, from_rest=not moving)
         if self._refuse_if_blocked(board):
             return
@@ -345,12 +351,12 @@ class Contour:
 
     # ---- events ----------------------------------------------------------------------
     def next_event(self, board: Board) -> int | None:
-        if self.aborted and self.state == ContourState.RUNNING and not self.followed(board):
+        if self.aborted and self.state is RUNNING and not self.followed(board):
             return board.tick  # killed: finish now
-        best = self.plan_end_tick if self.state == ContourState.RUNNING else None
+        best = self.plan_end_tick if self.state is RUNNING else None
         if self.boundaries and (best is None or self.boundaries[0][0] < best):
             best = self.boundaries[0][0]
-        if self.state == ContourState.RUNNING and self.task.override_input is not None \
+        if self.state is RUNNING and self.task.override_input is not None \
                 and callable(board.world.analog.get(self.task.override_input[0])):
             if self.next_poll is None or self.next_poll < board.tick:
                 self.next_poll = board.tick + 1  # the analog override, every update cycle
@@ -360,11 +366,11 @@ class Contour:
 
     def on_event(self, board: Board) -> list[Axis]:
         now = board.tick
-        if self.aborted and self.state == ContourState.RUNNING and not self.followed(board):
+        if self.aborted and self.state is RUNNING and not self.followed(board):
             self.finish(board)
             return [board.axes[i] for i in self.axes]
         self._enter_segments(board, now)
-        if self.state == ContourState.RUNNING and self.plan_end_tick is not None \
+        if self.state is RUNNING and self.plan_end_tick is not None \
                 and now >= self.plan_end_tick:
             self.plan_end_tick = None
             s, _v = self.where(board)
@@ -372,13 +378,13 @@ class Contour:
             if self.aborted or (at_end and self.closed):
                 self.finish(board)
             elif self.stopping:
-                self.state = ContourState.HELD
+                self.state = HELD
             else:
-                self.state = ContourState.STARVED  # waiting for more segments (or VE)
+                self.state = STARVED  # waiting for more segments (or VE)
             return [board.axes[i] for i in self.axes]
         if self.next_poll is not None and self.next_poll <= now:
             self.next_poll = None
-            if self.state == ContourState.RUNNING and not self.stopping \
+            if self.state is RUNNING and not self.stopping \
                     and abs(self.task.scale(board) - self.scale_used) > 1e-12:
                 self.replan(board)
         return []
@@ -421,11 +427,11 @@ class Contour:
         contour is abandoned. Running, it ramps down on its path at VA (a kill after
         this stops the axes at once); not yet started, it is dropped."""
         self.reserved.pop(axis.index, None)  # the flush empties that queue's units
-        if self.state == ContourState.FINISHED or self.aborted:
+        if self.state is FINISHED or self.aborted:
             return
         self.aborted = True
         self.closed = True  # later VPs open a new contour
-        if self.state == ContourState.RUNNING:
+        if self.state is RUNNING:
             if not self.stopping:
                 self.stopping = True
                 self.replan(board, stop=True)
@@ -434,7 +440,7 @@ class Contour:
         self.finish(board)
 
     def finish(self, board: Board) -> None:
-        self.state = ContourState.FINISHED
+        self.state = FINISHED
         self.plan_end_tick = None
         self.boundaries = []
         for i, n in self.reserved.items():
