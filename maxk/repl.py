@@ -88,10 +88,14 @@ class ReplSession:
         if word in ("quit", "exit", ":quit", ":exit", ":q"):
             self.finished = True
             return []
-        if word == "help" or word.startswith("help ") or text.startswith(":"):
-            out = self._meta(text)
-        else:
-            out = self.console.execute(line)
+        try:
+            if word == "help" or word.startswith("help ") or text.startswith(":"):
+                out = self._meta(text)
+            else:
+                out = self.console.execute(line)
+        except Exception as error:  # a fault in the emulator must not end the session
+            out = [f"! internal error: {type(error).__name__}: {error} (the line was lost; "
+                   "please report it)"]
         return out + self.console.new_errors()
 
     def _meta(self, text: str) -> list[str]:

@@ -289,7 +289,12 @@ def run_script(script: Script, *, model: str | None = None,
                  f"not a directive for the {controller.kind}")
             continue
         if step.kind == "send":
-            replies = console.execute(step.text)
+            try:
+                replies = console.execute(step.text)
+            except Exception as error:  # a fault in the emulator: a failure, not a crash
+                replies = []
+                fail(step.line, step.text, "(the line run)",
+                     f"internal error: {type(error).__name__}: {error}")
             transcript.entries.append((step.line, engine.tick, step.text, replies))
             pending = list(replies)
             last_command, last_line = step.text, step.line
@@ -300,7 +305,11 @@ def run_script(script: Script, *, model: str | None = None,
             if actual != step.text:
                 fail(step.line, last_command, step.text, actual)
         elif step.kind == "wait":
-            engine.advance(parse_duration(step.text, int(engine.update_rate_hz)))
+            try:
+                engine.advance(parse_duration(step.text, int(engine.update_rate_hz)))
+            except Exception as error:  # a fault in the emulator: a failure, not a crash
+                fail(step.line, f"@wait {step.text}", step.text,
+                     f"internal error: {type(error).__name__}: {error}")
         elif step.kind == "wait-until":
             (what, axes), timeout_text = step.args
             timeout = parse_duration(timeout_text, int(engine.update_rate_hz))
@@ -312,6 +321,10 @@ def run_script(script: Script, *, model: str | None = None,
                     ok = maxk.run_until_done(*axes, timeout=timeout * engine.period)
             except KeyError as error:  # an axis this model does not have
                 fail(step.line, f"@wait {step.text}", step.text, str(error.args[0]))
+                continue
+            except Exception as error:  # a fault in the emulator: a failure, not a crash
+                fail(step.line, f"@wait {step.text}", step.text,
+                     f"internal error: {type(error).__name__}: {error}")
                 continue
             if not ok and check:
                 fail(step.line, f"@wait {step.text}", f"{what} {axes}".strip(),

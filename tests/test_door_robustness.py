@@ -352,3 +352,35 @@ def test_commands_sent_just_before_a_hang_up_all_run():
 
     asyncio.run(scenario())
     assert m.query("AX RP") == "1000"
+
+
+def test_a_fault_inside_a_controller_does_not_stop_the_door(capsys):
+    """A session that raises on some bytes: reported on stderr, that input lost, and the
+    same host's next bytes and every other host are still served."""
+    m = MAXk()
+    service = Service(1, m, Pacer(m, 1.0, ManualClock()))
+    victim, other = TcpClient(service), TcpClient(service)
+    log = []
+
+    async def scenario():
+        victim.connection_made(_RecordingTransport(log, "victim"))
+        other.connection_made(_RecordingTransport(log, "other"))
+        real_feed = victim.session.feed
+
+        def feed(data):
+            if b"BOOM" in data:
+                raise RuntimeError("a fault inside the controller")
+            real_feed(data)
+
+        victim.session.feed = feed
+        victim.data_received(b"BOOM\r")
+        victim.data_received(b"WY\r")
+        other.data_received(b"AX RP\r")
+        for _ in range(10):
+            await asyncio.sleep(0)
+
+    asyncio.run(scenario())
+    said = {name: b"".join(d for n, d in log if n == name) for name in ("victim", "other")}
+    assert said["victim"] == b"MAXk-8000, ver:1.33, S/N: 000001, FPGA:20\n\r"
+    assert said["other"] == b"0\n\r"
+    assert "RuntimeError: a fault inside the controller" in capsys.readouterr().err

@@ -238,3 +238,17 @@ def test_the_terminal_repl_runs_without_a_home_directory(tmp_path):
     text = out.decode(errors="replace")
     assert "MAXk-8000, ver:1.33" in text
     assert "Exception" not in text and "No such file" not in text, text
+
+
+def test_a_fault_inside_the_emulator_does_not_end_the_repl(monkeypatch):
+    """Whatever a line makes the emulator raise, the REPL reports it and goes on."""
+    s = ReplSession(manual_time=True)
+
+    def broken(line):
+        raise ZeroDivisionError("boom")
+
+    monkeypatch.setattr(s.console, "execute", broken)
+    assert s.handle("AX RP") == [
+        "! internal error: ZeroDivisionError: boom (the line was lost; please report it)"]
+    monkeypatch.undo()
+    assert s.handle("AX RP") == ["0"]

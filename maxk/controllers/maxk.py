@@ -67,6 +67,7 @@ class MAXk(VirtualTime):
     def open_session(self, notify: Notify | None = None) -> MaxSession:
         """A host's line session: its own lexer, MAXnet-framed replies, notifications."""
         session = MaxSession(self.board, self.framing, notify)
+        self._sessions = [s for s in self._sessions if not s.closed]  # hosts that left
         self._sessions.append(session)
         return session
 

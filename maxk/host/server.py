@@ -54,8 +54,18 @@ class Service:
     def handle(self, session: Session, data: bytes) -> bytes:
         """Bring the controller to now, feed the bytes, return what the session says."""
         self.pacer.sync()
-        session.feed(data)
+        self.feed(session, data)
         return session.read()
+
+    def feed(self, session: Session, data: bytes) -> None:
+        """Feed a session; a fault inside the controller is reported and that input is
+        lost, but the door, the host's connection and every other host go on."""
+        try:
+            session.feed(data)
+        except Exception as error:  # the server never dies of one host's bytes
+            print(f"maxk serve: board {self.number} ({self.controller.model}): "
+                  f"{type(error).__name__}: {error} while running {data[:60]!r}; "
+                  "still serving", file=sys.stderr, flush=True)
 
 
 class Client:
@@ -122,14 +132,15 @@ class Client:
         self._scheduled = False
         if self.session is None or self._output_full or not self._inbox:
             return
-        self.service.pacer.sync()
+        service = self.service
+        service.pacer.sync()
         session = self.session
         taken = 0
         deadline = time.perf_counter() + SLICE_SECONDS
         while taken < SLICE and self._inbox:
             piece = bytes(self._inbox[:PIECE])
             del self._inbox[:PIECE]
-            session.feed(piece)
+            service.feed(session, piece)
             taken += len(piece)
             if time.perf_counter() >= deadline:
                 break
@@ -161,7 +172,7 @@ class Client:
         would run what reached it), with nobody left to read the replies."""
         if self.session is not None and self._inbox:
             self.service.pacer.sync()
-            self.session.feed(bytes(self._inbox))
+            self.service.feed(self.session, bytes(self._inbox))
             self._inbox.clear()
             self.session.read()
 
