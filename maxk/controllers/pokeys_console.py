@@ -12,6 +12,7 @@ X Y Z A B C U V or 1..8.
 from __future__ import annotations
 
 import re
+import struct
 from collections.abc import Callable
 from typing import Any
 
@@ -112,6 +113,9 @@ class PoKeysConsole:
             return [f"! {error}"]
         except (ValueError, KeyError, IndexError) as error:
             return [f"! {word}: {error}; say {WORDS[word][0]}"]
+        except (OverflowError, struct.error) as error:  # a value the request cannot carry
+            return [f"! {word}: a value out of the request's range ({error}); "
+                    "that request was not sent"]
 
     def new_errors(self) -> list[str]:
         self._listen()

@@ -93,11 +93,21 @@ class SlotMotion:
 
 def _limits(max_speed_per_ms: float, accel_per_ms2: float, decel_per_ms2: float
             ) -> tuple[float, float, float]:
-    """Axis parameters in pulses/s and pulses/s^2 (a zero ramp means an instant change)."""
-    peak = max_speed_per_ms * 1e3
-    acc = accel_per_ms2 * 1e6 if accel_per_ms2 > 0 else 1e18
-    dec = decel_per_ms2 * 1e6 if decel_per_ms2 > 0 else 1e18
-    return peak, acc, dec
+    """Axis parameters in pulses/s and pulses/s^2 (a zero ramp means an instant change).
+    Values the host's floats can carry but no stage can (NaN, infinities, a ramp slower
+    than a pulse a day or faster than an instant change) are taken at those bounds (D),
+    so an absurd setting makes an absurd motion, never a fault inside the device."""
+    peak = max_speed_per_ms * 1e3 if math.isfinite(max_speed_per_ms) else 0.0
+    acc = _ramp(accel_per_ms2)
+    dec = _ramp(decel_per_ms2)
+    return max(0.0, peak), acc, dec
+
+
+def _ramp(per_ms2: float) -> float:
+    """A ramp in pulses/s^2: zero, negative or not a number is an instant change."""
+    if not math.isfinite(per_ms2) or per_ms2 <= 0:
+        return 1e18
+    return min(1e18, max(1e-3, per_ms2 * 1e6))
 
 
 def plan_position(current: SlotMotion | None, position: int, slot: int, target: int,
