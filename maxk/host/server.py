@@ -103,11 +103,13 @@ class Client:
         self._write(data)
 
     def flush_session(self) -> None:
-        """The session has something to say unasked: send it now."""
-        if self.session is not None:
+        """The session has something to say unasked: send it now, unless the host has
+        not read its last megabyte: then it stays with the session (which may hold a
+        reply that came after a wait: never dropped here) until the host reads."""
+        if self.session is not None and self._unsent() <= HARD_LIMIT:
             out = self.session.read()
             if out:
-                self.send(out, droppable=True)
+                self.send(out)
 
     def receive(self, data: bytes) -> None:
         """Input from the host: held, and run in turns. A host with nothing waiting (a
@@ -152,7 +154,9 @@ class Client:
         self._schedule()
 
     def output_drained(self) -> None:
-        """The host read its replies: its input may run again."""
+        """The host read its replies: what its session kept may go, its input may run."""
+        if self._unsent() <= HARD_LIMIT:
+            self.flush_session()
         self._output_full = self._unsent() > HIGH_WATER
         self._update_input()
         self._schedule()

@@ -19,6 +19,7 @@ from maxk.personalities.maxk.board import Board
 
 EOLS = {"lfcr": b"\n\r", "lf": b"\n", "crlf": b"\r\n", "cr": b"\r"}
 ACK = b"\x06"
+NOTIFICATIONS_KEPT = 1024 * 1024  # unread output past which new notifications are lost
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,8 @@ class MaxSession:
         board.add_flag_listener(self._flags_set)
 
     def _flags_set(self, word: int) -> None:
+        if len(self._out) > NOTIFICATIONS_KEPT:
+            return  # a host that never reads loses notifications (never replies)
         self._out += self.framing.notification(word)
         if self._notify is not None:
             self._notify()
