@@ -349,6 +349,8 @@ def test_commands_sent_just_before_a_hang_up_all_run():
         client.connection_made(_RecordingTransport(log, "host"))
         client.data_received(b"".join(f"AX LP{i};".encode() for i in range(1, 1001)))
         client.connection_lost(None)
+        while client.session is not None:  # it runs out in turns, then the session goes
+            await asyncio.sleep(0)
 
     asyncio.run(scenario())
     assert m.query("AX RP") == "1000"

@@ -83,6 +83,7 @@ class Client:
     def _client_init(self) -> None:
         self._inbox = bytearray()
         self._scheduled = False
+        self._closing = False  # the host hung up: its input runs out, then the session goes
         self._output_full = False  # unread replies above HIGH_WATER
         self._input_held = False  # reading paused (inbox full or output full)
 
@@ -149,6 +150,9 @@ class Client:
         out = session.read()
         if out:
             self.send(out)
+        if self._closing and not self._inbox:
+            self._drop_session()
+            return
         self._output_full = self._unsent() > HIGH_WATER
         self._update_input()
         self._schedule()
@@ -171,14 +175,16 @@ class Client:
             self._input_held = hold
             self._hold_input(hold)
 
-    def _run_what_was_sent(self) -> None:
-        """A host that sent commands and hung up: what it sent still runs (as the board
-        would run what reached it), with nobody left to read the replies."""
+    def _hang_up(self) -> None:
+        """The host went away. What it sent still runs (as the board runs what reached
+        it), in turns as before, with nobody left to read the replies; then the session
+        goes."""
         if self.session is not None and self._inbox:
-            self.service.pacer.sync()
-            self.service.feed(self.session, bytes(self._inbox))
-            self._inbox.clear()
-            self.session.read()
+            self._closing = True
+            self._output_full = False
+            self._schedule()
+            return
+        self._drop_session()
 
     def _drop_session(self) -> None:
         self.service.clients.discard(self)
@@ -203,8 +209,7 @@ class TcpClient(asyncio.Protocol, Client):
 
     def connection_lost(self, exc: Exception | None) -> None:
         self.transport = None
-        self._run_what_was_sent()
-        self._drop_session()
+        self._hang_up()
 
     def data_received(self, data: bytes) -> None:
         self.receive(data)
