@@ -21,6 +21,11 @@ from maxk.personalities.mm4005.errors import (
 
 from .spec import AxisRule, Command, CommandSpec, Operand
 
+MAX_OPERAND: Final = 1e9
+"""A number operand beyond this (in any unit: a 4-axis stage travels less than a metre)
+is out of limits (C), so no setting ever holds an infinity or a value no stage has (D:
+the manual gives per-command ranges we could not all find)."""
+
 MAX_LINE: Final = 110  # manual 3.3.1.3
 BLANKS: Final = " \t"
 SEPARATORS: Final = re.compile(r"[,;]")
@@ -74,7 +79,10 @@ def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bo
     if kind is Operand.NUMBER:
         if not _NUMBER.match(text):
             raise MM4005Error(PARAMETER, f"not a number: {text!r}")
-        return float(text), False
+        value = float(text)
+        if not abs(value) <= MAX_OPERAND:  # also infinities ('1e999') and NaN
+            raise MM4005Error(PARAMETER, f"{spec.mnemonic}{text}: beyond +/-{MAX_OPERAND:g}")
+        return value, False
     if not _INTEGER.match(text):
         raise MM4005Error(PARAMETER, f"not an integer: {text!r}")
     value = int(text)

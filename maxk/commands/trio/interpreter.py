@@ -38,6 +38,9 @@ from .parser import (
 Value = float | str
 
 
+MAX_WA_MS = 1e12  # WA in ms beyond about 30 years is refused (D): time has no such ticks
+
+
 @dataclass(frozen=True, slots=True)
 class Wake:
     """What a waiting statement waits for, so a scheduler can sleep until then: a servo
@@ -144,7 +147,8 @@ class Interpreter:
         op = expr.op
         try:
             result = self._apply(op, a, b)
-        except (ZeroDivisionError, OverflowError, ValueError):
+        except (ZeroDivisionError, OverflowError, ValueError, TypeError):
+            # (TypeError: a negative base to a fraction is complex, no real number)
             raise TrioError("Divide by zero" if op in ("/", "MOD") and b == 0
                             else "Arithmetic error") from None
         if isinstance(result, complex) or not math.isfinite(result):
@@ -322,6 +326,8 @@ class Interpreter:
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
         elif name == "WA":
+            if args[0] > MAX_WA_MS:  # (D) longer than any program waits: a value error
+                raise TrioError("Parameter out of range")
             ticks = math.ceil(args[0] * 1000 / m.servo_period_us()) if args[0] > 0 else 0
             wake = m.servo_tick() + ticks
             while m.servo_tick() < wake:

@@ -217,7 +217,7 @@ _ENTRIES: list[Keyword] = [
              "reads one.", (1, 128), source=f"{SEED}; {TOK}"),
     _command("WA", "Wait this many milliseconds.", (1, 1), source=f"{SEED}; {TOK}",
              note="Rounded up to whole servo cycles; the process sleeps, the command line "
-             "answers when it ends (D)."),
+             "answers when it ends (D). More than 1e12 ms is 'Parameter out of range' (D)."),
     _command("ETHERCAT", "EtherCAT master functions ($87 reinit, $22 state, $21 ...).",
              (1, 20), source=REF, confidence="D",
              note="No EtherCAT network: $22 with VR index -1 prints 0 (no network), others "
