@@ -11,18 +11,9 @@ import json
 import time
 import tracemalloc
 from collections.abc import Callable
-from dataclasses import dataclass
 
+from benchmarks.figure import Figure
 from maxk import MAXk
-
-
-@dataclass
-class Figure:
-    name: str
-    value: float
-    unit: str
-    target: float | None = None
-    note: str = ""
 
 
 def _best_of(runs: int, fn: Callable[[], tuple[float, float]]) -> tuple[float, float]:

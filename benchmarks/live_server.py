@@ -14,22 +14,14 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
+
+from benchmarks.figure import Figure
 
 ROOT = Path(__file__).resolve().parent.parent  # the checkout these benchmarks belong to
 EOL = b"\n\r"  # MAXnet framing: every reply line ends with LF CR
 BOARD_LINE = re.compile(r"board (\d+): (\S+) tcp 127\.0\.0\.1:(\d+)")
-
-
-@dataclass
-class Figure:
-    name: str
-    value: float
-    unit: str
-    target: float | None = None  # never set here: latency targets are upper bounds (note)
-    note: str = ""
 
 
 def print_figures(figures: list[Figure], as_json: bool) -> None:

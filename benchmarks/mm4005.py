@@ -15,7 +15,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from benchmarks.__main__ import Figure
+from benchmarks.figure import Figure
 from maxk.controllers.mm4005 import MM4005Controller
 
 ROWS = 250  # each row: LX, CA180, LX, CA-180 -> 1,000 elements
