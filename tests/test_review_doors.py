@@ -276,13 +276,13 @@ def test_defect_mm4005_extreme_speeds_raise_inside_the_engine(lines: list[str]) 
 
 def test_defect_mm4005_et_builds_every_pulse_before_checking_travel() -> None:
     """CRITICAL (denial of service). ET plans every synchronized pulse as a Python object
-    before checking the travel limits: `NT;LX1e9;LX2e9`, `NB1;NE2;NN200000;NS`, `ET`
+    before checking the travel limits: `NT;LX5e8;LX1e9`, `NB1;NE2;NN200000;NS`, `ET`
     allocates about 65 MB and blocks the server's one event loop (NN 2000000: 10.5 s and
     650 MB, measured; NN 50000000 never finishes) and is then refused with R anyway.
     Expected: a refused ET costs nothing and a plan is bounded (the execution already
     generates pulses 256 at a time)."""
     fed = Fed("MM4005")
-    fed("NT;LX1e9;LX2e9")
+    fed("NT;LX5e8;LX1e9")
     fed("NB1;NE2;NN200000;NS")
     peak = peak_bytes(lambda: fed("ET"))
     assert mm_reply(fed, "TE") == "TER\r"

@@ -122,7 +122,7 @@ def velocity(ctx: Context, cmd: Command) -> list[str]:
     if cmd.query:
         return [f"{axis}VA{_position_text(ctx, axis, ctx.machine.velocity(axis))}"]
     value = _number(cmd)
-    axis_rules.check_positive(value, "VA")
+    axis_rules.check_rate(value, "VA")
     ctx.machine.set_velocity(axis, value)
     return []
 
@@ -133,7 +133,7 @@ def acceleration(ctx: Context, cmd: Command) -> list[str]:
     if cmd.query:
         return [f"{axis}AC{_position_text(ctx, axis, ctx.machine.acceleration(axis))}"]
     value = _number(cmd)
-    axis_rules.check_positive(value, "AC")
+    axis_rules.check_rate(value, "AC")
     ctx.machine.set_acceleration(axis, value)
     return []
 

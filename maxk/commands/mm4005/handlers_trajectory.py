@@ -96,7 +96,7 @@ def vector_velocity(ctx: Context, cmd: Command) -> list[str]:
     if cmd.query:
         return ["VV" + fmt.short(traj.velocity)]
     value = _number(cmd)
-    axis_rules.check_positive(value, "VV")
+    axis_rules.check_rate(value, "VV")
     traj.velocity = value
     return []
 
@@ -107,7 +107,7 @@ def vector_acceleration(ctx: Context, cmd: Command) -> list[str]:
     if cmd.query:
         return ["VS" + fmt.short(traj.acceleration)]
     value = _number(cmd)
-    axis_rules.check_positive(value, "VS")
+    axis_rules.check_rate(value, "VS")
     traj.acceleration = value
     return []
 

@@ -35,10 +35,23 @@ def check_define_home(status: AxisStatus) -> None:
         raise MM4005Error(UNAUTHORIZED, "axis moving")
 
 
+MIN_RATE = 1e-6
+"""The smallest speed or acceleration accepted, in user units per second (squared) (D: the
+manual's ranges were not available; the display shows four decimals, a 1e-300 or
+denormal speed makes a one-count move last longer than any clock counts, and a stage
+crawling at a micron per ten days is no use to anyone)."""
+
+
 def check_positive(value: float, what: str) -> None:
-    """VA, AC, VV, VS: a speed or acceleration must be positive (D)."""
+    """NI and other counts: must be positive (D)."""
     if not value > 0.0:
         raise MM4005Error(PARAMETER, f"{what} must be positive")
+
+
+def check_rate(value: float, what: str) -> None:
+    """VA, AC, VV, VS: a speed or acceleration must be at least `MIN_RATE` (D)."""
+    if not value >= MIN_RATE:
+        raise MM4005Error(PARAMETER, f"{what} must be at least {MIN_RATE:g}")
 
 
 def new_limits(limits: tuple[float, float], left: float | None = None,

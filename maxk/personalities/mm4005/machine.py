@@ -168,15 +168,17 @@ class MM4005(Engine):
         self._start_move(a, target)
 
     def _start_move(self, a: MM4005Axis, target: int) -> None:
-        a.target_counts = target
+        """Check and plan first, then change the axis: a refused move leaves DP as it was."""
         distance = target - a.counts(self)
         if distance == 0:
+            a.target_counts = target
             return
         if self._limit_pressed(a, 1 if distance > 0 else -1):
             raise MM4005Error(UNAUTHORIZED, "travel limit switch pressed that way")
         c = a.counts_per_second
         motion = plan_move(distance, 0.0, c(a.speed), c(a.acceleration), c(a.acceleration),
                            _RAMP)
+        a.target_counts = target
         a.begin(motion, self)
         self.schedule_switches(a)
 

@@ -12,9 +12,11 @@ is replaced by the MPN and ET reports an error; NI? then reads the MPN.
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import overload
 
 from .errors import PULSE_ELEMENTS, PULSE_NUMBER, ErrorCode, MM4005Error
 from .geometry import Geometry, Point
@@ -74,7 +76,7 @@ class PulsePlan:
     step: float
     cptl: float
     mpn: int
-    points: tuple[PulsePoint, ...]
+    points: PulsePoints
 
 
 def maximum_pulse_number(cptl: float, resolution: float, velocity: float,
@@ -86,27 +88,58 @@ def maximum_pulse_number(cptl: float, resolution: float, velocity: float,
     return int(math.floor(cptl / spacing * (1.0 + _FLOOR_SLACK)))
 
 
-def pulse_points(elements: Sequence[Geometry], start_element: int, end_element: int,
-                 count: int) -> tuple[PulsePoint, ...]:
+class PulsePoints(Sequence[PulsePoint]):
     """``count`` pulses at equal curvilinear distances, the first at the start of element
-    ``start_element`` and the last at the end of ``end_element`` (1-based, inclusive)."""
-    lengths = [g.length for g in elements]
-    before = sum(lengths[: start_element - 1])
-    cptl = sum(lengths[start_element - 1 : end_element])
-    points: list[PulsePoint] = []
-    element = start_element
-    element_start = before
-    for k in range(count):
-        s = cptl * k / (count - 1)
-        path = before + s
-        while element < end_element and path > element_start + lengths[element - 1]:
-            element_start += lengths[element - 1]
-            element += 1
-        geometry = elements[element - 1]
-        at = (geometry.end if k == count - 1
+    ``start_element`` and the last at the end of ``end_element`` (1-based, inclusive),
+    each computed when asked: ET must not build a million pulses (NN up to the MPN) before
+    it has checked the travel, and the run fires them a batch at a time."""
+
+    def __init__(self, elements: Sequence[Geometry], start_element: int, end_element: int,
+                 count: int) -> None:
+        self._elements = elements
+        self._start = start_element
+        self._count = count
+        lengths = [g.length for g in elements]
+        self._before = sum(lengths[: start_element - 1])
+        self._cptl = sum(lengths[start_element - 1 : end_element])
+        ends: list[float] = []  # where each element from NB to NE ends on the path
+        end = self._before
+        for length in lengths[start_element - 1 : end_element]:
+            end += length
+            ends.append(end)
+        self._ends = ends
+
+    def __len__(self) -> int:
+        return self._count
+
+    @overload
+    def __getitem__(self, index: int) -> PulsePoint: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> Sequence[PulsePoint]: ...
+
+    def __getitem__(self, index: int | slice) -> PulsePoint | Sequence[PulsePoint]:
+        if isinstance(index, slice):
+            return [self[k] for k in range(*index.indices(self._count))]
+        k = index + self._count if index < 0 else index
+        if not 0 <= k < self._count:
+            raise IndexError(index)
+        s = self._cptl * k / (self._count - 1)
+        path = self._before + s
+        ends = self._ends
+        # the first element that ends at or after the pulse
+        j = min(bisect.bisect_left(ends, path), len(ends) - 1)
+        element_start = self._before if j == 0 else ends[j - 1]
+        geometry = self._elements[self._start - 1 + j]
+        at = (geometry.end if k == self._count - 1
               else geometry.point_at(path - element_start))
-        points.append(PulsePoint(k, path, s, element, at))
-    return tuple(points)
+        return PulsePoint(k, path, s, self._start + j, at)
+
+
+def pulse_points(elements: Sequence[Geometry], start_element: int, end_element: int,
+                 count: int) -> PulsePoints:
+    """The pulses of NB..NE, computed when asked (see `PulsePoints`)."""
+    return PulsePoints(elements, start_element, end_element, count)
 
 
 def plan_pulses(settings: PulseSettings, elements: Sequence[Geometry], resolution: float,
