@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal, Protocol
+from typing import TYPE_CHECKING, Literal, Protocol, runtime_checkable
 
 if TYPE_CHECKING:
     from maxk.firmware_model.engine import Engine
@@ -42,6 +42,16 @@ class Session(Protocol):
     def close(self) -> None:
         """The host went away: stop telling this session anything."""
         ...
+
+
+@runtime_checkable
+class HoldsInput(Protocol):
+    """A session that can hold input it cannot run yet (a Trio statement that waits): a
+    door feeds it nothing while `holding` and keeps the rest itself, where its
+    back-pressure applies; the session notifies when it takes input again."""
+
+    @property
+    def holding(self) -> bool: ...
 
 
 class Console(Protocol):

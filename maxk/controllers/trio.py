@@ -325,8 +325,9 @@ class TrioConsole:
 
 def _lines(text: str, line: str) -> tuple[list[str], list[str]]:
     """A session's bytes for one typed line as (output lines, errors): the echo and the
-    prompt dropped, a `%[COMMAND LINE] - text` error as `! text`."""
-    echo = line + "\r\n"
+    prompt dropped, a `%[COMMAND LINE] - text` error as `! text`. The echo is the line
+    as the session keeps it: without NUL bytes (dropped as telnet sends them)."""
+    echo = line.replace("\x00", "") + "\r\n"
     at = text.find(echo)
     if at >= 0:
         text = text[:at] + text[at + len(echo):]

@@ -24,7 +24,7 @@ import tty
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from maxk.controllers.contract import Controller, Session
+from maxk.controllers.contract import Controller, HoldsInput, Session
 from maxk.host.pacing import Pacer
 
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
@@ -68,6 +68,11 @@ class Service:
                   "still serving", file=sys.stderr, flush=True)
 
 
+def _holding(session: Session) -> bool:
+    """The session holds input it cannot run yet: what the host sends waits here."""
+    return isinstance(session, HoldsInput) and session.holding
+
+
 class Client:
     """A host on a stream (a TCP connection or a pty): its session, and its input run in
     slices that take turns with every other client, so one flooding host never stalls
@@ -106,11 +111,13 @@ class Client:
     def flush_session(self) -> None:
         """The session has something to say unasked: send it now, unless the host has
         not read its last megabyte: then it stays with the session (which may hold a
-        reply that came after a wait: never dropped here) until the host reads."""
+        reply that came after a wait: never dropped here) until the host reads. A
+        session that held input may take it again now."""
         if self.session is not None and self._unsent() <= HARD_LIMIT:
             out = self.session.read()
             if out:
                 self.send(out)
+        self._schedule()
 
     def receive(self, data: bytes) -> None:
         """Input from the host: held, and run in turns. A host with nothing waiting (a
@@ -126,8 +133,9 @@ class Client:
         self._schedule()
 
     def _schedule(self) -> None:
-        if self._scheduled or not self._inbox or self._output_full:
-            return
+        if (self._scheduled or not self._inbox or self._output_full or self.session is None
+                or _holding(self.session)):
+            return  # a holding session notifies when it takes input again
         self._scheduled = True
         self.loop.call_soon(self._run_slice)
 
@@ -140,7 +148,7 @@ class Client:
         session = self.session
         taken = 0
         deadline = time.perf_counter() + SLICE_SECONDS
-        while taken < SLICE and self._inbox:
+        while taken < SLICE and self._inbox and not _holding(session):
             piece = bytes(self._inbox[:PIECE])
             del self._inbox[:PIECE]
             service.feed(session, piece)

@@ -141,6 +141,7 @@ class ProgramStore:
         I inserts before line n, D deletes line n."""
         info = self.get(name)
         lines = self.lines[info.name]
+        appended = number == len(lines) and action in "RI"
         if action == "R" and number == len(lines) or action == "I" and number <= len(lines):
             lines.insert(number, text)
         elif action == "R" and 0 <= number < len(lines):
@@ -149,8 +150,21 @@ class ProgramStore:
             del lines[number]
         else:
             raise TrioError("Invalid line number")
+        index_changed = info.code_size != 0
         info.code_size = 0
-        self._save_program(info.name)
+        if appended:  # atrio's download, a line at a time: each costs one line's write
+            self._append_line(info.name, text)
+            if index_changed:
+                self._save_index()
+        else:
+            self._save_program(info.name)
+
+    def _append_line(self, name: str, text: str) -> None:
+        if self.directory is None:
+            return
+        path = self.directory / (name + PROGRAM_TYPES[self.info[name].type])
+        with path.open("a", encoding="latin-1", newline="") as f:
+            f.write(text + "\n")
 
     def clear(self, name: str) -> None:
         info = self.get(name)

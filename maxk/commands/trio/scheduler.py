@@ -66,6 +66,7 @@ class ProcessScheduler:
         now = self.clock.servo_tick()
         ticks = [self._when(t.due, t.seen, now) for t in self.runtime.tasks.values()]
         ticks += [self._when(s.busy_due, s.busy_seen, now) for s in self.sessions if s.waiting]
+        ticks += [now + 1 for s in self.sessions if s.backlog and not s.waiting]
         found = [t for t in ticks if t is not None]
         return min(found) if found else None
 
@@ -84,6 +85,8 @@ class ProcessScheduler:
             if session.waiting and self._ready(session.busy_due, session.busy_seen, now):
                 session.resume()
                 session.busy_seen = self.clock.revision
+            elif session.backlog and not session.waiting and not session.closed:
+                session.resume()  # the input held while a statement waited, a slice a cycle
         self.flush()
 
     def flush(self) -> None:

@@ -8,7 +8,12 @@ the rest of the text is ours), followed by the prompt as usual. Telnet negotiati
 (IAC ...) and NUL bytes are dropped from the input.
 
 A command that waits (``WA(100)``, ``WAIT IDLE``) holds the command line: its output and
-prompt come when it ends, and bytes received meanwhile are kept and handled after it.
+prompt come when it ends, and bytes received meanwhile are kept and handled after it, at
+most `RESUME_SLICE` of them a servo cycle (a host that queued a megabyte behind a WA must
+not freeze the engine when the wait ends). While the session `holding` input, a door
+feeds it nothing more: the rest waits in the door, where back-pressure applies. A line is
+kept up to `LINE_LIMIT` characters; the rest is echoed but not stored, and the line is
+refused when its CR comes.
 Programs run as processes beside the command line; the door calls
 :meth:`TrioCommandLine.servo_cycle` once per servo cycle, after the machine's cycle.
 """
@@ -28,6 +33,7 @@ from .system import ProgramCommands
 
 PROMPT = b">>"
 LINE_LIMIT = 1024  # characters in one command line (D)
+RESUME_SLICE = 2048  # held input bytes handled a servo cycle once a wait has ended (D)
 _IAC, _SB, _SE = 0xFF, 0xFA, 0xF0
 _EDIT = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),(\d+)([RID])(.*)", re.DOTALL)
 _EDIT_CONTROL = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),([A-Z])")
@@ -63,6 +69,7 @@ class TrioCommandLine:
         self._input = bytearray()
         self._line = bytearray()
         self._out = bytearray()
+        self._consumed = 0  # bytes of _input handled by the running pump
         self._telnet = 0  # 0 data, 1 after IAC, 2 option byte, 3 in SB, 4 IAC in SB
         self._busy: Generator[Wake | None, None, None] | None = None
         self.busy_wake: Wake | None = None  # what a waiting command-line statement awaits
@@ -101,6 +108,17 @@ class TrioCommandLine:
         """A command-line statement is waiting (its prompt has not come yet)."""
         return self._busy is not None
 
+    @property
+    def backlog(self) -> bool:
+        """Input received while a statement waited is still to be handled."""
+        return bool(self._input) and not self.restart_requested
+
+    @property
+    def holding(self) -> bool:
+        """The session holds input it cannot run yet: feed it nothing more until it
+        notifies (the door keeps the rest, and stops reading once its inbox is full)."""
+        return self._busy is not None or self.backlog
+
     def abandon(self) -> None:
         """Give up a waiting statement (a console's break): its prompt comes now and the
         bytes received meanwhile are handled."""
@@ -111,11 +129,16 @@ class TrioCommandLine:
             self._pump()
 
     def resume(self) -> None:
-        """Give a waiting command-line statement its servo cycle, then handle the bytes
-        that arrived meanwhile."""
+        """Give a waiting command-line statement its servo cycle, then handle up to
+        `RESUME_SLICE` of the bytes that arrived meanwhile. The door hears (notify) once
+        the session stops holding input, even if that printed nothing."""
+        was_holding = self.holding
         if self._busy is not None:
             self._advance()
-            self._pump()
+        if self._busy is None:
+            self._pump(RESUME_SLICE)
+        if was_holding and not self.holding and self.notify is not None and not self.closed:
+            self.notify()
 
     def power_up(self) -> None:
         """Start the programs set to run at power up (after a restart of the door)."""
@@ -130,9 +153,21 @@ class TrioCommandLine:
         if not self.closed:
             self._print(text)
 
-    def _pump(self) -> None:
-        while self._input and self._busy is None and not self.restart_requested:
-            byte = self._input.pop(0)
+    def _pump(self, limit: int | None = None) -> None:
+        """Handle received bytes in order until a statement waits (or `limit` bytes)."""
+        data = self._input
+        end = len(data) if limit is None else min(len(data), limit)
+        try:
+            self._pump_bytes(data, end)
+        finally:  # a fault inside a statement loses that input, not the stream after it
+            del data[:self._consumed]
+
+    def _pump_bytes(self, data: bytearray, end: int) -> None:
+        i = self._consumed = 0
+        while i < end and self._busy is None and not self.restart_requested:
+            byte = data[i]
+            i += 1
+            self._consumed = i
             if self._telnet or byte == _IAC:
                 self._telnet_byte(byte)
             elif byte == 0:
@@ -146,7 +181,8 @@ class TrioCommandLine:
                 self._out.append(byte)
                 self._out += f"Control char : 0x1{byte:08X}\r\n".encode() + PROMPT
             else:
-                self._line.append(byte)
+                if len(self._line) <= LINE_LIMIT:  # one more than fits marks it too long
+                    self._line.append(byte)
                 self._out.append(byte)
 
     def _telnet_byte(self, byte: int) -> None:

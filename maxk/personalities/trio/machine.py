@@ -45,6 +45,13 @@ from .runs import (
 from .trace import PwmTrace
 
 MOVE_BUFFER = 16  # moves an axis holds, running and buffered (D)
+MIN_RATE = 1e-6
+"""The least SPEED, ACCEL or DECEL a move runs with, in counts per second (squared) (D: a
+denormal SPEED made a 5-unit move last longer than a float counts; the move is refused
+with 'Parameter out of range' as a zero SPEED is)."""
+MAX_COUNTS = 2.0 ** 53
+"""The farthest a move may go, and end, in counts (D: beyond it a double no longer holds
+every count, so DPOS could not read back where the axis is)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
@@ -99,7 +106,8 @@ class MC405Machine(Kinematics, Engine):
         return self.outputs.bank
 
     @property
-    def gate_edges(self) -> list[GateEdge]:
+    def gate_edges(self) -> Sequence[GateEdge]:
+        """The newest gate edges (at most `GATE_LOG`)."""
         return self.outputs.edges
 
     def mark(self, axis: int) -> int:
@@ -285,8 +293,11 @@ class MC405Machine(Kinematics, Engine):
         speed = base.params["SPEED"] * base.units
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
-        if speed <= 0 or accel <= 0 or decel <= 0:
+        if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
+        for a, delta in zip(axes, deltas, strict=True):
+            if not abs(delta) <= MAX_COUNTS or not abs(self._end_counts(a) + delta) <= MAX_COUNTS:
+                raise ValueError("Parameter out of range")
         merge = base.params["MERGE"] != 0
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -58,13 +59,18 @@ class MotionView(Protocol):
     def changed(self) -> None: ...
 
 
+GATE_LOG = 1024
+"""Gate edges kept for a look (`:gates`), the newest (D: an endless program of gated moves
+must not grow the controller for ever; the PWM trace records every edge when asked)."""
+
+
 class PwmLinks:
     """The PWM bank of axes 0-4 and what ties it to the motion (an event source: the
     ticks gate positions are passed)."""
 
     def __init__(self, machine: MotionView) -> None:
         self.machine = machine
-        self.edges: list[GateEdge] = []
+        self.edges: deque[GateEdge] = deque(maxlen=GATE_LOG)
         self.bank = PwmBank(machine.axis_count)
         self.computed: dict[int, ComputedOutput] = {}
         self._encoder_counts: dict[int, int] = {}
