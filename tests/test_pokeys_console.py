@@ -226,3 +226,19 @@ def test_datagram_sessions_and_discovery() -> None:
     tcp.close()
     tcp.feed(status)
     assert tcp.read() == b""
+
+
+def test_position_counters_wrap_at_32_bits_as_the_device_reports_them() -> None:
+    """A speed-mode run of a day at 100 kHz passes 2^31 pulses: the status reply carries
+    the device's 32-bit counters, wrapped (D), where packing used to fail the request; the
+    motion keeps every pulse."""
+    dev, console = console_of()
+    assert run(console, "setup 3", "axis X internal speed max 3.4e38 accel 3.4e38 decel 1",
+               "state running", "move X 100000") == []
+    assert console.new_errors() == []
+    dev.advance(1e5)
+    pulses = dev.device.engine.positions()[0]
+    assert pulses > 2**32
+    wrapped = (pulses + 2**31) % 2**32 - 2**31
+    assert run(console, "pos") == [f"X {wrapped} Y 0 Z 0"]
+    assert console.new_errors() == []

@@ -8,6 +8,7 @@ the host checks nothing else of the header. There is no payload checksum over Et
 from __future__ import annotations
 
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -78,6 +79,11 @@ def make_request(command: int, p1: int = 0, p2: int = 0, p3: int = 0, p4: int = 
     return bytes(frame)
 
 
+def wrap32(value: int) -> int:
+    """A count as a signed 32-bit register holds it."""
+    return (value + 0x8000_0000) % 0x1_0000_0000 - 0x8000_0000
+
+
 class Reply:
     """A reply under construction: [1..5] start as the request's, payload zeroed."""
 
@@ -94,6 +100,11 @@ class Reply:
 
     def i32(self, offset: int, value: int) -> None:
         struct.pack_into("<i", self.frame, offset, value)
+
+    def counters(self, offset: int, values: Sequence[int]) -> None:
+        """Position counters: the device's are 32-bit and wrap (D), as a stage run for
+        hours at 125 kHz passes 2^31 pulses; the motion itself keeps every pulse."""
+        struct.pack_into(f"<{len(values)}i", self.frame, offset, *map(wrap32, values))
 
     def f32(self, offset: int, value: float) -> None:
         struct.pack_into("<f", self.frame, offset, value)

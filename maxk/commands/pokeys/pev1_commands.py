@@ -34,7 +34,7 @@ def status(device: PoKeysDevice, req: Request) -> Reply | None:
     if e is None:
         return None
     r = Reply(req)
-    r.put(8, struct.pack("<3i", *e.positions()))
+    r.counters(8, e.positions())
     lim_p, lim_n, home = e.switch_bits()
     r[20], r[21], r[22], r[23] = lim_p, lim_n, home, int(e.state)
     r.put(24, bytes(int(s) for s in e.axis_states()))
@@ -178,7 +178,7 @@ def fill(device: PoKeysDevice, req: Request) -> Reply | None:
     accepted = e.fill(entries)
     r = Reply(req)
     r[8] = accepted
-    r.put(9, struct.pack("<3i", *e.positions()))
+    r.counters(9, e.positions())
     lim_p, lim_n, home = e.switch_bits()
     r[21], r[22], r[23], r[24] = lim_p, lim_n, home, int(e.state)
     r.put(25, bytes(int(s) for s in e.axis_states()))

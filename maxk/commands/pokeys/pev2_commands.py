@@ -33,7 +33,7 @@ def status_block(e: PulseEngineV2, r: Reply) -> None:
     r[12], r[13], r[14] = lim_p, lim_n, home
     r[15] = e.generator_type
     r.put(16, bytes(int(s) for s in e.axis_states()))
-    r.put(24, struct.pack("<8i", *e.positions()))
+    r.counters(24, e.positions())
     r[56], r[57], r[58], r[59] = e.spec.axes, e.spec.max_pulses_per_slot, e.buffer.depth, 1
     r[60] = e.estop_polarity
     r[61] = 0  # error inputs: not modelled
@@ -211,7 +211,7 @@ def probing_finish(device: PoKeysDevice, req: Request) -> Reply | None:
         return None
     positions, status = e.probing_finish()
     r = Reply(req)
-    r.put(8, struct.pack("<8i", *positions))
+    r.counters(8, positions)
     r[40] = status
     return r
 

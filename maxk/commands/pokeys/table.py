@@ -62,7 +62,8 @@ ENTRIES: Final[list[CommandEntry]] = [
        "reference 4, 10", "I", "Bit 0 = pulse engine; activation codes not modelled (D)."),
     # ---- pulse engine v2 -----------------------------------------------------------------
     _e(PEV2, 0x00, "PK_PEv2_StatusGet", v2.status_get, "reference 6, 7", "C",
-       "[63] = [3] + 0x5A; [61]/[62] error and misc inputs always 0 (D)."),
+       "[63] = [3] + 0x5A; [61]/[62] error and misc inputs always 0 (D). Position "
+       "counters are 32-bit and wrap past 2^31 pulses (D: the motion keeps every pulse)."),
     _e(PEV2, 0x08, "PK_PEv2_Status2Get", v2.status2_get, "reference 6", "I",
        "Raw pin levels of the dedicated limit-/limit+/home inputs (D: levels, not activation)."),
     _e(PEV2, 0x01, "PK_PEv2_PulseEngineSetup", v2.setup, "reference 6", "C",
@@ -116,7 +117,8 @@ ENTRIES: Final[list[CommandEntry]] = [
        "8 frames, one reply with the last frame's ID; a bad or missing frame silences the "
        "whole group (D)."),
     # ---- pulse engine v1 -----------------------------------------------------------------
-    _e(PEV1, 0x00, "PK_PEStatusGet", v1.status, "reference 10", "C"),
+    _e(PEV1, 0x00, "PK_PEStatusGet", v1.status, "reference 10", "C",
+       "Position counters are 32-bit and wrap past 2^31 pulses (D)."),
     _e(PEV1, 0x01, "PK_PECurrentPositionSet", v1.set_position, "reference 10", "C",
        "Sets all three counters; a moving axis stops (D)."),
     _e(PEV1, 0x02, "PK_PEStateSet", v1.set_state, "reference 10; seed v1", "C",

@@ -16,6 +16,11 @@ from .constants import SLOT_SECONDS
 
 _EPS = 1e-6  # float slack so that 2500 * 0.004 counts as 10 whole pulses, not 9
 _SHAPE = RampShape.LINEAR
+MAX_RATE = 32767 / SLOT_SECONDS
+"""The fastest an internal motion runs, pulses/s (D): the most pulses one slot entry can
+carry (v2's 15 bits; v1's 7 bits are checked where its slots are filled). A maximum
+speed set beyond it (1e300 pulses/ms, say) is taken at it, so a speed-mode run never
+reaches positions no float holds."""
 
 
 def whole_pulses(offset: float) -> int:
@@ -100,7 +105,7 @@ def _limits(max_speed_per_ms: float, accel_per_ms2: float, decel_per_ms2: float
     peak = max_speed_per_ms * 1e3 if math.isfinite(max_speed_per_ms) else 0.0
     acc = _ramp(accel_per_ms2)
     dec = _ramp(decel_per_ms2)
-    return max(0.0, peak), acc, dec
+    return min(MAX_RATE, max(0.0, peak)), acc, dec
 
 
 def _ramp(per_ms2: float) -> float:
@@ -180,8 +185,8 @@ def plan_speed(current: SlotMotion | None, position: int, slot: int, speed: floa
 
 def constant_speed(position: int, slot: int, speed_per_ms: float) -> SlotMotion | None:
     """Run at a constant signed speed from slot on, with no ramp (homing and probing)."""
-    if speed_per_ms == 0.0:
+    if speed_per_ms == 0.0 or not math.isfinite(speed_per_ms):
         return None
-    v = speed_per_ms * 1e3
+    v = max(-MAX_RATE, min(MAX_RATE, speed_per_ms * 1e3))
     return SlotMotion([Segment(slot, position, plan_jog(0.0, v, v, 0.0, 1.0, 1.0, _SHAPE))],
                       speed_mode=True)
