@@ -13,7 +13,9 @@ from collections import deque
 
 import numpy as np
 
-from .runs import Cambox, Connpath, Run, TrioAxis, profile_offset_speed
+from maxk.firmware_model.sampling import profile_offset_speed
+
+from .runs import Cambox, Connpath, Run, TrioAxis
 
 
 class Kinematics:

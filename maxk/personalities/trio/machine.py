@@ -27,6 +27,7 @@ import numpy as np
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.path import PathPlan
 from maxk.firmware_model.profiles import plan_stop as profile_stop
+from maxk.firmware_model.sampling import PlanArrays
 
 from .kinematics import Kinematics
 from .memory import TableMemory, VrMemory
@@ -37,7 +38,6 @@ from .runs import (
     Cambox,
     Connpath,
     Link,
-    PlanArrays,
     Run,
     TrioAxis,
     single_profile,

@@ -1,0 +1,90 @@
+"""Closed-form motions evaluated on arrays of times (numpy): a path plan's distance,
+speed and points, a profile's offset and speed, at many times at once and exactly as
+the one-at-a-time evaluations give them. A trace of every servo cycle of a stretch, or
+a computed output loaded each cycle, costs a few array operations instead of a Python
+call a tick."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .path import PathPlan
+from .profiles import Motion
+
+
+class PlanArrays:
+    """A path plan's pieces and segments as arrays: (s, speed) and the points of the
+    path at many times at once, exactly as `PathPlan.state` and `PathPlan.point` give
+    them one at a time."""
+
+    def __init__(self, plan: PathPlan) -> None:
+        self.plan = plan
+        pieces = plan.pieces
+        self.t0 = np.array([p.t0 for p in pieces], dtype=float)
+        self.duration = np.array([p.duration for p in pieces], dtype=float)
+        self.s0 = np.array([p.s0 for p in pieces], dtype=float)
+        self.v0 = np.array([p.v0 for p in pieces], dtype=float)
+        self.a = np.array([p.a for p in pieces], dtype=float)
+        nxt = [pieces[i + 1].s0 for i in range(len(pieces) - 1)] + [math.inf]
+        self.next_s0 = np.array(nxt if pieces else [], dtype=float)
+        segs = plan.segments
+        self.seg_s0 = np.array([g.s0 for g in segs], dtype=float)
+        self.seg_length = np.array([g.length for g in segs], dtype=float)
+        self.seg_start = np.array([g.start for g in segs], dtype=float)
+        self.seg_end = np.array([g.end for g in segs], dtype=float)
+        self.seg_unit = np.array([g.unit for g in segs], dtype=float)
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        plan = self.plan
+        if t.size == 1:  # one reading: the plan's own (memoised) evaluation
+            s1, v1 = plan.state(float(t.flat[0]))
+            return np.full(t.shape, s1), np.full(t.shape, v1)
+        if not plan.pieces:
+            return np.full(t.shape, plan.s_end), np.zeros(t.shape)
+        i = np.maximum(np.searchsorted(self.t0, t, side="right") - 1, 0)
+        tau = np.minimum(t - self.t0[i], self.duration[i])
+        s = self.s0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau * tau
+        v = np.maximum(0.0, self.v0[i] + self.a[i] * tau)
+        s = np.minimum(s, self.next_s0[i])
+        if plan.end_time is not None:
+            done = t >= plan.end_time
+            s = np.where(done, plan.s_end, s)
+            v = np.where(done, 0.0, v)
+        return s, v
+
+    def point(self, s: np.ndarray, k: int) -> np.ndarray:
+        """Axis k's coordinate at path distances s (straight segments: MOVE, MOVEABS)."""
+        j = np.maximum(np.searchsorted(self.seg_s0, s, side="right") - 1, 0)
+        # (PathPlan.segment_at steps back over zero-length segments: they add nothing here,
+        # a zero-length segment's start and end are the same point)
+        sigma = s - self.seg_s0[j]
+        inside = self.seg_start[j, k] + self.seg_unit[j, k] * sigma
+        return np.where(sigma >= self.seg_length[j], self.seg_end[j, k], inside)
+
+
+def profile_offset_speed(motion: Motion, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A linear-ramp profile's signed offset and speed (unsigned) at many times."""
+    phases = motion.phases
+    if not phases:
+        return np.full(t.shape, float(motion.final_offset)), np.zeros(t.shape)
+    t0 = np.array([p.t0 for p in phases])
+    i = np.maximum(np.searchsorted(t0, t, side="right") - 1, 0)
+    dur = np.array([p.duration for p in phases])[i]
+    s0 = np.array([p.s0 for p in phases])[i]
+    v1 = np.array([p.v1 for p in phases])[i]
+    v2 = np.array([p.v2 for p in phases])[i]
+    direction = np.array([p.direction for p in phases], dtype=float)[i]
+    tau = t - t0[i]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.clip(np.where(dur > 0, tau / dur, 0.0), 0.0, 1.0)
+    ramp = v1 != v2
+    distance = np.where(ramp, v1 * tau + (v2 - v1) * dur * (u * u / 2.0), v1 * tau)
+    speed = np.where(ramp & (dur > 0), v1 + (v2 - v1) * u, v1)
+    offset = s0 + direction * distance
+    if motion.end_time is not None:
+        done = t >= motion.end_time
+        offset = np.where(done, float(motion.final_offset), offset)
+        speed = np.where(done, 0.0, speed)
+    return offset, speed
