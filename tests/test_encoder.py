@@ -115,13 +115,16 @@ def test_position_maintenance_waits_for_the_queue():
     assert board.query("AX RE") == "500"
 
 
-def test_loop_commands_on_an_open_loop_stepper_are_refused():
+def test_loop_commands_on_an_open_loop_stepper_are_accepted_and_change_nothing():
+    """Hosts send CL1/HN/HF to every axis (Appendix C on a factory board, VIPER, the
+    DLL): a PSO axis takes them without an error and keeps no loop (decision D)."""
     board = MAXk()
-    for command in ("HN", "CL1", "HF"):
+    for command in ("HN", "CL1", "CL0", "HF"):
         board.send(f"IC; AX {command}")
-        assert board.command_error, command
+        assert not board.command_error, command
+        assert board.query("AX CL?") == "off"
     board.send("IC; AX EA")
-    assert board.command_error
+    assert board.command_error  # still no encoder to report on
 
 
 def test_load_position_during_a_correction_keeps_rp():

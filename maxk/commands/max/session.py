@@ -50,6 +50,7 @@ class MaxSession:
         self.board = board
         self.framing = framing
         self.interpreter = Interpreter(board)
+        self.interpreter.on_late_reply = self._late_reply
         self._out = bytearray()
         self._notify = notify
         self.closed = False
@@ -59,6 +60,12 @@ class MaxSession:
         if len(self._out) > NOTIFICATIONS_KEPT:
             return  # a host that never reads loses notifications (never replies)
         self._out += self.framing.notification(word)
+        if self._notify is not None:
+            self._notify()
+
+    def _late_reply(self, text: str) -> None:
+        """A query held by WQ answered once the queue emptied."""
+        self._out += self.framing.reply(text)
         if self._notify is not None:
             self._notify()
 
@@ -75,6 +82,7 @@ class MaxSession:
     def lose_partial_command(self) -> None:
         """A controller reset: a command half received is lost."""
         self.interpreter = Interpreter(self.board)
+        self.interpreter.on_late_reply = self._late_reply
 
     def close(self) -> None:
         self.board.remove_flag_listener(self._flags_set)
