@@ -294,7 +294,8 @@ _SPECS: list[CommandSpec] = [
        units=2, operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
        source="evidence 2.3, E4, E5; manual 4.3, 4.8, Appendix C (HM0)",
        notes="The search is documented in docs/homing.md: jog at VL toward home, load the "
-       "counter (and the encoder counter on PSE/PSM, D) on the update cycle home is seen, "
+       "counter and the encoder counter (D; on a PSO axis its ideal encoder, so RE stays "
+       "equal to RP) on the update cycle home is seen, "
        "ramp to a stop at DC. Already on home: "
        "found at once. A limit stops it (overtravel) and home is not found. The queue holds "
        "the next entry until the axis is at rest."),

@@ -444,7 +444,7 @@ class Board(Engine):
             axis.counter_offset = homing.load_value - at
             if axis.servo is not None:  # as LP does: encoder hosts read RE
                 axis.encoder_offset = homing.load_value - axis.servo.encoder_counts()
-            elif axis.has_encoder:
+            else:  # an open-loop stepper's ideal encoder too: RE stays equal to RP
                 axis.encoder_offset = homing.load_value - axis.encoder_counts(at, self)
         axis.resync(self)
         if axis.servo is not None:
