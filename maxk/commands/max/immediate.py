@@ -207,6 +207,9 @@ def format_gain(value: float) -> str:
 
 def _analog_in(ctx: Context) -> str:
     board = ctx.board
+    if ctx.values[0] >= board.model.analog_inputs:
+        raise CommandError(f"AI{ctx.values[0]}: {board.model.name} has analog inputs "
+                           f"0-{board.model.analog_inputs - 1} (Table 6-2)")
     return str(volts_to_counts(board.world.analog_volts(ctx.values[0], board)))
 
 

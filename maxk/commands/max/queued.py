@@ -78,8 +78,10 @@ def _set_outputs(value: object, ctx: Context) -> Action:
 
 
 def _direction_mask(value: object, ctx: Context) -> Action:
+    """BD: bits for lines the model lacks are ignored (hosts send 16-bit words, D)."""
+
     def action(axis: Axis, board: Board) -> None:
-        board.io.direction = value  # type: ignore[assignment]
+        board.io.direction = value & board.io.mask  # type: ignore[operator]
         board.cross_axis_event = True  # an SW may be waiting on this line
 
     return action
@@ -400,6 +402,10 @@ NOT_MODELLED_YET: dict[str, str] = {
 """Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""
 
 
+_BIT_COMMANDS = frozenset({"BH", "BL", "IO", "SW", "BW"})
+"""Commands naming one I/O line: a line the model does not have is refused."""
+
+
 def validate_queued(ctx: Context) -> None:
     """Refusals that can be decided when the command arrives, before anything is queued."""
     m = ctx.command.mnemonic
@@ -408,6 +414,12 @@ def validate_queued(ctx: Context) -> None:
     if m == "UU":  # from now on this axis's operands are range-checked when they run
         for axis in ctx.axes:
             axis.units_seen = True
+    if m in _BIT_COMMANDS:
+        lines = ctx.board.model.io_lines
+        bits = [v[0] if isinstance(v, tuple) else v for v in ctx.values if v is not None]
+        if any(bit >= lines for bit in bits):
+            raise CommandError(f"{m}: {ctx.board.model.name} has general purpose I/O lines "
+                               f"0-{lines - 1} (Table 6-2)")
     if m == "IO" and ctx.values[0][1] not in (0, 1):
         raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
     if m in ("ECA", "ECB"):

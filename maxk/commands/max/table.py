@@ -338,12 +338,16 @@ _SPECS: list[CommandSpec] = [
     _q("BD", "io", "Bit direction: hex mask of the 16 I/O bits, 1 = output (factory ff00).",
        operand=Operand.HEX, per_axis=False, value_range=(0.0, 65535.0),
        source="evidence 2.6 (BD0001, BDff00; DLL BD%X); manual 4.4", confidence="I",
-       notes="Factory: bits 0-7 inputs, 8-15 outputs (the manual says 8 and 8, not which; D). "
+       notes="Lines per model (Table 6-2): 16 from six axes up, 8 on five or fewer, 6 on "
+       "the MAXk-2000; bits for lines the model lacks are ignored (hosts send 16-bit words, "
+       "D). Factory: the lower half inputs, the upper half outputs (16 lines: ff00; 8: "
+       "00f0; 6: 0038; the manual says 8 and 8, not which; D). "
        "I/O commands are queued on the addressed axis in single-axis mode (so they switch in "
        "step with its moves) and act at once in AA/AM mode (D)."),
     _q("BH", "io", "Set output bit # high.", units=2, operand=Operand.NUMBER, per_axis=False,
        value_range=(0.0, 15.0), source="evidence 2.6 (TRAJ, VIPER, DLL BH#)",
-       notes="A bit configured as an input is a command error."),
+       notes="A bit configured as an input is a command error; so is a line the model "
+       "does not have (Table 6-2), as for BL, IO, SW and BW."),
     _q("BL", "io", "Set output bit # low.", units=2, operand=Operand.NUMBER, per_axis=False,
        value_range=(0.0, 15.0), source="evidence 2.6"),
     _q("BS", "io", "Set every output bit from a hex word (input bits are left alone).",
@@ -382,7 +386,9 @@ _SPECS: list[CommandSpec] = [
     _i("AI", "analog", "Report analog input # (0-3) as a signed 16-bit count (+/-10 V).",
        operand=Operand.NUMBER, per_axis=False, value_range=(0.0, 3.0), reply="16384",
        source="manual 4.5.1 (names AI); no host evidence", confidence="D",
-       notes="The reply format is our decision: the 16-bit two's-complement count, -32768 "
+       notes="Inputs 0-3 from six axes up, 0-1 on five or fewer (Table 6-2): another "
+       "channel is a command error, as for VOA. "
+       "The reply format is our decision: the 16-bit two's-complement count, -32768 "
        "at -10 V, 1 count = 10/32768 V, clipping at 32767."),
     _q("AO", "analog", "Set the axis's DAC as a general purpose analog output (count).",
        units=2, operand=Operand.NUMBER, value_range=(-32768.0, 32767.0),
@@ -673,7 +679,8 @@ _SPECS: list[CommandSpec] = [
        "bits. With an off word (TRAJ sends one) it is a pulse: one update cycle later they "
        "take the off bits (D for the width). Without the mask: the bits named. VIO0,0,0 "
        "stops it. Bit n is I/O line n (the manual's text calls the example's 0100 'I/O7'; "
-       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8).",
+       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8). Bits for "
+       "lines the model lacks are ignored (line 8 needs six axes or more, Table 6-2).",
        hex_operands=True),
     _v("VO", "VO[n]=#", "Velocity override, percent of the programmed vector velocity "
        "(0-200).", value_range=(0.0, OVERRIDE_MAX), confidence="C",

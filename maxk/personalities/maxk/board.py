@@ -73,7 +73,7 @@ class Board(Engine):
         self.firmware_state = 0
         self._init_done_tick = 1  # the firmware flags read 0xFFFFFFFF until then
         self._cycle_origin = 0  # CC counts update cycles since the last power-up/reset
-        self.io = GeneralIO()
+        self.io = GeneralIO.for_lines(self.model.io_lines)
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self._input_levels = 0  # input levels as last seen, for input-edge capture
@@ -578,7 +578,7 @@ class Board(Engine):
             axis.encoder_offset = -axis.encoder_counts(steps, self)
             axis.rest_since = self.tick
         self._servo_axes = []
-        self.io = GeneralIO()
+        self.io = GeneralIO.for_lines(self.model.io_lines)
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self.mode = "single"
