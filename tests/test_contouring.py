@@ -562,7 +562,7 @@ def test_queue_units_stay_within_capacity_after_a_stop():
     board = MAXk("MAXk-4000")
     board.send("AA; VV1000,1000; VP0,0; VP20000,0; VP0,0; VE")
     board.advance(1.0)
-    board.send("AX ST; AX MR100; GO; WT500; MR100; GO")
+    board.send("AX ST; AX MR100; GO; WT4096; MR100; GO")
     board.advance(5.0)
     assert board.query("AA RQC") == "2559,2559,2559,2559"
 

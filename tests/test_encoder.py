@@ -107,7 +107,7 @@ def test_position_maintenance_steps_the_stage_back_under_the_encoder():
 
 
 def test_position_maintenance_waits_for_the_queue():
-    board = encoder_stepper("HD0; HN; MR500; GO; WT200; ID;")
+    board = encoder_stepper("HD0; HN; MR500; GO; WT1639; ID;")
     board.advance(0.05)
     board.miss_steps("X", 10)
     assert board.run_until_done("X", timeout=5)

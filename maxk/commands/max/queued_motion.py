@@ -5,8 +5,6 @@ An action returns None when finished or a wait that holds the queue (Axis.run_qu
 
 from __future__ import annotations
 
-import math
-
 from maxk.commands.max.context import (
     Context,
     QueuedFactory,
@@ -201,8 +199,10 @@ def _load(motor: bool, encoder: bool) -> QueuedFactory:
 
 
 def _wait(value: object, ctx: Context) -> Action:
+    """WT#: # update cycles (SySal converts its milliseconds with the ?UR rate)."""
+
     def action(axis: Axis, board: Board) -> Wait | None:
-        ticks = math.ceil(value / 1000.0 / board.period - 1e-9)  # type: ignore[operator]
+        ticks = int(value)  # type: ignore[call-overload]
         return TickWait(board.tick + ticks) if ticks > 0 else None
 
     return action

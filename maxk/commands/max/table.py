@@ -267,10 +267,12 @@ _SPECS: list[CommandSpec] = [
        value_range=_POS, source="evidence 2.3, E4",
        notes="Open-loop axes read an ideal encoder that follows the motor; LPE offsets it, so "
        "RE then differs from RP by the loaded amount.", user_units=True),
-    _q("WT", "queue", "Wait a number of milliseconds before the next queued command.", units=2,
-       operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0), source="evidence 2.2 (SySal)",
-       confidence="D", notes="Milliseconds, rounded up to whole ticks. The evidence guesses "
-       "update ticks (I); older OMS boards documented WT in milliseconds, which we follow."),
+    _q("WT", "queue", "Wait a number of update cycles before the next queued command.",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0),
+       source="evidence 2.2, E8 (SySal); SySal OmsMAX.cpp (`WT%d` of wait-ms x the update "
+       "cycles per ms it reads from ?UR)", confidence="I",
+       notes="Update cycles (ticks at the present #UR rate), as the one MAXk host that sends "
+       "WT computes its operand: WT8192 is one second at the factory 8192 Hz."),
     _q("ID", "queue", "Set the axis done flag when the queue reaches this entry.",
        source="evidence 2.2, 3.6; E3, E4",
        notes="Sets the done bit in QA/RA/RI/QI, the doorbell (bits 0-7, 25/26 for W/K) and "
@@ -418,7 +420,10 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.3, E5; manual 4.2 and 2.14 (factory hard, enabled)", confidence="I",
        notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
        "limits on with the last style. The letters S and the LM? letters other than f are our "
-       "decision (D)."),
+       "decision (D). A limit trip flushes the axis queue in both stop styles (D for the "
+       "MAXk): the asyn driver allows for an ID that never comes after a limit stop "
+       "(evidence 3.6); TALON's PC39 homing string relies on the queue running on after a "
+       "soft-limit stop (facts Table 2), an older board's behaviour not followed here."),
     _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (LMS's style).",
        source="manual 2.14 ('Over travel limit (soft limit or hard limit); Factory Default = "
        "Hard limit'); evidence 2.3 (DLL SetOmsSoftLimitsMode)", confidence="I",
