@@ -377,3 +377,11 @@ def test_parsing_of_host_forms() -> None:
     assert board.run_until_idle(timeout=2)
     assert board.query("AA RP") == "100,-200,0,0"
     assert not board.command_error, board.last_error
+
+
+def test_a_query_reply_comes_before_the_notification_of_a_later_failing_command() -> None:
+    """TCP door: `RP; XX;` answers RP, then reports XX's command error, in that order."""
+    board = MAXk()
+    session = board.open_session()
+    session.feed(b"AX RP; XX;\n")
+    assert session.read() == b"0\n\r%000 01000000\n\r"

@@ -34,7 +34,9 @@ class Interpreter:
         self._held: list[ParsedCommand | LexError] = []
         self._hold_axes: list[Axis] | None = None
         self.late_replies: list[str] = []  # replies of held queries, for the next write
-        self.on_late_reply: Callable[[str], None] | None = None  # a session delivers them
+        # A session takes every reply the moment it is made, so a reply and a flag
+        # notification raised after it reach the host in that order.
+        self.on_reply: Callable[[str], None] | None = None
 
     def write(self, data: str | bytes) -> list[str]:
         """Feed host bytes; return the replies of the queries completed by them."""
@@ -45,21 +47,21 @@ class Interpreter:
         if self._hold_axes is not None:
             self._held.extend(items)
         else:
-            self._run(items, replies)
+            self._run(items, self.on_reply or replies.append)
         if self.board.parser_waits:  # a flush without a later event may release one
             for resume in list(self.board.parser_waits):
                 resume()
-        if self.late_replies and self.on_late_reply is None:
+        if self.late_replies:
             replies += self.late_replies
             self.late_replies = []
         return replies
 
-    def _run(self, items: list[ParsedCommand | LexError], replies: list[str]) -> None:
+    def _run(self, items: list[ParsedCommand | LexError], emit: Callable[[str], None]) -> None:
         board = self.board
         for k, item in enumerate(items):
             reply = self.execute(item)
             if reply is not None:
-                replies.append(reply)
+                emit(reply)
             if board.parser_hold is not None:  # WQ with work in the queue: hold the rest
                 self._hold_axes, board.parser_hold = board.parser_hold, None
                 self._held = items[k + 1:]
@@ -74,13 +76,7 @@ class Interpreter:
         self.board.parser_waits.remove(self._resume)
         self._hold_axes = None
         items, self._held = self._held, []
-        out: list[str] = []
-        self._run(items, out)
-        for text in out:
-            if self.on_late_reply is not None:
-                self.on_late_reply(text)
-            else:
-                self.late_replies.append(text)
+        self._run(items, self.on_reply or self.late_replies.append)
 
     def execute(self, item: ParsedCommand | LexError) -> str | None:
         board = self.board
