@@ -311,7 +311,11 @@ def test_wh_wg_oscillates_until_stopped() -> None:
     board = MAXk()
     board.send("AX; IC; VL5000; AC1000000; WH; MA1000; GO; MA0; GO; WG;")
     board.advance(5.0)  # far more than one back-and-forth (about 0.4 s)
-    assert board.velocity("X") != 0 or not board.board.is_idle()
+    seen = []
+    for _ in range(100):  # the sixth second: still going back and forth
+        board.advance(0.01)
+        seen.append(board.position("X"))
+    assert min(seen) <= 50 and max(seen) >= 950
     board.send("AX ST ID")
     assert board.run_until_done("X", timeout=2)
     board.advance(1.0)
@@ -385,3 +389,15 @@ def test_a_query_reply_comes_before_the_notification_of_a_later_failing_command(
     session = board.open_session()
     session.feed(b"AX RP; XX;\n")
     assert session.read() == b"0\n\r%000 01000000\n\r"
+
+
+def test_jf_resent_while_running_steers_the_speed() -> None:
+    """Tracking hosts (NMSU, TALON, GVO) resend JF at every update of their loop."""
+    board = MAXk()
+    board.send("AX AC100000; JF500.25;")
+    board.advance(0.5)
+    assert board.velocity("X") == pytest.approx(500.25)
+    board.send("AX JF499.75;")
+    board.advance(0.5)
+    assert board.velocity("X") == pytest.approx(499.75)
+    assert not board.command_error

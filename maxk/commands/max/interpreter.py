@@ -230,7 +230,7 @@ def _enqueue(ctx: Context) -> None:
     else:
         factory = QUEUED[mnemonic]
         actions = [factory(value, ctx) for value in ctx.values]
-    direct = mnemonic != "LS"  # LS must sit in the queue: LE jumps back to it
+    direct = mnemonic != "LS" and mnemonic != "WH"  # LE/WG jump back to them
     for axis, action in zip(ctx.axes, actions, strict=True):
         queue = axis.queue
         if direct and axis.wait is None and not queue.entries:
