@@ -401,3 +401,15 @@ def test_jf_resent_while_running_steers_the_speed() -> None:
     board.advance(0.5)
     assert board.velocity("X") == pytest.approx(499.75)
     assert not board.command_error
+
+
+def test_big_buffer_mode_is_recorded() -> None:
+    board = MAXk()
+    board.send(";#BB100000;")
+    assert board.board.command_buffer == ("big", 100000)
+    board.send(";#BN;")
+    assert board.board.command_buffer == ("normal", 100000)
+    board.send(";#BB;")
+    assert board.board.command_buffer == ("big", 100000)
+    board.send(";#BF;")
+    assert not board.command_error

@@ -244,7 +244,7 @@ def _reset(ctx: Context) -> None:
 
 def _command_buffer(mode: str) -> Callable[[Context], None]:
     def handler(ctx: Context) -> None:
-        size = ctx.values[0] if ctx.values and ctx.values[0] is not None else None
+        size = ctx.values[0] if ctx.values and isinstance(ctx.values[0], int) else None
         ctx.board.command_buffer = (mode, size if size is not None
                                     else ctx.board.command_buffer[1])
 
