@@ -91,8 +91,18 @@ def test_hole_cutting_example_runs_as_written():
     assert abs(later[1] - 10000) <= 1 and abs(later[2]) <= 2
 
 
-def test_hole_cutting_torch_switches_at_the_segment_starts():
+def test_hole_cutting_torch_line_is_missing_on_a_small_board():
+    """Table 6-2: a MAXk-4000 has lines 0-7; the example's mask 0100 (line 8) names
+    none of them, so the contour runs and no line switches."""
     board = MAXk("MAXk-4000")
+    board.send(HOLE)
+    board.run_until_done("X", timeout=200)
+    assert not board.command_error
+    assert list(board.board.io.changes) == []
+
+
+def test_hole_cutting_torch_switches_at_the_segment_starts():
+    board = MAXk("MAXk-8000")  # line 8 exists on boards of six axes or more
     board.send(HOLE)
     board.run_until_done("X", timeout=200)
     rate = board.board.update_rate_hz
@@ -349,13 +359,14 @@ def test_a_segment_naming_an_axis_outside_the_contour_is_refused():
 # ---- the MAXv vector tasks as the EPICS trajectory scan uses them -------------------------
 def _trajectory_scan_load() -> list[str]:
     """What MAX_trajectoryScan.st's loadTrajectory sends for two motors (X: task 1, Y:
-    task 2), output pulses on bit 8 from task 1, start on input bit 3."""
-    out = ["AM;", "BD0100;", "BL8;", "IO3,0;", "AM; SI1,1,,,,,,;", "AX; #UR?;"]
+    task 2), output pulses on bit 7 from task 1 (a MAXk-4000 has lines 0-7), start on
+    input bit 3."""
+    out = ["AM;", "BD0080;", "BL7;", "IO3,0;", "AM; SI1,1,,,,,,;", "AX; #UR?;"]
     x = [(10000, 1, 1000, 50), (1, 1000, 1000, 1050), (1, 1000, 1000, 2050),
          (10000, 1000, 0, 2100)]
     y = [(20000, 1, 2000, 100), (1, 2000, 2000, 4100), (20000, 2000, 0, 4200)]
     for task, segments, pulses in ((1, x, True), (2, y, False)):
-        out.append(f"AM; VIO[{task}]0100,0000,0100;" if pulses else f"AM; VIO[{task}]0,0,0;")
+        out.append(f"AM; VIO[{task}]0080,0000,0080;" if pulses else f"AM; VIO[{task}]0,0,0;")
         out += [f"AM; VID[{task}]1;", f"AM; VH[{task}]0;", f"A{'XY'[task - 1]}; SW3;"]
         for i, (accel, v0, v1, p) in enumerate(segments):
             slots = "," * (task - 1) + str(p) + "," * (8 - task)
@@ -388,9 +399,9 @@ def test_trajectory_scan_sequence_polled_with_qi():
     assert polls[0][1] == "N" and polls[0][6] == "N"
     assert polls[-1][1] == "D" and polls[-1][6] == "D"
     assert board.query("AM RP") == "2100,4200,0,0"
-    # task 1 pulses bit 8 at each of its four segment starts, one update cycle long
-    rises = [(t - start) for t, word in board.board.io.changes if word & 0x100]
-    falls = [(t - start) for t, word in board.board.io.changes if not word & 0x100]
+    # task 1 pulses bit 7 at each of its four segment starts, one update cycle long
+    rises = [(t - start) for t, word in board.board.io.changes if word & 0x80]
+    falls = [(t - start) for t, word in board.board.io.changes if not word & 0x80]
     assert len(rises) == 4 and len(falls) == 4
     assert all(f - r == 1 for r, f in zip(rises, falls, strict=True))
     assert rises[0] == 0
@@ -551,7 +562,7 @@ def test_queue_units_stay_within_capacity_after_a_stop():
     board = MAXk("MAXk-4000")
     board.send("AA; VV1000,1000; VP0,0; VP20000,0; VP0,0; VE")
     board.advance(1.0)
-    board.send("AX ST; AX MR100; GO; WT500; MR100; GO")
+    board.send("AX ST; AX MR100; GO; WT4096; MR100; GO")
     board.advance(5.0)
     assert board.query("AA RQC") == "2559,2559,2559,2559"
 

@@ -20,8 +20,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import differential_doors as doors  # noqa: E402
 import differential_maxk as diff  # noqa: E402
 
-pytestmark = pytest.mark.skipif(not diff.OLD_TREE.exists(),
-                                reason=f"no old tree at {diff.OLD_TREE}")
+
+def _predates_issue_17(tree: Path) -> bool:
+    """Issue 17 changed what a MAXk user sees on purpose: the commands host code sends
+    (SD, JF, WQ, ...), CL/HN/HF accepted on an open-loop stepper, WT in update cycles,
+    Table 6-2's I/O lines and analog inputs per model, RE equal to RP after homing an
+    open-loop stepper, a reply before a later command's notification. Against a tree
+    from before it nothing can be identical; point MAXK_BEFORE at a tree with those
+    changes to compare a later refactor."""
+    tables = [tree / "maxk" / "commands" / "max" / "table.py",  # after the refactor
+              tree / "maxk" / "commands" / "table.py"]  # before it
+    return not any(t.exists() and '("SD",' in t.read_text() for t in tables)
+
+
+pytestmark = pytest.mark.skipif(
+    not diff.OLD_TREE.exists() or _predates_issue_17(diff.OLD_TREE),
+    reason=f"no old tree at {diff.OLD_TREE}, or one from before issue 17's intended changes")
 
 
 @pytest.fixture(scope="module")

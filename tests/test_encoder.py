@@ -107,7 +107,7 @@ def test_position_maintenance_steps_the_stage_back_under_the_encoder():
 
 
 def test_position_maintenance_waits_for_the_queue():
-    board = encoder_stepper("HD0; HN; MR500; GO; WT200; ID;")
+    board = encoder_stepper("HD0; HN; MR500; GO; WT1639; ID;")
     board.advance(0.05)
     board.miss_steps("X", 10)
     assert board.run_until_done("X", timeout=5)
@@ -115,13 +115,16 @@ def test_position_maintenance_waits_for_the_queue():
     assert board.query("AX RE") == "500"
 
 
-def test_loop_commands_on_an_open_loop_stepper_are_refused():
+def test_loop_commands_on_an_open_loop_stepper_are_accepted_and_change_nothing():
+    """Hosts send CL1/HN/HF to every axis (Appendix C on a factory board, VIPER, the
+    DLL): a PSO axis takes them without an error and keeps no loop (decision D)."""
     board = MAXk()
-    for command in ("HN", "CL1", "HF"):
+    for command in ("HN", "CL1", "CL0", "HF"):
         board.send(f"IC; AX {command}")
-        assert board.command_error, command
+        assert not board.command_error, command
+        assert board.query("AX CL?") == "off"
     board.send("IC; AX EA")
-    assert board.command_error
+    assert board.command_error  # still no encoder to report on
 
 
 def test_load_position_during_a_correction_keeps_rp():

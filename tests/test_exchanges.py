@@ -62,10 +62,12 @@ def test_e4_asyn_jog_stop_set_position():
     assert b.query("AX RP") == "1000"
     b.send("AX LPE1000;")
     assert b.query("AX RE") == "1000"
-    # E4's loop lines: an open-loop stepper has no loop to close, so CL1 is refused
-    # visibly; on a servo axis the same lines work (tests/test_servo.py).
+    # E4's loop lines: an open-loop stepper has no loop to close; hosts send CL1 to every
+    # axis, so it is accepted and changes nothing (CL? stays off); on a servo axis the
+    # same lines close the loop (tests/test_servo.py).
     b.send("AX CL1")
-    assert b.command_error
+    assert not b.command_error
+    assert b.query("AX CL?") == "off"
     b.send("IC; AX PSM; CL1; KP0.500000; KI0.000000; KD0.000000;")
     assert not b.command_error
     assert b.query("AX CL?") == "on"

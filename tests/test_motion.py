@@ -230,10 +230,15 @@ def test_load_positions(board):
     assert (board.query("RP"), board.query("RE")) == ("100", "5100")
 
 
-def test_wait_in_milliseconds(board):
-    board.send("AX; WT250; ID;")
+def test_wait_in_update_cycles(board):
+    """SySal sends WT with its milliseconds times the update cycles per ms (?UR)."""
+    board.send("AX; WT2048; ID;")
     assert board.run_until_done("X")
-    assert board.tick == math.ceil(0.25 * 8192)
+    assert board.tick == 2048
+    board.send("AX; CA; #UR1024; WT1024; ID;")
+    start = board.tick
+    assert board.run_until_done("X")
+    assert board.tick - start == 1024  # one second at 1024 Hz
 
 
 def test_loops_repeat_and_nest(board):
@@ -338,7 +343,7 @@ def test_jog_reversal_with_base_velocity_stops_at_vb_not_zero():
 
 def test_update_rate_is_refused_while_busy_and_time_stays_continuous():
     b = MAXk()
-    b.send("AX; WT1000; ID;")
+    b.send("AX; WT8192; ID;")
     b.send("#UR1024")
     assert b.command_error and "idle" in b.last_error.reason
     b.send("IC")

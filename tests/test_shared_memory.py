@@ -271,3 +271,9 @@ def test_a_removed_or_replaced_map_stops_that_door(tmp_path, capsys):
 def _new_file(path):
     path.write_text("new")
     return path
+
+
+def test_a_query_held_by_wq_answers_once_the_queue_is_empty(shm):
+    h, host, _ = shm
+    # RP waits behind WQ until the move has ended, then answers through the ring
+    assert host.query("AX;VL50000;AC500000;MR2000;GO;WQ;RP;") == "2000"

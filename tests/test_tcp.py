@@ -177,3 +177,16 @@ def test_four_boards_are_independent():
         assert h.connect(2).query("AX RP") == "5"
     finally:
         h.close()
+
+
+def test_a_query_held_by_wq_is_answered_when_the_queue_empties(hosted):
+    c = hosted.connect()
+    c.command("AX;VL50000;AC500000;MR2000;GO;")  # run: the move waits for the clock
+    c.send("WQ;RP;\n")
+    board = hosted.services[0].controller.board
+    for _ in range(1000):  # until the server has read it and holds the stream
+        if hosted.call(lambda: bool(board.parser_waits)):
+            break
+    assert hosted.call(lambda: bool(board.parser_waits))
+    hosted.advance(1.0)  # the move ends; the held RP runs and its reply goes out
+    assert c.line() == "2000"

@@ -191,6 +191,11 @@ class SharedMemoryDoor:
     def _read_commands(self) -> None:
         if len(self._pending) >= MAX_PENDING_REPLIES:
             return  # the host is not reading replies: leave its commands in the ring
+        late = self.interpreter.late_replies
+        if late:  # queries a WQ held, answered since the queue emptied
+            for reply in late:
+                self._pending += reply.encode("latin-1") + b"\n"
+            late.clear()
         insert = self._get(M.CMD_INSERT) % M.RING_SIZE
         process = self._get(M.CMD_PROCESS) % M.RING_SIZE
         if insert == process:

@@ -207,6 +207,9 @@ def format_gain(value: float) -> str:
 
 def _analog_in(ctx: Context) -> str:
     board = ctx.board
+    if ctx.values[0] >= board.model.analog_inputs:
+        raise CommandError(f"AI{ctx.values[0]}: {board.model.name} has analog inputs "
+                           f"0-{board.model.analog_inputs - 1} (Table 6-2)")
     return str(volts_to_counts(board.world.analog_volts(ctx.values[0], board)))
 
 
@@ -225,6 +228,38 @@ def _restore_parameters(factory: bool) -> Callable[[Context], None]:
             raise CommandError(f"{ctx.command.mnemonic}: {exc}") from None
 
     return handler
+
+
+def _wait_for_queue(ctx: Context) -> None:
+    """WQ: if the addressed queue(s) still hold work, the interpreter that sent it holds
+    the rest of its stream until they do not (board.parser_hold tells it which)."""
+    busy = [a for a in ctx.addressed if a.wait is not None or a.queue.pending()]
+    if busy:
+        ctx.board.parser_hold = busy
+
+
+def _reset(ctx: Context) -> None:
+    ctx.board.reset()
+
+
+def _command_buffer(mode: str) -> Callable[[Context], None]:
+    def handler(ctx: Context) -> None:
+        size = ctx.values[0] if ctx.values and isinstance(ctx.values[0], int) else None
+        ctx.board.command_buffer = (mode, size if size is not None
+                                    else ctx.board.command_buffer[1])
+
+    return handler
+
+
+def _servo_probe(ctx: Context) -> None:
+    """KK (the VME58's PID probe): a command error unless the axis has a servo loop."""
+    axis = ctx.axes[0]
+    if axis.servo is None:
+        raise CommandError(f"KK: axis {axis.letter} has no servo loop")
+
+
+def _aux_query(ctx: Context) -> str:
+    return ctx.per_axis(lambda a: "=h" if a.aux_level(ctx.board) else "=l")
 
 
 IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
@@ -262,7 +297,17 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "?PM": lambda ctx: ctx.per_axis(lambda a: "=on" if a.loop_closed else "=off"),
     "BX": lambda ctx: format(ctx.board.io.word(ctx.board), "04x"),
     "RB": lambda ctx: format(ctx.board.io.direction, "04x"),
-    "AB?": lambda ctx: ctx.per_axis(lambda a: "=h" if a.aux_level(ctx.board) else "=l"),
+    "AB?": _aux_query,
+    "?AB": _aux_query,
+    "SD": _stop,
+    "WQ": _wait_for_queue,
+    "RS": _reset,
+    "#BB": _command_buffer("big"),
+    "#BN": _command_buffer("normal"),
+    "#BF": lambda ctx: None,
+    "#WC": lambda ctx: None,
+    "RL": _limits_raw,
+    "KK": _servo_probe,
     "AI": _analog_in,
     "?KA": _gain_query("ka"),
     "?KP": _gain_query("kp"),

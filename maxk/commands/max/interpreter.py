@@ -6,6 +6,8 @@ it sets the command-error flag (doorbell bit 24), records why, and the stream go
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from maxk.commands.max.context import CommandError, Context
 from maxk.commands.max.immediate import IMMEDIATE
 from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
@@ -28,15 +30,53 @@ class Interpreter:
     def __init__(self, board: Board) -> None:
         self.board = board
         self.lexer = Lexer()
+        # WQ holds this stream: the commands parsed since, and the axes it waits on.
+        self._held: list[ParsedCommand | LexError] = []
+        self._hold_axes: list[Axis] | None = None
+        self.late_replies: list[str] = []  # replies of held queries, for the next write
+        # A session takes every reply the moment it is made, so a reply and a flag
+        # notification raised after it reach the host in that order.
+        self.on_reply: Callable[[str], None] | None = None
 
     def write(self, data: str | bytes) -> list[str]:
         """Feed host bytes; return the replies of the queries completed by them."""
         replies: list[str] = []
-        for item in self.lexer.feed(data):
+        if self.late_replies:
+            replies, self.late_replies = self.late_replies, []
+        items = self.lexer.feed(data)
+        if self._hold_axes is not None:
+            self._held.extend(items)
+        else:
+            self._run(items, self.on_reply or replies.append)
+        if self.board.parser_waits:  # a flush without a later event may release one
+            for resume in list(self.board.parser_waits):
+                resume()
+        if self.late_replies:
+            replies += self.late_replies
+            self.late_replies = []
+        return replies
+
+    def _run(self, items: list[ParsedCommand | LexError], emit: Callable[[str], None]) -> None:
+        board = self.board
+        for k, item in enumerate(items):
             reply = self.execute(item)
             if reply is not None:
-                replies.append(reply)
-        return replies
+                emit(reply)
+            if board.parser_hold is not None:  # WQ with work in the queue: hold the rest
+                self._hold_axes, board.parser_hold = board.parser_hold, None
+                self._held = items[k + 1:]
+                board.parser_waits.append(self._resume)
+                return
+
+    def _resume(self) -> None:
+        """After an event: once the queues a WQ waits on are empty, run what was held."""
+        axes = self._hold_axes
+        if axes is None or any(a.wait is not None or a.queue.pending() for a in axes):
+            return
+        self.board.parser_waits.remove(self._resume)
+        self._hold_axes = None
+        items, self._held = self._held, []
+        self._run(items, self.on_reply or self.late_replies.append)
 
     def execute(self, item: ParsedCommand | LexError) -> str | None:
         board = self.board
@@ -190,7 +230,7 @@ def _enqueue(ctx: Context) -> None:
     else:
         factory = QUEUED[mnemonic]
         actions = [factory(value, ctx) for value in ctx.values]
-    direct = mnemonic != "LS"  # LS must sit in the queue: LE jumps back to it
+    direct = mnemonic != "LS" and mnemonic != "WH"  # LE/WG jump back to them
     for axis, action in zip(ctx.axes, actions, strict=True):
         queue = axis.queue
         if direct and axis.wait is None and not queue.entries:

@@ -20,9 +20,12 @@ from maxk.commands.max.queued_motion import (
     _base_velocity,
     _deceleration,
     _done,
+    _fractional_jog,
     _go,
+    _go_to,
     _home,
     _home_encoder_mode,
+    _in_position,
     _jog,
     _limit_level_for,
     _limit_mode,
@@ -34,8 +37,11 @@ from maxk.commands.max.queued_motion import (
     _move_relative,
     _one_step,
     _ramp,
+    _timed_move,
     _velocity,
     _wait,
+    _wait_cycle,
+    _while_start,
 )
 from maxk.firmware_model.profiles import RampShape
 from maxk.firmware_model.servo import ServoLoop
@@ -72,8 +78,10 @@ def _set_outputs(value: object, ctx: Context) -> Action:
 
 
 def _direction_mask(value: object, ctx: Context) -> Action:
+    """BD: bits for lines the model lacks are ignored (hosts send 16-bit words, D)."""
+
     def action(axis: Axis, board: Board) -> None:
-        board.io.direction = value  # type: ignore[assignment]
+        board.io.direction = value & board.io.mask  # type: ignore[operator]
         board.cross_axis_event = True  # an SW may be waiting on this line
 
     return action
@@ -102,8 +110,12 @@ def _wait_input(value: object, ctx: Context) -> Action:
 
 
 def _set_aux_state(on: bool) -> QueuedFactory:
+    """AN/AF (and PH/PL): bare, or a 1 in the axis's slot; a 0 leaves the axis alone."""
+
     def factory(value: object, ctx: Context) -> Action:
         def action(axis: Axis, board: Board) -> None:
+            if value is not None and not value:
+                return
             axis.aux_on = on
 
         return action
@@ -178,14 +190,66 @@ def _loop(on: bool, mnemonic: str) -> QueuedFactory:
                 axis.holding = closing
                 if closing:
                     board.maintain(axis)
-                return
-            board.report_error(f"{mnemonic}: axis {axis.letter} is an open-loop stepper "
-                               "(PSO): no encoder to close the loop on",
-                               f"A{axis.letter} {ctx.command.text}")
+            # An open-loop stepper has no loop: hosts send these to every axis (D).
 
         return action
 
     return factory
+
+
+def _absolute_encoder(kind: str) -> QueuedFactory:
+    """ECA/ECB bits,clock (checked on arrival); ECI back to incremental."""
+
+    def factory(value: object, ctx: Context) -> Action:
+        setting = None if value is None else tuple(int(v) for v in value)  # type: ignore
+
+        def action(axis: Axis, board: Board) -> None:
+            axis.config.encoder_interface = kind
+            axis.config.absolute_encoder = setting  # type: ignore[assignment]
+
+        return action
+
+    return factory
+
+
+ABSOLUTE_ENCODER_CLOCKS = (31_250, 62_500, 125_000, 250_000, 500_000, 1_000_000, 2_000_000,
+                           4_000_000)
+"""Manual 4.9: the SSI clock frequencies the board can put out."""
+
+
+def _motor_from_encoder(value: object, ctx: Context) -> Action:
+    """SME (D): the motor counter takes the encoder reading, in motor steps."""
+
+    def action(axis: Axis, board: Board) -> None:
+        if axis.config.axis_type != "E":
+            return
+        steps = round(axis.to_steps(axis.encoder_position(board)))
+        if steps != axis.motor_position(board):
+            axis.load_position(steps, True, False, board)
+
+    return action
+
+
+def _wait_input_low(value: object, ctx: Context) -> Action:
+    """BW (D): the queue waits until input bit # reads low."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        if not board.io.level(value, board):  # type: ignore[arg-type]
+            return None
+        return InputWait(int(value), low=True)  # type: ignore[call-overload]
+
+    return action
+
+
+def _accepted(value: object, ctx: Context) -> Action:
+    """Commands whose effect no source gives (RTL, IOK, DBI) or that have nothing to do
+    here (EF): accepted, so a host's set-up runs without a command error; each table
+    entry says so."""
+
+    def action(axis: Axis, board: Board) -> None:
+        return None
+
+    return action
 
 
 def _encoder_ratio(value: object, ctx: Context) -> Action:
@@ -308,10 +372,38 @@ QUEUED: dict[str, QueuedFactory] = {
     "SF": _set("limit_hard_stop", True),
     "LN": _limits_on(True),
     "LF": _limits_on(False),
+    "JF": _fractional_jog,
+    "GP": _go_to,
+    "TM": _timed_move,
+    "WTC": _wait_cycle,
+    "PH": _set_aux_state(True),
+    "PL": _set_aux_state(False),
+    "ECI": _absolute_encoder("incremental"),
+    "ECA": _absolute_encoder("SSI"),
+    "ECB": _absolute_encoder("BiSS"),
+    "EDI": _set("encoder_inverted", True),
+    "EDN": _set("encoder_inverted", False),
+    "KOD": lambda value, ctx: _set("kod", float(value))(value, ctx),  # type: ignore[arg-type]
+    "RTL": _accepted,
+    "SME": _motor_from_encoder,
+    "BC": _set("backlash"),
+    "BW": _wait_input_low,
+    "IOK": _accepted,
+    "IP": _in_position,
+    "WH": _while_start,
+    "WG": _loop_end,
+    "EF": _accepted,
+    "DBI": _accepted,
 }
 
-NOT_MODELLED_YET: dict[str, str] = {}
+NOT_MODELLED_YET: dict[str, str] = {
+    "ET": "ET: encoder tracking (electronic gearing) is not modelled",
+}
 """Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""
+
+
+_BIT_COMMANDS = frozenset({"BH", "BL", "IO", "SW", "BW"})
+"""Commands naming one I/O line: a line the model does not have is refused."""
 
 
 def validate_queued(ctx: Context) -> None:
@@ -322,8 +414,21 @@ def validate_queued(ctx: Context) -> None:
     if m == "UU":  # from now on this axis's operands are range-checked when they run
         for axis in ctx.axes:
             axis.units_seen = True
+    if m in _BIT_COMMANDS:
+        lines = ctx.board.model.io_lines
+        bits = [v[0] if isinstance(v, tuple) else v for v in ctx.values if v is not None]
+        if any(bit >= lines for bit in bits):
+            raise CommandError(f"{m}: {ctx.board.model.name} has general purpose I/O lines "
+                               f"0-{lines - 1} (Table 6-2)")
     if m == "IO" and ctx.values[0][1] not in (0, 1):
         raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
+    if m in ("ECA", "ECB"):
+        bits, clock = ctx.values[0]
+        if not 1 <= bits <= 32:
+            raise CommandError(f"{m}{bits},{clock}: 1 to 32 data bits")
+        if clock not in ABSOLUTE_ENCODER_CLOCKS:
+            raise CommandError(f"{m}{bits},{clock}: the clock is one of "
+                               + ", ".join(map(str, ABSOLUTE_ENCODER_CLOCKS)) + " Hz")
 
 
 # ---- queries of queued settings (PS? LT? LM? CL?) --------------------------------------

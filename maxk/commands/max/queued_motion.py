@@ -5,8 +5,6 @@ An action returns None when finished or a wait that holds the queue (Axis.run_qu
 
 from __future__ import annotations
 
-import math
-
 from maxk.commands.max.context import (
     Context,
     QueuedFactory,
@@ -201,8 +199,10 @@ def _load(motor: bool, encoder: bool) -> QueuedFactory:
 
 
 def _wait(value: object, ctx: Context) -> Action:
+    """WT#: # update cycles (SySal converts its milliseconds with the ?UR rate)."""
+
     def action(axis: Axis, board: Board) -> Wait | None:
-        ticks = math.ceil(value / 1000.0 / board.period - 1e-9)  # type: ignore[operator]
+        ticks = int(value)  # type: ignore[call-overload]
         return TickWait(board.tick + ticks) if ticks > 0 else None
 
     return action
@@ -285,5 +285,101 @@ def _home(direction: int, load: bool) -> QueuedFactory:
 def _home_encoder_mode(value: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         axis.config.home_encoder = value != 0
+
+    return action
+
+
+# ---- what host programs send beyond the manual (issue 17) -----------------------------
+def _fractional_jog(value: object, ctx: Context) -> Action:
+    """JF: JG with the fraction of a step/s kept (tracking hosts resend it to steer)."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        axis.start_jog(float(value), board)  # type: ignore[arg-type]
+        if axis.motion is not None and axis.ramp_end > board.tick:
+            return TickWait(axis.ramp_end)
+        return None
+
+    return action
+
+
+def _go_to(raw: object, ctx: Context) -> Action:
+    """GP: MA# and GO in one (SySal's position segment); holds until the move ends."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        target = in_counts(axis, raw)
+        if not POSITION_MIN <= target <= POSITION_MAX:
+            board.report_error(f"target {target} is outside the 32-bit position range",
+                               f"A{axis.letter} GP{raw}")
+            return None
+        axis.pending_target = None
+        axis.pending_linear = None
+        if axis.start_move(target, board) and axis.motion is not None:
+            return WAIT_MOTION
+        return None
+
+    return action
+
+
+def _timed_move(value: object, ctx: Context) -> Action:
+    """TM±n: the distance VL covers in n update cycles, in the sign's direction."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        cycles = int(value)  # type: ignore[call-overload]
+        distance = round(axis.config.velocity * abs(cycles) * board.period)
+        target = axis.motor_position(board) + (distance if cycles >= 0 else -distance)
+        if not POSITION_MIN <= target <= POSITION_MAX:
+            board.report_error(f"target {target} is outside the 32-bit position range",
+                               f"A{axis.letter} TM{value}")
+            return None
+        if axis.start_move(target, board) and axis.motion is not None:
+            return WAIT_MOTION
+        return None
+
+    return action
+
+
+CYCLE_COUNTER_MASK = 0x3FFF_FFFF  # CC: 30 bits (SySal checks 0..0x3FFFFFFF)
+
+
+def _wait_cycle(value: object, ctx: Context) -> Action:
+    """WTC#: hold the queue until the cycle counter CC reaches #; a time up to half the
+    counter's range in the past is taken as passed (no wait)."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        ahead = (int(value) - board.cycle_count) & CYCLE_COUNTER_MASK  # type: ignore
+        if ahead == 0 or ahead > CYCLE_COUNTER_MASK // 2:
+            return None
+        return TickWait(board.tick + ahead)
+
+    return action
+
+
+def _in_position(value: object, ctx: Context) -> Action:
+    """IP: done once at rest and, under position maintenance, inside the deadband."""
+
+    def action(axis: Axis, board: Board) -> Wait | None:
+        if axis.motion is not None:
+            return WAIT_REST_RETRY
+        if axis.holding and abs(axis.position_error(board)) > axis.config.hold_deadband:
+            board.maintain(axis, True)  # starts the correction that brings it in
+            if axis.motion is not None:
+                return WAIT_REST_RETRY
+        board.set_axis_flag(axis, F.AXIS_DONE)
+        return None
+
+    return action
+
+
+WHILE_FOREVER = 2**62
+"""WH's loop count: no host runs a WH loop long enough to use it up."""
+
+
+def _while_start(value: object, ctx: Context) -> Action:
+    def action(axis: Axis, board: Board) -> None:
+        axis.queue.loop_start(WHILE_FOREVER)
 
     return action

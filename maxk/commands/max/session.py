@@ -50,7 +50,9 @@ class MaxSession:
         self.board = board
         self.framing = framing
         self.interpreter = Interpreter(board)
+        self.interpreter.on_reply = self._reply
         self._out = bytearray()
+        self._feeding = False
         self._notify = notify
         self.closed = False
         board.add_flag_listener(self._flags_set)
@@ -62,10 +64,20 @@ class MaxSession:
         if self._notify is not None:
             self._notify()
 
+    def _reply(self, text: str) -> None:
+        """A query's reply, in order with the notifications of the commands around it; one
+        held by WQ comes when the queue has emptied and wakes the door."""
+        self._out += self.framing.reply(text)
+        if not self._feeding and self._notify is not None:
+            self._notify()
+
     def feed(self, data: bytes) -> None:
-        reply = self.framing.reply
-        for text in self.interpreter.write(data):
-            self._out += reply(text)
+        self._feeding = True
+        try:
+            for text in self.interpreter.write(data):
+                self._out += self.framing.reply(text)
+        finally:
+            self._feeding = False
 
     def read(self) -> bytes:
         out = bytes(self._out)
@@ -75,6 +87,7 @@ class MaxSession:
     def lose_partial_command(self) -> None:
         """A controller reset: a command half received is lost."""
         self.interpreter = Interpreter(self.board)
+        self.interpreter.on_reply = self._reply
 
     def close(self) -> None:
         self.board.remove_flag_listener(self._flags_set)

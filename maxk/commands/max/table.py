@@ -7,7 +7,7 @@ this table. Each entry says where its behaviour comes from and how sure we are:
 - ``I`` inferred: deduced from how host code uses the command (evidence I);
 - ``D`` decided: neither settles it; this is our choice, explained in ``notes``.
 
-Long module: it is data, one entry per mnemonic (about 170), kept in one file so that
+Long module: it is data, one entry per mnemonic (about 200), kept in one file so that
 the single source of truth is one place to read and to review.
 """
 
@@ -267,10 +267,12 @@ _SPECS: list[CommandSpec] = [
        value_range=_POS, source="evidence 2.3, E4",
        notes="Open-loop axes read an ideal encoder that follows the motor; LPE offsets it, so "
        "RE then differs from RP by the loaded amount.", user_units=True),
-    _q("WT", "queue", "Wait a number of milliseconds before the next queued command.", units=2,
-       operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0), source="evidence 2.2 (SySal)",
-       confidence="D", notes="Milliseconds, rounded up to whole ticks. The evidence guesses "
-       "update ticks (I); older OMS boards documented WT in milliseconds, which we follow."),
+    _q("WT", "queue", "Wait a number of update cycles before the next queued command.",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 2_147_483_647.0),
+       source="evidence 2.2, E8 (SySal); SySal OmsMAX.cpp (`WT%d` of wait-ms x the update "
+       "cycles per ms it reads from ?UR)", confidence="I",
+       notes="Update cycles (ticks at the present #UR rate), as the one MAXk host that sends "
+       "WT computes its operand: WT8192 is one second at the factory 8192 Hz."),
     _q("ID", "queue", "Set the axis done flag when the queue reaches this entry.",
        source="evidence 2.2, 3.6; E3, E4",
        notes="Sets the done bit in QA/RA/RI/QI, the doorbell (bits 0-7, 25/26 for W/K) and "
@@ -294,7 +296,8 @@ _SPECS: list[CommandSpec] = [
        units=2, operand=Operand.NUMBER, operand_optional=True, value_range=_POS,
        source="evidence 2.3, E4, E5; manual 4.3, 4.8, Appendix C (HM0)",
        notes="The search is documented in docs/homing.md: jog at VL toward home, load the "
-       "counter (and the encoder counter on PSE/PSM, D) on the update cycle home is seen, "
+       "counter and the encoder counter (D; on a PSO axis its ideal encoder, so RE stays "
+       "equal to RP) on the update cycle home is seen, "
        "ramp to a stop at DC. Already on home: "
        "found at once. A limit stops it (overtravel) and home is not found. The queue holds "
        "the next entry until the axis is at rest."),
@@ -337,12 +340,16 @@ _SPECS: list[CommandSpec] = [
     _q("BD", "io", "Bit direction: hex mask of the 16 I/O bits, 1 = output (factory ff00).",
        operand=Operand.HEX, per_axis=False, value_range=(0.0, 65535.0),
        source="evidence 2.6 (BD0001, BDff00; DLL BD%X); manual 4.4", confidence="I",
-       notes="Factory: bits 0-7 inputs, 8-15 outputs (the manual says 8 and 8, not which; D). "
+       notes="Lines per model (Table 6-2): 16 from six axes up, 8 on five or fewer, 6 on "
+       "the MAXk-2000; bits for lines the model lacks are ignored (hosts send 16-bit words, "
+       "D). Factory: the lower half inputs, the upper half outputs (16 lines: ff00; 8: "
+       "00f0; 6: 0038; the manual says 8 and 8, not which; D). "
        "I/O commands are queued on the addressed axis in single-axis mode (so they switch in "
        "step with its moves) and act at once in AA/AM mode (D)."),
     _q("BH", "io", "Set output bit # high.", units=2, operand=Operand.NUMBER, per_axis=False,
        value_range=(0.0, 15.0), source="evidence 2.6 (TRAJ, VIPER, DLL BH#)",
-       notes="A bit configured as an input is a command error."),
+       notes="A bit configured as an input is a command error; so is a line the model "
+       "does not have (Table 6-2), as for BL, IO, SW and BW."),
     _q("BL", "io", "Set output bit # low.", units=2, operand=Operand.NUMBER, per_axis=False,
        value_range=(0.0, 15.0), source="evidence 2.6"),
     _q("BS", "io", "Set every output bit from a hex word (input bits are left alone).",
@@ -359,8 +366,15 @@ _SPECS: list[CommandSpec] = [
        operand=Operand.NUMBER, value_range=(0.0, 15.0), source="evidence 2.2 (TRAJ start "
        "trigger `A<x>; SW<bit>;`); manual 4.4", confidence="I",
        notes="Per axis (a list in AA/AM). 'High' rather than 'active' is our reading (D)."),
-    _q("AN", "aux", "Aux output of the axis on.", source="evidence 2.6 (DLL AXAN, AMAN)"),
-    _q("AF", "aux", "Aux output of the axis off.", source="evidence 2.6"),
+    _q("AN", "aux", "Aux output of the axis on; in AA/AM a list flags the axes (AN,,,1,1).",
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
+       source="evidence 2.6 (DLL AXAN, AMAN); facts Table 2 (NMSU `aa an,,,1,1,1;`)",
+       confidence="I", notes="Bare: the addressed axis (every axis in AA/AM). With a list, "
+       "a 1 switches that axis, a 0 or an empty slot leaves it alone."),
+    _q("AF", "aux", "Aux output of the axis off; in AA/AM a list flags the axes (AF1,1,1).",
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 1.0),
+       source="evidence 2.6; facts Table 2 (NMSU `aa af1,1,1,1,1,1;`)", confidence="I",
+       notes="As AN."),
     CommandSpec("PA", "aux", "Automatic aux output: 1 on (on while moving, off SE ms after), "
                 "0 off.", Timing.QUEUED, units=1, operand=Operand.LETTER, letters="01",
                 source="evidence 2.6 (DLL EnableOmsAxisAuxOutAutoMode AXPA1/AXPA0)",
@@ -374,7 +388,9 @@ _SPECS: list[CommandSpec] = [
     _i("AI", "analog", "Report analog input # (0-3) as a signed 16-bit count (+/-10 V).",
        operand=Operand.NUMBER, per_axis=False, value_range=(0.0, 3.0), reply="16384",
        source="manual 4.5.1 (names AI); no host evidence", confidence="D",
-       notes="The reply format is our decision: the 16-bit two's-complement count, -32768 "
+       notes="Inputs 0-3 from six axes up, 0-1 on five or fewer (Table 6-2): another "
+       "channel is a command error, as for VOA. "
+       "The reply format is our decision: the 16-bit two's-complement count, -32768 "
        "at -10 V, 1 count = 10/32768 V, clipping at 32767."),
     _q("AO", "analog", "Set the axis's DAC as a general purpose analog output (count).",
        units=2, operand=Operand.NUMBER, value_range=(-32768.0, 32767.0),
@@ -404,7 +420,10 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.3, E5; manual 4.2 and 2.14 (factory hard, enabled)", confidence="I",
        notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
        "limits on with the last style. The letters S and the LM? letters other than f are our "
-       "decision (D)."),
+       "decision (D). A limit trip flushes the axis queue in both stop styles (D for the "
+       "MAXk): the asyn driver allows for an ID that never comes after a limit stop "
+       "(evidence 3.6); TALON's PC39 homing string relies on the queue running on after a "
+       "soft-limit stop (facts Table 2), an older board's behaviour not followed here."),
     _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (LMS's style).",
        source="manual 2.14 ('Over travel limit (soft limit or hard limit); Factory Default = "
        "Hard limit'); evidence 2.3 (DLL SetOmsSoftLimitsMode)", confidence="I",
@@ -425,8 +444,12 @@ _SPECS: list[CommandSpec] = [
                 "as in the manual's balancing steps). A PSM axis starts open (D). CL1 also "
                 "re-enables the PID after a following-error trip; `LP0;CL1;` zeroes the error "
                 "first, as the manual does. On an encoder stepper (PSE) CL1/CL0 switch "
-                "position maintenance, like HN/HF; on PSO they are a command error when they "
-                "execute. CL? answers on/off (EPICS compares the first two characters)."),
+                "position maintenance, like HN/HF; on an open-loop stepper (PSO) they are "
+                "accepted and do "
+                "nothing (D): the manual's Appendix C sends CL1 to a factory (PSO) board, "
+                "VIPER sends `AX CL0;` and the DLL `AXHN`/`AXHF` to every axis, and none "
+                "expects an error. CL? answers off there. CL? answers on/off (EPICS compares "
+                "the first two characters)."),
     _i("?PM", "servo", "Closed-loop query, firmware before 1.30.", reply="=on | =off",
        source="evidence 2.4", confidence="I"),
     _i("?KA", "servo", "PID present probe: a command error means the axis has no servo loop.",
@@ -543,10 +566,11 @@ _SPECS: list[CommandSpec] = [
        "loop (pre-1.30 form of CL1).", source="evidence 2.4, E4; manual 2.13", confidence="I",
        notes="Position maintenance: at rest, when the encoder is more than HD counts from "
        "where the motor counter says it should be, the axis steps back at HV; the correction "
-       "leaves RP unchanged. It waits while the queue has work. A PSO axis has no encoder: "
-       "a command error."),
+       "leaves RP unchanged. It waits while the queue has work. On a PSO axis (no encoder) "
+       "it is accepted and does nothing, as CL (D)."),
     _q("HF", "servo", "Hold off: position maintenance off; opens a servo's loop (CL0).",
-       source="evidence 2.4, E4", confidence="I"),
+       source="evidence 2.4, E4", confidence="I",
+       notes="Accepted on a PSO axis, where there is nothing to switch (D, as CL)."),
     _i("#UR", "config", "Update rate in Hz: 1024, 2048, 4096 or 8192 (976.6..122.1 us).",
        operand=Operand.NUMBER, query=True, value_range=(1024.0, 8192.0), reply="#UR?: 8192",
        source="evidence 2.5 (TRAJ); manual 2.13", confidence="I",
@@ -566,7 +590,9 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.5, E2"),
     _i("RV", "report", "Report the present velocity (0 at rest).", reply="5000 | list",
        source="evidence 2.5, E2", confidence="I",
-       notes="Signed: negative while moving in the minus direction (D)."),
+       notes="Signed: negative while moving in the minus direction (D). The PC39 answers "
+       "the magnitude only (facts Table 2, TALON); no MAX host reads RV's sign (asyn only "
+       "tests RV = 0), so we keep the sign, which carries more."),
     _i("RC", "report", "Report the programmed acceleration.", reply="2000000 | list",
        source="evidence 2.5 (DLL GetOmsAxisAcceleration)", confidence="I"),
     _i("QA", "report", "Query axis status without clearing: direction, done, limit, home.",
@@ -658,7 +684,8 @@ _SPECS: list[CommandSpec] = [
        "bits. With an off word (TRAJ sends one) it is a pulse: one update cycle later they "
        "take the off bits (D for the width). Without the mask: the bits named. VIO0,0,0 "
        "stops it. Bit n is I/O line n (the manual's text calls the example's 0100 'I/O7'; "
-       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8).",
+       "the trajectory scan computes the mask as 1<<bit, so we take 0100 as line 8). Bits for "
+       "lines the model lacks are ignored (line 8 needs six axes or more, Table 6-2).",
        hex_operands=True),
     _v("VO", "VO[n]=#", "Velocity override, percent of the programmed vector velocity "
        "(0-200).", value_range=(0.0, OVERRIDE_MAX), confidence="C",
@@ -683,6 +710,156 @@ _SPECS: list[CommandSpec] = [
     _i("CC", "report", "Controller cycle counter (update ticks since power-up, 30 bits).",
        reply="123456", source="evidence 2.5, E8 (SySal)", confidence="I",
        notes="Plain decimal, wrapping at 2^30 (SySal checks 0..0x3FFFFFFF)."),
+    # ---- what host programs send beyond the above (issue 17: evidence + facts file) ---
+    _i("SD", "motion", "Stop with deceleration (the VIPER MAXv client's stop: `AX SD ID`, "
+       "`AA; SD; ID;`).", source="evidence 2.2, E10 (VIPER); facts Table 1 (QViper)",
+       confidence="I", notes="Nothing tells it apart from ST, so it is ST: decelerate, flush "
+       "the queue (a pending AC/DC acts first), later entries wait for rest, so `SD ID` "
+       "sets done when stopped (facts: 'an alias of ST would serve every host seen')."),
+    _q("JF", "motion", "Jog at a velocity that may have a fraction of a step/s "
+       "(`JF500.600000`, `JF-00012.3456`).", units=2, integer=False, operand=Operand.NUMBER,
+       value_range=(-float(MAX_VELOCITY), float(MAX_VELOCITY)),
+       source="evidence 2.2 (DLL MoveOmsAxisFractional `AXJF%f;`); facts Table 1, J1-J4 "
+       "(NMSU, TALON, GVO)", confidence="I",
+       notes="As JG with the fraction kept: ramps from the present velocity (through zero "
+       "when reversing) and slews; re-sent while running it changes the speed (tracking "
+       "hosts resend it every update). Same range as JG (J2). Steps/s, not user units (D)."),
+    _q("GP", "motion", "Go to an absolute position at VL at once (no GO): SySal's profile "
+       "segment `VL#;GP#`.", units=4, integer=False, operand=Operand.NUMBER, value_range=_POS,
+       source="evidence 2.2, E8 (SySal `;VL<v>;GP<p>;WT<w>`); SySal OmsMAX.cpp "
+       "(a segment with IsPosition)", confidence="D",
+       notes="Read as MA# and GO in one: it waits for the axis to be at rest, starts the "
+       "move and holds the queue until it ends, so a following WT is a pause at the point."),
+    _q("TM", "motion", "Timed move: run at VL for |#| update cycles in the direction of #'s "
+       "sign (SySal's velocity segment `VL#;TM#`).", units=4, operand=Operand.NUMBER,
+       value_range=(-2_147_483_647.0, 2_147_483_647.0),
+       source="evidence 2.2, E8; SySal OmsMAX.cpp (`VL|v|;TM±wait`, wait = ms x update "
+       "cycles per ms)", confidence="D",
+       notes="Modelled as a relative move of the distance VL covers in |#| update cycles "
+       "(ramps at AC/DC added), started at once; the queue holds until it ends."),
+    _q("WTC", "queue", "Wait until the controller cycle counter (CC) reaches # "
+       "(SySal's timed start `wtc<t>;GO;`).", units=2, operand=Operand.NUMBER,
+       value_range=(0.0, float(0x3FFF_FFFF)),
+       source="evidence 2.2, E8 (SySal `wtc%d;` before GO); SySal OmsMAX.cpp (t = ms x CC "
+       "cycles per ms + the CC offset it measured)", confidence="I",
+       notes="Holds the queue until CC (30 bits, wrapping) reaches #; a time up to half the "
+       "counter's range in the past does not wait (D). Lower case `wtc` as sent."),
+    _q("PH", "aux", "Aux (enable) output of the axis high (VIPER `AX PH`).",
+       source="evidence 2.6, E10 (VIPER); facts Table 1", confidence="I",
+       notes="The same line as AN (QViper drives it with BH instead)."),
+    _q("PL", "aux", "Aux (enable) output of the axis low (VIPER `AX PL`).",
+       source="evidence 2.6, E10 (VIPER)", confidence="I", notes="The same line as AF."),
+    _i("WQ", "queue", "Hold the command parser until the addressed axis queue is empty "
+       "(classic EPICS MAXv stop `AX FL AC200000; WQ ST ID;`).",
+       source="evidence 2.2 (DEV-COM); facts Table 1 (TALON `st wq jg`), note 'WQ in the "
+       "emulator'", confidence="I",
+       notes="Nothing after WQ on this host's stream is acted on (immediate commands "
+       "included) until the queue(s) it addresses hold no work (AA/AM: every axis); other "
+       "hosts' streams go on. Replies of held queries come when they run. After FL the "
+       "queue is empty, so `FL AC#; WQ ST` stops at the new rate."),
+    _q("ECI", "encoder", "Encoder interface incremental (quadrature, factory).",
+       source="evidence 2.4, E8 (SySal sends it on every MAXk axis)", confidence="I",
+       notes="Undoes ECA/ECB."),
+    CommandSpec("ECA", "encoder", "SSI absolute encoder: data bits, clock Hz "
+                "(`AX; PSE; ECA12,125000;`).", Timing.QUEUED, units=3, operand=Operand.NUMBER,
+                per_axis=False, arity=2, modes=frozenset({SINGLE}),
+                value_range=(1.0, 4_000_000.0), source="manual 4.9, 4.9.1; Table 3-1 "
+                "(absolute positions at 0x3520)", confidence="C",
+                notes="Bits 1-32 (12 standard on X and Y, up to 32 on request: we accept 32 "
+                "on any axis, as the manual's second example needs, D); the clock must be "
+                "one of 31250, 62500, 125000, 250000, 500000, 1000000, 2000000, 4000000 Hz, "
+                "else a command error. The setting is stored; the absolute encoder itself "
+                "is not modelled (docs/not-modelled.md)."),
+    CommandSpec("ECB", "encoder", "Serial (BiSS-type) absolute encoder: data bits, clock Hz "
+                "(MXA `ECB32,500000`).", Timing.QUEUED, units=3, operand=Operand.NUMBER,
+                per_axis=False, arity=2, modes=frozenset({SINGLE}),
+                value_range=(1.0, 4_000_000.0), source="evidence 2.4 (ASYN-MXA MXA.cmd)",
+                confidence="I", notes="Checked and stored as ECA (BiSS rather than SSI is "
+                "a guess from the name, facts Table 1)."),
+    _q("EDI", "encoder", "Encoder direction inverted.", source="manual 2.9 step 5d-i",
+       confidence="C", notes="Stored (factory EDN); the inversion of the count is not "
+       "modelled (docs/not-modelled.md): the model's encoders always count with the motor."),
+    _q("EDN", "encoder", "Encoder direction normal (factory).", source="manual 2.9 step 5d-i",
+       confidence="C", notes="As EDI."),
+    _q("KOD", "servo", "Second servo offset term (the manual: SVP- inverts 'KO and KOD').",
+       units=2, operand=Operand.NUMBER, integer=False, value_range=(-32767.0, 32767.0),
+       source="manual 2.9 step 5d-ii", confidence="D",
+       notes="Only its existence is known: stored, not added to the DAC output."),
+    _q("RTL", "config", "SySal's MAXk axis set-up sends it (`...ER#,#;RTL;LTL;...`).",
+       source="evidence 2.4, E8 (SySal)", confidence="D",
+       notes="Meaning unknown (facts: no text anywhere): accepted without effect, so the "
+       "set-up string runs without a command error, as on the board SySal was written for."),
+    _q("SME", "encoder", "Set the motor position counter from the encoder (SySal: in its "
+       "set-up, every 1000 loops and after LP0).", source="evidence 2.4, E8 (SySal)",
+       confidence="D",
+       notes="Read as 'set motor to encoder': the motor counter takes the encoder reading "
+       "(in motor steps through ER), so periodic re-sends keep RP on the stage. Only on an "
+       "encoder stepper (PSE, as SySal's axes are): elsewhere it changes nothing."),
+    _q("BC", "config", "Backlash compensation, steps (SySal's set-up sends BC0).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 32767.0),
+       source="evidence 2.4, E8 (SySal `BC0`); manual specifications ('Backlash "
+       "compensation')", confidence="D",
+       notes="Read as the manual's backlash compensation: on a reversal the step output "
+       "gives # extra steps that the motor counter does not count. Stored; the extra steps "
+       "are not modelled yet (docs/not-modelled.md). BC0 (off) is the factory value."),
+    _i("#BB", "config", "Big command buffer mode (vendor DLL OMS_SetCommandBuffer: `;#BB#;`, "
+       "`;#BB;`).", operand=Operand.NUMBER, operand_optional=True, per_axis=False,
+       value_range=(0.0, 2_147_483_647.0), source="evidence 2.9, §5 (DLL-BIN)",
+       confidence="I", notes="Recorded (board.command_buffer); the parser takes text of any "
+       "length in either mode, so it changes nothing else (D)."),
+    _i("#BN", "config", "Normal command buffer mode (vendor DLL `;#BN;`).",
+       source="evidence 2.9 (DLL-BIN)", confidence="I", notes="As #BB."),
+    _i("#BF", "config", "Flush the big command buffer (vendor DLL OMS_FlushBigBuffer `;#BF`).",
+       source="evidence 2.9 (DLL-BIN)", confidence="I",
+       notes="Text is parsed as it arrives, so nothing is ever waiting in the buffer: "
+       "nothing to drop (D)."),
+    _q("BW", "io", "Queue waits until input bit # reads low (the counterpart of SW).",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 15.0),
+       source="manual 4.4 (names BW among the I/O commands)", confidence="D",
+       notes="The manual names it only; 'bit wait' fits its company (SW waits for high), "
+       "'bit write' would need a level operand that BH/BL already cover."),
+    _q("IOK", "io", "Named by the manual among the I/O commands; meaning unknown.",
+       operand=Operand.NUMBER, operand_optional=True, per_axis=False,
+       value_range=(0.0, 65535.0), source="manual 4.4", confidence="D",
+       notes="No source says what it does: accepted without effect (an operand too)."),
+    _q("IP", "queue", "Set the done flag once the axis is in position: at rest and, with "
+       "position maintenance on, its encoder inside the deadband.",
+       source="facts Table 1 (NMSU `HN; MA<p>; GD; IP;`, `CA; HV#; HG#; HD#; IP;`)",
+       confidence="I",
+       notes="Without position maintenance it is ID after the axis has come to rest."),
+    _i("RS", "config", "Reset the controller: as power-up (motion stops at once, counters 0 "
+       "where the stages stand, archived parameters, AX addressed).",
+       source="facts Table 1 (TALON, NMSU, GVO)", confidence="I",
+       notes="The reset is complete within one update cycle (D; hosts wait 2-5 s). Text "
+       "after RS in the same write runs on the reset board."),
+    _q("WH", "queue", "While loop start: the entries up to WG repeat until a stop or flush "
+       "(`WH; MA#; GO; MA#; GO; WG;`).", units=2,
+       source="evidence 2.2 (VIPER VME58); facts Table 1 (QViper on a MAXv)", confidence="I",
+       notes="Built on the LS/LE loop stack, with no count: ST, SD, SA, KL, KS, FL or SI "
+       "end it. What else might end it is not known."),
+    _q("WG", "queue", "While loop end: jump back to WH.", source="evidence 2.2 (VIPER)",
+       confidence="I", notes="Each jump back takes one update cycle, as LE."),
+    _q("EF", "config", "Echo off (older boards' first command at init).",
+       source="evidence 2.10 (VME8, VME58, PC68 drivers); facts Table 1 (GVO)",
+       confidence="I", notes="The MAXk never echoes: accepted, nothing to change."),
+    _q("DBI", "config", "Sent once per axis by a PC68 host at init (GVO); meaning unknown.",
+       source="facts Table 1 (GVO)", confidence="D", notes="Accepted without effect."),
+    _i("#WC", "report", "Clear the watchdog counter (older drivers).",
+       source="evidence 2.5 (HIST drvMAXv_trajectory)", confidence="I",
+       notes="#WS always reads =0 here (no watchdog trips): nothing to clear."),
+    _i("RL", "report", "Report the limit switch inputs (listed with QA, RA, EA as a reply "
+       "command).", reply="ffff", source="evidence 3.2 (DRV-MAXV log: replies to RA, QA, "
+       "EA, RL)", confidence="D",
+       notes="Its reply format is not known: we answer as QL (raw levels, hexadecimal)."),
+    _i("KK", "servo", "PID present probe of the VME58 (`AX KK2 ID`): a command error on an "
+       "axis without a servo loop.", operand=Operand.NUMBER, operand_optional=True,
+       per_axis=False, value_range=(0.0, 32767.0), source="evidence 2.4, E6 (DRV-58)",
+       confidence="I", notes="On a servo axis it is accepted without effect (D)."),
+    _i("?AB", "aux", "Aux output query, prefix form (as AB?).", reply="=h | =l",
+       source="evidence 2.5 (`AB? / ?AB`)", confidence="I"),
+    _q("ET", "encoder", "Encoder tracking (electronic gearing), named in a VIPER comment.",
+       source="evidence 2.4 (VIPER comment); manual 4.7 (the feature)", confidence="I",
+       notes="Not modelled: refused with a command error that says so (never ignored)."),
 ]
 
 COMMANDS: dict[str, CommandSpec] = {spec.mnemonic: spec for spec in _SPECS}

@@ -219,8 +219,10 @@ def _vo(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:
 def _voa(board: Board, task: ContourTask, cmd: ParsedCommand) -> None:
     channel, span = _numbers(cmd, 2)
     channel = _required(cmd, channel, "an analog input (0-3)")
-    if not channel.is_integer() or not 0 <= channel <= 3:
-        raise CommandError(f"VOA: no analog input {channel:g} (0-3)")
+    last = board.model.analog_inputs - 1
+    if not channel.is_integer() or not 0 <= channel <= last:
+        raise CommandError(f"VOA: {board.model.name} has no analog input {channel:g} "
+                           f"(0-{last})")
     span = DEFAULT_VOA_SPAN if span is None else span
     if span <= 0:
         raise CommandError("VOA: the span must be above 0 V")

@@ -300,7 +300,7 @@ class Axis(MotionAxis):
                     self.wait = None
                     queue.advance()
                 elif type(wait) is InputWait:
-                    if not board.io.level(wait.bit, board):
+                    if board.io.level(wait.bit, board) == wait.low:
                         return progressed
                     self.wait = None
                     queue.advance()

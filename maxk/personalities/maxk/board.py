@@ -73,7 +73,7 @@ class Board(Engine):
         self.firmware_state = 0
         self._init_done_tick = 1  # the firmware flags read 0xFFFFFFFF until then
         self._cycle_origin = 0  # CC counts update cycles since the last power-up/reset
-        self.io = GeneralIO()
+        self.io = GeneralIO.for_lines(self.model.io_lines)
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self._input_levels = 0  # input levels as last seen, for input-edge capture
@@ -88,6 +88,11 @@ class Board(Engine):
         self._servo_axes: list[Axis] = []  # PSM axes: their loops run every tick
         self.tasks: dict[int, ContourTask] = {}  # vector tasks (contouring), by index
         self._due: list[Axis] = []  # axes whose queues the present tick's events woke
+        # WQ: the axes a command stream waits on (read and cleared by its interpreter),
+        # and the streams waiting, called after every event until their queues are empty.
+        self.parser_hold: list[Axis] | None = None
+        self.parser_waits: list[Callable[[], None]] = []
+        self.command_buffer: tuple[str, int | None] = ("normal", None)  # #BB / #BN
         self.add_source(_AxesSource(self))
         self.add_source(_TasksSource(self))
         self.add_source(_InputPoll(self))
@@ -127,6 +132,8 @@ class Board(Engine):
                 self.maintain(axis)
         if self._capturing_inputs:
             capture_inputs(self)
+        for resume in list(self.parser_waits):  # a WQ may release a host's stream
+            resume()
 
     def integrate(self, limit: int) -> bool:
         """Servo loops run every tick: simulate them up to the next event (their inputs
@@ -361,13 +368,15 @@ class Board(Engine):
         self.set_axis_flag(axis, F.AXIS_SLIP)
         self.stop_with_linked(axis, hard=True)
 
-    def maintain(self, axis: Axis) -> None:
+    def maintain(self, axis: Axis, in_position_wait: bool = False) -> None:
         """HN on an encoder stepper at rest: if the encoder is outside the deadband (HD)
         of where the motor counter says it should be, step the stage back at the hold
-        velocity (HV). The correction does not change the motor counter (RP)."""
+        velocity (HV). The correction does not change the motor counter (RP).
+        `in_position_wait`: an IP entry waits for this correction, so its own place in
+        the queue does not count as work."""
         if not axis.holding or axis.motion is not None or axis.config.axis_type != "E":
             return
-        if axis.wait is not None or len(axis.queue):
+        if not in_position_wait and (axis.wait is not None or len(axis.queue)):
             return  # the queue is busy: maintenance waits for the axis to be idle
         error = axis.position_error(self)
         if abs(error) <= axis.config.hold_deadband:
@@ -435,7 +444,7 @@ class Board(Engine):
             axis.counter_offset = homing.load_value - at
             if axis.servo is not None:  # as LP does: encoder hosts read RE
                 axis.encoder_offset = homing.load_value - axis.servo.encoder_counts()
-            elif axis.has_encoder:
+            else:  # an open-loop stepper's ideal encoder too: RE stays equal to RP
                 axis.encoder_offset = homing.load_value - axis.encoder_counts(at, self)
         axis.resync(self)
         if axis.servo is not None:
@@ -569,7 +578,7 @@ class Board(Engine):
             axis.encoder_offset = -axis.encoder_counts(steps, self)
             axis.rest_since = self.tick
         self._servo_axes = []
-        self.io = GeneralIO()
+        self.io = GeneralIO.for_lines(self.model.io_lines)
         self.capture_ring = CaptureRing()
         self.capture_config = [CaptureConfig() for _ in self.axes]
         self.mode = "single"

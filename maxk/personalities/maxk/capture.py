@@ -179,7 +179,7 @@ def fire_captures(board: CaptureHost, axis: Axis) -> None:
 def read_inputs(board: CaptureHost) -> int:
     """The levels of the lines configured as inputs."""
     io = board.io
-    return sum(1 << b for b in range(16)
+    return sum(1 << b for b in range(io.lines)
                if not io.direction >> b & 1 and board.world.digital_level(b, board))
 
 

@@ -49,3 +49,8 @@ class AxisConfig:
     hold_deadband: int = 0  # HD: position maintenance deadband, encoder counts
     hold_gain: int = 0  # HG: position maintenance gain (stored)
     user_units: float | None = None  # UU: counts per user unit; None after UF (factory)
+    encoder_interface: str = "incremental"  # ECI (factory) | "SSI" (ECA) | "BiSS" (ECB)
+    absolute_encoder: tuple[int, int] | None = None  # ECA/ECB: data bits, clock Hz
+    encoder_inverted: bool = False  # EDI / EDN (stored: the count is not inverted)
+    kod: float = 0.0  # KOD: a second offset term, stored only (meaning unknown)
+    backlash: int = 0  # BC: backlash compensation, steps

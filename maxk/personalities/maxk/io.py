@@ -1,8 +1,9 @@
-"""General purpose digital I/O (16 bits), analog inputs and the position-capture ring.
+"""General purpose digital I/O (up to 16 bits), analog inputs and the position-capture ring.
 
-Manual 4.4/4.5 and Table 6-2: 16 digital lines, each an input or an output (factory: 8
-inputs and 8 outputs; we take bits 0-7 as inputs and 8-15 as outputs), 4 analog inputs
-(16-bit ADC, +/-10 V), and a DAC per axis usable as a general purpose analog output when
+Manual 4.4/4.5 and Table 6-2: 16 digital lines on boards of six axes or more (8 on the
+smaller ones, 6 on the MAXk-2000), each an input or an output (factory: half inputs,
+half outputs; we take the lower half as inputs), 4 analog inputs (2 on five axes or
+fewer; 16-bit ADC, +/-10 V), and a DAC per axis usable as a general purpose analog output when
 the axis is not a servo. Inputs come from the world; outputs are latched here.
 """
 
@@ -27,12 +28,29 @@ FACTORY_DIRECTION = 0xFF00  # 1 = output
 ADC_FULL_SCALE = 32767
 
 
+def factory_direction(lines: int) -> int:
+    """The factory split of a model's lines: the lower half inputs, the upper half
+    outputs (16 lines: 0xff00 as the manual's 8 and 8; 8 lines: 0x00f0; 6: 0x0038). D:
+    the manual gives the counts, not which lines."""
+    half = lines // 2
+    return ((1 << lines) - 1) & ~((1 << half) - 1)
+
+
 @dataclass
 class GeneralIO:
     direction: int = FACTORY_DIRECTION
     outputs: int = 0  # output latch (bits configured as inputs keep their latch too)
     # (tick, latch) after every change: a pulse shorter than a host's poll still shows here
     changes: deque[tuple[int, int]] = field(default_factory=lambda: deque(maxlen=4096))
+    lines: int = 16  # the model's lines (Table 6-2); the bits above read 0, stay 0
+
+    @classmethod
+    def for_lines(cls, lines: int) -> GeneralIO:
+        return cls(direction=factory_direction(lines), lines=lines)
+
+    @property
+    def mask(self) -> int:
+        return (1 << self.lines) - 1
 
     def level(self, bit: int, board: _InWorld) -> bool:
         if self.direction >> bit & 1:
@@ -41,14 +59,15 @@ class GeneralIO:
 
     def word(self, board: _InWorld) -> int:
         """The 16 line levels as BX and the shared-memory I/O word report them."""
-        return sum(1 << bit for bit in range(16) if self.level(bit, board))
+        return sum(1 << bit for bit in range(self.lines) if self.level(bit, board))
 
     def set_output(self, bit: int, high: bool, tick: int) -> None:
         mask = 1 << bit
         self.latch((self.outputs | mask) if high else (self.outputs & ~mask), tick)
 
     def latch(self, word: int, tick: int) -> None:
-        """Set the output latch, remembering the change."""
+        """Set the output latch, remembering the change (lines the model lacks stay 0)."""
+        word &= self.mask
         if word != self.outputs:
             self.outputs = word
             self.changes.append((tick, word))

@@ -42,6 +42,20 @@ class BoardModel:
     def axis_letters(self) -> str:
         return AXIS_LETTERS[: self.axes]
 
+    @property
+    def io_lines(self) -> int:
+        """General purpose digital I/O lines (Table 6-2): 16 from six axes up; boards with
+        five or fewer axes have connector J1 only, "half of the possible I/Os": 8, and
+        the MAXk-2000 6, as the table prints it."""
+        if self.axes >= 6:
+            return 16
+        return 6 if self.axes == 2 else 8
+
+    @property
+    def analog_inputs(self) -> int:
+        """General purpose analog inputs (Table 6-2): 4 from six axes up, else 2."""
+        return 4 if self.axes >= 6 else 2
+
 
 def _model_name(axes: int) -> str:
     return f"MAXk-{'A' if axes == 10 else axes}000"

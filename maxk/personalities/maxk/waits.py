@@ -32,9 +32,10 @@ class TickWait:
 
 @dataclass(frozen=True, slots=True)
 class InputWait:
-    """SW: until a general purpose input reads high."""
+    """SW: until a general purpose input reads high (BW: low)."""
 
     bit: int
+    low: bool = False
 
 
 class SyncWait(Protocol):
