@@ -27,6 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maxk.commands.trio.programs import ProgramStore
+from maxk.controllers.registry import build
 from maxk.personalities.mm4005.geometry import Arc, Geometry, Line
 from maxk.personalities.mm4005.pulses import PulsePoint, pulse_points
 from tests.hosting import HostedBoards
@@ -473,3 +474,137 @@ def test_holds_mm4005_nn_at_mpn_on_a_tiny_arc_path_fires_every_pulse() -> None:
     log = fed.controller.engine.pulse_log
     assert [p.index for p in log] == list(range(628))
     assert [p.element for p in log][-1] == 2000
+
+
+@pytest.mark.parametrize("path", ["LX100", "CR50;CA360", "CR1e-6;CA1e-6;LX1", "LX1e-9;LY50"])
+def test_holds_mm4005_trajectory_at_vv_vs_and_ad_extremes(path: str) -> None:
+    """VV and VS from the 1e-6 floor to 1e9, AD from 0 to 1e9, on a plain, a full-circle,
+    a tiny-arc and a near-zero-line path: ET with pulses runs or is refused with a code,
+    ST ends it, and the controller reports no error after."""
+    for vv in ("1e-6", "1", "1e6", "1e9"):
+        for vs in ("1e-6", "1", "1e9"):
+            for ad in ("AD0", "AD1e-6", "AD0.001", "AD180", "AD1e9"):
+                fed = Fed("MM4005")
+                assert mm_reply(fed, f"NT;VV{vv};VS{vs};TE") == "TE@\r", (vv, vs)
+                fed(ad)  # 0.001..10 degrees: the others are refused (C)
+                assert mm_reply(fed, "TE") in ("TE@\r", "TEC\r"), ad
+                fed(path)  # a corner beyond AD is refused (L)
+                assert re.fullmatch(r"TE[@L]\r", mm_reply(fed, "TE")), (vv, vs, ad)
+                nb_ne = "NB1;NE2;NN100;NS;" if ";" in path else ""
+                fed(nb_ne + "ET")
+                reply = mm_reply(fed, "TE")
+                assert re.fullmatch(r"TE[@A-Z]\r", reply), (vv, vs, ad, reply)
+                fed.advance(1000)
+                assert re.fullmatch(r"AT\d+\r1TP-?\d+\.\d{4},2TP-?\d+\.\d{4},3TP0.0000,"
+                                    r"4TP0.0000\r", mm_reply(fed, "AT;TP")), (vv, vs, ad)
+                fed("ST")
+                fed.advance(100_000)
+                assert mm_reply(fed, "AT;MS;TE") == "AT0\r1MSD,2MSD,3MSD,4MSD\rTE@\r", (
+                    vv, vs, ad)
+
+
+@pytest.mark.parametrize("rate", ["1e-6", "0.000001", "1.0000001e-6", "1e9"])
+def test_holds_mm4005_moves_and_homes_at_the_rate_floor_and_ceiling(rate: str) -> None:
+    """VA and AC at the 1e-6 floor (and 1e9): moves, home searches and presets start,
+    ST stops them, positions stay numbers and the controller answers."""
+    for ac in ("1e-6", "1", "1e9"):
+        for op in ("1PA99", "1PR1e-6", "1OR0", "1OR2", "1PA1e9", "1SH5;1DH", "1PA50;2PA-50"):
+            fed = Fed("MM4005")
+            mm_reply(fed, f"1VA{rate};1AC{ac};2VA{rate};2AC{ac};{op}")
+            fed.advance(3000)
+            polled = mm_reply(fed, "MS;TP;TE")
+            assert "nan" not in polled.lower() and "inf" not in polled.lower(), polled
+            fed("1ST;2ST")
+            fed.advance(3_000_000)
+            assert re.fullmatch(r"1MS[D-d@-z],2MS.,3MSD,4MSD\r.*TE@\r",
+                                mm_reply(fed, "MS;TP;TE"), re.DOTALL), (rate, ac, op)
+
+
+def test_holds_mc405_hosts_gone_behind_a_wait_idle_leave_when_it_ends(
+        trio: HostedBoards) -> None:
+    """30 hosts each wait on `WAIT IDLE` behind a long move, queue `VR(i)=i+1` in a second
+    write and hang up: they stay (what they sent must run) until a CANCEL ends the move;
+    then every VR is set and every one of them is gone."""
+    service = trio.services[0]
+    with _connect(trio.ports[0]) as mover:
+        mover.sendall(b"SPEED=1:MOVE(1000000)\r\n")
+        _recv_until(mover, _ends_with(TRIO_TRAILER))
+        before = trio.call(lambda: set(service.clients))
+        gone = []
+        for i in range(30):
+            sock = _connect(trio.ports[0])
+            sock.sendall(b"WAIT IDLE\r\n")
+            _recv_until(sock, _ends_with(b"WAIT IDLE\r\n"))
+            sock.sendall(f"VR({i})={i + 1}\r\n".encode())
+            client = _client_of(trio, before | set(gone))
+            deadline = time.monotonic() + 10
+            while not trio.call(lambda c=client: bool(c._inbox)):  # type: ignore[attr-defined]
+                assert time.monotonic() < deadline
+                time.sleep(0.01)
+            sock.close()
+            gone.append(client)
+        for client in gone:
+            _hung_up(trio, client)
+        trio.advance(1.0)
+        assert trio.call(lambda: len(service.clients)) == 31
+        mover.sendall(b"CANCEL\r\n")
+        _recv_until(mover, _ends_with(b"CANCEL\r\n" + TRIO_TRAILER))
+        trio.advance(2.0)
+        deadline = time.monotonic() + 10
+        while trio.call(lambda: len(service.clients)) != 1:
+            assert time.monotonic() < deadline, trio.call(lambda: len(service.clients))
+            trio.advance(0.01)
+        mover.sendall(b"?VR(0)+VR(29)\r\n")
+        assert _recv_until(mover, _ends_with(TRIO_TRAILER)) == (
+            b"?VR(0)+VR(29)\r\n31\r\n" + TRIO_TRAILER)
+
+
+_HELD_LINES = st.one_of(
+    st.integers(0, 30).map(lambda n: f"WA({n})"), st.integers(-9, 99999).map(lambda n: f"?{n}"),
+    st.just("VR(1)=VR(1)+1"), st.just("?VR(1)"), st.just("WAIT IDLE"), st.just("?1/0"),
+    st.just("MOVE(1):WAIT IDLE:?DPOS"), st.integers(0, 3000).map(lambda n: "?VR(2)" + " " * n))
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(st.lists(_HELD_LINES, min_size=1, max_size=40), st.data())
+def test_holds_mc405_held_input_answers_as_one_line_at_a_time(lines: list[str],
+                                                             data: st.DataObject) -> None:
+    """Lines sent at once, in any chunks, fed as the door feeds (nothing while the session
+    holds) with servo cycles in between, give exactly the bytes the same lines give when
+    each is sent after the previous one finished: in order, nothing dropped or doubled."""
+    reference = Fed("MC405")
+    expected = b""
+    for line in lines:
+        reference.session.feed(line.encode() + b"\r\n")
+        while reference.session.holding:
+            reference.advance(1)
+        expected += reference.session.read()
+    fed = Fed("MC405")
+    inbox = bytearray(b"".join(line.encode() + b"\r\n" for line in lines))
+    got = b""
+    while inbox or fed.session.holding:
+        if inbox and not fed.session.holding:
+            k = data.draw(st.integers(1, 300))
+            fed.session.feed(bytes(inbox[:k]))
+            del inbox[:k]
+        got += fed.session.read()
+        fed.advance(data.draw(st.integers(0, 5)))
+    assert got + fed.session.read() == expected
+
+
+def test_holds_mc405_console_abandons_a_wait_and_goes_on() -> None:
+    """The REPL's console gives up a statement that waits past its limit (`WA`, a
+    `WAIT IDLE` behind a long move, a WA between two assignments) and answers the next
+    line; a host's waiting session beside it does not hold the console up."""
+    controller = build("MC405")
+    host = controller.open_session(notify=lambda: None)
+    host.feed(b"WA(100000000)\r\n?7\r\n")
+    assert host.read() == b"WA(100000000)\r\n"
+    assert controller.send("WA(100000000)") == ["! still waiting after 600 s: abandoned"]
+    assert controller.send("?1") == ["1"]
+    assert controller.send("SPEED=1:MOVE(1000000)") == []
+    assert controller.send("WAIT IDLE") == ["! still waiting after 600 s: abandoned"]
+    assert controller.send("CANCEL:WAIT IDLE:?3") == ["3"]
+    assert controller.send("VR(1)=1:WA(100000000):VR(1)=2") == [
+        "! still waiting after 600 s: abandoned"]
+    assert controller.send("?VR(1)") == ["1"]
