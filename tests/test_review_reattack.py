@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import socket
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -28,6 +29,7 @@ from hypothesis import strategies as st
 
 from maxk.commands.trio.programs import ProgramStore
 from maxk.controllers.registry import build
+from maxk.host.server import HARD_LIMIT
 from maxk.personalities.mm4005.geometry import Arc, Geometry, Line
 from maxk.personalities.mm4005.pulses import PulsePoint, pulse_points
 from tests.hosting import HostedBoards
@@ -36,8 +38,10 @@ from tests.test_review_doors import (
     TRIO_TRAILER,
     Fed,
     _connect,
+    _drain,
     _ends_with,
     _recv_until,
+    _upload,
     mm_reply,
     retained_bytes,
 )
@@ -198,6 +202,40 @@ def test_fixed_mc405_program_print_lands_inside_a_held_command_echo() -> None:
     split = [m.start() for m in re.finditer(rb"\?(?!12\r\n)", out)]
     assert not split, out[split[0] - 10: split[0] + 30]
     assert out.count(b"?12\r\n12\r\n" + PROMPTED) == 2000
+
+
+@open_defect
+def test_fixed_mc405_host_that_never_reads_grows_the_server_by_every_print(
+        trio: HostedBoards) -> None:
+    """HIGH (memory). Since the first review's fix, what a session says unasked is no
+    longer dropped for a host that has not read its last megabyte: it stays in the
+    session "until the host reads". On the MC405 that includes every PRINT of every
+    running program (each session hears them all), so one telnet host that connects and
+    never reads (a stuck or sleeping client, not even hostile) makes its session keep all
+    program output for ever: a `PRINT` loop of 900 characters a cycle grows it by 0.9 MB
+    per second of controller time, 1.5 MB after 6 s and on without limit. (The door's
+    own docstring still says notifications are lost past HARD_LIMIT.) Expected: what a
+    deaf host is kept is bounded (program output beyond the limit dropped; replies to
+    what it asked may stay, they are bounded by its held input)."""
+    service = trio.services[0]
+    deaf = socket.socket()
+    deaf.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    deaf.connect(("127.0.0.1", trio.ports[0]))
+    loader = _connect(trio.ports[0])
+    _upload(loader, "TALK", ["WHILE 1", 'PRINT "' + "x" * 900 + '"', "WEND"])
+
+    def kept() -> int:
+        return trio.call(lambda: max(len(c.session._out) + c._unsent()
+                                     for c in service.clients if c.session is not None))
+
+    for _ in range(120):  # 12 s of controller time: 11 MB printed
+        trio.advance(0.1)
+        _drain(loader)  # the loader reads what it hears
+    held = kept()
+    loader.sendall(b"HALT\r\n")
+    for sock in (loader, deaf):
+        sock.close()
+    assert held < 3 * HARD_LIMIT, f"{held / 1e6:.1f} MB kept for a host that never reads"
 
 
 @pytest.mark.parametrize(("line", "output"), [
