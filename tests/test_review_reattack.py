@@ -44,6 +44,7 @@ from tests.test_review_doors import (
     _upload,
     mm_reply,
     retained_bytes,
+    trio_output,
 )
 from tests.test_trio_doors import TrioHost
 
@@ -389,6 +390,30 @@ def test_holds_mc405_edits_in_the_middle_survive_a_reload(tmp_path: Path,
         store.edit("P", number, action, text)
         assert ProgramStore(tmp_path).lines["P"] == store.lines["P"]
         assert ProgramStore(tmp_path).info["P"].code_size == 0
+
+
+@open_defect
+def test_fixed_mc405_defpos_walks_around_the_two_to_the_53_limit() -> None:
+    """MEDIUM (a position the host cannot read back; a small move refused). The fix
+    refuses a move that goes or ends beyond 2^53 counts "so that DPOS can read back where
+    the axis is", but it checks the machine's internal counts, while DEFPOS moves the
+    frame the host sees. `DEFPOS(9007199254740992)` (or `DEFPOS(1e300)`) is accepted, and
+    `MOVE(1)` after it is accepted too, yet DPOS still reads 9007199254740992: the count
+    is lost, as the fix meant to prevent. The other way round, after a move to 2^53 and
+    `DEFPOS(0)`, DPOS reads 0 and `MOVE(2)` is refused "Parameter out of range".
+    Expected: the limit is about positions the host sees: DEFPOS beyond it refused (or
+    the moves after it), a two-count move from DPOS 0 accepted."""
+    fed = Fed("MC405")
+    accepted = [trio_output(fed(line)) == b"" for line in ("DEFPOS(9007199254740992)",
+                                                          "MOVE(1)")]
+    fed.advance(10_000)
+    dpos = trio_output(fed("?DPOS"))
+    assert not all(accepted) or dpos == b"9007199254740993\r\n", (accepted, dpos)
+    fed = Fed("MC405")
+    fed("SPEED=1e15:ACCEL=1e15:DECEL=1e15:MOVEABS(9007199254740992)")
+    fed.advance(100_000)
+    assert trio_output(fed("DEFPOS(0):?DPOS")) == b"0\r\n"
+    assert trio_output(fed("MOVE(2)")) == b""
 
 
 def test_holds_mc405_table_and_vr_extremes() -> None:
