@@ -416,6 +416,48 @@ def test_fixed_mc405_defpos_walks_around_the_two_to_the_53_limit() -> None:
     assert trio_output(fed("MOVE(2)")) == b""
 
 
+def test_holds_mc405_download_with_edits_reloads_with_the_same_crc(tmp_path: Path) -> None:
+    """atrio's download of 200 lines, then an insert in the middle, a delete of the first,
+    a replace of the last and an insert at the end, COMPILE: a new controller on the same
+    program directory gives the same EDPROG CRC, LIST and DIR."""
+    from maxk.controllers.trio import MC405
+
+    def run(session, line: str) -> bytes:
+        session.feed(line.encode() + b"\r\n")
+        return trio_output(session.read())
+
+    first = MC405(archive=tmp_path).open_session()
+    assert run(first, 'SELECT "DL",0') == b""
+    for n in range(200):
+        assert run(first, f"!DL,{n}RVR({n})={n}") == b""
+    for line in ("!DL,100IPRINT 1", "!DL,0D", "!DL,199RVR(0)=7", "!DL,200IVR(1)=1", "COMPILE"):
+        assert run(first, line) == b"", line
+    seen = [run(first, line) for line in ('EDPROG"DL",10', 'LIST "DL"', "DIR")]
+    again = MC405(archive=tmp_path).open_session()
+    assert [run(again, line) for line in ('EDPROG"DL",10', 'LIST "DL"', "DIR")] == seen
+
+
+@settings(max_examples=100, deadline=None, derandomize=True)
+@given(st.lists(st.tuples(st.integers(-1, 8), st.sampled_from("RRID"), st.text("AB1 ",
+                                                                              max_size=5)),
+                max_size=25))
+def test_holds_mc405_any_edits_reload_line_for_line(edits: list) -> None:
+    """Any sequence of R/I/D edits (refused ones too): a reload from the directory holds
+    exactly the controller's lines after each."""
+    import contextlib
+    import tempfile
+
+    from maxk.commands.trio.lexer import TrioError
+
+    with tempfile.TemporaryDirectory() as directory:
+        store = ProgramStore(directory)
+        store.create("P", 0)
+        for number, action, text in edits:
+            with contextlib.suppress(TrioError):
+                store.edit("P", number, action, text)
+            assert ProgramStore(directory).lines["P"] == store.lines["P"]
+
+
 def test_holds_mc405_table_and_vr_extremes() -> None:
     """TABLE and VR at and beyond their ends, with extreme values: an error line or the
     value, never an exception, and the session answers after."""
