@@ -9,14 +9,12 @@ expected); ``test_holds_...`` guards what held under attack. Door tests use `max
 server in-process with a manual clock (tests/hosting.py); receive timeouts are liveness
 bounds only, returning as soon as what is awaited has come.
 
-The ``test_fixed_...`` tests FAIL until maxk is fixed, so they are opt-in (the rest runs
-by default):  MAXK_REVIEW=1 python3 -m pytest tests/test_review_reattack.py
+Every defect it reproduced is fixed; the ``test_fixed_...`` tests guard the fixes.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import re
 import socket
 import time
@@ -48,8 +46,6 @@ from tests.test_review_doors import (
 )
 from tests.test_trio_doors import TrioHost
 
-open_defect = pytest.mark.skipif(os.environ.get("MAXK_REVIEW") != "1",
-                                 reason="a reproduced defect, open until fixed: MAXK_REVIEW=1")
 PROMPTED = b">>\nControl char : 0x10000000A\r\n>>"  # the prompt after a command line
 
 
@@ -90,7 +86,6 @@ def _dpos(boards: HostedBoards, axis: int) -> bytes:
 # MC405: a session that holds input
 # =========================================================================================
 
-@open_defect
 def test_fixed_mc405_ex_held_behind_a_wait_loses_every_reply_before_it(
         trio: HostedBoards) -> None:
     """HIGH (replies dropped, host stalls). A host pipelines `WA(10)`, `?5` and `EX` in
@@ -126,7 +121,6 @@ def test_holds_mc405_ex_behind_a_wait_in_separate_writes(trio: HostedBoards) -> 
     assert got == PROMPTED + b"?5\r\n5\r\n" + PROMPTED + b"EX\r\n"
 
 
-@open_defect
 def test_fixed_mc405_hang_up_drops_the_input_the_session_held(trio: HostedBoards) -> None:
     """MEDIUM (a command lost, depending on packet boundaries). The door promises that
     what a host sent before it hung up still runs. A host sends `WA(100)` and
@@ -164,7 +158,6 @@ def test_holds_mc405_hang_up_runs_input_the_door_held(trio: HostedBoards) -> Non
     assert _dpos(trio, 0) == b"10"
 
 
-@open_defect
 def test_fixed_mc405_input_after_ex_is_kept_for_ever() -> None:
     """MEDIUM (memory). After EX the session is closed and `restart_requested`; it is no
     longer `holding`, so the door goes on feeding it, and `feed` appends every byte to
@@ -183,7 +176,6 @@ def test_fixed_mc405_input_after_ex_is_kept_for_ever() -> None:
     assert retained < 256 * 1024, f"{retained / 1e6:.1f} MB kept by a session after EX"
 
 
-@open_defect
 def test_fixed_mc405_program_print_lands_inside_a_held_command_echo() -> None:
     """LOW (a host cannot parse the echo). Held input runs `RESUME_SLICE` (2048) bytes a
     servo cycle, cut wherever the count falls, so a line is split across two cycles and a
@@ -205,7 +197,6 @@ def test_fixed_mc405_program_print_lands_inside_a_held_command_echo() -> None:
     assert out.count(b"?12\r\n12\r\n" + PROMPTED) == 2000
 
 
-@open_defect
 def test_fixed_mc405_host_that_never_reads_grows_the_server_by_every_print(
         trio: HostedBoards) -> None:
     """HIGH (memory). Since the first review's fix, what a session says unasked is no
@@ -352,7 +343,6 @@ def test_holds_epics_and_atrio_beside_a_holding_session() -> None:
 # MC405: program store
 # =========================================================================================
 
-@open_defect
 def test_fixed_mc405_torn_last_line_glues_onto_the_next_download(tmp_path: Path) -> None:
     """MEDIUM (a program corrupted after a crash). atrio's download now appends each line
     to the program file; a crash in the middle of that write leaves a torn last line
@@ -392,7 +382,6 @@ def test_holds_mc405_edits_in_the_middle_survive_a_reload(tmp_path: Path,
         assert ProgramStore(tmp_path).info["P"].code_size == 0
 
 
-@open_defect
 def test_fixed_mc405_defpos_walks_around_the_two_to_the_53_limit() -> None:
     """MEDIUM (a position the host cannot read back; a small move refused). The fix
     refuses a move that goes or ends beyond 2^53 counts "so that DPOS can read back where

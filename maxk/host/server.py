@@ -19,187 +19,21 @@ import os
 import struct
 import sys
 import termios
-import time
 import tty
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
-from maxk.controllers.contract import Controller, HoldsInput, Session
-from maxk.host.pacing import Pacer
-
-HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
-HARD_LIMIT = 1024 * 1024  # beyond this, notifications to a client that never reads are lost
-SLICE = 2048  # at most this much of one client's input runs at one turn ...
-SLICE_SECONDS = 0.0005  # ... and for at most about this long; then every other client's turn
-PIECE = 128  # input is fed in pieces this size while a turn lasts
-INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
-UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
-
-
-@dataclass
-class Service:
-    """One controller with its clock and everything attached to it."""
-
-    number: int
-    controller: Controller
-    pacer: Pacer
-    clients: set[Client] = field(default_factory=set)
-    ports: list[tuple[str, int]] = field(default_factory=list)
-    udp_ports: list[tuple[str, int]] = field(default_factory=list)
-    ptys: list[str] = field(default_factory=list)
-
-    def open_session(self, client: Client) -> Session:
-        return self.controller.open_session(notify=client.flush_session)
-
-    def handle(self, session: Session, data: bytes) -> bytes:
-        """Bring the controller to now, feed the bytes, return what the session says."""
-        self.pacer.sync()
-        self.feed(session, data)
-        return session.read()
-
-    def feed(self, session: Session, data: bytes) -> None:
-        """Feed a session; a fault inside the controller is reported and that input is
-        lost, but the door, the host's connection and every other host go on."""
-        try:
-            session.feed(data)
-        except Exception as error:  # the server never dies of one host's bytes
-            print(f"maxk serve: board {self.number} ({self.controller.model}): "
-                  f"{type(error).__name__}: {error} while running {data[:60]!r}; "
-                  "still serving", file=sys.stderr, flush=True)
-
-
-def _holding(session: Session) -> bool:
-    """The session holds input it cannot run yet: what the host sends waits here."""
-    return isinstance(session, HoldsInput) and session.holding
-
-
-class Client:
-    """A host on a stream (a TCP connection or a pty): its session, and its input run in
-    slices that take turns with every other client, so one flooding host never stalls
-    another (a fresh host's query waits at most one slice per busy host). Replies are
-    never dropped: while the host does not read them (its output above HIGH_WATER), its
-    input waits, unrun, and reading from it stops once INBOX_LIMIT is held. Only
-    notifications, which nobody asked for, are lost past HARD_LIMIT."""
-
-    session: Session | None = None
-    service: Service
-    loop: asyncio.AbstractEventLoop
-
-    def _client_init(self) -> None:
-        self._inbox = bytearray()
-        self._scheduled = False
-        self._closing = False  # the host hung up: its input runs out, then the session goes
-        self._output_full = False  # unread replies above HIGH_WATER
-        self._input_held = False  # reading paused (inbox full or output full)
-
-    # what a stream provides
-    def _write(self, data: bytes) -> None:  # pragma: no cover - interface
-        raise NotImplementedError
-
-    def _unsent(self) -> int:  # pragma: no cover - interface
-        raise NotImplementedError
-
-    def _hold_input(self, hold: bool) -> None:  # pragma: no cover - interface
-        raise NotImplementedError
-
-    # the shared mechanism
-    def send(self, data: bytes, *, droppable: bool = False) -> None:
-        if droppable and self._unsent() > HARD_LIMIT:
-            return  # a notification to a host that never reads: lost, memory bounded
-        self._write(data)
-
-    def flush_session(self) -> None:
-        """The session has something to say unasked: send it now, unless the host has
-        not read its last megabyte: then it stays with the session (which may hold a
-        reply that came after a wait: never dropped here) until the host reads. A
-        session that held input may take it again now."""
-        if self.session is not None and self._unsent() <= HARD_LIMIT:
-            out = self.session.read()
-            if out:
-                self.send(out)
-        self._schedule()
-
-    def receive(self, data: bytes) -> None:
-        """Input from the host: held, and run in turns. A host with nothing waiting (a
-        poll, a query) is served at once: only a backlog waits for its turn."""
-        if self.session is None:
-            return
-        idle = not self._inbox and not self._scheduled
-        self._inbox += data
-        if idle and not self._output_full:
-            self._run_slice()
-            return
-        self._update_input()
-        self._schedule()
-
-    def _schedule(self) -> None:
-        if (self._scheduled or not self._inbox or self._output_full or self.session is None
-                or _holding(self.session)):
-            return  # a holding session notifies when it takes input again
-        self._scheduled = True
-        self.loop.call_soon(self._run_slice)
-
-    def _run_slice(self) -> None:
-        self._scheduled = False
-        if self.session is None or self._output_full or not self._inbox:
-            return
-        service = self.service
-        service.pacer.sync()
-        session = self.session
-        taken = 0
-        deadline = time.perf_counter() + SLICE_SECONDS
-        while taken < SLICE and self._inbox and not _holding(session):
-            piece = bytes(self._inbox[:PIECE])
-            del self._inbox[:PIECE]
-            service.feed(session, piece)
-            taken += len(piece)
-            if time.perf_counter() >= deadline:
-                break
-        out = session.read()
-        if out:
-            self.send(out)
-        if self._closing and not self._inbox:
-            self._drop_session()
-            return
-        self._output_full = self._unsent() > HIGH_WATER
-        self._update_input()
-        self._schedule()
-
-    def output_drained(self) -> None:
-        """The host read its replies: what its session kept may go, its input may run."""
-        if self._unsent() <= HARD_LIMIT:
-            self.flush_session()
-        self._output_full = self._unsent() > HIGH_WATER
-        self._update_input()
-        self._schedule()
-
-    def output_full(self) -> None:
-        self._output_full = True
-        self._update_input()
-
-    def _update_input(self) -> None:
-        hold = self._output_full or len(self._inbox) >= INBOX_LIMIT
-        if hold != self._input_held:
-            self._input_held = hold
-            self._hold_input(hold)
-
-    def _hang_up(self) -> None:
-        """The host went away. What it sent still runs (as the board runs what reached
-        it), in turns as before, with nobody left to read the replies; then the session
-        goes."""
-        if self.session is not None and self._inbox:
-            self._closing = True
-            self._output_full = False
-            self._schedule()
-            return
-        self._drop_session()
-
-    def _drop_session(self) -> None:
-        self.service.clients.discard(self)
-        if self.session is not None:
-            self.session.close()
-            self.session = None
-        self._inbox.clear()
+from maxk.controllers.contract import Session
+from maxk.host.client import (  # noqa: F401  (the limits, re-exported for the doors' users)
+    HARD_LIMIT,
+    HIGH_WATER,
+    INBOX_LIMIT,
+    PIECE,
+    SLICE,
+    SLICE_SECONDS,
+    UDP_PEERS,
+    Client,
+    Service,
+)
 
 
 class TcpClient(asyncio.Protocol, Client):

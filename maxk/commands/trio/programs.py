@@ -1,10 +1,12 @@
 """Program storage: the controller's programs as a directory of files.
 
 Each program is ``NAME.<ext>`` (its lines, each ending in LF) and the directory's
-``directory.json`` holds each program's type, run type and compiled size. Every change
-is written to a temporary file and moved into place with ``os.replace``, so a crash
-never leaves a half-written program and the store survives a restart (EX) or a new
-emulator process.
+``directory.json`` holds each program's type, run type and compiled size. A change is
+written to a temporary file and moved into place with ``os.replace``, so the store
+survives a restart (EX) or a new emulator process; the one exception is atrio's download
+a line at a time, where each line appended is one append at the end of the lines before
+it (the file is cut there first, so a line torn by a crash is dropped on reload and
+overwritten by the next one, never glued to it).
 """
 
 from __future__ import annotations
@@ -64,6 +66,7 @@ class ProgramStore:
         self.directory = Path(directory) if directory is not None else None
         self.info: dict[str, ProgramInfo] = {}
         self.lines: dict[str, list[str]] = {}
+        self._sizes: dict[str, int] = {}  # bytes of each program's file as last written
         if self.directory is not None:
             self.directory.mkdir(parents=True, exist_ok=True)
             self._load()
@@ -80,6 +83,7 @@ class ProgramStore:
             text = path.read_text(encoding="latin-1") if path.exists() else ""
             self.info[info.name] = info
             self.lines[info.name] = text.split("\n")[:-1]  # each line ends in LF
+            self._sizes[info.name] = sum(len(line) + 1 for line in self.lines[info.name])
 
     def _write(self, path: Path, text: str) -> None:
         fd, temp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
@@ -101,8 +105,9 @@ class ProgramStore:
         if self.directory is None:
             return
         info = self.info[name]
-        self._write(self.directory / (name + PROGRAM_TYPES[info.type]),
-                    "".join(line + "\n" for line in self.lines[name]))
+        text = "".join(line + "\n" for line in self.lines[name])
+        self._write(self.directory / (name + PROGRAM_TYPES[info.type]), text)
+        self._sizes[name] = len(text.encode("latin-1", "replace"))
         self._save_index()
 
     # ---- operations ---------------------------------------------------------------------
@@ -160,11 +165,21 @@ class ProgramStore:
             self._save_program(info.name)
 
     def _append_line(self, name: str, text: str) -> None:
+        """Write the program's last line after the ones before it (see the module's
+        docstring); a missing file is written whole."""
         if self.directory is None:
             return
         path = self.directory / (name + PROGRAM_TYPES[self.info[name].type])
-        with path.open("a", encoding="latin-1", newline="") as f:
-            f.write(text + "\n")
+        before = self._sizes.get(name)
+        if before is None or not path.exists():
+            self._save_program(name)
+            return
+        line = (text + "\n").encode("latin-1", "replace")
+        with path.open("r+b") as f:
+            f.seek(before)
+            f.truncate()
+            f.write(line)
+        self._sizes[name] = before + len(line)
 
     def clear(self, name: str) -> None:
         info = self.get(name)

@@ -33,7 +33,8 @@ from .system import ProgramCommands
 
 PROMPT = b">>"
 LINE_LIMIT = 1024  # characters in one command line (D)
-RESUME_SLICE = 2048  # held input bytes handled a servo cycle once a wait has ended (D)
+RESUME_SLICE = 2048  # held input handled a servo cycle once a wait has ended, to a line end (D)
+HEAR_LIMIT = 1 << 20  # unread output past which program PRINTs are not kept for a host (D)
 _IAC, _SB, _SE = 0xFF, 0xFA, 0xF0
 _EDIT = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),(\d+)([RID])(.*)", re.DOTALL)
 _EDIT_CONTROL = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),([A-Z])")
@@ -82,6 +83,8 @@ class TrioCommandLine:
 
     # ---- the Session contract ---------------------------------------------------------------
     def feed(self, data: bytes) -> None:
+        if self.closed or self.restart_requested:
+            return  # after EX the controller restarts: what follows goes nowhere (D)
         self._input += data
         self._pump()
 
@@ -92,6 +95,7 @@ class TrioCommandLine:
 
     def close(self) -> None:
         self.closed = True
+        self._input.clear()
 
     def servo_cycle(self) -> None:
         """One servo cycle of the processes, then of a waiting command-line statement."""
@@ -137,8 +141,8 @@ class TrioCommandLine:
             self._advance()
         if self._busy is None:
             self._pump(RESUME_SLICE)
-        if was_holding and not self.holding and self.notify is not None and not self.closed:
-            self.notify()
+        if self.notify is not None and (was_holding and not self.holding or self._out):
+            self.notify()  # even when an EX held here closed it: its host reads the rest
 
     def power_up(self) -> None:
         """Start the programs set to run at power up (after a restart of the door)."""
@@ -149,14 +153,19 @@ class TrioCommandLine:
         self._out += text.encode("latin-1", "replace")
 
     def hear(self, text: str) -> None:
-        """Output of a running program (every session of the controller hears it)."""
-        if not self.closed:
+        """Output of a running program (every session of the controller hears it). A
+        host that has not read `HEAR_LIMIT` of output misses it (D): program output is
+        nobody's reply, and a deaf host must not grow the controller."""
+        if not self.closed and len(self._out) <= HEAR_LIMIT:
             self._print(text)
 
     def _pump(self, limit: int | None = None) -> None:
         """Handle received bytes in order until a statement waits (or `limit` bytes)."""
         data = self._input
-        end = len(data) if limit is None else min(len(data), limit)
+        end = len(data)
+        if limit is not None and limit < end:  # to the end of the line the limit falls in
+            cr = data.find(b"\r", limit - 1)
+            end = end if cr < 0 else cr + 2 if data[cr + 1:cr + 2] == b"\n" else cr + 1
         try:
             self._pump_bytes(data, end)
         finally:  # a fault inside a statement loses that input, not the stream after it

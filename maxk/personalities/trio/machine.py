@@ -50,8 +50,12 @@ MIN_RATE = 1e-6
 denormal SPEED made a 5-unit move last longer than a float counts; the move is refused
 with 'Parameter out of range' as a zero SPEED is)."""
 MAX_COUNTS = 2.0 ** 53
-"""The farthest a move may go, and end, in counts (D: beyond it a double no longer holds
-every count, so DPOS could not read back where the axis is)."""
+"""Below it: how far a move may go, and end, in counts as DPOS reads them, and the farthest
+DEFPOS may set (D: beyond it a double no longer holds every count, so DPOS could not read
+back where the axis is)."""
+MAX_PHYSICAL = 2.0 ** 62
+"""The farthest the stage itself may be taken, in counts from where it powered up (D:
+DEFPOS moves only the frame DPOS reads; a 64-bit counter's range)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
@@ -205,6 +209,9 @@ class MC405Machine(Kinematics, Engine):
         return not self.queues[axis] and a.link is None and a.pending_link is None
 
     def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
+        if not all(abs(p * self.axes[a].units) < MAX_COUNTS
+                   for a, p in zip(axes, positions, strict=True)):
+            raise ValueError("Parameter out of range")  # every axis checked, none changed
         for a, p in zip(axes, positions, strict=True):
             axis = self.axes[a]
             axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
@@ -296,7 +303,9 @@ class MC405Machine(Kinematics, Engine):
         if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
         for a, delta in zip(axes, deltas, strict=True):
-            if not abs(delta) <= MAX_COUNTS or not abs(self._end_counts(a) + delta) <= MAX_COUNTS:
+            end = self._end_counts(a) + delta  # physical counts
+            if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
+                    and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
         merge = base.params["MERGE"] != 0
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
