@@ -173,7 +173,7 @@ class Axis(MotionAxis):
             return False
         c = self.config
         motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
-                           c.deceleration, c.ramp)
+                           c.deceleration, c.ramp, *c.ramp_params)
         return self.start_motion(motion, board)
 
     def start_jog(self, velocity: int, board: AxisHost) -> bool:
@@ -181,7 +181,7 @@ class Axis(MotionAxis):
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
-                          c.deceleration, c.ramp)
+                          c.deceleration, c.ramp, *c.ramp_params)
         return self.start_motion(motion, board, stopping=velocity == 0)
 
     def stop_and_flush(self, board: AxisHost) -> None:
@@ -205,7 +205,8 @@ class Axis(MotionAxis):
             return  # a contour axis ramps down with its path (the flush told the contour)
         residual, current = self._rebase(board)
         c = self.config
-        motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)
+        motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp,
+                           c.ramp_params[1])
         self.start_motion(motion, board, stopping=True)
 
     def kill(self, board: AxisHost) -> None:
@@ -451,7 +452,9 @@ class LinearMove:
         base = min(a.config.base_velocity * scale[a.index] for a in moving)
         accel = min(a.config.acceleration * scale[a.index] for a in moving)
         decel = min(a.config.deceleration * scale[a.index] for a in moving)
-        motion = plan_move(reference, min(base, peak), peak, accel, decel, moving[0].config.ramp)
+        first = moving[0].config
+        motion = plan_move(reference, min(base, peak), peak, accel, decel, first.ramp,
+                           *first.ramp_params)
         # One axis blocked by a pressed limit refuses the whole move: moving the others
         # alone would leave the line (D).
         blocked = [a for a in moving

@@ -388,7 +388,8 @@ class Board(Engine):
         velocity = max(1, round(axis.to_steps(c.hold_velocity))) if c.hold_velocity \
             else c.velocity
         origin = axis.steps
-        motion = plan_move(steps, 0, velocity, c.acceleration, c.deceleration, c.ramp)
+        motion = plan_move(steps, 0, velocity, c.acceleration, c.deceleration, c.ramp,
+                           *c.ramp_params)
         if axis.start_motion(motion, self):
             axis.correcting = origin
 
