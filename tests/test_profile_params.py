@@ -216,8 +216,8 @@ def test_stop_and_jog_use_the_deceleration_share():
 
 @pytest.mark.parametrize("ramp", ["SC; SS30; PR60;", "SC; SS100;", "PN3;", "PN1;"])
 def test_servo_closed_form_jumps_follow_the_shaped_ramps(ramp):
-    """A servo's commanded position is cut into polynomial pieces at the S-curve's knots
-    (and a parabolic ramp above degree 2 is stepped): jumps agree with tick stepping."""
+    """A servo following shaped ramps (S-curve pieces between knots, parabolic ramps of
+    degree 3 that are no cubic): the closed-form jumps agree with tick-by-tick stepping."""
     def run(tick_by_tick: bool) -> list[tuple[float, float]]:
         board = MAXk()
         board.send("AX PSM;")
