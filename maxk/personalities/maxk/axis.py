@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol, cast
 
 from maxk.firmware_model.axis import MotionAxis
-from maxk.firmware_model.motion import MotionPlan
+from maxk.firmware_model.motion import Clock, MotionPlan
 from maxk.firmware_model.profiles import plan_jog, plan_move, plan_stop, scaled
 from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.backlash import Backlash, walk
 from maxk.personalities.maxk.config import AxisConfig, wrap32
 from maxk.personalities.maxk.homing import Homing
 from maxk.personalities.maxk.queue import CommandQueue
@@ -86,6 +87,11 @@ class Axis(MotionAxis):
     units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: Wait | None = None  # what the queue is blocked on
+    # Backlash and BC (backlash.py): the state at the origin of the running motion, and a
+    # motion that ended (origin, plan, seconds run or None for all of it, end step) whose
+    # path is walked when a board is at hand.
+    backlash: Backlash = field(default_factory=Backlash)
+    backlash_pending: tuple[int, MotionPlan, float | None, int] | None = None
 
     def motor_position(self, board: AxisHost) -> int:
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
@@ -97,8 +103,9 @@ class Axis(MotionAxis):
 
     def encoder_counts(self, steps: int, board: AxisHost) -> int:
         """What a stepper's encoder counts at a motor position: the stage lags the motor
-        by the steps it missed (a world fault), scaled by the ER ratio."""
-        stage = steps - board.world.axes[self.index].lost_steps
+        by the steps it missed (a world fault) and by its backlash (less BC's extra
+        steps), scaled by the ER ratio."""
+        stage = steps - board.world.axes[self.index].lost_steps + self.stage_offset(board)
         counts, motor_steps = self.config.encoder_ratio
         if counts == motor_steps:
             return stage
@@ -130,6 +137,62 @@ class Axis(MotionAxis):
             return lost - self.lost_accounted
         return ((steps - self.lost_accounted) * counts // motor_steps
                 - (steps - lost) * counts // motor_steps)
+
+    # ---- backlash ----------------------------------------------------------------------
+    def backlash_now(self, board: AxisHost) -> Backlash:
+        """The backlash state at this tick (a stepper's; a servo has none)."""
+        self._settle_backlash(board)
+        state = self.backlash
+        m = self.motion
+        if m is None or self.servo is not None:
+            return state
+        play, compensation = self._backlash_settings(board)
+        if not (play or compensation or state.extra or state.play):
+            return state._replace(direction=self._direction_now(board, state))
+        t = (board.tick - self.motion_start) * board.period
+        return walk(state, self.steps, m, t, self.steps_now(board), play, compensation)
+
+    def stage_offset(self, board: AxisHost) -> int:
+        """Steps the stage stands ahead of the motor counter's steps (backlash, BC)."""
+        if self.servo is not None:
+            return 0
+        self._settle_backlash(board)
+        state = self.backlash
+        if self.motion is None or not (state.extra or state.play
+                                       or any(self._backlash_settings(board))):
+            return state.offset
+        return self.backlash_now(board).offset
+
+    def _direction_now(self, board: AxisHost, state: Backlash) -> int:
+        moved = self.steps_now(board) - self.steps
+        return state.direction if moved == 0 else (1 if moved > 0 else -1)
+
+    def _backlash_settings(self, board: AxisHost) -> tuple[int, int]:
+        return board.world.axes[self.index].backlash, self.config.backlash
+
+    def _settle_backlash(self, board: AxisHost) -> None:
+        pending = self.backlash_pending
+        if pending is None:
+            return
+        self.backlash_pending = None
+        origin, motion, until, end = pending
+        play, compensation = self._backlash_settings(board)
+        self.backlash = walk(self.backlash, origin, motion, until, end, play, compensation)
+
+    def begin(self, motion: MotionPlan, engine: Clock) -> None:
+        self._settle_backlash(cast("AxisHost", engine))
+        super().begin(motion, engine)
+
+    def freeze(self, engine: Clock) -> tuple[float, float]:
+        m, origin = self.motion, self.steps
+        if m is None or self.servo is not None:
+            return super().freeze(engine)
+        self._settle_backlash(cast("AxisHost", engine))
+        t = (engine.tick - self.motion_start) * engine.period
+        out = super().freeze(engine)
+        self.backlash_pending = (origin, m, t, self.steps)
+        self._settle_backlash(cast("AxisHost", engine))
+        return out
 
     def resync(self, board: AxisHost) -> None:
         """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
@@ -217,6 +280,9 @@ class Axis(MotionAxis):
         self._rebase(board)
 
     def finish_motion(self) -> None:
+        m = self.motion
+        if m is not None and self.servo is None:
+            self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()
         self.capture_pending = []
 
@@ -237,6 +303,8 @@ class Axis(MotionAxis):
         if board.limit_blocks(self, direction):
             board.refuse_into_limit(self)
             return False
+        self._settle_backlash(board)
+        self.backlash = self.backlash.leg(direction, *self._backlash_settings(board))
         self.steps += direction
         self.direction = direction
         return True
