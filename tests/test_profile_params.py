@@ -235,3 +235,13 @@ def test_servo_closed_form_jumps_follow_the_shaped_ramps(ramp):
     for (p1, w1), (p2, w2) in zip(fast, slow, strict=True):
         assert p1 == pytest.approx(p2, abs=1e-3)
         assert w1 == pytest.approx(w2, abs=1e-2 + 1e-6 * abs(w2))
+
+
+def test_linear_moves_take_the_first_axis_ramp_and_its_parameters():
+    b = MAXk()
+    b.send("AX; SC; SS40; AY; LA;")
+    b.send("AM; VL5000,5000; AC50000,50000; MT1000,3000; GO; ID;")
+    x, y = b.board.axis("X").motion, b.board.axis("Y").motion
+    assert x.phases[0].param == y.phases[0].param == pytest.approx(0.4)
+    assert b.run_until_idle(timeout=60)
+    assert b.query("AM; RP").startswith("1000,3000")

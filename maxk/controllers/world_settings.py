@@ -196,6 +196,7 @@ def describe_world(board: MAXk) -> list[str]:
         lines.append(
             f"{axis.letter}: at {axis.steps_now(b)} steps; limits {plus} / {minus}; "
             f"home {home_text}; index every {stage.index_period} from {stage.index_offset}"
+            + (f"; backlash {stage.backlash}" if stage.backlash else "")
             + (f"; capture {', '.join(capture)}" if capture else ""))
     inputs = "".join("1" if b.world.digital_level(i, b) else "0" for i in range(15, -1, -1))
     lines.append(f"inputs (15..0): {inputs}; analog: " + ", ".join(

@@ -175,13 +175,14 @@ _SPECS: list[CommandSpec] = [
     _q("PN", "profile", "Parabolic ramps: acceleration highest at low speed; PN# sets the "
        "curve's degree.", units=2,
        operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 8.0),
-       source="evidence 2.7 (DLL SelectOmsParabolicRamp(n) sends PN#)", confidence="I",
-       notes="The operand's meaning is in no source (facts item 11); our decision (D): the "
-       "degree n of the velocity curve 1 - (1 - u)^n over the ramp, so the acceleration "
-       "starts at its peak AC and falls to 0 at the top speed; the ramp lasts n times as "
-       "long as a linear one. PN0 or bare PN keep the factory curve (n = 2, the square; a "
-       "bare PN keeps the last degree), PN1 is linear, up to PN8; a degree above 8 is a "
-       "command error. Deceleration ramps are the mirror image in time."),
+       source="evidence 2.7 (DLL SelectOmsParabolicRamp(n) sends PN#)", confidence="D",
+       notes="The mnemonic is I (the DLL's parabolic selection); the operand's meaning is in "
+       "no source (facts item 11) and is our decision (D): the degree n of the velocity "
+       "curve 1 - (1 - u)^n over the ramp, so the acceleration starts at its peak AC and "
+       "falls to 0 at the top speed; the ramp lasts n times as long as a linear one. PN0 "
+       "gives the factory curve (n = 2, the square) and a bare PN keeps the degree last set "
+       "(factory 0); PN1 is linear, up to PN8; a degree above 8 is a command error. "
+       "Deceleration ramps are the mirror image in time."),
     _q("PF", "profile", "Parabolic ramps off: back to linear.", source="evidence 2.7",
        confidence="I"),
     _q("SC", "profile", "S-curve ramps: jerk-limited, acceleration peaks mid-ramp.",
@@ -190,21 +191,22 @@ _SPECS: list[CommandSpec] = [
        "'4 quadrant jerk': SS sets the two corners of speeding up).", units=2,
        operand=Operand.NUMBER, value_range=(0.0, 100.0),
        source="evidence 2.7 (DLL SelectOmsSCurveRamp(n) sends AXSS#); manual specifications "
-       "('S-Curve with 4quadrant jerk parameters')", confidence="I",
-       notes="The operand's meaning is in no source (facts item 11); our decision (D): the "
-       "percentage of each S-curve acceleration ramp during which the acceleration changes "
-       "(half rising at the start, half falling at the end), the rest at the constant peak "
-       "AC. SS100, and SS0 (factory), give the full S (acceleration peaks mid-ramp); "
-       "smaller values tend to the linear ramp (SS1). Above 100 is a command error. Acts "
-       "on SC ramps only."),
+       "('S-Curve with 4quadrant jerk parameters')", confidence="D",
+       notes="The mnemonic is I (sent with the DLL's S-curve selection); the operand's meaning "
+       "is in no source (facts item 11) and is our decision (D): the percentage of each "
+       "S-curve acceleration ramp during which the acceleration changes (half rising at the "
+       "start, half falling at the end), the rest at the constant peak AC. SS100, and SS0 "
+       "(factory), give the full S (acceleration peaks mid-ramp); smaller values tend to the "
+       "linear ramp (SS1). Above 100 is a command error. Acts on SC ramps only."),
     _q("PR", "profile", "S-curve jerk share of deceleration ramps, percent (the other two "
        "of the '4 quadrant jerk' corners).",
        units=2, operand=Operand.NUMBER, value_range=(0.0, 100.0),
-       source="evidence 2.7 (DLL SelectOmsSCurveRamp(n) sends AXPR#)", confidence="I",
-       notes="Meaning our decision (D), as SS: the percentage of each S-curve deceleration "
-       "ramp (slowing down, stops, reversals) during which the deceleration changes. PR0 "
-       "(factory) follows SS, so SS alone shapes both; the DLL sends PR and SS with the "
-       "same value. Above 100 is a command error. Acts on SC ramps only."),
+       source="evidence 2.7 (DLL SelectOmsSCurveRamp(n) sends AXPR#)", confidence="D",
+       notes="The mnemonic is I; its meaning is our decision (D), as SS: the percentage of "
+       "each S-curve deceleration ramp (slowing down, stops, reversals) during which the "
+       "deceleration changes. PR0 (factory) follows SS, so SS alone shapes both (the DLL's "
+       "SelectOmsSCurveRamp(n) sends both, presumably with the same n). Above 100 is a "
+       "command error. Acts on SC ramps only."),
     _q("CN", "profile", "Cosine ramps.", source="evidence 2.7 (DLL SelectOmsCosineRamp)",
        confidence="I"),
     # ---- moves ------------------------------------------------------------------------
