@@ -87,10 +87,8 @@ class Axis(MotionAxis):
     units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: Wait | None = None  # what the queue is blocked on
-    # Backlash and BC (backlash.py): the state at the origin of the running motion, and a
-    # motion that ended (origin, plan, seconds run or None for all of it, end step) whose
-    # path is walked when a board is at hand.
-    backlash: Backlash = field(default_factory=Backlash)
+    backlash: Backlash = field(default_factory=Backlash)  # at the running motion's origin
+    # an ended motion still to walk: (origin, plan, seconds run or None: all, end step)
     backlash_pending: tuple[int, MotionPlan, float | None, int] | None = None
 
     def motor_position(self, board: AxisHost) -> int:
@@ -138,60 +136,45 @@ class Axis(MotionAxis):
         return ((steps - self.lost_accounted) * counts // motor_steps
                 - (steps - lost) * counts // motor_steps)
 
-    # ---- backlash ----------------------------------------------------------------------
+    # ---- backlash (backlash.py) ----------------------------------------------------------
     def backlash_now(self, board: AxisHost) -> Backlash:
-        """The backlash state at this tick (a stepper's; a servo has none)."""
+        """The stage's backlash state at this tick (a servo has none)."""
         self._settle_backlash(board)
-        state = self.backlash
         m = self.motion
         if m is None or self.servo is not None:
-            return state
-        play, compensation = self._backlash_settings(board)
-        if not (play or compensation or state.extra or state.play):
-            return state._replace(direction=self._direction_now(board, state))
+            return self.backlash
         t = (board.tick - self.motion_start) * board.period
-        return walk(state, self.steps, m, t, self.steps_now(board), play, compensation)
+        return walk(self.backlash, self.steps, m, t, self.steps_now(board),
+                    board.world.axes[self.index].backlash, self.config.backlash)
 
     def stage_offset(self, board: AxisHost) -> int:
         """Steps the stage stands ahead of the motor counter's steps (backlash, BC)."""
         if self.servo is not None:
             return 0
         self._settle_backlash(board)
-        state = self.backlash
-        if self.motion is None or not (state.extra or state.play
-                                       or any(self._backlash_settings(board))):
-            return state.offset
+        s = self.backlash
+        if self.motion is None or not (s.extra or s.play or self.config.backlash
+                                       or board.world.axes[self.index].backlash):
+            return s.offset
         return self.backlash_now(board).offset
 
-    def _direction_now(self, board: AxisHost, state: Backlash) -> int:
-        moved = self.steps_now(board) - self.steps
-        return state.direction if moved == 0 else (1 if moved > 0 else -1)
-
-    def _backlash_settings(self, board: AxisHost) -> tuple[int, int]:
-        return board.world.axes[self.index].backlash, self.config.backlash
-
-    def _settle_backlash(self, board: AxisHost) -> None:
-        pending = self.backlash_pending
-        if pending is None:
-            return
-        self.backlash_pending = None
-        origin, motion, until, end = pending
-        play, compensation = self._backlash_settings(board)
-        self.backlash = walk(self.backlash, origin, motion, until, end, play, compensation)
+    def _settle_backlash(self, board: AxisHost) -> None:  # finish_motion has no board
+        if self.backlash_pending is not None:
+            origin, motion, until, end = self.backlash_pending
+            self.backlash_pending = None
+            self.backlash = walk(self.backlash, origin, motion, until, end,
+                                 board.world.axes[self.index].backlash, self.config.backlash)
 
     def begin(self, motion: MotionPlan, engine: Clock) -> None:
         self._settle_backlash(cast("AxisHost", engine))
         super().begin(motion, engine)
 
     def freeze(self, engine: Clock) -> tuple[float, float]:
-        m, origin = self.motion, self.steps
-        if m is None or self.servo is not None:
-            return super().freeze(engine)
-        self._settle_backlash(cast("AxisHost", engine))
-        t = (engine.tick - self.motion_start) * engine.period
+        m, origin, t = self.motion, self.steps, (engine.tick - self.motion_start) * engine.period
         out = super().freeze(engine)
-        self.backlash_pending = (origin, m, t, self.steps)
-        self._settle_backlash(cast("AxisHost", engine))
+        if m is not None and self.servo is None:
+            self.backlash_pending = (origin, m, t, self.steps)
+            self._settle_backlash(cast("AxisHost", engine))
         return out
 
     def resync(self, board: AxisHost) -> None:
@@ -304,7 +287,8 @@ class Axis(MotionAxis):
             board.refuse_into_limit(self)
             return False
         self._settle_backlash(board)
-        self.backlash = self.backlash.leg(direction, *self._backlash_settings(board))
+        self.backlash = self.backlash.leg(direction, board.world.axes[self.index].backlash,
+                                          self.config.backlash)
         self.steps += direction
         self.direction = direction
         return True
