@@ -169,6 +169,17 @@ class MAXk(VirtualTime):
         self.stage(letter).lost_steps += int(steps)
         self.board.world_changed()
 
+    def set_backlash(self, letter: str, steps: int) -> None:
+        """Give a stepper's stage `steps` of play: after the motor reverses, the stage
+        does not follow its first `steps` steps (an encoder on the stage sees it; BC on
+        the board compensates)."""
+        steps = int(steps)
+        if steps < 0:
+            raise ValueError(f"backlash is a number of steps >= 0, not {steps}")
+        self.board.axis(letter).backlash_now(self.board)  # a past motion at the old play
+        self.stage(letter).backlash = steps
+        self.board.world_changed()
+
     def set_motor(self, letter: str, **parameters: object) -> None:
         """Change the motor a servo axis drives (see MotorPlant: inertia,
         viscous_friction, coulomb_friction, torque_constant, amplifier, amplifier_gain,

@@ -7,6 +7,7 @@
     X index 4000 4 1280        index marks: period, width, offset
     X fault plus active        stick a switch (plus, minus, home) active/inactive; none clears
     X bounce home 3            the switch chatters within 3 steps of its edges (0: clean)
+    X backlash 25              the stage has 25 steps of play (a stepper; BC compensates)
     X capture home both        capture on home edges: rising, falling, both or off
     X capture index on         capture on every index mark (on/off)
     X capture inputs 0x5 0x4   capture on rising / falling edges of these input bits
@@ -108,6 +109,11 @@ def parse_world(text: str) -> Setting:
     if what == "miss" and len(args) == 1:
         steps = _int(args[0], "a number of steps")
         return lambda b: (b.miss_steps(letter, steps), f"{letter} miss {steps}")[1]
+    if what == "backlash" and len(args) == 1:
+        play = _int(args[0], "a number of steps")
+        if play < 0:
+            raise ValueError("backlash is a number of steps >= 0")
+        return lambda b: (b.set_backlash(letter, play), f"{letter} backlash {play}")[1]
     if what == "motor" and args:
         parameters: dict[str, object] = {}
         for arg in args:
@@ -190,6 +196,7 @@ def describe_world(board: MAXk) -> list[str]:
         lines.append(
             f"{axis.letter}: at {axis.steps_now(b)} steps; limits {plus} / {minus}; "
             f"home {home_text}; index every {stage.index_period} from {stage.index_offset}"
+            + (f"; backlash {stage.backlash}" if stage.backlash else "")
             + (f"; capture {', '.join(capture)}" if capture else ""))
     inputs = "".join("1" if b.world.digital_level(i, b) else "0" for i in range(15, -1, -1))
     lines.append(f"inputs (15..0): {inputs}; analog: " + ", ".join(

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from maxk.firmware_model.profiles import RampShape
+from maxk.firmware_model.profiles import Phase, RampShape
 
 if TYPE_CHECKING:
     from maxk.firmware_model.motion import MotionPlan
@@ -395,11 +395,13 @@ class ServoLoop:
         start_t, end_t = phase.t0, phase.t0 + phase.duration
         ramp = phase.v1 != phase.v2
         if ramp and phase.shape is RampShape.SCURVE:
-            half = phase.t0 + phase.duration / 2
-            if t < half:
-                end_t = half
-            else:
-                start_t = half
+            # an S-curve is polynomial between its knots (its middle, with SS/PR, too)
+            knots = phase.knots if isinstance(phase, Phase) else (phase.duration / 2,)
+            for knot in knots:
+                if t < phase.t0 + knot:
+                    end_t = phase.t0 + knot
+                    break
+                start_t = phase.t0 + knot
         polynomial = phase.polynomial  # cosine ramps and contour arcs are not
         start = axis.motion_start + math.ceil(start_t / period - 1e-9)
         if math.isinf(end_t):

@@ -103,6 +103,8 @@ class AxisWorld:
     index_offset: int = 1280  # physical position of an index mark (inside the home window)
     motor: MotorPlant = field(default_factory=MotorPlant)  # what a servo (PSM) axis drives
     lost_steps: int = 0  # steps a stepper's stage lags its motor by (missed-steps fault)
+    backlash: int = 0  # play between a stepper and its stage: after a reversal the stage
+    # does not follow the motor's first `backlash` steps (BC on the board compensates)
 
     def set_plus_limit(self, position: float | None) -> None:
         self.plus_limit = Switch(_checked(position), None, self.plus_limit.fault,

@@ -172,21 +172,41 @@ _SPECS: list[CommandSpec] = [
     user_units=True, applied_at_stop=True),
     _q("LA", "profile", "Linear ramps: trapezoid, or triangle on short moves (factory).",
        source="evidence 2.7 (DLL SelectOmsLinearRamp)", confidence="I"),
-    _q("PN", "profile", "Parabolic ramps: acceleration highest at low speed.", units=2,
-       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 32767.0),
-       source="evidence 2.7 (DLL SelectOmsParabolicRamp(n) sends PN#)", confidence="I",
-       notes="The operand is stored but does not change the curve: its meaning is not in the "
-       "evidence (see docs/not-modelled.md)."),
+    _q("PN", "profile", "Parabolic ramps: acceleration highest at low speed; PN# sets the "
+       "curve's degree.", units=2,
+       operand=Operand.NUMBER, operand_optional=True, value_range=(0.0, 8.0),
+       source="evidence 2.7 (DLL SelectOmsParabolicRamp(n) sends PN#)", confidence="D",
+       notes="The mnemonic is I (the DLL's parabolic selection); the operand's meaning is in "
+       "no source (facts item 11) and is our decision (D): the degree n of the velocity "
+       "curve 1 - (1 - u)^n over the ramp, so the acceleration starts at its peak AC and "
+       "falls to 0 at the top speed; the ramp lasts n times as long as a linear one. PN0 "
+       "gives the factory curve (n = 2, the square) and a bare PN keeps the degree last set "
+       "(factory 0); PN1 is linear, up to PN8; a degree above 8 is a command error. "
+       "Deceleration ramps are the mirror image in time."),
     _q("PF", "profile", "Parabolic ramps off: back to linear.", source="evidence 2.7",
        confidence="I"),
     _q("SC", "profile", "S-curve ramps: jerk-limited, acceleration peaks mid-ramp.",
        source="evidence 2.7 (DLL SelectOmsSCurveRamp)", confidence="I"),
-    _q("SS", "profile", "S-curve parameter (DLL SelectOmsSCurveRamp(n) sends SS#).", units=2,
-       operand=Operand.NUMBER, value_range=(0.0, 32767.0), source="evidence 2.7", confidence="I",
-       notes="Stored; the S-curve shape itself is fixed (docs/not-modelled.md)."),
-    _q("PR", "profile", "Ramp parameter sent by the DLL with parabolic/S-curve selection.",
-       units=2, operand=Operand.NUMBER, value_range=(0.0, 32767.0), source="evidence 2.7",
-       confidence="I", notes="Stored only, like SS."),
+    _q("SS", "profile", "S-curve jerk share of acceleration ramps, percent (the manual's "
+       "'4 quadrant jerk': SS sets the two corners of speeding up).", units=2,
+       operand=Operand.NUMBER, value_range=(0.0, 100.0),
+       source="evidence 2.7 (DLL SelectOmsSCurveRamp(n) sends AXSS#); manual specifications "
+       "('S-Curve with 4quadrant jerk parameters')", confidence="D",
+       notes="The mnemonic is I (sent with the DLL's S-curve selection); the operand's meaning "
+       "is in no source (facts item 11) and is our decision (D): the percentage of each "
+       "S-curve acceleration ramp during which the acceleration changes (half rising at the "
+       "start, half falling at the end), the rest at the constant peak AC. SS100, and SS0 "
+       "(factory), give the full S (acceleration peaks mid-ramp); smaller values tend to the "
+       "linear ramp (SS1). Above 100 is a command error. Acts on SC ramps only."),
+    _q("PR", "profile", "S-curve jerk share of deceleration ramps, percent (the other two "
+       "of the '4 quadrant jerk' corners).",
+       units=2, operand=Operand.NUMBER, value_range=(0.0, 100.0),
+       source="evidence 2.7 (DLL SelectOmsSCurveRamp(n) sends AXPR#)", confidence="D",
+       notes="The mnemonic is I; its meaning is our decision (D), as SS: the percentage of "
+       "each S-curve deceleration ramp (slowing down, stops, reversals) during which the "
+       "deceleration changes. PR0 (factory) follows SS, so SS alone shapes both (the DLL's "
+       "SelectOmsSCurveRamp(n) sends both, presumably with the same n). Above 100 is a "
+       "command error. Acts on SC ramps only."),
     _q("CN", "profile", "Cosine ramps.", source="evidence 2.7 (DLL SelectOmsCosineRamp)",
        confidence="I"),
     # ---- moves ------------------------------------------------------------------------
@@ -799,9 +819,15 @@ _SPECS: list[CommandSpec] = [
        operand=Operand.NUMBER, value_range=(0.0, 32767.0),
        source="evidence 2.4, E8 (SySal `BC0`); manual specifications ('Backlash "
        "compensation')", confidence="D",
-       notes="Read as the manual's backlash compensation: on a reversal the step output "
-       "gives # extra steps that the motor counter does not count. Stored; the extra steps "
-       "are not modelled yet (docs/not-modelled.md). BC0 (off) is the factory value."),
+       notes="Read as the manual's backlash compensation: when a stepper reverses, the step "
+       "output gives # extra steps in the new direction that the motor counter (RP) does "
+       "not count. With BC equal to the stage's backlash (a world setting: `@world X "
+       "backlash N`) the stage, and an encoder on it (RE), ends where RP says; without it "
+       "the stage lags by the backlash after each reversal. The extra steps are given at "
+       "once when the reversal starts; the board's direction memory starts positive (the "
+       "first move down is a reversal, the first move up is not). Switches, index marks "
+       "and position maintenance see the motor counter, not the stage. BC0 (off) is the "
+       "factory value. Servo axes: stored, no effect."),
     _i("#BB", "config", "Big command buffer mode (vendor DLL OMS_SetCommandBuffer: `;#BB#;`, "
        "`;#BB;`).", operand=Operand.NUMBER, operand_optional=True, per_axis=False,
        value_range=(0.0, 2_147_483_647.0), source="evidence 2.9, §5 (DLL-BIN)",

@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol, cast
 
 from maxk.firmware_model.axis import MotionAxis
-from maxk.firmware_model.motion import MotionPlan
+from maxk.firmware_model.motion import Clock, MotionPlan
 from maxk.firmware_model.profiles import plan_jog, plan_move, plan_stop, scaled
 from maxk.personalities.maxk import flags as F
+from maxk.personalities.maxk.backlash import Backlash, walk
 from maxk.personalities.maxk.config import AxisConfig, wrap32
 from maxk.personalities.maxk.homing import Homing
 from maxk.personalities.maxk.queue import CommandQueue
@@ -86,6 +87,9 @@ class Axis(MotionAxis):
     units_seen: bool = False  # a UU was sent: operand ranges are checked on the counts
     flags: int = 0  # latched AXIS_DONE / AXIS_OVERTRAVEL / AXIS_SLIP
     wait: Wait | None = None  # what the queue is blocked on
+    backlash: Backlash = field(default_factory=Backlash)  # at the running motion's origin
+    # an ended motion still to walk: (origin, plan, seconds run or None: all, end step)
+    backlash_pending: tuple[int, MotionPlan, float | None, int] | None = None
 
     def motor_position(self, board: AxisHost) -> int:
         return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
@@ -97,8 +101,9 @@ class Axis(MotionAxis):
 
     def encoder_counts(self, steps: int, board: AxisHost) -> int:
         """What a stepper's encoder counts at a motor position: the stage lags the motor
-        by the steps it missed (a world fault), scaled by the ER ratio."""
-        stage = steps - board.world.axes[self.index].lost_steps
+        by the steps it missed (a world fault) and by its backlash (less BC's extra
+        steps), scaled by the ER ratio."""
+        stage = steps - board.world.axes[self.index].lost_steps + self.stage_offset(board)
         counts, motor_steps = self.config.encoder_ratio
         if counts == motor_steps:
             return stage
@@ -130,6 +135,47 @@ class Axis(MotionAxis):
             return lost - self.lost_accounted
         return ((steps - self.lost_accounted) * counts // motor_steps
                 - (steps - lost) * counts // motor_steps)
+
+    # ---- backlash (backlash.py) ----------------------------------------------------------
+    def backlash_now(self, board: AxisHost) -> Backlash:
+        """The stage's backlash state at this tick (a servo has none)."""
+        self._settle_backlash(board)
+        m = self.motion
+        if m is None or self.servo is not None:
+            return self.backlash
+        t = (board.tick - self.motion_start) * board.period
+        return walk(self.backlash, self.steps, m, t, self.steps_now(board),
+                    board.world.axes[self.index].backlash, self.config.backlash)
+
+    def stage_offset(self, board: AxisHost) -> int:
+        """Steps the stage stands ahead of the motor counter's steps (backlash, BC)."""
+        if self.servo is not None:
+            return 0
+        self._settle_backlash(board)
+        s = self.backlash
+        if self.motion is None or not (s.extra or s.play or self.config.backlash
+                                       or board.world.axes[self.index].backlash):
+            return s.offset
+        return self.backlash_now(board).offset
+
+    def _settle_backlash(self, board: AxisHost) -> None:  # finish_motion has no board
+        if self.backlash_pending is not None:
+            origin, motion, until, end = self.backlash_pending
+            self.backlash_pending = None
+            self.backlash = walk(self.backlash, origin, motion, until, end,
+                                 board.world.axes[self.index].backlash, self.config.backlash)
+
+    def begin(self, motion: MotionPlan, engine: Clock) -> None:
+        self._settle_backlash(cast("AxisHost", engine))
+        super().begin(motion, engine)
+
+    def freeze(self, engine: Clock) -> tuple[float, float]:
+        m, origin, t = self.motion, self.steps, (engine.tick - self.motion_start) * engine.period
+        out = super().freeze(engine)
+        if m is not None and self.servo is None:
+            self.backlash_pending = (origin, m, t, self.steps)
+            self._settle_backlash(cast("AxisHost", engine))
+        return out
 
     def resync(self, board: AxisHost) -> None:
         """Motor and encoder agree here (after LP, LO, LPE, ER, PS, homing, #UR)."""
@@ -173,7 +219,7 @@ class Axis(MotionAxis):
             return False
         c = self.config
         motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
-                           c.deceleration, c.ramp)
+                           c.deceleration, c.ramp, *c.ramp_params)
         return self.start_motion(motion, board)
 
     def start_jog(self, velocity: int, board: AxisHost) -> bool:
@@ -181,7 +227,7 @@ class Axis(MotionAxis):
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
-                          c.deceleration, c.ramp)
+                          c.deceleration, c.ramp, *c.ramp_params)
         return self.start_motion(motion, board, stopping=velocity == 0)
 
     def stop_and_flush(self, board: AxisHost) -> None:
@@ -205,7 +251,8 @@ class Axis(MotionAxis):
             return  # a contour axis ramps down with its path (the flush told the contour)
         residual, current = self._rebase(board)
         c = self.config
-        motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp)
+        motion = plan_stop(residual, current, c.base_velocity, c.deceleration, c.ramp,
+                           c.ramp_params[1])
         self.start_motion(motion, board, stopping=True)
 
     def kill(self, board: AxisHost) -> None:
@@ -216,6 +263,9 @@ class Axis(MotionAxis):
         self._rebase(board)
 
     def finish_motion(self) -> None:
+        m = self.motion
+        if m is not None and self.servo is None:
+            self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()
         self.capture_pending = []
 
@@ -236,6 +286,9 @@ class Axis(MotionAxis):
         if board.limit_blocks(self, direction):
             board.refuse_into_limit(self)
             return False
+        self._settle_backlash(board)
+        self.backlash = self.backlash.leg(direction, board.world.axes[self.index].backlash,
+                                          self.config.backlash)
         self.steps += direction
         self.direction = direction
         return True
@@ -451,7 +504,9 @@ class LinearMove:
         base = min(a.config.base_velocity * scale[a.index] for a in moving)
         accel = min(a.config.acceleration * scale[a.index] for a in moving)
         decel = min(a.config.deceleration * scale[a.index] for a in moving)
-        motion = plan_move(reference, min(base, peak), peak, accel, decel, moving[0].config.ramp)
+        first = moving[0].config
+        motion = plan_move(reference, min(base, peak), peak, accel, decel, first.ramp,
+                           *first.ramp_params)
         # One axis blocked by a pressed limit refuses the whole move: moving the others
         # alone would leave the line (D).
         blocked = [a for a in moving

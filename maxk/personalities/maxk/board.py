@@ -388,7 +388,8 @@ class Board(Engine):
         velocity = max(1, round(axis.to_steps(c.hold_velocity))) if c.hold_velocity \
             else c.velocity
         origin = axis.steps
-        motion = plan_move(steps, 0, velocity, c.acceleration, c.deceleration, c.ramp)
+        motion = plan_move(steps, 0, velocity, c.acceleration, c.deceleration, c.ramp,
+                           *c.ramp_params)
         if axis.start_motion(motion, self):
             axis.correcting = origin
 
@@ -567,11 +568,13 @@ class Board(Engine):
             axis.kill(self)
         # where the stages stand: a servo's motor is where its encoder says
         physical = [a.steps if a.servo is None else round(a.servo.p) for a in self.axes]
+        stages = [a.backlash_now(self) for a in self.axes]  # the play and BC's extra steps
         self.tasks = {}
         kept = [a.config for a in self.axes]
         self.axes = [Axis(i, letter) for i, letter in enumerate(self.model.axis_letters)]
-        for axis, steps, config in zip(self.axes, physical, kept, strict=True):
+        for axis, steps, config, stage in zip(self.axes, physical, kept, stages, strict=True):
             axis.steps = steps
+            axis.backlash = stage
             axis.counter_offset = -steps
             axis.config = AxisConfig(home_encoder=config.home_encoder,
                                      home_pattern=config.home_pattern)

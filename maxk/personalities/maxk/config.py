@@ -26,9 +26,9 @@ class AxisConfig:
     acceleration: int = 2_000_000  # AC (also sets the deceleration)
     deceleration: int = 2_000_000  # DC
     ramp: RampShape = RampShape.LINEAR
-    ramp_factor: int = 0  # PN# operand, stored only (its meaning is not in the evidence)
-    scurve_factor: int = 0  # SS#, stored only
-    ramp_parameter: int = 0  # PR#, stored only
+    ramp_factor: int = 0  # PN#: the parabolic curve's degree (0: factory, the square)
+    scurve_factor: int = 0  # SS#: S-curve jerk share of acceleration ramps, % (0: 100)
+    ramp_parameter: int = 0  # PR#: S-curve jerk share of deceleration ramps, % (0: as SS)
     axis_type: str = "O"  # PSO open-loop stepper, PSE stepper with encoder, PSM servo
     limit_active_high: bool = False  # LTL factory: active low
     limits_enabled: bool = True  # LN/LF, LMN/LMF
@@ -54,3 +54,20 @@ class AxisConfig:
     encoder_inverted: bool = False  # EDI / EDN (stored: the count is not inverted)
     kod: float = 0.0  # KOD: a second offset term, stored only (meaning unknown)
     backlash: int = 0  # BC: backlash compensation, steps
+
+    @property
+    def ramp_params(self) -> tuple[float | None, float | None]:
+        """The shape parameters (acceleration, deceleration ramps) of the selected ramp
+        for `profiles.plan_move` (None: the factory curve). Decisions (D), recorded in
+        the command table: PN# is the parabolic curve's degree; SS# the percentage of an
+        S-curve acceleration ramp spent changing the acceleration (the two corners
+        share it), PR# the same for deceleration ramps; 0 keeps the factory curve (a full
+        S-curve; PR0 follows SS)."""
+        if self.ramp is RampShape.PARABOLIC:
+            degree = float(self.ramp_factor) if self.ramp_factor else None
+            return degree, degree
+        if self.ramp is RampShape.SCURVE:
+            up = self.scurve_factor / 100.0 if self.scurve_factor else None
+            down = self.ramp_parameter / 100.0 if self.ramp_parameter else up
+            return up, down
+        return None, None

@@ -98,7 +98,7 @@ def _number(value: object, low: float, high: float, integer: bool) -> float:
 _RANGES: dict[str, tuple[float, float]] = {
     "acceleration": (1, MAX_ACCELERATION), "deceleration": (1, MAX_ACCELERATION),
     "velocity": (1, MAX_VELOCITY), "base_velocity": (0, MAX_VELOCITY),
-    "ramp_factor": (0, 32767), "scurve_factor": (0, 32767), "ramp_parameter": (0, 32767),
+    "ramp_factor": (0, 8), "scurve_factor": (0, 100), "ramp_parameter": (0, 100),
     "settle_ms": (0, 2**31 - 1), "slip_tolerance": (0, 2**31 - 1),
     "hold_deadband": (0, 32767), "hold_gain": (0, 32767), "hold_velocity": (0, MAX_VELOCITY),
 }
