@@ -280,7 +280,7 @@ class PoKeys:
         """Offer slots of pulses (one row per slot, one column per axis 0..AX-1) until
         the device takes no more; the number of slots it accepted. v2: 8-bit (0xFF),
         16-bit (0xFE) or multi-part (0xB0) fills; v1: PEBufferFill (0x35)."""
-        rows = [list(r) for r in entries]
+        rows = entries  # sliced a chunk at a time: a long offer costs what the device takes
         if not rows:
             return 0
         width = len(rows[0])
@@ -290,15 +290,15 @@ class PoKeys:
         taken = 0
         while taken < len(rows):
             if self.version == 1:
-                chunk = rows[taken:taken + 18]
+                chunk = [list(r) for r in rows[taken:taken + 18]]
                 r = self._pev1("PEBufferFill", 0x35, len(chunk),
                                payload=_encode(chunk, False, 3))
                 accepted = r[8]
             elif large:
-                chunk = rows[taken:taken + 448 // (width * size)]
+                chunk = [list(r) for r in rows[taken:taken + 448 // (width * size)]]
                 accepted = self._fill_large(chunk, wide, width)
             else:
-                chunk = rows[taken:taken + 56 // (width * size)]
+                chunk = [list(r) for r in rows[taken:taken + 56 // (width * size)]]
                 r = self._pev2("PEv2_BufferFill", 0xFE if wide else 0xFF, len(chunk), width,
                                payload=_encode(chunk, wide, width))
                 accepted = r[2]

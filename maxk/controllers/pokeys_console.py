@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import re
 import struct
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, overload
 
 from maxk.commands.pokeys.table import ENTRIES
 from maxk.controllers.pokeys_status import (
@@ -75,6 +75,30 @@ REPL_WORDS = """\
 
 _EVENTS = {"limit": "a limit switch stopped the engine",
            "estop": "the e-stop stopped the engine", "probe_error": "probing missed"}
+
+
+class _Repeated(Sequence[list[int]]):
+    """One slot row offered `count` times, built only as far as the device takes it
+    (`fill 1 x 100000000` must not build a hundred million rows for 128 slots)."""
+
+    def __init__(self, row: list[int], count: int) -> None:
+        self.row, self._n = row, count
+
+    def __len__(self) -> int:
+        return self._n
+
+    @overload
+    def __getitem__(self, index: int) -> list[int]: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> list[list[int]]: ...
+
+    def __getitem__(self, index: int | slice) -> list[int] | list[list[int]]:
+        if isinstance(index, slice):
+            return [list(self.row) for _ in range(*index.indices(self._n))]
+        if not -self._n <= index < self._n:
+            raise IndexError(index)
+        return list(self.row)
 
 
 class PoKeysConsole:
@@ -310,8 +334,8 @@ class PoKeysConsole:
         row = [int(v) for v in values]
         if not row or repeat < 1:
             raise ConsoleError(f"fill: say {WORDS['fill'][0]}")
-        taken = self.dev.fill([row] * repeat, wide=True if "16bit" in flags else None,
-                              large="large" in flags)
+        wide = "16bit" in flags or any(abs(v) > 127 for v in row)
+        taken = self.dev.fill(_Repeated(row, repeat), wide=wide, large="large" in flags)
         e = self.dev.pulse_engine
         return [f"accepted {taken} of {repeat}, buffer {e.buffer.count}/{e.buffer.depth}"]
 

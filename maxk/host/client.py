@@ -33,15 +33,24 @@ class Service:
     ports: list[tuple[str, int]] = field(default_factory=list)
     udp_ports: list[tuple[str, int]] = field(default_factory=list)
     ptys: list[str] = field(default_factory=list)
+    _last_fault: str = field(default="", repr=False)
 
     def open_session(self, client: Client) -> Session:
         return self.controller.open_session(notify=client.flush_session)
 
     def handle(self, session: Session, data: bytes) -> bytes:
         """Bring the controller to now, feed the bytes, return what the session says."""
-        self.pacer.sync()
+        self.sync()
         self.feed(session, data)
         return session.read()
+
+    def sync(self) -> None:
+        """Bring the controller to now; a fault inside its engine is reported like one in
+        a feed (below), never out of a door's callback."""
+        try:
+            self.pacer.sync()
+        except Exception as error:  # the server never dies of one controller's fault
+            self._report(error, b"")
 
     def feed(self, session: Session, data: bytes) -> None:
         """Feed a session; a fault inside the controller is reported and that input is
@@ -49,9 +58,17 @@ class Service:
         try:
             session.feed(data)
         except Exception as error:  # the server never dies of one host's bytes
-            print(f"maxk serve: board {self.number} ({self.controller.model}): "
-                  f"{type(error).__name__}: {error} while running {data[:60]!r}; "
-                  "still serving", file=sys.stderr, flush=True)
+            self._report(error, data)
+
+    def _report(self, error: Exception, data: bytes) -> None:
+        """One line on stderr a fault; the same fault again (an engine that fails at
+        every pacing pass) is not repeated."""
+        running = f" while running {data[:60]!r}" if data else " advancing time"
+        line = (f"maxk serve: board {self.number} ({self.controller.model}): "
+                f"{type(error).__name__}: {error}{running}; still serving")
+        if line != self._last_fault:
+            self._last_fault = line
+            print(line, file=sys.stderr, flush=True)
 
 
 def _holding(session: Session) -> bool:
@@ -135,7 +152,7 @@ class Client:
         if self.session is None or self._output_full or not self._inbox:
             return
         service = self.service
-        service.pacer.sync()
+        service.sync()
         session = self.session
         taken = 0
         deadline = time.perf_counter() + SLICE_SECONDS

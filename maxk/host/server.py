@@ -329,7 +329,7 @@ class Server:
         """Keep every controller at now; never blocks request handling for long, since
         the engine jumps from event to event."""
         while not self._stop.is_set():
-            for step in [*(s.pacer.sync for s in self.services), *self._extra_pacing]:
+            for step in [*(s.sync for s in self.services), *self._extra_pacing]:
                 try:
                     step()
                 except Exception as error:  # one board's failure must not stop the others

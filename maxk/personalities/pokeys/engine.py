@@ -255,6 +255,15 @@ class PulseEngine:
     def probe_speed(self, axis: Axis) -> float:
         return 0.0
 
+    def _max_speed(self, axis: Axis) -> float:
+        """The axis's maximum speed as the engine can run it, pulses/ms: at most the
+        engine's own, and a host's NaN or negative setting is no speed at all (D), so
+        homing, probing and MPG jogging never run the wrong way or beyond a slot."""
+        setting = axis.settings.max_speed
+        if not setting > 0.0:  # also NaN
+            return 0.0
+        return min(setting, self.spec.max_speed_per_ms)
+
     def _mpg_step(self) -> None:
         for a in self.axes:
             enc = a.settings.mpg_encoder
@@ -343,8 +352,18 @@ class PulseEngine:
     def _motion_span(self, a: Axis, motion: SlotMotion, n: int) -> int:
         s, p0 = self.slot, a.position
         dirs = motion.directions(s, s + n)
-        if len(dirs) > 1:
-            return 1
+        if len(dirs) > 1:  # a reversal ahead: the stretch up to it travels one way
+            lo, hi = s, s + n  # directions(s, lo) holds one way at most, (s, hi) both
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                if len(motion.directions(s, mid)) > 1:
+                    hi = mid
+                else:
+                    lo = mid
+            if lo == s:
+                return 1
+            n = lo - s
+            dirs = motion.directions(s, lo)
         if not dirs:
             return n
         d = dirs.pop()
@@ -389,7 +408,7 @@ class PulseEngine:
             elif a.motion is not None:
                 new = a.motion.position_at(s + n)
             elif a.mpg_pending:
-                cap = min(m, max(1, int(a.settings.max_speed)))
+                cap = min(m, max(1, int(self._max_speed(a))))
                 new = p0 + max(-cap, min(cap, a.mpg_pending))
                 a.mpg_pending -= new - p0
             else:

@@ -52,9 +52,6 @@ class PulseEngineV1(PulseEngine):
     def limits_checked(self) -> bool:
         return super().limits_checked() and self.state != EngineState.JOGGING
 
-    def _max_speed(self, axis: Axis) -> float:
-        return min(axis.settings.max_speed, self.spec.max_speed_per_ms)
-
     def homing_speeds(self, axis: Axis) -> tuple[float, float]:
         top = self._max_speed(axis)
         return top * self.homing_speed / 100.0, top * self.homing_return_speed / 100.0

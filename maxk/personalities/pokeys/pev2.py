@@ -42,9 +42,6 @@ class PulseEngineV2(PulseEngine):
     def buffered(self, axis: Axis) -> bool:
         return not axis.settings.internal
 
-    def _max_speed(self, axis: Axis) -> float:
-        return min(axis.settings.max_speed, self.spec.max_speed_per_ms)
-
     def homing_speeds(self, axis: Axis) -> tuple[float, float]:
         search = self._max_speed(axis) * (axis.settings.homing_speed or 10) / 100.0
         return search, search * (axis.settings.homing_return_speed or 50) / 100.0
