@@ -11,13 +11,14 @@ lives in capture.py, vector tasks in contouring.py, the queues in axis.py.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import plan_move
-from maxk.firmware_model.world import World
+from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.capture import (
@@ -276,6 +277,11 @@ class Board(Engine):
             if (not axis.config.limits_enabled or switch.fault is not None or edge is None
                     or m.direction * (axis.steps + m.final_offset - edge) < 0):
                 return
+        reach = getattr(m, "reach", None)
+        if (reach is not None and axis.homing is None
+                and not self.capture_config[axis.index].on_position
+                and not (axis.config.limits_enabled and _limit_within(axis.steps, reach, world))):
+            return  # (a contour far from every limit: its phases need not be made)
         candidates: list[int] = []
         if axis.config.limits_enabled:
             for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
@@ -617,6 +623,15 @@ class Board(Engine):
         for axis in self.axes:
             axis.flush(self)
             axis.kill(self)
+
+
+def _limit_within(steps: int, reach: tuple[float, float], world: AxisWorld) -> bool:
+    """Could a motion whose offsets stay within `reach` from `steps` meet a limit's edge?
+    (Whole steps: the offset truncated, or the final one rounded; one step spare.)"""
+    low = steps + math.floor(reach[0]) - 1
+    high = steps + math.ceil(reach[1]) + 1
+    plus, minus = world.plus_limit.low, world.minus_limit.high
+    return (plus is not None and high >= plus) or (minus is not None and low <= minus)
 
 
 class _AxesSource:
