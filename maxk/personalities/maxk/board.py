@@ -649,7 +649,21 @@ class _AxesSource:
         board = self.board
         best: int | None = None
         for axis in board.axes:
-            t = axis.next_event(board)
+            # Axis.next_event inlined for the common cases (asked for every axis at every
+            # event): a motion's end, a switch, a tick wait; inputs by the method
+            t = axis.motion_end
+            switch = axis.switch_tick
+            if switch is not None and (t is None or switch < t):
+                t = switch
+            wait = axis.wait
+            if wait is not None:
+                kind = type(wait)
+                if kind is TickWait:
+                    tick = wait.tick  # type: ignore[union-attr]
+                    if t is None or tick < t:
+                        t = tick
+                elif kind is InputWait:
+                    t = axis.next_event(board)
             if t is not None and (best is None or t < best):
                 best = t
         return best
@@ -703,7 +717,10 @@ class _TasksSource:
         for task, asked in self._asked:
             t = task.next_event(board) if acted else asked
             if t is not None and t <= now:
-                due.extend(a for a in task.on_event(board) if a not in due)
+                for axis in task.on_event(board):
+                    # by identity: Axis is a dataclass, its == compares every field
+                    if not any(d is axis for d in due):
+                        due.append(axis)
                 acted = True
 
 
