@@ -699,9 +699,14 @@ class _TasksSource:
 
     def next_event(self) -> int | None:
         board = self.board
+        tasks = board.tasks
+        if not tasks:  # (most boards run no vector task: asked at every event)
+            if self._asked:
+                self._asked = []
+            return None
         best: int | None = None
         asked = self._asked = []
-        for task in board.tasks.values():
+        for task in tasks.values():
             t = task.next_event(board)
             asked.append((task, t))
             if t is not None and (best is None or t < best):
