@@ -236,8 +236,15 @@ class PathPlan:
         return forward.t
 
     def complete(self) -> None:
-        while self._forward is not None:
-            self.extend()
+        forward = self._forward
+        if forward is None:
+            return
+        first = len(self._pieces)
+        ended = False
+        while not ended:
+            ended = self._step(forward)
+        self._index(first)
+        self._finish()
 
     @property
     def pieces(self) -> list[Piece]:
@@ -265,10 +272,19 @@ class PathPlan:
         return self._s_end
 
     def extend(self) -> None:
-        """Plan one more segment (the forward pass of plan_path, one step of its loop)."""
+        """Plan one more segment."""
         forward = self._forward
         if forward is None:
             return
+        first = len(self._pieces)
+        ended = self._step(forward)
+        self._index(first)
+        if ended:
+            self._finish()
+
+    def _step(self, forward: _Forward) -> bool:
+        """One step of the forward pass (one segment's pieces). True: the plan ended
+        (at rest at the end of the known path, or held at speed 0)."""
         j = forward.j
         seg = self.segments[forward.i0 + j]
         s, v_in = forward.s, forward.v_in
@@ -276,28 +292,38 @@ class PathPlan:
         a = seg.accel
         up = math.sqrt(v_in * v_in + 2.0 * a * max(0.0, length))
         down = math.sqrt(max(0.0, v_in * v_in - 2.0 * a * max(0.0, length)))
-        v_out = max(min(_allowed(self.segments, forward, j), up), down)
-        pieces = self._pieces
-        first = len(pieces)
-        end = _segment_pieces(pieces, forward.t, s, length, v_in, v_out,
+        allow = forward.allow
+        cap = allow[j] if j < len(allow) else _allowed(self.segments, forward, j)
+        v_out = max(min(cap, up), down)
+        end = _segment_pieces(self._pieces, forward.t, s, length, v_in, v_out,
                               min(seg.ceiling * forward.scale, seg.arc_cap), a)
-        ends = self._ends
-        for p in pieces[first:]:
-            self._times.append(p.t0)
-            if ends and p.s1 < ends[-1]:
-                self._sorted = False
-            ends.append(p.s1)
         if end is None:
-            self._finish(None)
-            return
+            self._end_time = None
+            return True
         forward.t, forward.v_in, forward.s = end, v_out, seg.s0 + seg.length
         forward.j = j + 1
         if forward.j == forward.n:
-            self._finish(end)
+            self._end_time = end
+            return True
+        return False
 
-    def _finish(self, end_time: float | None) -> None:
+    def _index(self, first: int) -> None:
+        """Times and ends of the pieces from `first` on (and whether ends still rise)."""
+        pieces, ends = self._pieces, self._ends
+        new = [p.s1 for p in pieces[first:]]
+        if new and self._sorted:
+            last = ends[-1] if ends else new[0]
+            for s1 in new:
+                if s1 < last:
+                    self._sorted = False
+                    break
+                last = s1
+        self._times.extend(p.t0 for p in pieces[first:])
+        ends.extend(new)
+
+    def _finish(self) -> None:
+        """The plan is complete: its end, then whoever waited for it."""
         self._forward = None
-        self._end_time = end_time
         self._s_end = self._pieces[-1].s1 if self._pieces else self.s_start
         callbacks, self.on_complete = self.on_complete, []
         for callback in callbacks:
@@ -391,12 +417,13 @@ def _allowed(segments: list[Segment], forward: _Forward, j: int) -> float:
         return allow[j]
     n, i0 = forward.n, forward.i0
     m = j
+    value = _end_cap(segments, forward, m)
     while m < n - 1:
         after = segments[i0 + m + 1]
-        if _end_cap(segments, forward, m) <= math.sqrt(2.0 * after.accel * after.length):
+        if value <= math.sqrt(2.0 * after.accel * after.length):
             break
         m += 1
-    value = _end_cap(segments, forward, m)
+        value = _end_cap(segments, forward, m)
     found = [value]
     for x in range(m - 1, len(allow) - 1, -1):
         seg = segments[i0 + x + 1]
@@ -406,6 +433,21 @@ def _allowed(segments: list[Segment], forward: _Forward, j: int) -> float:
     found.reverse()
     allow.extend(found)
     return allow[j]
+
+
+def _allow_all(segments: list[Segment], forward: _Forward) -> None:
+    """The whole backward pass at once (a plan made whole): the values _allowed gives,
+    from the end of the path (where every anchor's value comes from anyway)."""
+    scale, i0, n = forward.scale, forward.i0, forward.n
+    ceilings = [min(seg.ceiling * scale, seg.arc_cap) for seg in segments[i0:i0 + n]]
+    allow = [min(seg.v_end * scale, ceilings[j], ceilings[j + 1])
+             for j, seg in enumerate(segments[i0:i0 + n - 1])]
+    allow.append(0.0)  # the known path ends at rest
+    for j in range(n - 1, 0, -1):  # backward: every later cap can still be met
+        seg = segments[i0 + j]
+        allow[j - 1] = min(allow[j - 1],
+                           math.sqrt(allow[j] ** 2 + 2.0 * seg.accel * seg.length))
+    forward.allow = allow
 def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: float,
                     v_out: float, ceiling: float, accel: float) -> float | None:
     """Append one segment's pieces (ramp to the top speed, cruise, ramp to v_out).
@@ -460,6 +502,8 @@ def plan_path(segments: list[Segment], i0: int, s_now: float, v_now: float | Non
     the path grows) and `last_arc` (the index of the last arc, -1: none) spare looking
     through them all again."""
     forward = _Forward(i0, len(segments) - i0, scale, 0.0, s_now, 0.0)
+    if not lazy:
+        _allow_all(segments, forward)
     first = segments[i0]
     if v_now is None:
         remaining = max(0.0, first.s0 + first.length - s_now)
