@@ -88,7 +88,8 @@ class Axis(MotionAxis):
     wait: Wait | None = None  # what the queue is blocked on
 
     def motor_position(self, board: AxisHost) -> int:
-        return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
+        value = self.steps_at_tick(board.tick, board.period) + self.counter_offset
+        return value if -0x8000_0000 <= value <= 0x7FFF_FFFF else wrap32(value)
 
     def encoder_position(self, board: AxisHost) -> int:
         if self.servo is not None:
@@ -150,7 +151,7 @@ class Axis(MotionAxis):
     def start_motion(self, motion: MotionPlan, board: AxisHost, *, stopping: bool = False) -> bool:
         """Start a planned motion now. A motion into an active limit switch is refused
         (the overtravel flag is set instead); a stop is never refused."""
-        if not stopping:
+        if not stopping and self.correcting is not None:
             self._end_correction()
         if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
             board.refuse_into_limit(self)
@@ -220,7 +221,8 @@ class Axis(MotionAxis):
         self.capture_pending = []
 
     def motion_ended(self) -> None:
-        self._end_correction()
+        if self.correcting is not None:
+            self._end_correction()
 
     def _end_correction(self) -> None:
         """A position-maintenance move leaves the motor counter where it was: it moved

@@ -673,7 +673,8 @@ class _AxesSource:
         due = board._due
         for axis in board.axes:
             marked = False
-            if axis.switch_tick is not None and axis.switch_tick <= now:
+            switch = axis.switch_tick
+            if switch is not None and switch <= now:
                 board._switch_event(axis)
                 marked = True
             end = axis.motion_end
@@ -682,8 +683,9 @@ class _AxesSource:
                 marked = True
             elif not marked:
                 wait = axis.wait
-                kind = type(wait)
-                marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
+                if wait is not None:
+                    kind = type(wait)
+                    marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
             if marked:
                 due.append(axis)
 
