@@ -181,11 +181,20 @@ def hole_polled(poll_hz: float = 10.0) -> Figure:
                   f"Appendix C contour, RP+VRV at {poll_hz:g} Hz")
 
 
+def _commands_in(line: str) -> int:
+    """How many commands the lexer sees in a line (the figure's honest count)."""
+    from maxk.commands.max.lexer import Lexer, LexError
+
+    parsed = Lexer().feed(line)
+    assert not any(isinstance(c, LexError) for c in parsed), parsed
+    return len(parsed)
+
+
 def command_throughput(n_lines: int = 4000) -> Figure:
     """Commands per second through lexer, interpreter and queues (executing as they go)."""
     line = ("AX;VL5000;AC50000;VB100;MR1000;LP0;ID;RP;AY;VL6000;MA-250;LPE5;CA;"
             "AA;VL1000,2000,3000,4000,5000,6000,7000,8000;MR1,,3;LP0,0,0;RQC;")
-    per_line = 23
+    per_line = _commands_in(line)  # 18
 
     def run() -> tuple[float, float]:
         board = MAXk()
@@ -198,25 +207,40 @@ def command_throughput(n_lines: int = 4000) -> Figure:
 
     work, wall = _best_of(3, run)
     return Figure("commands_per_second", work / wall, "commands/s", 200_000.0,
-                  "mixed queued, immediate and AA-list commands")
+                  "mixed queued, immediate and AA-list commands, one line again and again")
 
 
-def lexer_throughput(n_lines: int = 4000) -> Figure:
+def lexer_throughput(n_lines: int = 4000) -> list[Figure]:
+    """The lexer alone: every line different (the state machine at work), and one line
+    sent again and again (a host's poll: the split is remembered)."""
     from maxk.commands.max.lexer import Lexer
 
-    line = "AX;VL5000;AC50000;MR1000;GO;ID;AM;RI;AM PP;AXMA1000;GDID;LMH,H,H,H;"
-    per_line = 14
+    def line(k: int) -> str:
+        return (f"AX;VL{5000 + k};AC50000;MR{1000 + k};GO;ID;AM;RI;AM PP;AXMA{k};GDID;"
+                "LMH,H,H,H;")
 
-    def run() -> tuple[float, float]:
+    per_line = _commands_in(line(0))  # 15
+
+    def run(lines: list[str]) -> tuple[float, float]:
         lexer = Lexer()
         start = time.perf_counter()
-        for _ in range(n_lines):
-            lexer.feed(line)
-        return n_lines * per_line, time.perf_counter() - start
+        for text in lines:
+            lexer.feed(text)
+        return len(lines) * per_line, time.perf_counter() - start
 
-    work, wall = _best_of(3, run)
-    return Figure("lexer_commands_per_second", work / wall, "commands/s", None,
-                  "lexer alone")
+    runs = iter(range(3))  # new lines for every run: none was seen before
+
+    def fresh() -> tuple[float, float]:
+        first = 10_000_000 + next(runs) * n_lines
+        return run([line(k) for k in range(first, first + n_lines)])
+
+    work, wall = _best_of(3, fresh)
+    same = [line(0)] * n_lines
+    work2, wall2 = _best_of(3, lambda: run(same))
+    return [Figure("lexer_commands_per_second", work / wall, "commands/s", None,
+                   "lexer alone, every line different"),
+            Figure("lexer_repeated_commands_per_second", work2 / wall2, "commands/s", None,
+                   "lexer alone, one line again and again (its split remembered)")]
 
 
 def memory_per_board() -> Figure:

@@ -11,7 +11,7 @@ power-up (what the switches see); counters a host reads are offsets from them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from maxk.firmware_model.motion import Clock, MotionPlan
@@ -39,6 +39,10 @@ class MotionAxis:
     direction: int = 1  # direction of the last or current motion
     rest_since: int = 0  # tick the last motion ended
     servo: ServoLoop | None = None  # the closed loop and motor of a servo axis
+    # the last offset asked of the running motion: (motion, seconds into it, whole steps);
+    # a poll asks the same tick for a status and a position
+    _offset_memo: tuple[object, float, int] = field(default=(None, -1.0, 0), repr=False,
+                                                    compare=False)
 
     # ---- position and velocity ------------------------------------------------------
     def steps_at_tick(self, tick: int, period: float) -> int:
@@ -49,7 +53,13 @@ class MotionAxis:
             return self.steps
         if self.motion_end is not None and tick >= self.motion_end:
             return self.steps + m.final_offset
-        return self.steps + int(m.offset((tick - self.motion_start) * period))
+        t = (tick - self.motion_start) * period
+        memo = self._offset_memo
+        if memo[0] is m and memo[1] == t:
+            return self.steps + memo[2]
+        whole = int(m.offset(t))
+        self._offset_memo = (m, t, whole)
+        return self.steps + whole
 
     def steps_now(self, engine: Clock) -> int:
         return self.steps_at_tick(engine.tick, engine.period)

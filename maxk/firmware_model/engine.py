@@ -139,10 +139,11 @@ class Engine:
         if tick < self.tick:
             raise ValueError("time only moves forward")
         self.settle()
+        next_event, integrate, after_events = self.next_event, self.integrate, self.after_events
         while True:
-            event = self.next_event()
+            event = next_event()
             limit = tick if event is None or event > tick else event
-            if self.integrate(limit):
+            if integrate(limit):
                 continue
             if event is None or event > tick:
                 break
@@ -154,7 +155,7 @@ class Engine:
                 due = source.next_event()
                 if due is not None and due <= now:
                     source.on_event(now)
-            self.after_events(now)
+            after_events(now)
             if self._observers:
                 self._observe(now)
         self.tick = tick

@@ -14,12 +14,17 @@ searches, outputs tied to positions and the servo work on it unchanged.
 
 Used by the MAXk's vector contouring; the same planner carries any controller's
 interpolated path (the Trio's BASE group moves, the MM4005's trajectory).
+
+Long module: the geometry, the speed plan (made whole, or lazily as far as it is looked
+at) and each axis's view of it are one planner whose parts read each other's private
+state (the plan's forward pass, the motion's end when the plan completes).
 """
 
 from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from maxk.firmware_model.profiles import RampShape
@@ -170,53 +175,211 @@ class Piece:
         return min(2.0 * d / denominator, self.duration) if denominator > 0 else 0.0
 
 
+class _Forward:
+    """Where the forward pass of a plan still being made stands (see PathPlan)."""
+
+    __slots__ = ("allow", "i0", "j", "n", "s", "scale", "t", "v_in")
+
+    def __init__(self, i0: int, n: int, scale: float, t: float, s: float,
+                 v_in: float) -> None:
+        self.i0 = i0  # the plan's first segment
+        self.n = n  # how many segments from i0 it plans over
+        self.scale = scale
+        self.j = 0  # the next segment (from i0) to plan
+        self.t = t  # where that segment starts: time, distance, speed
+        self.s = s
+        self.v_in = v_in
+        self.allow: list[float] = []  # the speed caps at segment ends found so far
+
+
 class PathPlan:
     """Where the path is at every time from the plan's start: pieces of constant
-    acceleration, ending at rest (end_time) or held at speed 0 (end_time None)."""
+    acceleration, ending at rest (end_time) or held at speed 0 (end_time None).
+
+    A plan may be made lazily (`plan_path(..., lazy=True)`): its pieces are made segment
+    by segment as far as someone looks, with exactly the arithmetic of the whole pass,
+    so what it answers never depends on how far it was made. `done` says whether it is
+    complete; asking for `end_time`, `s_end` or the whole `pieces` completes it, and
+    `on_complete` callbacks run when it completes."""
 
     def __init__(self, segments: list[Segment], pieces: list[Piece], s_start: float,
-                 end_time: float | None) -> None:
+                 end_time: float | None, starts: list[float] | None = None,
+                 count: int | None = None) -> None:
         self.segments = segments
-        self.starts = [seg.s0 for seg in segments]
-        self.pieces = pieces
-        self.times = [p.t0 for p in pieces]
-        self.piece_ends = [p.s1 for p in pieces]
+        # the segments known when planned (the list may grow later: more VPs)
+        self.count = len(segments) if count is None else count
+        self.starts = [seg.s0 for seg in segments] if starts is None else starts
+        self._pieces = pieces
+        self._times = [p.t0 for p in pieces]
+        self._ends = [p.s1 for p in pieces]
         self.s_start = s_start
-        self.end_time = end_time
-        self.s_end = pieces[-1].s1 if pieces else s_start
+        self._end_time = end_time
+        self._s_end = pieces[-1].s1 if pieces else s_start
         self._memo: tuple[float, float, float] = (-1.0, s_start, 0.0)
+        self._forward: _Forward | None = None
+        self._sorted = True  # the piece ends made so far never decrease
+        self.last_arc: int | None = None  # the last arc among the segments, if known
+        self.on_complete: list[Callable[[], None]] = []
 
+    # ---- completeness (lazy plans) ---------------------------------------------------
+    @property
+    def done(self) -> bool:
+        return self._forward is None
+
+    @property
+    def horizon(self) -> float:
+        """The time up to which the pieces are made (the end time once done): the plan
+        never ends before it."""
+        forward = self._forward
+        if forward is None:
+            return self._end_time if self._end_time is not None else math.inf
+        return forward.t
+
+    def complete(self) -> None:
+        forward = self._forward
+        if forward is None:
+            return
+        first = len(self._pieces)
+        ended = False
+        while not ended:
+            ended = self._step(forward)
+        self._index(first)
+        self._finish()
+
+    @property
+    def pieces(self) -> list[Piece]:
+        self.complete()
+        return self._pieces
+
+    @property
+    def times(self) -> list[float]:
+        self.complete()
+        return self._times
+
+    @property
+    def piece_ends(self) -> list[float]:
+        self.complete()
+        return self._ends
+
+    @property
+    def end_time(self) -> float | None:
+        self.complete()
+        return self._end_time
+
+    @property
+    def s_end(self) -> float:
+        self.complete()
+        return self._s_end
+
+    def extend(self) -> None:
+        """Plan one more segment."""
+        forward = self._forward
+        if forward is None:
+            return
+        first = len(self._pieces)
+        ended = self._step(forward)
+        self._index(first)
+        if ended:
+            self._finish()
+
+    def _step(self, forward: _Forward) -> bool:
+        """One step of the forward pass (one segment's pieces). True: the plan ended
+        (at rest at the end of the known path, or held at speed 0)."""
+        j = forward.j
+        seg = self.segments[forward.i0 + j]
+        s, v_in = forward.s, forward.v_in
+        length = seg.s0 + seg.length - s
+        a = seg.accel
+        up = math.sqrt(v_in * v_in + 2.0 * a * max(0.0, length))
+        down = math.sqrt(max(0.0, v_in * v_in - 2.0 * a * max(0.0, length)))
+        allow = forward.allow
+        cap = allow[j] if j < len(allow) else _allowed(self.segments, forward, j)
+        v_out = max(min(cap, up), down)
+        end = _segment_pieces(self._pieces, forward.t, s, length, v_in, v_out,
+                              min(seg.ceiling * forward.scale, seg.arc_cap), a)
+        if end is None:
+            self._end_time = None
+            return True
+        forward.t, forward.v_in, forward.s = end, v_out, seg.s0 + seg.length
+        forward.j = j + 1
+        if forward.j == forward.n:
+            self._end_time = end
+            return True
+        return False
+
+    def _index(self, first: int) -> None:
+        """Times and ends of the pieces from `first` on (and whether ends still rise)."""
+        pieces, ends = self._pieces, self._ends
+        new = [p.s1 for p in pieces[first:]]
+        if new and self._sorted:
+            last = ends[-1] if ends else new[0]
+            for s1 in new:
+                if s1 < last:
+                    self._sorted = False
+                    break
+                last = s1
+        self._times.extend(p.t0 for p in pieces[first:])
+        ends.extend(new)
+
+    def _finish(self) -> None:
+        """The plan is complete: its end, then whoever waited for it."""
+        self._forward = None
+        self._s_end = self._pieces[-1].s1 if self._pieces else self.s_start
+        callbacks, self.on_complete = self.on_complete, []
+        for callback in callbacks:
+            callback()
+
+    def cover(self, s: float) -> None:
+        """Make the plan far enough that every piece still to come lies beyond s (and
+        one made reaches it), or complete it: then time_at(s) and the path's end as seen
+        from s are what the complete plan says."""
+        margin = 1e-6 + 1e-12 * abs(s)
+        while self._forward is not None:
+            if not self._sorted:
+                self.complete()  # (rounding made piece ends step back: search them all)
+                return
+            if self._ends and self._ends[-1] >= s - EPS and self._forward.s > s + margin:
+                return
+            self.extend()
+
+    # ---- where the path is ---------------------------------------------------------------
     def state(self, t: float) -> tuple[float, float]:
         """(s, speed) at t seconds into the plan."""
         memo = self._memo
         if memo[0] == t:
             return memo[1], memo[2]
-        if not self.pieces or (self.end_time is not None and t >= self.end_time):
-            result = (self.s_end, 0.0)
+        times = self._times
+        while self._forward is not None and (not times or times[-1] <= t):
+            self.extend()
+        pieces = self._pieces
+        if not pieces or (self._end_time is not None and t >= self._end_time):
+            result = (self._s_end, 0.0)
         else:
-            i = max(0, bisect.bisect_right(self.times, t) - 1)
-            p = self.pieces[i]
+            i = max(0, bisect.bisect_right(times, t) - 1)
+            p = pieces[i]
             tau = min(t - p.t0, p.duration)
             result = (p.s(tau), max(0.0, p.v(tau)))
-            if i + 1 < len(self.pieces):
-                result = (min(result[0], self.pieces[i + 1].s0), result[1])
+            if i + 1 < len(pieces):
+                result = (min(result[0], pieces[i + 1].s0), result[1])
         self._memo = (t, result[0], result[1])
         return result
 
     def segment_at(self, s: float) -> Segment:
-        i = max(0, bisect.bisect_right(self.starts, s) - 1)
+        i = max(0, bisect.bisect_right(self.starts, s, 0, self.count) - 1)
         while i > 0 and self.segments[i].length == 0 and self.segments[i].s0 >= s:
             i -= 1
         return self.segments[i]
 
     def time_at(self, s: float) -> float | None:
         """When the plan reaches s (None if it never does)."""
-        if s > self.s_end + EPS:
+        if self._forward is not None:
+            self.cover(s)
+        if self._forward is None and s > self._s_end + EPS:
             return None
-        i = bisect.bisect_left(self.piece_ends, s - EPS)
-        if i >= len(self.pieces):
-            return self.end_time
-        p = self.pieces[i]
+        i = bisect.bisect_left(self._ends, s - EPS)
+        if i >= len(self._pieces):
+            return self._end_time
+        p = self._pieces[i]
         if math.isinf(p.duration):
             return p.t0 if s <= p.s0 + EPS else None
         return p.t0 + p.tau_at(s)
@@ -226,19 +389,65 @@ class PathPlan:
         return seg.coordinate(s - seg.s0, k)
 
 
-def _caps(segments: list[Segment], i0: int, scale: float) -> tuple[list[float], list[float]]:
-    """Per segment from i0: its speed ceiling, and the cap on the speed at its end."""
-    ceilings = [min(seg.ceiling * scale, seg.arc_cap) for seg in segments[i0:]]
-    ends = []
-    n = len(ceilings)
-    for j, seg in enumerate(segments[i0:]):
-        if j == n - 1:
-            ends.append(0.0)  # the known path ends at rest
-        else:
-            ends.append(min(seg.v_end * scale, ceilings[j], ceilings[j + 1]))
-    return ceilings, ends
+def _end_cap(segments: list[Segment], forward: _Forward, j: int) -> float:
+    """The cap on the speed at the end of segment j (from i0): its VV end velocity, its
+    own and the next segment's speed ceilings (x override, sqrt(A R) on arcs); the
+    known path ends at rest."""
+    if j == forward.n - 1:
+        return 0.0
+    scale = forward.scale
+    seg = segments[forward.i0 + j]
+    after = segments[forward.i0 + j + 1]
+    return min(seg.v_end * scale, min(seg.ceiling * scale, seg.arc_cap),
+               min(after.ceiling * scale, after.arc_cap))
 
 
+def _allowed(segments: list[Segment], forward: _Forward, j: int) -> float:
+    """The backward pass's speed cap at the end of segment j (from i0), looking ahead
+    only as far as braking needs.
+
+    The backward pass sets allow[m] = min(end cap m, sqrt(allow[m+1]^2 + 2 A L) of the
+    segment after m); allow[m+1] >= 0, so where the end cap is at most sqrt(2 A L) of
+    the next segment (that segment alone is long enough to stop in from it), allow[m]
+    is its end cap whatever follows, in floating point too (x + c >= c for x >= 0 and
+    sqrt are monotonic). From the first such m at or after j the backward pass runs
+    down to j with the very operations of the whole pass."""
+    allow = forward.allow
+    if j < len(allow):
+        return allow[j]
+    n, i0 = forward.n, forward.i0
+    m = j
+    value = _end_cap(segments, forward, m)
+    while m < n - 1:
+        after = segments[i0 + m + 1]
+        if value <= math.sqrt(2.0 * after.accel * after.length):
+            break
+        m += 1
+        value = _end_cap(segments, forward, m)
+    found = [value]
+    for x in range(m - 1, len(allow) - 1, -1):
+        seg = segments[i0 + x + 1]
+        value = min(_end_cap(segments, forward, x),
+                    math.sqrt(value ** 2 + 2.0 * seg.accel * seg.length))
+        found.append(value)
+    found.reverse()
+    allow.extend(found)
+    return allow[j]
+
+
+def _allow_all(segments: list[Segment], forward: _Forward) -> None:
+    """The whole backward pass at once (a plan made whole): the values _allowed gives,
+    from the end of the path (where every anchor's value comes from anyway)."""
+    scale, i0, n = forward.scale, forward.i0, forward.n
+    ceilings = [min(seg.ceiling * scale, seg.arc_cap) for seg in segments[i0:i0 + n]]
+    allow = [min(seg.v_end * scale, ceilings[j], ceilings[j + 1])
+             for j, seg in enumerate(segments[i0:i0 + n - 1])]
+    allow.append(0.0)  # the known path ends at rest
+    for j in range(n - 1, 0, -1):  # backward: every later cap can still be met
+        seg = segments[i0 + j]
+        allow[j - 1] = min(allow[j - 1],
+                           math.sqrt(allow[j] ** 2 + 2.0 * seg.accel * seg.length))
+    forward.allow = allow
 def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: float,
                     v_out: float, ceiling: float, accel: float) -> float | None:
     """Append one segment's pieces (ramp to the top speed, cruise, ramp to v_out).
@@ -280,48 +489,52 @@ def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: f
 
 
 def plan_path(segments: list[Segment], i0: int, s_now: float, v_now: float | None,
-              scale: float) -> PathPlan:
+              scale: float, *, lazy: bool = False,
+              starts: list[float] | None = None, last_arc: int | None = None) -> PathPlan:
     """Plan from s_now (inside segment i0) at speed v_now (None: from rest, taking the
-    segment's start velocity at once, as a stepper takes its base velocity)."""
-    ceilings, ends = _caps(segments, i0, scale)
-    n = len(ceilings)
-    allow = list(ends)
-    for j in range(n - 1, 0, -1):  # backward: every later cap can still be met
-        seg = segments[i0 + j]
-        allow[j - 1] = min(allow[j - 1],
-                           math.sqrt(allow[j] ** 2 + 2.0 * seg.accel * seg.length))
+    segment's start velocity at once, as a stepper takes its base velocity).
+
+    Each segment's end speed is capped so that every later cap can still be met (the
+    backward pass, looking ahead as far as braking needs: `_allowed`); the pieces follow
+    segment by segment (the forward pass, `PathPlan.extend`). Lazy, the plan is made as
+    far as it is looked at, so a re-plan costs what the next few segments cost, not
+    what the whole path ahead costs; `starts` (the segments' s0, kept by the caller as
+    the path grows) and `last_arc` (the index of the last arc, -1: none) spare looking
+    through them all again."""
+    forward = _Forward(i0, len(segments) - i0, scale, 0.0, s_now, 0.0)
+    if not lazy:
+        _allow_all(segments, forward)
     first = segments[i0]
-    remaining = max(0.0, first.s0 + first.length - s_now)
-    reachable = math.sqrt(allow[0] ** 2 + 2.0 * first.accel * remaining)
     if v_now is None:
-        v_now = min(first.v_start * scale, ceilings[0], reachable)
-    pieces: list[Piece] = []
-    t, v_in, s = 0.0, v_now, s_now
-    for j in range(n):
-        seg = segments[i0 + j]
-        length = seg.s0 + seg.length - s
-        a = seg.accel
-        up = math.sqrt(v_in * v_in + 2.0 * a * max(0.0, length))
-        down = math.sqrt(max(0.0, v_in * v_in - 2.0 * a * max(0.0, length)))
-        v_out = max(min(allow[j], up), down)
-        end = _segment_pieces(pieces, t, s, length, v_in, v_out, ceilings[j], a)
-        if end is None:
-            return PathPlan(segments, pieces, s_now, None)
-        t, v_in, s = end, v_out, seg.s0 + seg.length
-    return PathPlan(segments, pieces, s_now, t)
+        remaining = max(0.0, first.s0 + first.length - s_now)
+        reachable = math.sqrt(_allowed(segments, forward, 0) ** 2
+                              + 2.0 * first.accel * remaining)
+        v_now = min(first.v_start * scale, min(first.ceiling * scale, first.arc_cap),
+                    reachable)
+    forward.v_in = v_now
+    plan = PathPlan(segments, [], s_now, None, starts)
+    plan.last_arc = last_arc
+    plan._forward = forward
+    if not lazy:
+        plan.complete()
+    return plan
 
 
 def plan_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
-              scale: float) -> PathPlan:
+              scale: float, *, lazy: bool = False, starts: list[float] | None = None,
+              last_arc: int | None = None) -> PathPlan:
     """Ramp down along the path at the present segment's VA (VH1, ST, a soft limit)."""
     accel = segments[i0].accel
     distance = v_now * v_now / (2.0 * accel)
     if s_now + distance >= segments[-1].s0 + segments[-1].length:
-        return plan_path(segments, i0, s_now, v_now, scale)  # it stops at the end anyway
+        # it stops at the end anyway
+        return plan_path(segments, i0, s_now, v_now, scale, lazy=lazy, starts=starts,
+                         last_arc=last_arc)
     if v_now <= 0:
-        return PathPlan(segments, [], s_now, 0.0)
+        return PathPlan(segments, [], s_now, 0.0, starts)
     duration = v_now / accel
-    return PathPlan(segments, [Piece(0.0, duration, s_now, v_now, -accel)], s_now, duration)
+    return PathPlan(segments, [Piece(0.0, duration, s_now, v_now, -accel)], s_now, duration,
+                    starts)
 
 
 # ---- what each axis follows -------------------------------------------------------------
@@ -341,23 +554,47 @@ class ContourPhase:
 
 
 class ContourMotion:
-    """One axis's share of a path plan, with the interface of profiles.Motion."""
+    """One axis's share of a path plan, with the interface of profiles.Motion.
+
+    On a plan still being made (lazy), the motion slews (end_time None) until the plan
+    completes: then it takes the end the complete plan gives (`on_end` callbacks tell
+    whoever scheduled the axis). Its direction is the one the complete plan gives."""
 
     contour = True
+    # the offsets the motion stays within, if its user knows them (switch searches
+    # skip the switches outside: cheaper than making every phase of a long path)
+    reach: tuple[float, float] | None = None
 
     def __init__(self, plan: PathPlan, k: int, origin: float) -> None:
         self.plan = plan
         self.k = k
         self.origin = origin  # the axis's motor counter when the plan started
-        self.end_time = plan.end_time
-        self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
-        self.final_offset = 0
-        if plan.end_time is not None:
-            self.final_offset = round(plan.point(plan.s_end, k)) - round(origin)
         self._phases: list[ContourPhase] | None = None  # made when first asked for
         self._times: list[float] = []
-        self.direction, self.monotonic = self._directions()
         self.peak_speed = 0.0  # (only MT/ML scaling reads it)
+        self.end_time: float | None = None
+        self.ramp_end_time = 0.0
+        self.final_offset = 0
+        self.monotonic = False
+        self._final = False
+        direction = None if plan.done else self._first_direction()
+        if direction is None:  # complete (or completed to find the direction)
+            self._set_end()
+        else:
+            self.direction = direction
+            plan.on_complete.append(self._set_end)
+
+    def _set_end(self) -> None:
+        """The plan is complete: the end, the final whole counts, monotonic or not."""
+        if self._final:
+            return
+        self._final = True
+        plan, k = self.plan, self.k
+        self.end_time = plan.end_time
+        self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
+        if plan.end_time is not None:
+            self.final_offset = round(plan.point(plan.s_end, k)) - round(self.origin)
+        self.direction, self.monotonic = self._directions()
 
     @property
     def phases(self) -> list[ContourPhase]:
@@ -371,7 +608,7 @@ class ContourMotion:
         """The way the axis first moves, and whether it only ever moves that way: from
         the segments' slopes for straight lines (cheap: no phases), else the phases."""
         plan, k = self.plan, self.k
-        first = max(0, bisect.bisect_right(plan.starts, plan.s_start) - 1)
+        first = max(0, bisect.bisect_right(plan.starts, plan.s_start, 0, plan.count) - 1)
         signs: set[int] = set()
         direction = 0
         for seg in plan.segments[first:]:
@@ -390,6 +627,35 @@ class ContourMotion:
                 break
         return direction or 1, len(signs) <= 1
 
+    def _first_direction(self) -> int | None:
+        """_directions' direction on a plan still being made, made only as far as the
+        first segment that moves this axis (None: the plan had to be completed).
+
+        Over straight lines the direction is the first nonzero slope before the path's
+        end; covering each segment's end shows the end lies beyond it. An arc anywhere
+        ahead (the direction then comes from the phases) completes the plan."""
+        plan, k = self.plan, self.k
+        count = plan.count
+        segments = plan.segments
+        i = max(0, bisect.bisect_right(plan.starts, plan.s_start, 0, count) - 1)
+        last_arc = plan.last_arc
+        if last_arc is None:
+            last_arc = max((x for x in range(count) if segments[x].is_arc), default=-1)
+        if last_arc >= i:
+            plan.complete()
+            return None
+        while i < count:
+            seg = segments[i]
+            plan.cover(seg.s0 + seg.length)
+            if plan.done:
+                return None
+            u = seg.unit[k] if seg.length > 0 else 0.0
+            if u:
+                return 1 if u > 0 else -1
+            i += 1
+        plan.complete()
+        return None
+
     def phase_at(self, t: float) -> ContourPhase | None:
         phases = self.phases
         if not phases:
@@ -397,12 +663,16 @@ class ContourMotion:
         return phases[max(0, bisect.bisect_right(self._times, t) - 1)]
 
     def offset(self, t: float) -> float:
+        if not self._final:
+            self.plan.state(t)  # (may complete the plan, and so set the end)
         if self.end_time is not None and t >= self.end_time:
             return float(self.final_offset)
         s, _v = self.plan.state(t)
         return self.plan.point(s, self.k) - self.origin
 
     def velocity(self, t: float) -> float:
+        if not self._final:
+            self.plan.state(t)
         if self.end_time is not None and t >= self.end_time:
             return 0.0
         s, v = self.plan.state(t)
@@ -419,7 +689,7 @@ def _axis_phases(plan: PathPlan, k: int) -> list[ContourPhase]:
             continue
         s_a, s_b = p.s0, p.s1
         cuts = [s_a]
-        i = max(0, bisect.bisect_right(plan.starts, s_a) - 1)
+        i = max(0, bisect.bisect_right(plan.starts, s_a, 0, plan.count) - 1)
         while i < len(plan.segments) and plan.segments[i].s0 < s_b - EPS:
             seg = plan.segments[i]
             lo, hi = max(s_a, seg.s0), min(s_b, seg.s0 + seg.length)

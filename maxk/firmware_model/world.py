@@ -57,11 +57,16 @@ class Switch:
         return self.low is not None or self.high is not None
 
     def active(self, steps: float) -> bool:
-        if self.fault == STUCK_ACTIVE:
-            return True
-        if self.fault == STUCK_INACTIVE or not self.present:
+        fault = self.fault
+        if fault is not None:
+            if fault == STUCK_ACTIVE:
+                return True
+            if fault == STUCK_INACTIVE:
+                return False
+        low, high = self.low, self.high
+        if low is None and high is None:  # (not present)
             return False
-        if self.low is not None and steps < self.low:
+        if low is not None and steps < low:
             return False
         if self.high is not None and steps > self.high:
             return False

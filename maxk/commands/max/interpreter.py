@@ -59,7 +59,14 @@ class Interpreter:
     def _run(self, items: list[ParsedCommand | LexError], emit: Callable[[str], None]) -> None:
         board = self.board
         for k, item in enumerate(items):
-            reply = self.execute(item)
+            if type(item) is LexError:
+                board.report_error(item.reason, item.text)
+                continue
+            try:
+                reply = _dispatch(board, item)  # type: ignore[arg-type]
+            except CommandError as error:
+                board.report_error(str(error), item.text)
+                continue
             if reply is not None:
                 emit(reply)
             if board.parser_hold is not None:  # WQ with work in the queue: hold the rest
@@ -90,7 +97,26 @@ class Interpreter:
             return None
 
 
+_CONVERTED: dict[tuple[str, str], object] = {}
+"""Operands already converted and range-checked, by mnemonic and text (hosts send the
+same ones over and over); not for user units, which the action checks."""
+
+
 def _convert(cmd: ParsedCommand, slot: str, axis: Axis | None = None) -> object:
+    spec = cmd.spec
+    if axis is None or not axis.units_seen or not spec.user_units:
+        key = (spec.mnemonic, slot)
+        known = _CONVERTED.get(key)
+        if known is None:
+            known = _convert_fresh(cmd, slot, axis)
+            if len(_CONVERTED) >= 4096:
+                _CONVERTED.clear()
+            _CONVERTED[key] = known
+        return known
+    return _convert_fresh(cmd, slot, axis)
+
+
+def _convert_fresh(cmd: ParsedCommand, slot: str, axis: Axis | None) -> object:
     spec = cmd.spec
     if spec.operand in (Operand.LETTER, Operand.PATTERN):
         return slot
@@ -122,15 +148,20 @@ def _set_mode(board: Board, cmd: ParsedCommand) -> None:
     board.current_axis = index
 
 
+_MODE, _VECTOR, _IMMEDIATE = Timing.MODE, Timing.VECTOR, Timing.IMMEDIATE
+"""Module globals: read for every command, faster than enum members by class."""
+
+
 def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
     spec = cmd.spec
-    if spec.timing is Timing.MODE:
+    timing = spec.timing
+    if timing is _MODE:
         _set_mode(board, cmd)
         return None
     mode = board.mode
     if mode not in spec.modes:
         raise CommandError(f"{spec.mnemonic} is not allowed in {_MODE_NAMES[mode]} mode")
-    if spec.timing is Timing.VECTOR:
+    if timing is _VECTOR:
         return dispatch_vector(board, cmd)
     axes_all = board.axes
     slots = cmd.slots
@@ -159,7 +190,7 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
         if not axes:
             raise CommandError(f"{spec.mnemonic}: no operand given")
     ctx = Context(board, cmd, axes, values)
-    if spec.timing is Timing.IMMEDIATE:
+    if timing is _IMMEDIATE:
         reply = IMMEDIATE[spec.mnemonic](ctx)
         if board.cross_axis_event:  # a flush released an AA start group
             board.run_queues()
@@ -211,9 +242,11 @@ def _enqueue(ctx: Context) -> None:
     validate_queued(ctx)
     units = spec.units
     mnemonic = spec.mnemonic
-    short = [a.letter for a in ctx.axes if a.queue.free_units < units]
-    if short:
-        raise CommandError(f"{mnemonic}: command queue full on axis {','.join(short)}")
+    for a in ctx.axes:
+        queue = a.queue
+        if queue.capacity - queue.used_units < units:  # (free_units, inlined)
+            short = [a.letter for a in ctx.axes if a.queue.free_units < units]
+            raise CommandError(f"{mnemonic}: command queue full on axis {','.join(short)}")
     text = ctx.command.text
     start = spec.start
     if start is _GO and board.mode == AA:

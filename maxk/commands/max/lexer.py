@@ -30,6 +30,10 @@ _NUMBER_RUN = re.compile(r"[-+0-9.,]*")
 _BLANKS = re.compile(r"[ \t]*")
 _NUMBER_START = frozenset("+-0123456789.,")
 _HOLD = "hold"
+_SPLITS: dict[str, tuple[tuple[ParsedCommand | LexError, ...], str, bool, str | None, int]] = {}
+"""Lines split from a clean start (the items are immutable: shared between lexers)."""
+_CACHED_LINES = 4096
+_CACHED_LENGTH = 512
 
 
 def _run_end(pattern: re.Pattern[str], buf: str, start: int) -> int:
@@ -115,6 +119,23 @@ class Lexer:
         if isinstance(data, bytes | bytearray):
             data = data.decode("latin-1")
         buf = self._buf + data if self._buf else data
+        if self._skipping or self._bad is not None or len(buf) > _CACHED_LENGTH:
+            return self._split(buf)
+        # Hosts send the same lines over and over (polls, moves): a line's split is a
+        # function of the text alone when the lexer starts clean, so it is kept.
+        known = _SPLITS.get(buf)
+        if known is None:
+            out = self._split(buf)
+            if len(_SPLITS) >= _CACHED_LINES:
+                _SPLITS.clear()
+            _SPLITS[buf] = (tuple(out), self._buf, self._skipping, self._bad,
+                            self._bad_count)
+            return out
+        items, self._buf, self._skipping, self._bad, self._bad_count = known
+        return list(items)
+
+    def _split(self, buf: str) -> list[ParsedCommand | LexError]:
+        """The state machine proper, over the held text and what arrived."""
         out: list[ParsedCommand | LexError] = []
         n = len(buf)
         i = 0

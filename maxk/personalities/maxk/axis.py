@@ -10,6 +10,10 @@ reference's speed, acceleration and deceleration are the largest that keep every
 within its own VL, AC and DC (and VB); the ramp shape is the first axis's. Limits (D):
 an axis that would start into a pressed limit refuses the whole move; a limit tripped on
 one axis stops every axis of the move the same way and flushes their queues.
+
+Long module: the axis and the AA start groups and MT/ML moves it waits on belong
+together: a flush withdraws the axis from its group, a group's firing starts the axes;
+apart, each would need the other's protocol.
 """
 
 from __future__ import annotations
@@ -92,7 +96,8 @@ class Axis(MotionAxis):
     backlash_pending: tuple[int, MotionPlan, float | None, int] | None = None
 
     def motor_position(self, board: AxisHost) -> int:
-        return wrap32(self.steps_at_tick(board.tick, board.period) + self.counter_offset)
+        value = self.steps_at_tick(board.tick, board.period) + self.counter_offset
+        return value if -0x8000_0000 <= value <= 0x7FFF_FFFF else wrap32(value)
 
     def encoder_position(self, board: AxisHost) -> int:
         if self.servo is not None:
@@ -196,7 +201,7 @@ class Axis(MotionAxis):
     def start_motion(self, motion: MotionPlan, board: AxisHost, *, stopping: bool = False) -> bool:
         """Start a planned motion now. A motion into an active limit switch is refused
         (the overtravel flag is set instead); a stop is never refused."""
-        if not stopping:
+        if not stopping and self.correcting is not None:
             self._end_correction()
         if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
             board.refuse_into_limit(self)
@@ -270,7 +275,8 @@ class Axis(MotionAxis):
         self.capture_pending = []
 
     def motion_ended(self) -> None:
-        self._end_correction()
+        if self.correcting is not None:
+            self._end_correction()
 
     def _end_correction(self) -> None:
         """A position-maintenance move leaves the motor counter where it was: it moved

@@ -11,13 +11,14 @@ lives in capture.py, vector tasks in contouring.py, the queues in axis.py.
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import plan_move
-from maxk.firmware_model.world import World
+from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.capture import (
@@ -283,6 +284,11 @@ class Board(Engine):
             if (not axis.config.limits_enabled or switch.fault is not None or edge is None
                     or m.direction * (axis.steps + m.final_offset - edge) < 0):
                 return
+        reach = getattr(m, "reach", None)
+        if (reach is not None and axis.homing is None
+                and not self.capture_config[axis.index].on_position
+                and not (axis.config.limits_enabled and _limit_within(axis.steps, reach, world))):
+            return  # (a contour far from every limit: its phases need not be made)
         candidates: list[int] = []
         if axis.config.limits_enabled:
             for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
@@ -631,6 +637,15 @@ class Board(Engine):
             axis.kill(self)
 
 
+def _limit_within(steps: int, reach: tuple[float, float], world: AxisWorld) -> bool:
+    """Could a motion whose offsets stay within `reach` from `steps` meet a limit's edge?
+    (Whole steps: the offset truncated, or the final one rounded; one step spare.)"""
+    low = steps + math.floor(reach[0]) - 1
+    high = steps + math.ceil(reach[1]) + 1
+    plus, minus = world.plus_limit.low, world.minus_limit.high
+    return (plus is not None and high >= plus) or (minus is not None and low <= minus)
+
+
 class _AxesSource:
     """The axes as one event source: motions ending, switches and capture edges reached,
     queue waits expiring. Every axis whose queue may now move is marked for the board's
@@ -646,7 +661,21 @@ class _AxesSource:
         board = self.board
         best: int | None = None
         for axis in board.axes:
-            t = axis.next_event(board)
+            # Axis.next_event inlined for the common cases (asked for every axis at every
+            # event): a motion's end, a switch, a tick wait; inputs by the method
+            t = axis.motion_end
+            switch = axis.switch_tick
+            if switch is not None and (t is None or switch < t):
+                t = switch
+            wait = axis.wait
+            if wait is not None:
+                kind = type(wait)
+                if kind is TickWait:
+                    tick = wait.tick  # type: ignore[union-attr]
+                    if t is None or tick < t:
+                        t = tick
+                elif kind is InputWait:
+                    t = axis.next_event(board)
             if t is not None and (best is None or t < best):
                 best = t
         return best
@@ -656,7 +685,8 @@ class _AxesSource:
         due = board._due
         for axis in board.axes:
             marked = False
-            if axis.switch_tick is not None and axis.switch_tick <= now:
+            switch = axis.switch_tick
+            if switch is not None and switch <= now:
                 board._switch_event(axis)
                 marked = True
             end = axis.motion_end
@@ -665,8 +695,9 @@ class _AxesSource:
                 marked = True
             elif not marked:
                 wait = axis.wait
-                kind = type(wait)
-                marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
+                if wait is not None:
+                    kind = type(wait)
+                    marked = kind is InputWait or (kind is TickWait and wait.tick <= now)  # type: ignore[union-attr]
             if marked:
                 due.append(axis)
 
@@ -682,9 +713,14 @@ class _TasksSource:
 
     def next_event(self) -> int | None:
         board = self.board
+        tasks = board.tasks
+        if not tasks:  # (most boards run no vector task: asked at every event)
+            if self._asked:
+                self._asked = []
+            return None
         best: int | None = None
         asked = self._asked = []
-        for task in board.tasks.values():
+        for task in tasks.values():
             t = task.next_event(board)
             asked.append((task, t))
             if t is not None and (best is None or t < best):
@@ -700,7 +736,10 @@ class _TasksSource:
         for task, asked in self._asked:
             t = task.next_event(board) if acted else asked
             if t is not None and t <= now:
-                due.extend(a for a in task.on_event(board) if a not in due)
+                for axis in task.on_event(board):
+                    # by identity: Axis is a dataclass, its == compares every field
+                    if not any(d is axis for d in due):
+                        due.append(axis)
                 acted = True
 
 

@@ -26,6 +26,9 @@ trajectory scan drives (evidence 2.8) share one machine, modelled here:
 
 Decisions (D) and inferences (I) are listed with the commands in the command table and in
 docs/contouring.md.
+
+Long module: a task, its contours and their lazily made plans (segment starts found as
+the path nears them, the axes' ends set when the plan completes) are one life cycle.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
 
-from maxk.firmware_model.outputs import path_trigger_ticks
+from maxk.firmware_model.outputs import path_tick
 from maxk.firmware_model.path import (
     EPS,
     ContourMotion,
@@ -188,6 +191,9 @@ class Contour:
         self.state = WAITING
         self.arrived: set[int] = set()
         self.segments: list[Segment] = []
+        self.starts: list[float] = []  # the segments' s0 (the plans bisect them)
+        self.last_arc = -1  # the index of the last arc among the segments (-1: none)
+        self.reach: list[list[float]] = []  # per axis: the lowest and highest point
         self.current = 0  # the segment the path is in
         self.plan: PathPlan | None = None
         self.plan_tick = 0
@@ -195,7 +201,12 @@ class Contour:
         self.from_rest = False
         self.stopping = False  # a hold or an abort ramp-down is running
         self.aborted = False
-        self.boundaries: list[tuple[int, int]] = []  # (tick, segment index), ascending
+        # (tick, segment index), ascending: the segment starts ahead, found as the
+        # path gets near them (the next to find: _bnext, up to _bstop)
+        self.boundaries: list[tuple[int, int]] = []
+        self._bnext = 0
+        self._bstop = 0
+        self._period = 0.0  # the update period the present plan was scheduled with
         self.reserved: dict[int, int] = {}  # queue units held per axis
         self.done_flag = False
         self.scale_used = 1.0  # the override the present plan was made with
@@ -236,7 +247,18 @@ class Contour:
                 seg = Segment(defn, last.end, last.s0 + last.length, last.v_end)
             else:
                 seg = Segment(defn, self._origin, 0.0, None)
+                self.reach = [[x, x] for x in self._origin]
+            if seg.is_arc:
+                self.last_arc = len(self.segments)
+                for k, c in ((0, seg.cx), (1, seg.cy)):
+                    if k < len(self.reach):
+                        self.reach[k][0] = min(self.reach[k][0], c - seg.radius)
+                        self.reach[k][1] = max(self.reach[k][1], c + seg.radius)
+            for k, x in enumerate(seg.end):
+                self.reach[k][0] = min(self.reach[k][0], x)
+                self.reach[k][1] = max(self.reach[k][1], x)
             self.segments.append(seg)
+            self.starts.append(seg.s0)
 
     # ---- start -----------------------------------------------------------------------
     def arrive(self, axis: Axis, board: Board) -> Wait | None:
@@ -297,25 +319,88 @@ class Contour:
         i = self._index_at(s)
         scale = self.task.scale(board)
         self.scale_used = scale
+        # lazy: the plan is made as far as the path gets (see _keep_ahead)
         if stop:
-            plan = plan_stop(self.segments, i, s, v, scale)
+            plan = plan_stop(self.segments, i, s, v, scale, lazy=True, starts=self.starts,
+                             last_arc=self.last_arc)
         else:
-            plan = plan_path(self.segments, i, s, None if from_rest else v, scale)
+            plan = plan_path(self.segments, i, s, None if from_rest else v, scale,
+                             lazy=True, starts=self.starts, last_arc=self.last_arc)
         self.plan = plan
         self.plan_tick = board.tick
         self.from_rest = from_rest and not stop
-        period = board.period
-        self.plan_end_tick = None if plan.end_time is None else (
-            board.tick + math.ceil(plan.end_time / period - 1e-9))
+        self._period = board.period
+        self.plan_end_tick = None
+        # segment starts ahead (VIO, queue units): path triggers at their distances
+        self.boundaries = []
+        self._bnext, self._bstop = self.current + 1, len(self.segments)
+        self._keep_ahead(board.tick)
+        followers: list[tuple[Axis, ContourMotion]] = []
+        if not plan.done:
+            plan.on_complete.append(lambda: self._plan_complete(plan, followers))
         for k, index in enumerate(self.axes):
             axis = board.axes[index]
             axis._rebase(board)
-            motion = ContourMotion(plan, k, float(axis.steps + axis.counter_offset))
+            origin = float(axis.steps + axis.counter_offset)
+            motion = ContourMotion(plan, k, origin)
+            if self.reach:  # the whole contour's box: no switch outside it can be met
+                motion.reach = (self.reach[k][0] - origin, self.reach[k][1] - origin)
+            followers.append((axis, motion))
             axis.start_motion(motion, board, stopping=True)  # type: ignore[arg-type]
-        # segment starts ahead (VIO, queue units): path triggers at their distances
-        self.boundaries = path_trigger_ticks(
-            plan, board.tick, period,
-            ((self.segments[j].s0, j) for j in range(self.current + 1, len(self.segments))))
+        if plan.done:
+            self._plan_complete(plan, followers)
+        self._fill_boundaries()
+
+    def _plan_complete(self, plan: PathPlan, followers: list[tuple[Axis, ContourMotion]]
+                       ) -> None:
+        """The present plan is complete (made lazily, it completes as the path nears its
+        end, or when something asks for all of it): the contour's and its axes' ends are
+        what planning it whole at once gives."""
+        if self.plan is not plan:
+            return
+        period = self._period
+        end = plan.end_time
+        self.plan_end_tick = None if end is None else (
+            self.plan_tick + math.ceil(end / period - 1e-9))
+        for axis, motion in followers:
+            motion._set_end()
+            if axis.motion is motion:
+                axis.motion_end = None if motion.end_time is None else (
+                    axis.motion_start + math.ceil(motion.end_time / period - 1e-9))
+                axis.ramp_end = axis.motion_start + math.ceil(
+                    motion.ramp_end_time / period - 1e-9)
+
+    def _fill_boundaries(self) -> bool:
+        """Find the next segment start's tick if none is pending. False: none is left."""
+        if self.boundaries:
+            return True
+        j = self._bnext
+        if j >= self._bstop or self.plan is None:
+            return False
+        tick = path_tick(self.plan, self.plan_tick, self._period, self.segments[j].s0)
+        if tick is None:
+            self._bnext = self._bstop  # the plan stops short of it, and of the rest
+            return False
+        self.boundaries.append((tick, j))
+        self._bnext = j + 1
+        return True
+
+    def _keep_ahead(self, now: int) -> None:
+        """Make the plan (lazily made) at least past the contour's next event: it cannot
+        end before then, so its axes' ends are known in time (the next event makes it
+        further). A plan with no segment start ahead is made to its end."""
+        plan = self.plan
+        if plan is None or self.state is FINISHED:
+            return
+        period = self._period
+        while not plan.done:
+            if self._fill_boundaries():
+                due = max(self.boundaries[0][0], now)
+                horizon = plan.horizon
+                if math.isinf(horizon) or (
+                        self.plan_tick + math.ceil(horizon / period - 1e-9) > due):
+                    return
+            plan.extend()
 
     def _refuse_if_blocked(self, board: Board) -> bool:
         """A path that would start an axis into a pressed limit is refused whole (as an
@@ -354,6 +439,8 @@ class Contour:
         if self.aborted and self.state is RUNNING and not self.followed(board):
             return board.tick  # killed: finish now
         best = self.plan_end_tick if self.state is RUNNING else None
+        if self._bnext < self._bstop:
+            self._fill_boundaries()
         if self.boundaries and (best is None or self.boundaries[0][0] < best):
             best = self.boundaries[0][0]
         if self.state is RUNNING and self.task.override_input is not None \
@@ -370,6 +457,7 @@ class Contour:
             self.finish(board)
             return [board.axes[i] for i in self.axes]
         self._enter_segments(board, now)
+        self._keep_ahead(now)
         if self.state is RUNNING and self.plan_end_tick is not None \
                 and now >= self.plan_end_tick:
             self.plan_end_tick = None
@@ -391,7 +479,7 @@ class Contour:
 
     def _enter_segments(self, board: Board, now: int) -> None:
         """Every segment start reached by now: VIO actions, queue units."""
-        while self.boundaries and self.boundaries[0][0] <= now:
+        while self._fill_boundaries() and self.boundaries[0][0] <= now:
             _tick, j = self.boundaries.pop(0)
             for _passed in range(self.current, j):
                 self._release_unit(board)
@@ -443,6 +531,7 @@ class Contour:
         self.state = FINISHED
         self.plan_end_tick = None
         self.boundaries = []
+        self._bnext = self._bstop
         for i, n in self.reserved.items():
             queue = board.axes[i].queue
             queue.used_units = max(0, queue.used_units - n)

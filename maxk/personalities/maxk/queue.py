@@ -61,7 +61,8 @@ class CommandQueue:
         self.used_units += entry.units
 
     def peek(self) -> QueueEntry | None:
-        return self.entries[self.pc] if self.pc < len(self.entries) else None
+        pc, entries = self.pc, self.entries
+        return entries[pc] if pc < len(entries) else None
 
     def advance(self) -> None:
         """Move past the entry just executed; release consumed entries outside loops."""
