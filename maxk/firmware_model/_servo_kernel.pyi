@@ -1,0 +1,9 @@
+"""The compiled servo kernel (_servo_kernel.c); see servo_kernel.py."""
+
+from array import array
+
+STATE_SIZE: int
+PARAM_SIZE: int
+HEADER: int
+
+def step(state: array, params: array, program: array, tick: int, count: int, /) -> int: ...
