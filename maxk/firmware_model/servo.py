@@ -359,6 +359,9 @@ class ServoLoop:
         self._cache: tuple | None = None  # a closed-form solution still valid ahead
         self._params: tuple[tuple, array | None] = ((), None)  # the kernel's, by key
         self._program: tuple[tuple, array | None] = ((), None)
+        # a stretch the kernel steps: (until, what it depends on, plant, friction, gains,
+        # the kernel's inputs)
+        self._fast: tuple | None = None
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -399,6 +402,21 @@ class ServoLoop:
         following-error trip, leaving ``trip_tick`` for the board to act on."""
         if self.trip_tick is not None:
             return
+        fast = self._fast
+        if fast is not None:
+            # inside a stretch the kernel steps, with nothing it reads changed: no
+            # decisions to remake (a pacing pass costs one comparison per axis)
+            config = axis.config
+            plant = board.world.axes[axis.index].motor
+            if (to_tick <= fast[0] and self.recorder is None
+                    and fast[1] == (axis.motion, axis.motion_start, axis.motion_end,
+                                    axis.rest_since, axis.steps, axis.counter_offset,
+                                    axis.encoder_offset, config.gains,
+                                    config.servo_polarity, plant, board.period)):
+                self._scalar(axis, board, fast[2], fast[3], fast[4], to_tick - self.tick,
+                             fast[5])
+                return
+            self._fast = None
         plant = board.world.axes[axis.index].motor
         matrices = plant.discrete(board.period)
         if axis.config.servo_polarity < 0:  # SVP-: the DAC output inverted
@@ -473,12 +491,25 @@ class ServoLoop:
         if K.STEP is not None and self.recorder is None:
             # compiled ticks are cheaper than a closed-form jump over short pieces,
             # non-polynomial ones (arcs, cosine ramps) and the settling after a move
+            until = None
             if not polynomial or (end is not None and end - self.tick <= KERNEL_SPAN):
-                self._scalar(axis, board, matrices, friction, gains, n)
-                return
-            if end is None and self.tick - start < SETTLE_SPAN:
-                self._scalar(axis, board, matrices, friction, gains,
-                             min(n, start + SETTLE_SPAN - self.tick))
+                until = end
+                count = n
+            elif end is None and self.tick - start < SETTLE_SPAN:
+                until = start + SETTLE_SPAN
+                count = min(n, until - self.tick)
+            else:
+                count = 0
+            if count:
+                self._scalar(axis, board, matrices, friction, gains, count)
+                kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+                if until is not None and kernel is not None:
+                    self._fast = (until, (axis.motion, axis.motion_start, axis.motion_end,
+                                          axis.rest_since, axis.steps, axis.counter_offset,
+                                          axis.encoder_offset, gains,
+                                          axis.config.servo_polarity,
+                                          board.world.axes[axis.index].motor,
+                                          board.period), matrices, friction, gains, kernel)
                 return
         fresh = start + 2 - self.tick  # ticks until the history is on this piece
         if fresh > 0 and polynomial and not (self.stuck and end is None):
@@ -683,22 +714,30 @@ class ServoLoop:
         return True
 
     def _scalar(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
-                gains: Gains, count: int) -> None:
+                gains: Gains, count: int, kernel: tuple[array, array] | None = None) -> None:
         """Step tick by tick, where the loop is nonlinear or a stretch is too short for a
-        closed-form jump: compiled where the kernel is built, else in Python."""
+        closed-form jump: compiled where the kernel is built, else in Python. `kernel`:
+        its inputs, if the caller knows them still valid."""
         self._cache = None
         step = K.STEP
         if step is not None and self.recorder is None and count > 0:
-            kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+            if kernel is None:
+                kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
             if kernel is not None:
-                done = step(self.x, kernel[0], kernel[1], self.tick, count)
-                if done < 0:  # the following error tripped on the tick after these
-                    self.tick += -done - 1
-                    self.trip_tick = self.tick
-                else:
-                    self.tick += done
+                self._step(kernel[0], kernel[1], count)
                 return
         self._scalar_python(axis, board, matrices, friction, gains, count)
+
+    def _step(self, params: array, program: array, count: int) -> None:
+        """`count` ticks through the compiled kernel."""
+        step = K.STEP
+        assert step is not None
+        done = step(self.x, params, program, self.tick, count)
+        if done < 0:  # the following error tripped on the tick after these
+            self.tick += -done - 1
+            self.trip_tick = self.tick
+        else:
+            self.tick += done
 
     def _kernel_inputs(self, axis: ServoAxis, board: ServoHost, matrices: tuple,
                        friction: float, gains: Gains) -> tuple[array, array] | None:
