@@ -23,7 +23,7 @@ class OptionalBuildExt(build_ext):
     @staticmethod
     def _skip(exc: Exception) -> None:
         print(f"maxk: the compiled servo kernel was not built ({exc}); the servo loop "
-              "runs in Python (same results, slower)")
+              "runs in Python (the same replies, slower)")
 
 
 setup(

@@ -12,7 +12,7 @@ import time
 import tracemalloc
 from collections.abc import Callable
 
-from benchmarks.figure import Figure
+from benchmarks.figure import Figure, is_rate
 from benchmarks.servo_figures import circle, naive_reference
 from maxk import MAXk
 
@@ -280,12 +280,6 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "trio": trio_example_2,
     "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
 }
-
-
-def is_rate(unit: str) -> bool:
-    """Figures read as multiples of the naive loop (issue 19's table): simulated seconds
-    per wall second, and commands per second taken at face value against it."""
-    return "wall s" in unit or unit == "commands/s"
 
 
 def main(argv: list[str] | None = None) -> int:

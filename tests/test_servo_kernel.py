@@ -143,3 +143,42 @@ def test_the_kernel_refuses_what_is_not_a_description():
     with pytest.raises(ValueError):
         step(state, params, array("f", [0.0] * 20), 0, 1)  # not doubles
     assert step(state, params, rest, 0, 0) == 0
+
+
+# ---- the plant: built once per parameter set, imported only for servos --------------------
+def test_a_stepper_only_session_never_imports_python_control():
+    """python-control takes seconds to import; a board without servo axes never pays it."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = ("import sys, maxk; b = maxk.MAXk('MAXk-A000'); b.send('AA; MR100,200; GO; ID;'); "
+            "b.advance(1.0); print(b.query('AA RP')[:7], 'control' in sys.modules, "
+            "'scipy' in sys.modules)")
+    root = str(Path(__file__).resolve().parent.parent)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={"PYTHONPATH": root, "PATH": ""}, check=True, cwd=root)
+    assert out.stdout.split() == ["100,200", "False", "False"]
+
+
+def test_the_plant_is_discretized_once_for_every_board(monkeypatch):
+    """Sixteen boards of ten servo axes with the same motor and update rate share one
+    c2d: python-control runs once per parameter set, not per axis or per board."""
+    import control
+
+    from maxk.firmware_model import motor
+
+    calls = []
+    real = control.c2d
+    monkeypatch.setattr(control, "c2d", lambda *a, **k: calls.append(a) or real(*a, **k))
+    motor._discretize.cache_clear()
+    boards = []
+    for _ in range(16):
+        board = MAXk("MAXk-A000")
+        board.send("AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; CL1,1,1,1,1,1,1,1,1,1;")
+        board.advance(0.01)
+        boards.append(board)
+    assert len(calls) == 1
+    boards[0].send("AX #UR4096;")  # another update rate: another discretization
+    boards[0].advance(0.01)
+    assert len(calls) == 2
