@@ -278,6 +278,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "doors": doors,
     "mm4005": lambda: __import__("benchmarks.mm4005", fromlist=["figures"]).figures(),
     "trio": trio_example_2,
+    "servo_serve": lambda: __import__("benchmarks.servo_serve", fromlist=["figures"]).figures(),
     "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
 }
 
