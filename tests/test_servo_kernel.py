@@ -17,6 +17,7 @@ import pytest
 
 from maxk import MAXk
 from maxk.firmware_model import servo_kernel
+from maxk.firmware_model.motor import MotorPlant
 from maxk.firmware_model.servo import ServoLoop
 
 TUNED = "KP100; KD400; KI40; KU400; KV680;"  # docs/servo.md: the default motor, tuned
@@ -71,6 +72,7 @@ def python_steps(monkeypatch: pytest.MonkeyPatch) -> None:
         self._scalar_python(axis, board, matrices, friction, gains, count)
 
     monkeypatch.setattr(ServoLoop, "_scalar", scalar)
+    monkeypatch.setattr(servo_kernel, "STEP_AXES", None)  # the compiled pass over a board
 
 
 def refuse(*args: object) -> int:
@@ -110,8 +112,34 @@ def test_the_scenarios_are_mostly_stepped_by_the_kernel(monkeypatch):
         return done
 
     monkeypatch.setattr(servo_kernel, "STEP", counting)
+    monkeypatch.setattr(servo_kernel, "STEP_AXES", None)
     run("circle")
     assert sum(ticks) > 0.9 * 2 * 1.5 * 8192
+
+
+@compiled
+def test_a_pacing_pass_steps_a_boards_axes_in_one_compiled_call(monkeypatch):
+    """Short advances (a door's pacing) inside moves: the compiled pass steps every axis;
+    the Python loop is not called for any."""
+    board = MAXk("MAXk-A000")
+    board.send("AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; "
+               "CL1,1,1,1,1,1,1,1,1,1; VL5000,5000,5000,5000,5000,5000,5000,5000,5000,5000; "
+               "MR3000,3000,3000,3000,3000,3000,3000,3000,3000,3000; GO;")
+    board.advance(0.1)  # into the slew
+    advanced = []
+    real = ServoLoop.advance
+    monkeypatch.setattr(ServoLoop, "advance", lambda self, axis, host, to: (
+        advanced.append(axis.index), real(self, axis, host, to)))
+    start = board.tick
+    for _ in range(20):
+        board.advance(ticks=8)
+    assert advanced == []
+    assert board.tick == start + 20 * 8
+    assert {loop.tick for a in board.board.axes if (loop := a.servo)} == {board.tick}
+    # the world changed under X (a heavier load): its loop remakes its decisions
+    board.board.world.axes[0].motor = MotorPlant(inertia=6e-6)
+    board.advance(ticks=8)
+    assert advanced == [0]
 
 
 @compiled

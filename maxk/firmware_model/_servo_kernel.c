@@ -322,7 +322,180 @@ static PyObject *step(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
     return PyLong_FromLongLong(result);
 }
 
+/* step_axes(axes, limit) -> the axes it could not step
+ *
+ * A pacing pass over a board's servo axes in one call: for each axis whose loop is inside
+ * a stretch the kernel steps (loop._fast = (until, key, plant, friction, gains, (params,
+ * program), checks)), with no trip pending, no recorder, limit <= until and every check
+ * (object, attribute name, value the stretch was planned with) still holding, it steps
+ * the loop to `limit` (loop.tick, and loop.trip_tick on a trip). The others are returned
+ * for ServoLoop.advance, which remakes its decisions in Python. */
+static int holds(PyObject *checks)
+{
+    if (!PyTuple_Check(checks))
+        return 0;
+    Py_ssize_t n = PyTuple_GET_SIZE(checks);
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *check = PyTuple_GET_ITEM(checks, i);
+        if (!PyTuple_Check(check) || PyTuple_GET_SIZE(check) != 3)
+            return 0;
+        PyObject *now = PyObject_GetAttr(PyTuple_GET_ITEM(check, 0), PyTuple_GET_ITEM(check, 1));
+        if (now == NULL)
+            return -1;
+        int same = PyObject_RichCompareBool(now, PyTuple_GET_ITEM(check, 2), Py_EQ);
+        Py_DECREF(now);
+        if (same != 1)
+            return same;
+    }
+    return 1;
+}
+
+static PyObject *s_servo, *s_fast, *s_trip_tick, *s_recorder, *s_tick, *s_x;
+
+/* 1: stepped; 0: not for the kernel (left to Python); -1: an error */
+static int step_one(PyObject *axis, long long limit)
+{
+    int result = 0;
+    PyObject *loop = NULL, *fast = NULL, *attr = NULL;
+    Py_buffer state = {0}, params = {0}, program = {0};
+    int have_state = 0, have_params = 0, have_program = 0;
+    loop = PyObject_GetAttr(axis, s_servo);
+    if (loop == NULL)
+        return -1;
+    fast = PyObject_GetAttr(loop, s_fast);
+    if (fast == NULL) {
+        result = -1;
+        goto done;
+    }
+    if (!PyTuple_Check(fast) || PyTuple_GET_SIZE(fast) != 7)
+        goto done;
+    long long until = PyLong_AsLongLong(PyTuple_GET_ITEM(fast, 0));
+    if (until == -1 && PyErr_Occurred()) {
+        PyErr_Clear();
+        goto done;
+    }
+    if (limit > until)
+        goto done;
+    attr = PyObject_GetAttr(loop, s_trip_tick);
+    if (attr == NULL || attr != Py_None) {
+        result = attr == NULL ? -1 : 0;
+        goto done;
+    }
+    Py_DECREF(attr);
+    attr = PyObject_GetAttr(loop, s_recorder);
+    if (attr == NULL || attr != Py_None) {
+        result = attr == NULL ? -1 : 0;
+        goto done;
+    }
+    Py_CLEAR(attr);
+    int ok = holds(PyTuple_GET_ITEM(fast, 6));
+    if (ok != 1) {
+        result = ok;
+        goto done;
+    }
+    PyObject *kernel = PyTuple_GET_ITEM(fast, 5);
+    if (!PyTuple_Check(kernel) || PyTuple_GET_SIZE(kernel) != 2)
+        goto done;
+    attr = PyObject_GetAttr(loop, s_tick);
+    if (attr == NULL) {
+        result = -1;
+        goto done;
+    }
+    long long tick = PyLong_AsLongLong(attr);
+    Py_CLEAR(attr);
+    if (tick == -1 && PyErr_Occurred()) {
+        result = -1;
+        goto done;
+    }
+    if (tick >= limit) {
+        result = 1;
+        goto done;
+    }
+    attr = PyObject_GetAttr(loop, s_x);
+    if (attr == NULL) {
+        result = -1;
+        goto done;
+    }
+    if (get_doubles(attr, &state, 1, STATE_SIZE, "state") < 0) {
+        result = -1;
+        goto done;
+    }
+    have_state = 1;
+    if (get_doubles(PyTuple_GET_ITEM(kernel, 0), &params, 0, PARAM_SIZE, "params") < 0) {
+        result = -1;
+        goto done;
+    }
+    have_params = 1;
+    if (get_doubles(PyTuple_GET_ITEM(kernel, 1), &program, 0, HEADER, "program") < 0) {
+        result = -1;
+        goto done;
+    }
+    have_program = 1;
+    Py_ssize_t size = program_size(program.buf, program.len / (Py_ssize_t)sizeof(double));
+    if (size < 0 || size > program.len / (Py_ssize_t)sizeof(double)) {
+        PyErr_SetString(PyExc_ValueError, "program: not a motion's description");
+        result = -1;
+        goto done;
+    }
+    long long stepped = run(state.buf, params.buf, program.buf, tick, limit - tick);
+    long long reached = tick + (stepped < 0 ? -stepped - 1 : stepped);
+    PyObject *value = PyLong_FromLongLong(reached);
+    if (value == NULL || PyObject_SetAttr(loop, s_tick, value) < 0
+        || (stepped < 0 && PyObject_SetAttr(loop, s_trip_tick, value) < 0)) {
+        Py_XDECREF(value);
+        result = -1;
+        goto done;
+    }
+    Py_DECREF(value);
+    result = 1;
+done:
+    if (have_state)
+        PyBuffer_Release(&state);
+    if (have_params)
+        PyBuffer_Release(&params);
+    if (have_program)
+        PyBuffer_Release(&program);
+    Py_XDECREF(attr);
+    Py_XDECREF(fast);
+    Py_DECREF(loop);
+    return result;
+}
+
+static PyObject *step_axes(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)module;
+    if (nargs != 2) {
+        PyErr_SetString(PyExc_TypeError, "step_axes(axes, limit)");
+        return NULL;
+    }
+    long long limit = PyLong_AsLongLong(args[1]);
+    if (limit == -1 && PyErr_Occurred())
+        return NULL;
+    PyObject *axes = PySequence_Fast(args[0], "step_axes: axes is a sequence");
+    if (axes == NULL)
+        return NULL;
+    PyObject *rest = PyList_New(0);
+    if (rest == NULL) {
+        Py_DECREF(axes);
+        return NULL;
+    }
+    Py_ssize_t n = PySequence_Fast_GET_SIZE(axes);
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *axis = PySequence_Fast_GET_ITEM(axes, i);
+        int stepped = step_one(axis, limit);
+        if (stepped < 0 || (stepped == 0 && PyList_Append(rest, axis) < 0)) {
+            Py_DECREF(rest);
+            Py_DECREF(axes);
+            return NULL;
+        }
+    }
+    Py_DECREF(axes);
+    return rest;
+}
+
 static PyMethodDef methods[] = {
+    {"step_axes", (PyCFunction)(void (*)(void))step_axes, METH_FASTCALL,
+     "step_axes(axes, limit) -> the axes it could not step (see the source)"},
     {"step", (PyCFunction)(void (*)(void))step, METH_FASTCALL,
      "step(state, params, program, tick, count) -> ticks stepped, or -(ticks + 1) on a "
      "following-error trip"},
@@ -337,6 +510,14 @@ static struct PyModuleDef module = {
 
 PyMODINIT_FUNC PyInit__servo_kernel(void)
 {
+    s_servo = PyUnicode_InternFromString("servo");
+    s_fast = PyUnicode_InternFromString("_fast");
+    s_trip_tick = PyUnicode_InternFromString("trip_tick");
+    s_recorder = PyUnicode_InternFromString("recorder");
+    s_tick = PyUnicode_InternFromString("tick");
+    s_x = PyUnicode_InternFromString("x");
+    if (!s_servo || !s_fast || !s_trip_tick || !s_recorder || !s_tick || !s_x)
+        return NULL;
     PyObject *m = PyModule_Create(&module);
     if (m == NULL)
         return NULL;

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from array import array
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Protocol
@@ -65,6 +66,7 @@ class ServoAxis(Protocol):
     settings."""
 
     index: int
+    servo: ServoLoop | None
     steps: int
     counter_offset: int
     encoder_offset: int
@@ -366,7 +368,7 @@ class ServoLoop:
         self._params: tuple[tuple, array | None] = ((), None)  # the kernel's, by key
         self._program: tuple[tuple, array | None] = ((), None)
         # a stretch the kernel steps: (until, what it depends on, plant, friction, gains,
-        # the kernel's inputs)
+        # the kernel's inputs, the same dependencies as checks for the compiled pass)
         self._fast: tuple | None = None
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
@@ -510,12 +512,7 @@ class ServoLoop:
                 self._scalar(axis, board, matrices, friction, gains, count)
                 kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
                 if until is not None and kernel is not None:
-                    self._fast = (until, (axis.motion, axis.motion_start, axis.motion_end,
-                                          axis.rest_since, axis.steps, axis.counter_offset,
-                                          axis.encoder_offset, gains,
-                                          axis.config.servo_polarity,
-                                          board.world.axes[axis.index].motor,
-                                          board.period), matrices, friction, gains, kernel)
+                    self._remember(axis, board, until, matrices, friction, gains, kernel)
                 return
         fresh = start + 2 - self.tick  # ticks until the history is on this piece
         if fresh > 0 and polynomial and not (self.stuck and end is None):
@@ -734,6 +731,27 @@ class ServoLoop:
                 return
         self._scalar_python(axis, board, matrices, friction, gains, count)
 
+    def _remember(self, axis: ServoAxis, board: ServoHost, until: int, matrices: tuple,
+                  friction: float, gains: Gains, kernel: tuple[array, array]) -> None:
+        """Keep the kernel stepping this axis until `until` while nothing it reads
+        changes: what that is, as a tuple for `advance` and as (object, attribute, value)
+        checks for the compiled pass over a board (`advance_servo_axes`)."""
+        config = axis.config
+        world = board.world
+        world_axis = world.axes[axis.index]
+        plant = world_axis.motor
+        key = (axis.motion, axis.motion_start, axis.motion_end, axis.rest_since, axis.steps,
+               axis.counter_offset, axis.encoder_offset, config.gains,
+               config.servo_polarity, plant, board.period)
+        checks = tuple((axis, name, value) for name, value in zip(
+            ("motion", "motion_start", "motion_end", "rest_since", "steps", "counter_offset",
+             "encoder_offset"), key, strict=False)) + (
+            (axis, "config", config), (config, "gains", config.gains),
+            (config, "servo_polarity", config.servo_polarity), (board, "world", world),
+            (world, "axes", world.axes), (world_axis, "motor", plant),
+            (board, "period", board.period))
+        self._fast = (until, key, matrices, friction, gains, kernel, checks)
+
     def _step(self, params: array, program: array, count: int) -> None:
         """`count` ticks through the compiled kernel."""
         step = K.STEP
@@ -833,6 +851,18 @@ class ServoLoop:
         x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC] = p, w, s, q, dac
         self.r_prev, self.r_prev2, self.stuck = r_prev, r_prev2, stuck
         self.tick = tick
+
+
+def advance_servo_axes(axes: Sequence[ServoAxis], board: ServoHost, limit: int) -> None:
+    """Run every servo loop of a board up to `limit`: one compiled call steps the axes
+    inside a stretch the kernel steps (no Python per axis), `ServoLoop.advance` the
+    others."""
+    step_axes = K.STEP_AXES
+    rest = axes if step_axes is None else step_axes(axes, limit)
+    for axis in rest:
+        loop = axis.servo
+        if loop is not None:
+            loop.advance(axis, board, limit)
 
 
 def _breakaway(base: float, ki: float, s: float, e: float, cap: float,

@@ -19,8 +19,8 @@ from __future__ import annotations
 import math
 import os
 from array import array
-from collections.abc import Callable
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
 
 from maxk.firmware_model.path import ContourMotion
 from maxk.firmware_model.profiles import Motion, RampShape
@@ -29,20 +29,22 @@ if TYPE_CHECKING:
     from maxk.firmware_model.motion import MotionPlan
 
 StepFunction = Callable[[array, array, array, int, int], int]
+StepAxesFunction = Callable[[Sequence[Any], int], list[Any]]
 
 
-def _load() -> StepFunction | None:
+def _load() -> tuple[StepFunction | None, StepAxesFunction | None]:
     if os.environ.get("MAXK_SERVO_KERNEL", "").lower() == "python":
-        return None
+        return None, None
     try:
         from maxk.firmware_model import _servo_kernel
     except ImportError:
-        return None
-    return _servo_kernel.step
+        return None, None
+    return _servo_kernel.step, _servo_kernel.step_axes
 
 
-STEP: StepFunction | None = _load()
-"""The compiled step, or None (no compiler at install time, or switched off)."""
+STEP, STEP_AXES = _load()
+"""The compiled step of one loop and the compiled pass over a board's servo axes, or
+None (no compiler at install time, or switched off)."""
 
 # the state's slots (the C enum's order)
 P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK = range(12)
