@@ -354,7 +354,7 @@ class ServoLoop:
     whether the loop is closed. ``tick`` is how far the loop has been simulated."""
 
     def __init__(self, position: float, tick: int) -> None:
-        # the state the compiled kernel steps, in one array (slots: servo_kernel.STATE):
+        # the state the compiled kernel steps, in one array (slots: servo_kernel.P..STUCK):
         # plant position (counts since power-up, physical) and velocity (counts/s), the
         # error sum, the previous error, the last DAC output (after saturation), the
         # commanded position of the last two ticks; closed (PSM powers up open loop: the
