@@ -12,7 +12,8 @@ import time
 import tracemalloc
 from collections.abc import Callable
 
-from benchmarks.figure import Figure
+from benchmarks.figure import Figure, is_rate
+from benchmarks.servo_figures import circle, naive_reference
 from maxk import MAXk
 
 
@@ -285,12 +286,14 @@ def trio_example_2() -> list[Figure]:
 
 
 BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
+    "naive": naive_reference,
     "steppers_free": lambda: steppers_back_to_back(None),
     "steppers_polled": lambda: steppers_back_to_back(10.0, sim_seconds=120.0),
     "steppers_varied": steppers_varied,
     "servos_short": lambda: servos_back_to_back(None, "short", 30.0),
     "servos_long": lambda: servos_back_to_back(None, "long", 120.0),
     "servos_long_polled": lambda: servos_back_to_back(10.0, "long", 60.0),
+    "circle": circle,
     "trajectory_scan": trajectory_scan,
     "hole_polled": hole_polled,
     "commands": command_throughput,
@@ -299,6 +302,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "doors": doors,
     "mm4005": lambda: __import__("benchmarks.mm4005", fromlist=["figures"]).figures(),
     "trio": trio_example_2,
+    "servo_serve": lambda: __import__("benchmarks.servo_serve", fromlist=["figures"]).figures(),
     "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
 }
 
@@ -319,20 +323,28 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"unknown benchmark {unknown[0]!r}; choose from {', '.join(BENCHMARKS)}")
     names = args.names or list(BENCHMARKS)
     if not args.json:
-        print(f"{'figure':<34} {'value':>14}  {'unit':<24} {'target':>10}  note")
+        print(f"{'figure':<34} {'value':>14}  {'unit':<24} {'target':>10}  {'x naive':>8}  "
+              "note")
+    naive: float | None = None  # the yardstick's rate, once measured in this run
     for name in names:
         if name == "doors":
             result: Figure | list[Figure] = doors(args.door_seconds, args.door_rate)
         else:
             result = BENCHMARKS[name]()
         for fig in result if isinstance(result, list) else [result]:
+            if fig.name == "naive_10_pid_axes":
+                naive = fig.value
+            multiple = fig.value / naive if naive and is_rate(fig.unit) else None
             if args.json:
-                print(json.dumps({"name": fig.name, "value": round(fig.value, 3),
-                                  "unit": fig.unit}))
+                record = {"name": fig.name, "value": round(fig.value, 3), "unit": fig.unit}
+                if multiple is not None:
+                    record["x_naive"] = round(multiple, 3)
+                print(json.dumps(record))
             else:
                 target = f">= {fig.target:,.0f}" if fig.target else ""
+                shown = f"{multiple:>7,.1f}x" if multiple is not None else ""
                 print(f"{fig.name:<34} {fig.value:>14,.3f}  {fig.unit:<24} {target:>10}  "
-                      f"{fig.note}")
+                      f"{shown:>8}  {fig.note}", flush=True)
     return 0
 
 

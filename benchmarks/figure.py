@@ -13,3 +13,9 @@ class Figure:
     unit: str
     target: float | None = None
     note: str = ""
+
+
+def is_rate(unit: str) -> bool:
+    """Figures read as multiples of the naive loop (issue 19's table): simulated seconds
+    per wall second, and commands per second taken at face value against it."""
+    return "wall s" in unit or unit == "commands/s"

@@ -21,6 +21,12 @@ KU, friction not changing sign) the closed loop has a closed-form solution: moda
 decomposition plus a polynomial particular solution. The engine jumps over such
 stretches in O(1), checks per tick only where a bound says a limit might be reached,
 and steps tick by tick only where the loop is really nonlinear (saturation, stiction).
+Where the compiled kernel is built (`servo_kernel.py`), stepping costs tens of
+nanoseconds a tick against a closed-form jump's few hundred microseconds, so it steps
+every piece shorter than `KERNEL_SPAN`, every non-polynomial piece (arcs, cosine ramps)
+and the first `SETTLE_SPAN` ticks at rest, and jumps only over long linear stretches.
+Which ticks the kernel steps depends on the piece and the tick, not on how a host
+slices time.
 
 Long module: one algorithm (the loop, its closed-form solution, the checks that decide
 where it holds and the scalar steps where it does not) whose parts share the solution's
@@ -30,12 +36,15 @@ state; split, each part would only make sense beside the others.
 from __future__ import annotations
 
 import math
+from array import array
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from maxk.firmware_model import servo_kernel as K
 from maxk.firmware_model.profiles import Phase, RampShape
 
 if TYPE_CHECKING:
@@ -57,6 +66,7 @@ class ServoAxis(Protocol):
     settings."""
 
     index: int
+    servo: ServoLoop | None
     steps: int
     counter_offset: int
     encoder_offset: int
@@ -85,6 +95,8 @@ INTEGRAL_DIVISOR = 1024.0  # KI acts on sum(e) / 1024
 INTEGRAL_LIMIT_PER_KU = 4.0  # KU limits the integral term to 4*KU DAC counts
 HORIZON = 1 << 22  # ticks a closed-form solution is checked ahead when nothing ends
 SETTLED_ERROR = 1e-3  # counts: stick-slip below this is not simulated (see _breakaway)
+KERNEL_SPAN = 32768  # ticks: a polynomial piece no longer than this is stepped, compiled
+SETTLE_SPAN = 8192  # ticks at rest after a piece starts that are stepped, compiled
 
 
 @dataclass(frozen=True)
@@ -306,25 +318,69 @@ def _open_loop(plant_matrices: tuple[float, ...]) -> _Modal:
 
 
 # ---- the loop of one axis -------------------------------------------------------------
+def _slot(index: int, doc: str) -> property:
+    def get(loop: ServoLoop) -> float:
+        return loop.x[index]
+
+    def put(loop: ServoLoop, value: float) -> None:
+        loop.x[index] = value
+
+    return property(get, put, doc=doc)
+
+
+def _optional(index: int, present: int, doc: str) -> property:
+    def get(loop: ServoLoop) -> float | None:
+        return loop.x[index] if loop.x[present] else None
+
+    def put(loop: ServoLoop, value: float | None) -> None:
+        loop.x[present] = value is not None
+        loop.x[index] = 0.0 if value is None else value
+
+    return property(get, put, doc=doc)
+
+
+def _flag(index: int, doc: str) -> property:
+    def get(loop: ServoLoop) -> bool:
+        return bool(loop.x[index])
+
+    def put(loop: ServoLoop, value: bool) -> None:
+        loop.x[index] = bool(value)
+
+    return property(get, put, doc=doc)
+
+
 class ServoLoop:
     """The servo state of one PSM axis: plant position/velocity, the filter's memory and
     whether the loop is closed. ``tick`` is how far the loop has been simulated."""
 
     def __init__(self, position: float, tick: int) -> None:
-        self.p = float(position)  # plant position, counts since power-up (physical)
-        self.w = 0.0  # plant velocity, counts/s
-        self.s = 0.0  # error sum
-        self.q = 0.0  # previous error
-        self.closed = False  # PSM powers up open loop: the DAC puts out KO (manual 2.9)
-        self.tripped = False  # following error exceeded: PID disabled until CL1/HN
-        self.stuck = False  # held by static friction
+        # the state the compiled kernel steps, in one array (slots: servo_kernel.P..STUCK):
+        # plant position (counts since power-up, physical) and velocity (counts/s), the
+        # error sum, the previous error, the last DAC output (after saturation), the
+        # commanded position of the last two ticks; closed (PSM powers up open loop: the
+        # DAC puts out KO, manual 2.9), tripped (following error exceeded: PID disabled
+        # until CL1/HN) and stuck (held by static friction)
+        self.x = array("d", (float(position),) + (0.0,) * (K.STATE_SIZE - 1))
         self.tick = tick
         self.trip_tick: int | None = None
-        self.dac = 0.0  # last output, DAC counts (after saturation)
-        self.r_prev: float | None = None  # commanded position of the last two ticks
-        self.r_prev2: float | None = None
         self.recorder: list | None = None  # per-tick samples for the tuning plot
         self._cache: tuple | None = None  # a closed-form solution still valid ahead
+        self._params: tuple[tuple, array | None] = ((), None)  # the kernel's, by key
+        self._program: tuple[tuple, array | None] = ((), None)
+        # a stretch the kernel steps: (until, what it depends on, plant, friction, gains,
+        # the kernel's inputs, the same dependencies as checks for the compiled pass)
+        self._fast: tuple | None = None
+
+    p = _slot(K.P, "plant position, counts since power-up (physical)")
+    w = _slot(K.W, "plant velocity, counts/s")
+    s = _slot(K.S, "error sum")
+    q = _slot(K.Q, "previous error")
+    dac = _slot(K.DAC, "last output, DAC counts (after saturation)")
+    r_prev = _optional(K.RPREV, K.HAS_PREV, "commanded position of the last tick")
+    r_prev2 = _optional(K.RPREV2, K.HAS_PREV2, "commanded position the tick before")
+    closed = _flag(K.CLOSED, "the loop is closed (CL1)")
+    tripped = _flag(K.TRIPPED, "following error exceeded: PID disabled until CL1/HN")
+    stuck = _flag(K.STUCK, "held by static friction")
 
     # ---- what the host reads ---------------------------------------------------------
     def encoder_counts(self) -> int:
@@ -354,6 +410,21 @@ class ServoLoop:
         following-error trip, leaving ``trip_tick`` for the board to act on."""
         if self.trip_tick is not None:
             return
+        fast = self._fast
+        if fast is not None:
+            # inside a stretch the kernel steps, with nothing it reads changed: no
+            # decisions to remake (a pacing pass costs one comparison per axis)
+            config = axis.config
+            plant = board.world.axes[axis.index].motor
+            if (to_tick <= fast[0] and self.recorder is None
+                    and fast[1] == (axis.motion, axis.motion_start, axis.motion_end,
+                                    axis.rest_since, axis.steps, axis.counter_offset,
+                                    axis.encoder_offset, config.gains,
+                                    config.servo_polarity, plant, board.period)):
+                self._scalar(axis, board, fast[2], fast[3], fast[4], to_tick - self.tick,
+                             fast[5])
+                return
+            self._fast = None
         plant = board.world.axes[axis.index].motor
         matrices = plant.discrete(board.period)
         if axis.config.servo_polarity < 0:  # SVP-: the DAC output inverted
@@ -427,6 +498,24 @@ class ServoLoop:
         start, end, polynomial = self._piece(axis, board, self.tick)
         limit = to_tick if end is None else min(end, to_tick)
         n = limit - self.tick
+        if K.STEP is not None and self.recorder is None:
+            # compiled ticks are cheaper than a closed-form jump over short pieces,
+            # non-polynomial ones (arcs, cosine ramps) and the settling after a move
+            until = None
+            if not polynomial or (end is not None and end - self.tick <= KERNEL_SPAN):
+                until = end
+                count = n
+            elif end is None and self.tick - start < SETTLE_SPAN:
+                until = start + SETTLE_SPAN
+                count = min(n, until - self.tick)
+            else:
+                count = 0
+            if count:
+                self._scalar(axis, board, matrices, friction, gains, count)
+                kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+                if until is not None and kernel is not None:
+                    self._remember(axis, board, until, matrices, friction, gains, kernel)
+                return
         fresh = start + 2 - self.tick  # ticks until the history is on this piece
         if fresh > 0 and polynomial and not (self.stuck and end is None):
             self._scalar(axis, board, matrices, friction, gains, min(n, fresh))
@@ -630,63 +719,152 @@ class ServoLoop:
         return True
 
     def _scalar(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
-                gains: Gains, count: int) -> None:
-        """Step tick by tick: the reference semantics, used where the loop is nonlinear."""
+                gains: Gains, count: int, kernel: tuple[array, array] | None = None) -> None:
+        """Step tick by tick, where the loop is nonlinear or a stretch is too short for a
+        closed-form jump: compiled where the kernel is built, else in Python. `kernel`:
+        its inputs, if the caller knows them still valid."""
         self._cache = None
+        step = K.STEP
+        if step is not None and self.recorder is None and count > 0:
+            if kernel is None:
+                kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+            if kernel is not None:
+                self._step(kernel[0], kernel[1], count)
+                return
+        self._scalar_python(axis, board, matrices, friction, gains, count)
+
+    def _remember(self, axis: ServoAxis, board: ServoHost, until: int, matrices: tuple,
+                  friction: float, gains: Gains, kernel: tuple[array, array]) -> None:
+        """Keep the kernel stepping this axis until `until` while nothing it reads
+        changes: what that is, as a tuple for `advance` and as (object, attribute, value)
+        checks for the compiled pass over a board (`advance_servo_axes`)."""
+        config = axis.config
+        world = board.world
+        world_axis = world.axes[axis.index]
+        plant = world_axis.motor
+        key = (axis.motion, axis.motion_start, axis.motion_end, axis.rest_since, axis.steps,
+               axis.counter_offset, axis.encoder_offset, config.gains,
+               config.servo_polarity, plant, board.period)
+        checks = tuple((axis, name, value) for name, value in zip(
+            ("motion", "motion_start", "motion_end", "rest_since", "steps", "counter_offset",
+             "encoder_offset"), key, strict=False)) + (
+            (axis, "config", config), (config, "gains", config.gains),
+            (config, "servo_polarity", config.servo_polarity), (board, "world", world),
+            (world, "axes", world.axes), (world_axis, "motor", plant),
+            (board, "period", board.period))
+        self._fast = (until, key, matrices, friction, gains, kernel, checks)
+
+    def _step(self, params: array, program: array, count: int) -> None:
+        """`count` ticks through the compiled kernel."""
+        step = K.STEP
+        assert step is not None
+        done = step(self.x, params, program, self.tick, count)
+        if done < 0:  # the following error tripped on the tick after these
+            self.tick += -done - 1
+            self.trip_tick = self.tick
+        else:
+            self.tick += done
+
+    def _kernel_inputs(self, axis: ServoAxis, board: ServoHost, matrices: tuple,
+                       friction: float, gains: Gains) -> tuple[array, array] | None:
+        """The kernel's parameters and program for this axis, remade only when what they
+        describe changed (None: the kernel cannot describe this motion)."""
+        key = (matrices, friction, gains, axis.encoder_offset)
+        if self._params[0] != key:
+            self._params = (key, K.params(matrices, friction, gains.kp, gains.kd,
+                                          gains.ki_per_tick, gains.kv, gains.ka, gains.kf,
+                                          gains.ko, gains.integral_sum_limit,
+                                          axis.encoder_offset))
+        motion = axis.motion
+        base = axis.steps + axis.counter_offset
+        where = (motion, axis.motion_start, axis.motion_end, base, board.period)
+        held = self._program[0]
+        if (not held or held[0] is not motion or held[1] != where[1] or held[2] != where[2]
+                or held[3] != base or held[4] != where[4]):
+            self._program = (where, K.program(motion, base, axis.motion_start,
+                                               axis.motion_end, board.period))
+        params, program = self._params[1], self._program[1]
+        if params is None or program is None:
+            return None
+        return params, program
+
+    def _scalar_python(self, axis: ServoAxis, board: ServoHost, matrices: tuple,
+                       friction: float, gains: Gains, count: int) -> None:
+        """Step tick by tick in Python: the reference semantics (the compiled kernel does
+        exactly this arithmetic), and the loop where no kernel was built."""
         a11, a12, a21, a22, b1, b2 = matrices
         eo = axis.encoder_offset
         kp, kd, ki, kv, ka, kf, ko = (gains.kp, gains.kd, gains.ki_per_tick, gains.kv,
                                       gains.ka, gains.kf, gains.ko)
         cap = gains.integral_sum_limit
         recorder = self.recorder
+        x = self.x
+        p, w, s, q, dac = x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC]
+        r_prev, r_prev2 = self.r_prev, self.r_prev2
+        closed, tripped, stuck = self.closed, self.tripped, self.stuck
+        tick = self.tick
         for _ in range(count):
-            tick = self.tick
             r_abs = self._commanded(axis, board, tick)
             r = r_abs - eo
-            v = 0.0 if self.r_prev is None else r_abs - self.r_prev
-            v_prev = 0.0 if self.r_prev is None or self.r_prev2 is None \
-                else self.r_prev - self.r_prev2
+            v = 0.0 if r_prev is None else r_abs - r_prev
+            v_prev = 0.0 if r_prev is None or r_prev2 is None else r_prev - r_prev2
             a = v - v_prev
-            e = r - self.p
-            if self.tripped:
+            e = r - p
+            if tripped:
                 u = 0.0
-            elif not self.closed:
+            elif not closed:
                 u = ko
             else:
                 if abs(e) > FOLLOWING_ERROR_LIMIT:
                     self.trip_tick = tick
-                    return
-                held = self.stuck and abs(e) < SETTLED_ERROR  # invisible to the encoder
-                s = self.s + e if ki > 0 and not held else self.s if ki > 0 else 0.0
-                s = max(-cap, min(cap, s))
+                    break
+                held = stuck and abs(e) < SETTLED_ERROR  # invisible to the encoder
+                s_new = s + e if ki > 0 and not held else s if ki > 0 else 0.0
+                s_new = max(-cap, min(cap, s_new))
                 sign_v = 1.0 if v > 1e-12 else -1.0 if v < -1e-12 else 0.0
-                u = kp * e + kd * (e - self.q) + ki * s + kv * v + ka * a + kf * sign_v + ko
-                self.s, self.q = s, e
+                u = (kp * e + kd * (e - q) + ki * s_new + kv * v + ka * a + kf * sign_v
+                     + ko)
+                s, q = s_new, e
             u = max(-DAC_LIMIT, min(DAC_LIMIT, u))
-            self.dac = u
-            self.r_prev2, self.r_prev = self.r_prev, r_abs
+            dac = u
+            r_prev2, r_prev = r_prev, r_abs
             if recorder is not None:
-                recorder.append((tick, r_abs, self.p + eo, v, self.w, e, u))
-            self.tick = tick + 1
-            if self.stuck:
+                recorder.append((tick, r_abs, p + eo, v, w, e, u))
+            tick += 1
+            if stuck:
                 if abs(u) <= friction:
                     continue
-                self.stuck = False
-            w = self.w
+                stuck = False
+            w0 = w
             if friction:
-                direction = (1.0 if w > 0 else -1.0) if w else (1.0 if u > 0 else -1.0)
+                direction = (1.0 if w0 > 0 else -1.0) if w0 else (1.0 if u > 0 else -1.0)
                 drive = u - friction * direction
-                if w == 0.0 and abs(u) <= friction:
-                    self.stuck = True
+                if w0 == 0.0 and abs(u) <= friction:
+                    stuck = True
                     continue
             else:
                 drive = u
-            p_new = a11 * self.p + a12 * w + b1 * drive
-            w_new = a21 * self.p + a22 * w + b2 * drive
-            if friction and w != 0.0 and (w_new > 0) != (w > 0) and abs(u) <= friction:
+            p_new = a11 * p + a12 * w0 + b1 * drive
+            w_new = a21 * p + a22 * w0 + b2 * drive
+            if friction and w0 != 0.0 and (w_new > 0) != (w0 > 0) and abs(u) <= friction:
                 w_new = 0.0  # friction stopped the motor within this tick
-                self.stuck = True
-            self.p, self.w = p_new, w_new
+                stuck = True
+            p, w = p_new, w_new
+        x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC] = p, w, s, q, dac
+        self.r_prev, self.r_prev2, self.stuck = r_prev, r_prev2, stuck
+        self.tick = tick
+
+
+def advance_servo_axes(axes: Sequence[ServoAxis], board: ServoHost, limit: int) -> None:
+    """Run every servo loop of a board up to `limit`: one compiled call steps the axes
+    inside a stretch the kernel steps (no Python per axis), `ServoLoop.advance` the
+    others."""
+    step_axes = K.STEP_AXES
+    rest = axes if step_axes is None else step_axes(axes, limit)
+    for axis in rest:
+        loop = axis.servo
+        if loop is not None:
+            loop.advance(axis, board, limit)
 
 
 def _breakaway(base: float, ki: float, s: float, e: float, cap: float,

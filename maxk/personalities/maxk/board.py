@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import plan_move
+from maxk.firmware_model.servo import advance_servo_axes
 from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis
@@ -151,8 +152,7 @@ class Board(Engine):
     def _advance_servos(self, limit: int) -> bool:
         """Run every servo loop up to `limit`; act on the earliest following-error trip
         (time then stands at its tick). True if one was handled."""
-        for axis in self._servo_axes:
-            axis.servo.advance(axis, self, limit)  # type: ignore[union-attr]
+        advance_servo_axes(self._servo_axes, self, limit)
         trips = [a for a in self._servo_axes if a.servo.trip_tick is not None]  # type: ignore
         if not trips:
             return False

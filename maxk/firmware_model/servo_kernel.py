@@ -1,0 +1,115 @@
+"""The compiled servo kernel: loading it, and describing a loop's inputs to it.
+
+`_servo_kernel.c` steps a servo loop tick by tick with exactly the arithmetic of the
+Python loop (`ServoLoop._scalar_python`), about 400 times faster, so the engine steps
+short moves, arcs and nonlinear stretches instead of solving them in closed form. It is
+built by ``pip install -e .`` where a C compiler exists; without one (or with
+``MAXK_SERVO_KERNEL=python`` in the environment) `STEP` is None and the servo runs its
+Python loop and closed form as before: the same commands, slower.
+
+What the kernel reads is plain arrays of doubles: the loop's state (`STATE` slots, held
+by the loop itself), its parameters (gains, plant, friction, encoder offset) and a
+*program*: the commanded position as a motion's description (a profile's phases, or a
+contour's pieces and segments for one axis). Anything it cannot describe (another kind
+of motion, counts beyond 2**53) gets no program, and the Python loop steps it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from array import array
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+from maxk.firmware_model.path import ContourMotion
+from maxk.firmware_model.profiles import Motion, RampShape
+
+if TYPE_CHECKING:
+    from maxk.firmware_model.motion import MotionPlan
+
+StepFunction = Callable[[array, array, array, int, int], int]
+StepAxesFunction = Callable[[Sequence[Any], int], list[Any]]
+
+
+def _load() -> tuple[StepFunction | None, StepAxesFunction | None]:
+    if os.environ.get("MAXK_SERVO_KERNEL", "").lower() == "python":
+        return None, None
+    try:
+        from maxk.firmware_model import _servo_kernel
+    except ImportError:
+        return None, None
+    return _servo_kernel.step, _servo_kernel.step_axes
+
+
+STEP, STEP_AXES = _load()
+"""The compiled step of one loop and the compiled pass over a board's servo axes, or
+None (no compiler at install time, or switched off)."""
+
+# the state's slots (the C enum's order)
+P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK = range(12)
+STATE_SIZE = 12
+
+KIND_REST, KIND_PROFILE, KIND_CONTOUR = 0, 1, 2
+_SHAPES = {RampShape.LINEAR: 0.0, RampShape.PARABOLIC: 1.0, RampShape.SCURVE: 2.0,
+           RampShape.COSINE: 3.0}
+_EXACT = float(2 ** 53)  # integers beyond this are not exact doubles
+
+
+def params(matrices: tuple[float, ...], friction: float, kp: float, kd: float,
+           ki_per_tick: float, kv: float, ka: float, kf: float, ko: float, cap: float,
+           encoder_offset: int) -> array | None:
+    """The filter and plant as the kernel reads them (None: offset not exact)."""
+    if abs(encoder_offset) >= _EXACT:
+        return None
+    return array("d", (*matrices, friction, kp, kd, ki_per_tick, kv, ka, kf, ko, cap,
+                       float(encoder_offset)))
+
+
+def program(motion: MotionPlan | None, base: int, motion_start: int,
+            motion_end: int | None, period: float) -> array | None:
+    """The commanded position ``base + motion.offset((tick - motion_start) * period)``
+    (``base + final_offset`` from motion_end on) as the kernel evaluates it; None for a
+    motion it does not know."""
+    if abs(base) >= _EXACT or abs(motion_start) >= _EXACT:
+        return None
+    if motion is None:
+        return array("d", (KIND_REST, base) + (0.0,) * 12)
+    kind = type(motion)
+    final = motion.final_offset
+    end_time = motion.end_time
+    if abs(final) >= _EXACT or abs(base + final) >= _EXACT:
+        return None
+    header = [0.0, float(base), float(motion_start),
+              float(motion_end) if motion_end is not None else 0.0,
+              1.0 if motion_end is not None else 0.0, period, float(final),
+              end_time if end_time is not None else 0.0, 1.0 if end_time is not None else 0.0]
+    body: list[float] = []
+    if kind is Motion:
+        assert isinstance(motion, Motion)
+        header[0] = KIND_PROFILE
+        if any(ph.param is not None for ph in motion.phases):
+            return None  # PN/SS/PR curves: the kernel knows only the factory ones
+        for ph in motion.phases:
+            body += (ph.t0, ph.duration, ph.s0, ph.v1, ph.v2, float(ph.direction),
+                     _SHAPES[ph.shape], 1.0 if ph.mirrored else 0.0)
+        header += (len(motion.phases), 0.0, 0.0, 0.0, 0.0)
+    elif kind is ContourMotion:
+        assert isinstance(motion, ContourMotion)
+        plan, k = motion.plan, motion.k
+        header[0] = KIND_CONTOUR
+        for pc in plan.pieces:
+            body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)
+        for seg in plan.segments:
+            values = (float(seg.start[k]), seg.unit[k], float(seg.end[k]))
+            if not all(math.isfinite(v) and abs(v) < _EXACT for v in values):
+                return None
+            body += (seg.s0, seg.length, 1.0 if seg.is_arc else 0.0, *values, seg.cx,
+                     seg.cy, seg.radius, seg.theta0, seg.turn)
+        if not plan.segments:
+            return None
+        header += (len(plan.pieces), len(plan.segments), float(k), float(motion.origin),
+                   plan.s_end)
+    else:
+        return None
+    return array("d", header + body)
