@@ -27,6 +27,7 @@ import math
 from typing import NamedTuple
 
 from maxk.firmware_model.motion import MotionPlan
+from maxk.firmware_model.profiles import Motion
 
 
 class Backlash(NamedTuple):
@@ -61,7 +62,16 @@ def walk(state: Backlash, origin: int, motion: MotionPlan, until: float | None, 
          play: int, compensation: int) -> Backlash:
     """The state after `motion` (started at motor step `origin` in `state`) has run to
     `until` seconds (None: to its end) where the motor stands on step `end`: every
-    change of direction inside the motion is a turning point."""
+    change of direction inside the motion is a turning point. With no play and no BC
+    only the direction is remembered: a contour's is the way its net travel went (D: its
+    turning points would make the whole lazy plan at every VO, for a direction that
+    matters only once BC is set); a one-way move's is its own."""
+    if play == 0 and compensation == 0 and state.play == 0 and (
+            not isinstance(motion, Motion) or motion.monotonic):  # one leg, or taken as one
+        moved = end - origin
+        if moved == 0 or (moved > 0) == (state.direction > 0):
+            return state
+        return Backlash(1 if moved > 0 else -1, state.extra, 0)
     position = origin
     phases = motion.phases
     i = 0
