@@ -94,6 +94,7 @@ class Axis(MotionAxis):
     backlash: Backlash = field(default_factory=Backlash)  # at the running motion's origin
     # an ended motion still to walk: (origin, plan, seconds run or None: all, end step)
     backlash_pending: tuple[int, MotionPlan, float | None, int] | None = None
+    _play: int = 0  # the world's play when the running motion began (finish has no board)
 
     def motor_position(self, board: AxisHost) -> int:
         value = self.steps_at_tick(board.tick, board.period) + self.counter_offset
@@ -164,14 +165,23 @@ class Axis(MotionAxis):
         return self.backlash_now(board).offset
 
     def _settle_backlash(self, board: AxisHost) -> None:  # finish_motion has no board
-        if self.backlash_pending is not None:
-            origin, motion, until, end = self.backlash_pending
+        pending = self.backlash_pending
+        if pending is not None:
             self.backlash_pending = None
-            self.backlash = walk(self.backlash, origin, motion, until, end,
-                                 board.world.axes[self.index].backlash, self.config.backlash)
+            origin, motion, until, end = pending
+            play, bc, state = board.world.axes[self.index].backlash, self.config.backlash, \
+                self.backlash
+            if not (play or bc or state.play) and getattr(motion, "monotonic", False):
+                moved = end - origin  # no play, no BC, one way: only the direction (hot)
+                if moved and (moved > 0) != (state.direction > 0):
+                    self.backlash = Backlash(-state.direction, state.extra, 0)
+                return
+            self.backlash = walk(state, origin, motion, until, end, play, bc)
 
     def begin(self, motion: MotionPlan, engine: Clock) -> None:
-        self._settle_backlash(cast("AxisHost", engine))
+        if self.backlash_pending is not None:
+            self._settle_backlash(cast("AxisHost", engine))
+        self._play = cast("AxisHost", engine).world.axes[self.index].backlash
         super().begin(motion, engine)
 
     def freeze(self, engine: Clock) -> tuple[float, float]:
@@ -270,7 +280,14 @@ class Axis(MotionAxis):
     def finish_motion(self) -> None:
         m = self.motion
         if m is not None and self.servo is None:
-            self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
+            state = self.backlash
+            if not (self._play or self.config.backlash or state.play) and getattr(
+                    m, "monotonic", False):  # the hot path: only the direction changes
+                moved = m.final_offset
+                if moved and (moved > 0) != (state.direction > 0):
+                    self.backlash = Backlash(-state.direction, state.extra, 0)
+            else:
+                self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()
         self.capture_pending = []
 
