@@ -351,3 +351,19 @@ def test_any_mix_of_commands_and_time_never_breaks_the_machine(steps) -> None:
     assert len(trace) == trio.tick + 1
     for axis in range(10):
         assert math.isfinite(float(trio.query(f"?DPOS AXIS({axis})")))
+
+
+def test_a_loop_of_cambox_links_is_refused_and_time_goes_on() -> None:
+    """Axis 7 follows 9, so 9 may not follow 7 (nor 7 itself through a chain): each
+    position would depend on itself (hypothesis found the recursion). Refused whole (D)."""
+    from tests.test_review_doors import Fed, trio_output
+
+    fed = Fed("MC405")
+    assert trio_output(fed("CAMBOX(10,14,0,2.5,9) AXIS(7)")) == b""
+    assert trio_output(fed("CAMBOX(10,14,10,2.5,7) AXIS(9)")) == (
+        b"%[COMMAND LINE] - Parameter out of range\r\n")
+    assert trio_output(fed("CAMBOX(10,14,0,2.5,7) AXIS(8)")) == b""  # 8 -> 7 -> 9: no loop
+    assert trio_output(fed("CAMBOX(10,14,0,2.5,8) AXIS(9)")) == (
+        b"%[COMMAND LINE] - Parameter out of range\r\n")
+    fed.advance(1000)
+    assert trio_output(fed("?DPOS AXIS(9)")) == b"0\r\n"

@@ -209,7 +209,8 @@ _ENTRIES: list[Keyword] = [
              (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="TABLE values are counts x multiplier, interpolated linearly over the "
              "link distance; ends when the link axis has travelled it. Options other than "
-             "0 are refused (D)."),
+             "0 are refused (D), and so is a link axis that itself follows this axis "
+             "through CAMBOX links (D: a loop of links has no position)."),
     _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),

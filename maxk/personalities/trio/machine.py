@@ -259,8 +259,25 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Invalid axis number")
         if distance <= 0 or start != int(start) or end != int(end) or end <= start:
             raise ValueError("Parameter out of range")
+        if self._follows(int(link_axis), axis):
+            raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
         values = np.array(self.table.read_run(int(start), int(end)))
         self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
+
+    def _follows(self, axis: int, leader: int) -> bool:
+        """Does `axis` follow `leader` through CAMBOX links (running or waiting)? Linking
+        the leader to it would make each axis's position depend on itself."""
+        seen: set[int] = set()
+        while axis not in seen:
+            if axis == leader:
+                return True
+            seen.add(axis)
+            a = self.axes[axis]
+            link = a.link if a.link is not None else a.pending_link
+            if not isinstance(link, Cambox):
+                return False
+            axis = link.link
+        return False
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
