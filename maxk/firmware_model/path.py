@@ -25,7 +25,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from maxk.firmware_model.profiles import RampShape
 
@@ -565,10 +565,13 @@ class ContourMotion:
     # skip the switches outside: cheaper than making every phase of a long path)
     reach: tuple[float, float] | None = None
 
-    def __init__(self, plan: PathPlan, k: int, origin: float) -> None:
+    def __init__(self, plan: PathPlan, k: int, origin: float, scale: float = 1.0) -> None:
         self.plan = plan
         self.k = k
-        self.origin = origin  # the axis's motor counter when the plan started
+        self.origin = origin  # the axis's counter when the plan started, in its counts
+        # the axis's counts per plan unit: a plan in user units (the MM4005's trajectory,
+        # its axes of different resolutions) drives each axis in its own counts
+        self.scale = scale
         self._phases: list[ContourPhase] | None = None  # made when first asked for
         self._times: list[float] = []
         self.peak_speed = 0.0  # (only MT/ML scaling reads it)
@@ -593,15 +596,19 @@ class ContourMotion:
         self.end_time = plan.end_time
         self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
         if plan.end_time is not None:
-            self.final_offset = round(plan.point(plan.s_end, k)) - round(self.origin)
+            self.final_offset = round(plan.point(plan.s_end, k) * self.scale) - round(self.origin)
         self.direction, self.monotonic = self._directions()
 
     @property
     def phases(self) -> list[ContourPhase]:
         """Stretches where this axis moves one way (limit searches, the servo)."""
         if self._phases is None:
-            self._phases = _axis_phases(self.plan, self.k)
-            self._times = [p.t0 for p in self._phases]
+            phases = _axis_phases(self.plan, self.k)
+            scale = self.scale
+            if scale != 1.0:
+                phases = [replace(p, v1=p.v1 * scale, v2=p.v2 * scale) for p in phases]
+            self._phases = phases
+            self._times = [p.t0 for p in phases]
         return self._phases
 
     def _directions(self) -> tuple[int, bool]:
@@ -668,7 +675,7 @@ class ContourMotion:
         if self.end_time is not None and t >= self.end_time:
             return float(self.final_offset)
         s, _v = self.plan.state(t)
-        return self.plan.point(s, self.k) - self.origin
+        return self.plan.point(s, self.k) * self.scale - self.origin
 
     def velocity(self, t: float) -> float:
         if not self._final:
@@ -677,7 +684,7 @@ class ContourMotion:
             return 0.0
         s, v = self.plan.state(t)
         seg = self.plan.segment_at(s)
-        return v * seg.slope(s - seg.s0, self.k)
+        return v * seg.slope(s - seg.s0, self.k) * self.scale
 
 
 def _axis_phases(plan: PathPlan, k: int) -> list[ContourPhase]:

@@ -97,6 +97,8 @@ def program(motion: MotionPlan | None, base: int, motion_start: int,
     elif kind is ContourMotion:
         assert isinstance(motion, ContourMotion)
         plan, k = motion.plan, motion.k
+        if motion.scale != 1.0:
+            return None  # a plan in user units (MM4005): the kernel knows counts only
         header[0] = KIND_CONTOUR
         for pc in plan.pieces:
             body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)

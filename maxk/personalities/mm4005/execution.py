@@ -5,9 +5,9 @@ end points, arcs by centre and sweep), in the trajectory's own coordinates (user
 relative to where X and Y stood at ET). The speed is planned along the path at VV with
 VS as the acceleration: from rest, blending every seam without stopping, down to rest at
 the end of the last element (arcs are also held to sqrt(VS R), the planner's centripetal
-rule). X and Y each follow their coordinate of the plan, in counts of their own TU
-(`PathAxisMotion`), so the two axes may have different resolutions and the arcs stay
-circles in user units.
+rule). X and Y each follow their coordinate of the plan, in counts of their own TU (the
+shared `ContourMotion` with a scale), so the two axes may have different resolutions and
+the arcs stay circles in user units.
 
 Pulses (manual 6.1.2): NN pulses at equal curvilinear distances from the start of
 element NB to the end of element NE, each fired on the first update tick at which the
@@ -22,13 +22,12 @@ import bisect
 import itertools
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Final
 
 from maxk.firmware_model.outputs import EvenlySpaced, path_trigger_ticks
 from maxk.firmware_model.path import (
     ContourMotion,
-    ContourPhase,
     PathPlan,
     Segment,
     SegmentDef,
@@ -46,58 +45,17 @@ if TYPE_CHECKING:
 PULSE_BATCH: Final = 256  # pulse ticks computed ahead at a time
 
 
-class PathAxisMotion:
-    """One axis's coordinate of a path plan (user units) as a motion in its counts: the
-    shared `MotionPlan` interface, so the engine, the switch searches and the traces
-    treat it like any other motion. ``origin`` is the whole counts the axis had already
-    moved along this trajectory when the plan began (0 at ET, more after a stop re-plan).
-    """
-
-    contour = True
-
-    def __init__(self, plan: PathPlan, k: int, resolution: float, origin: int,
-                 span: tuple[float, float]) -> None:
-        self.plan = plan
-        self.k = k
-        self.scale = 1.0 / resolution
-        self.origin = origin
-        inner = ContourMotion(plan, k, 0.0)  # its directions and phases, in user units
-        self._inner = inner
-        self.direction = inner.direction
-        self.monotonic = inner.monotonic
-        self.end_time = plan.end_time
-        self.ramp_end_time = plan.end_time if plan.end_time is not None else 0.0
-        self.final_offset = 0
-        if plan.end_time is not None:
-            self.final_offset = round(plan.point(plan.s_end, k) * self.scale) - origin
-        # the offsets (counts) the axis can reach along the whole path: limit searches
-        # skip the phases when a switch lies beyond them
-        self.span = (span[0] * self.scale - origin - 1.0, span[1] * self.scale - origin + 1.0)
-        self._phases: list[ContourPhase] | None = None  # made when first asked for
-        self._times: list[float] = []
-
-    @property
-    def phases(self) -> list[ContourPhase]:
-        if self._phases is None:
-            s = self.scale
-            self._phases = [replace(p, v1=p.v1 * s, v2=p.v2 * s) for p in self._inner.phases]
-            self._times = [p.t0 for p in self._phases]
-        return self._phases
-
-    def phase_at(self, t: float) -> ContourPhase | None:
-        phases = self.phases
-        if not phases:
-            return None
-        return phases[max(0, bisect.bisect_right(self._times, t) - 1)]
-
-    def offset(self, t: float) -> float:
-        if self.end_time is not None and t >= self.end_time:
-            return float(self.final_offset)
-        s, _v = self.plan.state(t)
-        return self.plan.point(s, self.k) * self.scale - self.origin
-
-    def velocity(self, t: float) -> float:
-        return self._inner.velocity(t) * self.scale
+def axis_motion(plan: PathPlan, k: int, resolution: float, origin: int,
+                span: tuple[float, float]) -> ContourMotion:
+    """One axis's coordinate of the plan (user units) in its own counts: the shared
+    `ContourMotion` scaled by 1 / TU. ``origin`` is the whole counts the axis had already
+    moved along this trajectory when the plan began (0 at ET, more after a stop re-plan);
+    ``span`` the path's extent in user units, so limit searches skip switches the path
+    never reaches."""
+    scale = 1.0 / resolution
+    motion = ContourMotion(plan, k, origin, scale)
+    motion.reach = (span[0] * scale - origin - 1.0, span[1] * scale - origin + 1.0)
+    return motion
 
 
 def segment_defs(elements: tuple[Geometry, ...], velocity: float,
@@ -182,7 +140,7 @@ class TrajectoryExecution:
             self.plan_tick + math.ceil(plan.end_time / engine.period - 1e-9))
         for k, axis in enumerate(self.axes):
             moved = axis.steps - self._moved_origin[k]
-            motion = PathAxisMotion(plan, k, axis.resolution, moved, self._spans[k])
+            motion = axis_motion(plan, k, axis.resolution, moved, self._spans[k])
             axis.begin(motion, engine)  # type: ignore[arg-type]
             axis.target_counts = self.start_counts[k] + moved + motion.final_offset
         self._due = []
@@ -290,7 +248,7 @@ class TrajectoryExecution:
         x, y = self.axes
         period = self.engine.period
         mx, my = x.motion, y.motion
-        if (not isinstance(mx, PathAxisMotion) or not isinstance(my, PathAxisMotion)
+        if (not isinstance(mx, ContourMotion) or not isinstance(my, ContourMotion)
                 or mx.plan is not self.plan or my.plan is not self.plan
                 or x.motion_end is None or tick >= x.motion_end):
             return x.counts_at(tick, period), y.counts_at(tick, period)

@@ -349,7 +349,7 @@ class MM4005(Engine):
             return
         world = self.world.axes[a.index]
         here = a.steps_now(self)
-        span = getattr(m, "span", None)
+        span = getattr(m, "reach", None)
         candidates: list[int] = []
         for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
             edge = _edge(switch, direction)
