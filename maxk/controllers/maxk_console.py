@@ -11,6 +11,7 @@ from typing import Protocol
 
 from maxk.commands.max.reference import help_text
 from maxk.commands.max.table import COMMANDS, lookup
+from maxk.controllers.glance import short_position
 from maxk.controllers.world_settings import describe_world, parse_world
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.flags import (
@@ -160,7 +161,7 @@ def status_line(seconds: float, axes: Sequence[AxisStatus], doorbell: int, lette
             + f"  flags: {describe_doorbell(doorbell, letters)}")
     if len(full) <= width:
         return full
-    tokens = " ".join(f"{a.letter}{_abbreviate(a.position)}{m.strip()}"
+    tokens = " ".join(f"{a.letter}{short_position(a.position)}{m.strip()}"
                       for a, m in zip(axes, marks, strict=True))
     done = {a.letter for a in axes if a.done}
     flags = ["err"] if doorbell & COMMAND_ERROR else []
@@ -182,20 +183,5 @@ def status_line(seconds: float, axes: Sequence[AxisStatus], doorbell: int, lette
     elif room >= 5:
         line += tail[:room - 1] + "…"
     return line[:width]
-
-
-def _abbreviate(value: int) -> str:
-    """A position in at most four characters, for a glance: 1234, -999, 12k, -.1M, 2.1G."""
-    text = str(value)
-    if len(text) <= 4:
-        return text
-    for suffix, scale in (("k", 1e3), ("M", 1e6), ("G", 1e9)):
-        for decimals in (1, 0):
-            number = f"{value / scale:.{decimals}f}"
-            if number.startswith(("0.", "-0.")):
-                number = number.replace("0.", ".", 1)
-            if len(number) + 1 <= 4:
-                return number + suffix
-    return text  # not reached for 32-bit positions
 
 

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, overload
 
 from maxk.commands.pokeys.table import ENTRIES
+from maxk.controllers.glance import short_position
 from maxk.controllers.pokeys_status import (
     STATE_SHORT,
     SWITCH_WORDS,
@@ -28,7 +29,6 @@ from maxk.controllers.pokeys_status import (
     axis_index,
     letters_of,
     on_off,
-    short_position,
     show_number,
 )
 from maxk.controllers.pokeys_trace import SlotRecorder

@@ -11,6 +11,7 @@ power-up (what the switches see); counters a host reads are offsets from them.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -175,14 +176,21 @@ class MotionAxis:
                 last = self.motion_start + math.ceil((phase.t0 + phase.duration) / period)
             if self.motion_end is not None:
                 last = min(last, self.motion_end)
-            if last < first or not reached(last):
-                continue
-            lo, hi = first, last
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if reached(mid):
-                    hi = mid
-                else:
-                    lo = mid + 1
-            return lo
+            tick = first_tick(reached, first, last) if last >= first else None
+            if tick is not None:
+                return tick
         return None
+
+
+def first_tick(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:
+    """The smallest tick in [lo, hi] at which a monotone condition holds (bisection);
+    None if it does not hold at hi. Every exact-to-the-tick search uses it."""
+    if not reached(hi):
+        return None
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if reached(mid):
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo

@@ -19,6 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from maxk.firmware_model.axis import first_tick
+
 from .axis import Axis
 from .constants import GENERATING, AxisConfigBits, AxisState, EngineSpec, EngineState, SwitchBits
 from .motion import SlotMotion, constant_speed
@@ -353,29 +355,23 @@ class PulseEngine:
         s, p0 = self.slot, a.position
         dirs = motion.directions(s, s + n)
         if len(dirs) > 1:  # a reversal ahead: the stretch up to it travels one way
-            lo, hi = s, s + n  # directions(s, lo) holds one way at most, (s, hi) both
-            while hi - lo > 1:
-                mid = (lo + hi) // 2
-                if len(motion.directions(s, mid)) > 1:
-                    hi = mid
-                else:
-                    lo = mid
-            if lo == s:
+            both = first_tick(lambda k: len(motion.directions(s, k)) > 1, s + 1, s + n)
+            if both is None or both - 1 == s:
                 return 1
-            n = lo - s
-            dirs = motion.directions(s, lo)
+            n = both - 1 - s
+            dirs = motion.directions(s, both - 1)
         if not dirs:
             return n
         d = dirs.pop()
         edge = self.world.next_switch_edge(a.index, a.stage, d) if self._switches_act(a) \
             else None
         if edge is not None:
-            k = _first_slot(lambda k: (motion.position_at(k) - p0) * d >= edge, s + 1, s + n)
+            k = first_tick(lambda k: (motion.position_at(k) - p0) * d >= edge, s + 1, s + n)
             if k is not None:
                 n = min(n, k - s)
         if a.settings.soft_limits:
             bound = a.settings.soft_limit_max if d > 0 else a.settings.soft_limit_min
-            k = _first_slot(lambda k: (motion.position_at(k) - bound) * d > 0, s + 1, s + n)
+            k = first_tick(lambda k: (motion.position_at(k) - bound) * d > 0, s + 1, s + n)
             if k is not None:
                 n = min(n, k - s - 1)
         return max(n, 1)
@@ -472,14 +468,3 @@ class PulseEngine:
         return [a.stage for a in self.axes]
 
 
-def _first_slot(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:
-    """Smallest k in [lo, hi] with reached(k), for a monotone predicate; None if none."""
-    if not reached(hi):
-        return None
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if reached(mid):
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
