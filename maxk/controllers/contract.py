@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Literal, Protocol
 
 if TYPE_CHECKING:
     from maxk.firmware_model.engine import Engine
@@ -44,7 +44,6 @@ class Session(Protocol):
         ...
 
 
-@runtime_checkable
 class HoldsInput(Protocol):
     """A session that can hold input it cannot run yet (a Trio statement that waits): a
     door feeds it nothing while `holding` and keeps the rest itself, where its

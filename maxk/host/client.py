@@ -10,7 +10,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 
-from maxk.controllers.contract import Controller, HoldsInput, Session
+from maxk.controllers.contract import Controller, Session
 from maxk.host.pacing import Pacer
 
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
@@ -72,8 +72,9 @@ class Service:
 
 
 def _holding(session: Session) -> bool:
-    """The session holds input it cannot run yet: what the host sends waits here."""
-    return isinstance(session, HoldsInput) and session.holding
+    """The session holds input it cannot run yet (`HoldsInput`): what the host sends
+    waits here. (An attribute read: asked for every piece fed.)"""
+    return getattr(session, "holding", False) is True
 
 
 class Client:
@@ -122,7 +123,8 @@ class Client:
             out = self.session.read()
             if out:
                 self.send(out)
-        if self._closing and not self._inbox and not self._session_holding():
+        if self._closing and not self._inbox and not (
+                self.session is not None and _holding(self.session)):
             self._drop_session()  # the host hung up and what it sent has run
             return
         self._schedule()
@@ -201,9 +203,6 @@ class Client:
             self._schedule()
             return
         self._drop_session()
-
-    def _session_holding(self) -> bool:
-        return self.session is not None and _holding(self.session)
 
     def _drop_session(self) -> None:
         self.service.clients.discard(self)
