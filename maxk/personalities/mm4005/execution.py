@@ -239,7 +239,7 @@ class TrajectoryExecution:
         distance = self._pulse_end if last else spaced.start + index * spaced.step
         x, y = self.axes
         xc, yc = self._counts_at(tick)
-        self.pulses.append(PulseRecord(index, tick, distance, plan.points[index].element,
+        self.pulses.append(PulseRecord(index, tick, distance, plan.points.element(index),
                                        xc, yc, xc * x.resolution, yc * y.resolution))
 
     def _counts_at(self, tick: int) -> tuple[int, int]:

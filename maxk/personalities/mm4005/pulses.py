@@ -121,19 +121,28 @@ class PulsePoints(Sequence[PulsePoint]):
     def __getitem__(self, index: int | slice) -> PulsePoint | Sequence[PulsePoint]:
         if isinstance(index, slice):
             return [self[k] for k in range(*index.indices(self._count))]
-        k = index + self._count if index < 0 else index
-        if not 0 <= k < self._count:
-            raise IndexError(index)
-        s = self._cptl * k / (self._count - 1)
-        path = self._before + s
+        k, s, path, j = self._locate(index)
         ends = self._ends
-        # the first element that ends at or after the pulse
-        j = min(bisect.bisect_left(ends, path), len(ends) - 1)
         element_start = self._before if j == 0 else ends[j - 1]
         geometry = self._elements[self._start - 1 + j]
         at = (geometry.end if k == self._count - 1
               else geometry.point_at(path - element_start))
         return PulsePoint(k, path, s, self._start + j, at)
+
+    def element(self, index: int) -> int:
+        """The element pulse `index` falls in (what the run logs; no point computed)."""
+        return self._start + self._locate(index)[3]
+
+    def _locate(self, index: int) -> tuple[int, float, float, int]:
+        """(index, distance from NB's start, path distance, element offset from NB)."""
+        k = index + self._count if index < 0 else index
+        if not 0 <= k < self._count:
+            raise IndexError(index)
+        s = self._cptl * k / (self._count - 1)
+        path = self._before + s
+        # the first element that ends at or after the pulse
+        j = min(bisect.bisect_left(self._ends, path), len(self._ends) - 1)
+        return k, s, path, j
 
 
 def pulse_points(elements: Sequence[Geometry], start_element: int, end_element: int,
