@@ -57,10 +57,6 @@ def test_a_queued_vl_after_a_queued_er_is_converted_when_it_runs() -> None:
     assert config.velocity == 2000
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "Not met (our recorded decision D, docs/commands.md LM): a limit trip flushes the axis "
-    "queue in both stop styles. Facts Table 2 (TALON PC39 homing) says the rest of the "
-    "string must still run after the seek move stops on a soft (SL) limit."))
 def test_after_a_soft_limit_stop_the_rest_of_the_queue_still_runs() -> None:
     """Facts Table 2, limit trip: TALON queues `ln sl mr<-2 rev> go ... ma0 goid` in one
     string; "the rest (home, back off, home slowly, go to 0, ID) must still run after that

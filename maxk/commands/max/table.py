@@ -440,10 +440,10 @@ _SPECS: list[CommandSpec] = [
        source="evidence 2.3, E5; manual 4.2 and 2.14 (factory hard, enabled)", confidence="I",
        notes="LM? answers =f when limits are off, else =h or =s for the stop style; LMN turns "
        "limits on with the last style. The letters S and the LM? letters other than f are our "
-       "decision (D). A limit trip flushes the axis queue in both stop styles (D for the "
-       "MAXk): the asyn driver allows for an ID that never comes after a limit stop "
-       "(evidence 3.6); TALON's PC39 homing string relies on the queue running on after a "
-       "soft-limit stop (facts Table 2), an older board's behaviour not followed here."),
+       "decision (D). A limit trip in the hard style (factory) flushes the axis queue: "
+       "the asyn driver allows for an ID that never comes after a limit stop (evidence "
+       "3.6); in the soft style the rest of the queue runs after the stop, as TALON's PC39 "
+       "homing string needs (facts Table 2; D for the MAXk)."),
     _q("SL", "limits", "Soft limits: decelerate to a stop when a limit trips (LMS's style).",
        source="manual 2.14 ('Over travel limit (soft limit or hard limit); Factory Default = "
        "Hard limit'); evidence 2.3 (DLL SetOmsSoftLimitsMode)", confidence="I",

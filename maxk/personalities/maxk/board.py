@@ -413,10 +413,18 @@ class Board(Engine):
         return None
 
     def limit_tripped(self, axis: Axis) -> None:
-        """Overtravel: flag, flush, and stop at once (LMH/SF) or decelerate (LMS/SL).
-        The other axes of a coordinated MT/ML move stop and flush with it."""
+        """Overtravel: flag, then stop at once and flush the queue (LMH/SF, the factory
+        style), or decelerate and let the rest of the queue run after the stop (LMS/SL:
+        TALON's PC39 homing string seeks a limit and queues the home search behind it;
+        D for the MAXk, facts table 2). The other axes of a coordinated MT/ML move stop
+        with it; a contour's axes stop with their path and flush."""
         self.set_axis_flag(axis, F.AXIS_OVERTRAVEL)
-        self.stop_with_linked(axis, hard=axis.config.limit_hard_stop)
+        if axis.config.limit_hard_stop or getattr(axis.motion, "contour", False):
+            self.stop_with_linked(axis, hard=axis.config.limit_hard_stop)
+            return
+        for stopping in [axis, *axis.linked]:
+            stopping.linked = []
+            stopping.stop(self)
 
     def stop_with_linked(self, axis: Axis, hard: bool) -> None:
         """A fault on one axis (limit, stall, following-error trip): it and the other
