@@ -657,17 +657,28 @@ def _limit_within(steps: int, reach: tuple[float, float], world: AxisWorld) -> b
 class _AxesSource:
     """The axes as one event source: motions ending, switches and capture edges reached,
     queue waits expiring. Every axis whose queue may now move is marked for the board's
-    `after_events`, in axis order (an axis waiting on an input looks at every event)."""
+    `after_events`, in axis order (an axis waiting on an input looks at every event).
 
-    __slots__ = ("board",)
+    One scan a event: `next_event` notes which axes share the earliest tick (and which
+    wait on an input), and `on_event` at that very tick looks only at those. The engine
+    asks `next_event` just before it acts, and nothing acts before the axes at a tick (they
+    are the board's first source), so the note holds; any other call scans them all."""
+
+    __slots__ = ("board", "_best", "_hits", "_inputs", "_noted")
     every_event = True  # an axis waiting on an input (SW) looks at every event
 
     def __init__(self, board: Board) -> None:
         self.board = board
+        self._best: int | None = None
+        self._hits: list[Axis] = []  # the axes whose next tick is _best, in axis order
+        self._inputs: list[Axis] = []  # the axes waiting on an input
+        self._noted = False
 
     def next_event(self) -> int | None:
         board = self.board
         best: int | None = None
+        hits: list[Axis] = []
+        inputs: list[Axis] | None = None
         for axis in board.axes:
             # Axis.next_event inlined for the common cases (asked for every axis at every
             # event): a motion's end, a switch, a tick wait; inputs by the method
@@ -684,14 +695,38 @@ class _AxesSource:
                         t = tick
                 elif kind is InputWait:
                     t = axis.next_event(board)
-            if t is not None and (best is None or t < best):
-                best = t
+                    if inputs is None:
+                        inputs = [axis]
+                    else:
+                        inputs.append(axis)
+            if t is not None:
+                if best is None or t < best:
+                    best = t
+                    hits = [axis]
+                elif t == best:
+                    hits.append(axis)
+        self._best, self._hits, self._inputs = best, hits, inputs or []
+        self._noted = True
         return best
 
     def on_event(self, now: int) -> None:
         board = self.board
         due = board._due
-        for axis in board.axes:
+        if self._noted:
+            self._noted = False
+            best = self._best
+            if best is not None and now > best:
+                candidates = board.axes  # (time stood past the noted tick: look at all)
+            elif best == now:
+                candidates = self._hits
+                if self._inputs:
+                    marks = {a.index for a in candidates} | {a.index for a in self._inputs}
+                    candidates = [board.axes[i] for i in sorted(marks)]
+            else:
+                candidates = self._inputs
+        else:
+            candidates = board.axes
+        for axis in candidates:
             marked = False
             switch = axis.switch_tick
             if switch is not None and switch <= now:
