@@ -174,14 +174,15 @@ class Axis(MotionAxis):
             if not (play or bc or state.play) and getattr(motion, "monotonic", False):
                 moved = end - origin  # no play, no BC, one way: only the direction (hot)
                 if moved and (moved > 0) != (state.direction > 0):
-                    self.backlash = Backlash(-state.direction, state.extra, 0)
+                    self.backlash = state.turned()
                 return
             self.backlash = walk(state, origin, motion, until, end, play, bc)
 
     def begin(self, motion: MotionPlan, engine: Clock) -> None:
+        board: AxisHost = engine  # type: ignore[assignment]  # (a board is the clock)
         if self.backlash_pending is not None:
-            self._settle_backlash(cast("AxisHost", engine))
-        self._play = cast("AxisHost", engine).world.axes[self.index].backlash
+            self._settle_backlash(board)
+        self._play = board.world.axes[self.index].backlash
         super().begin(motion, engine)
 
     def freeze(self, engine: Clock) -> tuple[float, float]:
@@ -216,7 +217,7 @@ class Axis(MotionAxis):
         if not stopping and motion.phases and board.limit_blocks(self, motion.direction):
             board.refuse_into_limit(self)
             return False
-        if not stopping:
+        if not stopping and self.linked:
             self.linked = []
         self.begin(motion, board)
         board.schedule_switches(self)
@@ -232,10 +233,7 @@ class Axis(MotionAxis):
         distance = target - self.motor_position(board)
         if distance == 0:
             return False
-        c = self.config
-        motion = plan_move(distance, c.base_velocity, c.velocity, c.acceleration,
-                           c.deceleration, c.ramp, *c.ramp_params)
-        return self.start_motion(motion, board)
+        return self.start_motion(self.config.plan_move(distance), board)
 
     def start_jog(self, velocity: int, board: AxisHost) -> bool:
         """JG: ramp from the present velocity to a signed jog velocity and slew."""
@@ -281,15 +279,15 @@ class Axis(MotionAxis):
         m = self.motion
         if m is not None and self.servo is None:
             state = self.backlash
-            if not (self._play or self.config.backlash or state.play) and getattr(
-                    m, "monotonic", False):  # the hot path: only the direction changes
-                moved = m.final_offset
+            if not (self._play or self.config.backlash or state.play) and m.monotonic:
+                moved = m.final_offset  # the hot path: only the direction changes
                 if moved and (moved > 0) != (state.direction > 0):
-                    self.backlash = Backlash(-state.direction, state.extra, 0)
+                    self.backlash = state.turned()
             else:
                 self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()
-        self.capture_pending = []
+        if self.capture_pending:
+            self.capture_pending = []
 
     def motion_ended(self) -> None:
         if self.correcting is not None:

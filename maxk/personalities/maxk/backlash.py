@@ -42,6 +42,13 @@ class Backlash(NamedTuple):
         """Steps the stage stands ahead of the motor's counted position."""
         return self.extra + self.play
 
+    def turned(self) -> Backlash:
+        """The state after a reversal with no play and no BC: only the direction changes
+        (every back-and-forth move of a plain stepper: the plain states are shared)."""
+        if not (self.extra or self.play):
+            return _PLAIN_DOWN if self.direction > 0 else _PLAIN_UP
+        return Backlash(-self.direction, self.extra, 0)
+
     def leg(self, moved: int, play: int, compensation: int) -> Backlash:
         """After the motor travels `moved` steps one way (stage play `play`, BC
         `compensation`)."""
@@ -56,6 +63,10 @@ class Backlash(NamedTuple):
         # whole play below it
         ahead = max(0, min(self.play, play) - drive) if d > 0 else min(play, self.play - drive)
         return Backlash(d, extra, ahead)
+
+
+_PLAIN_UP = Backlash(1, 0, 0)
+_PLAIN_DOWN = Backlash(-1, 0, 0)
 
 
 def walk(state: Backlash, origin: int, motion: MotionPlan, until: float | None, end: int,

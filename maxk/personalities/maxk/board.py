@@ -41,7 +41,7 @@ from maxk.personalities.maxk.models import (
     model_by_name,
 )
 from maxk.personalities.maxk.parameters import ArchiveError, ParameterArchive, restore, snapshot
-from maxk.personalities.maxk.waits import InputWait, TickWait
+from maxk.personalities.maxk.waits import WAIT_MOTION, InputWait, TickWait
 
 
 @dataclass(frozen=True)
@@ -97,7 +97,6 @@ class Board(Engine):
         self.command_buffer: tuple[str, int | None] = ("normal", None)  # #BB / #BN
         self.add_source(_AxesSource(self))
         self.add_source(_TasksSource(self))
-        self.add_source(_InputPoll(self))
         self.load_power_up_parameters()
 
     # ---- lookup ----------------------------------------------------------------------
@@ -134,8 +133,9 @@ class Board(Engine):
                 self.maintain(axis)
         if self._capturing_inputs:
             capture_inputs(self)
-        for resume in list(self.parser_waits):  # a WQ may release a host's stream
-            resume()
+        if self.parser_waits:
+            for resume in list(self.parser_waits):  # a WQ may release a host's stream
+                resume()
 
     def integrate(self, limit: int) -> bool:
         """Servo loops run every tick: simulate them up to the next event (their inputs
@@ -270,7 +270,8 @@ class Board(Engine):
     def schedule_switches(self, axis: Axis) -> None:
         """Find the next tick at which the running motion trips a limit or meets home."""
         axis.switch_tick = None
-        axis.capture_pending = []
+        if axis.capture_pending:
+            axis.capture_pending = []
         m = axis.motion
         if m is None:
             return
@@ -656,10 +657,11 @@ def _limit_within(steps: int, reach: tuple[float, float], world: AxisWorld) -> b
 
 class _AxesSource:
     """The axes as one event source: motions ending, switches and capture edges reached,
-    queue waits expiring. Every axis whose queue may now move is marked for the board's
-    `after_events`, in axis order (an axis waiting on an input looks at every event).
+    queue waits expiring, inputs polled while captured. Every axis whose queue may now
+    move is marked for the board's `after_events`, in axis order (an axis waiting on an
+    input looks at every event).
 
-    One scan a event: `next_event` notes which axes share the earliest tick (and which
+    One scan an event: `next_event` notes which axes share the earliest tick (and which
     wait on an input), and `on_event` at that very tick looks only at those. The engine
     asks `next_event` just before it acts, and nothing acts before the axes at a tick (they
     are the board's first source), so the note holds; any other call scans them all."""
@@ -687,7 +689,7 @@ class _AxesSource:
             if switch is not None and (t is None or switch < t):
                 t = switch
             wait = axis.wait
-            if wait is not None:
+            if wait is not None and wait is not WAIT_MOTION:
                 kind = type(wait)
                 if kind is TickWait:
                     tick = wait.tick  # type: ignore[union-attr]
@@ -705,6 +707,12 @@ class _AxesSource:
                     hits = [axis]
                 elif t == best:
                     hits.append(axis)
+        if board._capturing_inputs and board.world.inputs_time_dependent():
+            # inputs given as functions of time are looked at every update cycle while an
+            # axis captures input edges (the edges are recorded in `after_events`)
+            poll = board.tick + 1
+            if best is None or poll < best:
+                best, hits = poll, []
         self._best, self._hits, self._inputs = best, hits, inputs or []
         self._noted = True
         return best
@@ -784,22 +792,3 @@ class _TasksSource:
                     if not any(d is axis for d in due):
                         due.append(axis)
                 acted = True
-
-
-class _InputPoll:
-    """Inputs given as functions of time are looked at every update cycle while an axis
-    captures input edges (the edges themselves are recorded in `after_events`)."""
-
-    __slots__ = ("board",)
-
-    def __init__(self, board: Board) -> None:
-        self.board = board
-
-    def next_event(self) -> int | None:
-        board = self.board
-        if board._capturing_inputs and board.world.inputs_time_dependent():
-            return board.tick + 1
-        return None
-
-    def on_event(self, now: int) -> None:
-        pass

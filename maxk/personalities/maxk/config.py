@@ -5,8 +5,9 @@ homing and the axis all read it."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
-from maxk.firmware_model.profiles import RampShape
+from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.servo import Gains
 
 
@@ -54,6 +55,28 @@ class AxisConfig:
     encoder_inverted: bool = False  # EDI / EDN (stored: the count is not inverted)
     kod: float = 0.0  # KOD: a second offset term, stored only (meaning unknown)
     backlash: int = 0  # BC: backlash compensation, steps
+    # the moves planned with these parameters, by distance (dropped at any change: see
+    # __setattr__); a scan repeats its moves, and a plan is never modified once made
+    _moves: dict[int, Motion] = field(default_factory=dict, init=False, repr=False,
+                                      compare=False)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        object.__setattr__(self, name, value)
+        if name != "_moves":
+            object.__setattr__(self, "_moves", {})
+
+    def plan_move(self, distance: int) -> Motion:
+        """A point-to-point move from rest over `distance` steps at VB, VL, AC, DC and the
+        selected ramp (memoised per parameter set: one dictionary lookup a move)."""
+        moves = self._moves
+        motion = moves.get(distance)
+        if motion is None:
+            if len(moves) >= 256:
+                moves.clear()
+            motion = moves[distance] = plan_move(
+                distance, self.base_velocity, self.velocity, self.acceleration,
+                self.deceleration, self.ramp, *self.ramp_params)
+        return motion
 
     @property
     def ramp_params(self) -> tuple[float | None, float | None]:
