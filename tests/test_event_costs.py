@@ -116,3 +116,41 @@ def test_a_config_change_drops_the_memoised_plans() -> None:
     plan = plan_move(1000, 0, 20_000, 100_000, 100_000, RampShape.LINEAR)
     assert b.axes[0].rest_since - start == math.ceil(plan.end_time / b.period - 1e-9)
     assert board.send("AX RP;") == ["2000"]
+
+
+_shapes = st.sampled_from(["LINEAR", "PARABOLIC", "SCURVE", "COSINE"])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(-200_000, 200_000).filter(bool), st.integers(0, 5_000),
+       st.integers(1, 400_000), st.integers(1_000, 4_000_000), st.integers(1_000, 4_000_000),
+       _shapes, st.sampled_from([None, 0.25, 0.5, 3.0]), st.floats(0.0, 1.0),
+       st.floats(-300_000, 300_000), st.integers(0, 20_000))
+def test_a_one_way_motion_never_reads_the_other_way(
+        distance: int, base: int, peak: int, accel: int, decel: int, shape_name: str,
+        param: float | None, where: float, jog: float, base_jog: int) -> None:
+    """A status poll takes a one-way motion's direction without its velocity
+    (MotionAxis.travel_direction): exact, as no one-way move, stop or jog ever has a
+    velocity of the other sign, nor a step back from one update cycle to the next."""
+    from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
+
+    shape = RampShape[shape_name]
+    if param is not None and shape is RampShape.SCURVE and param > 1.0:
+        param = None
+    if param is not None and shape is RampShape.PARABOLIC and param < 1.0:
+        param = None
+    period = 1 / 8192
+    plans = [plan_move(distance, base, peak, accel, decel, shape, param, param),
+             plan_stop(0.3, jog, base_jog, decel, shape, param),
+             plan_jog(0.0, 0.0, jog, base_jog, accel, decel, shape, param, param)]
+    for plan in plans:
+        if not plan.monotonic:
+            continue
+        span = plan.end_time if plan.end_time is not None else 2.0
+        ticks = int(span / period) + 2
+        for tick in {0, 1, ticks - 2, ticks - 1, ticks, int(where * ticks)}:
+            t = tick * period
+            v = plan.velocity(t)
+            assert v * plan.direction >= 0, (plan, t, v)
+            step = int(plan.offset(t)) - int(plan.offset(max(0.0, t - period)))
+            assert step * plan.direction >= 0, (plan, t, step)

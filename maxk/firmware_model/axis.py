@@ -73,9 +73,14 @@ class MotionAxis:
 
     def travel_direction(self, engine: Clock) -> int:
         """Which way the axis is travelling now: the velocity's sign, or on a motion's
-        last tick (velocity 0) the way its last update cycle went."""
-        if self.motion is None:
+        last tick (velocity 0) the way its last update cycle went. A one-way motion
+        (every phase the same way: a move, a stop, a jog without reversal) has no other
+        answer than its direction, which a status poll then needs no velocity for."""
+        m = self.motion
+        if m is None:
             return self.direction
+        if m.monotonic:
+            return m.direction
         v = self.velocity(engine)
         if v == 0:
             step = self.steps_now(engine) - self.steps_at_tick(engine.tick - 1, engine.period)
