@@ -85,7 +85,7 @@ class MotionAxis:
         if v == 0:
             step = self.steps_now(engine) - self.steps_at_tick(engine.tick - 1, engine.period)
             if step == 0:
-                return self.motion.direction
+                return m.direction
             return 1 if step > 0 else -1
         return 1 if v > 0 else -1
 
