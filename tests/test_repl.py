@@ -252,3 +252,25 @@ def test_a_fault_inside_the_emulator_does_not_end_the_repl(monkeypatch):
         "! internal error: ZeroDivisionError: boom (the line was lost; please report it)"]
     monkeypatch.undo()
     assert s.handle("AX RP") == ["0"]
+
+
+def test_every_repl_word_of_every_model_answers_bad_input_plainly(tmp_path, monkeypatch):
+    """A person's typo in a `:` word gets a plain answer, never an internal error: each
+    model's REPL words with operands that are not numbers, negative, huge, a NUL, or a
+    file in a folder that does not exist."""
+    monkeypatch.chdir(tmp_path)  # words that write files write them here
+    bad = ["x", "-3", "nan", "1 2 3", "\x00", "99999999999999999999", "-1 s",
+           str(tmp_path / "missing" / "out.csv")]
+    for model in ("MAXk-8000", "MM4005", "MC405", "PoKeys57CNC"):
+        session = ReplSession(model, manual_time=True)
+        lines = session.handle("help") + list(getattr(session.console, "repl_help",
+                                                          lambda: [])())
+        words = {line.split()[0][1:] for line in (x.strip() for x in lines)
+                 if line.startswith(":") and len(line) > 1}
+        words -= {"quit", "exit", "reset"}
+        assert words, model
+        for word in sorted(words):
+            for operand in bad:
+                out = session.handle(f":{word} {operand}")
+                assert not any("internal error" in line for line in out), (model, word,
+                                                                            operand, out)

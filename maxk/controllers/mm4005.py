@@ -344,7 +344,10 @@ class MM4005Console:
             if not rest.strip():
                 return ["! :pulses-csv needs a file name"]
             path = Path(rest.strip())
-            self.controller.pulse_csv(path)
+            try:
+                self.controller.pulse_csv(path)
+            except (OSError, ValueError) as error:  # no such folder, a NUL in the name
+                return [f"! :pulses-csv: {error}"]
             return [f"{len(self.controller.pulses)} pulses written to {path}"]
         return None
 

@@ -73,6 +73,9 @@ REPL_WORDS = """\
   :requests    the device's requests with source and confidence"""
 
 
+SHOWN_SLOTS_MAX = 100_000
+"""`:slots N` prints a line a slot: more than this is not for reading (D)."""
+
 _EVENTS = {"limit": "a limit switch stopped the engine",
            "estop": "the e-stop stopped the engine", "probe_error": "probing missed"}
 
@@ -445,7 +448,13 @@ class PoKeysConsole:
         return {self._axis(args[i]): int(args[i + 1]) for i in range(0, len(args), 2)}
 
     def _slots(self, rest: str) -> list[str]:
-        n = int(rest or "1")
+        try:
+            n = int(rest.strip() or "1")
+        except ValueError:
+            n = -1
+        if not 0 <= n <= SHOWN_SLOTS_MAX:
+            return [f"! say :slots N with N from 0 to {SHOWN_SLOTS_MAX} (a line a slot); "
+                    ":advance moves time without showing it"]
         lines: list[str] = []
         e = self.dev.pulse_engine
         axes = [a.index for a in e.axes if e.active(a)] or list(range(len(e.axes)))
@@ -474,7 +483,7 @@ class PoKeysConsole:
             return ["say :trace FILE.csv or :trace off"]
         try:
             stream = open(rest, "w", encoding="utf-8", newline="")  # noqa: SIM115
-        except OSError as error:
+        except (OSError, ValueError) as error:  # no such folder, a NUL in the name
             return [f"trace: {error}"]
         self.recorder = SlotRecorder(self.dev.pulse_engine, stream)
         self.recorder.attach()
