@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 HERE = Path(__file__).resolve().parent
-NEW_TREE = HERE.parent
+NEW_TREE = Path(os.environ.get("MAXK_AFTER", str(HERE.parent)))
 OLD_TREE = Path(os.environ.get("MAXK_BEFORE", "/tmp/before"))
 WORKER = HERE / "differential_worker.py"
 
@@ -121,7 +121,8 @@ def first_difference(old: dict[str, Any], new: dict[str, Any]) -> Difference | N
 class Gen:
     """Random but meaningful MAX command streams for one model."""
 
-    def __init__(self, r: random.Random, model: str) -> None:
+    def __init__(self, r: random.Random, model: str, extended: bool = False) -> None:
+        self.extended = extended  # also input waits, inputs as functions, observers, polls
         self.r = r
         self.model = model
         self.letters = MODELS[model]
@@ -337,6 +338,16 @@ class Gen:
             "AM RP; AM RE; RI",
             f"#UR{r.choice([1024, 2048, 4096, 8192])}; #UR?",
         ]
+        if self.extended:
+            choices += [
+                f"A{L}; MR{d}; GO; SW{r.randint(0, 15)}; MR{-d}; GO; ID;",
+                f"A{L}; BW{r.randint(0, 15)}; MR{d}; GO; ID;",
+                f"AA; SW{r.randint(0, 15)},{r.randint(0, 15)}; MR{lst(-20000, 20000)}; GO; ID;",
+                f"A{L}; LMS; JG{r.choice([-1, 1]) * v}; WT{r.randint(0, 300)}; ST; ID;",
+                f"A{L}; LMS; MR{d * 3}; GO; HM; ID;",
+                f"A{L}; PSM; KP{r.randint(1, 40)}; JG{r.randint(-50000, 50000)}; WT50; ST; ID;",
+                f"AA; LMS; JG{lst(-50000, 50000)}; WT{r.randint(0, 300)}; ST; ID;",
+            ]
         if n >= 2:
             choices += [
                 f"AA; VA{r.randint(10000, 500000)}; VV{r.randint(500, 8000)},"
@@ -434,6 +445,18 @@ class Gen:
                     out.append(["until_done", [r.choice(self.letters)], r.choice([0.5, 2.0])])
             elif roll < 0.92:
                 out.append(self.world())
+            elif roll < 0.94 and self.extended:
+                x = r.random()
+                if x < 0.35:  # an input that is a function of time (polled while captured)
+                    out.append(["input_fn", r.randint(0, 15), r.randint(1, 400),
+                                r.randint(0, 400)])
+                elif x < 0.6:  # an input that is a function of an axis's position
+                    out.append(["input_pos", r.randint(0, 15), r.choice(self.letters),
+                                r.randint(-20000, 20000)])
+                elif x < 0.7:  # events of its own; records the axes at each
+                    out.append(["observer", r.choice([None, 1, 7, 100, 1000])])
+                else:  # QA and RP every few ticks
+                    out.append(["poll", r.randint(1, 30), r.choice([1, 1, 3, 50, 400])])
             elif roll < 0.96:
                 out.append(["writeb", self.garbage()])
             elif roll < 0.985:
@@ -443,12 +466,12 @@ class Gen:
         return out
 
 
-def make_stream(seed: int, count: int = 40) -> dict[str, Any]:
+def make_stream(seed: int, count: int = 40, extended: bool = False) -> dict[str, Any]:
     r = random.Random(seed)
     model = r.choice(list(MODELS))
     rate = r.choice(RATES)
     return {"kind": "stream", "seed": seed, "model": model, "rate": rate,
-            "steps": Gen(r, model).steps(count)}
+            "steps": Gen(r, model, extended).steps(count)}
 
 
 # ---- shrinking ---------------------------------------------------------------------------
@@ -645,12 +668,13 @@ def compare_cli(names: list[str] | None = None, trace_every: str | None = None) 
 
 # ---- main ----------------------------------------------------------------------------
 
-def fuzz(pair: Pair, seed: int, seconds: float, count: int, shrink_s: float) -> list[str]:
+def fuzz(pair: Pair, seed: int, seconds: float, count: int, shrink_s: float,
+         extended: bool = False) -> list[str]:
     deadline = time.monotonic() + seconds
     reports, seen = [], set()
     n = streams = steps = 0
     while time.monotonic() < deadline:
-        job = make_stream(seed + n, count)
+        job = make_stream(seed + n, count, extended)
         n += 1
         streams += 1
         steps += len(job["steps"])
@@ -679,6 +703,9 @@ def main() -> int:
     parser.add_argument("--scripts", action="store_true", help="scripts and exchanges")
     parser.add_argument("--cli", action="store_true", help="`maxk run` on the examples")
     parser.add_argument("--replay", type=int, help="run one seed and print its steps")
+    parser.add_argument("--extended", action="store_true",
+                        help="streams also with input waits, inputs as functions of time "
+                             "or position, observers and tick-by-tick polls")
     args = parser.parse_args()
     if not OLD_TREE.exists():
         print(f"no old tree at {OLD_TREE}")
@@ -686,7 +713,7 @@ def main() -> int:
     pair = Pair()
     try:
         if args.replay is not None:
-            job = make_stream(args.replay, args.steps)
+            job = make_stream(args.replay, args.steps, args.extended)
             old, new = pair.run(job)
             print(describe(job, first_difference(old, new) or Difference(0, "-", 0, 0)))
             return 0
@@ -696,7 +723,8 @@ def main() -> int:
         if args.cli:
             problems += compare_cli()
         if not (args.scripts or args.cli):
-            problems += fuzz(pair, args.seed, args.seconds, args.steps, args.shrink)
+            problems += fuzz(pair, args.seed, args.seconds, args.steps, args.shrink,
+                             args.extended)
         for p in problems:
             print(p)
         return 1 if problems else 0

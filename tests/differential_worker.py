@@ -33,6 +33,7 @@ class Observer:
         self.flags: list[int] = []
         board.board.add_flag_listener(self.flags.append)
         self.last: dict[str, Any] = {}
+        self.trace: list[Any] = []
 
     def observe(self) -> dict[str, Any]:
         b = self.board.board
@@ -53,6 +54,9 @@ class Observer:
         }
         out = {k: v for k, v in now.items() if self.last.get(k) != v}
         self.last = now
+        if self.trace:
+            out["trace"] = list(self.trace)
+            self.trace.clear()
         if self.flags:
             out["flag_words"] = list(self.flags)
             self.flags.clear()
@@ -102,6 +106,27 @@ def _do(board: MAXk, observer: Observer, step: list[Any]) -> dict[str, Any]:
             result = getattr(board, name)(*posargs, **kwargs)
         elif kind == "velocity":
             result = repr(board.velocity(args[0]))
+        elif kind == "input_fn":
+            bit, period, phase = args
+            board.set_input(bit, lambda b, p=period, ph=phase: ((b.tick + ph) // p) % 2 == 1)
+        elif kind == "input_pos":
+            bit, letter, thr = args
+            board.set_input(bit, lambda b, L=letter, t=thr: b.axis(L).steps_now(b) > t)
+        elif kind == "observer":
+            every = args[0]
+            log = observer.trace
+            def cb(b, log=log):
+                log.append([b.tick] + [a.steps_now(b) for a in b.axes]
+                           + [a.status_string(b) for a in b.axes] + [a.flags for a in b.axes])
+            board.board.add_observer(cb, every)
+        elif kind == "poll":
+            n, k = args
+            result = []
+            for _ in range(n):
+                board.advance(0.0, ticks=k)
+                result.append(board.send("AM QA" if len(board.board.axes) > 1 else "AX QA")
+                              + board.send("AM RP" if len(board.board.axes) > 1 else "AX RP")
+                              + [board.board.tick])
         else:
             raise ValueError(f"unknown step {kind}")
         out = {"result": result}
