@@ -416,12 +416,17 @@ class PulseEngine:
                 a.position = new
                 pulses[a.index] = new - p0
         self.slot = s + n
+        ended: list[tuple[int, int, int]] = []
         for a in self.axes:
             if a.motion is not None:
                 end = a.motion.end_slot()
                 if end is not None and end <= self.slot:
                     a.motion = None
-                    self.notify("move_done", a.index, end)
+                    # told in the order slot by slot would tell them: a motion that had
+                    # already ended (a move to where the axis stood) after the first slot
+                    ended.append((max(end, s + 1), a.index, end))
+        for _told, index, end in sorted(ended):
+            self.notify("move_done", index, end)
         if rows is not None and self.buffer.count == 0:
             self.notify("buffer_empty", -1, self.slot)
         if self.trace is not None:
