@@ -40,6 +40,7 @@ class HostedBoards:
                 controller.framing = framing
             self.services.append(Service(n, controller, Pacer(controller, speed, self.clock)))
         self.server = Server(self.services)
+        self._closers: list = []
         self.loop = asyncio.new_event_loop()
         self.ports = []
         self.udp_ports = []
@@ -90,11 +91,21 @@ class HostedBoards:
         self.call(lambda: [s.pacer.sync() for s in self.services])
 
     def connect(self, board: int = 1) -> Client:
-        return Client(self.ports[board - 1])
+        client = Client(self.ports[board - 1])
+        self._closers.append(client.close)
+        return client
+
+    def on_close(self, close) -> None:
+        """Something of the test's to close with the boards (a serial port, a socket)."""
+        self._closers.append(close)
 
     def close(self) -> None:
+        for close in self._closers:  # the hosts' side (a test may have closed it already)
+            close()
         self.loop.call_soon_threadsafe(self.server.stop)
         self.thread.join(10)
+        if not self.thread.is_alive():
+            self.loop.close()
 
 
 class Client:

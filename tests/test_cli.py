@@ -90,12 +90,12 @@ def test_trace_csv_per_event_and_per_period(tmp_path):
                       "@wait until X done\n")
     trace = tmp_path / "t.csv"
     assert main(["run", "--trace", str(trace), str(script)]) == 0
-    rows = list(csv.DictReader(trace.open()))
+    rows = list(csv.DictReader(trace.read_text().splitlines()))
     assert rows[0]["note"] == "start"
     assert [r["note"] for r in rows[1:]] == ["line 2", "event", "line 3"]
     assert rows[2]["X_position"] == "500" and rows[2]["X_done"] == "1"
     assert main(["run", "--trace", str(trace), "--trace-every", "0.1 s", str(script)]) == 0
-    rows = list(csv.DictReader(trace.open()))
+    rows = list(csv.DictReader(trace.read_text().splitlines()))
     samples = [r for r in rows if r["note"] == "sample"]
     assert [r["tick"] for r in samples[:3]] == ["820", "1640", "2460"]
     positions = [int(r["X_position"]) for r in samples]
@@ -145,7 +145,7 @@ def test_run_traces_and_plots_another_controller(tmp_path):
     trace = tmp_path / "path.csv"
     script = Path(__file__).parent.parent / "examples" / "mm4005_trajectory_pulses.maxk"
     assert main(["run", str(script), "--trace", str(trace)]) == 0
-    pulses = list(csv.DictReader((tmp_path / "path.pulses.csv").open()))
+    pulses = list(csv.DictReader((tmp_path / "path.pulses.csv").read_text().splitlines()))
     assert len(pulses) == 11
     assert (pulses[0]["x_counts"], pulses[0]["y_counts"]) == ("10000", "0")
     assert trace.read_text().startswith("tick,x_counts,y_counts\n")

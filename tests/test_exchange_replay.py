@@ -4,7 +4,7 @@ with the framing the EPICS MAXnet driver uses (LF CR replies, %000 notifications
 import pytest
 import serial
 
-from tests.hosting import Client, HostedBoards
+from tests.hosting import HostedBoards
 
 # (what the host sends, the lines it reads back, seconds of wall time to let pass after)
 E1 = [("WY\n", ["MAXk-8000, ver:1.33, S/N: 000001, FPGA:20"], 0), ("IC;\n", [], 0),
@@ -45,7 +45,7 @@ def test_exchange(transport, exchange):
     hosted = HostedBoards(pty=transport == "pty")
     try:
         if transport == "tcp":
-            client = Client(hosted.ports[0])
+            client = hosted.connect()
 
             def send(data):
                 client.command(data.rstrip("\n"))
@@ -54,6 +54,7 @@ def test_exchange(transport, exchange):
                 return client.line()
         else:
             port = serial.Serial(hosted.ptys[0], timeout=5)
+            hosted.on_close(port.close)
             held = []
 
             def send(data):

@@ -169,7 +169,7 @@ def test_slot_trace_csv_and_plot(tmp_path: Path) -> None:
     run(con, "setup 2", "axis X buffer", "axis Y buffer", "fill 5 -2 x 50", "state running")
     dev.advance(0.060)
     assert con.repl_word("trace", "off") == ["trace: 60 slots written"]
-    rows = list(csv.reader(csv_path.open()))
+    rows = list(csv.reader(csv_path.read_text().splitlines()))
     assert rows[0][:8] == ["slot", "time_s", "engine_state", "buffer_fill", "X_pulses",
                            "X_dir", "X_position", "X_state"]
     assert rows[1][:8] == ["0", "0.000", "RUNNING", "49", "5", "0", "5", "2"]

@@ -269,8 +269,12 @@ def test_every_repl_word_of_every_model_answers_bad_input_plainly(tmp_path, monk
                  if line.startswith(":") and len(line) > 1}
         words -= {"quit", "exit", "reset"}
         assert words, model
-        for word in sorted(words):
-            for operand in bad:
-                out = session.handle(f":{word} {operand}")
-                assert not any("internal error" in line for line in out), (model, word,
-                                                                            operand, out)
+        for tracing in (False, True):  # then again with a trace running (":trace")
+            if tracing:
+                session.handle(":trace")
+            for word in sorted(words):
+                for operand in bad:
+                    out = session.handle(f":{word} {operand}")
+                    assert not any("internal error" in line for line in out), (
+                        model, word, operand, out)
+        session.handle(":trace off")  # (a PoKeys trace file left open is closed)

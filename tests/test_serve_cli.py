@@ -148,6 +148,7 @@ def test_a_truncated_map_closes_that_door_alone_and_the_server_goes_on(tmp_path)
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
+        _close_pipes(proc)
     assert proc.returncode == 0
     assert not shm.exists() and not shm2.exists()  # cleaned up
 
@@ -172,6 +173,7 @@ def test_serve_starts_on_a_deeply_nested_archive_and_rdp_is_a_command_error(tmp_
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait(timeout=20)
+        _close_pipes(proc)
     assert proc.returncode == 0
 
 
@@ -217,3 +219,9 @@ def test_a_pokeys_listens_on_its_library_port_by_default():
         proc.send_signal(signal.SIGTERM)
         out, err = proc.communicate(timeout=20)
     assert (m[1], m[2]) == ("20055", "20055") or "port 20055" in err, (line, err)
+
+
+def _close_pipes(proc: subprocess.Popen) -> None:
+    for pipe in (proc.stdout, proc.stderr):
+        if pipe is not None:
+            pipe.close()

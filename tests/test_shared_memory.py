@@ -209,6 +209,7 @@ def test_a_map_left_by_a_killed_server_is_taken_over_cleared_and_removed(tmp_pat
     finally:
         proc.kill()
         proc.wait(20)
+        proc.stdout.close()
     assert path.exists()  # a killed server cannot clean up
     door = _door(path)
     assert struct.unpack_from(">i", path.read_bytes(), M.motor_offset(0))[0] == 0  # cleared

@@ -102,6 +102,7 @@ def test_ack_and_lf_framing_options():
     h = HostedBoards(eol="lf", ack=True)
     try:
         c = Client(h.ports[0], eol=b"\n")
+        h.on_close(c.close)
         c.send("AX RP\n")
         assert c.line() == "\x060"
     finally:

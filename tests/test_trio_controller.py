@@ -203,7 +203,7 @@ def test_trace_csv_and_plot_of_example_1(tmp_path) -> None:
     trace = trio.trace()
     trio.advance(8.2)
     path = trace.write_csv(tmp_path / "pwm.csv")
-    rows = list(csv.DictReader(path.open()))
+    rows = list(csv.DictReader(path.read_text().splitlines()))
     assert len(rows) == 8201 and list(rows[0]) == ["tick", "time", "x", "y", "mark4", "gate4",
                                                    "duty4"]
     row = rows[4000]

@@ -485,9 +485,14 @@ class PoKeysConsole:
             stream = open(rest, "w", encoding="utf-8", newline="")  # noqa: SIM115
         except (OSError, ValueError) as error:  # no such folder, a NUL in the name
             return [f"trace: {error}"]
+        out = []
+        if self.recorder is not None and self.recorder.stream is not None:
+            # one trace at a time: the running one ends (its file closed) as a new one starts
+            self.recorder.detach()
+            out.append(f"trace: the previous trace ended, {self.recorder.slots} slots written")
         self.recorder = SlotRecorder(self.dev.pulse_engine, stream)
         self.recorder.attach()
-        return [f"trace: {rest}"]
+        return [*out, f"trace: {rest}"]
 
     def _plan(self, rest: str) -> list[str]:
         axis = self._axis(rest.strip() or "X")

@@ -309,7 +309,10 @@ class TrioConsole:
                 return [f"tracing every servo cycle from tick {machine.tick}"]
             if machine.tracer is None:
                 return ["! nothing traced: say :trace first"]
-            path = machine.tracer.write_csv(rest)
+            try:
+                path = machine.tracer.write_csv(rest)
+            except (OSError, ValueError) as error:  # no such folder, a NUL in the name
+                return [f"! {error}"]
             return [f"{len(machine.tracer)} servo cycles written to {path}"]
         if word == "plot":
             name, _, axis = rest.partition(" ")
@@ -317,7 +320,9 @@ class TrioConsole:
                 return ["! say :trace, run, then :plot FILE.png [AXIS]"]
             try:
                 path = machine.tracer.plot(name, int(axis) if axis.strip() else None)
-            except (ImportError, ValueError, KeyError) as error:
+            except KeyError:
+                return [f"! axis {axis.strip()} has no traced PWM output"]
+            except (ImportError, ValueError, OSError) as error:
                 return [f"! {error}"]
             return [f"plot written to {path}"]
         return None

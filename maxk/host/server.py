@@ -346,7 +346,13 @@ class Server:
         finally:
             for server in self._servers:
                 server.close()
+            for service in self.services:  # the hosts still connected are hung up on
+                for client in list(service.clients):
+                    transport = getattr(client, "transport", None)
+                    if isinstance(client, TcpClient) and transport is not None:
+                        transport.close()
             for door in self._udp:
                 door.close()
             for pty in self._ptys:
                 pty.close()
+            await asyncio.sleep(0)  # (let the transports finish closing their sockets)
