@@ -191,3 +191,18 @@ def test_a_query_held_by_wq_is_answered_when_the_queue_empties(hosted):
     assert hosted.call(lambda: bool(board.parser_waits))
     hosted.advance(1.0)  # the move ends; the held RP runs and its reply goes out
     assert c.line() == "2000"
+
+
+def test_a_stopping_server_hangs_up_on_its_hosts():
+    """When `maxk serve` stops, a host still connected reads the end of the stream (its
+    socket is closed by the server, not left to the process's exit)."""
+    h = HostedBoards()
+    c = Client(h.ports[0])  # (not the boards' own: it must outlive them)
+    try:
+        c.command("AX RP")
+        assert c.line() == "0"
+        h.close()
+        c.sock.settimeout(5)
+        assert c.sock.recv(100) == b""
+    finally:
+        c.close()
