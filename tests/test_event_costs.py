@@ -9,7 +9,7 @@ import math
 from collections.abc import Callable
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from maxk import MAXk
@@ -126,6 +126,9 @@ _shapes = st.sampled_from(["LINEAR", "PARABOLIC", "SCURVE", "COSINE"])
        st.integers(1, 400_000), st.integers(1_000, 4_000_000), st.integers(1_000, 4_000_000),
        _shapes, st.sampled_from([None, 0.25, 0.5, 3.0]), st.floats(0.0, 1.0),
        st.floats(-300_000, 300_000), st.integers(0, 20_000))
+# a stop from a denormal speed: a ramp of no duration (was a division by zero)
+@example(distance=1, base=0, peak=1, accel=1000, decel=1000, shape_name="LINEAR", param=None,
+         where=0.0, jog=5e-324, base_jog=0)
 def test_a_one_way_motion_never_reads_the_other_way(
         distance: int, base: int, peak: int, accel: int, decel: int, shape_name: str,
         param: float | None, where: float, jog: float, base_jog: int) -> None:

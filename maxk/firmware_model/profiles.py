@@ -179,9 +179,9 @@ class Phase:
 
     def distance(self, tau: float) -> float:
         """Unsigned distance travelled tau seconds into the phase."""
-        if self.v1 == self.v2:
-            return self.v1 * tau
         T = self.duration
+        if self.v1 == self.v2 or T == 0.0:  # (a ramp from a denormal speed takes no time)
+            return self.v1 * tau
         u = min(max(tau / T, 0.0), 1.0)
         if self.mirrored:
             full = shape_integral(self.shape, 1.0, self.param)
