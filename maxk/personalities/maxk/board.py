@@ -96,7 +96,7 @@ class Board(Engine):
         self.parser_waits: list[Callable[[], None]] = []
         self.command_buffer: tuple[str, int | None] = ("normal", None)  # #BB / #BN
         self.add_source(_AxesSource(self))
-        self.add_source(_TasksSource(self))
+        self._tasks_source: _TasksSource | None = None  # added with the first vector task
         self.load_power_up_parameters()
 
     # ---- lookup ----------------------------------------------------------------------
@@ -618,6 +618,9 @@ class Board(Engine):
         task = self.tasks.get(index)
         if task is None:
             task = self.tasks[index] = ContourTask(index)
+            if self._tasks_source is None:  # (a board that never contours asks no tasks)
+                self._tasks_source = _TasksSource(self)
+                self.add_source(self._tasks_source)
         return task
 
     # ---- whole-board actions ---------------------------------------------------------
