@@ -227,16 +227,12 @@ class Motion:
     direction: int = 1
     peak_speed: float = 0.0
     _last: int = field(default=0, repr=False)
-    _monotonic: bool | None = field(default=None, repr=False, compare=False)
+    # all phases travel one way (moves and stops; not a reversing jog): found when made,
+    # as a plan is never modified once made and every motion start and end asks
+    monotonic: bool = field(init=False, repr=False, compare=False)
 
-    @property
-    def monotonic(self) -> bool:
-        """All phases travel one way (moves and stops; not a reversing jog). Found once:
-        a plan is never modified once made, and every motion start asks."""
-        known = self._monotonic
-        if known is None:
-            known = self._monotonic = all(p.direction == self.direction for p in self.phases)
-        return known
+    def __post_init__(self) -> None:
+        self.monotonic = all(p.direction == self.direction for p in self.phases)
 
     def phase_at(self, t: float) -> Phase | None:
         phases = self.phases
