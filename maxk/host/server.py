@@ -348,9 +348,8 @@ class Server:
                 server.close()
             for service in self.services:  # the hosts still connected are hung up on
                 for client in list(service.clients):
-                    transport = getattr(client, "transport", None)
-                    if isinstance(client, TcpClient) and transport is not None:
-                        transport.close()
+                    if isinstance(client, TcpClient) and client.transport is not None:
+                        client.transport.close()
             for door in self._udp:
                 door.close()
             for pty in self._ptys:
