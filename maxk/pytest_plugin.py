@@ -1,8 +1,9 @@
-"""pytest plugin: command scripts (`*.maxk`) collected and run as tests.
+"""pytest plugin: command scripts (`*.maxk`) of any controller collected and run as tests.
 
 Registered through the `pytest11` entry point, so installing maxk is enough: pytest
 collects every `*.maxk` file under its test paths (pytest's pattern for non-Python test
-files). Each script runs on a fresh board in virtual time; a script naming several
+files). Each script runs on a fresh controller in virtual time, at its own rate unless the
+script's `@rate` says otherwise; a script naming several
 models (`@board MAXk-4000 MAXk-A000`) or rates (`@rate 1024 8192`) becomes one test per
 combination, and `--maxk-model` / `--maxk-rate` override what the scripts say.
 """
@@ -15,18 +16,17 @@ from typing import Any
 
 import pytest
 
-from maxk.controllers.registry import canonical_model
-from maxk.personalities.maxk.models import UPDATE_RATES_HZ
+from maxk.controllers.registry import canonical_model, kind_of
 from maxk.script import Script, ScriptError, Transcript, load_script, run_script
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
-    group = parser.getgroup("maxk", "MAXk command scripts")
+    group = parser.getgroup("maxk", "maxk command scripts (any controller)")
     group.addoption("--maxk-model", action="append", default=None, metavar="MODEL",
-                    help="run every .maxk script on this board model (repeatable)")
+                    help="run every .maxk script on this controller model (repeatable)")
     group.addoption("--maxk-rate", action="append", default=None, type=int, metavar="HZ",
-                    help=f"run every .maxk script at this update rate {UPDATE_RATES_HZ} "
-                    "(repeatable)")
+                    help="run every .maxk script at this update rate, one its controller "
+                    "runs at (repeatable)")
     parser.addini("maxk_suffix", "file suffix of MAXk command scripts", default=".maxk")
 
 
@@ -52,12 +52,16 @@ class MaxkScriptFile(pytest.File):
             models = [canonical_model(m) for m in models]
         except ValueError as error:
             raise self.CollectError(f"--maxk-model: {error}") from None
-        bad = [r for r in rates if r not in UPDATE_RATES_HZ]
-        if bad:
-            raise self.CollectError(f"--maxk-rate {bad[0]}: choose from {UPDATE_RATES_HZ}")
+        for model in models:
+            for rate in rates:
+                try:
+                    kind_of(model).check_rate(rate)
+                except ValueError as error:
+                    raise self.CollectError(f"{self.path.name}: {error}") from None
         combos = list(itertools.product(models, rates))
         for model, rate in combos:
-            name = "script" if len(combos) == 1 else f"{model}-{rate}Hz"
+            shown = rate or kind_of(model).default_rate_hz
+            name = "script" if len(combos) == 1 else f"{model}-{shown}Hz"
             yield MaxkScriptItem.from_parent(self, name=name, script=script, model=model,
                                              rate=rate)
 
@@ -69,7 +73,8 @@ class ScriptFailed(Exception):
 
 
 class MaxkScriptItem(pytest.Item):
-    def __init__(self, *, script: Script, model: str, rate: int, **kwargs: Any) -> None:
+    def __init__(self, *, script: Script, model: str, rate: int | None,
+                 **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.script = script
         self.model = model
@@ -84,10 +89,14 @@ class MaxkScriptItem(pytest.Item):
                      style: Any = None) -> str:
         if isinstance(excinfo.value, ScriptFailed):
             failures = excinfo.value.transcript.failures
-            head = (f"{self.path.name} on {self.model} at {self.rate} Hz: "
+            head = (f"{self.path.name} on {self.model} at {self._hz} Hz: "
                     f"{len(failures)} failure(s)")
             return "\n".join([head, *(f.report() for f in failures)])
         return str(super().repr_failure(excinfo))
 
     def reportinfo(self) -> tuple[Path, int | None, str]:
-        return self.path, 0, f"maxk script {self.path.name} [{self.model} {self.rate} Hz]"
+        return self.path, 0, f"maxk script {self.path.name} [{self.model} {self._hz} Hz]"
+
+    @property
+    def _hz(self) -> int | None:
+        return self.rate or kind_of(self.model).default_rate_hz

@@ -29,7 +29,7 @@ def test_a_failing_script_shows_command_expected_actual_tick_and_state(pytester)
         "*expected: 999*",
         "*actual:   1000*",
         "*board state:*",
-        "*X: position 1000, encoder 1000, velocity 0, PDNN, 0 queued*",
+        "*X      1000      1000         0  PDNN    0*",
         "*doorbell 0x00000001*",
     ])
     assert "Traceback" not in result.stdout.str()

@@ -14,11 +14,12 @@ these protocols, so a new controller gets every door by declaring its session:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal, Protocol
 
 if TYPE_CHECKING:
+    from maxk.controllers.world_view import WorldView
     from maxk.firmware_model.engine import Engine
 
 Transport = Literal["tcp", "udp", "pty"]
@@ -100,6 +101,7 @@ class Controller(Protocol):
     # every feed is one whole datagram (the UDP door uses it when it is there).
     def console(self) -> Console: ...
     def reset(self) -> None: ...
+    def world_view(self) -> WorldView: ...  # the machine around it (controllers/world_view.py)
 
 
 class Recording(Protocol):
@@ -156,3 +158,17 @@ class ControllerKind:
     build: Callable[[str, BuildOptions], Controller]
     summary: str = ""
     default_archive: Callable[[str, int], object] | None = None  # (model, number) -> path
+    update_rates_hz: Sequence[int] = ()  # the rates it can run at, its default first
+    line_options: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # option ->
+    # its values (`serve --eol lf`); () for a flag (`--ack`)
+    shared_memory: bool = False  # has a PCI map a host can open (`serve --shm`)
+
+    @property
+    def default_rate_hz(self) -> int | None:
+        return self.update_rates_hz[0] if self.update_rates_hz else None
+
+    def check_rate(self, rate_hz: int | None) -> None:
+        """ValueError naming the rates this kind runs at, for one it cannot run."""
+        if rate_hz is not None and rate_hz not in self.update_rates_hz:
+            rates = ", ".join(str(r) for r in sorted(self.update_rates_hz))
+            raise ValueError(f"the {self.name} runs at {rates} Hz, not {rate_hz}")

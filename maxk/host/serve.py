@@ -12,12 +12,16 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from maxk.commands.max.session import EOLS
 from maxk.controllers.contract import BuildOptions
-from maxk.controllers.registry import build, canonical_model, kind_of
+from maxk.controllers.registry import (
+    build,
+    canonical_model,
+    default_archive,
+    kind_of,
+    line_option_choices,
+)
 from maxk.host.pacing import Pacer
 from maxk.host.server import Server, Service
-from maxk.personalities.maxk.parameters import default_archive_path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -47,10 +51,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "of board 1 (board N: PATH with N appended), e.g. /dev/shm/maxk")
     parser.add_argument("--speed", type=_speed, default=1.0, help="K times faster than real "
                         "time (default 1)")
-    parser.add_argument("--eol", choices=sorted(EOLS), default="lfcr",
-                        help="reply line ending (default lfcr: LF CR as the EPICS MAXnet "
-                        "driver expects; lf for firmware >= 1.33 style)")
-    parser.add_argument("--ack", action="store_true", help="lead every reply with ACK 0x06")
+    parser.add_argument("--eol", choices=line_option_choices("eol"), default=None,
+                        help="a MAXk's reply line ending (default lfcr: LF CR as the EPICS "
+                        "MAXnet driver expects; lf for firmware >= 1.33 style)")
+    parser.add_argument("--ack", action="store_true", help="a MAXk leads every reply with "
+                        "ACK 0x06")
     parser.add_argument("--seconds", type=float, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
 
@@ -108,12 +113,21 @@ async def serve(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"maxk serve: {error}", file=sys.stderr)
         return 2
-    line_options = {"eol": args.eol, **({"ack": ""} if args.ack else {})}
+    asked = {**({"eol": args.eol} if args.eol else {}), **({"ack": ""} if args.ack else {})}
+    for option in asked:
+        if not any(option in kind_of(m).line_options for m in models):
+            print(f"maxk serve: --{option} means nothing to the "
+                  f"{', '.join(sorted({kind_of(m).name for m in models}))}", file=sys.stderr)
+            return 2
     services = []
     for number, model in enumerate(models, start=1):
-        archive = None if args.no_archive else str(
-            Path(args.archive_dir) / f"{model}-board{number}.params.json"
-            if args.archive_dir else default_archive_path(model, number))
+        kind = kind_of(model)
+        archive = default_archive(model, number)
+        if args.no_archive or archive is None:
+            archive = None
+        elif args.archive_dir:
+            archive = str(Path(args.archive_dir) / Path(archive).name)
+        line_options = {k: v for k, v in asked.items() if k in kind.line_options}
         controller = build(model, BuildOptions(number, archive, None, line_options))
         services.append(Service(number, controller, Pacer(controller, args.speed)))
     server = Server(services)
@@ -134,7 +148,7 @@ async def serve(args: argparse.Namespace) -> int:
                 link = _numbered(args.pty_link, n, boards) if args.pty_link else None
                 path = server.open_pty(service, link)
                 where.append(f"serial {path}" + (f" (link {link})" if link else ""))
-            if args.shm and kind_of(controller.model).name == "MAXk":
+            if args.shm and kind_of(controller.model).shared_memory:
                 from maxk.host.shared_memory import SharedMemoryDoor
 
                 door = SharedMemoryDoor(service, _numbered(args.shm, n, boards))
