@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import logging
 import math
 import signal
 import sys
@@ -56,8 +57,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "MAXnet driver expects; lf for firmware >= 1.33 style)")
     parser.add_argument("--ack", action="store_true", help="a MAXk leads every reply with "
                         "ACK 0x06")
+    parser.add_argument("-v", "--verbose", action="count", default=0,
+                        help="-v: hosts connecting and leaving; -vv: every host's bytes in "
+                        "and replies out, with virtual time stamps (logger maxk.door.*)")
+    parser.add_argument("--log-level", choices=LEVELS, default=None, type=str.lower,
+                        help="the maxk loggers' level (default warning: faults only)")
     parser.add_argument("--seconds", type=float, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
+
+
+LEVELS = ("debug", "info", "warning", "error")
+
+
+def configure_logging(args: argparse.Namespace) -> None:
+    """Faults go to stderr as before (one line each); `-v`/`--log-level` show more, each
+    line naming its logger (`maxk.door.tcp: 127.0.0.1:41234 t=0.500000 <- b'WY'`)."""
+    verbose = getattr(args, "verbose", 0)
+    level = (args.log_level or ("debug" if verbose >= 2 else "info" if verbose else
+                                "warning")).upper()
+    logger = logging.getLogger("maxk")
+    logger.setLevel(level)
+    if not any(getattr(h, "maxk_serve", False) for h in logger.handlers):
+        handler = logging.StreamHandler(sys.stderr)
+        handler.maxk_serve = True  # type: ignore[attr-defined]
+        logger.addHandler(handler)
+        logger.propagate = False
+    for each in logger.handlers:
+        each.setFormatter(logging.Formatter(
+            "%(message)s" if level == "WARNING" else "%(name)s: %(message)s"))
 
 
 def _speed(text: str) -> float:
@@ -178,4 +205,5 @@ async def serve(args: argparse.Namespace) -> int:
 
 
 def main(args: argparse.Namespace) -> int:
+    configure_logging(args)
     return asyncio.run(serve(args))
