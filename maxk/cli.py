@@ -22,7 +22,8 @@ def _model(text: str) -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="maxk", description="An emulator of the OMS MAXk motion controller.",
+        prog="maxk", description="An emulator of motion controllers: the OMS MAXk, the "
+        "Newport MM4005, the Trio MC405 and the PoKeys.",
         epilog="Without a command maxk runs the REPL, whose options may be given "
         "directly: maxk --manual-time.")
     parser.add_argument("--version", action="version", version=f"maxk {__version__}")
@@ -78,6 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
     cmds.add_argument("--markdown", action="store_true",
                       help="print the generated reference (docs/commands.md)")
     cmds.add_argument("mnemonic", nargs="?", help="show one command in full")
+    cmds.add_argument("--model", type=_model, default=None,
+                      help=f"the controller whose table to show (default {DEFAULT_MODEL})")
 
     serve = sub.add_parser("serve", help="boards in real time behind TCP, serial and "
                            "shared-memory doors, for legacy host code")
@@ -282,21 +285,29 @@ def _tune(args: argparse.Namespace) -> int:
 
 
 def _commands(args: argparse.Namespace) -> int:
-    from maxk.commands.max.reference import help_text, render_markdown
-    from maxk.commands.max.table import COMMANDS, lookup
+    """Any controller's command table, through its console (help, summaries); the
+    Markdown reference where its kind has one (the MAX table's docs/commands.md)."""
+    from maxk.controllers.registry import build, kind_of
 
+    model = args.model or DEFAULT_MODEL
     if args.markdown:
-        sys.stdout.write(render_markdown())
+        reference = kind_of(model).reference
+        if reference is None:
+            print(f"maxk commands: the {kind_of(model).name} has no Markdown reference; "
+                  "see its docs", file=sys.stderr)
+            return 1
+        sys.stdout.write(reference())
         return 0
+    console = build(model).console()
     if args.mnemonic:
-        spec = lookup(args.mnemonic)
-        if spec is None:
+        lines = console.help(args.mnemonic)
+        if lines is None:
             print(f"maxk commands: no command {args.mnemonic!r}", file=sys.stderr)
             return 1
-        print(help_text(spec))
+        print("\n".join(lines))
         return 0
-    for spec in COMMANDS.values():
-        print(f"{spec.syntax:<16} {spec.summary}")
+    for word in console.words():
+        print(f"{word:<16} {console.summary(word)}")
     return 0
 
 

@@ -27,7 +27,7 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--maxk-rate", action="append", default=None, type=int, metavar="HZ",
                     help="run every .maxk script at this update rate, one its controller "
                     "runs at (repeatable)")
-    parser.addini("maxk_suffix", "file suffix of MAXk command scripts", default=".maxk")
+    parser.addini("maxk_suffix", "file suffix of maxk command scripts", default=".maxk")
 
 
 def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Collector | None:

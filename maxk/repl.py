@@ -22,9 +22,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from maxk.controllers.contract import BuildOptions, Console, Controller
-from maxk.controllers.registry import build, default_archive
+from maxk.controllers.registry import DEFAULT_MODEL, build, default_archive
 from maxk.controllers.world_settings import parse_world
-from maxk.personalities.maxk.models import DEFAULT_MODEL
 from maxk.script import parse_duration
 
 if TYPE_CHECKING:

@@ -121,7 +121,7 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                         raise ValueError("@board must come before the first command")
                     names = rest.replace(",", " ").split()
                     if not names:
-                        raise ValueError("@board needs a model, e.g. @board MAXk-4000")
+                        raise ValueError(f"@board needs a model, e.g. @board {DEFAULT_MODEL}")
                     script.models = [canonical_model(n) for n in names]
                     _check_rates(script)
                 elif word == "rate":

@@ -162,6 +162,8 @@ class ControllerKind:
     line_options: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # option ->
     # its values (`serve --eol lf`); () for a flag (`--ack`)
     shared_memory: bool = False  # has a PCI map a host can open (`serve --shm`)
+    default_port: int | None = None  # the port its host software has built in
+    reference: Callable[[], str] | None = None  # its command table as Markdown
 
     @property
     def default_rate_hz(self) -> int | None:

@@ -41,6 +41,12 @@ def _build_mc405(model: str, options: BuildOptions) -> Controller:
     return MC405(archive=options.archive, update_rate_hz=options.update_rate_hz)
 
 
+def _max_reference() -> str:
+    from maxk.commands.max.reference import render_markdown
+
+    return render_markdown()
+
+
 def _mc405_programs(model: str, number: int) -> Path:
     """The MC405's program directory (its flash) per user, beside the MAXk archives."""
     return default_archive_dir() / f"{model}-board{number}.programs"
@@ -54,18 +60,19 @@ KINDS: tuple[ControllerKind, ...] = (
                                     *(r for r in UPDATE_RATES_HZ
                                       if r != DEFAULT_UPDATE_RATE_HZ)),
                    line_options={"eol": tuple(sorted(EOLS)), "ack": ()},
-                   shared_memory=True),
+                   shared_memory=True, reference=_max_reference),
     ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
                    "Newport MM4005 4-axis controller with trajectories and synchronized "
                    "pulses (MM4005-n: n axes installed)",
                    update_rates_hz=(MM4005_RATE_HZ,)),
     ControllerKind("MC405", ("MC405",), _build_mc405,
                    "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs",
-                   _mc405_programs, update_rates_hz=(1000, 500, 2000, 4000)),
+                   _mc405_programs, update_rates_hz=(1000, 500, 2000, 4000),
+                   default_port=23),  # atrio dials telnet's port
     ControllerKind("PoKeys", tuple(pokeys.MODELS), pokeys.build,
                    "PoLabs PoKeys56E (pulse engine v1) and PoKeys57E/57CNC (v2), "
                    "64-byte requests over TCP and UDP",
-                   update_rates_hz=(1000,)),
+                   update_rates_hz=(1000,), default_port=20055),  # PoKeysLib's port
 )
 
 

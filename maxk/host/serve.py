@@ -15,6 +15,7 @@ from typing import Any
 
 from maxk.controllers.contract import BuildOptions
 from maxk.controllers.registry import (
+    DEFAULT_MODEL,
     build,
     canonical_model,
     default_archive,
@@ -28,7 +29,7 @@ from maxk.host.server import Server, Service
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--boards", type=int, default=None, help="how many controllers "
                         "(1-16; J5 jumper numbers 1..N); default: one per model given")
-    parser.add_argument("--model", default="MAXk-8000",
+    parser.add_argument("--model", default=DEFAULT_MODEL,
                         help="controller model, or a comma list with one model per "
                         "controller (kinds may be mixed)")
     store = parser.add_mutually_exclusive_group()
@@ -97,8 +98,6 @@ def _speed(text: str) -> float:
     return value
 
 
-DEFAULT_PORTS = {"PoKeys": 20055, "MC405": 23}
-"""Ports the hosts' software has built in: PoKeysLib's 20055, atrio's telnet 23."""
 
 
 async def _open(opener: Any, service: Service, args: argparse.Namespace,
@@ -108,7 +107,7 @@ async def _open(opener: Any, service: Service, args: argparse.Namespace,
     use, or 23 without the right to bind it)."""
     if args.port is not None:
         return await opener(service, args.host, 0 if args.port == 0 else args.port + number - 1)
-    built_in = DEFAULT_PORTS.get(service.controller.kind)
+    built_in = kind_of(service.controller.model).default_port
     if built_in is not None:
         try:
             return await opener(service, args.host, built_in)
