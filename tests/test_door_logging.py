@@ -96,3 +96,23 @@ def test_a_test_knows_a_command_has_run_on_any_controller_without_a_probe():
                            .reading("0").position) == 25
     finally:
         boards.close()
+
+
+def test_a_rate_the_controller_does_not_run_at_is_refused_by_every_door(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "maxk", "--model", "MM4005", "--rate",
+                             "8192", "--manual-time", "--no-archive"], input="quit\n",
+                            capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert result.returncode == 2
+    assert result.stderr.strip() == "maxk: the MM4005 runs at 2000 Hz, not 8192"
+    script = tmp_path / "s.maxk"
+    script.write_text("@board MC405\n?1+1\n")
+    result = subprocess.run([sys.executable, "-m", "maxk", "run", "--rate", "8192",
+                             str(script)], capture_output=True, text=True, timeout=60,
+                            cwd=ROOT)
+    assert result.returncode == 2
+    assert result.stderr.strip() == "maxk run: the MC405 runs at 500, 1000, 2000, 4000 Hz, " \
+        "not 8192"
+    result = subprocess.run([sys.executable, "-m", "maxk", "run", "--rate", "4000",
+                             str(script)], capture_output=True, text=True, timeout=60,
+                            cwd=ROOT)
+    assert result.returncode == 0 and result.stdout == "2\n", result.stderr
