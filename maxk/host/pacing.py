@@ -9,6 +9,7 @@ never by adding up sleeps, so the engine cannot drift from the wall clock over h
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from typing import Protocol
@@ -52,3 +53,12 @@ class Pacer:
         """Seconds the engine's virtual time is behind the (scaled) wall clock."""
         virtual = self._time_at_epoch + (self._clock() - self._epoch) * self.speed
         return virtual - self.controller.engine.time
+
+    def set_speed(self, speed: float) -> None:
+        """From now on `speed` times real time; 0 pauses (the engine stands still until
+        the speed is set again). Virtual time carries on from where the engine stands."""
+        if not (math.isfinite(speed) and speed >= 0):
+            raise ValueError("speed must be a finite number >= 0")
+        self._epoch = self._clock()
+        self._time_at_epoch = self.controller.engine.time
+        self.speed = speed

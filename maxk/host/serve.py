@@ -65,6 +65,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the maxk loggers' level (default warning: faults only)")
     parser.add_argument("--seconds", type=float, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
+    parser.add_argument("--control", action="store_true", help="the control door and front "
+                        "panel on HTTP (docs/control.md); on --host, with a token when that "
+                        "is not loopback")
+    parser.add_argument("--control-port", type=int, default=0, help="the control door's "
+                        "port (default: a free one; implies --control)")
 
 
 LEVELS = ("debug", "info", "warning", "error")
@@ -189,6 +194,21 @@ async def serve(args: argparse.Namespace) -> int:
         for door in memories:
             door.close()
         return 1
+    control = None
+    if args.control or args.control_port:
+        from maxk.host.control import ControlDoor
+
+        control = ControlDoor(services)
+        try:
+            host, bound = await control.start(args.host, args.control_port)
+        except OSError as error:
+            print(f"maxk serve: control door: {error}", file=sys.stderr)
+            await control.close()
+            server.stop()
+            await server.run()
+            return 1
+        token = f" token {control.token}" if control.token else ""
+        print(f"control http://{host}:{bound}{token}", flush=True)
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
@@ -198,6 +218,8 @@ async def serve(args: argparse.Namespace) -> int:
     try:
         await server.run()
     finally:
+        if control is not None:
+            await control.close()
         for door in memories:
             door.close()
     return 0

@@ -1,0 +1,712 @@
+"""The control door: `maxk serve --control` puts an HTTP door beside the hosts' doors, for
+programs (a system test tripping a limit in the middle of an IOC's move) and for people
+(the front panel at `/`, pushed by server-sent events).
+
+Everything it reads and does goes through the one world contract (controllers/
+world_view.py, world_settings.py): a world setting here is the same words as `@world`
+and `:world`. The virtual clock is the pacer's (pause, step, speed). Built on aiohttp on
+the doors' own event loop: a request runs between two pacing passes, so it sees and
+changes a controller at one tick, as a host's command does. Every limit is here:
+request size, traces, triggers, streams; a bad request gets a 4xx with a reason, and a
+fault in a handler is a 500 for that request only, never the server's end.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import ipaddress
+import json
+import logging
+import secrets
+from collections import deque
+from collections.abc import Awaitable, Callable
+from dataclasses import dataclass, field
+from importlib import resources
+from itertools import count
+from typing import Any
+
+from aiohttp import web
+
+from maxk.controllers.panel import panel_extras
+from maxk.controllers.world_settings import parse_world
+from maxk.host.client import Service
+from maxk.trace import TraceWriter
+
+log = logging.getLogger("maxk.door.control")
+
+MAX_BODY = 64 * 1024  # bytes of one request
+TRACE_LIMIT = 4 * 1024 * 1024  # characters of CSV one trace keeps (then it stops itself)
+TRIGGERS = 64  # armed triggers per controller
+ERRORS = 200  # error log entries kept
+STREAM_HZ = 15.0  # panel updates a second (server-sent events)
+STREAMS = 16  # panels open at once
+TRAFFIC_SHOWN = 8  # entries per host in a panel update
+MAX_STEP_SECONDS = 3600.0  # one clock step at most
+STEP_SLICE_SECONDS = 0.05  # virtual time advanced between two looks at the other doors
+MAX_SPEED = 1000.0
+OUTPUTS = 32  # digital outputs looked at for the panel (those a controller has)
+
+
+class BadRequest(Exception):
+    """A 4xx with a reason (status 400 unless told)."""
+
+    def __init__(self, reason: str, status: int = 400) -> None:
+        super().__init__(reason)
+        self.status = status
+
+
+class ErrorLog(logging.Handler):
+    """The server's recent warnings and faults (the `maxk` loggers), bounded."""
+
+    def __init__(self, size: int = ERRORS) -> None:
+        super().__init__(logging.WARNING)
+        self.records: deque[dict[str, Any]] = deque(maxlen=size)
+
+    def emit(self, record: logging.LogRecord) -> None:
+        with contextlib.suppress(Exception):
+            self.records.append({"time": record.created, "level": record.levelname,
+                                 "logger": record.name, "message": record.getMessage()})
+
+
+class BoundedText(io.StringIO):
+    """A trace's CSV, refusing to grow past `limit` (the trace then stops itself)."""
+
+    def __init__(self, limit: int) -> None:
+        super().__init__()
+        self.limit = limit
+        self.full = False
+
+    def write(self, text: str) -> int:
+        if self.full or self.tell() + len(text) > self.limit:
+            self.full = True
+            return 0
+        return super().write(text)
+
+
+@dataclass
+class Trigger:
+    """A world setting armed for a virtual time (exact to the tick: an engine observer due
+    then) or for an axis passing a position (an observer every tick while armed: the
+    setting applies at the first tick the axis's reading is at or beyond the position)."""
+
+    ident: int
+    words: str
+    when: dict[str, Any]
+    apply: Callable[[Any], str]
+    fired_tick: int | None = None
+    said: str = ""
+    error: str = ""
+    callback: Callable[[Any], None] | None = field(default=None, repr=False)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"id": self.ident, "words": self.words, "when": self.when,
+                "fired_tick": self.fired_tick, "did": self.said, "error": self.error}
+
+
+class Board:
+    """What the door keeps per controller: its triggers and its trace."""
+
+    def __init__(self, service: Service) -> None:
+        self.service = service
+        self.triggers: dict[int, Trigger] = {}
+        self.trace: TraceWriter | None = None
+        self.trace_text: BoundedText | None = None
+        self.trace_every: int | None = None
+        self._ids = count(1)
+        self.paused_speed: float | None = None  # the speed to go back to after a pause
+
+    @property
+    def controller(self) -> Any:
+        return self.service.controller
+
+    # ---- triggers ------------------------------------------------------------------
+    def arm(self, words: str, when: dict[str, Any]) -> Trigger:
+        apply = parse_world(words)  # ValueError: bad words, nothing armed
+        engine = self.controller.engine
+        view = self.controller.world_view()
+        armed = [t for t in self.triggers.values() if t.fired_tick is None]
+        if len(armed) >= TRIGGERS:
+            raise BadRequest(f"at most {TRIGGERS} triggers armed on one controller", 409)
+        if len(self.triggers) >= TRIGGERS:  # forget the oldest that fired
+            for ident in [i for i, t in self.triggers.items() if t.fired_tick is not None]:
+                del self.triggers[ident]
+                if len(self.triggers) < TRIGGERS:
+                    break
+        trigger = Trigger(next(self._ids), words, when, apply)
+        self.service.sync()
+        if "axis" in when:
+            axis = str(when["axis"])
+            view.index(axis)  # KeyError: no such axis
+            target = _number(when.get("passes"), "passes")
+            start = view.reading(axis).position
+            rising = start < target
+
+            def watch(_engine: Any) -> None:
+                position = view.reading(axis).position
+                if (position >= target) if rising else (position <= target):
+                    self._fire(trigger)
+
+            trigger.callback = watch
+            trigger.when = {"axis": axis, "passes": target,
+                            "direction": "up" if rising else "down"}
+            engine.add_observer(watch, 1)
+        else:
+            if "tick" in when:
+                tick = int(_number(when["tick"], "tick"))
+            elif "time" in when:
+                tick = engine.tick_at(_number(when["time"], "time"))
+            elif "after" in when:
+                tick = engine.tick + self.controller_ticks(_number(when["after"], "after"))
+            else:
+                raise BadRequest("when: {\"time\": s}, {\"tick\": n}, {\"after\": s} or "
+                                 "{\"axis\": NAME, \"passes\": position}")
+            if tick <= engine.tick:
+                raise BadRequest(f"tick {tick} is not in the future (now {engine.tick})")
+
+            def due(_engine: Any) -> None:
+                self._fire(trigger)
+
+            trigger.callback = due
+            trigger.when = {"tick": tick}
+            engine.add_observer(due, tick - engine.tick)
+        self.triggers[trigger.ident] = trigger
+        return trigger
+
+    def controller_ticks(self, seconds: float) -> int:
+        engine = self.controller.engine
+        if seconds < 0:
+            raise BadRequest("after: seconds >= 0")
+        return max(1, round(seconds / engine.period))
+
+    def _fire(self, trigger: Trigger) -> None:
+        engine = self.controller.engine
+        if trigger.callback is not None:
+            engine.remove_observer(trigger.callback)
+            trigger.callback = None
+        trigger.fired_tick = engine.tick
+        try:
+            trigger.said = trigger.apply(self.controller)
+        except (ValueError, KeyError) as error:
+            trigger.error = _reason(error)
+            log.warning("board %d: trigger %d (%s): %s", self.service.number,
+                        trigger.ident, trigger.words, trigger.error)
+
+    def disarm(self, ident: int) -> Trigger:
+        trigger = self.triggers.pop(ident, None)
+        if trigger is None:
+            raise BadRequest(f"no trigger {ident}", 404)
+        if trigger.callback is not None:
+            self.controller.engine.remove_observer(trigger.callback)
+            trigger.callback = None
+        return trigger
+
+    # ---- traces --------------------------------------------------------------------
+    def start_trace(self, every_ticks: int | None) -> None:
+        self.stop_trace()
+        self.service.sync()
+        self.trace_text = BoundedText(TRACE_LIMIT)
+        self.trace = TraceWriter(self.trace_text, self.controller, every_ticks)
+        self.trace_every = every_ticks
+        self.trace.attach()
+        engine = self.controller.engine
+        engine.add_observer(self._trace_full)
+
+    def _trace_full(self, _engine: Any) -> None:
+        if self.trace_text is not None and self.trace_text.full:
+            self.stop_trace()
+
+    def stop_trace(self) -> None:
+        if self.trace is not None:
+            self.trace.detach()
+            self.controller.engine.remove_observer(self._trace_full)
+            self.trace = None
+
+    def trace_state(self) -> dict[str, Any]:
+        text = self.trace_text
+        return {"running": self.trace is not None,
+                "rows": 0 if text is None else text.getvalue().count("\n") - 1,
+                "chars": 0 if text is None else text.tell(),
+                "full": bool(text is not None and text.full),
+                "limit": TRACE_LIMIT if text is None else text.limit,
+                "every_ticks": self.trace_every}
+
+
+async def _advance(board: Board, target: int) -> None:
+    """Advance a paused board to a tick in slices, the other doors served in between (a
+    long step with a tick-by-tick trace or trigger must not stall the hosts)."""
+    engine = board.controller.engine
+    piece = max(1, round(STEP_SLICE_SECONDS / engine.period))
+    while engine.tick < target:
+        try:
+            engine.advance(min(piece, target - engine.tick))
+        except Exception as error:  # the controller's fault, told as the pacer tells it
+            board.service._report(error, b"")
+            return
+        await asyncio.sleep(0)
+
+
+def _number(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise BadRequest(f"{what}: a number, not {value!r}")
+    try:
+        number = float(value)
+    except ValueError:
+        raise BadRequest(f"{what}: a number, not {value!r}") from None
+    if number != number or number in (float("inf"), float("-inf")):
+        raise BadRequest(f"{what}: a finite number, not {value!r}")
+    return number
+
+
+def _reason(error: BaseException) -> str:
+    if isinstance(error, KeyError) and error.args:
+        return str(error.args[0])
+    return str(error)
+
+
+def world_words(body: dict[str, Any]) -> str:
+    """A world setting's words from a request: `{"words": "X limits 5000 -5000"}`, or the
+    JSON form that maps onto the same words: `{"axis": "X", "set": "limits", "values":
+    [5000, -5000]}`, `{"input": 3, "level": true}`, `{"analog": 0, "volts": 2.5}`."""
+    if "words" in body:
+        words = body["words"]
+        if not isinstance(words, str):
+            raise BadRequest("words: the text of one world setting, e.g. 'X limits 5000 -5000'")
+        return words
+    if "input" in body:
+        level = body.get("level")
+        if not isinstance(level, bool | int):
+            raise BadRequest("level: true or false")
+        return f"input {_word(body['input'])} {'high' if level else 'low'}"
+    if "analog" in body:
+        return f"analog {_word(body['analog'])} {_word(body.get('volts'))}"
+    if "axis" in body and "set" in body:
+        values = body.get("values", [])
+        if not isinstance(values, list):
+            values = [values]
+        return " ".join([_word(body["axis"]), _word(body["set"]), *(_word(v) for v in values)])
+    raise BadRequest("give {\"words\": \"X limits 5000 -5000\"} or its JSON form "
+                     "{\"axis\", \"set\", \"values\"} / {\"input\", \"level\"} / "
+                     "{\"analog\", \"volts\"}")
+
+
+def _word(value: Any) -> str:
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, int | float | str):
+        text = str(value)
+        if not text or any(c.isspace() for c in text):
+            raise BadRequest(f"not one word: {value!r}")
+        return text
+    raise BadRequest(f"not a word or a number: {value!r}")
+
+
+def is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+class ControlDoor:
+    """The HTTP door for every served controller."""
+
+    def __init__(self, services: list[Service], token: str | None = None,
+                 stream_hz: float = STREAM_HZ) -> None:
+        self.services = services
+        self.boards = {s.number: Board(s) for s in services}
+        self.token = token
+        self.stream_hz = stream_hz
+        self.errors = ErrorLog()
+        self._streams = 0
+        self._closing = asyncio.Event()
+        self._runner: web.AppRunner | None = None
+        self.app = self._make_app()
+
+    # ---- life ----------------------------------------------------------------------
+    async def start(self, host: str, port: int) -> tuple[str, int]:
+        """Listen; a token is made when the address is not loopback (unless given)."""
+        if self.token is None and not is_loopback(host):
+            self.token = secrets.token_urlsafe(16)
+        logging.getLogger("maxk").addHandler(self.errors)
+        self._runner = web.AppRunner(self.app, access_log=None, handle_signals=False,
+                                    shutdown_timeout=0.5)
+        await self._runner.setup()
+        site = web.TCPSite(self._runner, host, port)
+        await site.start()
+        server = site._server
+        sockets = getattr(server, "sockets", None) or []
+        address = sockets[0].getsockname()[:2] if sockets else (host, port)
+        return str(address[0]), int(address[1])
+
+    async def close(self) -> None:
+        self._closing.set()
+        logging.getLogger("maxk").removeHandler(self.errors)
+        for board in self.boards.values():
+            board.stop_trace()
+        if self._runner is not None:
+            await self._runner.cleanup()
+            self._runner = None
+
+    # ---- the app -------------------------------------------------------------------
+    def _make_app(self) -> web.Application:
+        app = web.Application(client_max_size=MAX_BODY, middlewares=[self._guard])
+        get, post, delete = web.get, web.post, web.delete
+        app.add_routes([
+            get("/", self.page), get("/static/{name}", self.static),
+            get("/api", self.index), get("/api/errors", self.error_log),
+            get("/api/panel", self.panel), get("/api/stream", self.stream),
+            get("/api/clock", self.clock), post("/api/clock", self.set_clock),
+            get("/api/boards/{n}", self.board), get("/api/boards/{n}/world", self.world),
+            post("/api/boards/{n}/world", self.set_world),
+            get("/api/boards/{n}/axes/{axis}", self.axis),
+            get("/api/boards/{n}/traffic", self.traffic),
+            get("/api/boards/{n}/triggers", self.triggers),
+            post("/api/boards/{n}/triggers", self.arm),
+            delete("/api/boards/{n}/triggers/{id}", self.disarm),
+            post("/api/boards/{n}/reset", self.reset),
+            get("/api/boards/{n}/trace", self.trace_state),
+            post("/api/boards/{n}/trace", self.start_trace),
+            delete("/api/boards/{n}/trace", self.stop_trace),
+            get("/api/boards/{n}/trace.csv", self.trace_csv),
+        ])
+        return app
+
+    @web.middleware
+    async def _guard(self, request: web.Request,
+                     handler: Callable[[web.Request], Awaitable[web.StreamResponse]]
+                     ) -> web.StreamResponse:
+        """The token (when one is set), and every fault as a reasoned 4xx/500 JSON body."""
+        if self.token is not None:
+            given = request.query.get("token") or request.headers.get(
+                "Authorization", "").removeprefix("Bearer ").strip()
+            if not secrets.compare_digest(given.encode(), self.token.encode()):
+                return _error(401, "this control door needs its token (printed at start-up): "
+                              "?token=... or Authorization: Bearer ...")
+        try:
+            return await handler(request)
+        except web.HTTPException as error:
+            if error.status < 400:
+                raise
+            return _error(error.status, error.reason or "bad request")
+        except BadRequest as error:
+            return _error(error.status, str(error))
+        except KeyError as error:
+            return _error(404, _reason(error))
+        except (ValueError, TypeError) as error:
+            return _error(400, _reason(error))
+        except asyncio.CancelledError:
+            raise
+        except Exception as error:  # a fault in one request is that request's
+            log.error("control door: %s %s: %s: %s", request.method, request.path,
+                      type(error).__name__, error)
+            return _error(500, f"{type(error).__name__}: {error}")
+
+    # ---- helpers -------------------------------------------------------------------
+    def _board(self, request: web.Request) -> Board:
+        text = request.match_info["n"]
+        try:
+            board = self.boards.get(int(text))
+        except ValueError:
+            board = None
+        if board is None:
+            raise BadRequest(f"no board {text} (boards {sorted(self.boards)})", 404)
+        board.service.sync()
+        return board
+
+    @staticmethod
+    async def _body(request: web.Request) -> dict[str, Any]:
+        if not request.can_read_body:
+            return {}
+        try:
+            body = await request.json()
+        except (json.JSONDecodeError, UnicodeDecodeError):
+            raise BadRequest("the body must be JSON (an object)") from None
+        if not isinstance(body, dict):
+            raise BadRequest("the body must be a JSON object")
+        return body
+
+    def _describe(self, board: Board) -> dict[str, Any]:
+        service = board.service
+        controller = board.controller
+        view = controller.world_view()
+        return {
+            "number": service.number, "model": controller.model, "kind": controller.kind,
+            "doors": {"tcp": [f"{h}:{p}" for h, p in service.ports],
+                      "udp": [f"{h}:{p}" for h, p in service.udp_ports],
+                      "pty": list(service.ptys)},
+            "hosts": len(service.clients),
+            "axes": list(view.axis_names), "inputs": list(view.inputs),
+            "analog": list(view.analog),
+            "tick": controller.engine.tick, "time": controller.engine.time,
+            "speed": service.pacer.speed, "paused": service.pacer.speed == 0,
+        }
+
+    # ---- read ----------------------------------------------------------------------
+    async def index(self, request: web.Request) -> web.Response:
+        for service in self.services:
+            service.sync()
+        return web.json_response({"boards": [self._describe(b) for b in self.boards.values()],
+                                  "token_required": self.token is not None})
+
+    async def board(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        view = board.controller.world_view()
+        return web.json_response({**self._describe(board), **view.snapshot(),
+                                  "outputs": _outputs(view), "world": view.describe()})
+
+    async def world(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        view = board.controller.world_view()
+        return web.json_response({"world": view.describe(), **view.snapshot()})
+
+    async def axis(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        view = board.controller.world_view()
+        return web.json_response(view.reading(request.match_info["axis"]).as_dict())
+
+    async def traffic(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        book = board.service.traffic
+        return web.json_response({"hosts": [] if book is None else book.as_list()})
+
+    async def error_log(self, request: web.Request) -> web.Response:
+        return web.json_response({"errors": list(self.errors.records)})
+
+    async def panel(self, request: web.Request) -> web.Response:
+        return web.json_response(self.panel_state())
+
+    def panel_state(self) -> dict[str, Any]:
+        """What the front panel shows, for every board at once."""
+        boards = []
+        for board in self.boards.values():
+            board.service.sync()
+            boards.append(self._panel_board(board))
+        return {"boards": boards, "errors": list(self.errors.records)[-5:]}
+
+    def _panel_board(self, board: Board) -> dict[str, Any]:
+        controller = board.controller
+        view = controller.world_view()
+        axes = []
+        for name, stage in zip(view.axis_names, view.world.axes, strict=False):
+            reading = view.reading(name)
+            at = reading.position
+            axes.append({**reading.as_dict(), "lamps": {
+                side: {"on": bool(getattr(stage, attr).active(at)),
+                       "fault": getattr(stage, attr).fault}
+                for side, attr in (("plus", "plus_limit"), ("minus", "minus_limit"),
+                                   ("home", "home"))}})
+        hosts = []
+        book = board.service.traffic
+        if book is not None:
+            for host in book.hosts:
+                if host.open:
+                    entries = list(host.entries)[-TRAFFIC_SHOWN:]
+                    hosts.append({"peer": host.peer, "transport": host.transport,
+                                  "entries": [{"time": e.time, "direction": e.direction,
+                                               "text": e.data[:80].decode("latin-1")}
+                                              for e in entries]})
+        try:
+            extras = panel_extras(controller)
+        except Exception as error:  # a picture that fails is not a panel that fails
+            extras = {"error": str(error)}
+        return {"number": board.service.number, "model": controller.model,
+                "kind": controller.kind, "tick": controller.engine.tick,
+                "time": controller.engine.time, "speed": board.service.pacer.speed,
+                "axes": axes,
+                "inputs": {str(n): bool(view.input_level(n)) for n in view.inputs},
+                "outputs": _outputs(view),
+                "analog": {str(c): _volts(view, c) for c in view.analog},
+                "hosts": hosts, "extras": extras, "trace": board.trace is not None}
+
+    async def stream(self, request: web.Request) -> web.StreamResponse:
+        """The panel's updates as server-sent events, `stream_hz` a second."""
+        if self._streams >= STREAMS:
+            raise BadRequest(f"at most {STREAMS} panels at once", 429)
+        self._streams += 1
+        try:
+            response = web.StreamResponse(headers={"Content-Type": "text/event-stream",
+                                                   "Cache-Control": "no-cache"})
+            await response.prepare(request)
+            period = 1.0 / self.stream_hz
+            while not self._closing.is_set():
+                data = json.dumps(self.panel_state(), separators=(",", ":"))
+                try:
+                    await response.write(f"data: {data}\n\n".encode())
+                except (ConnectionError, RuntimeError):
+                    break
+                with contextlib.suppress(asyncio.TimeoutError):
+                    await asyncio.wait_for(self._closing.wait(), period)
+            return response
+        finally:
+            self._streams -= 1
+
+    # ---- act -----------------------------------------------------------------------
+    async def set_world(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        words = world_words(await self._body(request))
+        setting = parse_world(words)
+        did = setting(board.controller)
+        return web.json_response({"did": did, "world": board.controller.world_view().describe()})
+
+    async def triggers(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        return web.json_response({"triggers": [t.as_dict() for t in board.triggers.values()],
+                                  "tick": board.controller.engine.tick})
+
+    async def arm(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        body = await self._body(request)
+        when = body.get("when")
+        if not isinstance(when, dict):
+            raise BadRequest("when: {\"time\": s} | {\"tick\": n} | {\"after\": s} | "
+                             "{\"axis\": NAME, \"passes\": position}")
+        trigger = board.arm(world_words(body), when)
+        return web.json_response(trigger.as_dict(), status=201)
+
+    async def disarm(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        try:
+            ident = int(request.match_info["id"])
+        except ValueError:
+            raise BadRequest(f"no trigger {request.match_info['id']}", 404) from None
+        return web.json_response(board.disarm(ident).as_dict())
+
+    async def reset(self, request: web.Request) -> web.Response:
+        """Reset (power-cycle) one controller: its own reset runs the power-up sequence;
+        the world around it and virtual time stay."""
+        board = self._board(request)
+        board.controller.reset()
+        log.info("board %d reset through the control door", board.service.number)
+        return web.json_response(self._describe(board))
+
+    async def clock(self, request: web.Request) -> web.Response:
+        return web.json_response(self._clock_state())
+
+    def _clock_state(self) -> dict[str, Any]:
+        return {"boards": [{"number": s.number, "tick": s.controller.engine.tick,
+                            "time": s.controller.engine.time, "speed": s.pacer.speed,
+                            "paused": s.pacer.speed == 0, "lag": s.pacer.lag()}
+                           for s in self.services]}
+
+    async def set_clock(self, request: web.Request) -> web.Response:
+        """`{"pause": true}`, `{"run": true}`, `{"speed": K}`, `{"step": seconds}` or
+        `{"ticks": n}` (stepping pauses first), on every board or `"board": N`."""
+        body = await self._body(request)
+        if "board" in body:
+            board = self.boards.get(body["board"]) if isinstance(body["board"], int) else None
+            if board is None:
+                raise BadRequest(f"no board {body['board']!r}", 404)
+            boards = [board]
+        else:
+            boards = list(self.boards.values())
+        actions = [k for k in ("pause", "run", "speed", "step", "ticks") if k in body]
+        if len(actions) != 1:
+            raise BadRequest("say one of pause, run, speed, step (seconds) or ticks")
+        action = actions[0]
+        if action == "speed":
+            speed = _number(body["speed"], "speed")
+            if not 0 < speed <= MAX_SPEED:
+                raise BadRequest(f"speed: above 0, at most {MAX_SPEED:g}")
+        if action in ("step", "ticks"):
+            amount = _number(body[action], action)
+            limit = MAX_STEP_SECONDS
+            if amount < 0:
+                raise BadRequest(f"{action}: >= 0")
+            for board in boards:
+                engine = board.controller.engine
+                seconds = amount if action == "step" else amount * engine.period
+                if seconds > limit:
+                    raise BadRequest(f"one step is at most {limit:g} virtual seconds")
+        for board in boards:
+            pacer = board.service.pacer
+            board.service.sync()
+            if action == "pause" and pacer.speed != 0:
+                board.paused_speed = pacer.speed
+                pacer.set_speed(0.0)
+            elif action == "run" and pacer.speed == 0:
+                pacer.set_speed(board.paused_speed or 1.0)
+            elif action == "speed":
+                if pacer.speed == 0:
+                    board.paused_speed = speed
+                else:
+                    pacer.set_speed(speed)
+            elif action in ("step", "ticks"):
+                if pacer.speed != 0:
+                    board.paused_speed = pacer.speed
+                    pacer.set_speed(0.0)
+                engine = board.controller.engine
+                ticks = (board.controller_ticks(amount) if action == "step" and amount
+                         else int(amount) if action == "ticks" else 0)
+                await _advance(board, engine.tick + ticks)
+                pacer.set_speed(0.0)  # the paused clock stands where the step ended
+        return web.json_response(self._clock_state())
+
+    async def trace_state(self, request: web.Request) -> web.Response:
+        return web.json_response(self._board(request).trace_state())
+
+    async def start_trace(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        body = await self._body(request)
+        every = body.get("every_ticks")
+        if every is not None:
+            every = int(_number(every, "every_ticks"))
+            if every < 1:
+                raise BadRequest("every_ticks: at least 1 (or leave it out: every event)")
+        board.start_trace(every)
+        return web.json_response(board.trace_state(), status=201)
+
+    async def stop_trace(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        board.stop_trace()
+        return web.json_response(board.trace_state())
+
+    async def trace_csv(self, request: web.Request) -> web.Response:
+        board = self._board(request)
+        if board.trace_text is None:
+            raise BadRequest("no trace: start one with POST .../trace", 404)
+        return web.Response(text=board.trace_text.getvalue(), content_type="text/csv")
+
+    # ---- the page ------------------------------------------------------------------
+    async def page(self, request: web.Request) -> web.Response:
+        return _asset("index.html")
+
+    async def static(self, request: web.Request) -> web.Response:
+        return _asset(request.match_info["name"])
+
+
+ASSETS = {"index.html": "text/html", "panel.js": "text/javascript", "panel.css": "text/css"}
+
+
+def _asset(name: str) -> web.Response:
+    """The panel's files, shipped in the package (no build step, nothing from the net)."""
+    if name not in ASSETS:
+        raise BadRequest(f"no file {name!r}", 404)
+    text = resources.files("maxk.host").joinpath("panel", name).read_text(encoding="utf-8")
+    return web.Response(text=text, content_type=ASSETS[name],
+                        headers={"Cache-Control": "no-cache"})
+
+
+def _outputs(view: Any) -> dict[str, bool]:
+    levels = {}
+    for n in range(OUTPUTS):
+        level = view.output_level(n)
+        if level is not None:
+            levels[str(n)] = bool(level)
+    return levels
+
+
+def _volts(view: Any, channel: int) -> float:
+    try:
+        return float(view.world.analog_volts(channel, view.source_owner))
+    except Exception:  # a source that fails reads as an open input
+        return 0.0
+
+
+def _error(status: int, reason: str) -> web.Response:
+    return web.json_response({"error": reason, "status": status}, status=status)
