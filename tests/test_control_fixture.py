@@ -1,0 +1,134 @@
+"""The `maxk_served` fixture (maxk.testing) on every kind: a real `maxk serve` process,
+a host on the controller's own door, and the control door tripping a limit in the middle
+of the host's move. The clock is the door's: paused, then stepped, so every position and
+tick below is exact (no wall-clock waits)."""
+
+from __future__ import annotations
+
+import socket
+
+import pytest
+
+from maxk import testing
+from tests.pokeys_host import Host
+from tests.test_pokeys_doors import TcpSession, setup_three_axes, status
+
+maxk_served = testing.maxk_served
+
+
+def _ask(sock: socket.socket, text: str, end: bytes) -> str:
+    sock.sendall(text.encode())
+    data = b""
+    while not data.endswith(end):
+        chunk = sock.recv(4096)
+        assert chunk, "the door hung up"
+        data += chunk
+    return data.decode("latin-1")
+
+
+def _max(sock: socket.socket, text: str) -> str:
+    """A MAX reply line, the board's unasked notifications (`%000 ...`) set aside as the
+    EPICS driver does."""
+    sock.sendall(text.encode())
+    data = b""
+    while True:
+        while b"\n\r" not in data:
+            chunk = sock.recv(4096)
+            assert chunk, "the door hung up"
+            data += chunk
+        line, data = data.split(b"\n\r", 1)
+        if not line.startswith(b"%"):
+            assert not data, data
+            return line.decode("latin-1")
+
+
+def test_maxk_host_reads_the_limit_in_qa(maxk_served) -> None:
+    served = maxk_served("MAXk-8000")
+    c = served.client
+    c.pause()
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        assert _max(host, "AX; VL10000; AC100000; MA20000; GO; RP\n") == "0"
+        trip = c.arm(1, "X fault plus active", axis="X", passes=12000)
+        c.step(1.0)
+        assert _max(host, "QA\n")[2] == "N"  # at 1 s not there yet
+        c.step(2.0)
+        qa = _max(host, "QA\n")
+        assert qa[2] == "L", qa  # the limit, the MAXk's way
+        fired = c.triggers(1)[0]
+        assert fired["id"] == trip["id"] and fired["fired_tick"] is not None
+        at = int(_max(host, "RP\n"))
+        assert 12000 <= at < 20000
+
+
+def test_mm4005_host_reads_the_limit_in_ms(maxk_served) -> None:
+    served = maxk_served("MM4005")
+    c = served.client
+    c.pause()
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        assert _ask(host, "1PA10\r1TP\r", b"\r") == "1TP0.0000\r"
+        # the switch placed in front of the moving stage (a stuck-active fault set
+        # mid-move is not yet seen by a running MM4005 move: see docs/control.md)
+        c.arm(1, "1 plus-limit 4500", axis="1", passes=4000)
+        c.step(30.0)
+        assert _ask(host, "1MS\r", b"\r") == "1MSL\r"  # L: the plus limit, stopped
+        position = float(_ask(host, "1TP\r", b"\r")[3:])
+        assert 4.5 <= position < 5.0  # decelerated at the switch, short of 10 mm
+        fired = c.triggers(1)[0]["fired_tick"]
+        assert fired is not None
+
+
+def test_mc405_host_sees_the_switch_the_door_trips(maxk_served) -> None:
+    served = maxk_served("MC405")
+    c = served.client
+    c.pause()
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        _ask(host, "BASE(0): SPEED=1000: ACCEL=10000: DECEL=10000: FWD_IN=3: MOVE(5000)\r",
+             b">>")
+        trip = c.arm(1, "0 fault plus active", axis="0", passes=2000)
+        c.step(1.0)
+        assert c.triggers(1)[0]["fired_tick"] is None
+        c.step(2.0)
+        fired = c.triggers(1)[0]
+        assert fired["id"] == trip["id"] and fired["did"] == "0 fault plus active"
+        board = c.board(1)
+        assert board["axes"][0]["switches"]["plus"]["fault"] == "active"
+        reply = _ask(host, "?AXISSTATUS AXIS(0)\r", b">>")
+        if "Syntax error" not in reply:  # an MC405 that reads FWD_IN: bit 16, in its way
+            assert int(float(reply.split("\r\n")[1])) & 16, reply
+
+
+def test_pokeys_host_reads_the_limit_stop_in_its_status(maxk_served) -> None:
+    served = maxk_served("PoKeys57CNC")
+    c = served.client
+    c.pause()
+    session = TcpSession(served.doors[0].tcp[1])
+    try:
+        host = Host(session)  # type: ignore[arg-type]
+        setup_three_axes(host, switches=0x02)  # limit+ enabled
+        assert host.pev2(0x02, 3) is not None  # running
+        for _ in range(4):  # 56 slots of 7 pulses: 392 would pass 100
+            result = host.buffer_fill([[7, 0, 0]] * 14, 3)
+            assert result is not None and result[0] == 14
+        c.arm(1, "X fault plus active", axis="X", passes=100)
+        c.step(0.1)
+        s = status(host)
+        assert s["state"] == 100 and s["axis_states"][0] == 30  # STOP_LIMIT, axis LIMIT
+        assert 100 <= s["positions"][0] < 392 and s["lim_p"] & 1
+        fired = c.triggers(1)[0]["fired_tick"]
+        assert fired is not None
+    finally:
+        session.close()
+
+
+def test_the_fixture_serves_mixed_kinds_and_stops_them(maxk_served) -> None:
+    served = maxk_served("MAXk-8000", "PoKeys57CNC", "MM4005")
+    assert [d.model for d in served.doors] == ["MAXk-8000", "PoKeys57CNC", "MM4005"]
+    assert served.doors[1].udp is not None and served.doors[0].udp is None
+    assert [b["kind"] for b in served.client.boards()] == ["MAXk", "PoKeys", "MM4005"]
+    served.stop()
+    assert served.process.returncode is not None
+
+
+def test_a_server_that_cannot_start_says_why() -> None:
+    with pytest.raises(RuntimeError, match="not a model|unknown|model"):
+        testing.serve("NoSuchBoard")
