@@ -199,9 +199,9 @@ function update(state) {
       if (a.moving || history[b.number + "/" + a.name].some(p => p[1] !== a.position)) series[a.name] = history[b.number + "/" + a.name];
     }
     drawChart(view.chart, series);
-    bits(view.inputs, view.bits, "in", b.inputs, "inputs", true, b.number);
+    if (Object.keys(b.inputs).length) bits(view.inputs, view.bits, "in", b.inputs, "inputs", true, b.number);
     if (Object.keys(b.outputs).length) bits(view.outputs, view.bits, "out", b.outputs, "outputs", false, b.number);
-    view.analog.textContent = "analog: " + Object.entries(b.analog).map(([c, v]) => c + " " + v.toFixed(3) + " V").join(", ");
+    if (Object.keys(b.analog).length) view.analog.textContent = "analog: " + Object.entries(b.analog).map(([c, v]) => c + " " + v.toFixed(3) + " V").join(", ");
     drawExtras(view, b);
     view.hosts.innerHTML = "";
     for (const h of b.hosts) {

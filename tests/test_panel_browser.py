@@ -1,0 +1,165 @@
+"""The front panel in a real browser: headless Chromium from the distribution's packages,
+driven by Selenium through the distribution's chromedriver (nothing downloaded). The page
+is served by a real `maxk serve --control` (the maxk_served fixture), on the wall clock:
+the waits below are liveness bounds, never measurements.
+
+Locally these tests skip when the browser is not installed; in CI (CI set) they run,
+and a missing browser is a failure (.ci/run installs it)."""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import socket
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from maxk import testing
+
+maxk_served = testing.maxk_served
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+DRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
+WAIT = 20.0  # seconds a page may take to show something (a loaded CI machine)
+
+
+def _have_browser() -> bool:
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        return False
+    return os.path.exists(CHROMIUM) and os.path.exists(DRIVER)
+
+
+if not _have_browser() and not os.environ.get("CI"):
+    pytest.skip("no Chromium, chromedriver or selenium here (CI installs them)",
+                allow_module_level=True)
+
+
+@pytest.fixture
+def browser() -> Iterator[object]:
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    profile = tempfile.mkdtemp(prefix="maxk-chromium-")
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for flag in ("--headless", "--no-sandbox", "--disable-gpu",
+                 "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
+                 f"--user-data-dir={profile}", "--window-size=1400,1000"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=Service(executable_path=DRIVER), options=options)
+    try:
+        yield driver
+    finally:
+        driver.quit()
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+def _until(driver: object, predicate, message: str):
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    return WebDriverWait(driver, WAIT, poll_frequency=0.05).until(predicate, message)
+
+
+def _max(sock: socket.socket, text: str) -> str:
+    """A MAX reply line (notifications `%...` set aside, as the EPICS driver does)."""
+    sock.sendall(text.encode())
+    data = b""
+    while True:
+        while b"\n\r" not in data:
+            chunk = sock.recv(4096)
+            assert chunk, "the door hung up"
+            data += chunk
+        line, data = data.split(b"\n\r", 1)
+        if not line.startswith(b"%"):
+            return line.decode("latin-1")
+
+
+def test_clicking_a_limit_lamp_trips_it_for_the_host(maxk_served, browser) -> None:
+    from selenium.webdriver.common.by import By
+
+    served = maxk_served("MAXk-8000")
+    browser.get(served.url + "/")
+    lamp = _until(browser, lambda d: d.find_element(By.ID, "lamp-1-X-plus"), "no X+ lamp")
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        assert _max(host, "AX; VL2000; MR1000000; GO; QA\n")[2] == "N"
+        lamp.click()
+        _until(browser, lambda d: "on" in lamp.get_attribute("class").split(),
+               "the lamp never lit")
+        qa = _max(host, "QA\n")
+        assert qa[2] == "L", qa  # the host reads the limit the click tripped
+        assert served.client.board(1)["axes"][0]["switches"]["plus"]["fault"] == "active"
+        lamp.click()  # a second click clears it in the world
+        _until(browser, lambda d: "on" not in lamp.get_attribute("class").split(),
+               "the lamp never went out")
+        assert served.client.board(1)["axes"][0]["switches"]["plus"]["fault"] is None
+
+
+def test_a_position_moves_on_the_page_while_a_host_moves_the_axis(maxk_served,
+                                                                   browser) -> None:
+    from selenium.webdriver.common.by import By
+
+    served = maxk_served("MAXk-8000", "PoKeys57CNC")
+    browser.get(served.url + "/")
+    cell = _until(browser, lambda d: d.find_element(By.CSS_SELECTOR, "#axis-1-Y .position"),
+                  "no Y position")
+    _until(browser, lambda d: cell.text == "0", "no position shown")
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        assert _max(host, "AY; VL4000; AC40000; MA8000; GO; RP\n") == "0"
+        seen: set[int] = set()
+
+        def moving(_d: object) -> bool:
+            seen.add(int(cell.text))
+            return len([p for p in seen if 0 < p < 8000]) >= 3
+
+        _until(browser, moving, "the position never moved on the page")
+        _until(browser, lambda d: cell.text == "8000", "the move's end never shown")
+    assert browser.find_element(By.ID, "board-2")  # every board has its card
+    updates = int(browser.find_element(By.TAG_NAME, "body").get_attribute("data-updates"))
+    assert updates > 3
+
+
+def test_the_page_is_drawn_not_blank(maxk_served, browser, tmp_path: Path) -> None:
+    from PIL import Image
+    from selenium.webdriver.common.by import By
+
+    served = maxk_served("MAXk-8000", "MM4005", "MC405", "PoKeys57CNC")
+    browser.get(served.url + "/")
+    _until(browser, lambda d: len(d.find_elements(By.CSS_SELECTOR, "section.board")) == 4,
+           "four boards never drawn")
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        _max(host, "AX; VL4000; MR2000; GO; RP\n")
+        _until(browser, lambda d: d.find_element(By.CSS_SELECTOR, "#axis-1-X .position").text
+               == "2000", "the move never shown")
+    path = tmp_path / "panel.png"
+    assert browser.save_screenshot(str(path))
+    Path(os.environ.get("MAXK_PANEL_SHOT", tmp_path / "kept.png")).write_bytes(path.read_bytes())
+    image = Image.open(io.BytesIO(path.read_bytes())).convert("RGB")
+    assert image.size[0] >= 1000 and image.size[1] >= 700
+    colours = image.getcolors(maxcolors=1 << 20) or []
+    assert len(colours) > 50  # text, lamps, charts: not one flat colour
+    biggest = max(count for count, _ in colours)
+    assert biggest < 0.9 * image.size[0] * image.size[1]
+    text = browser.find_element(By.ID, "board-2").text
+    assert "MM4005" in text and "XY path" in text
+    assert "PWM mark" in browser.find_element(By.ID, "board-3").text
+    assert "slot buffer 0/128" in browser.find_element(By.ID, "board-4").text
+
+
+def test_an_input_click_sets_the_world_input(maxk_served, browser) -> None:
+    from selenium.webdriver.common.by import By
+
+    served = maxk_served("MAXk-8000")
+    browser.get(served.url + "/")
+    bit = _until(browser, lambda d: d.find_element(By.ID, "in-1-3"), "no input 3")
+    bit.click()
+    _until(browser, lambda d: "on" in bit.get_attribute("class").split(), "input never lit")
+    assert served.client.board(1)["inputs"]["3"] is True
+    with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
+        assert int(_max(host, "BX\n"), 16) & 0x8  # the host reads input 3 high
