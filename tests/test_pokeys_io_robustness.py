@@ -1,0 +1,127 @@
+"""The PoKeys I/O against bad input: the console language with numbers no request can
+carry, and every request byte of the table with out-of-range fields. Each gets a clear
+`! ...` line or the device's silence/status byte: never a traceback, never half a change.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from maxk.commands.pokeys.packet import make_request
+from maxk.commands.pokeys.table import ENTRIES
+from maxk.commands.tables import TableError, unique_table
+from maxk.controllers.contract import BuildOptions
+from maxk.controllers.pokeys import PoKeys, build
+
+ROOT = Path(__file__).parent.parent
+HUGE = ["1e308", "-1e308", "1e-320", "nan", "NaN", "inf", "-inf", str(2 ** 63), "9" * 250,
+        "-" + "9" * 250, "0x10", "-1"]
+LINES = ["pin {v} output", "pin 1 {v}", "out {v} on", "out 1 {v}", "analog 41 {v}",
+         "analog {v} 1.0", "counter {v}", "pwm period {v}", "pwm {v} 10", "pwm 0 {v}",
+         "pwm 0 {v}%", "encoder {v} on X", "encoder 0 on {v}", "encoder 0 set {v}",
+         "key {v} 0 on", "key 0 {v} on", "kbd48 {v} on", "input {v} on"]
+
+
+@pytest.mark.parametrize("template", LINES)
+def test_console_numbers_out_of_any_range_answer_an_error_and_change_nothing(template):
+    dev = PoKeys("PoKeys57CNC")
+    console = dev.console()
+    assert console.execute("pin 1 output") == []
+    assert console.execute("pwm period 25000") == []
+    before = (list(dev.device.io.functions), dev.device.io.pwm_period,
+              list(dev.device.io.pwm_duty), dict(dev.world.analog))
+    taken = []
+    for value in HUGE:
+        out = console.execute(template.format(v=value))
+        assert all(isinstance(line, str) for line in out)
+        assert len(out) <= 4 and all(len(line) < 400 for line in out), out
+        if out:
+            assert out[0].startswith("!"), (template, value, out)
+        else:
+            taken.append(value)
+    assert set(taken) <= {"1e-320", "-1"}, taken  # a tiny voltage; a count of -1
+    dev.world.analog.pop(41, None)
+    after = (list(dev.device.io.functions), dev.device.io.pwm_period,
+             list(dev.device.io.pwm_duty), dict(dev.world.analog))
+    assert after == before
+
+
+def test_every_request_with_fields_out_of_range_is_answered_or_silent():
+    """Every command of the table, every [2], payload all 0xFF or all 0x00: a 64-byte
+    reply with the request's ID or silence; the device still answers after it."""
+    dev = PoKeys("PoKeys57CNC")
+    session = dev.open_session()
+    commands = sorted({e.command for e in ENTRIES})
+    for command in commands:
+        for sub in range(256):
+            for fill in (0x00, 0xFF):
+                frame = make_request(command, sub, fill, fill, fill, request_id=sub,
+                                     payload=bytes([fill]) * 56)
+                session.feed(frame)
+                reply = session.read()
+                assert reply == b"" or (len(reply) == 64 and reply[6] == sub), (command, sub)
+        dev.reset()
+    session.feed(make_request(0x00, request_id=7))
+    assert session.read()[6] == 7
+
+
+def test_every_io_request_of_the_table_is_answered_in_its_plain_form():
+    """The get form of every I/O request answers (what a host calls first)."""
+    dev = PoKeys("PoKeys57CNC")
+    plain = {0xC0: 0, 0xCC: 0, 0x3A: 1, 0xCB: 0, 0xC4: 0, 0xC5: 0, 0xCE: 2, 0x1C: 0xFF,
+             0xCD: 0, 0x83: 0, 0xDA: 2, 0xCA: 10, 0xD0: 1, 0xD1: 0x10, 0xDD: 0, 0x81: 0,
+             0xDB: 0x31, 0xE5: 0x01, 0xDC: 0x21, 0x86: 0x31, 0x38: 0, 0xD8: 0, 0x1D: 0,
+             0x30: 0, 0x40: 0, 0xC1: 0, 0xC2: 0, 0xC3: 0, 0xD7: 11, 0xC6: 0, 0xC7: 0}
+    for entry in ENTRIES:
+        if entry.handler.__module__.rsplit(".", 1)[-1] not in ("io_commands",
+                                                                "peripheral_commands"):
+            continue
+        sub = entry.sub if entry.sub >= 0 else plain.get(entry.command)
+        if sub is None:
+            continue
+        assert dev.request(entry.command, sub) is not None, entry.name
+
+
+def test_a_request_listed_twice_is_an_error_at_import():
+    with pytest.raises(TableError, match="listed twice"):
+        unique_table(ENTRIES + ENTRIES[:1], lambda e: (e.command, e.sub), "PoKeys table")
+
+
+def test_the_console_help_lists_every_request_with_source_and_confidence():
+    lines = PoKeys().console().help("requests")
+    assert lines is not None and len(lines) == len(ENTRIES)
+    assert all(re.search(r"\[[CID]\] \S", line) for line in lines)
+
+
+def test_saved_configuration_is_kept_in_the_archive_across_runs(tmp_path):
+    archive = str(tmp_path / "pokeys.json")
+    first = build("PoKeys57CNC", BuildOptions(1, archive))
+    first.set_pin_function(1, 0x04)
+    first.set_pwm(1, [100, 0, 0, 0, 0, 0], 1000)
+    first.save_configuration()
+    second = build("PoKeys57CNC", BuildOptions(1, archive))
+    assert second.pin_functions()[0] == 0x04 and second.pwm() == (1, [100, 0, 0, 0, 0, 0],
+                                                                   1000)
+    Path(archive).write_text("{not json", encoding="utf-8")
+    third = build("PoKeys57CNC", BuildOptions(1, archive))  # a damaged archive: defaults
+    assert third.pin_functions()[0] == 0
+
+
+def test_serve_gives_a_pokeys_one_port_for_tcp_and_udp():
+    proc = subprocess.Popen([sys.executable, "-m", "maxk", "serve", "--model", "PoKeys57CNC",
+                             "--port", "0"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, cwd=ROOT)
+    try:
+        assert proc.stdout is not None
+        line = proc.stdout.readline()
+        m = re.search(r"tcp 127\.0\.0\.1:(\d+), udp 127\.0\.0\.1:(\d+)", line)
+        assert m is not None, line
+        assert m[1] == m[2]
+    finally:
+        proc.terminate()
+        proc.communicate(timeout=10)
