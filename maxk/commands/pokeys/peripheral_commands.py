@@ -370,3 +370,34 @@ def can(device: PoKeysDevice, req: Request) -> Reply | None:
     if req.param(1) not in (0x01, 0x10, 0x20, 0x31, 0x32):
         return None
     return Reply(req)
+
+
+def poil_state(device: PoKeysDevice, req: Request) -> Reply:
+    """0x82 0x00: the PoIL core's state. No PoIL program is loaded and the core is
+    stopped: memory sizes, version, state, counters all 0 (D)."""
+    return Reply(req)
+
+
+EASY_SENSORS = 100  # info.iEasySensors of the 57 series
+
+
+def easy_sensors_setup(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0x76 sensor [2] (0..99), [3]=1, [4]=0 get / 1 set: type [8], reading [9], refresh
+    [10], failsafe [11], ID [12..19]; stored (nothing is attached to read, D)."""
+    index, part, setting = req.param(1), req.param(2), req.param(3)
+    if index >= EASY_SENSORS or part != 1 or setting > 1:
+        return None
+    sensors = device.io.easy_sensors
+    if setting:
+        sensors[index] = bytes(req.raw[8:20])
+    r = Reply(req)
+    r.put(8, sensors.get(index, bytes(12)))
+    return r
+
+
+def easy_sensors_values(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0x77 first [2], count [3] (<= 13): values i32 at [8 + 4t], OK bits at [4..5]. No
+    sensor answers: values 0, not OK (D)."""
+    if req.param(1) >= EASY_SENSORS or req.param(2) > 13:
+        return None
+    return Reply(req)

@@ -251,6 +251,12 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(PEV2, 0x53, "PK_PoStep_DriverConfigurationGet/Set (modes)", per.postep,
        "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(0x82, 0x00, "PK_PoILGetState", per.poil_state, "PoKeysLibPoIL.c", "I",
+       "No PoIL program, core stopped: all zeros (D); the other PoIL requests are silent."),
+    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", per.easy_sensors_setup,
+       "PoKeysLibEasySensors.c", "C", "100 sensors' set-ups stored (D)."),
+    _e(0x77, ANY, "PK_EasySensorsValueGetAll", per.easy_sensors_values,
+       "PoKeysLibEasySensors.c", "C", "Nothing attached: values 0, OK bits 0 (D)."),
     _e(0xDB, ANY, "PK_I2C*", per.i2c, "PoKeysLibI2C.c", "C",
        "Nothing on the bus: transfers end in error, a scan finds no address (D)."),
     _e(0xE5, ANY, "PK_SPI*", per.spi, "PoKeysLibSPI.c", "C",
@@ -263,9 +269,9 @@ ENTRIES: Final[list[CommandEntry]] = [
 _BY_KEY: Final = unique_table(ENTRIES, lambda e: (e.command, e.sub), "PoKeys table")
 
 NOT_MODELLED: Final = (
-    "0x85 0x18/0x19 internal drivers, 0x30-0x36 threading, hybrid probing, EasySensors "
-    "(0x76/0x77), PoIL (0x82), UART (0xDE), WS2812 (0x4B), matrix LED (0xD5/0xD6), "
-    "fast USB (0x07), device log (0x84), debug values (0xBB): silent.")
+    "0x85 0x18/0x19 internal drivers, 0x30-0x36 threading, hybrid probing, PoIL (0x82) "
+    "but its state, UART (0xDE), WS2812 (0x4B), matrix LED (0xD5/0xD6), fast USB (0x07), "
+    "device log (0x84), debug values (0xBB): silent.")
 
 
 def lookup(command: int, sub: int) -> CommandEntry | None:

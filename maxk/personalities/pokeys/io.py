@@ -213,6 +213,7 @@ class DeviceIO:
     postep: bytes = bytes(25)  # enable, then 8 x (type, address, update)
     postep_currents: bytes = bytes(48)
     postep_modes: bytes = bytes(48)
+    easy_sensors: dict[int, bytes] = field(default_factory=dict)
     i2c_active: int = 0
     onewire_active: int = 0
     saved: dict[str, Any] | None = None
@@ -344,6 +345,7 @@ class DeviceIO:
         file, written whole by rename so a crash leaves the old one)."""
         self.saved = self.configuration()
         if self.archive:
+            os.makedirs(os.path.dirname(self.archive) or ".", exist_ok=True)
             tmp = f"{self.archive}.tmp"
             with open(tmp, "w", encoding="utf-8") as f:
                 json.dump(self.saved, f)
