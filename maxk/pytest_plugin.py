@@ -10,13 +10,12 @@ combination, and `--maxk-model` / `--maxk-rate` override what the scripts say.
 
 from __future__ import annotations
 
-import itertools
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from maxk.controllers.registry import canonical_model, kind_of
+from maxk.controllers.registry import KINDS, canonical_model, kind_of
 from maxk.script import Script, ScriptError, Transcript, load_script, run_script
 
 
@@ -25,8 +24,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--maxk-model", action="append", default=None, metavar="MODEL",
                     help="run every .maxk script on this controller model (repeatable)")
     group.addoption("--maxk-rate", action="append", default=None, type=int, metavar="HZ",
-                    help="run every .maxk script at this update rate, one its controller "
-                    "runs at (repeatable)")
+                    help="run every .maxk script whose controller runs at this update "
+                    "rate at it (repeatable; the others at their own)")
     parser.addini("maxk_suffix", "file suffix of maxk command scripts", default=".maxk")
 
 
@@ -47,18 +46,28 @@ class MaxkScriptFile(pytest.File):
             raise self.CollectError(str(error)) from None
         config = self.config
         models = config.getoption("maxk_model") or script.models
-        rates = config.getoption("maxk_rate") or script.update_rates_hz
+        asked: list[int] = config.getoption("maxk_rate") or []
         try:
             models = [canonical_model(m) for m in models]
         except ValueError as error:
             raise self.CollectError(f"--maxk-model: {error}") from None
+        unknown = [r for r in asked if not any(r in k.update_rates_hz for k in KINDS)]
+        if unknown:
+            raise self.CollectError(f"--maxk-rate {unknown[0]}: no controller runs at it")
+        combos: list[tuple[str, int | None]] = []
         for model in models:
-            for rate in rates:
-                try:
-                    kind_of(model).check_rate(rate)
-                except ValueError as error:
-                    raise self.CollectError(f"{self.path.name}: {error}") from None
-        combos = list(itertools.product(models, rates))
+            kind = kind_of(model)
+            rates: list[int | None]
+            if asked:  # --maxk-rate: the rates this controller runs at, else its own
+                rates = [r for r in asked if r in kind.update_rates_hz] or [None]
+            else:
+                rates = list(script.update_rates_hz)
+                for rate in rates:
+                    try:
+                        kind.check_rate(rate)
+                    except ValueError as error:
+                        raise self.CollectError(f"{self.path.name}: {error}") from None
+            combos += [(model, rate) for rate in rates]
         for model, rate in combos:
             shown = rate or kind_of(model).default_rate_hz
             name = "script" if len(combos) == 1 else f"{model}-{shown}Hz"

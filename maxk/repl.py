@@ -196,7 +196,11 @@ def run_repl(model: str = DEFAULT_MODEL, rate: int | None = None,
              manual_time: bool = False, speed: float = 1.0,
              history: Path | None = None,
              archive: str | os.PathLike | bool | None = True) -> int:
-    session = ReplSession(model, rate, manual_time, speed, archive=archive)
+    try:
+        session = ReplSession(model, rate, manual_time, speed, archive=archive)
+    except ValueError as error:  # a rate the controller does not run at
+        print(f"maxk: {error}", file=sys.stderr)
+        return 2
     if not sys.stdin.isatty():
         return _run_piped(session, sys.stdin)
     try:

@@ -70,3 +70,49 @@ def test_serve_is_quiet_by_default_and_refuses_line_options_that_mean_nothing():
          "--port", "0", "--seconds", "0.2", "--no-archive"], capture_output=True, text=True,
         timeout=30, cwd=ROOT)
     assert result.returncode == 0 and result.stderr == ""  # the MAXk takes it
+
+
+def test_a_test_knows_a_command_has_run_on_any_controller_without_a_probe():
+    """HostedBoards.until_run: through the door's contract (the host's traffic record and
+    its client's input_run), an MM4005 move that answers nothing is known to have run."""
+    from hosting import Client, HostedBoards
+
+    boards = HostedBoards(models=("MM4005", "MC405"))
+    try:
+        host = Client(boards.ports[0], eol=b"\r")
+        boards.on_close(host.close)
+        host.send("1PA0.5\r")  # no reply: nothing to wait for but the door itself
+        boards.until_run(host)
+        view = boards.services[0].controller.world_view()
+        assert boards.call(lambda: view.reading("1").moving)
+        boards.advance(2.0)
+        assert boards.call(lambda: view.reading("1").position) == 500
+        trio = Client(boards.ports[1], eol=b"\r\n")
+        boards.on_close(trio.close)
+        trio.send("BASE(0): MOVE(25)\r\n")
+        boards.until_run(trio, board=2)
+        boards.advance(1.0)
+        assert boards.call(lambda: boards.services[1].controller.world_view()
+                           .reading("0").position) == 25
+    finally:
+        boards.close()
+
+
+def test_a_rate_the_controller_does_not_run_at_is_refused_by_every_door(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "maxk", "--model", "MM4005", "--rate",
+                             "8192", "--manual-time", "--no-archive"], input="quit\n",
+                            capture_output=True, text=True, timeout=60, cwd=ROOT)
+    assert result.returncode == 2
+    assert result.stderr.strip() == "maxk: the MM4005 runs at 2000 Hz, not 8192"
+    script = tmp_path / "s.maxk"
+    script.write_text("@board MC405\n?1+1\n")
+    result = subprocess.run([sys.executable, "-m", "maxk", "run", "--rate", "8192",
+                             str(script)], capture_output=True, text=True, timeout=60,
+                            cwd=ROOT)
+    assert result.returncode == 2
+    assert result.stderr.strip() == "maxk run: the MC405 runs at 500, 1000, 2000, 4000 Hz, " \
+        "not 8192"
+    result = subprocess.run([sys.executable, "-m", "maxk", "run", "--rate", "4000",
+                             str(script)], capture_output=True, text=True, timeout=60,
+                            cwd=ROOT)
+    assert result.returncode == 0 and result.stdout == "2\n", result.stderr

@@ -287,7 +287,7 @@ def test_replies_are_never_dropped_for_a_client_that_reads_late():
         while True:  # now the host reads whenever there is something
             transport.host_reads()
             await asyncio.sleep(0)
-            if not transport.unread and not client._inbox:
+            if not transport.unread and not client.held_input:
                 return transport
 
     transport = asyncio.run(scenario())

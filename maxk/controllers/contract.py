@@ -82,6 +82,68 @@ class Console(Protocol):
         ...
 
 
+class ConsoleBase:
+    """The `Console` defaults a controller's console inherits, so that it writes only
+    what it has: `execute` (and usually `status_line`, `help`, `words`). A console of a
+    controller (`self.controller`) gets the prompt, idleness and the full status from
+    the contracts."""
+
+    def __init__(self, controller: Controller) -> None:
+        self.controller = controller
+
+    def execute(self, line: str) -> list[str]:  # pragma: no cover - each has its own
+        raise NotImplementedError
+
+    def new_errors(self) -> list[str]:
+        return []
+
+    def prompt(self) -> str:
+        return f"{self.controller.model}> "
+
+    def status_line(self, width: int = 80) -> str:
+        """Time and each axis's position (D done, ~ moving), cut to `width`."""
+        engine = self.controller.engine
+        view = self.controller.world_view()
+        parts = []
+        for name in view.axis_names:
+            r = view.reading(name)
+            parts.append(f"{name}{r.position}{'~' if r.moving else 'D' if r.done else ''}")
+        return f" t={engine.time:.3f}s  {' '.join(parts)}"[:width]
+
+    def status_lines(self) -> list[str]:
+        view = self.controller.world_view()
+        lines = ["axis  position   encoder  velocity  state"]
+        for name in view.axis_names:
+            r = view.reading(name)
+            state = "moving" if r.moving else "done" if r.done else "stopped"
+            encoder = "-" if r.encoder is None else str(r.encoder)
+            lines.append(f"{name:>4} {r.position:>9} {encoder:>9} {round(r.velocity):>9}  "
+                         f"{' '.join([state, *r.flags])}")
+        return lines
+
+    def help(self, topic: str) -> list[str] | None:
+        return None
+
+    def words(self) -> list[str]:
+        return []
+
+    def summary(self, word: str) -> str:
+        return ""
+
+    def is_idle(self) -> bool:
+        view = self.controller.world_view()
+        return not any(view.reading(name).moving for name in view.axis_names)
+
+    def repl_help(self) -> list[str]:
+        return []
+
+    def after_reset(self) -> list[str]:
+        return [f"reset: {self.controller.model} powered up again"]
+
+    def repl_word(self, word: str, rest: str) -> list[str] | None:
+        return None
+
+
 class Controller(Protocol):
     """A controller as the doors see it."""
 

@@ -11,6 +11,7 @@ from typing import Protocol
 
 from maxk.commands.max.reference import help_text
 from maxk.commands.max.table import COMMANDS, lookup
+from maxk.controllers.contract import ConsoleBase
 from maxk.controllers.glance import short_position
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.flags import (
@@ -53,10 +54,11 @@ class MaxControls(Protocol):
     def status(self) -> list[AxisStatus]: ...
 
 
-class MaxConsole:
+class MaxConsole(ConsoleBase):
     """The `Console` of a MAXk controller."""
 
     def __init__(self, maxk: MaxControls) -> None:
+        super().__init__(maxk)  # type: ignore[arg-type]
         self.maxk = maxk
         self._errors_seen = 0  # a power-up error is shown with the first line
 

@@ -57,7 +57,7 @@ def _pokeys_configuration(model: str, number: int) -> Path:
     return default_archive_dir() / f"{model}-board{number}.pokeys.json"
 
 
-KINDS: tuple[ControllerKind, ...] = (
+KINDS: list[ControllerKind] = [
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
                    default_archive_path,
@@ -78,7 +78,7 @@ KINDS: tuple[ControllerKind, ...] = (
                    "PoLabs PoKeys56E (pulse engine v1) and PoKeys57E/57CNC (v2), "
                    "64-byte requests over TCP and UDP", _pokeys_configuration,
                    update_rates_hz=(1000,), default_port=20055),  # PoKeysLib's port
-)
+]
 
 
 DEFAULT_MODEL = MAXK_DEFAULT
@@ -107,6 +107,22 @@ def canonical_model(model: str) -> str:
     """The model's name as its kind spells it."""
     name = _spelled(model)
     return next(m for m in kind_of(name).models if m.lower() == name.lower())
+
+
+def register(kind: ControllerKind) -> None:
+    """Add a kind of controller (a plug-in, a test's own): every door takes its models
+    from here on. Its model names must be new."""
+    taken = {m.lower() for k in KINDS for m in k.models}
+    clash = [m for m in kind.models if m.lower() in taken]
+    if clash or any(k.name == kind.name for k in KINDS):
+        raise ValueError(f"{kind.name}: the kind or model {clash[:1] or [kind.name]} is "
+                         "taken")
+    KINDS.append(kind)
+
+
+def unregister(name: str) -> None:
+    """Take a kind out again (a test cleaning up)."""
+    KINDS[:] = [k for k in KINDS if k.name != name]
 
 
 def line_option_choices(option: str) -> list[str]:

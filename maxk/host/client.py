@@ -109,6 +109,18 @@ class Client:
         self._output_full = False  # unread replies above HIGH_WATER
         self._input_held = False  # reading paused (inbox full or output full)
 
+    @property
+    def held_input(self) -> int:
+        """Bytes of this host's input the door holds, not yet run."""
+        return len(self._inbox)
+
+    @property
+    def input_run(self) -> bool:
+        """Everything of this host's input that reached the door has run: none waits here
+        and its session holds none (a test knows a command has run without a probe)."""
+        return not self._inbox and not self._scheduled and not (
+            self.session is not None and _holding(self.session))
+
     # what a stream provides
     def _write(self, data: bytes) -> None:  # pragma: no cover - interface
         raise NotImplementedError

@@ -43,6 +43,7 @@ class Traffic:
         self.engine = engine
         self.entries: deque[TrafficEntry] = deque(maxlen=entries)
         self.dropped = 0  # entries the record has let go of
+        self.bytes_in = 0  # every byte the host sent that reached the door
         self.open = True
         self.log = logging.LoggerAdapter(logging.getLogger(f"maxk.door.{transport}"),
                                          {"peer": peer})
@@ -60,6 +61,7 @@ class Traffic:
                            "<-" if direction == "in" else "->", shown)
 
     def incoming(self, data: bytes) -> None:
+        self.bytes_in += len(data)
         self._note("in", data)
 
     def outgoing(self, data: bytes) -> None:
