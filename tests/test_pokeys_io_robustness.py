@@ -125,3 +125,23 @@ def test_serve_gives_a_pokeys_one_port_for_tcp_and_udp():
     finally:
         proc.terminate()
         proc.communicate(timeout=10)
+
+
+def test_the_trace_has_the_outputs_pwm_duty_and_attached_encoders(tmp_path):
+    dev = PoKeys("PoKeys57CNC")
+    console = dev.console()
+    for line in ("pin 1 output", "pwm period 1000", "pwm 0 25%", "encoder 0 on X",
+                 "encoder 0 enable", "setup 1", "axis X internal position max 10 accel 0 "
+                 "decel 0", "state running"):
+        assert console.execute(line) == [], line
+    path = tmp_path / "t.csv"
+    assert console.repl_word("trace", str(path)) == [f"trace: {path}"]
+    assert console.execute("move X 50") == [] and console.execute("out 1 on") == []
+    dev.advance(0.01)
+    console.repl_word("trace", "off")
+    rows = path.read_text().splitlines()
+    head = rows[0].split(",")
+    last = dict(zip(head, rows[-1].split(","), strict=True))
+    assert last["outputs"] == "00000000000001" and last["pwm0_duty"] == "25.00"
+    assert last["encoder0"] == last["X_position"] == "50"
+    assert dev.world_view().trace_values()[:2] == ["00000000000001", "25.00"]

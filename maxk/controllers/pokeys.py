@@ -456,6 +456,15 @@ class PoKeysWorldView(WorldView):
             return None
         return self.dev.device.io.output_level(number)
 
+    def trace_columns(self) -> list[str]:
+        """The output pins as a bit mask (bit p-1 = pin p) and each PWM channel's duty."""
+        return ["outputs"] + [f"pwm{n}_duty" for n in range(6)]
+
+    def trace_values(self) -> list[object]:
+        device = self.dev.device
+        mask = sum(1 << (p - 1) for p, level in device.pins.output_levels().items() if level)
+        return [f"{mask:014x}"] + [f"{device.pwm_output(n) * 100:.2f}" for n in range(6)]
+
     def index(self, name: str) -> int:
         try:
             return axis_index(str(name).strip(), self.dev.axes)

@@ -498,7 +498,7 @@ class PoKeysConsole(IOWords):
             # one trace at a time: the running one ends (its file closed) as a new one starts
             self.recorder.detach()
             out.append(f"trace: the previous trace ended, {self.recorder.slots} slots written")
-        self.recorder = SlotRecorder(self.dev.pulse_engine, stream)
+        self.recorder = SlotRecorder(self.dev.pulse_engine, stream, device=self.dev.device)
         self.recorder.attach()
         return [*out, f"trace: {rest}"]
 
