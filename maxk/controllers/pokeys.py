@@ -463,7 +463,8 @@ class PoKeysWorldView(WorldView):
     def trace_values(self) -> list[object]:
         device = self.dev.device
         mask = sum(1 << (p - 1) for p, level in device.pins.output_levels().items() if level)
-        return [f"{mask:014x}"] + [f"{device.pwm_output(n) * 100:.2f}" for n in range(6)]
+        values: list[object] = [f"{mask:014x}"]
+        return values + [f"{device.pwm_output(n) * 100:.2f}" for n in range(6)]
 
     def index(self, name: str) -> int:
         try:

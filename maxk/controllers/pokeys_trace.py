@@ -13,10 +13,9 @@ import csv
 from pathlib import Path
 from typing import TextIO
 
-from maxk.personalities.pokeys.device import PoKeysDevice
-
 from maxk.personalities.pokeys import AXIS_LETTERS, EngineState, SlotRecord
 from maxk.personalities.pokeys.constants import SLOT_SECONDS
+from maxk.personalities.pokeys.device import PoKeysDevice
 from maxk.personalities.pokeys.engine import PulseEngine
 
 PLOT_MISSING = ("the plot needs matplotlib: pip install 'maxk[plot]' "
