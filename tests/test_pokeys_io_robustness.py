@@ -145,3 +145,19 @@ def test_the_trace_has_the_outputs_pwm_duty_and_attached_encoders(tmp_path):
     assert last["outputs"] == "00000000000001" and last["pwm0_duty"] == "25.00"
     assert last["encoder0"] == last["X_position"] == "50"
     assert dev.world_view().trace_values()[:2] == ["00000000000001", "25.00"]
+
+
+@pytest.mark.parametrize(("model", "pin", "function", "taken"), [
+    ("PoKeys57CNC", 7, 0x04, False), ("PoKeys57E", 7, 0x04, True),
+    ("PoKeys56E", 7, 0x04, True), ("PoKeys57E", 46, 0x08, True),
+    ("PoKeys57CNC", 46, 0x08, False), ("PoKeys57E", 3, 0x42, False),
+    ("PoKeys57E", 1, 0x42, True), ("PoKeys57CNC", 19, 0x20, True),
+    ("PoKeys57E", 19, 0x20, False)])
+def test_each_models_pins_take_what_the_librarys_device_tables_say(model, pin, function,
+                                                                    taken):
+    dev = PoKeys(model)
+    functions = [0] * 55
+    functions[pin - 1] = function
+    reply = dev.request(0xC0, 1, payload=bytes(functions))
+    assert (reply is not None) == taken
+    assert dev.pin_functions()[pin - 1] == (function if taken else 0)
