@@ -11,6 +11,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from maxk.commands.pokeys.packet import make_request
 from maxk.commands.pokeys.table import ENTRIES
@@ -161,3 +163,18 @@ def test_each_models_pins_take_what_the_librarys_device_tables_say(model, pin, f
     reply = dev.request(0xC0, 1, payload=bytes(functions))
     assert (reply is not None) == taken
     assert dev.pin_functions()[pin - 1] == (function if taken else 0)
+
+
+@settings(max_examples=300, deadline=None)
+@given(command=st.sampled_from(sorted({e.command for e in ENTRIES} - {0xB0})),
+       head=st.binary(min_size=4, max_size=4), payload=st.binary(min_size=56, max_size=56))
+def test_any_frame_of_a_known_command_is_answered_once_or_not_at_all(command, head, payload):
+    """Random fields and payloads: one 64-byte reply with the request's ID, or silence;
+    the device is never left unable to answer."""
+    dev = PoKeys("PoKeys57CNC")
+    session = dev.open_session()
+    session.feed(make_request(command, *head, request_id=0x42, payload=payload))
+    reply = session.read()
+    assert reply == b"" or (len(reply) == 64 and reply[0] == 0xAA and reply[6] == 0x42)
+    session.feed(make_request(0xCC, request_id=0x43))
+    assert session.read()[6] == 0x43

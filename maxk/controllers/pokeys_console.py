@@ -248,7 +248,7 @@ class PoKeysConsole(IOWords):
             ("soft", s.soft_limit)) if bits]
         if switches:
             lines.append("switches: " + ", ".join(switches))
-        return lines
+        return lines + self._io_status()
 
     def _do_pos(self, args: list[str]) -> list[str]:
         s = self.dev.status()

@@ -65,6 +65,20 @@ class IOWords:
     def _axis(self, name: str) -> int:  # pragma: no cover - PoKeysConsole gives it
         raise NotImplementedError
 
+    def _io_status(self) -> list[str]:
+        """`status`'s I/O lines: the output pins' levels and the PWM channels' duty (only
+        when some are set up)."""
+        device = self.dev.device
+        lines = []
+        outputs = device.pins.output_levels()
+        if outputs:
+            lines.append("outputs " + " ".join(f"{p}:{int(v)}" for p, v in outputs.items()))
+        pwm = [f"{n}:{device.pwm_output(n) * 100:.1f}%" for n in range(PWM_CHANNELS)
+               if device.io.pwm_enabled >> n & 1]
+        if pwm:
+            lines.append("pwm " + " ".join(pwm))
+        return lines
+
     # ---- pins and I/O --------------------------------------------------------------------
     def _pin(self, word: str) -> int:
         pin = int(word)
