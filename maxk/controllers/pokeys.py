@@ -456,6 +456,31 @@ class PoKeysWorldView(WorldView):
             return None
         return self.dev.device.io.output_level(number)
 
+    def describe(self) -> list[str]:
+        """`:world`: the stages and inputs, then what the device drives and what the
+        world wires to it (outputs, PWM, encoders, keys)."""
+        device = self.dev.device
+        lines = super().describe()
+        outputs = device.pins.output_levels()
+        if outputs:
+            lines.append("outputs " + " ".join(f"{p} {'high' if v else 'low'}"
+                                               for p, v in outputs.items()))
+        for n in range(6):
+            if device.io.pwm_enabled >> n & 1:
+                lines.append(f"pwm {n} (pin {22 - n}) {device.pwm_output(n) * 100:.1f}%")
+        for i, e in enumerate(device.io.encoders):
+            if e.axis is not None:
+                lines.append(f"encoder {i} on {AXIS_LETTERS[e.axis]}"
+                             f"{' reversed' if e.direction < 0 else ''}: "
+                             f"{device.pins.encoder_value(i)}")
+        if device.io.matrix_keys:
+            lines.append("matrix keys pressed " + " ".join(map(str, sorted(
+                device.io.matrix_keys))))
+        if device.io.kbd48.keys:
+            lines.append("kbd48CNC keys pressed " + " ".join(map(str, sorted(
+                device.io.kbd48.keys))))
+        return lines
+
     def trace_columns(self) -> list[str]:
         """The output pins as a bit mask (bit p-1 = pin p) and each PWM channel's duty."""
         return ["outputs"] + [f"pwm{n}_duty" for n in range(6)]
