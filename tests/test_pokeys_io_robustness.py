@@ -178,3 +178,12 @@ def test_any_frame_of_a_known_command_is_answered_once_or_not_at_all(command, he
     assert reply == b"" or (len(reply) == 64 and reply[0] == 0xAA and reply[6] == 0x42)
     session.feed(make_request(0xCC, request_id=0x43))
     assert session.read()[6] == 0x43
+
+
+def test_a_pokeys56e_has_the_io_but_no_pulse_engine_v2_extras():
+    dev = PoKeys("PoKeys56E")
+    dev.set_pin_function(1, 0x04)
+    dev.set_output(1, True)
+    assert dev.digital_inputs()[0] is True
+    for sub in (0x37, 0x0A, 0x0B, 0x40, 0x41, 0x50, 0x51, 0x52, 0x53):
+        assert dev.request(0x85, sub) is None

@@ -251,8 +251,10 @@ def encoder_values(device: PoKeysDevice, req: Request) -> Reply | None:
     return r
 
 
-def ultra_fast_test_values(device: PoKeysDevice, req: Request) -> Reply:
+def ultra_fast_test_values(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x37: the ultra-fast encoder's index count [12], ticks per rotation [16] and
     velocity [20], u32 each. No index or velocity estimate is modelled: index count 0,
-    ticks 0, velocity 0 (D)."""
+    ticks 0, velocity 0 (D). Pulse engine v2's request: a PoKeys56E is silent."""
+    if device.identity.engine_version != 2:
+        return None
     return Reply(req)

@@ -234,11 +234,18 @@ def save_configuration(device: PoKeysDevice, req: Request) -> Reply | None:
     return Reply(req)
 
 
+def _pev2(device: PoKeysDevice) -> bool:
+    """0x85 requests belong to pulse engine v2: a PoKeys56E (v1) is silent on them."""
+    return device.identity.engine_version == 2
+
+
 # ---- pulse engine extras -----------------------------------------------------------------------
 def backlash(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x40 get / 0x41 set: [3] enabled, [4] max speed, per axis u16 width [8 + 4i]
     and acceleration [10 + 4i]; registers i16 [40 + 2i] (0: compensation is stored, not
     applied, D)."""
+    if not _pev2(device):
+        return None
     io = device.io
     if req.sub == 0x41:
         io.backlash = bytes(req.raw[3:5]) + bytes(req.raw[8:40])
@@ -253,6 +260,8 @@ def synced_pwm(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x0A enabled [3], source axis [4], PWM channel [5]: the channel's duty then
     follows the axis's speed as a fraction of its max speed (D); axis >= 8 or channel
     >= 6 is refused."""
+    if not _pev2(device):
+        return None
     enabled, axis, channel = req.param(2), req.param(3), req.param(4)
     if axis >= len(device.engine.axes) or channel >= PWM_CHANNELS:
         return None
@@ -262,6 +271,8 @@ def synced_pwm(device: PoKeysDevice, req: Request) -> Reply | None:
 
 def sync_outputs(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x0B: fast outputs synced to axis [4] (when [3]), mapping [8..15] (stored)."""
+    if not _pev2(device):
+        return None
     if req.param(2) and req.param(3) >= len(device.engine.axes):
         return None
     device.io.sync_outputs = bytes(req.raw[3:5]) + bytes(req.raw[8:16])
@@ -273,6 +284,8 @@ def postep(device: PoKeysDevice, req: Request) -> Reply | None:
     address, update) at [8 + 3i]); 0x51 status (no PoStep answers on the bus: zeros, D);
     0x52 currents (3 x u16 at [8 + 6i]) and 0x53 modes ([8 + 6i] mode, step mode,
     temperature limit), [3]=0x10 set. Replies carry the stored values."""
+    if not _pev2(device):
+        return None
     io = device.io
     sub, setting = req.sub, req.param(2) == 0x10
     r = Reply(req)
