@@ -385,10 +385,95 @@ def can(device: PoKeysDevice, req: Request) -> Reply | None:
     return Reply(req)
 
 
-def poil_state(device: PoKeysDevice, req: Request) -> Reply:
-    """0x82 0x00: the PoIL core's state. No PoIL program is loaded and the core is
-    stopped: memory sizes, version, state, counters all 0 (D)."""
+POIL_MEMORIES = 8  # memory types kept (D); 4 = the shared slots
+POIL_MEMORY = 0x10000 + 64  # bytes per type: a 16-bit address and one chunk past it
+
+
+def poil(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0x82: PoIL, the device's own program core. No program runs (D): the state (0x00)
+    is all zeros; core state, master enable, reset, debug mode (0x01-0x05) and erase
+    (0x16) are taken; task status (0x20) lists none; memory reads (0x10/0x11: type [3],
+    address [4..5], length [8] <= 54) give what was written (0x15: length [8], bytes
+    [9..]) to memory types 1..7, zeros elsewhere (shared slots are type 4)."""
+    sub = req.param(1)
+    r = Reply(req)
+    memories = device.io.poil_memory
+    if sub in (0x00, 0x01, 0x02, 0x03, 0x05, 0x20):
+        return r
+    kind, address, length = req.param(2), req.param(3) | req.param(4) << 8, req.raw[8]
+    if sub == 0x16:
+        memories.pop(kind, None)
+    elif sub in (0x10, 0x11):
+        if length > 54 or kind >= POIL_MEMORIES:
+            return None
+        memory = memories.get(kind)
+        if memory is not None and sub == 0x10:
+            r.put(8, bytes(memory[address:address + length]))
+    elif sub == 0x15:
+        if kind == 0:
+            return r  # "write the buffer to flash": nothing runs it (D)
+        if length > 55 or kind >= POIL_MEMORIES:
+            return None
+        memory = memories.setdefault(kind, bytearray(POIL_MEMORY))
+        memory[address:address + length] = req.raw[9:9 + length]
+    else:
+        return None
+    return r
+
+
+def taken(device: PoKeysDevice, req: Request) -> Reply:
+    """A request the device takes with an empty reply (what it drives is not modelled:
+    its table entry says what)."""
     return Reply(req)
+
+
+def matrix_led(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0xD5: [2]=0 set ([3] displays on, [4]/[5] rows + columns * 16), [2]=1 get; 0xD6
+    display update (rows [8..15], kept)."""
+    io = device.io
+    if req.command == 0xD6:
+        io.matrix_led_data[req.param(1) & 0xFF] = bytes(req.raw[8:16])
+        return Reply(req)
+    if req.param(1) == 0:
+        io.matrix_led = bytes(req.raw[3:6])
+    elif req.param(1) != 1:
+        return None
+    r = Reply(req)
+    r.put(3, io.matrix_led)
+    return r
+
+
+def uart(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0xDE: 0x10 configure, 0x20 write [4] bytes (all taken: [3] = [4]), 0x30 read
+    (nothing on the line: [3] = 0 bytes)."""
+    sub = req.param(1)
+    r = Reply(req)
+    if sub == 0x20:
+        if req.param(3) > 55:
+            return None
+        r[3] = req.param(3)
+    elif sub == 0x30:
+        r[3] = 0
+    elif sub != 0x10:
+        return None
+    return r
+
+
+def threading_request(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0x85 0x30-0x36 threading: set-up (0x36) taken; prepare, force ready, trigger,
+    release, cancel taken; status (0x35) reports nothing preparing, prepared, pending or
+    active and no spindle (zeros): threading is not modelled (D)."""
+    if not _pev2(device):
+        return None
+    return Reply(req)
+
+
+def fast_usb(device: PoKeysDevice, req: Request) -> Reply:
+    """0x07: fast USB on/off ([2]) or its status ([2]=10 -> [2]): a network device has
+    it off (0, D)."""
+    r = Reply(req)
+    r[2] = 0
+    return r
 
 
 EASY_SENSORS = 100  # info.iEasySensors of the 57 series
@@ -414,3 +499,22 @@ def easy_sensors_values(device: PoKeysDevice, req: Request) -> Reply | None:
     if req.param(1) >= EASY_SENSORS or req.param(2) > 13:
         return None
     return Reply(req)
+
+
+def internal_drivers(device: PoKeysDevice, req: Request) -> Reply | None:
+    """0x85 0x18 get / 0x19 set: 4 x (step, current) configuration at [8 + 2i]; stored
+    and read back (the 57 series here drives external drivers, D)."""
+    if not _pev2(device):
+        return None
+    if req.sub == 0x19:
+        device.io.internal_drivers = bytes(req.raw[8:16])
+    r = Reply(req)
+    r.put(8, device.io.internal_drivers)
+    return r
+
+
+def device_log(device: PoKeysDevice, req: Request) -> Reply:
+    """0x84: the device's log, [2] entries of u16 at [8]: empty (D)."""
+    r = Reply(req)
+    r[2] = 0
+    return r

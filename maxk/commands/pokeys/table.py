@@ -239,6 +239,14 @@ ENTRIES: Final[list[CommandEntry]] = [
        "The channel's output duty follows the axis's speed / max speed (D)."),
     _e(PEV2, 0x0B, "PK_PEv2_SyncOutputsSetup", per.sync_outputs, "PoKeysLibPulseEngine_v2.c",
        "I", "Stored, not acted on (D)."),
+    *[_e(PEV2, sub, name, per.threading_request, "PoKeysLibPulseEngine_v2.c", "D",
+         "Answered with zeros; threading is not modelled (nothing prepared or active).")
+      for sub, name in ((0x30, "PK_PEv2_ThreadingPrepareForTrigger"),
+                        (0x31, "PK_PEv2_ThreadingForceTriggerReady"),
+                        (0x32, "PK_PEv2_ThreadingTrigger"),
+                        (0x33, "PK_PEv2_ThreadingRelease"), (0x34, "PK_PEv2_ThreadingCancel"),
+                        (0x35, "PK_PEv2_ThreadingStatusGet"),
+                        (0x36, "PK_PEv2_ThreadingSetup"))],
     _e(PEV2, 0x40, "PK_PEv2_BacklashCompensationSettings_Get", per.backlash,
        "PoKeysLibPulseEngine_v2.c", "C", "Stored; registers 0 (not applied, D)."),
     _e(PEV2, 0x41, "PK_PEv2_BacklashCompensationSettings_Set", per.backlash,
@@ -251,8 +259,27 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(PEV2, 0x53, "PK_PoStep_DriverConfigurationGet/Set (modes)", per.postep,
        "PoKeysLibPulseEngine_v2.c", "C"),
-    _e(0x82, 0x00, "PK_PoILGetState", per.poil_state, "PoKeysLibPoIL.c", "I",
-       "No PoIL program, core stopped: all zeros (D); the other PoIL requests are silent."),
+    _e(0x82, ANY, "PK_PoIL* (state, core, memory, tasks)", per.poil, "PoKeysLibPoIL.c", "I",
+       "No PoIL program runs (D): state zeros, no tasks; memory types 1..7 keep what is "
+       "written (shared slots = type 4), reads of other memory give zeros (D)."),
+    _e(0xD5, ANY, "PK_MatrixLEDConfigurationGet/Set", per.matrix_led,
+       "PoKeysLibMatrixLED.c", "C", "Stored and read back."),
+    _e(0xD6, ANY, "PK_MatrixLEDUpdate", per.matrix_led, "PoKeysLibMatrixLED.c", "C",
+       "Display rows kept, not shown (D)."),
+    _e(0x4B, ANY, "PK_WS2812_Update / SendLEDdata", per.taken, "PoKeysLibWS2812.c", "I",
+       "Taken; no LED strip is modelled (D)."),
+    _e(0xDE, ANY, "PK_UARTConfigure/Write/Read", per.uart, "PoKeysLibUART.c", "C",
+       "Nothing on the line: writes taken whole, reads give 0 bytes (D)."),
+    _e(0x07, ANY, "PK_Get/SetFastUSBEnableStatus", per.fast_usb, "PoKeysLibDeviceData.c",
+       "I", "A network device: fast USB off (D)."),
+    _e(0x84, ANY, "PK_ReadDeviceLog", per.device_log, "PoKeysLibDeviceData.c", "I",
+       "An empty log (D)."),
+    _e(PEV2, 0x18, "PK_PEv2_InternalDriversConfigurationGet", per.internal_drivers,
+       "PoKeysLibPulseEngine_v2.c", "C", "Stored and read back; no internal driver (D)."),
+    _e(PEV2, 0x19, "PK_PEv2_InternalDriversConfigurationSet", per.internal_drivers,
+       "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(0xBB, ANY, "PK_GetDebugValues", per.taken, "PoKeysLibDeviceData.c", "I",
+       "13 x i32 at [8] per part: zeros (D)."),
     _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", per.easy_sensors_setup,
        "PoKeysLibEasySensors.c", "C", "100 sensors' set-ups stored (D)."),
     _e(0x77, ANY, "PK_EasySensorsValueGetAll", per.easy_sensors_values,
@@ -269,9 +296,9 @@ ENTRIES: Final[list[CommandEntry]] = [
 _BY_KEY: Final = unique_table(ENTRIES, lambda e: (e.command, e.sub), "PoKeys table")
 
 NOT_MODELLED: Final = (
-    "0x85 0x18/0x19 internal drivers, 0x30-0x36 threading, hybrid probing, PoIL (0x82) "
-    "but its state, UART (0xDE), WS2812 (0x4B), matrix LED (0xD5/0xD6), fast USB (0x07), "
-    "device log (0x84), debug values (0xBB): silent.")
+    "Hybrid probing: silent. "
+    "Threading, PoIL programs, WS2812 and matrix LED displays, the UART line: answered, "
+    "not modelled.")
 
 
 def lookup(command: int, sub: int) -> CommandEntry | None:

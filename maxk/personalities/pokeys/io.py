@@ -214,6 +214,10 @@ class DeviceIO:
     postep_currents: bytes = bytes(48)
     postep_modes: bytes = bytes(48)
     easy_sensors: dict[int, bytes] = field(default_factory=dict)
+    poil_memory: dict[int, bytearray] = field(default_factory=dict)
+    matrix_led: bytes = bytes(3)
+    internal_drivers: bytes = bytes(8)
+    matrix_led_data: dict[int, bytes] = field(default_factory=dict)
     i2c_active: int = 0
     onewire_active: int = 0
     saved: dict[str, Any] | None = None
