@@ -324,6 +324,8 @@ class ControlDoor:
         self.stream_hz = stream_hz
         self.errors = ErrorLog()
         self._streams = 0
+        self._panel_cache: tuple[float, bytes] | None = None
+        self._panel_building: asyncio.Task[bytes] | None = None
         self._closing = asyncio.Event()
         self._runner: web.AppRunner | None = None
         self.app = self._make_app()
@@ -479,7 +481,34 @@ class ControlDoor:
         return web.json_response({"errors": list(self.errors.records)})
 
     async def panel(self, request: web.Request) -> web.Response:
-        return web.json_response(self.panel_state())
+        return web.Response(body=await self.panel_json(), content_type="application/json")
+
+    async def panel_json(self) -> bytes:
+        """The panel's state as JSON, built at most once per stream period however many
+        panels and pollers ask, and built a board at a time with the hosts' doors served
+        in between (a host's query waits for one board's picture, never sixteen)."""
+        loop = asyncio.get_running_loop()
+        cached = self._panel_cache
+        if cached is not None and loop.time() - cached[0] < 1.0 / self.stream_hz:
+            return cached[1]
+        if self._panel_building is None:
+            self._panel_building = loop.create_task(self._build_panel())
+        building = self._panel_building
+        return await asyncio.shield(building)
+
+    async def _build_panel(self) -> bytes:
+        try:
+            boards = []
+            for board in self.boards.values():
+                board.service.sync()
+                boards.append(json.dumps(self._panel_board(board), separators=(",", ":")))
+                await asyncio.sleep(0)
+            errors = json.dumps(list(self.errors.records)[-5:], separators=(",", ":"))
+            data = f'{{"boards":[{",".join(boards)}],"errors":{errors}}}'.encode()
+            self._panel_cache = (asyncio.get_running_loop().time(), data)
+            return data
+        finally:
+            self._panel_building = None
 
     def panel_state(self) -> dict[str, Any]:
         """What the front panel shows, for every board at once."""
@@ -535,9 +564,9 @@ class ControlDoor:
             await response.prepare(request)
             period = 1.0 / self.stream_hz
             while not self._closing.is_set():
-                data = json.dumps(self.panel_state(), separators=(",", ":"))
+                data = await self.panel_json()
                 try:
-                    await response.write(f"data: {data}\n\n".encode())
+                    await response.write(b"data: " + data + b"\n\n")
                 except (ConnectionError, RuntimeError):
                     break
                 with contextlib.suppress(asyncio.TimeoutError):
