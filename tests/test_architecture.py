@@ -151,12 +151,14 @@ def test_long_modules_say_why():
 GENERIC_DOORS = ("maxk.cli", "maxk.repl", "maxk.script", "maxk.script_directives",
                  "maxk.pytest_plugin", "maxk.trace", "maxk.pathplot", "maxk.host.server",
                  "maxk.host.client", "maxk.host.serve", "maxk.host.pacing",
-                 "maxk.host.traffic")
+                 "maxk.host.traffic", "maxk.host.control", "maxk.host.control_board",
+                 "maxk.control", "maxk.testing")
 """Doors written once for every controller. (The MAXk's own doors, its PCI map, its
 `maxk://` URL and its servo tuning assistant, name it by nature.)"""
 CONTRACTS = ("maxk.controllers.contract", "maxk.controllers.registry",
              "maxk.controllers.world_view", "maxk.controllers.world_settings",
-             "maxk.firmware_model.engine")  # (the engine is the contract's clock)
+             "maxk.firmware_model.engine",  # (the engine is the contract's clock)
+             "maxk.controllers.panel")  # (each kind's own picture for a front panel)
 KIND_NAMES = ("MAXk", "MM4005", "MC405", "PoKeys")
 
 

@@ -11,7 +11,7 @@ import urllib.request
 import pytest
 
 from maxk.control import Client, ControlError
-from maxk.host import control
+from maxk.host import control_board
 from maxk.host.control import ControlDoor, is_loopback, world_words
 from tests.hosting import HostedBoards
 
@@ -200,7 +200,7 @@ def test_reset_one_controller(hosted: Hosted) -> None:
 
 
 def test_trace_start_stop_fetch_and_its_bound(hosted: Hosted, monkeypatch) -> None:
-    monkeypatch.setattr(control, "TRACE_LIMIT", 20_000)
+    monkeypatch.setattr(control_board, "TRACE_LIMIT", 20_000)
     c = hosted.client
     c.pause()
     with pytest.raises(ControlError, match="no trace"):
@@ -209,6 +209,8 @@ def test_trace_start_stop_fetch_and_its_bound(hosted: Hosted, monkeypatch) -> No
     c.step(3.0)
     state = c.stop_trace(1)
     assert state["running"] is False and state["rows"] == 4  # start + one a second
+    engine = hosted.boards.services[0].controller.engine
+    assert hosted.boards.call(lambda: list(engine._observers)) == []  # the trace let go
     lines = c.trace_csv(1).splitlines()
     assert lines[0].startswith("tick,time_s,X_position") and len(lines) == 5
     assert [int(line.split(",")[0]) - int(lines[1].split(",")[0]) for line in lines[1:]] == \

@@ -98,7 +98,9 @@ class Engine:
         self._observers.append(_Observer(every_ticks, due, callback))  # type: ignore[arg-type]
 
     def remove_observer(self, callback: Callable[[Self], None]) -> None:
-        self._observers = [o for o in self._observers if o.callback is not callback]
+        # == rather than `is`: a bound method (`trace._on_event`) is a new object at
+        # every access, equal to the one added but never identical to it
+        self._observers = [o for o in self._observers if o.callback != callback]
 
     def _observe(self, now: int) -> None:
         for observer in self._observers:

@@ -1,0 +1,290 @@
+"""The control door's parts that hold state per controller: triggers (a world setting at
+a tick or when an axis passes a position), traces (bounded CSV), the error log, and the
+request words (the `@world` words and their JSON form). The HTTP side is control.py."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import ipaddress
+import logging
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from itertools import count
+from typing import Any
+
+from maxk.controllers.world_settings import parse_world
+from maxk.host.client import Service
+from maxk.trace import TraceWriter
+
+log = logging.getLogger("maxk.door.control")
+
+TRACE_LIMIT = 4 * 1024 * 1024  # characters of CSV one trace keeps (then it stops itself)
+TRIGGERS = 64  # armed triggers per controller
+ERRORS = 200  # error log entries kept
+STEP_SLICE_SECONDS = 0.05  # virtual time advanced between two looks at the other doors
+
+class BadRequest(Exception):
+    """A 4xx with a reason (status 400 unless told)."""
+
+    def __init__(self, reason: str, status: int = 400) -> None:
+        super().__init__(reason)
+        self.status = status
+
+
+class ErrorLog(logging.Handler):
+    """The server's recent warnings and faults (the `maxk` loggers), bounded."""
+
+    def __init__(self, size: int = ERRORS) -> None:
+        super().__init__(logging.WARNING)
+        self.records: deque[dict[str, Any]] = deque(maxlen=size)
+
+    def emit(self, record: logging.LogRecord) -> None:
+        with contextlib.suppress(Exception):
+            self.records.append({"time": record.created, "level": record.levelname,
+                                 "logger": record.name, "message": record.getMessage()})
+
+
+class BoundedText(io.StringIO):
+    """A trace's CSV, refusing to grow past `limit` (the trace then stops itself)."""
+
+    def __init__(self, limit: int) -> None:
+        super().__init__()
+        self.limit = limit
+        self.full = False
+
+    def write(self, text: str) -> int:
+        if self.full or self.tell() + len(text) > self.limit:
+            self.full = True
+            return 0
+        return super().write(text)
+
+
+@dataclass
+class Trigger:
+    """A world setting armed for a virtual time (exact to the tick: an engine observer due
+    then) or for an axis passing a position (an observer every tick while armed: the
+    setting applies at the first tick the axis's reading is at or beyond the position)."""
+
+    ident: int
+    words: str
+    when: dict[str, Any]
+    apply: Callable[[Any], str]
+    fired_tick: int | None = None
+    said: str = ""
+    error: str = ""
+    callback: Callable[[Any], None] | None = field(default=None, repr=False)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"id": self.ident, "words": self.words, "when": self.when,
+                "fired_tick": self.fired_tick, "did": self.said, "error": self.error}
+
+
+class Board:
+    """What the door keeps per controller: its triggers and its trace."""
+
+    def __init__(self, service: Service) -> None:
+        self.service = service
+        self.triggers: dict[int, Trigger] = {}
+        self.trace: TraceWriter | None = None
+        self.trace_text: BoundedText | None = None
+        self.trace_every: int | None = None
+        self._ids = count(1)
+        self.paused_speed: float | None = None  # the speed to go back to after a pause
+
+    @property
+    def controller(self) -> Any:
+        return self.service.controller
+
+    # ---- triggers ------------------------------------------------------------------
+    def arm(self, words: str, when: dict[str, Any]) -> Trigger:
+        apply = parse_world(words)  # ValueError: bad words, nothing armed
+        engine = self.controller.engine
+        view = self.controller.world_view()
+        armed = [t for t in self.triggers.values() if t.fired_tick is None]
+        if len(armed) >= TRIGGERS:
+            raise BadRequest(f"at most {TRIGGERS} triggers armed on one controller", 409)
+        if len(self.triggers) >= TRIGGERS:  # forget the oldest that fired
+            for ident in [i for i, t in self.triggers.items() if t.fired_tick is not None]:
+                del self.triggers[ident]
+                if len(self.triggers) < TRIGGERS:
+                    break
+        trigger = Trigger(next(self._ids), words, when, apply)
+        self.service.sync()
+        if "axis" in when:
+            axis = str(when["axis"])
+            view.index(axis)  # KeyError: no such axis
+            target = number_of(when.get("passes"), "passes")
+            start = view.reading(axis).position
+            rising = start < target
+
+            def watch(_engine: Any) -> None:
+                position = view.reading(axis).position
+                if (position >= target) if rising else (position <= target):
+                    self._fire(trigger)
+
+            trigger.callback = watch
+            trigger.when = {"axis": axis, "passes": target,
+                            "direction": "up" if rising else "down"}
+            engine.add_observer(watch, 1)
+        else:
+            if "tick" in when:
+                tick = int(number_of(when["tick"], "tick"))
+            elif "time" in when:
+                tick = engine.tick_at(number_of(when["time"], "time"))
+            elif "after" in when:
+                tick = engine.tick + self.controller_ticks(number_of(when["after"], "after"))
+            else:
+                raise BadRequest("when: {\"time\": s}, {\"tick\": n}, {\"after\": s} or "
+                                 "{\"axis\": NAME, \"passes\": position}")
+            if tick <= engine.tick:
+                raise BadRequest(f"tick {tick} is not in the future (now {engine.tick})")
+
+            def due(_engine: Any) -> None:
+                self._fire(trigger)
+
+            trigger.callback = due
+            trigger.when = {"tick": tick}
+            engine.add_observer(due, tick - engine.tick)
+        self.triggers[trigger.ident] = trigger
+        return trigger
+
+    def controller_ticks(self, seconds: float) -> int:
+        engine = self.controller.engine
+        if seconds < 0:
+            raise BadRequest("after: seconds >= 0")
+        return max(1, round(seconds / engine.period))
+
+    def _fire(self, trigger: Trigger) -> None:
+        engine = self.controller.engine
+        if trigger.callback is not None:
+            engine.remove_observer(trigger.callback)
+            trigger.callback = None
+        trigger.fired_tick = engine.tick
+        try:
+            trigger.said = trigger.apply(self.controller)
+        except (ValueError, KeyError) as error:
+            trigger.error = reason_of(error)
+            log.warning("board %d: trigger %d (%s): %s", self.service.number,
+                        trigger.ident, trigger.words, trigger.error)
+
+    def disarm(self, ident: int) -> Trigger:
+        trigger = self.triggers.pop(ident, None)
+        if trigger is None:
+            raise BadRequest(f"no trigger {ident}", 404)
+        if trigger.callback is not None:
+            self.controller.engine.remove_observer(trigger.callback)
+            trigger.callback = None
+        return trigger
+
+    # ---- traces --------------------------------------------------------------------
+    def start_trace(self, every_ticks: int | None) -> None:
+        self.stop_trace()
+        self.service.sync()
+        self.trace_text = BoundedText(TRACE_LIMIT)
+        self.trace = TraceWriter(self.trace_text, self.controller, every_ticks)
+        self.trace_every = every_ticks
+        self.trace.attach()
+        engine = self.controller.engine
+        engine.add_observer(self._trace_full)
+
+    def _trace_full(self, _engine: Any) -> None:
+        if self.trace_text is not None and self.trace_text.full:
+            self.stop_trace()
+
+    def stop_trace(self) -> None:
+        if self.trace is not None:
+            self.trace.detach()
+            self.controller.engine.remove_observer(self._trace_full)
+            self.trace = None
+
+    def trace_state(self) -> dict[str, Any]:
+        text = self.trace_text
+        return {"running": self.trace is not None,
+                "rows": 0 if text is None else text.getvalue().count("\n") - 1,
+                "chars": 0 if text is None else text.tell(),
+                "full": bool(text is not None and text.full),
+                "limit": TRACE_LIMIT if text is None else text.limit,
+                "every_ticks": self.trace_every}
+
+
+async def step_to(board: Board, target: int) -> None:
+    """Advance a paused board to a tick in slices, the other doors served in between (a
+    long step with a tick-by-tick trace or trigger must not stall the hosts)."""
+    engine = board.controller.engine
+    piece = max(1, round(STEP_SLICE_SECONDS / engine.period))
+    while engine.tick < target:
+        try:
+            engine.advance(min(piece, target - engine.tick))
+        except Exception as error:  # the controller's fault, told as the pacer tells it
+            board.service._report(error, b"")
+            return
+        await asyncio.sleep(0)
+
+
+def number_of(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise BadRequest(f"{what}: a number, not {value!r}")
+    try:
+        number = float(value)
+    except ValueError:
+        raise BadRequest(f"{what}: a number, not {value!r}") from None
+    if number != number or number in (float("inf"), float("-inf")):
+        raise BadRequest(f"{what}: a finite number, not {value!r}")
+    return number
+
+
+def reason_of(error: BaseException) -> str:
+    if isinstance(error, KeyError) and error.args:
+        return str(error.args[0])
+    return str(error)
+
+
+def world_words(body: dict[str, Any]) -> str:
+    """A world setting's words from a request: `{"words": "X limits 5000 -5000"}`, or the
+    JSON form that maps onto the same words: `{"axis": "X", "set": "limits", "values":
+    [5000, -5000]}`, `{"input": 3, "level": true}`, `{"analog": 0, "volts": 2.5}`."""
+    if "words" in body:
+        words = body["words"]
+        if not isinstance(words, str):
+            raise BadRequest("words: the text of one world setting, e.g. 'X limits 5000 -5000'")
+        return words
+    if "input" in body:
+        level = body.get("level")
+        if not isinstance(level, bool | int):
+            raise BadRequest("level: true or false")
+        return f"input {_word(body['input'])} {'high' if level else 'low'}"
+    if "analog" in body:
+        return f"analog {_word(body['analog'])} {_word(body.get('volts'))}"
+    if "axis" in body and "set" in body:
+        values = body.get("values", [])
+        if not isinstance(values, list):
+            values = [values]
+        return " ".join([_word(body["axis"]), _word(body["set"]), *(_word(v) for v in values)])
+    raise BadRequest("give {\"words\": \"X limits 5000 -5000\"} or its JSON form "
+                     "{\"axis\", \"set\", \"values\"} / {\"input\", \"level\"} / "
+                     "{\"analog\", \"volts\"}")
+
+
+def _word(value: Any) -> str:
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, int | float | str):
+        text = str(value)
+        if not text or any(c.isspace() for c in text):
+            raise BadRequest(f"not one word: {value!r}")
+        return text
+    raise BadRequest(f"not a word or a number: {value!r}")
+
+
+def is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
