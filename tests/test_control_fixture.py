@@ -132,3 +132,23 @@ def test_the_fixture_serves_mixed_kinds_and_stops_them(maxk_served) -> None:
 def test_a_server_that_cannot_start_says_why() -> None:
     with pytest.raises(RuntimeError, match="not a model|unknown|model"):
         testing.serve("NoSuchBoard")
+
+
+def test_beyond_loopback_serve_prints_a_token_and_asks_for_it(maxk_served) -> None:
+    from maxk.control import Client, ControlError
+
+    served = maxk_served("MAXk-8000", options=("--host", "0.0.0.0"))
+    assert served.token and served.url.startswith("http://0.0.0.0:")
+    with pytest.raises(ControlError) as refused:
+        Client(served.url).boards()
+    assert refused.value.status == 401 and "token" in refused.value.reason
+    assert served.client.boards()[0]["model"] == "MAXk-8000"
+
+
+def test_a_control_port_in_use_is_reported() -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        with pytest.raises(RuntimeError, match="control door"):
+            testing.serve("MAXk-8000", options=("--control-port", str(port)))

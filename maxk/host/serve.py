@@ -68,7 +68,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--control", action="store_true", help="the control door and front "
                         "panel on HTTP (docs/control.md); on --host, with a token when that "
                         "is not loopback")
-    parser.add_argument("--control-port", type=int, default=0, help="the control door's "
+    parser.add_argument("--control-port", type=_port, default=0, help="the control door's "
                         "port (default: a free one; implies --control)")
 
 
@@ -91,6 +91,16 @@ def configure_logging(args: argparse.Namespace) -> None:
     for each in logger.handlers:
         each.setFormatter(logging.Formatter(
             "%(message)s" if level == "WARNING" else "%(name)s: %(message)s"))
+
+
+def _port(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port: {text!r}") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError("a port is 0..65535")
+    return value
 
 
 def _speed(text: str) -> float:
@@ -212,6 +222,8 @@ async def serve(args: argparse.Namespace) -> int:
             await control.close()
             server.stop()
             await server.run()
+            for door in memories:
+                door.close()
             return 1
         token = f" token {control.token}" if control.token else ""
         print(f"control http://{host}:{bound}{token}", flush=True)
