@@ -152,3 +152,22 @@ def test_a_control_port_in_use_is_reported() -> None:
         port = taken.getsockname()[1]
         with pytest.raises(RuntimeError, match="control door"):
             testing.serve("MAXk-8000", options=("--control-port", str(port)))
+
+
+def test_a_pokeys_library_host_reads_an_input_the_door_drives(maxk_served) -> None:
+    from tests.pokeys_host import PK_OK
+    from tests.pokeys_lib_host import LibHost
+
+    served = maxk_served("PoKeys57CNC")
+    session = TcpSession(served.doors[0].tcp[1])
+    try:
+        lib = LibHost(Host(session))  # type: ignore[arg-type]
+        lib.pin_function[2] = 0x02  # pin 3: a digital input
+        assert lib.PK_PinConfigurationSet() == PK_OK
+        assert lib.PK_DigitalIOGetSingle(2) == (PK_OK, 0)
+        assert served.client.world(1, input=3, level=True) == "input 3 high"
+        assert lib.PK_DigitalIOGetSingle(2) == (PK_OK, 1)
+        served.client.world(1, "input 3 low")
+        assert lib.PK_DigitalIOGetSingle(2) == (PK_OK, 0)
+    finally:
+        session.close()
