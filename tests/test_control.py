@@ -274,3 +274,29 @@ def test_beyond_loopback_every_request_needs_the_token() -> None:
         assert Client(h.url, h.door.token).boards()[0]["model"] == "MAXk-8000"
     finally:
         h.close()
+
+
+ODD_BODIES = [b"", b"null", b"0", b'"x"', b"[]", b"{}", b'{"words": null}',
+              b'{"words": ""}', b'{"words": "X"}', b'{"words": "X limits 1e999 -1"}',
+              b'{"words": "input -1 high"}', b'{"words": "analog 0 nan"}',
+              b'{"words": "X index -4 4 0"}', b'{"words": "X motor inertia=-1"}',
+              b'{"words": "X home 10 5"}', b'{"axis": {}, "set": "limits"}',
+              b'{"when": {"tick": 1e400}, "words": "input 1 high"}',
+              b'{"when": {"axis": "X", "passes": null}, "words": "input 1 high"}',
+              b'{"when": [], "words": "input 1 high"}', b'{"every_ticks": "many"}',
+              b'{"every_ticks": true}', b'{"speed": "fast"}', b'{"step": [1]}',
+              b'{"ticks": 1e300}', b'{"board": "1", "pause": true}', "\u00ff".encode(),
+              b"\xff\xfe", b'{"words": "X limits 1 -1"' + b" " * 10, b"{" * 5000]
+
+
+@pytest.mark.parametrize("path", ["/api/boards/1/world", "/api/boards/1/triggers",
+                                  "/api/boards/2/trace", "/api/clock",
+                                  "/api/boards/2/reset"])
+def test_no_odd_body_is_a_server_fault(hosted: Hosted, path: str) -> None:
+    for body in ODD_BODIES:
+        status, answer = _raw(hosted.url + path, "POST", body,
+                              {"Content-Type": "application/json"})
+        assert status < 500 and ("error" in answer or status < 300), (path, body, answer)
+    assert hosted.client.errors() == []  # nothing reached the fault log
+    host = hosted.boards.connect(1)
+    assert host.query("WY").startswith("MAXk-8000")
