@@ -30,7 +30,7 @@ MODELS = ["MAXk-8000", "MM4005", "MC405", "PoKeys57CNC"] * 4
 PANEL_HZ = 20.0
 
 
-def _serve(seconds: float, ports_out, stats_out) -> None:  # type: ignore[no-untyped-def]
+def _serve(seconds: float, ports_out, stats_out, done) -> None:  # type: ignore[no-untyped-def]
     """The server with its control door, in its own process as `maxk serve` runs."""
     from maxk.controllers.registry import build
     from maxk.host.control import ControlDoor
@@ -64,7 +64,16 @@ def _serve(seconds: float, ports_out, stats_out) -> None:  # type: ignore[no-unt
         server.after_pacing(watch)
         ports_out.send((ports, control))
         last[0] = time.monotonic()
-        asyncio.get_running_loop().call_later(seconds + 3.0, server.stop)
+        loop = asyncio.get_running_loop()
+        loop.call_later(seconds + 300.0, server.stop)  # a bound, should the benchmark die
+
+        def look() -> None:  # the benchmark says when it is done
+            if done.is_set():
+                server.stop()
+            else:
+                loop.call_later(0.2, look)
+
+        look()
         await server.run()
         await door.close()
 
@@ -103,7 +112,8 @@ def run(seconds: float = 20.0, host_rate: float = 200.0, with_browser: bool = Tr
     ctx = multiprocessing.get_context("spawn")
     ports_rx, ports_tx = ctx.Pipe(duplex=False)
     stats_rx, stats_tx = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_serve, args=(seconds, ports_tx, stats_tx))
+    done = ctx.Event()
+    proc = ctx.Process(target=_serve, args=(seconds, ports_tx, stats_tx, done))
     proc.start()
     ports, control = ports_rx.recv()
     url = f"http://127.0.0.1:{control}"
@@ -147,7 +157,10 @@ def run(seconds: float = 20.0, host_rate: float = 200.0, with_browser: bool = Tr
         data = buffers[k]
         while True:  # notifications (%...) set aside, as EPICS does
             while b"\n\r" not in data:
-                data += sock.recv(4096)
+                chunk = sock.recv(4096)
+                if not chunk:
+                    raise RuntimeError("the server hung up on the host")
+                data += chunk
             line, data = data.split(b"\n\r", 1)
             if not line.startswith(b"%"):
                 break
@@ -165,6 +178,7 @@ def run(seconds: float = 20.0, host_rate: float = 200.0, with_browser: bool = Tr
         poller.join(10)
     for sock in socks:
         sock.close()
+    done.set()
     worst = stats_rx.recv()
     proc.join(15)
     times.sort()

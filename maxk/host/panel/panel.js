@@ -190,11 +190,15 @@ function update(state) {
         lamp.classList.toggle("stuck", !!s.fault);
         lamp.dataset.fault = s.fault || "";
       }
-      cells.flags.innerHTML = "";
       const flags = a.flags.slice();
       if (a.done && !flags.includes("done")) flags.unshift("done");
       if (a.moving) flags.unshift("moving");
-      for (const f of flags) cells.flags.appendChild(el("span", "flag" + (/err|slip|limit|overtravel/.test(f) ? " err" : ""), f));
+      const key = flags.join(" ");
+      if (cells.flagsKey !== key) {  // the DOM touched only when something changed
+        cells.flagsKey = key;
+        cells.flags.innerHTML = "";
+        for (const f of flags) cells.flags.appendChild(el("span", "flag" + (/err|slip|limit|overtravel/.test(f) ? " err" : ""), f));
+      }
       push(b.number + "/" + a.name, b.time, a.position);
       if (a.moving || history[b.number + "/" + a.name].some(p => p[1] !== a.position)) series[a.name] = history[b.number + "/" + a.name];
     }
@@ -203,6 +207,9 @@ function update(state) {
     if (Object.keys(b.outputs).length) bits(view.outputs, view.bits, "out", b.outputs, "outputs", false, b.number);
     if (Object.keys(b.analog).length) view.analog.textContent = "analog: " + Object.entries(b.analog).map(([c, v]) => c + " " + v.toFixed(3) + " V").join(", ");
     drawExtras(view, b);
+    const hostsKey = JSON.stringify(b.hosts);
+    if (view.hostsKey === hostsKey) continue;
+    view.hostsKey = hostsKey;
     view.hosts.innerHTML = "";
     for (const h of b.hosts) {
       view.hosts.appendChild(el("div", "", h.transport + " " + h.peer));
