@@ -7,6 +7,13 @@ back-edge of a pass that has not waited already, so each loop pass takes at leas
 servo cycle (decision D: the controller time-slices its processes; one pass per cycle
 keeps a busy loop from starving the others and keeps timing deterministic, and a pass
 that waited, e.g. in WA(2), loops straight on so WA(2) paces a loop at 2 cycles).
+
+A process also runs at most `STATEMENTS_PER_CYCLE` statements in one servo cycle before it
+gives the cycle up, as the controller's process scheduler gives each process a bounded
+time slice per servo period (source: the Trio manuals describe processes time-sliced on
+the servo interrupt, I; the count of 100 is our decision, D): a ``WHILE 1`` of 500 lines
+of arithmetic takes 5 servo cycles a pass, costs virtual time, and a HALT from any host
+stops it within a cycle.
 """
 
 from __future__ import annotations
@@ -97,6 +104,9 @@ def _link(stmt: Stmt, index: int, line: int, open_blocks: list[tuple[str, int, i
         targets[opener] = index + 1
 
 
+STATEMENTS_PER_CYCLE = 100
+
+
 class Task:
     """One running process: a compiled program and its context."""
 
@@ -133,7 +143,13 @@ class Task:
         interp, ctx, steps = self.interpreter, self.ctx, self.steps
         pc = 0
         waited = False  # this loop pass already gave up a servo cycle
+        budget = STATEMENTS_PER_CYCLE
         while pc < len(steps):
+            budget -= 1
+            if budget < 0:  # this cycle's slice is used: go on next cycle
+                yield None
+                waited = True
+                budget = STATEMENTS_PER_CYCLE - 1
             step = steps[pc]
             ctx.line = step.line
             stmt = step.stmt
@@ -146,6 +162,7 @@ class Task:
             elif isinstance(stmt, Wend):
                 if not waited:
                     yield None
+                    budget = STATEMENTS_PER_CYCLE
                 waited = False
                 pc = step.target
             elif isinstance(stmt, Until):
@@ -154,6 +171,7 @@ class Task:
                 else:
                     if not waited:
                         yield None
+                        budget = STATEMENTS_PER_CYCLE
                     waited = False
                     pc = step.target
             elif isinstance(stmt, For):
@@ -175,6 +193,7 @@ class Task:
                 if _in_range(value, end, increment):
                     if not waited:
                         yield None
+                        budget = STATEMENTS_PER_CYCLE
                     waited = False
                     pc = step.target
                 else:
@@ -183,6 +202,7 @@ class Task:
                 for wake in interp.execute(stmt, ctx):
                     waited = True
                     yield wake
+                    budget = STATEMENTS_PER_CYCLE
                 pc += 1
 
     def _true(self, condition: Expr) -> bool:

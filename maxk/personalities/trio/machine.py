@@ -192,16 +192,27 @@ class MC405Machine(Kinematics, Engine):
     def _buffered(self, axis: int) -> int:
         return sum(run.moves_left(self.tick, self.period) for run in self.queues[axis])
 
+    def _counts(self, axis: int, value: float) -> float:
+        """User units to counts, refused when beyond the position range (an overflow on
+        the controller: every operand checked before anything is loaded)."""
+        counts = value * self.axes[axis].units
+        if not abs(counts) < MAX_COUNTS:  # also NaN and inf
+            raise ValueError("Parameter out of range")
+        return counts
+
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
-        deltas = [round(d * self.axes[a].units) for a, d in zip(axes, distances, strict=True)]
+        deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
         self._load(tuple(axes), deltas)
 
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
             axis = self.axes[a]
-            target = round(p * axis.units) - axis.datum  # physical counts
-            deltas.append(round(target - self._end_counts(a)))
+            target = round(self._counts(a, p)) - axis.datum  # physical counts
+            delta = target - self._end_counts(a)
+            if not abs(delta) < MAX_COUNTS:
+                raise ValueError("Parameter out of range")
+            deltas.append(round(delta))
         self._load(tuple(axes), deltas)
 
     def axis_idle(self, axis: int) -> bool:
