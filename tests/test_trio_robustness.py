@@ -14,15 +14,15 @@ import pytest
 from maxk.commands.trio.programs import MAX_PROGRAM_BYTES, MAX_PROGRAMS
 from maxk.commands.trio.tasks import STATEMENTS_PER_CYCLE
 from maxk.controllers.trio import MC405
-from tests.test_trio_doors import HostError, TrioHost, hosted, host  # noqa: F401
+from tests.test_trio_doors import HostError, TrioHost, host, hosted  # noqa: F401
 from tests.trio_helpers import AtrioError, parse_reply
 
 
-def _upload(host: TrioHost, name: str, lines: list[str]) -> None:
-    host.cmd(f'SELECT "{name}",0')
+def _upload(client: TrioHost, name: str, lines: list[str]) -> None:
+    client.cmd(f'SELECT "{name}",0')
     for n, line in enumerate(lines):
-        host.cmd(f"!{name},{n}R{line}")
-    host.cmd("COMPILE")
+        client.cmd(f"!{name},{n}R{line}")
+    client.cmd("COMPILE")
 
 
 def test_a_busy_program_costs_virtual_time_and_halt_from_another_host_stops_it(
