@@ -14,7 +14,7 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from .keywords import Keyword, Kind
+from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
@@ -202,6 +202,8 @@ class Interpreter:
                 result = self.machine.table_read(self._index(numbers[0]))
             elif name == "VR" and len(numbers) == 1:
                 result = self.machine.vr_read(self._index(numbers[0]))
+            elif name in KEYWORDS and name not in _MATH and name != "ATAN2":
+                result = 0.0  # a token-table function not modelled: 0 (its table note)
             else:
                 raise TrioError("Syntax error")
         except OverflowError:
@@ -377,6 +379,8 @@ class Interpreter:
             action()
         except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
+        except OverflowError:
+            raise TrioError("Arithmetic error") from None
 
 
 def base_array(axes: Sequence[int], axis_count: int) -> list[int]:

@@ -301,7 +301,78 @@ _ENTRIES: list[Keyword] = [
             "the base axis.", f"{SEED}; {TOK}", args=(1, 1)),
 ]
 
-KEYWORDS: dict[str, Keyword] = {k.name: k for k in _ENTRIES}
+# Statements the parser handles itself (structure, declarations, errors).
+_STATEMENTS = {
+    "GOTO": "GOTO label: go on at the line after `label:`.",
+    "GOSUB": "GOSUB label: call the routine at `label:`; RETURN comes back.",
+    "RETURN": "Return from a GOSUB.",
+    "ELSEIF": "ELSEIF cond THEN: another branch of a block IF.",
+    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program.",
+    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program.",
+    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array.",
+    "AS": "Part of DIM.", "FLOAT": "Part of DIM.", "INTEGER": "Part of DIM.",
+    "BOOLEAN": "Part of DIM.", "STRING": "Part of DIM: STRING(n).",
+    "SELECT_CASE": "SELECT_CASE expr ... CASE v[, v] ... CASE ELSE ... END_CASE.",
+    "CASE": "Part of SELECT_CASE.", "END_CASE": "Ends SELECT_CASE.",
+    "BASICERROR": "ON BASICERROR GOTO label: a runtime error jumps to label.",
+}
+_STATEMENT_NOTE = ("Handled by the parser and the process runner; the form is from the "
+                   "token table and public programs (I).")
+
+
+def _from_token_table() -> list[Keyword]:
+    """Every token-table word without a hand-written entry: its kind and arity from the
+    table, its effect "not modelled" (D) unless named above."""
+    from .tokentable import TOKENS
+
+    known = {k.name for k in _ENTRIES}
+    out: list[Keyword] = []
+    for row in TOKENS.split("\n"):
+        fields = row.split()
+        if not fields or fields[1] in known:
+            continue
+        tag, name = fields[0], fields[1]
+        if name in _STATEMENTS:
+            out.append(_statement(name, _STATEMENTS[name], note=_STATEMENT_NOTE, confidence="I"))
+        elif tag == "V":
+            scope, access = int(fields[2]), fields[3]
+            note = ("Not modelled: stored and read back, no effect on the machine (D)."
+                    if access == "w" else "Not modelled: reads 0 (D).")
+            make = _axis if scope == 1 else _system
+            out.append(make(name, f"Token-table {'axis' if scope == 1 else 'system'} "
+                            f"parameter.", writable=access == "w", confidence="D", note=note))
+        elif tag == "C":
+            kind, low, high, modifier = fields[2], int(fields[3]), int(fields[4]), fields[5]
+            if kind == "f":
+                out.append(_function(name, "Token-table function.", (low, high),
+                                     confidence="D", note="Not modelled: returns 0 (D)."))
+            elif kind == "o":
+                out.append(Keyword(name, Kind.OPERATOR, "Operator.", TOK))
+            else:
+                out.append(_command(name, "Token-table command.", (low, high),
+                                    axis=modifier == "1", confidence="D",
+                                    note="Not modelled: accepted, no effect on the machine "
+                                    "(D); as a function it returns 0."))
+        elif tag == "M":
+            out.append(Keyword(name, Kind.MODIFIER, f"{name}(n) modifier.", TOK, "C",
+                               "Not modelled beyond AXIS(n): accepted, ignored (D).",
+                               args=(1, 1)))
+        elif tag == "T":
+            out.append(_constant(name, float(fields[2])))
+    return out
+
+
+def _index(entries: list[Keyword]) -> dict[str, Keyword]:
+    """The table by name; a keyword listed twice is an error at import."""
+    table: dict[str, Keyword] = {}
+    for entry in entries:
+        if entry.name in table:
+            raise ValueError(f"TrioBASIC keyword {entry.name} is listed twice")
+        table[entry.name] = entry
+    return table
+
+
+KEYWORDS: dict[str, Keyword] = _index(_ENTRIES + _from_token_table())
 
 
 def lookup(name: str) -> Keyword | None:

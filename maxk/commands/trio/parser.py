@@ -452,7 +452,8 @@ class _Parser:
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
             axis = self.axis_modifier() if keyword.axis_modifier else None
             return Param(keyword, axis)
-        if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS:
+        if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
+                keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
         raise TrioError("Syntax error")
 

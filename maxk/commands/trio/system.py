@@ -53,8 +53,9 @@ class ProgramCommands:
 
     def system_command(self, keyword: Keyword, args: list[Value],
                        ctx: ProcessContext) -> Wait:
-        handler = getattr(self, "cmd_" + keyword.name.lower())
-        handler(args)
+        handler = getattr(self, "cmd_" + keyword.name.lower(), None)
+        if handler is not None:  # else a token-table word the emulator does not model:
+            handler(args)  # accepted with no effect (its table note says so)
         return _done()
 
     # ---- program handling -----------------------------------------------------------------
