@@ -66,14 +66,88 @@ Expr = Num | Str | Var | Param | Call | Unary | Binary
 
 
 @dataclass(frozen=True)
+class Format:
+    """``x[w,d]`` in a PRINT: the value in a field of w characters with d decimals."""
+
+    value: Expr
+    width: int
+    decimals: int
+
+
+@dataclass(frozen=True)
 class Print:
-    items: tuple[tuple[Expr, str], ...]  # (expression, separator after it: ',' ';' or '')
+    items: tuple[tuple[Expr | Format, str], ...]  # (item, separator after it: ',' ';' '')
     newline: bool
+    channel: Expr | None = None  # PRINT #n, ...
+
+
+@dataclass(frozen=True)
+class Label:
+    name: str
+
+
+@dataclass(frozen=True)
+class Goto:
+    label: str
+
+
+@dataclass(frozen=True)
+class Gosub:
+    label: str
+
+
+@dataclass(frozen=True)
+class Return:
+    value: Expr | None = None
+
+
+@dataclass(frozen=True)
+class ElseIf:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class SelectCase:
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Case:
+    """CASE v[, v][, a TO b]; no choices: CASE ELSE."""
+
+    choices: tuple[tuple[Expr, Expr | None], ...]
+
+
+@dataclass(frozen=True)
+class EndCase:
+    pass
+
+
+@dataclass(frozen=True)
+class OnError:
+    label: str | None  # None: ON BASICERROR with no handler (turns it off)
+
+
+@dataclass(frozen=True)
+class Declare:
+    """CONSTANT "name", value / GLOBAL "name", vr."""
+
+    what: str  # "CONSTANT" or "GLOBAL"
+    name: str
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Dim:
+    name: str
+    size: Expr | None  # array length, None: a scalar
+    type: str  # INTEGER FLOAT BOOLEAN STRING
+    length: int = 0  # STRING(n)
 
 
 @dataclass(frozen=True)
 class Assign:
-    target: Var | Param | Call  # Call only for VR(i)
+    target: Var | Param | Call  # Call: VR(i) or a user array element
     value: Expr
 
 
@@ -150,8 +224,11 @@ class Next:
 
 
 Stmt = (Print | Assign | Command | WaitIdle | WaitUntil | IfLine | IfBlock | Else | EndIf
-        | While | Wend | Repeat | Until | For | Next)
-BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next)
+        | While | Wend | Repeat | Until | For | Next | Label | Goto | Gosub | Return | ElseIf
+        | SelectCase | Case | EndCase | OnError | Declare | Dim)
+BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next, Label,
+                    Goto, Gosub, Return, ElseIf, SelectCase, Case, EndCase, OnError)
+MAX_ARRAY = 65536  # elements of one DIM array (D)
 
 _EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
 _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
@@ -225,7 +302,8 @@ class _Parser:
                 self.advance()
                 continue
             statement = self.statement()
-            if isinstance(statement, BLOCK_STATEMENTS):
+            if isinstance(statement, BLOCK_STATEMENTS) and not isinstance(
+                    statement, (Goto, Gosub, Return)):
                 raise TrioError("Syntax error")
             out.append(statement)
             if not self.at_statement_end():
@@ -243,8 +321,25 @@ class _Parser:
         keyword = lookup(name)
         if keyword is None:
             self.advance()
+            if self.at_op(":") and self.pos == 1:  # `name:` starting a line: a label
+                return Label(name)
+            if self.at_op("("):  # an element of a DIM array
+                self.advance()
+                index = self.expression()
+                self.expect_op(")")
+                self.expect_op("=")
+                return Assign(Call(name, (index,)), self.expression())
             self.expect_op("=")
             return Assign(Var(name), self.expression())
+        if name == "ON" and self.tokens[self.pos + 1].text == "BASICERROR":
+            self.advance()
+            self.advance()
+            if self.tok.kind is Tok.END:
+                return OnError(None)
+            if not self.at_name("GOTO"):
+                raise TrioError("Syntax error")
+            self.advance()
+            return OnError(self.label_name())
         self.advance()
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
@@ -264,9 +359,42 @@ class _Parser:
             return Assign(Call("VR", (index,)), self.expression())
         raise TrioError("Syntax error")
 
+    def label_name(self) -> str:
+        tok = self.advance()
+        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        return tok.text
+
     def block_or_statement(self, name: str) -> Stmt:
         if name == "PRINT":
             return self.print_rest()
+        if name == "GOTO":
+            return Goto(self.label_name())
+        if name == "GOSUB":
+            return Gosub(self.label_name())
+        if name == "RETURN":
+            return Return(None if self.at_statement_end() else self.expression())
+        if name == "ELSEIF":
+            condition = self.expression()
+            if not self.at_name("THEN"):
+                raise TrioError("Syntax error")
+            self.advance()
+            self.expect_end()
+            return ElseIf(condition)
+        if name == "SELECT_CASE":
+            return SelectCase(self.expression())
+        if name == "CASE":
+            return self.case()
+        if name == "END_CASE":
+            return EndCase()
+        if name in ("CONSTANT", "GLOBAL"):
+            tok = self.advance()
+            if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
+                raise TrioError("Syntax error")
+            self.expect_op(",")
+            return Declare(name, tok.text.upper(), self.expression())
+        if name == "DIM":
+            return self.dim()
         if name == "IF":
             condition = self.expression()
             if not self.at_name("THEN"):
@@ -309,6 +437,47 @@ class _Parser:
                 return WaitUntil(self.expression())
         raise TrioError("Syntax error")
 
+    def case(self) -> Case:
+        if self.at_name("ELSE"):
+            self.advance()
+            return Case(())
+        choices: list[tuple[Expr, Expr | None]] = []
+        while True:
+            low = self.expression()
+            high = None
+            if self.at_name("TO"):
+                self.advance()
+                high = self.expression()
+            choices.append((low, high))
+            if not self.at_op(","):
+                return Case(tuple(choices))
+            self.advance()
+
+    def dim(self) -> Dim:
+        tok = self.advance()
+        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        size = None
+        if self.at_op("("):
+            self.advance()
+            size = self.expression()
+            self.expect_op(")")
+        kind, length = "FLOAT", 0
+        if self.at_name("AS"):
+            self.advance()
+            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+                raise TrioError("Syntax error")
+            kind = self.advance().text
+            if kind == "STRING":
+                self.expect_op("(")
+                number = self.advance()
+                if number.kind is not Tok.NUMBER or not 0 < number.value <= 1024 \
+                        or number.value != int(number.value):
+                    raise TrioError("Syntax error")
+                length = int(number.value)
+                self.expect_op(")")
+        return Dim(tok.text, size, kind, length)
+
     def for_statement(self) -> For:
         tok = self.advance()
         if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
@@ -326,10 +495,33 @@ class _Parser:
         return For(tok.text, start, end, step)
 
     def print_rest(self) -> Print:
-        items: list[tuple[Expr, str]] = []
+        items: list[tuple[Expr | Format, str]] = []
         newline = True
+        channel = None
+        if self.at_op("#"):
+            self.advance()
+            channel = self.expression()
+            if not self.at_op(","):
+                return Print((), True, channel)
+            self.advance()
         while not self.at_statement_end():
-            expr = self.expression()
+            expr: Expr | Format = self.expression()
+            if self.at_op("["):
+                self.advance()
+                width = self.advance()
+                decimals = 0
+                if self.at_op(","):
+                    self.advance()
+                    tok = self.advance()
+                    if tok.kind is not Tok.NUMBER:
+                        raise TrioError("Syntax error")
+                    decimals = int(tok.value)
+                self.expect_op("]")
+                if width.kind is not Tok.NUMBER or not 0 <= width.value <= 127 \
+                        or not 0 <= decimals <= 15:
+                    raise TrioError("Syntax error")
+                assert not isinstance(expr, Format)
+                expr = Format(expr, int(width.value), decimals)
             separator = ""
             if self.at_op(",", ";"):
                 separator = self.advance().text
@@ -338,7 +530,7 @@ class _Parser:
                 break
         if items and items[-1][1]:
             newline = False  # a trailing ',' or ';' keeps the line open
-        return Print(tuple(items), newline)
+        return Print(tuple(items), newline, channel)
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
@@ -446,6 +638,11 @@ class _Parser:
             raise TrioError("Syntax error")
         keyword = lookup(tok.text)
         if keyword is None:
+            if self.at_op("("):  # an element of a DIM array
+                self.advance()
+                index = self.expression()
+                self.expect_op(")")
+                return Call(tok.text, (index,))
             return Var(tok.text)
         if keyword.kind is Kind.CONSTANT:
             return Num(keyword.default)

@@ -33,6 +33,12 @@ class ProgramCommands:
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
+        self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
+        self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
+
+    def context_of(self, process: int) -> ProcessContext | None:
+        task = self.tasks.get(process)
+        return task.ctx if task is not None else None
 
     # ---- SystemHook ---------------------------------------------------------------------
     def system_parameter(self, name: str) -> float | None:
@@ -53,6 +59,9 @@ class ProgramCommands:
 
     def system_command(self, keyword: Keyword, args: list[Value],
                        ctx: ProcessContext) -> Wait:
+        if keyword.name == "STOP" and not args and ctx.program:
+            ctx.stopped = True  # STOP alone in a program: this program ends here
+            args = [ctx.program]
         handler = getattr(self, "cmd_" + keyword.name.lower(), None)
         if handler is not None:  # else a token-table word the emulator does not model:
             handler(args)  # accepted with no effect (its table note says so)
@@ -184,9 +193,12 @@ class ProgramCommands:
         name = self._target(args[:1])
         for process, task in list(self.tasks.items()):
             if task.ctx.program == name:
+                task.ctx.stopped = True
                 del self.tasks[process]
 
     def halt(self) -> None:
+        for task in self.tasks.values():
+            task.ctx.stopped = True
         self.tasks.clear()
 
     def cmd_halt(self, args: list[Value]) -> None:
