@@ -21,6 +21,7 @@ from .parser import (
     MAX_ARRAY,
     Assign,
     Binary,
+    Bit,
     Call,
     Command,
     Declare,
@@ -266,6 +267,8 @@ class Interpreter:
             return self.read_parameter(expr, ctx)
         if isinstance(expr, Call):
             return self.call(expr, ctx)
+        if isinstance(expr, Bit):
+            return float((int(self.number(expr.operand, ctx)) >> expr.bit) & 1)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             return -operand if expr.op == "-" else float(~int(operand))
@@ -401,6 +404,14 @@ class Interpreter:
     def read_parameter(self, expr: Param, ctx: ProcessContext) -> float:
         keyword = expr.keyword
         if keyword.name in PROCESS_PARAMETERS:
+            if expr.process is not None:
+                number = self.number(expr.process, ctx)
+                if number != int(number) or not 0 <= number < 64:
+                    raise TrioError("Parameter out of range")
+                other = self.hook.context_of(int(number))
+                if other is None:
+                    return 0.0  # a process with no program: stopped, no error
+                ctx = other
             return self.process_parameter(keyword.name, ctx)
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             owned = self.hook.system_parameter(keyword.name)

@@ -39,6 +39,7 @@ class Var:
 class Param:
     keyword: Keyword
     axis: Expr | None  # AXIS(n) modifier
+    process: Expr | None = None  # PROC(n) modifier
 
 
 @dataclass(frozen=True)
@@ -60,7 +61,15 @@ class Binary:
     right: Expr
 
 
-Expr = Num | Str | Var | Param | Call | Unary | Binary
+@dataclass(frozen=True)
+class Bit:
+    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0."""
+
+    operand: Expr
+    bit: int
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
 
 # ---- statements ----------------------------------------------------------------------
 
@@ -648,7 +657,23 @@ class _Parser:
             return Num(keyword.default)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
             axis = self.axis_modifier() if keyword.axis_modifier else None
-            return Param(keyword, axis)
+            process = None
+            if self.at_name("PROC"):
+                self.advance()
+                self.expect_op("(")
+                process = self.expression()
+                self.expect_op(")")
+            if axis is None and keyword.axis_modifier:
+                axis = self.axis_modifier()
+            param: Expr = Param(keyword, axis, process)
+            tok = self.tok
+            if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
+                self.advance()
+                bit = int(tok.text[1:])
+                if bit > 52:
+                    raise TrioError("Parameter out of range")
+                return Bit(param, bit)
+            return param
         if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))

@@ -124,10 +124,17 @@ class ProgramCommands:
 
     def compile(self, name: str) -> list[Step]:
         """Compile one program; its errors carry the line number."""
-        steps = compile_program(self.programs.lines[name])
+        steps = compile_program(self.programs.lines[name], self._included)
         self.compiled[name] = steps
         self.programs.set_compiled(name, 4 * len(steps))
         return steps
+
+    def _included(self, name: str) -> list[str]:
+        """INCLUDE "NAME": the lines of a BASIC program in the store."""
+        info = self.programs.get(name)
+        if info.type not in _BASIC_TYPES:
+            raise TrioError("Program cannot be run")
+        return self.programs.lines[info.name]
 
     def _compile_reporting(self, name: str) -> None:
         if self.programs.get(name).type not in _BASIC_TYPES:

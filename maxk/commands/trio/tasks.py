@@ -24,7 +24,8 @@ handler: then RUN_ERROR and ERROR_LINE are set and the process goes on at the ha
 
 from __future__ import annotations
 
-from collections.abc import Generator
+import re
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -110,14 +111,41 @@ def _flatten(stmt: Stmt) -> list[Stmt]:
     return out
 
 
-def compile_program(lines: list[str]) -> list[Step]:
-    """Parse and link a program; TrioError carries the failing line number."""
+_INCLUDE = re.compile(r'\s*INCLUDE\s*"([^"]*)"\s*(\'.*)?$', re.IGNORECASE)
+INCLUDE_DEPTH = 8  # INCLUDEs within INCLUDEs (D)
+
+
+def _expand(lines: list[str], include: Callable[[str], list[str]] | None,
+            depth: int = 0, number: int | None = None) -> list[tuple[int, str]]:
+    """The logical lines with each INCLUDE "NAME" replaced by that program's lines (they
+    take the INCLUDE's line number: D)."""
+    out: list[tuple[int, str]] = []
+    for line_number, text in join_continued(lines):
+        at = line_number if number is None else number
+        match = _INCLUDE.match(text)
+        if match is None:
+            out.append((at, text))
+            continue
+        if include is None or depth >= INCLUDE_DEPTH:
+            raise TrioError("Structure error", at)
+        try:
+            included = include(match.group(1).upper())
+        except TrioError as exc:
+            raise TrioError(exc.message, at) from None
+        out += _expand(included, include, depth + 1, at)
+    return out
+
+
+def compile_program(lines: list[str],
+                    include: Callable[[str], list[str]] | None = None) -> list[Step]:
+    """Parse and link a program; TrioError carries the failing line number. `include`
+    gives the lines of a program an INCLUDE names."""
     steps: list[Step] = []
     open_blocks: list[_Open] = []
     targets: dict[int, int] = {}
     openers: dict[int, int] = {}
     labels: dict[str, int] = {}
-    for number, text in join_continued(lines):
+    for number, text in _expand(lines, include):
         try:
             statements = parse_line(text)
         except TrioError as exc:
@@ -150,9 +178,7 @@ def compile_program(lines: list[str]) -> list[Step]:
         raise TrioError("Structure error", open_blocks[-1].line)
     for index, step in enumerate(steps):
         label = None
-        if isinstance(step.stmt, (Goto, Gosub)):
-            label = step.stmt.label
-        elif isinstance(step.stmt, OnError) and step.stmt.label is not None:
+        if isinstance(step.stmt, (Goto, Gosub, OnError)):
             label = step.stmt.label
         if label is not None:
             if label not in labels:
@@ -364,9 +390,9 @@ class Task:
             if high is None:
                 if first == value:
                     return True
-            elif isinstance(value, float) and isinstance(first, float):
-                if first <= value <= interp.number(high, ctx):
-                    return True
+            elif isinstance(value, float) and isinstance(first, float) \
+                    and first <= value <= interp.number(high, ctx):
+                return True
         return False
 
     def _true(self, condition: Expr) -> bool:
