@@ -126,6 +126,7 @@ class SystemHook(Protocol):
 
     constants: dict[str, Value]
     globals: dict[str, int]
+    analog_outputs: dict[int, float]
 
 
 _MATH: dict[str, Callable[[float], float]] = {
@@ -135,7 +136,9 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE"})
+                               "MPE", "FORWARD", "REVERSE", "OP"})
+IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
+FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
 
 def _truth(value: bool) -> float:
@@ -353,6 +356,8 @@ class Interpreter:
         args = [self.evaluate(a, ctx) for a in expr.args]
         if name in ("IS_PROG", "PROG_TYPE"):
             return self.hook.system_function(name, args)
+        if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
+            return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
         if len(numbers) != len(args):
             raise TrioError("Syntax error")
@@ -378,6 +383,46 @@ class Interpreter:
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
         return float(result)
+
+    def io_function(self, name: str, args: list[float]) -> float:
+        m = self.machine
+        if name in ("AIN", "AOUT"):
+            if len(args) != 1:
+                raise TrioError("Syntax error")
+            channel = self._point(args[0], 8)
+            if name == "AOUT":
+                return self.hook.analog_outputs.get(channel, 0.0)
+            return float(round(m.analog_input(channel) / 10.0 * 2047))
+        read = m.digital_input if name == "IN" else m.output
+        if not args:
+            args = [0.0, IO_POINTS - 1.0]
+        if len(args) == 1:
+            return 1.0 if read(self._point(args[0], IO_POINTS)) else 0.0
+        first, last = self._point(args[0], IO_POINTS), self._point(args[1], IO_POINTS)
+        if last < first:
+            raise TrioError("Parameter out of range")
+        return float(sum(1 << k for k in range(last - first + 1) if read(first + k)))
+
+    @staticmethod
+    def _point(value: float, count: int) -> int:
+        if value != int(value) or not 0 <= value < count:
+            raise TrioError("Parameter out of range")
+        return int(value)
+
+    def axis_status(self, axis: int) -> float:
+        """AXISSTATUS: the limit bits the emulator knows (16, 32, 512, 1024)."""
+        m = self.machine
+        bits = 0
+        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
+            wired = m.axis_parameter(name, axis)
+            if 0 <= wired < IO_POINTS and m.digital_input(int(wired)):
+                bits |= bit
+        dpos = m.axis_parameter("DPOS", axis)
+        if dpos > m.axis_parameter("FS_LIMIT", axis):
+            bits |= 512
+        if dpos < m.axis_parameter("RS_LIMIT", axis):
+            bits |= 1024
+        return float(bits)
 
     def _element(self, name: str, args: tuple[Expr, ...],
                  ctx: ProcessContext) -> tuple[list[Value], int]:
@@ -421,6 +466,8 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
+        if keyword.name == "AXISSTATUS":
+            return self._machine(lambda: self.axis_status(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
 
     def process_parameter(self, name: str, ctx: ProcessContext) -> float:
@@ -549,6 +596,15 @@ class Interpreter:
                     raise TrioError("Parameter out of range")  # (D) bounded
                 ctx.variables[name] = self._typed(name, raw, ctx)
             return
+        if isinstance(target, Call) and target.name == "AOUT":
+            channel = self._point(self.number(target.args[0], ctx), 8)
+            value = self.number_value(raw)
+            if not -2048 <= value <= 2047:
+                raise TrioError("Parameter out of range")
+            self.hook.analog_outputs[channel] = value
+            return
+        if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
+            raise TrioError("Parameter is read only")
         if isinstance(target, Call) and target.name != "VR":
             array, index = self._element(target.name, target.args, ctx)
             array[index] = self._typed(target.name, raw, ctx)
@@ -622,6 +678,8 @@ class Interpreter:
             KEYWORDS["MPE"].check(args[0])
         elif name == "RAPIDSTOP":
             self._act(m.rapidstop)
+        elif name == "OP":
+            self.op(args)
         else:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
@@ -637,11 +695,31 @@ class Interpreter:
             self._act(lambda: m.cancel(axis))
         elif name == "PWM_CONTROL":
             self._act(lambda: m.pwm_control(axis, args))
+        elif name in ("FORWARD", "REVERSE"):
+            while not m.can_load([axis]):
+                yield ON_CHANGE
+            units = m.axis_parameter("UNITS", axis)
+            distance = FOREVER_COUNTS / units * (1 if name == "FORWARD" else -1)
+            self._act(lambda: m.move([axis], [distance]))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
+
+    def op(self, args: list[float]) -> None:
+        """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""
+        m = self.machine
+        if len(args) == 2:
+            m.set_output(self._point(args[0], IO_POINTS), args[1] != 0)
+        elif len(args) == 1:
+            pattern = args[0]
+            if pattern != int(pattern) or not 0 <= pattern < 2 ** 24:
+                raise TrioError("Parameter out of range")
+            for k in range(8, IO_POINTS):
+                m.set_output(k, bool((int(pattern) >> (k - 8)) & 1))
+        else:
+            raise TrioError("Syntax error")  # OP(first, last, pattern): not modelled (D)
 
     def _axis_number(self, value: float) -> int:
         if value != int(value) or not 0 <= value < self.machine.axis_count:

@@ -287,6 +287,85 @@ _ENTRIES: list[Keyword] = [
                source=f"{SEED}; {TOK}; {MAN}",
                note="WAIT UNTIL tests once per servo cycle (D). Allowed on the command "
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
+    # ---- drives, limits and I/O ------------------------------------------------------------
+    *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
+            value_range=(-1, 31), source=f"{TOK}; {MAN}", confidence="I",
+            note=f"IN(n) of that input reads the world's {switch} switch of this axis at its "
+            "position (unless the world drives input n itself); AXISSTATUS shows it. The "
+            "switch does not stop motion (not modelled, docs/not-modelled.md).")
+      for name, what, switch in (("FWD_IN", "forward limit", "plus-limit"),
+                                 ("REV_IN", "reverse limit", "minus-limit"),
+                                 ("DATUM_IN", "datum (home) switch", "home"))],
+    _axis("FS_LIMIT", "Forward software limit, user units.", default=200000000000,
+          source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). Reported in "
+          "AXISSTATUS bit 9 when DPOS is beyond it; it does not stop motion (not modelled)."),
+    _axis("RS_LIMIT", "Reverse software limit, user units.", default=-200000000000,
+          source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT, AXISSTATUS bit 10."),
+    _axis("AXISSTATUS", "Axis status bits: 16 forward limit, 32 reverse limit, 512 forward "
+          "soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
+          confidence="I", note="Bits from the limit inputs and the soft limits; the drive and "
+          "following-error bits read 0 (no drive faults are modelled, D)."),
+    _axis("SERVO", "Position loop on (ON) or off for the axis.", value_range=(-1, 1),
+          source=f"{TOK}; {MAN}", confidence="D", note="Stored; motion runs on the demand "
+          "whatever its value (not modelled)."),
+    _axis("AXIS_ENABLE", "Enable of the axis's drive.", value_range=(-1, 1),
+          source=f"{TOK}; {MAN}", confidence="D", note="Stored; not modelled (as SERVO)."),
+    _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
+             (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D)."),
+    _command("REVERSE", "Move in reverse continuously at SPEED until CANCEL.", (0, 0),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I", note="As FORWARD."),
+    _function("IN", "IN(n): input n, 1 on / 0 off; IN(a, b): inputs a..b as a binary "
+              "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
+              note="Reads the shared world's inputs (the world contract can drive them)."),
+    _command("OP", "OP(n, ON|OFF) sets output n; OP(n) reads it as a function.", (1, 3),
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="Outputs 0..31 kept by the machine, off at power up (D); OP(pattern) with "
+             "one argument sets outputs 8..31 from bits (I)."),
+    _function("READ_OP", "READ_OP(n): output n, 1/0; READ_OP(a, b): outputs a..b as a "
+              "binary number.", (1, 2), source=f"{TOK}; {MAN}", confidence="I",
+              note="Reads the outputs OP set (I)."),
+    _function("AIN", "AIN(n): analog input n as a 12-bit signed count (-2048..2047 for "
+              "-10..10 V).", (1, 1), source=f"{TOK}; {MAN}", confidence="D",
+              note="The scaling is our decision (D); the volts come from the world."),
+    _command("AOUT", "AOUT(n) = value: analog output n; AOUT(n) reads it back.", (1, 1),
+             source=f"{TOK}; {MAN}", confidence="D",
+             note="Kept by the language per controller; no analog world output (D)."),
+    # ---- processes and errors ------------------------------------------------------------------
+    _system("RUN_ERROR", "The code of the last runtime error of this process (PROC(n): of "
+            "process n).", writable=False, confidence="D",
+            note="Set when ON BASICERROR GOTO catches an error. The numbers are ours (D): "
+            "1 Syntax error, 2 Parameter out of range, 3 Arithmetic error, 4 Divide by zero, "
+            "5 Invalid axis number ... (interpreter.ERROR_CODES)."),
+    _system("ERROR_LINE", "The program line of the last runtime error of this process.",
+            writable=False, note="Lines of an INCLUDEd program report the INCLUDE's line (D)."),
+    _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
+            "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
+    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
+            "stopped.", writable=False, confidence="I",
+            note="Paused/stepping (2, 3) do not exist in the emulator (D)."),
+    _system("PROCNUMBER", "The number of the process reading it.", writable=False),
+    _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
+    # ---- strings --------------------------------------------------------------------------
+    _function("CHR", "CHR(n): the one-character string of code n (0..255).", (1, 2)),
+    _function("HEX", "HEX(n): n in hexadecimal, upper case; negatives as 48-bit two's "
+              "complement (D).", (1, 1)),
+    _function("ASC", "ASC(s[, i]): the code of character i (1-based) of s.", (1, 2)),
+    _function("LEN", "LEN(s): characters in s.", (1, 1)),
+    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2)),
+    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2)),
+    _function("MID", "MID(s, start[, n]): n characters from start (1-based).", (2, 3)),
+    _function("UCASE", "UCASE(s): upper case.", (1, 1)),
+    _function("LCASE", "LCASE(s): lower case.", (1, 1)),
+    _function("STR", "STR(x): x as PRINT shows it.", (1, 3),
+              note="Width and decimals arguments are accepted and not applied (D)."),
+    _function("VAL", "VAL(s): the number s spells (0 when it spells none, I).", (1, 1)),
+    _function("INSTR", "INSTR([start,] s, find): the 1-based place of find in s, 0 if "
+              "absent.", (2, 4)),
+    _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
+               confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
+    Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
+            args=(1, 1)),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),

@@ -101,3 +101,19 @@ class TrioMachine(Protocol):
 
     def vr_write(self, index: int, value: float) -> None:
         ...
+
+    # ---- I/O ------------------------------------------------------------------------
+    def digital_input(self, number: int) -> bool:
+        """IN(n): the input's level (the world's input, or the limit/home switch of an
+        axis whose FWD_IN/REV_IN/DATUM_IN names it)."""
+        ...
+
+    def analog_input(self, channel: int) -> float:
+        """AIN(n) in volts, -10..10."""
+        ...
+
+    def output(self, number: int) -> bool:
+        ...
+
+    def set_output(self, number: int, on: bool) -> None:
+        ...

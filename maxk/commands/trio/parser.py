@@ -353,7 +353,11 @@ class _Parser:
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
         if keyword.kind is Kind.COMMAND:
-            return self.command(keyword)
+            command = self.command(keyword)
+            if self.at_op("=") and command.args:  # AOUT(n) = value
+                self.advance()
+                return Assign(Call(name, command.args), self.expression())
+            return command
         if name in _PARAM_COMMANDS and self.at_op("("):
             return self.command(keyword)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):

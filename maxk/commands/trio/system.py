@@ -35,6 +35,7 @@ class ProgramCommands:
         self.compiled: dict[str, list[Step]] = {}
         self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
         self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
+        self.analog_outputs: dict[int, float] = {}  # AOUT(n)
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)

@@ -91,6 +91,7 @@ class MC405Machine(Kinematics, Engine):
         self.distance_done = [0.0] * self._axis_count  # path distance per base, user units
         self.table = TableMemory()
         self.vr = VrMemory()
+        self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         if hasattr(self, "outputs"):
             self.outputs.reset()
         self.changed()
@@ -216,6 +217,33 @@ class MC405Machine(Kinematics, Engine):
                 raise ValueError("Parameter out of range")
             deltas.append(round(delta))
         self._load(tuple(axes), deltas)
+
+    # ---- I/O on the shared world --------------------------------------------------------
+    def digital_input(self, number: int) -> bool:
+        """IN(n): a level the world sets for input n; else the switch of an axis wired to
+        it by FWD_IN/REV_IN/DATUM_IN, at the axis's position (D: the world's per-axis
+        switches reach the controller through the inputs the program names)."""
+        if number in self.world.digital:
+            return self.world.digital_level(number, self)  # type: ignore[arg-type]
+        for i, axis in enumerate(self.axes):
+            params = axis.params
+            for name, switch in (("FWD_IN", "plus_limit"), ("REV_IN", "minus_limit"),
+                                 ("DATUM_IN", "home")):
+                if params.get(name, -1) == number:
+                    stage = self.world.axes[i]
+                    if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
+                        return True
+        return False
+
+    def analog_input(self, channel: int) -> float:
+        return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
+
+    def output(self, number: int) -> bool:
+        return self.digital_outputs.get(number, False)
+
+    def set_output(self, number: int, on: bool) -> None:
+        self.digital_outputs[number] = on
+        self.changed()
 
     def axis_idle(self, axis: int) -> bool:
         a = self.axes[axis]
