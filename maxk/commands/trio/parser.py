@@ -676,6 +676,8 @@ class _Parser:
                 bit = int(tok.text[1:])
                 if bit > 52:
                     raise TrioError("Parameter out of range")
+                if axis is None and keyword.axis_modifier and self.at_name("AXIS"):
+                    param = Param(keyword, self.axis_modifier(), process)  # x.n AXIS(a)
                 return Bit(param, bit)
             return param
         if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
