@@ -36,7 +36,8 @@ RETURN""")
 
 
 def test_return_without_gosub_is_the_programs_error_line() -> None:
-    assert run("PRINT 1\nRETURN") == "1\r\n%[Process 19:Program P Line 2] - RETURN without GOSUB\r\n"
+    assert run("PRINT 1\nRETURN") == \
+        "1\r\n%[Process 19:Program P Line 2] - RETURN without GOSUB\r\n"
 
 
 def test_a_missing_label_fails_at_compile_with_its_line() -> None:
