@@ -230,3 +230,33 @@ def test_a_busy_loop_costs_servo_cycles() -> None:
     rig.command("HALT")
     rig.cycles(5)
     assert rig.command("?VR(1)") == b"99"
+
+
+def test_functions_return_values_recurse_and_keep_their_own_variables() -> None:
+    out = run("""x = 5
+PRINT square(x) + 1; " "; hyp(3, 4); " "; fact(5); " "; noret()
+show("hi")
+FUNCTION square(v AS FLOAT) AS FLOAT
+  RETURN v * v
+ENDFUNC
+FUNCTION hyp(a, b)
+  RETURN SQR(square(a) + square(b))
+ENDFUNC
+FUNCTION fact(n)
+  IF n <= 1 THEN RETURN 1
+  RETURN n * fact(n - 1)
+ENDFUNC
+FUNCTION noret()
+  y = 1
+ENDFUNC
+FUNCTION show(t AS STRING(10))
+  PRINT t; " x="; x
+ENDFUNC""")
+    assert out == "26 5 120 0\r\nhi x=0\r\n"
+
+
+def test_a_function_may_not_wait_and_recursion_is_bounded() -> None:
+    assert run("PRINT f()\nFUNCTION f()\nWA(10)\nENDFUNC").endswith(
+        "Line 1] - Function cannot wait\r\n")
+    assert run("PRINT f(1)\nFUNCTION f(n)\nRETURN f(n + 1)\nENDFUNC").endswith(
+        "Line 1] - Stack overflow\r\n")

@@ -31,6 +31,7 @@ from .parser import (
     IfLine,
     Num,
     Param,
+    Perform,
     Print,
     Stmt,
     Str,
@@ -110,6 +111,7 @@ class ProcessContext:
     error_line: float = 0.0  # ERROR_LINE: the line it happened on
     ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
     stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
+    functions: Callable[[str, list[Value]], Value] | None = None  # the program's FUNCTIONs
 
 
 class SystemHook(Protocol):
@@ -344,7 +346,9 @@ class Interpreter:
 
     def call(self, expr: Call, ctx: ProcessContext) -> Value:
         name = expr.name
-        if name not in KEYWORDS:  # a DIM array's element
+        if name not in KEYWORDS:  # a DIM array's element, or a FUNCTION's value
+            if name not in ctx.arrays and ctx.functions is not None:
+                return ctx.functions(name, [self.evaluate(a, ctx) for a in expr.args])
             array, index = self._element(name, expr.args, ctx)
             return array[index]
         if name in _STRING_FUNCTIONS:
@@ -427,7 +431,7 @@ class Interpreter:
     def _element(self, name: str, args: tuple[Expr, ...],
                  ctx: ProcessContext) -> tuple[list[Value], int]:
         array = ctx.arrays.get(name)
-        if array is None:
+        if array is None or len(args) != 1:
             raise TrioError("Variable not defined")
         index = self.number(args[0], ctx)
         if index != int(index) or not 0 <= index < len(array):
@@ -516,6 +520,8 @@ class Interpreter:
             self.declare(stmt, ctx)
         elif isinstance(stmt, Dim):
             self.dim(stmt, ctx)
+        elif isinstance(stmt, Perform):
+            self.evaluate(stmt.call, ctx)
         else:
             raise TrioError("Structure error")  # a block statement outside a program
 

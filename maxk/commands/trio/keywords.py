@@ -394,6 +394,9 @@ _STATEMENTS = {
     "SELECT_CASE": "SELECT_CASE expr ... CASE v[, v] ... CASE ELSE ... END_CASE.",
     "CASE": "Part of SELECT_CASE.", "END_CASE": "Ends SELECT_CASE.",
     "BASICERROR": "ON BASICERROR GOTO label: a runtime error jumps to label.",
+    "FUNCTION": "FUNCTION name(p [AS type], ...) [AS type] ... ENDFUNC: a function of the "
+                "program, called as name(...); RETURN value gives its value.",
+    "ENDFUNC": "Ends a FUNCTION (its value is then 0).",
 }
 _STATEMENT_NOTE = ("Handled by the parser and the process runner; the form is from the "
                    "token table and public programs (I).")

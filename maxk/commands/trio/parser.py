@@ -147,6 +147,26 @@ class Declare:
 
 
 @dataclass(frozen=True)
+class FunctionDef:
+    """FUNCTION name(p [AS type], ...) [AS type]: a function of this program."""
+
+    name: str
+    params: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class EndFunc:
+    pass
+
+
+@dataclass(frozen=True)
+class Perform:
+    """A user FUNCTION called as a statement, its value dropped."""
+
+    call: Call
+
+
+@dataclass(frozen=True)
 class Dim:
     name: str
     size: Expr | None  # array length, None: a scalar
@@ -234,9 +254,11 @@ class Next:
 
 Stmt = (Print | Assign | Command | WaitIdle | WaitUntil | IfLine | IfBlock | Else | EndIf
         | While | Wend | Repeat | Until | For | Next | Label | Goto | Gosub | Return | ElseIf
-        | SelectCase | Case | EndCase | OnError | Declare | Dim)
+        | SelectCase | Case | EndCase | OnError | Declare | Dim | FunctionDef | EndFunc
+        | Perform)
 BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next, Label,
-                    Goto, Gosub, Return, ElseIf, SelectCase, Case, EndCase, OnError)
+                    Goto, Gosub, Return, ElseIf, SelectCase, Case, EndCase, OnError,
+                    FunctionDef, EndFunc)
 MAX_ARRAY = 65536  # elements of one DIM array (D)
 
 _EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
@@ -332,12 +354,14 @@ class _Parser:
             self.advance()
             if self.at_op(":") and self.pos == 1:  # `name:` starting a line: a label
                 return Label(name)
-            if self.at_op("("):  # an element of a DIM array
+            if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
+                args = self.user_args()
+                if not self.at_op("="):
+                    return Perform(Call(name, args))
                 self.advance()
-                index = self.expression()
-                self.expect_op(")")
-                self.expect_op("=")
-                return Assign(Call(name, (index,)), self.expression())
+                if len(args) != 1:
+                    raise TrioError("Syntax error")
+                return Assign(Call(name, args), self.expression())
             self.expect_op("=")
             return Assign(Var(name), self.expression())
         if name == "ON" and self.tokens[self.pos + 1].text == "BASICERROR":
@@ -408,6 +432,10 @@ class _Parser:
             return Declare(name, tok.text.upper(), self.expression())
         if name == "DIM":
             return self.dim()
+        if name == "FUNCTION":
+            return self.function()
+        if name == "ENDFUNC":
+            return EndFunc()
         if name == "IF":
             condition = self.expression()
             if not self.at_name("THEN"):
@@ -465,6 +493,44 @@ class _Parser:
             if not self.at_op(","):
                 return Case(tuple(choices))
             self.advance()
+
+    def user_args(self) -> tuple[Expr, ...]:
+        self.expect_op("(")
+        args: list[Expr] = []
+        if not self.at_op(")"):
+            args.append(self.expression())
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
+        self.expect_op(")")
+        return tuple(args)
+
+    def skip_type(self) -> None:
+        if self.at_name("AS"):
+            self.advance()
+            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+                raise TrioError("Syntax error")
+            if self.advance().text == "STRING" and self.at_op("("):
+                self.advance()
+                self.advance()
+                self.expect_op(")")
+
+    def function(self) -> FunctionDef:
+        name = self.label_name()
+        params: list[str] = []
+        if self.at_op("("):
+            self.advance()
+            while not self.at_op(")"):
+                params.append(self.label_name())
+                self.skip_type()
+                if not self.at_op(","):
+                    break
+                self.advance()
+            self.expect_op(")")
+        self.skip_type()
+        if len(set(params)) != len(params):
+            raise TrioError("Syntax error")
+        return FunctionDef(name, tuple(params))
 
     def dim(self) -> Dim:
         tok = self.advance()
@@ -651,11 +717,8 @@ class _Parser:
             raise TrioError("Syntax error")
         keyword = lookup(tok.text)
         if keyword is None:
-            if self.at_op("("):  # an element of a DIM array
-                self.advance()
-                index = self.expression()
-                self.expect_op(")")
-                return Call(tok.text, (index,))
+            if self.at_op("("):  # an element of a DIM array, or a FUNCTION's value
+                return Call(tok.text, self.user_args())
             return Var(tok.text)
         if keyword.kind is Kind.CONSTANT:
             return Num(keyword.default)

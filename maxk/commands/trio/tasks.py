@@ -29,16 +29,18 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
-from .interpreter import Interpreter, ProcessContext, Wake, error_code
+from .interpreter import Interpreter, ProcessContext, Value, Wake, error_code
 from .lexer import TrioError
 from .parser import (
     Case,
     Else,
     ElseIf,
     EndCase,
+    EndFunc,
     EndIf,
     Expr,
     For,
+    FunctionDef,
     Gosub,
     Goto,
     IfBlock,
@@ -57,7 +59,9 @@ from .parser import (
 )
 
 STATEMENTS_PER_CYCLE = 100
-GOSUB_DEPTH = 64  # nested GOSUBs before "Stack overflow" (D)
+GOSUB_DEPTH = 64  # nested GOSUBs (and FUNCTION calls) before "Stack overflow" (D)
+FUNCTION_STATEMENTS = 10000  # statements one FUNCTION call may run (D: it runs within the
+# statement that calls it, so it is bounded; more is "Function too long")
 
 
 @dataclass(frozen=True)
@@ -247,6 +251,12 @@ def _link(stmt: Stmt, index: int, line: int, open_blocks: list[_Open],
         open_blocks.append(_Open("REPEAT", index, line))
     elif isinstance(stmt, Until):
         targets[index] = close("REPEAT") + 1
+    elif isinstance(stmt, FunctionDef):
+        if open_blocks:
+            raise TrioError("Structure error")  # a FUNCTION inside a block
+        open_blocks.append(_Open("FUNCTION", index, line))
+    elif isinstance(stmt, EndFunc):
+        targets[close("FUNCTION")] = index + 1  # running into a FUNCTION skips it
     elif isinstance(stmt, For):
         open_blocks.append(_Open("FOR", index, line))
     elif isinstance(stmt, Next):
@@ -267,6 +277,49 @@ class Task:
         self.wake: Wake | None = None  # what the last step waits for (None: next cycle)
         self.due: int | None = None  # scheduler: the tick to run next (None: on a change)
         self.seen = -1  # scheduler: the machine revision its last step saw (-1: fresh)
+        self.functions = {s.stmt.name: i for i, s in enumerate(steps)
+                          if isinstance(s.stmt, FunctionDef)}
+        self.depth = 0
+        ctx.functions = self.call_function
+
+    def call_function(self, name: str, args: list[Value]) -> Value:
+        """Run a FUNCTION of the program to its RETURN value (or ENDFUNC: 0), with its
+        parameters as its own variables, inside the statement that calls it: it may
+        not wait (D)."""
+        start = self.functions.get(name)
+        if start is None:
+            raise TrioError("Variable not defined")
+        define = self.steps[start].stmt
+        assert isinstance(define, FunctionDef)
+        if len(args) != len(define.params):
+            raise TrioError("Syntax error")
+        if self.depth >= GOSUB_DEPTH:
+            raise TrioError("Stack overflow")
+        outer = self.ctx
+        ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
+                             variables=dict(zip(define.params, args, strict=True)),
+                             functions=self.call_function, ticks=outer.ticks)
+        self.depth += 1
+        try:
+            pc = start + 1
+            for _ in range(FUNCTION_STATEMENTS):
+                step = self.steps[pc]
+                ctx.line = step.line
+                stmt = step.stmt
+                if isinstance(stmt, EndFunc):
+                    return 0.0
+                if isinstance(stmt, Return) and not ctx.stack:
+                    if stmt.value is None:
+                        return 0.0
+                    return self.interpreter.evaluate(stmt.value, ctx)
+                for wake in self._step(ctx, pc, step, True):
+                    if wake is not _PASS and wake is not _LOOPED:
+                        raise TrioError("Function cannot wait")
+                pc = ctx.pc
+            raise TrioError("Function too long")
+        finally:
+            self.depth -= 1
+            outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
 
     def step(self) -> Wake | None:
         """Run until the program waits, ends a loop pass, uses its slice or finishes (one
@@ -301,7 +354,7 @@ class Task:
             step = steps[pc]
             ctx.line = step.line
             try:
-                for wake in self._step(pc, step, waited):
+                for wake in self._step(ctx, pc, step, waited):
                     if wake is _LOOPED:
                         waited = False
                         continue
@@ -317,16 +370,18 @@ class Task:
                 ctx.error_line = step.line
                 pc, ctx.on_error = ctx.on_error, None
 
-    def _step(self, pc: int, step: Step, waited: bool) -> Generator[Wake | None | object,
-                                                                    None, None]:
+    def _step(self, ctx: ProcessContext, pc: int, step: Step,
+              waited: bool) -> Generator[Wake | None | object, None, None]:
         """Run one step, setting ctx.pc to the next; yields _PASS to end a loop pass
         (a servo cycle unless one was already given up) and _LOOPED after a back-edge."""
-        interp, ctx, stmt = self.interpreter, self.ctx, step.stmt
+        interp, stmt = self.interpreter, step.stmt
         ctx.pc = pc + 1
         if isinstance(stmt, (IfBlock, While)):
-            ctx.pc = pc + 1 if self._true(stmt.condition) else step.target
-        elif isinstance(stmt, (Else, Goto)):
-            ctx.pc = step.target  # the end of a branch / GOTO
+            ctx.pc = pc + 1 if interp.number(stmt.condition, ctx) != 0 else step.target
+        elif isinstance(stmt, (Else, Goto, FunctionDef)):
+            ctx.pc = step.target  # the end of a branch / GOTO / past a FUNCTION
+        elif isinstance(stmt, EndFunc):
+            raise TrioError("Structure error")  # reached only by a jump into a FUNCTION
         elif isinstance(stmt, (EndIf, Repeat, Label, EndCase)):
             pass
         elif isinstance(stmt, Gosub):
@@ -344,7 +399,7 @@ class Task:
             ctx.cases[pc] = interp.evaluate(stmt.value, ctx)
             ctx.pc = step.target
         elif isinstance(stmt, Case):
-            if not self._matches(stmt, ctx.cases.get(step.opener, 0.0)):
+            if not self._matches(ctx, stmt, ctx.cases.get(step.opener, 0.0)):
                 ctx.pc = step.target
         elif isinstance(stmt, Wend):
             if not waited:
@@ -352,7 +407,7 @@ class Task:
             yield _LOOPED
             ctx.pc = step.target
         elif isinstance(stmt, Until):
-            if not self._true(stmt.condition):
+            if interp.number(stmt.condition, ctx) == 0:
                 if not waited:
                     yield _PASS
                 yield _LOOPED
@@ -381,10 +436,10 @@ class Task:
         else:
             yield from interp.execute(stmt, ctx)
 
-    def _matches(self, stmt: Case, value: object) -> bool:
+    def _matches(self, ctx: ProcessContext, stmt: Case, value: object) -> bool:
         if not stmt.choices:
             return True  # CASE ELSE
-        interp, ctx = self.interpreter, self.ctx
+        interp = self.interpreter
         for low, high in stmt.choices:
             first = interp.evaluate(low, ctx)
             if high is None:
