@@ -260,3 +260,11 @@ def test_a_function_may_not_wait_and_recursion_is_bounded() -> None:
         "Line 1] - Function cannot wait\r\n")
     assert run("PRINT f(1)\nFUNCTION f(n)\nRETURN f(n + 1)\nENDFUNC").endswith(
         "Line 1] - Stack overflow\r\n")
+
+
+def test_docs_list_every_keyword_with_its_source() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).parent.parent / "docs" / "trio.md").read_text()
+    for name, keyword in KEYWORDS.items():
+        assert f"| `{name}` | {keyword.kind.value} |" in text, name

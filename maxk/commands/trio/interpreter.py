@@ -5,6 +5,9 @@ a full move buffer), so a program runs beside the command line: the scheduler re
 each process once per servo cycle. Every argument of a statement is evaluated and
 checked before the machine is asked to act, and the machine is asked once, so an error
 leaves nothing half-applied.
+
+Long module: expressions, statements, strings and I/O share one evaluator and its error
+rules (every argument checked before the machine acts), kept in one place.
 """
 
 from __future__ import annotations

@@ -8,6 +8,8 @@ links them into jumps when a program is compiled.
 
 Precedence, loosest first (D where the manual is silent): OR XOR, AND, NOT,
 comparisons, + -, * / MOD, unary minus, ^.
+
+Long module: one recursive-descent parser for every statement form of the language.
 """
 
 from __future__ import annotations

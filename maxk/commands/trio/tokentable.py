@@ -10,6 +10,8 @@ what kind each word is and its argument counts, facts of the language. Line form
 - ``M NAME``: a modifier (``AXIS(n)``, ``PROC(n)`` ...); ``T NAME value``: a constant.
 
 keywords.py turns the words it has no hand-written entry for into table entries.
+
+Long module: data, one line per token-table word.
 """
 
 TOKENS = """\

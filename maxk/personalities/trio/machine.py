@@ -14,6 +14,9 @@ position is passed), and everything between is closed form:
 
 `revision` counts every change a waiting program could notice; the process scheduler
 of the language uses it to wake WAIT IDLE and full-buffer waits.
+
+Long module: the MC405's parameters, motion queues, links and I/O on one engine are one
+state; splitting them would spread every change across files.
 """
 
 from __future__ import annotations
