@@ -203,8 +203,8 @@ def test_every_token_table_word_is_a_keyword_never_a_variable() -> None:
     names = [row.split()[1] for row in TOKENS.split("\n") if row.split()]
     assert set(names) <= set(KEYWORDS)
     rig = Rig()
-    for word in ("CREEP", "COMPILE_MODE", "SERVO", "DATUM_IN", "JERK", "FE_LIMIT_MODE"):
-        assert rig.command(f"?{word}") == b"0" or word == "DATUM_IN"
+    for word in ("COMPILE_MODE", "SERVO", "JERK", "FE_LIMIT_MODE", "DRIVE_STATUS"):
+        assert rig.command(f"?{word}") == b"0"
     with pytest.raises(AtrioError):
         rig.command("CREEP = 10 + ")  # still a statement of the keyword: a syntax error
     rig.command("CREEP AXIS(1) = 10")
@@ -268,3 +268,31 @@ def test_docs_list_every_keyword_with_its_source() -> None:
     text = (Path(__file__).parent.parent / "docs" / "trio.md").read_text()
     for name, keyword in KEYWORDS.items():
         assert f"| `{name}` | {keyword.kind.value} |" in text, name
+
+
+def _mc405_run(lines: list[str], seconds: float) -> tuple[str, object]:
+    from maxk.controllers.trio import MC405
+
+    controller = MC405()
+    session = controller.open_session()
+    for text in ['SELECT "H",0', *[f"!H,{n}R{line}" for n, line in enumerate(lines)],
+                 "COMPILE", 'RUN "H"']:
+        session.feed(text.encode() + b"\r\n")
+    session.read()
+    controller.advance(seconds)
+    return session.read().decode(), controller
+
+
+def test_datum_homes_on_the_worlds_home_switch_with_creep() -> None:
+    out, controller = _mc405_run(
+        ["DATUM_IN AXIS(0)=5", "SPEED=2000", "ACCEL=20000", "DECEL=20000", "CREEP=100",
+         "DATUM(3)", 'PRINT "homed "; DPOS; " "; SPEED', "MOVEABS(-34)", "WAIT IDLE",
+         "PRINT IN(5)"], 3.0)
+    assert out == "homed 0 2000\r\n0\r\n"
+    # the world's home window starts at 1234 counts: the zero is its lower edge
+    assert controller.world_view().reading("0").position == 1234 - 34  # type: ignore[attr-defined]
+
+
+def test_datum_without_a_datum_input_is_refused() -> None:
+    out, _ = _mc405_run(["DATUM(4)"], 0.01)
+    assert out == "%[Process 19:Program H Line 1] - Parameter out of range\r\n"

@@ -141,7 +141,7 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE", "FORWARD", "REVERSE", "OP"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
@@ -705,16 +705,57 @@ class Interpreter:
         elif name == "PWM_CONTROL":
             self._act(lambda: m.pwm_control(axis, args))
         elif name in ("FORWARD", "REVERSE"):
-            while not m.can_load([axis]):
-                yield ON_CHANGE
-            units = m.axis_parameter("UNITS", axis)
-            distance = FOREVER_COUNTS / units * (1 if name == "FORWARD" else -1)
-            self._act(lambda: m.move([axis], [distance]))
+            yield from self._forever(axis, 1 if name == "FORWARD" else -1)
+        elif name == "DATUM":
+            yield from self.datum(axis, args[0])
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
+
+    def _forever(self, axis: int, direction: int) -> Wait:
+        """FORWARD/REVERSE: a move long enough to end only by CANCEL."""
+        m = self.machine
+        while not m.can_load([axis]):
+            yield ON_CHANGE
+        units = m.axis_parameter("UNITS", axis)
+        self._act(lambda: m.move([axis], [FOREVER_COUNTS / units * direction]))
+
+    def _stop_and_settle(self, axis: int) -> Wait:
+        self._act(lambda: self.machine.cancel(axis))
+        while not self.machine.axis_idle(axis):
+            yield ON_CHANGE
+
+    def datum(self, axis: int, mode: float) -> Wait:
+        """DATUM(n) on the shared world's switches (see the keyword's note)."""
+        m = self.machine
+        if mode == 0:
+            return  # clears motion errors: none are modelled
+        if mode not in (3, 4, 5, 6):
+            raise TrioError("Parameter out of range")
+        wired = m.axis_parameter("DATUM_IN", axis)
+        if not 0 <= wired < IO_POINTS:
+            raise TrioError("Parameter out of range")
+        switch = int(wired)
+        direction = 1 if mode in (3, 5) else -1
+        if not m.digital_input(switch):
+            yield from self._forever(axis, direction)
+            while not m.digital_input(switch):
+                yield None  # the input is watched every servo cycle
+            yield from self._stop_and_settle(axis)
+        speed = m.axis_parameter("SPEED", axis)
+        self._act(lambda: m.set_axis_parameter("SPEED", axis, m.axis_parameter("CREEP", axis)))
+        try:
+            yield from self._forever(axis, -direction)
+            while not m.digital_input(switch):
+                yield None  # back into the switch, when the fast search ran past it
+            while m.digital_input(switch):
+                yield None
+            yield from self._stop_and_settle(axis)
+        finally:
+            m.set_axis_parameter("SPEED", axis, speed)
+        self._act(lambda: m.defpos([axis], [0.0]))
 
     def op(self, args: list[float]) -> None:
         """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""

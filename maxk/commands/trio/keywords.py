@@ -310,6 +310,19 @@ _ENTRIES: list[Keyword] = [
           "whatever its value (not modelled)."),
     _axis("AXIS_ENABLE", "Enable of the axis's drive.", value_range=(-1, 1),
           source=f"{TOK}; {MAN}", confidence="D", note="Stored; not modelled (as SERVO)."),
+    _axis("CREEP", "The slow speed of the second part of a DATUM search, user units/s.",
+          default=200, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Power-up 200 (D)."),
+    _command("DATUM", "DATUM(n): 0 clears motion errors; 3/5 search forward at SPEED for "
+             "the DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
+             "reverse; the position there becomes 0.", (1, 1), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="The search runs on the planner watching the input every servo cycle; "
+             "the zero is where the creep stopped after the input went off (D: not the "
+             "exact edge). 1 and 2 (Z mark searches) are 'Parameter out of range' (not "
+             "modelled); 5 and 6 do not look for the Z mark (D). The statement returns when "
+             "the search ends (D: the controller returns at once and the axis moves on). "
+             "Without a DATUM_IN: 'Parameter out of range' (D)."),
     _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
              (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D)."),
