@@ -296,3 +296,13 @@ def test_datum_homes_on_the_worlds_home_switch_with_creep() -> None:
 def test_datum_without_a_datum_input_is_refused() -> None:
     out, _ = _mc405_run(["DATUM(4)"], 0.01)
     assert out == "%[Process 19:Program H Line 1] - Parameter out of range\r\n"
+
+
+@pytest.mark.parametrize("line", ["?" + "(" * 400 + "1" + ")" * 400, "?" + "-" * 900 + "1",
+                                  "?" + "NOT " * 250 + "1", "?1" + "+1" * 500,
+                                  "IF 1 THEN " * 100 + "PRINT 1"])
+def test_deep_expressions_are_refused_never_a_crash(line: str) -> None:
+    rig = Rig()
+    with pytest.raises(AtrioError, match="Expression too complex"):
+        rig.command(line)
+    assert rig.command("?1+1") == b"2"

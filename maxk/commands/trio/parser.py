@@ -279,10 +279,28 @@ def parse_expression(text: str) -> Expr:
     return expr
 
 
+MAX_NESTING = 64  # brackets, unary operators and calls nested in one expression (D)
+MAX_OPERATORS = 128  # binary operators in one line (D: evaluation recurses through them)
+
+
 class _Parser:
     def __init__(self, tokens: list[Token]) -> None:
         self.tokens = tokens
         self.pos = 0
+        self.depth = 0
+        self.operators = 0
+
+    def binary(self, op: str, left: Expr, right: Expr) -> Binary:
+        self.operators += 1
+        if self.operators > MAX_OPERATORS:
+            raise TrioError("Expression too complex")
+        return Binary(op, left, right)
+
+    def nest(self) -> None:
+        """Count one level of nesting; a deeper expression is refused, never a crash."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise TrioError("Expression too complex")
 
     # ---- token helpers ---------------------------------------------------------------
     @property
@@ -439,6 +457,7 @@ class _Parser:
         if name == "ENDFUNC":
             return EndFunc()
         if name == "IF":
+            self.nest()
             condition = self.expression()
             if not self.at_name("THEN"):
                 raise TrioError("Syntax error")
@@ -645,50 +664,57 @@ class _Parser:
 
     # ---- expressions ---------------------------------------------------------------------
     def expression(self) -> Expr:
+        self.nest()
         left = self.and_expr()
         while self.at_name("OR", "XOR"):
             op = self.advance().text
-            left = Binary(op, left, self.and_expr())
+            left = self.binary(op, left, self.and_expr())
+        self.depth -= 1
         return left
 
     def and_expr(self) -> Expr:
         left = self.not_expr()
         while self.at_name("AND"):
             self.advance()
-            left = Binary("AND", left, self.not_expr())
+            left = self.binary("AND", left, self.not_expr())
         return left
 
     def not_expr(self) -> Expr:
         if self.at_name("NOT"):
             self.advance()
-            return Unary("NOT", self.not_expr())
+            self.nest()
+            operand = self.not_expr()
+            self.depth -= 1
+            return Unary("NOT", operand)
         return self.comparison()
 
     def comparison(self) -> Expr:
         left = self.additive()
         while self.at_op("=", "<>", "<", ">", "<=", ">="):
             op = self.advance().text
-            left = Binary(op, left, self.additive())
+            left = self.binary(op, left, self.additive())
         return left
 
     def additive(self) -> Expr:
         left = self.term()
         while self.at_op("+", "-"):
             op = self.advance().text
-            left = Binary(op, left, self.term())
+            left = self.binary(op, left, self.term())
         return left
 
     def term(self) -> Expr:
         left = self.unary()
         while self.at_op("*", "/") or self.at_name("MOD"):
             op = self.advance().text
-            left = Binary(op, left, self.unary())
+            left = self.binary(op, left, self.unary())
         return left
 
     def unary(self) -> Expr:
         if self.at_op("-", "+"):
             op = self.advance().text
+            self.nest()
             operand = self.unary()
+            self.depth -= 1
             return Unary("-", operand) if op == "-" else operand
         return self.power()
 
@@ -696,7 +722,7 @@ class _Parser:
         left = self.primary()
         while self.at_op("^"):
             self.advance()
-            left = Binary("^", left, self.unary_primary())
+            left = self.binary("^", left, self.unary_primary())
         return left
 
     def unary_primary(self) -> Expr:

@@ -60,8 +60,9 @@ from .parser import (
 
 STATEMENTS_PER_CYCLE = 100
 GOSUB_DEPTH = 64  # nested GOSUBs (and FUNCTION calls) before "Stack overflow" (D)
-FUNCTION_STATEMENTS = 10000  # statements one FUNCTION call may run (D: it runs within the
-# statement that calls it, so it is bounded; more is "Function too long")
+FUNCTION_STATEMENTS = 1000  # statements one FUNCTION call, with every call it makes, may
+# run (D: it runs within the statement that calls it, so it is bounded; more is "Function
+# too long")
 
 
 @dataclass(frozen=True)
@@ -280,6 +281,7 @@ class Task:
         self.functions = {s.stmt.name: i for i, s in enumerate(steps)
                           if isinstance(s.stmt, FunctionDef)}
         self.depth = 0
+        self.budget = FUNCTION_STATEMENTS
         ctx.functions = self.call_function
 
     def call_function(self, name: str, args: list[Value]) -> Value:
@@ -299,10 +301,15 @@ class Task:
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
                              variables=dict(zip(define.params, args, strict=True)),
                              functions=self.call_function, ticks=outer.ticks)
+        if self.depth == 0:
+            self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.depth += 1
         try:
             pc = start + 1
-            for _ in range(FUNCTION_STATEMENTS):
+            while True:
+                self.budget -= 1
+                if self.budget < 0:
+                    raise TrioError("Function too long")
                 step = self.steps[pc]
                 ctx.line = step.line
                 stmt = step.stmt
@@ -316,7 +323,6 @@ class Task:
                     if wake is not _PASS and wake is not _LOOPED:
                         raise TrioError("Function cannot wait")
                 pc = ctx.pc
-            raise TrioError("Function too long")
         finally:
             self.depth -= 1
             outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
@@ -338,6 +344,9 @@ class Task:
             self.finished = True
             exc.line = self.ctx.line
             raise
+        except RecursionError:  # (bounded nesting keeps this from happening)
+            self.finished = True
+            raise TrioError("Stack overflow", self.ctx.line) from None
         return self.wake
 
     def _program(self) -> Generator[Wake | None, None, None]:
