@@ -306,3 +306,17 @@ def test_deep_expressions_are_refused_never_a_crash(line: str) -> None:
     with pytest.raises(AtrioError, match="Expression too complex"):
         rig.command(line)
     assert rig.command("?1+1") == b"2"
+
+
+def test_the_repl_lists_processes_and_explains_every_keyword() -> None:
+    from maxk.controllers.trio import MC405
+
+    console = MC405().console()
+    for line in ('SELECT "SLOW",0', "!SLOW,0RWA(5000)", 'RUN "SLOW", 4'):
+        console.execute(line)
+    console.controller.advance(0.01)
+    assert console.repl_word(":programs", "") == [
+        "process 4: SLOW line 1, waiting until tick 5001",
+        "1 program(s) in the store, 9 bytes"]
+    for name in KEYWORDS:
+        assert console.help(name)
