@@ -320,3 +320,25 @@ def test_the_repl_lists_processes_and_explains_every_keyword() -> None:
         "1 program(s) in the store, 9 bytes"]
     for name in KEYWORDS:
         assert console.help(name)
+
+
+@pytest.mark.parametrize(("direction", "y_sign"), [(1, 1), (0, -1)])
+def test_movecirc_draws_the_arc_on_the_shared_planner(direction: int, y_sign: int) -> None:
+    import math
+
+    from maxk.controllers.trio import MC405
+
+    controller = MC405()
+    console = controller.console()
+    for line in ("BASE(0,1)", "SPEED=100", "ACCEL=100000", "DECEL=100000",
+                 f"MOVECIRC(200,0,100,0,{direction})"):
+        assert console.execute(line) == [] and console.new_errors() == []
+    controller.advance(1.6)
+    x, y = (float(v) for v in console.execute("?DPOS AXIS(0), DPOS AXIS(1)")[0].split())
+    assert math.hypot(x - 100, y) == pytest.approx(100, abs=1e-3)  # on the circle
+    travelled = 100 * 1.6 - 100 * 0.001 / 2  # at SPEED after a 1 ms ramp
+    assert math.atan2(y_sign * y, 100 - x) == pytest.approx(travelled / 100, abs=2e-3)
+    controller.advance(2.0)
+    assert console.execute("?DPOS AXIS(0), DPOS AXIS(1), IDLE") == ["200\t0\t-1"]
+    assert console.execute("MOVECIRC(0,0,0,0,0)") == []
+    assert console.new_errors() == ["! Parameter out of range"]

@@ -260,3 +260,7 @@ class FakeTrioMachine:
 
     def set_output(self, number: int, on: bool) -> None:
         self.outputs[number] = on
+
+    def movecirc(self, axes: Sequence[float], args: Sequence[float]) -> None:
+        """The fake goes straight to the arc's end (the MC405 machine draws the arc)."""
+        self.move([int(a) for a in axes], list(args[:2]))

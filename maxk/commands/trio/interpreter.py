@@ -141,7 +141,7 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
@@ -664,6 +664,11 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
+        elif name == "MOVECIRC":
+            axes = self.group(stmt.axis, ctx, 2)
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.movecirc(axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))

@@ -323,6 +323,12 @@ _ENTRIES: list[Keyword] = [
              "modelled); 5 and 6 do not look for the Z mark (D). The statement returns when "
              "the search ends (D: the controller returns at once and the axis moves on). "
              "Without a DATUM_IN: 'Parameter out of range' (D)."),
+    _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
+             "first two BASE axes, end and centre relative to the start.", (5, 7), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="On the shared path planner at the base axis's SPEED and ACCEL; direction "
+             "1 clockwise, 0 anticlockwise (I); an end on the start is a whole circle; the "
+             "6th and 7th arguments are refused unless 0 (D)."),
     _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
              (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D)."),

@@ -59,6 +59,10 @@ class TrioMachine(Protocol):
         """MOVEABS: load an absolute interpolated move."""
         ...
 
+    def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MOVECIRC(end1, end2, centre1, centre2, direction) on the first two axes."""
+        ...
+
     def axis_idle(self, axis: int) -> bool:
         """No move running or buffered on the axis (IDLE, WAIT IDLE)."""
         ...

@@ -356,7 +356,27 @@ class MC405Machine(Kinematics, Engine):
                 position += sum(delta[k] for delta in run.deltas)
         return position
 
-    def _load(self, axes: tuple[int, ...], deltas: list[int]) -> None:
+    def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the shared path
+        planner from here to the end, about the centre (both relative); direction 1 turns
+        clockwise, 0 anticlockwise (I); an end on the start is a whole circle."""
+        if len(args) < 5 or args[4] not in (0, 1) or any(a != 0 for a in args[5:]):
+            raise ValueError("Parameter out of range")
+        ex, ey = (round(self._counts(a, v)) for a, v in zip(axes, args[:2], strict=True))
+        cx, cy = (self._counts(a, v) for a, v in zip(axes, args[2:4], strict=True))
+        if cx == 0 and cy == 0:
+            raise ValueError("Parameter out of range")
+        start = math.atan2(-cy, -cx)
+        end = math.atan2(ey - cy, ex - cx)
+        turn = math.degrees(end - start) % 360.0
+        if args[4] == 1:
+            turn = turn - 360.0 if turn > 0 else -360.0
+        elif turn == 0:
+            turn = 360.0
+        self._load(tuple(axes), [ex, ey], arc=(cx, cy, turn))
+
+    def _load(self, axes: tuple[int, ...], deltas: list[int],
+              arc: tuple[float, float, float] | None = None) -> None:
         base = self.axes[axes[0]]
         speed = base.params["SPEED"] * base.units
         accel = base.params["ACCEL"] * base.units
@@ -372,6 +392,8 @@ class MC405Machine(Kinematics, Engine):
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
+            if arc is not None:
+                last.arcs[len(last.deltas)] = arc
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -382,6 +404,8 @@ class MC405Machine(Kinematics, Engine):
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge)
+        if arc is not None:
+            run.arcs[0] = arc
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
