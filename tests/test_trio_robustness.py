@@ -153,3 +153,26 @@ def test_a_bad_program_name_is_refused_by_every_command(hosted, host) -> None:  
             host.cmd(command)
     with pytest.raises(AtrioError):
         raise AtrioError  # (the in-process parse agrees, see test_trio_command_line)
+
+
+def test_a_real_style_program_uploads_compiles_and_runs_over_the_door(hosted, host) -> None:  # noqa: F811
+    """atrio's upload of a program with labels, GOSUB, a FUNCTION, DIM, CONSTANT and
+    PRINT #, then RUN: what it prints arrives unasked, the axis ends where it must."""
+    _upload(host, "CELL", [
+        'CONSTANT "PITCH", 250',
+        "DIM spots(3) AS FLOAT",
+        "FOR i = 0 TO 2 : spots(i) = offset(i) : NEXT i",
+        "BASE(0) : SPEED = 1000 : ACCEL = 100000 : DECEL = 100000",
+        "GOSUB visit",
+        'PRINT #5, "done at "; DPOS[6,1]',
+        "STOP",
+        "visit:",
+        "  FOR i = 0 TO 2 : MOVEABS(spots(i)) : WAIT IDLE : NEXT i",
+        "RETURN",
+        "FUNCTION offset(k)",
+        "  RETURN (k + 1) * PITCH",
+        "ENDFUNC"])
+    host.cmd('RUN "CELL"')
+    hosted.advance(2.0)  # 750 units at 1000/s with 10 ms ramps: done well within
+    assert host.unasked() == b"done at  750.0\r\n"
+    assert host.cmd("?DPOS, IDLE") == "750\t-1"
