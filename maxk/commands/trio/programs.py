@@ -160,8 +160,15 @@ class ProgramStore:
         n = 1
         while (aside := self.directory.with_name(f"{self.directory.name}.damaged-{n}")).exists():
             n += 1
-        os.replace(self.directory, aside)
-        self.directory.mkdir(parents=True)
+        try:
+            os.replace(self.directory, aside)
+            self.directory.mkdir(parents=True)
+        except OSError as exc:  # cannot even move it: run on an empty store in memory
+            self.directory = None
+            self.damage = (f"program store damaged: {reason}; it could not be set aside "
+                           f"({exc.__class__.__name__}): programs are kept in memory only")
+            _LOG.warning("%s", self.damage)
+            return
         self.damage = f"program store damaged: {reason}; set aside as {aside.name}"
         _LOG.warning("%s", self.damage)
 
