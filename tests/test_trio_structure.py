@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from maxk.commands.trio.keywords import KEYWORDS, Kind, _index
-from maxk.commands.trio.tasks import join_continued
+from maxk.commands.trio.tasks import STATEMENTS_PER_CYCLE, join_continued
 from maxk.commands.trio.tokentable import TOKENS
 from tests.trio_helpers import AtrioError, Rig
 
@@ -49,7 +49,7 @@ def test_a_missing_label_fails_at_compile_with_its_line() -> None:
 
 
 def test_gosub_depth_is_bounded() -> None:
-    out = run("deep:\nGOSUB deep", cycles=5)
+    out = run("deep:\nGOSUB deep", cycles=20)
     assert out.endswith("Line 2] - Stack overflow\r\n")
 
 
@@ -226,10 +226,11 @@ def test_a_busy_loop_costs_servo_cycles() -> None:
     rig.load("P", f"WHILE 1\n{body}\nWEND")
     rig.command('RUN "P"')
     rig.cycles(1)
-    assert rig.command("?VR(1)") == b"99"  # WHILE + 99 statements: one slice
+    one_slice = str(STATEMENTS_PER_CYCLE - 1).encode()  # WHILE, then the body
+    assert rig.command("?VR(1)") == one_slice
     rig.command("HALT")
     rig.cycles(5)
-    assert rig.command("?VR(1)") == b"99"
+    assert rig.command("?VR(1)") == one_slice
 
 
 def test_functions_return_values_recurse_and_keep_their_own_variables() -> None:

@@ -13,9 +13,10 @@ that waited, e.g. in WA(2), loops straight on so WA(2) paces a loop at 2 cycles)
 A process also runs at most `STATEMENTS_PER_CYCLE` statements in one servo cycle before it
 gives the cycle up, as the controller's process scheduler gives each process a bounded
 time slice per servo period (source: the Trio manuals describe processes time-sliced on
-the servo interrupt, I; the count of 100 is our decision, D): a ``WHILE 1`` of 500 lines
-of arithmetic takes 5 servo cycles a pass, costs virtual time, and a HALT from any host
-stops it within a cycle.
+the servo interrupt, I; the count of 25 is our decision, D: 25,000 statements a second
+at the MC405's 1 ms servo period, which the emulator sustains in real time for a busy
+process or two): a ``WHILE 1`` of 500 lines of arithmetic takes 20 servo cycles a pass,
+costs virtual time, and a HALT from any host stops it within a cycle.
 
 A runtime error ends the process with its error line, unless ON BASICERROR GOTO named a
 handler: then RUN_ERROR and ERROR_LINE are set and the process goes on at the handler
@@ -58,7 +59,7 @@ from .parser import (
     parse_line,
 )
 
-STATEMENTS_PER_CYCLE = 100
+STATEMENTS_PER_CYCLE = 25
 GOSUB_DEPTH = 64  # nested GOSUBs (and FUNCTION calls) before "Stack overflow" (D)
 FUNCTION_STATEMENTS = 1000  # statements one FUNCTION call, with every call it makes, may
 # run (D: it runs within the statement that calls it, so it is bounded; more is "Function
