@@ -456,6 +456,21 @@ class PoKeysWorldView(WorldView):
             return None
         return self.dev.device.io.output_level(number)
 
+    def extra_setting(self, name: str | None, words: list[str]) -> str | None:
+        """`@world X encoder N [reverse]`: encoder N (0..25) counts axis X's stage."""
+        if name is None or not words or words[0].lower() != "encoder":
+            return None
+        args = [w.lower() for w in words[1:]]
+        if not 1 <= len(args) <= 2 or args[1:] not in ([], ["reverse"]):
+            raise ValueError("encoder N [reverse] (N 0..25)")
+        try:
+            number = int(args[0])
+        except ValueError:
+            raise ValueError(f"encoder N [reverse]: {args[0][:12]!r} is no number") from None
+        axis = self.index(name)
+        self.dev.device.pins.attach_encoder(number, axis, -1 if args[1:] else 1)
+        return f"{AXIS_LETTERS[axis]} encoder {number}{' reverse' if args[1:] else ''}"
+
     def describe(self) -> list[str]:
         """`:world`: the stages and inputs, then what the device drives and what the
         world wires to it (outputs, PWM, encoders, keys)."""
