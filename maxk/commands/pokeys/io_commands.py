@@ -67,8 +67,7 @@ def key_mapping(device: PoKeysDevice, req: Request) -> Reply | None:
 
 # ---- digital I/O ---------------------------------------------------------------------------
 def _inputs(device: PoKeysDevice) -> bytes:
-    pins = device.pins
-    return _bits([pins.pin_level(p) for p in range(1, PINS + 1)])
+    return device.pins.pin_bits().to_bytes(7, "little")
 
 
 def digital_io(device: PoKeysDevice, req: Request) -> Reply | None:

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple, Protocol
 
 from ...firmware_model.world import AxisWorld, Switch, World
+from .io import ANALOG_FULL_SCALE, ANALOG_INPUT, ANALOG_PINS, DIGITAL_OUTPUT, INVERT
 
 
 class SwitchLevels(NamedTuple):
@@ -236,7 +237,6 @@ class PoKeysIOWorld:
 
     def analog(self, pin: int, volts: object) -> None:
         """Pin `pin`'s voltage (0..3.3 V on the analog pins 41..47)."""
-        from .io import ANALOG_FULL_SCALE, ANALOG_PINS
         if pin not in ANALOG_PINS:
             raise ValueError(f"pin {pin} has no analog input (pins 41..47)")
         if not callable(volts):
@@ -286,16 +286,29 @@ class PoKeysIOWorld:
     def pin_level(self, pin: int) -> bool:
         """What DigitalIOGet reports for pin: an output its driven level, an input the
         world's level (inverted when the pin is inverted)."""
-        from .io import DIGITAL_OUTPUT, INVERT
         f = self.io.functions[pin - 1]
         if f & DIGITAL_OUTPUT:
             return bool(self.io.output_level(pin))
-        level = self.sample(pin)
+        level = self.sample(pin) if pin in self.world.digital else False
         return level != bool(f & INVERT)
+
+    def pin_bits(self) -> int:
+        """Every pin's level as DigitalIOGet packs them: bit p-1 = pin p."""
+        bits = 0
+        digital = self.world.digital
+        functions = self.io.functions
+        for i in range(55):
+            f = functions[i]
+            if f & DIGITAL_OUTPUT:
+                level = self.io.output_level(i + 1)
+            else:
+                level = (self.sample(i + 1) if i + 1 in digital else False) != bool(f & INVERT)
+            if level:
+                bits |= 1 << i
+        return bits
 
     def analog_code(self, pin: int) -> int:
         """12-bit code of an analog input pin (0 unless configured as one)."""
-        from .io import ANALOG_FULL_SCALE, ANALOG_INPUT
         if not self.io.functions[pin - 1] & ANALOG_INPUT:
             return 0
         volts = self.world.analog_volts(pin, self.board())
