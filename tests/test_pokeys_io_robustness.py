@@ -238,3 +238,18 @@ def test_every_request_the_library_sends_gets_a_reply_of_its_layout():
             p3 = 1 if command == 0x85 and first in (0xFE, 0xFF) else 0  # AX: one axis
             reply = dev.request(command, first, p2, p3, payload=payload)
             assert reply is not None and len(reply) == 64, (model, hex(command), first)
+
+
+@pytest.mark.parametrize("damage", [
+    {"functions": [2 ** 70 | 4]}, {"functions": "output"}, {"counter_options": [999] * 80},
+    {"pwm_duty": [1e308]}, {"encoder_setup": [[1, 2]]}, {"lcd_setup": None},
+    {"failsafe": "zz"}, {"matrix_config": 5}])
+def test_a_tampered_archive_powers_up_without_a_traceback(tmp_path, damage):
+    import json
+
+    archive = tmp_path / "p.json"
+    archive.write_text(json.dumps({"functions": [4] + [0] * 54, **damage}), encoding="utf-8")
+    dev = build("PoKeys57CNC", BuildOptions(1, str(archive)))
+    functions = dev.pin_functions()  # answers: every stored value fits its byte
+    assert len(functions) == 55 and all(0 <= f <= 255 for f in functions)
+    assert dev.request(0xC0, 0, 1) is not None and dev.pwm() is not None

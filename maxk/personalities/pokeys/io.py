@@ -111,6 +111,8 @@ def check_function(pin: int, function: int, caps: int) -> str | None:
     goes with digital in/out and triggered inputs, the counter with a digital input."""
     if function == 0:
         return None
+    if not 0 <= function <= 0xFF:
+        return f"pin {pin}: a function is one byte, not {function}"
     main = function & (DIGITAL_INPUT | DIGITAL_OUTPUT | ANALOG_INPUT | ANALOG_OUTPUT
                        | TRIGGERED_INPUT)
     if main == 0 or main & (main - 1):
@@ -310,8 +312,8 @@ class DeviceIO:
         try:
             functions = [int(f) for f in config.get("functions", fresh.functions)][:PINS]
             fresh.set_functions(functions + [0] * (PINS - len(functions)))
-            for name in ("counter_options", "pwm_duty"):
-                values = [int(v) & 0xFFFFFFFF for v in config.get(name, [])]
+            for name, mask in (("counter_options", 0xFF), ("pwm_duty", 0xFFFFFFFF)):
+                values = [int(v) & mask for v in config.get(name, [])]
                 target = getattr(fresh, name)
                 target[:len(values)] = values[:len(target)]
             fresh.pwm_enabled = int(config.get("pwm_enabled", 0)) & 0x3F
