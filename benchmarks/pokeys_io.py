@@ -5,9 +5,9 @@ Two hosts, each in its own process as real hosts are: a streaming host on TCP ke
 buffered axes' slot buffer about half full (0xFF fills); an I/O host on UDP, once a
 millisecond, does what a LinuxCNC-style loop does with PoKeysLib: PK_DigitalIOGet
 (0xCC), PK_AnalogIOGet (0x3A) and PK_EncoderValuesGet (0xCD 0, 0xCD 1, 0x85 0x37), with
-an encoder wired to the moving X axis and a world input toggling. Figures: the round trip of each request (p50, p99,
-max) and of the whole 5-request cycle, how many cycles missed their millisecond, and
-whether the buffer ran dry.
+an encoder wired to the moving X axis and a world input toggling. Figures: the round
+trip of each request (p50, p99, max) and of the whole 5-request cycle, how many cycles
+missed their millisecond, and whether the buffer ran dry.
 
 Run: PYTHONPATH=. python3 benchmarks/pokeys_io.py [--seconds 10]
 (also `python -m benchmarks pokeys_io`, beside the naive loop's figure)
