@@ -21,14 +21,6 @@ from ...personalities.pokeys.io import (
 from .packet import Reply, Request
 
 
-def _bits(levels: list[bool]) -> bytes:
-    out = bytearray((len(levels) + 7) // 8)
-    for i, level in enumerate(levels):
-        if level:
-            out[i // 8] |= 1 << (i % 8)
-    return bytes(out)
-
-
 def _bit(raw: bytes, offset: int, i: int) -> bool:
     return bool(raw[offset + i // 8] >> (i % 8) & 1)
 
