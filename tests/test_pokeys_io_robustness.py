@@ -253,3 +253,21 @@ def test_a_tampered_archive_powers_up_without_a_traceback(tmp_path, damage):
     functions = dev.pin_functions()  # answers: every stored value fits its byte
     assert len(functions) == 55 and all(0 <= f <= 255 for f in functions)
     assert dev.request(0xC0, 0, 1) is not None and dev.pwm() is not None
+
+
+def test_a_counter_counts_every_edge_of_an_input_that_follows_time_or_an_axis():
+    from maxk.firmware_model.world import axis_position_source, time_source
+
+    dev = PoKeys("PoKeys57CNC")
+    dev.set_pin_function(3, 0x42)
+    dev.set_input(3, time_source(lambda t: int(t * 100) % 2 == 1))  # 50 rising edges a s
+    dev.advance(1.0)
+    assert dev.counters([3]) == {3: 50}
+    dev.set_pin_function(5, 0x42)
+    dev.set_input(5, axis_position_source("X", lambda p: p % 100 >= 50))  # a mark / 100
+    dev.setup(1)
+    dev.configure_axis(0, internal=True, max_speed=10, accel=0.05, decel=0.05)
+    dev.set_state("running")
+    dev.move({0: 1000})
+    assert dev.run_until_idle()
+    assert dev.status().positions[0] == 1000 and dev.counters([5]) == {5: 10}

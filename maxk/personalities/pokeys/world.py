@@ -214,7 +214,7 @@ class PoKeysIOWorld:
     World digital input p is pin p's level (input 0 is the dedicated e-stop, not a pin);
     world analog channel p is pin p's voltage. Counters count the rising edges the world
     makes on a pin configured as a counter (D: the counter options are stored, not used);
-    an input that is a function is sampled when the device reads it (D)."""
+    an input that is a function is sampled every slot by `CounterSampler` (D)."""
 
     def __init__(self, io: Any, world: World, stage: Callable[[int], int],
                  board: Callable[[], Any] = lambda: None,
@@ -283,6 +283,12 @@ class PoKeysIOWorld:
             self.io.counters[pin - 1] = (self.io.counters[pin - 1] + 1) & 0xFFFFFFFF
         return level
 
+    def timed_counters(self) -> list[int]:
+        """Counter pins whose world input is a function (of time or of an axis): their
+        edges can come at any slot, so they are sampled every slot (`CounterSampler`)."""
+        return [pin for pin, source in self.world.digital.items()
+                if callable(source) and 1 <= pin <= 55 and self.io.counts(pin)]
+
     def pin_level(self, pin: int) -> bool:
         """What DigitalIOGet reports for pin: an output its driven level, an input the
         world's level (inverted when the pin is inverted)."""
@@ -344,3 +350,21 @@ class PoKeysIOWorld:
     def output_levels(self) -> dict[int, bool]:
         """Every digital output pin's level."""
         return {p: self.io.output_level(p) for p in range(1, 56) if self.io.is_output(p)}
+
+
+class CounterSampler:
+    """An event source of the device's engine: while a counter pin follows a function,
+    its input is sampled at every slot boundary, so the counter sees each edge the world
+    makes (one a slot at most, as the pulse engine reads its inputs once a slot, D)."""
+
+    def __init__(self, pins: PoKeysIOWorld, tick: Callable[[], int]) -> None:
+        self.pins = pins
+        self.sampled = tick()  # the slot last sampled
+
+    def next_event(self) -> int | None:
+        return self.sampled + 1 if self.pins.timed_counters() else None
+
+    def on_event(self, now: int) -> None:
+        for pin in self.pins.timed_counters():
+            self.pins.sample(pin)
+        self.sampled = now
