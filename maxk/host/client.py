@@ -6,6 +6,7 @@ host from starving another or growing the server.
 from __future__ import annotations
 
 import asyncio
+import logging
 import sys
 import time
 from dataclasses import dataclass, field
@@ -20,6 +21,10 @@ SLICE_SECONDS = 0.0005  # ... and for at most about this long; then every other 
 PIECE = 128  # input is fed in pieces this size while a turn lasts
 INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
 UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
+SYNC_BUDGET = 0.002  # seconds of one controller's engine work before a host's turn (D)
+BEHIND_LOG_EVERY = 10.0  # wall seconds between two "running behind" lines of one board
+
+log = logging.getLogger("maxk.door.serve")
 
 
 @dataclass
@@ -34,6 +39,8 @@ class Service:
     udp_ports: list[tuple[str, int]] = field(default_factory=list)
     ptys: list[str] = field(default_factory=list)
     _last_fault: str = field(default="", repr=False)
+    _behind_logged: float | None = field(default=None, repr=False)  # when it last said so
+    _kept_up_since: float | None = field(default=None, repr=False)  # (after it did)
 
     def open_session(self, client: Client) -> Session:
         return self.controller.open_session(notify=client.flush_session)
@@ -44,13 +51,44 @@ class Service:
         self.feed(session, data)
         return session.read()
 
-    def sync(self) -> None:
-        """Bring the controller to now; a fault inside its engine is reported like one in
-        a feed (below), never out of a door's callback."""
+    def sync(self, budget: float | None = SYNC_BUDGET) -> None:
+        """Bring the controller to now, spending at most `budget` seconds on its engine
+        (None: however long it takes): a controller that cannot keep up falls behind on
+        its own, and says so. A fault inside its engine is reported like one in a feed
+        (below), never out of a door's callback."""
         try:
-            self.pacer.sync()
+            self.pacer.sync(budget)
         except Exception as error:  # the server never dies of one controller's fault
             self._report(error, b"")
+        self._say_if_behind()
+
+    @property
+    def behind(self) -> float:
+        """Seconds this controller's clock stands behind real time (0.0: keeping up)."""
+        return self.controller.engine.behind
+
+    def _say_if_behind(self) -> None:
+        """A rate-limited log line while the controller runs behind real time, and one
+        when it has kept up again for as long."""
+        behind = self.controller.engine.behind
+        logged = self._behind_logged
+        if behind > 0.0:
+            self._kept_up_since = None
+            now = time.monotonic()
+            if logged is None or now - logged >= BEHIND_LOG_EVERY:
+                self._behind_logged = now
+                log.warning("board %d (%s): its work takes longer than real time; its "
+                            "clock runs %.3f s behind and slow (%.3f s slipped so far)",
+                            self.number, self.controller.model, behind,
+                            self.pacer.slipped / self.pacer.speed)
+        elif logged is not None:
+            now = time.monotonic()
+            if self._kept_up_since is None:
+                self._kept_up_since = now
+            elif now - self._kept_up_since >= BEHIND_LOG_EVERY:
+                self._behind_logged = self._kept_up_since = None
+                log.warning("board %d (%s): keeping up with real time again",
+                            self.number, self.controller.model)
 
     def feed(self, session: Session, data: bytes) -> None:
         """Feed a session; a fault inside the controller is reported and that input is
