@@ -161,9 +161,9 @@ class Client:
             out = self.session.read()
             if out:
                 self.send(out)
-        if self._closing and not self._inbox and not (
-                self.session is not None and _holding(self.session)):
-            self._drop_session()  # the host hung up and what it sent has run
+        if self._closing and (not self._inbox or (
+                self.session is not None and _holding(self.session))):
+            self._drop_session()  # the host hung up and what it sent has run (or waits)
             return
         self._schedule()
 
@@ -206,8 +206,8 @@ class Client:
         out = session.read()
         if out:
             self.send(out)
-        if self._closing and not self._inbox and not _holding(session):
-            self._drop_session()
+        if self._closing and (not self._inbox or _holding(session)):
+            self._drop_session()  # (the rest, behind a waiting statement, with it)
             return
         self._output_full = self._unsent() > HIGH_WATER
         self._update_input()
@@ -234,8 +234,12 @@ class Client:
     def _hang_up(self) -> None:
         """The host went away. What it sent still runs (as the board runs what reached
         it), in turns as before, with nobody left to read the replies; then the session
-        goes."""
-        if self.session is not None and (self._inbox or _holding(self.session)):
+        goes. Input held behind a waiting statement (a `holding` session) is dropped with
+        the session: a statement may wait for hours, and nobody is left to hear it end."""
+        if self.session is not None and _holding(self.session):
+            self._drop_session()
+            return
+        if self.session is not None and self._inbox:
             self._closing = True
             self._output_full = False
             self._schedule()

@@ -51,8 +51,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="reply line ending (default lfcr: LF CR as the EPICS MAXnet "
                         "driver expects; lf for firmware >= 1.33 style)")
     parser.add_argument("--ack", action="store_true", help="lead every reply with ACK 0x06")
-    parser.add_argument("--seconds", type=float, default=None,
+    parser.add_argument("--seconds", type=_seconds, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
+
+
+MAX_SPEED = 1e6
+"""The fastest --speed: a million times real time keeps every tick count of a day's run
+far inside exact integers and floats (beyond, a wall second is years of ticks) (D)."""
 
 
 def _speed(text: str) -> float:
@@ -60,8 +65,19 @@ def _speed(text: str) -> float:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError("--speed must be a positive number")
+    if not math.isfinite(value) or not 1 / MAX_SPEED <= value <= MAX_SPEED:
+        raise argparse.ArgumentTypeError("--speed must be a positive number from "
+                                         f"{1 / MAX_SPEED:g} to {MAX_SPEED:g}")
+    return value
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError("--seconds must be a number of seconds, 0 or more")
     return value
 
 
