@@ -250,3 +250,50 @@ def test_sigint_stops_a_busy_server_too() -> None:
         for stream in (proc.stdout, proc.stderr):
             if stream is not None:
                 stream.close()
+
+
+def test_the_repl_status_line_says_when_its_controller_runs_behind() -> None:
+    from maxk.repl import ReplSession
+
+    clock = ManualClock()
+    repl = ReplSession("MAXk-A000", clock=clock)
+    assert not repl.toolbar().startswith("BEHIND")
+    repl.handle(LOOP.strip())
+    clock.now += 60.0  # a minute of this loop is far more than a turn's 0.1 s of work
+    line = repl.toolbar()
+    assert line.startswith("BEHIND 0.25s ")  # its clock slipped to a quarter second
+    assert repl.controller.engine.tick < 60 * 8192
+    repl.handle("KL")  # a stop still acts at once, at the controller's own now
+    clock.now += 0.01
+    assert not repl.toolbar().startswith("BEHIND")  # nothing to do: it has caught up
+
+
+def test_departed_hosts_behind_waits_are_bounded_per_controller() -> None:
+    """A few bytes behind a wait still run when it ends (what a host sent runs); but a
+    controller keeps at most DEPARTED_HOSTS such hosts, the oldest dropped."""
+    from maxk.host.client import DEPARTED_HOSTS
+
+    boards = HostedBoards(models=("MC405",))
+    service = boards.services[0]
+    try:
+        for i in range(DEPARTED_HOSTS + 6):
+            before = boards.call(lambda: set(service.clients))
+            host = socket.create_connection(("127.0.0.1", boards.ports[0]), timeout=5)
+            host.sendall(b"WA(1e11)\r\n")
+            data = b""
+            while b"WA(1e11)\r\n" not in data:
+                data += host.recv(4096)
+            host.sendall(f"VR({i})={i + 1}\r\n".encode())
+            deadline = time.monotonic() + 10
+            while not boards.call(lambda b=before: any(  # type: ignore[misc]
+                    c.held_input for c in service.clients - b)):
+                assert time.monotonic() < deadline
+                time.sleep(0.005)
+            host.close()
+        deadline = time.monotonic() + 10
+        while boards.call(lambda: len(service.clients)) > DEPARTED_HOSTS:
+            assert time.monotonic() < deadline
+            time.sleep(0.01)
+        assert boards.call(lambda: len(service.departed)) == DEPARTED_HOSTS
+    finally:
+        boards.close()

@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
+from collections import deque
 from dataclasses import dataclass, field
 
 from maxk.controllers.contract import Controller, Session
@@ -24,6 +25,8 @@ PIECE = 128  # input is fed in pieces this size while a turn lasts
 INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
 UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
 SYNC_BUDGET = 0.002  # seconds of one controller's engine work before a host's turn (D)
+DEPARTED_KEEP = 4096  # bytes a departed host may leave waiting behind a statement (D)
+DEPARTED_HOSTS = 64  # departed hosts a controller keeps waiting, the oldest dropped (D)
 BEHIND_LOG_EVERY = 10.0  # wall seconds between two "running behind" lines of one board
 
 behind_log = logging.getLogger("maxk.door.serve")  # a controller running behind real time
@@ -42,6 +45,7 @@ class Service:
     ptys: list[str] = field(default_factory=list)
     _last_fault: str = field(default="", repr=False)
     traffic: TrafficBook | None = None  # each host's recent bytes (made at the first one)
+    departed: deque[Client] = field(default_factory=deque)  # gone, input behind a wait
     _behind_logged: float | None = field(default=None, repr=False)  # when it last said so
     _kept_up_since: float | None = field(default=None, repr=False)  # (after it did)
 
@@ -185,9 +189,9 @@ class Client:
             out = self.session.read()
             if out:
                 self.send(out)
-        if self._closing and (not self._inbox or (
-                self.session is not None and _holding(self.session))):
-            self._drop_session()  # the host hung up and what it sent has run (or waits)
+        if self._closing and not self._inbox and not (
+                self.session is not None and _holding(self.session)):
+            self._drop_session()  # the host hung up and what it sent has run
             return
         self._schedule()
 
@@ -232,8 +236,10 @@ class Client:
         out = session.read()
         if out:
             self.send(out)
-        if self._closing and (not self._inbox or _holding(session)):
-            self._drop_session()  # (the rest, behind a waiting statement, with it)
+        if self._closing and not self._inbox and not _holding(session):
+            self._drop_session()
+            return
+        if self._closing and _holding(session) and not self._wait_departed():
             return
         self._output_full = self._unsent() > HIGH_WATER
         self._update_input()
@@ -260,19 +266,47 @@ class Client:
     def _hang_up(self) -> None:
         """The host went away. What it sent still runs (as the board runs what reached
         it), in turns as before, with nobody left to read the replies; then the session
-        goes. Input held behind a waiting statement (a `holding` session) is dropped with
-        the session: a statement may wait for hours, and nobody is left to hear it end."""
-        if self.session is not None and _holding(self.session):
-            self._drop_session()
+        goes. Behind a waiting statement (a `holding` session) that is bounded, since a
+        statement may wait for hours: a departed host leaves at most DEPARTED_KEEP bytes
+        waiting (more is dropped whole), and a controller keeps at most DEPARTED_HOSTS
+        such hosts (the oldest is dropped); each drop is logged."""
+        session = self.session
+        if session is not None and _holding(session):
+            self._closing = True
+            self._output_full = False
+            if self._wait_departed():
+                self._schedule()
             return
-        if self.session is not None and self._inbox:
+        if session is not None and self._inbox:
             self._closing = True
             self._output_full = False
             self._schedule()
             return
         self._drop_session()
 
+    def _wait_departed(self) -> bool:
+        """A departed host's input waits behind a statement: keep it within the bounds
+        (False: dropped with its session)."""
+        service = self.service
+        if len(self._inbox) > DEPARTED_KEEP:
+            log.warning("board %d (%s): a host left %d bytes behind a waiting statement; "
+                        "dropped", service.number, service.controller.model,
+                        len(self._inbox))
+            self._drop_session()
+            return False
+        if self not in service.departed:
+            service.departed.append(self)
+        while len(service.departed) > DEPARTED_HOSTS:
+            oldest = service.departed.popleft()
+            log.warning("board %d (%s): more than %d departed hosts wait; the oldest's %d "
+                        "bytes dropped", service.number, service.controller.model,
+                        DEPARTED_HOSTS, len(oldest._inbox))
+            oldest._drop_session()
+        return self.session is not None
+
     def _drop_session(self) -> None:
+        if self._closing and self in self.service.departed:
+            self.service.departed.remove(self)
         if self.traffic is not None:
             self.traffic.closed()
         self.service.clients.discard(self)
