@@ -298,7 +298,8 @@ def _mm_line(sock: socket.socket, text: str, reply: bool = False) -> bytes:
     return data
 
 
-def departures(seconds: float = 600.0, root: Path = ROOT, rate: float = 20.0) -> list[Figure]:
+def departures(seconds: float = 600.0, root: Path = ROOT, rate: float = 20.0,
+               rasters_too: bool = True) -> list[Figure]:
     """Departing MC405 hosts behind a waiting statement, and long MM4005 rasters."""
     from benchmarks.mm4005 import ROWS, _pulse_count, raster_lines
 
@@ -314,7 +315,7 @@ def departures(seconds: float = 600.0, root: Path = ROOT, rate: float = 20.0) ->
         next_raster = time.monotonic() + 40.0
         behind = b"WA(1e11)\r\n" + b"?1\r\n" * 15000  # 60 KB behind the wait
         while time.monotonic() < end:
-            if idle:  # (re)define the raster and start it
+            if idle and rasters_too:  # (re)define the raster and start it
                 _mm_line(mm, "1PA-5;2PA-1;1WS;2WS")
                 for line in raster_lines():
                     _mm_line(mm, line)
@@ -346,7 +347,8 @@ def departures(seconds: float = 600.0, root: Path = ROOT, rate: float = 20.0) ->
         Figure("soak_departures_rss_start", rss[0] / 1024, "MiB", None, "VmRSS; " + note),
         Figure("soak_departures_rss_peak", max(rss) / 1024, "MiB", None,
                f"highest of {len(rss)} samples, one every 10 s"),
-        Figure("soak_departures_rss_end", rss[-1] / 1024, "MiB"),
+        Figure("soak_departures_rss_end", rss[-1] / 1024, "MiB", None,
+               "samples " + " ".join(f"{r / 1024:.1f}" for r in rss)),
         Figure("soak_departures_rss_after_first_sample", rss[min(1, len(rss) - 1)] / 1024,
                "MiB", None, "flat from here is the test"),
     ]
@@ -362,9 +364,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="checkout whose maxk is served")
     parser.add_argument("--departures", action="store_true", help="the issue-30 soak: "
                         "departing MC405 hosts and long MM4005 rasters instead")
+    parser.add_argument("--no-rasters", action="store_true", help="with --departures: "
+                        "the departing hosts alone")
     args = parser.parse_args(argv)
     if args.departures:
-        print_figures(departures(args.seconds, args.root.resolve()), args.json)
+        print_figures(departures(args.seconds, args.root.resolve(),
+                                 rasters_too=not args.no_rasters), args.json)
         return 0
     print_figures(figures(args.seconds, args.clients, args.root.resolve()), args.json)
     return 0
