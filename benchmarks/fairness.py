@@ -169,7 +169,17 @@ def run_phase(server: LiveServer, abusers: int, seconds: float, rate: float) -> 
 
 
 def figures(seconds: float = 10.0, rate: float = 20.0,
-            counts: tuple[int, ...] = (0, 1, 5, 20), root: Path = ROOT) -> list[Figure]:
+            counts: tuple[int, ...] = (0, 1, 5, 20), root: Path = ROOT,
+            controllers: bool = True) -> list[Figure]:
+    """The flooding hosts' phases, then (`controllers`) the controller abusers' run."""
+    result = _flood_figures(seconds, rate, counts, root) if counts else []
+    if controllers:
+        result += controller_abusers(seconds, rate, root)
+    return result
+
+
+def _flood_figures(seconds: float, rate: float, counts: tuple[int, ...],
+                   root: Path) -> list[Figure]:
     limit = len(counts) * (seconds + 30.0) + 60.0  # the server's own time bound
     result: list[Figure] = []
     with LiveServer(4, "MAXk-A000", limit, root) as server:
@@ -286,9 +296,7 @@ def main(argv: list[str] | None = None) -> int:
                         "with git archive, for a before/after figure)")
     args = parser.parse_args(argv)
     counts = tuple(int(c) for c in args.abusers.split(",") if c.strip())
-    found = figures(args.seconds, args.rate, counts, args.root.resolve()) if counts else []
-    found += controller_abusers(args.seconds, args.rate, args.root.resolve())
-    print_figures(found, args.json)
+    print_figures(figures(args.seconds, args.rate, counts, args.root.resolve()), args.json)
     return 0
 
 

@@ -300,7 +300,7 @@ class PtyClient(Client):
                 os.unlink(self.link)
 
 
-PACE_BUDGET = 0.005  # seconds of one controller's engine work per pacing turn (D)
+PACE_BUDGET = 0.003  # seconds of one controller's engine work per pacing turn (D)
 
 
 class Server:
