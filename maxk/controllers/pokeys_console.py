@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, overload
 
 from maxk.commands.pokeys.table import ENTRIES
+from maxk.controllers.contract import ConsoleBase
 from maxk.controllers.glance import short_position
 from maxk.controllers.pokeys_console_io import IO_WORDS, IOWords
 from maxk.controllers.pokeys_status import (
@@ -107,10 +108,11 @@ class _Repeated(Sequence[list[int]]):
         return list(self.row)
 
 
-class PoKeysConsole(IOWords):
+class PoKeysConsole(IOWords, ConsoleBase):
     """The `Console` of a PoKeys device."""
 
     def __init__(self, dev: PoKeysControls) -> None:
+        ConsoleBase.__init__(self, dev)  # type: ignore[arg-type]
         self.dev = dev
         self._events: list[str] = []
         self._listening: PulseEngine | None = None

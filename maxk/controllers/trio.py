@@ -31,7 +31,7 @@ from maxk.commands.trio.programs import ProgramStore
 from maxk.commands.trio.scheduler import ProcessScheduler
 from maxk.commands.trio.session import TrioCommandLine
 from maxk.commands.trio.system import ProgramCommands
-from maxk.controllers.contract import Notify, Transport, VirtualTime
+from maxk.controllers.contract import ConsoleBase, Notify, Transport, VirtualTime
 from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
@@ -181,11 +181,13 @@ class MC405Recording:
         self.trace.plot(path, title=title)
 
 
-class TrioConsole:
+class TrioConsole(ConsoleBase):
     """The REPL's and scripts' view of an MC405 (the Console contract)."""
 
+    controller: MC405
+
     def __init__(self, controller: MC405) -> None:
-        self.controller = controller
+        super().__init__(controller)
         self.session = controller.open_session()
         self._errors: list[str] = []
 

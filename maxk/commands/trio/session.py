@@ -24,6 +24,8 @@ import os
 import re
 from collections.abc import Callable, Generator
 
+from maxk.commands.line_session import LineSession
+
 from .interpreter import Interpreter, ProcessContext, Wake, due_after
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -41,8 +43,13 @@ _EDIT_CONTROL = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),([A-Z])")
 _EX = re.compile(r"\s*EX\s*(\(\s*\d*\s*\))?\s*", re.IGNORECASE)
 
 
-class TrioCommandLine:
-    """One telnet command-line session (the Session contract: feed / read)."""
+class TrioCommandLine(LineSession):
+    """One telnet command-line session (the Session contract: feed / read). Its bytes
+    are echoed one by one as they arrive, so `feed` is its own; the output side and the
+    bound on program output nobody asked for are the shared line session's."""
+
+    line_limit = LINE_LIMIT
+    unasked_limit = HEAR_LIMIT
 
     def __init__(self, machine: TrioMachine,
                  programs: ProgramStore | str | os.PathLike[str] | None = None, *,
@@ -53,8 +60,8 @@ class TrioCommandLine:
         of one controller (None: this session has its own, as in the language tests);
         `notify`: called when output nobody asked for is waiting (a waiting command
         ended, a program printed); `on_restart`: called after EX."""
+        super().__init__(notify)
         self.machine = machine
-        self.notify = notify
         self.on_restart = on_restart
         if runtime is None:
             store = programs if isinstance(programs, ProgramStore) else ProgramStore(programs)
@@ -66,10 +73,7 @@ class TrioCommandLine:
         self.system = runtime
         self.context = ProcessContext(process=-1)
         self.restart_requested = False
-        self.closed = False
         self._input = bytearray()
-        self._line = bytearray()
-        self._out = bytearray()
         self._consumed = 0  # bytes of _input handled by the running pump
         self._telnet = 0  # 0 data, 1 after IAC, 2 option byte, 3 in SB, 4 IAC in SB
         self._busy: Generator[Wake | None, None, None] | None = None
@@ -88,12 +92,9 @@ class TrioCommandLine:
         self._input += data
         self._pump()
 
-    def read(self) -> bytes:
-        out = bytes(self._out)
-        self._out.clear()
-        return out
-
     def close(self) -> None:
+        """The host went away: its held input goes; `notify` stays, so an EX that closed
+        the session still lets its host read what came before (see `resume`)."""
         self.closed = True
         self._input.clear()
 
@@ -156,8 +157,7 @@ class TrioCommandLine:
         """Output of a running program (every session of the controller hears it). A
         host that has not read `HEAR_LIMIT` of output misses it (D): program output is
         nobody's reply, and a deaf host must not grow the controller."""
-        if not self.closed and len(self._out) <= HEAR_LIMIT:
-            self._print(text)
+        self.unasked(text.encode("latin-1", "replace"), wake=False)
 
     def _pump(self, limit: int | None = None) -> None:
         """Handle received bytes in order until a statement waits (or `limit` bytes)."""
