@@ -1,8 +1,10 @@
 """The MM4005 on the wire: CR-terminated lines in, CR-terminated replies out.
 
-Framing (EPICS reference): every host line ends with CR; replies are the reply text and
-one CR, never LF (the model 1 driver reads a stray LF into the next reply and breaks).
-LF bytes from the host are dropped so CR LF hosts work (D); empty lines are ignored.
+Framing: a host line ends at CR, LF or CR LF (the EPICS drivers end with CR, the EPICS
+trajectory scan with CR CR, StreamDevice and Tcl hosts with LF): CR and LF each end a
+line and the empty line between CR and LF is ignored, as every empty line is (D: the
+manual's "terminator" accepts either, I). Replies are the reply text and one CR, never
+LF (the model 1 driver reads a stray LF into the next reply and breaks).
 """
 
 from __future__ import annotations
@@ -74,9 +76,9 @@ class MM4005Session:
 
     def feed(self, data: bytes) -> None:
         for byte in data:
-            if byte == CR[0]:
+            if byte == CR[0] or byte == LF[0]:
                 self._end_line()
-            elif byte != LF[0]:
+            else:
                 if len(self._line) <= MAX_LINE:
                     self._line.append(byte)
                 else:
