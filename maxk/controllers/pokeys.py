@@ -32,8 +32,10 @@ from maxk.controllers.pokeys_status import (
     PoKeysError,
     axis_index,
 )
+from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.pokeys import (
+    AXIS_LETTERS,
     MODELS,
     AxisConfigBits,
     PoKeysDevice,
@@ -368,6 +370,10 @@ class PoKeys:
     def stage(self, axis: int) -> AxisWorld:
         return self.world.axes[axis]
 
+    def world_view(self) -> PoKeysWorldView:
+        """The world contract (controllers/world_view.py): axes X..V (or 1..8)."""
+        return PoKeysWorldView(self)
+
     def set_limits(self, axis: int, *, plus: float | None | str = "keep",
                    minus: float | None | str = "keep") -> None:
         """Place the limit switches in physical pulses (None: no switch on that side)."""
@@ -410,3 +416,36 @@ def build(model: str, options: BuildOptions | None = None) -> PoKeys:
 
 __all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
            "pokeys_world"]
+
+
+class PoKeysWorldView(WorldView):
+    """The PoKeys's world behind the contract: axes X Y Z A B C U V (or 1..8) as the
+    device's configuration software names them, positions in pulses; digital inputs by
+    number as the pulse engine reads them (0 the e-stop, n probe input n; pins 1..55 on
+    the 57 series), no analog inputs yet."""
+
+    def __init__(self, dev: PoKeys) -> None:
+        super().__init__(dev.world, AXIS_LETTERS[:dev.axes], inputs=range(56), analog=(),
+                         changed=dev.device.machine.world_changed,
+                         source_owner=dev.device.machine)
+        self.dev = dev
+
+    def index(self, name: str) -> int:
+        try:
+            return axis_index(str(name).strip(), self.dev.axes)
+        except ValueError as error:
+            raise KeyError(str(error)) from None
+
+    def reading(self, name: str) -> AxisReading:
+        i = self.index(name)
+        engine = self.dev.pulse_engine
+        a = engine.axes[i]
+        moving = engine.moving(a)
+        state = engine.axis_state(a)
+        velocity = 0.0
+        planned = engine.motion_plan(i)
+        if moving and planned is not None:  # pulses a slot, as counts per second
+            t = (engine.slot - planned.start) * SLOT_SECONDS
+            velocity = planned.plan.velocity(t)
+        return AxisReading(AXIS_LETTERS[i], a.position, None, velocity, not moving, moving,
+                           (state.name.lower(),))
