@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Final
 
+from maxk.commands.line_session import LineSession
 from maxk.personalities.mm4005 import ErrorRegister, MM4005Error
 from maxk.personalities.mm4005.errors import UNKNOWN_MESSAGE
 
@@ -21,7 +22,6 @@ from .spec import CommandSpec, Context
 from .table import COMMANDS
 
 CR: Final = b"\r"
-LF: Final = b"\n"
 
 
 class Interpreter:
@@ -54,48 +54,22 @@ class Interpreter:
         return replies
 
 
-class MM4005Session:
+class MM4005Session(LineSession):
     """The door-facing session: ``feed`` host bytes in any split, ``read`` the replies."""
 
+    terminators = b"\r\n"  # CR, LF or CR LF (the empty line between is ignored)
+    line_limit = MAX_LINE  # manual 3.3.1.3: 110 characters
+
     def __init__(self, machine: MM4005Machine, interpreter: Interpreter | None = None) -> None:
+        super().__init__()
         self.interpreter = interpreter or Interpreter(machine)
-        self._line = bytearray()
-        self._overflow = False
-        self._out = bytearray()
-        self.closed = False
 
-    def close(self) -> None:
-        """The host went away: the MM4005 never speaks unasked, so only forget its line."""
-        self.closed = True
-        self.discard_partial_line()
+    def line_too_long(self) -> None:
+        """Longer than 110 characters: refused whole with A, as parse_line does."""
+        self.interpreter.errors.record(UNKNOWN_MESSAGE)
 
-    def discard_partial_line(self) -> None:
-        """A reset loses a line half received."""
-        self._line.clear()
-        self._overflow = False
-
-    def feed(self, data: bytes) -> None:
-        for byte in data:
-            if byte == CR[0] or byte == LF[0]:
-                self._end_line()
-            else:
-                if len(self._line) <= MAX_LINE:
-                    self._line.append(byte)
-                else:
-                    self._overflow = True  # bounded memory; the line is refused anyway
-
-    def read(self) -> bytes:
-        out, self._out = bytes(self._out), bytearray()
-        return out
-
-    def _end_line(self) -> None:
-        text = self._line.decode("latin-1")
-        self._line.clear()
-        if self._overflow:  # longer than 110 characters: refused like parse_line does
-            self._overflow = False
-            self.interpreter.errors.record(UNKNOWN_MESSAGE)
-            return
+    def run_line(self, text: str) -> None:
         if not text.strip(" \t"):
             return
         for reply in self.interpreter.execute_line(text):
-            self._out += reply.encode("latin-1") + CR
+            self.reply(reply.encode("latin-1") + CR)
