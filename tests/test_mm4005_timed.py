@@ -174,3 +174,29 @@ def test_pulse_ring_is_bounded_and_streams() -> None:
     assert out[0] == b"NQ50" and out[1].startswith(b"50TQ,")
     assert out[2] == b"TBC Parameter out of limits"  # point 1 left the ring
     assert len(seen) == 50 and len(mm.engine.pulse_trace.records) == 10
+
+
+def test_servo_follows_with_lag_and_factory_gains_stay_exact() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("1KP10;1KI1;1KD160;2VA1;2AC4;1VA1;1AC4;1PA1;2PA1") == []
+    mm.engine.advance(1000)  # 0.5 s: axis 1 still profile-only (no UF yet)
+    assert mm.send("1TP;1TH;1DF") == ["1TP0.3750", "1TH0.3750", "1DF0.0000"]
+    mm.run_until_idle()
+    assert mm.send("1UF;2UF;1PA0;2PA0") == []
+    mm.engine.advance(1000)
+    tp, th, df = mm.send("1TP;1TH;1DF")
+    assert th == "1TH0.6250" and tp != "1TP0.6250"
+    assert -0.05 < float(df[3:]) < -0.005  # moving down, the loop lags its profile
+    assert mm.send("2TP;2TH") == ["2TP0.6250", "2TH0.6250"]  # KP 0 axis: exact
+
+
+def test_following_error_turns_the_motor_off() -> None:
+    mm = MM4005Controller("MM4005-2")
+    mm.send("1KP10;1KI1;1KD160;1UF;1FE0.005;1PA1")
+    mm.engine.advance(400)
+    assert mm.send("1MS;TB") == ["1MSB", "TBF Following error"]
+    assert mm.send("1PA2;TE") == ["TED"]  # refused: power off
+    assert mm.send("1MO;1FE1;1PA0;TE") == ["TE@"]
+    mm.run_until_idle()
+    mm.engine.advance(4000)
+    assert abs(float(mm.send("1TP")[0][3:])) < 0.01

@@ -71,6 +71,12 @@ class FakeMM4005:
     def elements_done(self) -> int:
         return 0
 
+    def apply_gains(self, axis: int) -> None:
+        self.settings[axis - 1].update_filter()
+
+    def take_errors(self) -> list[int]:
+        return []
+
     def abort(self) -> None:
         for axis in range(1, self.axis_count + 1):
             self.stop(axis)

@@ -38,7 +38,7 @@ def setting(ctx: Context, cmd: Command) -> list[str]:
 def update_filter(ctx: Context, cmd: Command) -> list[str]:
     """UF: the gains set by KP/KI/KD/KS take effect on the loop."""
     for a in axes_of(ctx, cmd):
-        ctx.machine.settings[a - 1].update_filter()
+        ctx.machine.apply_gains(a)
     return []
 
 

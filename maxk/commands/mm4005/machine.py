@@ -149,6 +149,14 @@ class MM4005Machine(Protocol):
         """DV: the profile's velocity now, units/s."""
         ...
 
+    def apply_gains(self, axis: int) -> None:
+        """UF: the gains set take effect on the loop."""
+        ...
+
+    def take_errors(self) -> list[int]:
+        """Axes whose following error turned their motor off since the last look."""
+        ...
+
     def abort(self) -> None:
         """AB: every motion and trajectory stops at once."""
         ...

@@ -14,7 +14,7 @@ from typing import Final
 
 from maxk.commands.line_session import LineSession
 from maxk.personalities.mm4005 import ErrorRegister, MM4005Error
-from maxk.personalities.mm4005.errors import UNKNOWN_MESSAGE
+from maxk.personalities.mm4005.errors import FOLLOWING_ERROR, UNKNOWN_MESSAGE
 
 from .lexer import MAX_LINE, parse_line
 from .machine import MM4005Machine
@@ -39,6 +39,8 @@ class Interpreter:
     def execute_line(self, line: str) -> list[str]:
         """Replies of one line (without CR). A malformed command rejects the whole line;
         a refused command stops the line there, the ones before it stay done (D)."""
+        if self.context.machine.take_errors():  # a following error since the last line
+            self.context.errors.record(FOLLOWING_ERROR)
         try:
             commands = parse_line(line, self.table, self.context.machine.axis_count)
         except MM4005Error as error:

@@ -81,12 +81,18 @@ TRAJECTORY_NOT_VERIFIED: Final = _code(
     "J", "Trajectory not verified", "D",
     "letter ours: EC before a VC that passed on the present definition")
 
+FOLLOWING_ERROR: Final = _code(
+    "F", "Following error", "D",
+    "letter ours: a servo axis (gains applied by UF) lagged its profile by more than FE "
+    "(or its loop tripped): its motor was turned off")
+
 ERROR_CODES: Final[dict[str, ErrorCode]] = {
     code.char: code
     for code in (NO_ERROR, UNKNOWN_MESSAGE, AXIS_NUMBER, PARAMETER, UNAUTHORIZED,
                  TRAJECTORY_EMPTY, TRAJECTORY_ELEMENT, ANGLE_DISCONTINUITY, PULSE_ELEMENTS,
                  PULSE_NUMBER, NOT_AUTHORIZED_FUNCTION, TRAVEL_LIMITS, TIME_OUT,
-                 TRAJECTORY_SPEED_CHANGE, TRAJECTORY_VELOCITY, TRAJECTORY_NOT_VERIFIED)
+                 TRAJECTORY_SPEED_CHANGE, TRAJECTORY_VELOCITY, TRAJECTORY_NOT_VERIFIED,
+                 FOLLOWING_ERROR)
 }
 
 UNKNOWN_ERROR_TEXT: Final = "Unknown error code"  # manual 3.126: TB with an out-of-range code

@@ -19,12 +19,13 @@ from typing import Final
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
+from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, advance_servo_axes
 from maxk.firmware_model.world import Switch, World
 
 from .errors import UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
 from .settings import AxisSettings
-from .stage import HomeSearch, HomeStage, MM4005Axis
+from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
 from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
 from .trajectory import Trajectory, TrajectoryRun
@@ -54,6 +55,8 @@ class MM4005(Engine):
         self.timed_run: TimedExecution | None = None
         self.pulse_trace = PulseTrace()  # the last run's pulses, a bounded ring
         self.settings = [AxisSettings() for _ in range(axis_count)]
+        self._servo_axes: list[MM4005Axis] = []
+        self.following_errors: list[int] = []
 
     # ---- what the language reads ----------------------------------------------------------
     @property
@@ -74,7 +77,53 @@ class MM4005(Engine):
 
     def position(self, axis: int) -> float:
         a = self.axis(axis)
-        return a.counts(self) * a.resolution
+        return a.encoder(self) * a.resolution
+
+    # ---- the servo ----------------------------------------------------------------------
+    def apply_gains(self, axis: int) -> None:
+        """UF: the gains set take effect. KP > 0 runs the axis through the shared servo
+        (PID on the world's motor plant); KP 0, the factory value, leaves the exact,
+        profile-only axis (D)."""
+        a = self.axis(axis)
+        settings = self.settings[axis - 1]
+        settings.update_filter()
+        kp, ki, kd, ks = settings.active_gains
+        if not settings.servo_on:
+            a.servo = None
+        else:
+            a.config = ServoConfig(Gains(kp=kp, ki=ki, kd=kd, ku=ks * DAC_LIMIT / 4.0))
+            if a.servo is None:
+                a.servo = ServoLoop(float(a.steps_now(self)), self.tick)
+                a.servo.closed = a.powered
+        self._servo_axes = [x for x in self.axes if x.servo is not None]
+
+    def integrate(self, limit: int) -> bool:
+        """The servo loops run every tick up to the next event; a following error above
+        FE (checked at each event and each slice a door advances) or the loop's own trip
+        turns the motor off (the error is reported as F)."""
+        servos = self._servo_axes
+        if not servos:
+            return False
+        advance_servo_axes(servos, self, limit)
+        handled = False
+        for a in servos:
+            servo = a.servo
+            assert servo is not None
+            tripped = servo.trip_tick is not None
+            if tripped:
+                self.tick = max(self.tick, servo.trip_tick or self.tick)
+                servo.trip_tick = None
+            error = abs(a.exact_counts(self) - a.encoder(self)) * a.resolution
+            if a.powered and (tripped or error > self.settings[a.index].get("FE")):
+                self.following_errors.append(a.index + 1)
+                self.set_power(a.index + 1, False)
+                handled = handled or tripped
+        return handled
+
+    def take_errors(self) -> list[int]:
+        """Axes whose following error turned their motor off since the last look."""
+        out, self.following_errors = self.following_errors, []
+        return out
 
     def theoretical_position(self, axis: int) -> float:
         a = self.axis(axis)
@@ -313,6 +362,14 @@ class MM4005(Engine):
             if a.motion is not None:
                 a.freeze(self)
             a.target_counts = a.counts(self)
+        servo = a.servo
+        if servo is not None and on != a.powered:
+            if on:  # the command starts where the motor stands: no jump
+                a.steps = servo.encoder_counts()
+                a.target_counts = a.counts(self)
+                servo.reset_filter(0.0)
+                servo.tripped = False
+            servo.closed = on
         a.powered = on
 
     def search_home(self, axis: int, mode: int) -> None:
@@ -483,6 +540,8 @@ class MM4005(Engine):
         self.timed = TimedTrajectory(len(self.axes))
         self.pulse_trace.begin()
         self.settings = [AxisSettings() for _ in self.axes]
+        self._servo_axes = []
+        self.following_errors = []
         for i, old in enumerate(self.axes):
             old.freeze(self)
             self.remove_source(old)
