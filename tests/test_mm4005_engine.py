@@ -304,7 +304,7 @@ def test_console() -> None:
     assert len(console.status_line(40)) <= 40
     assert not console.is_idle()
     assert console.repl_word("status", "") is None
-    assert len(console.status_lines()) == 1 + 4 + 2
+    assert len(console.status_lines()) == 1 + 4 + 5  # + XY, time-based, pulses, servo, errors
     mm.run_until_idle()
     assert console.is_idle()
     mm.reset()
