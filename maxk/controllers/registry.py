@@ -52,6 +52,11 @@ def _mc405_programs(model: str, number: int) -> Path:
     return default_archive_dir() / f"{model}-board{number}.programs"
 
 
+def _pokeys_configuration(model: str, number: int) -> Path:
+    """A PoKeys's saved configuration (its flash) per user, beside the MAXk archives."""
+    return default_archive_dir() / f"{model}-board{number}.pokeys.json"
+
+
 KINDS: list[ControllerKind] = [
     ControllerKind("MAXk", tuple(MODELS), _build_maxk,
                    "OMS MAXk (and MAX family) PCI motion controller, 1-10 axes",
@@ -71,7 +76,7 @@ KINDS: list[ControllerKind] = [
                    default_port=23),  # atrio dials telnet's port
     ControllerKind("PoKeys", tuple(pokeys.MODELS), pokeys.build,
                    "PoLabs PoKeys56E (pulse engine v1) and PoKeys57E/57CNC (v2), "
-                   "64-byte requests over TCP and UDP",
+                   "64-byte requests over TCP and UDP", _pokeys_configuration,
                    update_rates_hz=(1000,), default_port=20055),  # PoKeysLib's port
 ]
 

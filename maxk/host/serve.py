@@ -164,11 +164,17 @@ async def serve(args: argparse.Namespace) -> int:
             controller = service.controller
             transports = controller.transports
             where = []
+            tcp_port = None
             if not args.no_tcp and "tcp" in transports:
-                host, bound = await _open(server.open_tcp, service, args, n)
-                where.append(f"tcp {host}:{bound}")
+                host, tcp_port = await _open(server.open_tcp, service, args, n)
+                where.append(f"tcp {host}:{tcp_port}")
             if not args.no_tcp and "udp" in transports:
-                host, bound = await _open(server.open_udp, service, args, n)
+                try:  # one port number for both, as a host (PoKeysLib) dials one number
+                    if tcp_port is None:
+                        raise OSError
+                    host, bound = await server.open_udp(service, args.host, tcp_port)
+                except OSError:
+                    host, bound = await _open(server.open_udp, service, args, n)
                 where.append(f"udp {host}:{bound}")
             if (args.pty or args.pty_link) and "pty" in transports:
                 link = _numbered(args.pty_link, n, boards) if args.pty_link else None
