@@ -7,6 +7,10 @@ Time: integer ticks of the servo update cycle, 0.5 ms (manual 7.1.1: "the servo 
 cycle (0.0005s)", C). The MPN's Tbase is that cycle too (I: the pulse output is set once
 per cycle, which is what VV x Tbase bounds: at most one pulse per cycle).
 
+Long module: one machine whose point-to-point moves, home searches, both trajectories,
+servo loops and events act on the same axes and must see each other's state (a stop, a
+limit or a following error ends whatever the axis is doing).
+
 Decisions (D) beyond the manual are listed in docs/mm4005.md: the home search's edge and
 stages, a stop at a hardware limit, a PA/PR while moving (stop, then go), MF stopping at
 once, the power-up state.
