@@ -200,3 +200,33 @@ def test_following_error_turns_the_motor_off() -> None:
     mm.run_until_idle()
     mm.engine.advance(4000)
     assert abs(float(mm.send("1TP")[0][3:])) < 0.01
+
+
+def test_ec_refuses_a_run_outside_the_travel_limits_and_bad_forms() -> None:
+    mm = MM4005Controller("MM4005-2")
+    s = mm.open_session()
+    s.feed(b"1SR5\rNC\r1DC1\r1DT1\r1DX3\r2DT1\r1DX3\rVC\rTB\r0EC1\rTB\r1MS\r")
+    assert s.read() == b"TB@ No error\rTBR Trajectory outside travel limits\r1MSD\r"
+    for line, code in ((b"0DT1", b"C"), (b"5DT1", b"L"), (b"1RC7", b"C"), (b"RC1", b"B"),
+                       (b"9GC?", b"B"), (b"1EC1", b"C"), (b"1TQ", b"C"), (b"1DC2", b"C"),
+                       (b"MN2002", b"P"), (b"1234567890TQ", b"B")):
+        s.feed(line + b"\rTE\r")
+        assert s.read() == b"TE" + code + b"\r", line
+    s.feed(b"NC\rDX1\rTE\r1DX1\rTE\r")  # DX without an axis, then before any DT
+    assert s.read() == b"TEB\rTEK\r"
+
+
+def test_two_hosts_one_runs_the_other_aborts() -> None:
+    mm = MM4005Controller("MM4005-2")
+    define(mm, [(0, 0), (1, 0), (2, 0), (3, 0), (4, 0)], 0.5, 4)
+    a, b = mm.open_session(), mm.open_session()
+    a.feed(b"0EC1\r")
+    mm.engine.advance(1100)  # 0.55 s: element 1 done
+    b.feed(b"1PA3\rTE\r0EC1\rTE\rNT;LX1;ET\rTE\r")  # busy axes: refused
+    assert b.read() == b"TED\rTED\rTED\r"
+    b.feed(b"AB\r")
+    a.feed(b"MS\rXC\r")
+    assert a.read() == b"1MSD,2MSD\rXC1\r"
+    mm.engine.advance(10000)
+    a.feed(b"XC\rNQ\r1TP\r")
+    assert a.read() == b"XC1\rNQ2\r1TP1.1000\r"

@@ -11,12 +11,31 @@ import tempfile
 import weakref
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import IO, Protocol
 
+from maxk.personalities.mm4005.execution import PulseRecord
 from maxk.personalities.mm4005.machine import MM4005
+from maxk.personalities.mm4005.timed import TracePoint
 
-if TYPE_CHECKING:
-    from .mm4005 import MM4005Controller
+
+class MM4005Controller(Protocol):
+    """What a recording reads of the controller (controllers/mm4005.py)."""
+
+    @property
+    def machine(self) -> MM4005: ...
+
+    @property
+    def pulses(self) -> list[PulseRecord]: ...
+
+    @property
+    def trace_points(self) -> list[TracePoint]: ...
+
+    @property
+    def timed_log(self) -> bool: ...
+
+    def pulse_header(self) -> tuple[str, ...]: ...
+
+    def stream_pulses(self, stream: IO[str] | None) -> None: ...
 
 
 class PathTrace:

@@ -26,7 +26,7 @@ from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_st
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, advance_servo_axes
 from maxk.firmware_model.world import Switch, World
 
-from .errors import UNAUTHORIZED, MM4005Error
+from .errors import TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
 from .settings import AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
@@ -228,6 +228,15 @@ class MM4005(Engine):
             a = self.axis(number)
             if not a.powered or a.motion is not None or a.homing is not None:
                 raise MM4005Error(UNAUTHORIZED, f"axis {number} off or moving")
+        for number in timed.axes:  # piecewise linear: its extremes are element boundaries
+            here = self.theoretical_position(number)
+            left, right = self.axis(number).limits
+            position = low = high = here
+            for element in timed.elements:
+                position += element.moves.get(number, 0.0)
+                low, high = min(low, position), max(high, position)
+            if low < left - 1e-9 or high > right + 1e-9:
+                raise MM4005Error(TRAVEL_LIMITS, f"axis {number} would leave TL..TR")
         previous = self.timed_run
         if previous is not None:
             self.remove_source(previous)

@@ -257,6 +257,7 @@ class TimedExecution:
         period = machine.period
         self.end_tick = self.start_tick + math.ceil(self.starts[-1] / period - 1e-9)
         self.finished = False
+        self.stopped_tick: int | None = None  # where AB, ST, MF or a limit ended it
         self.trace = trace
         self._spaced: EvenlySpaced | None = None
         self._next = 0
@@ -304,10 +305,9 @@ class TimedExecution:
         return lo + 1
 
     def elements_done(self) -> int:
-        """XC: the elements completed so far."""
-        if self.finished:
-            return len(self.starts) - 1 if self.machine.tick >= self.end_tick else 0
-        t = (self.machine.tick - self.start_tick) * self.machine.period
+        """XC: the elements completed so far (up to where an abort or stop ended it)."""
+        tick = self.machine.tick if self.stopped_tick is None else self.stopped_tick
+        t = (min(tick, self.end_tick) - self.start_tick) * self.machine.period
         return sum(1 for end in self.starts[1:] if end <= t + 1e-12)
 
     def next_event(self) -> int | None:
@@ -341,6 +341,7 @@ class TimedExecution:
     def abort_braking(self) -> None:
         """ST or a limit: the run ends here (its axes then brake); later pulses never
         fire."""
+        self.stopped_tick = self.machine.tick
         self.finished = True
         self._due = []
         self._spaced = None
@@ -351,6 +352,7 @@ class TimedExecution:
         """AB, MF: every axis stops where it is; later pulses never fire."""
         if self.finished:
             return
+        self.stopped_tick = self.machine.tick
         for axis in self.axes:
             if axis.motion is not None:
                 axis.freeze(self.machine)
