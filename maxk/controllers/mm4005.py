@@ -350,7 +350,7 @@ class MM4005Console:
     def repl_help(self) -> list[str]:
         return ["  :pulses      the pulse log of the running or last trajectory (CSV lines)",
                 "  :pulses-csv FILE   write it to FILE and append every later pulse as it "
-                "fires (the whole log; :pulses shows the newest 100,000); "
+                "fires (the whole log; :pulses shows the newest 20,000); "
                 ":pulses-csv off stops"]
 
     def after_reset(self) -> list[str]:

@@ -185,7 +185,7 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
           "elements completed; an operand 0..2 is accepted and ignored (D)",
           operand=Operand.MODE),
     _tell("NQ", tm.trace_count, _NO, f"{_SCAN} #20 'NQ' -> 'NQnnnn'", "C",
-          "pulses of the last run (the ring keeps the newest 100,000)"),
+          "pulses of the last run (the ring keeps the newest 20,000)"),
     _tell("TQ", tm.trace_point, AxisRule.ELEMENT, f"{_SCAN} #21 'iTQ'", "C",
           "'iTQ,1THa,1TPb,...' for every installed axis at pulse i"),
     _set("AB", tm.abort_motion, _NO, _NONE, f"{_SCAN} #22 'AB' on the Abort PV", "C",
