@@ -27,8 +27,9 @@ _NONE = Operand.NONE
 
 
 def _spec(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, *, query: bool,
-          replies: bool, source: str, confidence: str, note: str = "") -> CommandSpec:
-    summary = (handler.__doc__ or "").strip().splitlines()[0]
+          replies: bool, source: str, confidence: str, note: str = "",
+          summary: str = "") -> CommandSpec:
+    summary = summary or (handler.__doc__ or "").strip().splitlines()[0]
     return CommandSpec(mnemonic, handler, axis, operand, query, replies, summary, source,
                        confidence, note)
 
@@ -40,9 +41,9 @@ def _tell(mnemonic: str, handler: Handler, axis: AxisRule, source: str, confiden
 
 
 def _set(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, source: str,
-         confidence: str, note: str = "", query: bool = True) -> CommandSpec:
+         confidence: str, note: str = "", query: bool = True, summary: str = "") -> CommandSpec:
     return _spec(mnemonic, handler, axis, operand, query=query, replies=False, source=source,
-                 confidence=confidence, note=note)
+                 confidence=confidence, note=note, summary=summary)
 
 
 _DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
@@ -192,30 +193,42 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "every motion and trajectory stops at once, power stays on (D)", query=False),
     # --- servo gains (EPICS model 1 driver) and other settings ---
     _set("KP", st.setting, _ONE, _NUM, "EPICS model 1 'nKP' (PID gains)", "C",
-         "0..1e6; takes effect at UF; KP 0 (factory) = the exact profile-only axis (D)"),
-    _set("KI", st.setting, _ONE, _NUM, "EPICS model 1 'nKI'", "C", "as KP"),
-    _set("KD", st.setting, _ONE, _NUM, "EPICS model 1 'nKD'", "C", "as KP"),
+         "0..1e6; takes effect at UF; KP 0 (factory) = the exact profile-only axis (D)",
+         summary="KP: proportional gain of the servo loop"),
+    _set("KI", st.setting, _ONE, _NUM, "EPICS model 1 'nKI'", "C", "as KP",
+         summary="KI: integral gain of the servo loop"),
+    _set("KD", st.setting, _ONE, _NUM, "EPICS model 1 'nKD'", "C", "as KP",
+         summary="KD: derivative gain of the servo loop"),
     _set("KS", st.setting, _ONE, _NUM, "hosts' 'nKS'", "I",
-         _NOPAGE + "read as integral saturation, 0..1 (I)"),
+         _NOPAGE + "read as integral saturation, 0..1 (I)",
+         summary="KS: integral saturation of the servo loop"),
     _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains", "C",
          "the gains set take effect (I)", query=False),
     _set("FE", st.setting, _ONE, _NUM, "sibling Newport ESP 'FE' following-error limit", "I",
-         _NOPAGE + "stored, default 1 unit (D)"),
+         _NOPAGE + "stored, default 1 unit (D)",
+         summary="FE: following-error limit (motor off beyond it)"),
     _set("BA", st.setting, _ONE, _NUM, "hosts' 'nBA' backlash compensation", "I",
-         _NOPAGE + "stored, no effect on motion (D)"),
+         _NOPAGE + "stored, no effect on motion (D)",
+         summary="BA: backlash compensation"),
     _tell("XB", st.tell_backlash, _ONE, "hosts' 'nXB'", "I", _NOPAGE + "reads BA (I)"),
     _set("OH", st.setting, _ONE, _NUM, "hosts' 'nOH' home search high speed", "I",
-         _NOPAGE + "stored; OR searches at VA (D)"),
+         _NOPAGE + "stored; OR searches at VA (D)",
+         summary="OH: home search high speed"),
     _set("OL", st.setting, _ONE, _NUM, "hosts' 'nOL' home search low speed", "I",
-         _NOPAGE + "stored; OR searches at VA (D)"),
+         _NOPAGE + "stored; OR searches at VA (D)",
+         summary="OL: home search low speed"),
     _set("VU", st.setting, _ONE, _NUM, "hosts' 'nVU' maximum speed", "I",
-         _NOPAGE + "default 100 units/s (D); VC checks each element against it"),
+         _NOPAGE + "default 100 units/s (D); VC checks each element against it",
+         summary="VU: maximum speed of the axis"),
     _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN' units", "D",
-         _NOPAGE + "a units code 0..10, stored; TN reads 'mm' (D)"),
+         _NOPAGE + "a units code 0..10, stored; TN reads 'mm' (D)",
+         summary="SN: displacement units code"),
     _set("SD", st.setting, _ONE, _NUM, "hosts' 'nSD'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect"),
+         _NOPAGE + "meaning not found: stored and read back, no effect",
+         summary="SD: a stored value (meaning not found)"),
     _set("MR", st.setting, _ONE, _NUM, "hosts' 'nMR'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect"),
+         _NOPAGE + "meaning not found: stored and read back, no effect",
+         summary="MR: a stored value (meaning not found)"),
     _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
          _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
     _set("MV", st.jog, _REQ, _NUM, "hosts' 'nMV+'/'nMV-'", "I",
