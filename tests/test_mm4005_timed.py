@@ -150,12 +150,14 @@ def test_overflow_sweep(command: str, operand: str) -> None:
     s.feed(b"TB\r")
     reply = s.read()
     assert reply.startswith(b"TB") and reply.endswith(b"\r")
-    if operand != "1e-320":
+    if operand != "1e-320" or command in ("1DT", "UC", "1VU", "EC", "1VA"):
         assert reply != b"TB@ No error\r", (command, operand)
     s.feed(b"VC\rEC1\r")
     mm.run_until_idle()
-    s.feed(b"1TP\r")
-    assert s.read().startswith(b"1TP")
+    s.feed(b"1TP\r1RC4\r1RC6\r")
+    replies = s.read().split(b"\r")
+    assert replies[0].startswith(b"1TP")
+    assert all(math.isfinite(float(r[3:])) for r in replies[:3]), replies
 
 
 def test_pulse_ring_is_bounded_and_streams() -> None:
@@ -212,6 +214,8 @@ def test_ec_refuses_a_run_outside_the_travel_limits_and_bad_forms() -> None:
                        (b"MN2002", b"P"), (b"1234567890TQ", b"B")):
         s.feed(line + b"\rTE\r")
         assert s.read() == b"TE" + code + b"\r", line
+    s.feed(b"1SR100\rNC\r1DC1\r1DT1\r1DX90\rVC\r0EC0.5\rTB\r0EC1e-320\rTE\r")
+    assert s.read() == b"TBH Trajectory velocity too large\rTEC\r"  # 180 > VU 100
     s.feed(b"NC\rDX1\rTE\r1DX1\rTE\r")  # DX without an axis, then before any DT
     assert s.read() == b"TEB\rTEK\r"
 

@@ -13,7 +13,8 @@ from maxk.personalities.mm4005.errors import PARAMETER, MM4005Error
 from . import fmt
 from .spec import Command, Context
 
-MAX_TIME_SCALE = 1000.0  # EC's time scale, (0, 1000] (D)
+MIN_TIME_SCALE = 0.01  # EC's time scale, 0.01..1000 (D)
+MAX_TIME_SCALE = 1000.0
 
 
 def _number(cmd: Command) -> float:
@@ -56,8 +57,8 @@ def accel_time(ctx: Context, cmd: Command) -> list[str]:
     if cmd.query:
         return ["UC" + fmt.short(timed.accel_time)]
     value = _number(cmd)
-    if not 0.0 < value <= 100.0:
-        raise MM4005Error(PARAMETER, "UC out of (0, 100] s")
+    if not 0.001 <= value <= 100.0:  # (D) so the acceleration VC reports stays finite
+        raise MM4005Error(PARAMETER, "UC out of 0.001..100 s")
     timed.accel_time = value
     timed.verified = False
     return []
@@ -149,8 +150,8 @@ def execute_timed(ctx: Context, cmd: Command) -> list[str]:
     if cmd.axis not in (None, 0):
         raise MM4005Error(PARAMETER, "only 0EC (real execution) is modelled")
     scale = 1.0 if cmd.value is None else _number(cmd)
-    if not 0.0 < scale <= MAX_TIME_SCALE:
-        raise MM4005Error(PARAMETER, f"time scale out of (0, {MAX_TIME_SCALE:g}]")
+    if not MIN_TIME_SCALE <= scale <= MAX_TIME_SCALE:
+        raise MM4005Error(PARAMETER, f"time scale out of {MIN_TIME_SCALE:g}..{MAX_TIME_SCALE:g}")
     ctx.machine.execute_timed(scale)
     return []
 

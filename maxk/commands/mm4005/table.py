@@ -157,8 +157,8 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("DC", tm.take_part, _REQ, Operand.INTEGER, f"{_SCAN} #4 'nDC0|1'", "C",
          "1 takes part, 0 not", query=False),
     _set("UC", tm.accel_time, _NO, _NUM, f"{_SCAN} #5 'acceleration time'", "C",
-         "default 0.5 s (D); used for the acceleration VC reports, |dv|/UC; positions are "
-         "not smoothed (D)"),
+         "0.001..100 s, default 0.5 s (D); used for the acceleration VC reports, |dv|/UC; "
+         "positions are not smoothed (D)"),
     _set("DT", tm.element_time, AxisRule.ELEMENT, _NUM, f"{_SCAN} #6 'iDT' element time", "C",
          "i = an element defined or the next one (D); at least one servo cycle (D)",
          query=False),
@@ -181,7 +181,7 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          _NOPAGE + "accepted, no effect", query=False),
     _set("EC", tm.execute_timed, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
          "C", "prefix 0 real (1 simulate: refused C, not modelled); element times x the "
-         "operand (default 1)", query=False),
+         "operand, 0.01..1000 (D); H if an element then beats VU", query=False),
     _tell("XC", tm.elements_done, _NO, f"{_SCAN} #16 'XC1' -> 'XCnnnn'", "C",
           "elements completed; an operand 0..2 is accepted and ignored (D)",
           operand=Operand.MODE),

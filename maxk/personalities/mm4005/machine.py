@@ -26,7 +26,7 @@ from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_st
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, advance_servo_axes
 from maxk.firmware_model.world import Switch, World
 
-from .errors import TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
+from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
 from .settings import AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
@@ -228,6 +228,9 @@ class MM4005(Engine):
             a = self.axis(number)
             if not a.powered or a.motion is not None or a.homing is not None:
                 raise MM4005Error(UNAUTHORIZED, f"axis {number} off or moving")
+        for number, figures in timed.figures.items():  # a time scale below 1 speeds it up
+            if figures.velocity / scale > self.settings[number - 1].get("VU"):
+                raise MM4005Error(TRAJECTORY_VELOCITY, f"axis {number} at this time scale")
         for number in timed.axes:  # piecewise linear: its extremes are element boundaries
             here = self.theoretical_position(number)
             left, right = self.axis(number).limits
