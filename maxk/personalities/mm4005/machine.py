@@ -109,20 +109,30 @@ class MM4005(Engine):
         if not servos:
             return False
         advance_servo_axes(servos, self, limit)
-        handled = False
-        for a in servos:
-            servo = a.servo
-            assert servo is not None
-            tripped = servo.trip_tick is not None
-            if tripped:
-                self.tick = max(self.tick, servo.trip_tick or self.tick)
-                servo.trip_tick = None
-            error = abs(a.exact_counts(self) - a.encoder(self)) * a.resolution
-            if a.powered and (tripped or error > self.settings[a.index].get("FE")):
-                self.following_errors.append(a.index + 1)
-                self.set_power(a.index + 1, False)
-                handled = handled or tripped
-        return handled
+        tripped = [a for a in servos if a.servo is not None and a.servo.trip_tick is not None]
+        if tripped:  # the loop's own trip: act at its tick (the others wait ahead)
+            first = min(a.servo.trip_tick for a in tripped  # type: ignore[union-attr]
+                        if a.servo is not None and a.servo.trip_tick is not None)
+            self.tick = max(self.tick, first)
+            for a in tripped:
+                assert a.servo is not None
+                if a.servo.trip_tick == first:
+                    a.servo.trip_tick = None
+                    self._following_error(a)
+            return True
+        over = [a for a in servos if a.powered and abs(a.exact_counts_at(self, limit)
+                - a.servo_counts()) * a.resolution > self.settings[a.index].get("FE")]
+        if not over:
+            return False
+        self.tick = max(self.tick, limit)  # the loops stand at `limit`: act there
+        for a in over:
+            self._following_error(a)
+        return True
+
+    def _following_error(self, a: MM4005Axis) -> None:
+        """The motor is turned off (as MF); the next command line records error F."""
+        self.following_errors.append(a.index + 1)
+        self.set_power(a.index + 1, False)
 
     def take_errors(self) -> list[int]:
         """Axes whose following error turned their motor off since the last look."""

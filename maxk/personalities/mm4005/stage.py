@@ -112,6 +112,19 @@ class MM4005Axis(MotionAxis):
         t = (engine.tick - self.motion_start) * engine.period
         return self.steps + self.counter_offset + m.offset(t)
 
+    def exact_counts_at(self, engine: Engine, tick: int) -> float:
+        """The profile's exact counts at any tick of the running motion."""
+        m = self.motion
+        if m is None or (self.motion_end is not None and tick >= self.motion_end):
+            return float(self.counts_at(tick, engine.period))
+        return self.steps + self.counter_offset + m.offset((tick - self.motion_start)
+                                                           * engine.period)
+
+    def servo_counts(self) -> int:
+        """The encoder counter of a servo axis."""
+        assert self.servo is not None
+        return self.servo.encoder_counts() + self.counter_offset
+
     def counts_per_second(self, units: float) -> float:
         return units / self.resolution
 
