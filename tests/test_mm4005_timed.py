@@ -234,3 +234,40 @@ def test_two_hosts_one_runs_the_other_aborts() -> None:
     mm.engine.advance(10000)
     a.feed(b"XC\rNQ\r1TP\r")
     assert a.read() == b"XC1\rNQ2\r1TP1.1000\r"
+
+
+def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("TS;1TN;1TA;1SU?;XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "XP0"]
+    assert mm.send("1VU?;1FE?;1KS?") == ["1VU100", "1FE1", "1KS1"]
+    assert mm.send("KP?") == ["1KP0,2KP0"]  # without an axis: every axis
+    assert mm.send("1KP-1") == [] and mm.send("TE") == ["TEC"]  # out of range: unchanged
+    assert mm.send("1SN2.5") == [] and mm.send("TE") == ["TEC"]  # an integer setting
+    assert mm.send("1SU0.01") == [] and mm.send("TE") == ["TEC"]  # TU is fixed
+    assert mm.send("1KP?;1SN?") == ["1KP0", "1SN0"]
+    assert mm.send("1BA0.02;1XB;1DA;1VA2;1AC8;1MV1;TS") == ["1XB0.02", "1DA4", "TSA"]
+    mm.engine.advance(1000)  # 0.5 s: at VA 2 after a 0.25 s ramp at AC 8
+    assert mm.send("1DV;1MS") == ["1DV2.0000", "1MSE"]
+    assert mm.send("1ST") == []
+    mm.run_until_idle()
+    assert mm.send("1ML-1;TE") == ["TE@"]
+    assert mm.send("1MV0") == [] and mm.send("TE") == ["TEC"]
+    zt = mm.send("ZT")
+    assert len(zt) == 2 and zt[0].startswith("1ZT VA2 AC8 TL-100 TR100 KP0")
+    assert mm.send("MB3;ME7;MN9;ZP") == ["ZP MB3 ME7 MN9 NQ0"]
+
+
+def test_servo_axes_in_a_time_based_run_read_back_their_lag() -> None:
+    mm = MM4005Controller("MM4005-2")
+    mm.send("1KP10;1KI1;1KD160;1UF")
+    define(mm, [(0.5 * i, 0.25 * i) for i in range(9)], 0.25, 8)
+    mm.send("0EC1")
+    mm.run_until_idle()
+    points = mm.engine.trace_points
+    assert len(points) == 8
+    for k, p in enumerate(points):
+        assert p.theoretical[0] == pytest.approx(0.5 * k, abs=1e-9)
+        assert p.theoretical[1] == pytest.approx(0.25 * k, abs=1e-9)
+        assert abs(p.actual[1] - 0.25 * k) <= 0.001 + 1e-9  # axis 2: profile-only
+    lags = [p.theoretical[0] - p.actual[0] for p in points[1:]]
+    assert all(0.001 < lag < 0.2 for lag in lags), lags  # axis 1 follows behind, moving up
