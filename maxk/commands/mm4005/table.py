@@ -232,7 +232,8 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
          _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
     _set("MV", st.jog, _REQ, _NUM, "hosts' 'nMV+'/'nMV-'", "I",
-         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I)", query=False),
+         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); the operand is a signed "
+         "number ('1MV1', '1MV-1'), a bare sign answers C (D)", query=False),
     _set("ML", st.to_limit, _REQ, _NUM, "hosts' 'nML+'/'nML-'", "I",
          _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
     _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
