@@ -116,6 +116,8 @@ def verify_timed(ctx: Context, cmd: Command) -> list[str]:
 
 def verify_report(ctx: Context, cmd: Command) -> list[str]:
     """RC: what VC found for axis n (1/2 speed change, 3/4 velocity, 5/6 acceleration)."""
+    if cmd.value is None:  # 'nRC?' or 'nRC': which figure is missing
+        raise MM4005Error(PARAMETER, "RC needs 1..6")
     which = _integer(cmd)
     if not 1 <= which <= 6:
         raise MM4005Error(PARAMETER, "RC1..RC6")
