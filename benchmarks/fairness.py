@@ -9,6 +9,12 @@ send 10 MB of valid commands (`RI;WY;AA RP;`) to the same board and never read a
 A fair server keeps the poller's p99 under 50 ms and answers every query it sent; the
 abusers only get in what back-pressure lets through (reported as accepted bytes).
 
+A second run (issue 30) puts a MAXk-A000, an MC405, an MM4005 and a PoKeys57CNC behind
+one server; one host runs the MAX queue loop `AX; LS2000000000;` + 1,000 `VL5000;` +
+`LE;`, another a busy MC405 `WHILE 1` program uploaded and RUN as atrio does, and a
+third times `1TP` on the MM4005 and `AY; RP` on the MAXk's other axis: the busy
+controllers lag on their own, the others keep their p99 under 50 ms.
+
     python3 -m benchmarks.fairness [--seconds 10] [--rate 20] [--abusers 0,1,5,20] [--json]
 """
 
@@ -163,7 +169,17 @@ def run_phase(server: LiveServer, abusers: int, seconds: float, rate: float) -> 
 
 
 def figures(seconds: float = 10.0, rate: float = 20.0,
-            counts: tuple[int, ...] = (0, 1, 5, 20), root: Path = ROOT) -> list[Figure]:
+            counts: tuple[int, ...] = (0, 1, 5, 20), root: Path = ROOT,
+            controllers: bool = True) -> list[Figure]:
+    """The flooding hosts' phases, then (`controllers`) the controller abusers' run."""
+    result = _flood_figures(seconds, rate, counts, root) if counts else []
+    if controllers:
+        result += controller_abusers(seconds, rate, root)
+    return result
+
+
+def _flood_figures(seconds: float, rate: float, counts: tuple[int, ...],
+                   root: Path) -> list[Figure]:
     limit = len(counts) * (seconds + 30.0) + 60.0  # the server's own time bound
     result: list[Figure] = []
     with LiveServer(4, "MAXk-A000", limit, root) as server:
@@ -199,6 +215,73 @@ def figures(seconds: float = 10.0, rate: float = 20.0,
     return result
 
 
+MIXED = "MAXk-A000,MC405,MM4005,PoKeys57CNC"
+QUEUE_LOOP = b"AX; JG5000; LS2000000000; " + b"VL5000; " * 1000 + b"LE;\n"
+
+
+def _until(sock: socket.socket, end: bytes) -> bytes:
+    data = b""
+    while end not in data:
+        chunk = sock.recv(65536)
+        if not chunk:
+            raise ConnectionError("server closed the connection")
+        data += chunk
+    return data
+
+
+def _busy_trio(port: int) -> socket.socket:
+    """Upload a WHILE 1 of 500 lines of arithmetic line by line (`!NAME,nR...`, as atrio
+    does) and RUN it; the socket stays open."""
+    sock = socket.create_connection(("127.0.0.1", port))
+    lines = ["x=0", "WHILE 1"] + [f"x = x + {i} * 2 - {i}" for i in range(500)] + ["WEND"]
+    commands = ['SELECT "HOG",0', *(f"!HOG,{n}R{line}" for n, line in enumerate(lines)),
+                "!HOG,M", "COMPILE", 'RUN "HOG"']
+    for command in commands:
+        sock.sendall(command.encode() + b"\r\n")
+        _until(sock, b"A\r\n>>")  # its prompt after the control-char line
+    return sock
+
+
+def controller_abusers(seconds: float = 10.0, rate: float = 20.0,
+                       root: Path = ROOT) -> list[Figure]:
+    """The two controller abusers beside two well-behaved controllers (issue 30)."""
+    result: list[Figure] = []
+    with LiveServer(4, MIXED, seconds + 90.0, root) as server:
+        maxk, trio, mm, _pokeys = server.ports
+        hog = _busy_trio(trio)
+        loop = socket.create_connection(("127.0.0.1", maxk))
+        loop.sendall(QUEUE_LOOP)
+        time.sleep(1.0)
+        hosts = {"MM4005 1TP": (mm, b"1TP\r", b"\r"), "MAXk AY RP": (maxk, b"AY; RP\n", EOL)}
+        socks = {name: socket.create_connection(("127.0.0.1", port))
+                 for name, (port, _q, _e) in hosts.items()}
+        times: dict[str, list[float]] = {name: [] for name in hosts}
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            for name, (_port, query, eol) in hosts.items():
+                began = time.perf_counter()
+                socks[name].sendall(query)
+                _until(socks[name], eol)
+                times[name].append((time.perf_counter() - began) * 1e3)
+            time.sleep(1.0 / rate)
+        for sock in (hog, loop, *socks.values()):
+            sock.close()
+        for name, lat in times.items():
+            lat.sort()
+            tag = "fairness_controllers_" + name.split()[0].lower()
+            note = (f"{name} at {rate:g}/s for {seconds:g} s while a MAXk queue loop and a "
+                    f"busy MC405 program run; load average {os.getloadavg()[0]:.1f}")
+            result += [Figure(f"{tag}_p50", percentile(lat, 0.50), "ms", None, note),
+                       Figure(f"{tag}_p99", percentile(lat, 0.99), "ms", None,
+                              f"target p99 < {TARGET_P99_MS:g} ms"),
+                       Figure(f"{tag}_max", lat[-1] if lat else float("nan"), "ms")]
+        began = time.monotonic()
+        code = server.stop()
+        result.append(Figure("fairness_controllers_stop", time.monotonic() - began, "s",
+                             None, f"server stop with both abusers running (exit {code})"))
+    return result
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python3 -m benchmarks.fairness")
     parser.add_argument("--json", action="store_true", help="one JSON object per figure")
@@ -206,12 +289,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rate", type=float, default=20.0,
                         help="WY queries per second of the well-behaved host")
     parser.add_argument("--abusers", default="0,1,5,20",
-                        help="comma list of abusive host counts, one phase each")
+                        help="comma list of abusive host counts, one phase each ('' for "
+                        "only the controller abusers' run)")
     parser.add_argument("--root", type=Path, default=ROOT,
                         help="checkout whose maxk is served (e.g. an older commit exported "
                         "with git archive, for a before/after figure)")
     args = parser.parse_args(argv)
-    counts = tuple(int(c) for c in args.abusers.split(","))
+    counts = tuple(int(c) for c in args.abusers.split(",") if c.strip())
     print_figures(figures(args.seconds, args.rate, counts, args.root.resolve()), args.json)
     return 0
 

@@ -50,7 +50,9 @@ class LiveServer:
     process. `limit` seconds is passed as --seconds, so the server stops by itself even if
     this benchmark is killed before it can stop it."""
 
-    def __init__(self, boards: int, model: str, limit: float, root: Path = ROOT) -> None:
+    def __init__(self, boards: int, model: str, limit: float, root: Path = ROOT,
+                 options: tuple[str, ...] = ()) -> None:
+        self.options = options  # more `maxk serve` options (e.g. --speed 10)
         self.boards = boards
         self.model = model
         self.limit = limit
@@ -76,7 +78,7 @@ class LiveServer:
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "maxk", "serve", "--boards", str(self.boards),
              "--model", self.model, "--no-archive", "--host", "127.0.0.1", "--port", "0",
-             "--seconds", f"{self.limit:g}"],
+             "--seconds", f"{self.limit:g}", *self.options],
             cwd=self.root, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
             stderr=self._stderr)
         assert self.proc.stdout is not None

@@ -11,7 +11,13 @@ GO`, then back with MR-1000) and reads it with `AX RP` (must lie within the move
 travel) and `AX QA`; at the end each mover's axis must rest exactly where its moves add
 up to, so a lost or misapplied move shows.
 
-    python3 -m benchmarks.soak [--seconds 600] [--clients 50] [--json]
+A second soak (issue 30, `--departures`) serves an MC405 and an MM4005 at `--speed 10`:
+hosts keep arriving on the MC405, sending `WA(1e11)` and 60 KB of lines behind it and
+hanging up, while a host runs the MM4005 benchmark's 1,000-element raster with a pulse
+every 0.1 unit (about 50,000 pulses a run) again and again. The server's RSS must stay
+flat: a departed host leaves nothing behind, the pulse log is bounded.
+
+    python3 -m benchmarks.soak [--seconds 600] [--clients 50] [--departures] [--json]
 """
 
 from __future__ import annotations
@@ -279,6 +285,75 @@ def figures(seconds: float = 600.0, clients: int = 50, root: Path = ROOT) -> lis
     ]
 
 
+def _mm_line(sock: socket.socket, text: str, reply: bool = False) -> bytes:
+    sock.sendall(text.encode() + b"\r")
+    if not reply:
+        return b""
+    data = b""
+    while not data.endswith(b"\r"):
+        chunk = sock.recv(4096)
+        if not chunk:
+            raise ConnectionError("server closed the connection")
+        data += chunk
+    return data
+
+
+def departures(seconds: float = 600.0, root: Path = ROOT, rate: float = 20.0,
+               rasters_too: bool = True) -> list[Figure]:
+    """Departing MC405 hosts behind a waiting statement, and long MM4005 rasters."""
+    from benchmarks.mm4005 import ROWS, _pulse_count, raster_lines
+
+    pulses = _pulse_count()
+    with LiveServer(2, "MC405,MM4005", seconds + 120.0, root, ("--speed", "10")) as server:
+        trio, mm_port = server.ports
+        mm = socket.create_connection(("127.0.0.1", mm_port))
+        rss: list[int] = [server.rss_kib()]
+        left = rasters = 0
+        end = time.monotonic() + seconds
+        next_sample = time.monotonic() + 10.0
+        idle = True
+        next_raster = time.monotonic() + 40.0
+        behind = b"WA(1e11)\r\n" + b"?1\r\n" * 15000  # 60 KB behind the wait
+        while time.monotonic() < end:
+            if idle and rasters_too:  # (re)define the raster and start it
+                _mm_line(mm, "1PA-5;2PA-1;1WS;2WS")
+                for line in raster_lines():
+                    _mm_line(mm, line)
+                _mm_line(mm, f"NB2;NE{4 * ROWS - 1};NN{pulses};NS;ET")
+                rasters += 1
+                idle = False
+            host = socket.create_connection(("127.0.0.1", trio))
+            host.sendall(behind)
+            host.close()
+            left += 1
+            time.sleep(1.0 / rate)
+            if time.monotonic() >= next_sample:
+                next_sample += 10.0
+                rss.append(server.rss_kib())
+                _mm_line(mm, "TE", reply=True)  # the MM4005 still answers
+            if time.monotonic() >= next_raster:  # a run takes about 27 s at --speed 10
+                next_raster += 40.0
+                idle = True
+        rss.append(server.rss_kib())
+        mm.close()
+        alive = server.alive()
+        code = server.stop()
+    if not alive or code != 0:
+        raise RuntimeError(f"maxk serve {'died' if not alive else f'exited {code}'}: "
+                           f"{server.errors()}")
+    note = (f"{left} MC405 hosts left behind WA(1e11) with 60 KB each; {rasters} MM4005 "
+            f"raster run(s) of {pulses} pulses started; --speed 10, {seconds:g} s")
+    return [
+        Figure("soak_departures_rss_start", rss[0] / 1024, "MiB", None, "VmRSS; " + note),
+        Figure("soak_departures_rss_peak", max(rss) / 1024, "MiB", None,
+               f"highest of {len(rss)} samples, one every 10 s"),
+        Figure("soak_departures_rss_end", rss[-1] / 1024, "MiB", None,
+               "samples " + " ".join(f"{r / 1024:.1f}" for r in rss)),
+        Figure("soak_departures_rss_after_first_sample", rss[min(1, len(rss) - 1)] / 1024,
+               "MiB", None, "flat from here is the test"),
+    ]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python3 -m benchmarks.soak")
     parser.add_argument("--json", action="store_true", help="one JSON object per figure")
@@ -287,7 +362,15 @@ def main(argv: list[str] | None = None) -> int:
                         "connections spread over the 4 boards)")
     parser.add_argument("--root", type=Path, default=ROOT,
                         help="checkout whose maxk is served")
+    parser.add_argument("--departures", action="store_true", help="the issue-30 soak: "
+                        "departing MC405 hosts and long MM4005 rasters instead")
+    parser.add_argument("--no-rasters", action="store_true", help="with --departures: "
+                        "the departing hosts alone")
     args = parser.parse_args(argv)
+    if args.departures:
+        print_figures(departures(args.seconds, args.root.resolve(),
+                                 rasters_too=not args.no_rasters), args.json)
+        return 0
     print_figures(figures(args.seconds, args.clients, args.root.resolve()), args.json)
     return 0
 

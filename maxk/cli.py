@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -109,6 +111,21 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The `maxk` command. A reader that goes away (`maxk commands | head`) ends it
+    quietly, with the status a shell gives a program its closed pipe ended (128 + 13)."""
+    try:
+        return _main(argv)
+    except BrokenPipeError:
+        # nobody reads stdout any more: point it at /dev/null so that the interpreter's
+        # last flush at exit does not complain a second time
+        with contextlib.suppress(OSError, ValueError):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+        return 141
+
+
+def _main(argv: list[str] | None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version"):
         argv = ["repl", *argv]  # the REPL is the default command, its options too

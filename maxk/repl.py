@@ -73,7 +73,18 @@ class ReplSession:
         elapsed = (self._clock() - self._epoch) * self.speed
         target = self._tick_at_epoch + int(elapsed * engine.update_rate_hz + 1e-6)
         if target > engine.tick:
-            engine.advance_to(target)
+            # a bounded turn, as the doors give (host/pacing.py): a controller whose work
+            # outruns real time falls behind, says so on the status line, and its clock
+            # slips past a quarter second rather than freezing the prompt
+            deadline = time.perf_counter() + 0.1
+            if not engine.advance_to(target, lambda: time.perf_counter() >= deadline):
+                lag = (target - engine.tick) * engine.period
+                limit = 0.25 * self.speed
+                if lag > limit:
+                    self._tick_at_epoch -= int((lag - limit) * engine.update_rate_hz)
+                engine.behind = min(lag, limit)
+                return
+        engine.behind = 0.0
 
     def set_clock(self, manual: bool) -> None:
         self.sync()
@@ -166,6 +177,10 @@ class ReplSession:
 
     def toolbar(self, width: int = 80) -> str:
         self.sync()
+        behind = self.controller.engine.behind
+        if behind >= 0.05:  # running behind real time (its work outruns it)
+            flag = f"BEHIND {behind:.2f}s "
+            return flag + self.console.status_line(max(1, width - len(flag)))
         return self.console.status_line(width)
 
 

@@ -55,6 +55,11 @@ class Engine:
         self._watchers: list[bool] = []  # per source: acts at every event tick
         self._acting: list[tuple[EventSource, bool]] = []  # the two, zipped once
         self._observers: list[_Observer] = []
+        # Seconds this engine's virtual time stands behind the time its door wants (the
+        # wall clock, scaled): 0.0 while it keeps up. Only a door that paces the engine
+        # against a wall clock sets it (the engine itself never reads a clock); the status
+        # lines and the doors read it.
+        self.behind = 0.0
 
     # ---- time ------------------------------------------------------------------------
     @property
@@ -134,8 +139,14 @@ class Engine:
                 best = due
         return best
 
-    def advance_to(self, tick: int) -> None:
-        """Advance virtual time to an absolute tick, processing every event on the way."""
+    def advance_to(self, tick: int, stop: Callable[[], bool] | None = None) -> bool:
+        """Advance virtual time to an absolute tick, processing every event on the way.
+
+        `stop`, when given, is asked after each event tick: True ends the advance there
+        (time stands at that event's tick, everything due at it done). A door uses it to
+        bound one controller's work per turn, so that a controller whose work outruns
+        real time slows its own clock and never another's. Returns True when `tick` was
+        reached."""
         if tick < self.tick:
             raise ValueError("time only moves forward")
         self.settle()
@@ -144,6 +155,8 @@ class Engine:
             event = next_event()
             limit = tick if event is None or event > tick else event
             if integrate(limit):
+                if stop is not None and stop():
+                    return self.tick >= tick
                 continue
             if event is None or event > tick:
                 break
@@ -158,7 +171,10 @@ class Engine:
             after_events(now)
             if self._observers:
                 self._observe(now)
+            if stop is not None and now < tick and stop():
+                return False
         self.tick = tick
+        return True
 
     def advance(self, ticks: int) -> None:
         self.advance_to(self.tick + int(ticks))

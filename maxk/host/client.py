@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
+from collections import deque
 from dataclasses import dataclass, field
 
 from maxk.controllers.contract import Controller, Session
@@ -23,6 +24,12 @@ SLICE_SECONDS = 0.0005  # ... and for at most about this long; then every other 
 PIECE = 128  # input is fed in pieces this size while a turn lasts
 INBOX_LIMIT = 64 * 1024  # input held unrun before we stop reading that client
 UDP_PEERS = 64  # UDP hosts remembered (their sessions) per controller, least recent dropped
+SYNC_BUDGET = 0.002  # seconds of one controller's engine work before a host's turn (D)
+DEPARTED_KEEP = 4096  # bytes a departed host may leave waiting behind a statement (D)
+DEPARTED_HOSTS = 64  # departed hosts a controller keeps waiting, the oldest dropped (D)
+BEHIND_LOG_EVERY = 10.0  # wall seconds between two "running behind" lines of one board
+
+behind_log = logging.getLogger("maxk.door.serve")  # a controller running behind real time
 
 
 @dataclass
@@ -38,6 +45,9 @@ class Service:
     ptys: list[str] = field(default_factory=list)
     _last_fault: str = field(default="", repr=False)
     traffic: TrafficBook | None = None  # each host's recent bytes (made at the first one)
+    departed: deque[Client] = field(default_factory=deque)  # gone, input behind a wait
+    _behind_logged: float | None = field(default=None, repr=False)  # when it last said so
+    _kept_up_since: float | None = field(default=None, repr=False)  # (after it did)
 
     def open_session(self, client: Client) -> Session:
         return self.controller.open_session(notify=client.flush_session)
@@ -54,13 +64,44 @@ class Service:
         self.feed(session, data)
         return session.read()
 
-    def sync(self) -> None:
-        """Bring the controller to now; a fault inside its engine is reported like one in
-        a feed (below), never out of a door's callback."""
+    def sync(self, budget: float | None = SYNC_BUDGET) -> None:
+        """Bring the controller to now, spending at most `budget` seconds on its engine
+        (None: however long it takes): a controller that cannot keep up falls behind on
+        its own, and says so. A fault inside its engine is reported like one in a feed
+        (below), never out of a door's callback."""
         try:
-            self.pacer.sync()
+            self.pacer.sync(budget)
         except Exception as error:  # the server never dies of one controller's fault
             self._report(error, b"")
+        self._say_if_behind()
+
+    @property
+    def behind(self) -> float:
+        """Seconds this controller's clock stands behind real time (0.0: keeping up)."""
+        return self.controller.engine.behind
+
+    def _say_if_behind(self) -> None:
+        """A rate-limited log line while the controller runs behind real time, and one
+        when it has kept up again for as long."""
+        behind = self.controller.engine.behind
+        logged = self._behind_logged
+        if behind > 0.0:
+            self._kept_up_since = None
+            now = time.monotonic()
+            if logged is None or now - logged >= BEHIND_LOG_EVERY:
+                self._behind_logged = now
+                behind_log.warning("board %d (%s): its work takes longer than real time; its "
+                            "clock runs %.3f s behind and slow (%.3f s slipped so far)",
+                            self.number, self.controller.model, behind,
+                            self.pacer.slipped / self.pacer.speed)
+        elif logged is not None:
+            now = time.monotonic()
+            if self._kept_up_since is None:
+                self._kept_up_since = now
+            elif now - self._kept_up_since >= BEHIND_LOG_EVERY:
+                self._behind_logged = self._kept_up_since = None
+                behind_log.warning("board %d (%s): keeping up with real time again",
+                            self.number, self.controller.model)
 
     def feed(self, session: Session, data: bytes) -> None:
         """Feed a session; a fault inside the controller is reported and that input is
@@ -198,6 +239,8 @@ class Client:
         if self._closing and not self._inbox and not _holding(session):
             self._drop_session()
             return
+        if self._closing and _holding(session) and not self._wait_departed():
+            return
         self._output_full = self._unsent() > HIGH_WATER
         self._update_input()
         self._schedule()
@@ -223,15 +266,47 @@ class Client:
     def _hang_up(self) -> None:
         """The host went away. What it sent still runs (as the board runs what reached
         it), in turns as before, with nobody left to read the replies; then the session
-        goes."""
-        if self.session is not None and (self._inbox or _holding(self.session)):
+        goes. Behind a waiting statement (a `holding` session) that is bounded, since a
+        statement may wait for hours: a departed host leaves at most DEPARTED_KEEP bytes
+        waiting (more is dropped whole), and a controller keeps at most DEPARTED_HOSTS
+        such hosts (the oldest is dropped); each drop is logged."""
+        session = self.session
+        if session is not None and _holding(session):
+            self._closing = True
+            self._output_full = False
+            if self._wait_departed():
+                self._schedule()
+            return
+        if session is not None and self._inbox:
             self._closing = True
             self._output_full = False
             self._schedule()
             return
         self._drop_session()
 
+    def _wait_departed(self) -> bool:
+        """A departed host's input waits behind a statement: keep it within the bounds
+        (False: dropped with its session)."""
+        service = self.service
+        if len(self._inbox) > DEPARTED_KEEP:
+            log.warning("board %d (%s): a host left %d bytes behind a waiting statement; "
+                        "dropped", service.number, service.controller.model,
+                        len(self._inbox))
+            self._drop_session()
+            return False
+        if self not in service.departed:
+            service.departed.append(self)
+        while len(service.departed) > DEPARTED_HOSTS:
+            oldest = service.departed.popleft()
+            log.warning("board %d (%s): more than %d departed hosts wait; the oldest's %d "
+                        "bytes dropped", service.number, service.controller.model,
+                        DEPARTED_HOSTS, len(oldest._inbox))
+            oldest._drop_session()
+        return self.session is not None
+
     def _drop_session(self) -> None:
+        if self._closing and self in self.service.departed:
+            self.service.departed.remove(self)
         if self.traffic is not None:
             self.traffic.closed()
         self.service.clients.discard(self)

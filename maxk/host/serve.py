@@ -63,7 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "and replies out, with virtual time stamps (logger maxk.door.*)")
     parser.add_argument("--log-level", choices=LEVELS, default=None, type=str.lower,
                         help="the maxk loggers' level (default warning: faults only)")
-    parser.add_argument("--seconds", type=float, default=None,
+    parser.add_argument("--seconds", type=_seconds, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
 
 
@@ -88,13 +88,29 @@ def configure_logging(args: argparse.Namespace) -> None:
             "%(message)s" if level == "WARNING" else "%(name)s: %(message)s"))
 
 
+MAX_SPEED = 1e6
+"""The fastest --speed: a million times real time keeps every tick count of a day's run
+far inside exact integers and floats (beyond, a wall second is years of ticks) (D)."""
+
+
 def _speed(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError("--speed must be a positive number")
+    if not math.isfinite(value) or not 1 / MAX_SPEED <= value <= MAX_SPEED:
+        raise argparse.ArgumentTypeError("--speed must be a positive number from "
+                                         f"{1 / MAX_SPEED:g} to {MAX_SPEED:g}")
+    return value
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError("--seconds must be a number of seconds, 0 or more")
     return value
 
 

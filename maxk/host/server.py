@@ -30,6 +30,7 @@ from maxk.host.client import (  # noqa: F401  (the limits, re-exported for the d
     PIECE,
     SLICE,
     SLICE_SECONDS,
+    SYNC_BUDGET,
     UDP_PEERS,
     Client,
     Service,
@@ -299,6 +300,9 @@ class PtyClient(Client):
                 os.unlink(self.link)
 
 
+PACE_BUDGET = 0.003  # seconds of one controller's engine work per pacing turn (D)
+
+
 class Server:
     """Every controller, its doors and the pacer, on one event loop."""
 
@@ -338,10 +342,18 @@ class Server:
         self._extra_pacing.append(callback)
 
     async def pace(self) -> None:
-        """Keep every controller at now; never blocks request handling for long, since
-        the engine jumps from event to event."""
+        """Keep every controller at now. Each controller gets a bounded turn of engine
+        work (PACE_BUDGET) and the loop is given back between controllers, so a host's
+        request to one controller waits at most one turn of each other controller: one
+        whose work takes longer than real time falls behind on its own (its clock runs
+        slow and says so, `Service.behind`), never another's door or the server."""
         while not self._stop.is_set():
-            for step in [*(s.sync for s in self.services), *self._extra_pacing]:
+            for service in self.services:
+                service.sync(PACE_BUDGET)
+                await asyncio.sleep(0)  # hosts, signals and the other doors between turns
+                if self._stop.is_set():
+                    return
+            for step in self._extra_pacing:
                 try:
                     step()
                 except Exception as error:  # one board's failure must not stop the others

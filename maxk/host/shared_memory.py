@@ -39,6 +39,7 @@ import sys
 
 from maxk.commands.max.interpreter import Interpreter
 from maxk.host import memory_map as M
+from maxk.host.client import SYNC_BUDGET
 
 _U32 = struct.Struct(">I")
 _I32 = struct.Struct(">i")
@@ -161,7 +162,7 @@ class SharedMemoryDoor:
 
     def _update(self) -> None:
         board = self.board
-        self.service.pacer.sync()
+        self.service.pacer.sync(SYNC_BUDGET)  # a bounded turn, as every door's
         # Table 3-4: 0xFFFFFFFF until power-up (or reset) initialization has run
         self._put(M.FIRMWARE_FLAGS, board.firmware_flags)
         clear = self._get(M.ODBR_CLEAR)

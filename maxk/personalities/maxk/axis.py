@@ -30,7 +30,7 @@ from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.backlash import Backlash, walk
 from maxk.personalities.maxk.config import AxisConfig, wrap32
 from maxk.personalities.maxk.homing import Homing
-from maxk.personalities.maxk.queue import CommandQueue
+from maxk.personalities.maxk.queue import QUEUE_COMMANDS_PER_UPDATE, CommandQueue
 from maxk.personalities.maxk.waits import (
     WAIT_MOTION,
     WAIT_REST_RETRY,
@@ -78,6 +78,9 @@ class Axis(MotionAxis):
     capture_pending: list[tuple[int, PositionTrigger[int]]] = field(default_factory=list)
     pending_target: int | None = None  # set by MA/MR, consumed by GO
     pending_linear: LinearMove | None = None  # set by MT/ML, consumed by GO
+    # queue entries executed at `queue_work_tick` (bounded by QUEUE_COMMANDS_PER_UPDATE)
+    queue_work_tick: int = -1
+    queue_work: int = 0
     homing: Homing | None = None  # a running HM/HR/KM/KR search
     linked: list = field(default_factory=list)  # the other axes of a running MT/ML move
     aux_on: bool = False  # AN / AF
@@ -372,7 +375,8 @@ class Axis(MotionAxis):
                     if board.tick < wait.tick:
                         return progressed
                     self.wait = None
-                    queue.advance()
+                    if not wait.retry:
+                        queue.advance()
                 elif type(wait) is InputWait:
                     if board.io.level(wait.bit, board) == wait.low:
                         return progressed
@@ -387,6 +391,14 @@ class Axis(MotionAxis):
             entry = queue.peek()
             if entry is None:
                 return progressed
+            tick = board.tick
+            if self.queue_work_tick != tick:
+                self.queue_work_tick = tick
+                self.queue_work = 0
+            elif self.queue_work >= QUEUE_COMMANDS_PER_UPDATE:
+                self.wait = TickWait(tick + 1, retry=True)  # this update's share is spent
+                return progressed
+            self.queue_work += 1
             result = entry.action(self, board)
             progressed = True
             if result is None:

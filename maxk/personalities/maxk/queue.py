@@ -17,6 +17,17 @@ from typing import Any
 from maxk.personalities.maxk.models import QUEUE_CAPACITY
 from maxk.personalities.maxk.waits import Wait
 
+QUEUE_COMMANDS_PER_UPDATE = 32
+"""Queue entries one axis executes in one update cycle at most; the rest wait for the
+next update. The manual gives no execution rate: the update-cycle process "calculates
+the desired velocity at the selected update rate" as the PowerPC's highest-priority
+process (theory of operation, 6.2), so queue work shares what each 122 us cycle leaves,
+and a loop body of a thousand commands cannot run every cycle. 32 an axis per update is
+our decision (D): no sequence of commands a host sends between two waits in the
+reference programs comes near it (a GO with its VL, AC, MR and a handful of I/O
+commands is under ten), so their timing is unchanged, while a queue loop's cost per
+update is bounded."""
+
 Action = Callable[[Any, Any], Wait | None]
 """A queued command's effect, called with (axis, board): None when finished, or a wait
 (see Axis.run_queue). The axis and board are the MAXk's `Axis` and `Board`, which sit

@@ -25,9 +25,12 @@ WAIT_REST_RETRY = RestWait.RETRY
 
 @dataclass(frozen=True, slots=True)
 class TickWait:
-    """Until a tick (WT, MO, a JG ramp, an LE pass)."""
+    """Until a tick (WT, MO, a JG ramp, an LE pass). `retry`: then the same entry runs
+    (the update's share of queue work was spent before it: `QUEUE_COMMANDS_PER_UPDATE`);
+    otherwise the entry that waited is finished."""
 
     tick: int
+    retry: bool = False
 
 
 @dataclass(frozen=True, slots=True)
