@@ -304,6 +304,7 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "trio": trio_example_2,
     "servo_serve": lambda: __import__("benchmarks.servo_serve", fromlist=["figures"]).figures(),
     "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
+    "pokeys_io": lambda: __import__("benchmarks.pokeys_io", fromlist=["figures"]).figures(),
 }
 
 

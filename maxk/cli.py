@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from maxk import __version__
-from maxk.personalities.maxk.models import DEFAULT_MODEL, MODELS, UPDATE_RATES_HZ
+from maxk.controllers.registry import DEFAULT_MODEL
 
 
 def _model(text: str) -> str:
@@ -22,7 +22,8 @@ def _model(text: str) -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="maxk", description="An emulator of the OMS MAXk motion controller.",
+        prog="maxk", description="An emulator of motion controllers: the OMS MAXk, the "
+        "Newport MM4005, the Trio MC405 and the PoKeys.",
         epilog="Without a command maxk runs the REPL, whose options may be given "
         "directly: maxk --manual-time.")
     parser.add_argument("--version", action="version", version=f"maxk {__version__}")
@@ -32,8 +33,9 @@ def build_parser() -> argparse.ArgumentParser:
     repl.add_argument("--model", type=_model, default=DEFAULT_MODEL,
                       help=f"controller model: MAXk-1000..MAXk-A000, MM4005, ... (maxk "
                       f"models; default {DEFAULT_MODEL})")
-    repl.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=None,
-                      help="a MAXk's update rate in Hz (default 8192: 122.07 us)")
+    repl.add_argument("--rate", type=int, default=None,
+                      help="update rate in Hz, one the controller runs at (default its own: "
+                      "a MAXk's 8192 Hz, 122.07 us; maxk models lists them)")
     clock = repl.add_mutually_exclusive_group()
     clock.add_argument("--manual-time", action="store_true",
                        help="virtual time moves only on :advance / :run (default: follows "
@@ -53,8 +55,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("script", type=Path)
     run.add_argument("--model", type=_model, default=None,
                      help="board model (overrides the script's @board)")
-    run.add_argument("--rate", type=int, choices=UPDATE_RATES_HZ, default=None,
-                     help="update rate in Hz (overrides the script's @rate)")
+    run.add_argument("--rate", type=int, default=None,
+                     help="update rate in Hz, one the controller runs at (overrides the "
+                     "script's @rate)")
     run.add_argument("--verbose", "-v", action="store_true",
                      help="show each command line with its tick before its replies")
     run.add_argument("--record", action="store_true",
@@ -76,6 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
     cmds.add_argument("--markdown", action="store_true",
                       help="print the generated reference (docs/commands.md)")
     cmds.add_argument("mnemonic", nargs="?", help="show one command in full")
+    cmds.add_argument("--model", type=_model, default=None,
+                      help=f"the controller whose table to show (default {DEFAULT_MODEL})")
 
     serve = sub.add_parser("serve", help="boards in real time behind TCP, serial and "
                            "shared-memory doors, for legacy host code")
@@ -127,20 +132,25 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "tune":
         return _tune(args)
     if args.command == "models":
-        from maxk.controllers.registry import KINDS
+        from maxk.controllers.registry import KINDS, build
 
-        for name, model in MODELS.items():
-            print(f"{name}  {model.axes} axes  {model.axis_letters}")
-        for kind in KINDS[1:]:
-            print(f"{', '.join(kind.models)}  {kind.summary}")
+        for kind in KINDS:
+            rates = ", ".join(str(r) for r in kind.update_rates_hz)
+            print(f"{kind.name}: {kind.summary} (update rates {rates} Hz)")
+            for model in kind.models:
+                names = " ".join(build(model).world_view().axis_names)
+                print(f"  {model}  axes {names}")
         return 0
     return 2
 
 
 def _run(args: argparse.Namespace) -> int:
+    """One path for every controller: the script's controller, its world view for
+    `--trace` and `--plot`, or its own recording where it keeps a richer one (the
+    MM4005's pulses, the MC405's PWM)."""
     from maxk.controllers.contract import BuildOptions
-    from maxk.controllers.maxk import MAXk
     from maxk.controllers.registry import build
+    from maxk.pathplot import PathRecorder, draw_path
     from maxk.script import ScriptError, load_script, parse_duration, run_script
     from maxk.trace import TraceWriter
 
@@ -153,96 +163,66 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ScriptError) as error:
         print(f"maxk run: {error}", file=sys.stderr)
         return 2
-    model = args.model or script.model
-    controller = build(model, BuildOptions(update_rate_hz=args.rate or (
-        script.update_rate_hz if script.rate_given or model.lower().startswith("maxk")
-        else None)))
-    if not isinstance(controller, MAXk):
-        return _run_other(args, script, controller)
-    board = controller
-    trace_file = None
+    try:
+        controller = build(args.model or script.model,
+                           BuildOptions(update_rate_hz=args.rate or script.update_rate_hz))
+    except ValueError as error:
+        print(f"maxk run: {error}", file=sys.stderr)
+        return 2
+    rate = controller.engine.update_rate_hz
+    record = getattr(controller, "record", None)  # a controller's own richer recording
+    recording = tracer = recorder = trace_file = None
     on_step = None
-    if args.trace:
-        every = None
-        if args.trace_every:
-            try:
-                every = max(1, parse_duration(args.trace_every, board.board.update_rate_hz))
-            except ValueError as error:
-                print(f"maxk run: --trace-every: {error}", file=sys.stderr)
-                return 2
-        try:
+    try:
+        if (args.trace or args.plot) and record is not None:
+            recording = record(max(1, parse_duration(args.plot_every, rate))
+                               if args.plot_every else 20)
+        if args.trace and recording is None:
+            every = (max(1, parse_duration(args.trace_every, rate))
+                     if args.trace_every else None)
             trace_file = open(args.trace, "w", encoding="utf-8", newline="")  # noqa: SIM115
-        except OSError as error:
-            print(f"maxk run: --trace: {error}", file=sys.stderr)
-            return 2
-        tracer = TraceWriter(trace_file, board.board, every)
-        tracer.attach()
+            tracer = TraceWriter(trace_file, controller, every)
+            tracer.attach()
+            writer = tracer
 
-        def on_step(step):  # type: ignore[no-untyped-def]
-            tracer.sample(f"line {step.line}")
+            def on_step(step):  # type: ignore[no-untyped-def]
+                writer.sample(f"line {step.line}")
 
-    recorder = None
-    if args.plot:
-        from maxk.pathplot import PathRecorder
-
-        try:
+        if args.plot and recording is None:
             letters = tuple(a.strip().upper() for a in args.plot_axes.split(","))
             if len(letters) != 2:
                 raise ValueError("--plot-axes: name two axes, e.g. X,Y")
-            every = max(1, parse_duration(args.plot_every, board.board.update_rate_hz))
-            if args.plot_bit is not None and not 0 <= args.plot_bit <= 15:
-                raise ValueError("--plot-bit: a bit 0-15")
-            recorder = PathRecorder(board.board, letters, every, args.plot_bit)  # type: ignore
-        except (ValueError, KeyError) as error:
-            print(f"maxk run: {error}", file=sys.stderr)
-            return 2
-        recorder.attach()
+            recorder = PathRecorder(controller, letters,  # type: ignore[arg-type]
+                                    max(1, parse_duration(args.plot_every, rate)),
+                                    args.plot_bit)
+            recorder.attach()
+    except (OSError, ValueError, KeyError) as error:
+        if trace_file is not None:
+            trace_file.close()
+        message = error.args[0] if isinstance(error, KeyError) else error
+        print(f"maxk run: {message}", file=sys.stderr)
+        return 2
     try:
-        transcript = run_script(script, board=board, check=not args.record, on_step=on_step)
+        transcript = run_script(script, board=controller, check=not args.record,
+                                on_step=on_step)
     finally:
         if trace_file is not None:
             trace_file.close()
-    if recorder is not None:
-        recorder.sample(board.board)
-        try:
-            print(f"plot: {recorder.plot(args.plot, title=args.script.name)}", file=sys.stderr)
-        except (ImportError, OSError) as error:
-            print(f"maxk run: --plot: {error}", file=sys.stderr)
-            return 2
-    return _report(args, script, transcript,
-                   [f"command error at tick {r.tick}: {r}" for r in board.board.errors])
-
-
-def _run_other(args: argparse.Namespace, script: Any, controller: Any) -> int:
-    """Another controller's script: its own recording for --trace and --plot."""
-    from maxk.pathplot import draw_path
-    from maxk.script import parse_duration, run_script
-
-    recording = None
-    if args.trace or args.plot:
-        record = getattr(controller, "record", None)
-        if record is None:
-            print(f"maxk run: the {controller.kind} keeps no trace or plot", file=sys.stderr)
-            return 2
-        try:
-            every = (max(1, parse_duration(args.plot_every, controller.engine.update_rate_hz))
-                     if args.plot_every else 20)
-        except ValueError as error:
-            print(f"maxk run: {error}", file=sys.stderr)
-            return 2
-        recording = record(every)
-    transcript = run_script(script, board=controller, check=not args.record)
-    if recording is not None:
-        try:
+    try:
+        if recording is not None:
             if args.trace:
                 recording.write_csv(str(args.trace))
             if args.plot:
                 recording.plot(str(args.plot), args.script.name, draw_path)
                 print(f"plot: {args.plot}", file=sys.stderr)
-        except (ImportError, OSError) as error:
-            print(f"maxk run: {error}", file=sys.stderr)
-            return 2
-    return _report(args, script, transcript, [])
+        if recorder is not None:
+            recorder.sample()
+            print(f"plot: {recorder.plot(args.plot, title=args.script.name)}", file=sys.stderr)
+    except (ImportError, OSError) as error:
+        print(f"maxk run: {error}", file=sys.stderr)
+        return 2
+    errors = [line.removeprefix("! ") for line in controller.console().new_errors()]
+    return _report(args, script, transcript, errors)
 
 
 def _report(args: argparse.Namespace, script: Any, transcript: Any, errors: list[str]) -> int:
@@ -305,21 +285,29 @@ def _tune(args: argparse.Namespace) -> int:
 
 
 def _commands(args: argparse.Namespace) -> int:
-    from maxk.commands.max.reference import help_text, render_markdown
-    from maxk.commands.max.table import COMMANDS, lookup
+    """Any controller's command table, through its console (help, summaries); the
+    Markdown reference where its kind has one (the MAX table's docs/commands.md)."""
+    from maxk.controllers.registry import build, kind_of
 
+    model = args.model or DEFAULT_MODEL
     if args.markdown:
-        sys.stdout.write(render_markdown())
+        reference = kind_of(model).reference
+        if reference is None:
+            print(f"maxk commands: the {kind_of(model).name} has no Markdown reference; "
+                  "see its docs", file=sys.stderr)
+            return 1
+        sys.stdout.write(reference())
         return 0
+    console = build(model).console()
     if args.mnemonic:
-        spec = lookup(args.mnemonic)
-        if spec is None:
+        lines = console.help(args.mnemonic)
+        if lines is None:
             print(f"maxk commands: no command {args.mnemonic!r}", file=sys.stderr)
             return 1
-        print(help_text(spec))
+        print("\n".join(lines))
         return 0
-    for spec in COMMANDS.values():
-        print(f"{spec.syntax:<16} {spec.summary}")
+    for word in console.words():
+        print(f"{word:<16} {console.summary(word)}")
     return 0
 
 

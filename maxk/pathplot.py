@@ -11,17 +11,21 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from maxk.personalities.maxk.board import Board
+from maxk.controllers.contract import Controller
 from maxk.tuning import PLOT_MISSING
 
 
 class PathRecorder:
-    """Samples two axes' positions (and one output bit) as the board runs."""
+    """Samples two axes' positions (and one output bit) as the controller runs."""
 
-    def __init__(self, board: Board, axes: tuple[str, str] = ("X", "Y"),
+    def __init__(self, controller: Controller, axes: tuple[str, str] = ("X", "Y"),
                  every_ticks: int = 8, bit: int | None = None) -> None:
-        self.board = board
-        self.axes = (board.axis(axes[0]), board.axis(axes[1]))
+        self.engine = controller.engine
+        self.view = controller.world_view()
+        self.axes = (self.view.axis_names[self.view.index(axes[0])],
+                     self.view.axis_names[self.view.index(axes[1])])
+        if bit is not None and self.view.output_level(bit) is None:
+            raise ValueError(f"the {controller.kind} has no output {bit}")
         self.every_ticks = every_ticks
         self.bit = bit
         self.time: list[float] = []
@@ -30,18 +34,18 @@ class PathRecorder:
         self.on: list[bool] = []
 
     def attach(self) -> None:
-        self.board.add_observer(self.sample, self.every_ticks)
-        self.sample(self.board)
+        self.engine.add_observer(self.sample, self.every_ticks)
+        self.sample()
 
     def detach(self) -> None:
-        self.board.remove_observer(self.sample)
+        self.engine.remove_observer(self.sample)
 
-    def sample(self, board: Board) -> None:
-        a, b = self.axes
-        self.time.append(board.time)
-        self.x.append(a.motor_position(board))
-        self.y.append(b.motor_position(board))
-        self.on.append(self.bit is not None and board.io.level(self.bit, board))
+    def sample(self, _engine: object = None) -> None:
+        view = self.view
+        self.time.append(self.engine.time)
+        self.x.append(view.reading(self.axes[0]).position)
+        self.y.append(view.reading(self.axes[1]).position)
+        self.on.append(self.bit is not None and bool(view.output_level(self.bit)))
 
     def plot(self, path: str | Path, title: str = "") -> Path:
         """Write the path to a PNG. Raises ImportError with advice when matplotlib is not
@@ -49,7 +53,7 @@ class PathRecorder:
         return draw_path(path, self.x, self.y,
                          on=self.on if self.bit is not None else None,
                          on_label=f"output {self.bit} high",
-                         axis_names=(self.axes[0].letter, self.axes[1].letter), title=title)
+                         axis_names=self.axes, title=title)
 
 
 def draw_path(path: str | Path, x: Sequence[float], y: Sequence[float], *,

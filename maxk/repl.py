@@ -22,8 +22,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from maxk.controllers.contract import BuildOptions, Console, Controller
-from maxk.controllers.registry import build, default_archive
-from maxk.personalities.maxk.models import DEFAULT_MODEL
+from maxk.controllers.registry import DEFAULT_MODEL, build, default_archive
+from maxk.controllers.world_settings import parse_world
 from maxk.script import parse_duration
 
 if TYPE_CHECKING:
@@ -36,6 +36,7 @@ REPL words (everything else goes to the controller):
   :clock realtime|manual               :advance 0.5 s  move virtual time (also ms, ticks)
   :run [10 s]       advance until the controller is idle (timeout, default 60 s)
   :reset            reset the controller (power-up, archived parameters)
+  :world            the machine around it   :world X limits 5000 -5000  (docs/io.md)
   quit / exit / Ctrl-D
 {controller}'s own words:
 """
@@ -139,6 +140,14 @@ class ReplSession:
             idle = engine.run_until(lambda _e: console.is_idle(), ticks)
             self._tick_at_epoch += engine.tick - start
             return [("idle" if idle else "still busy") + f" at tick {engine.tick}"]
+        if word == "world":
+            view = self.controller.world_view()
+            if not rest:
+                return view.describe()
+            try:
+                return [parse_world(rest)(view)]
+            except (KeyError, ValueError, OverflowError) as error:
+                return [f"world: {error.args[0] if error.args else error}"]
         if word == "reset":
             self.sync()
             self.controller.reset()  # errors from before stay seen; a power-up one is new
@@ -187,7 +196,11 @@ def run_repl(model: str = DEFAULT_MODEL, rate: int | None = None,
              manual_time: bool = False, speed: float = 1.0,
              history: Path | None = None,
              archive: str | os.PathLike | bool | None = True) -> int:
-    session = ReplSession(model, rate, manual_time, speed, archive=archive)
+    try:
+        session = ReplSession(model, rate, manual_time, speed, archive=archive)
+    except ValueError as error:  # a rate the controller does not run at
+        print(f"maxk: {error}", file=sys.stderr)
+        return 2
     if not sys.stdin.isatty():
         return _run_piped(session, sys.stdin)
     try:

@@ -4,23 +4,28 @@ A script is plain text, one item per line (format in docs/scripts.md):
 
     // comment                      (blank lines too)
     @board MAXk-4000                 (before the first command; default MAXk-8000;
+                                      any model: MM4005, MC405, PoKeys57CNC...;
                                       several models make one test per model)
-    @rate 4096                       (update rate in Hz, before the first command;
-                                      several rates make one test per rate)
+    @rate 4096                       (update rate in Hz, one the controller runs at,
+                                      before the first command; several: one test each)
     AX; VL5000; AC50000; MA10000; GO; ID;
     @wait 0.5 s                      (also: ms, ticks)
-    @wait until X done within 5 s    (also: until idle, until all done)
+    @wait until X done within 5 s    (also: until idle, until all done, until X idle,
+                                      until X position >= 5000)
     AX RP
     < 10000                          (the reply the previous command line must give)
-    @expect X position 10000         (also: encoder, velocity, done, not done,
-                                      error, no error, doorbell 0x..., bit 9 high,
-                                      X overtravel, X no overtravel, captures 3)
-    @world X limits 5000 -5000       (the machine around the board: switches, index,
-                                      faults, inputs, analog, capture; docs/io.md)
+    @expect X position 10000         (also: encoder, velocity, done, not done, moving,
+                                      overtravel, input 3 high, output 9 low; a kind's
+                                      own: the MAXk's error, doorbell 0x..., captures 3)
+    @world X limits 5000 -5000       (the machine around the controller: switches,
+                                      index, faults, inputs, analog; docs/io.md)
+    @trace run.csv every 1 ms        (a CSV of every axis from here to the end)
 
-Controller commands are sent exactly as written, each line ended by a CR as a terminal
-would. Directives start with `@`, expected replies with `<`, comments with `//`: no
-MAX command starts with any of these, so they can never be mistaken for one.
+Every directive speaks to any controller through the contracts (its console, its engine,
+its world view), with axis names as that controller names them (X on a MAXk, 1 on an
+MM4005, 0 on an MC405). Controller commands are sent exactly as written, each line
+ended by a CR as a terminal would. Directives start with `@`, expected replies with `<`,
+comments with `//`: no controller's command starts with any of these.
 """
 
 from __future__ import annotations
@@ -29,12 +34,20 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from maxk.controllers.contract import BuildOptions, Controller
-from maxk.controllers.maxk import MAXk
-from maxk.controllers.registry import build, canonical_model
+from maxk.controllers.registry import DEFAULT_MODEL, build, canonical_model, kind_of
 from maxk.controllers.world_settings import parse_world
-from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
+from maxk.script_directives import (
+    DURATION,
+    check_expect,
+    parse_duration,
+    start_trace,
+    wait_until,
+)
+
+CHECK_RATE_HZ = 1000  # a duration's form is checked at this rate when the script is read
 
 
 class ScriptError(Exception):
@@ -60,17 +73,21 @@ class Script:
     path: str
     steps: list[Step]
     models: list[str] = field(default_factory=lambda: [DEFAULT_MODEL])
-    update_rates_hz: list[int] = field(default_factory=lambda: [DEFAULT_UPDATE_RATE_HZ])
+    update_rates_hz: list[int | None] = field(default_factory=lambda: [None])  # None:
+    # the controller's own default rate
     lines: list[str] = field(default_factory=list)
-    rate_given: bool = False  # an @rate line (else a non-MAXk runs at its own rate)
 
     @property
     def model(self) -> str:
         return self.models[0]
 
     @property
-    def update_rate_hz(self) -> int:
+    def update_rate_hz(self) -> int | None:
         return self.update_rates_hz[0]
+
+    @property
+    def rate_given(self) -> bool:
+        return self.update_rates_hz != [None]
 
     @property
     def checks_replies(self) -> bool:
@@ -78,28 +95,7 @@ class Script:
         return any(step.kind == "expect-reply" for step in self.steps)
 
 
-_DURATION = re.compile(r"^(?P<value>\d+(?:\.\d*)?|\.\d+)\s*(?P<unit>s|sec|ms|us|ticks?)?$", re.I)
-_UNTIL = re.compile(
-    r"^until\s+(?P<what>idle|all\s+done|(?P<axes>[A-Za-z]+)\s+done)"
-    r"(?:\s+within\s+(?P<timeout>.+))?$",
-    re.I,
-)
 DEFAULT_TIMEOUT_S = 60.0
-
-
-def parse_duration(text: str, update_rate_hz: float) -> int:
-    """A duration to ticks: '0.5 s', '250 ms', '100 ticks' (a bare number is seconds)."""
-    m = _DURATION.match(text.strip())
-    if not m:
-        raise ValueError(f"not a duration: {text!r} (say e.g. 0.5 s, 250 ms or 100 ticks)")
-    value = float(m["value"])
-    unit = (m["unit"] or "s").lower()
-    if unit.startswith("tick"):
-        if not value.is_integer():
-            raise ValueError(f"ticks must be whole: {text!r}")
-        return int(value)
-    seconds = value * {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6}[unit]
-    return int(-(-round(seconds * update_rate_hz * 1e9) // 10**9))  # ceil without float fuzz
 
 
 def parse_script(text: str, path: str = "<script>") -> Script:
@@ -125,17 +121,19 @@ def parse_script(text: str, path: str = "<script>") -> Script:
                         raise ValueError("@board must come before the first command")
                     names = rest.replace(",", " ").split()
                     if not names:
-                        raise ValueError("@board needs a model, e.g. @board MAXk-4000")
+                        raise ValueError(f"@board needs a model, e.g. @board {DEFAULT_MODEL}")
                     script.models = [canonical_model(n) for n in names]
+                    _check_rates(script)
                 elif word == "rate":
                     if seen_command:
                         raise ValueError("@rate must come before the first command")
                     rates = rest.replace(",", " ").split()
-                    if not rates or any(r not in ("1024", "2048", "4096", "8192")
-                                        for r in rates):
-                        raise ValueError("@rate takes 1024, 2048, 4096 or 8192 (Hz)")
+                    if not rates or not all(r.isdigit() for r in rates):
+                        raise ValueError("@rate takes update rates in Hz, e.g. @rate 4096")
                     script.update_rates_hz = [int(r) for r in rates]
-                    script.rate_given = True
+                    _check_rates(script)
+                elif word == "trace":
+                    script.steps.append(_parse_trace(number, rest))
                 elif word == "wait":
                     script.steps.append(_parse_wait(number, rest))
                 elif word == "expect":
@@ -149,51 +147,118 @@ def parse_script(text: str, path: str = "<script>") -> Script:
             continue
         seen_command = True
         script.steps.append(Step(number, "send", raw.rstrip("\r\n")))
+    _check_against_controllers(script)
     return script
 
 
+def _check_against_controllers(script: Script) -> None:
+    """Directives checked when the script is read, on a fresh controller of each model
+    it names: axis names, input numbers and a kind's own words (the MAXk's `capture`,
+    `doorbell`) are refused now, naming the line, not half-way through a run."""
+    if not any(step.kind in ("world", "expect", "wait-until") for step in script.steps):
+        return
+    for model in dict.fromkeys(script.models):
+        view = build(model).world_view()
+        for step in script.steps:
+            try:
+                if step.kind == "world":
+                    step.args[0](view)
+                elif step.kind == "wait-until":
+                    for name in step.args[0][1]:
+                        view.index(name)
+                elif step.kind == "expect":
+                    g = dict(step.args)
+                    if not g:
+                        if view.extra_expect(step.text.split()) is False:
+                            raise ValueError(f"cannot read @expect {step.text!r} on the "
+                                             f"{model}: say e.g. 'X position 1000', 'X done'"
+                                             ", 'X overtravel' or 'input 3 high'")
+                    elif g["axis"] or g["axis2"]:
+                        view.index(g["axis"] or g["axis2"])
+            except (KeyError, ValueError, OverflowError) as error:
+                message = error.args[0] if error.args else str(error)
+                raise ScriptError(script.path, step.line, str(message)) from None
+
+
+def _check_rates(script: Script) -> None:
+    """Every model of the script must run at every rate it names (checked as soon as
+    both are known, so a script is refused when read, not half-way through a run)."""
+    for model in script.models:
+        for rate in script.update_rates_hz:
+            kind_of(model).check_rate(rate)
+
+
+def _axes(text: str) -> tuple[str, ...]:
+    """Axis names in a wait: `X`, `XYZ` (letters run together), `1 2`, `1,2`."""
+    names = text.replace(",", " ").split()
+    if len(names) == 1 and names[0].isalpha():
+        return tuple(names[0].upper())
+    return tuple(n.upper() for n in names)
+
+
+_WAIT_WHAT = re.compile(
+    r"^(?:(?P<idle>idle)|all\s+done"
+    r"|(?P<axes>[A-Za-z0-9][A-Za-z0-9 ,]*?)\s+(?P<state>done|idle)"
+    r"|(?P<axis>[A-Za-z0-9]+)\s+position\s*(?P<op>>=|<=|=)?\s*(?P<at>-?\d+))$", re.I)
+
+
 def _parse_wait(line: int, rest: str) -> Step:
-    m = _UNTIL.match(rest)
-    if m:
-        timeout = m["timeout"] or f"{DEFAULT_TIMEOUT_S} s"
-        parse_duration(timeout, DEFAULT_UPDATE_RATE_HZ)  # ValueError now, not mid-run
-        if m["axes"]:
-            what = ("done", m["axes"].upper())
-        elif m["what"].lower() == "idle":
-            what = ("idle", "")
+    if rest.lower().startswith("until"):
+        body, _, timeout = rest[5:].strip().partition(" within ")
+        timeout = timeout.strip() or f"{DEFAULT_TIMEOUT_S} s"
+        parse_duration(timeout, CHECK_RATE_HZ)  # ValueError now, not mid-run
+        m = _WAIT_WHAT.match(body.strip())
+        if m is None:
+            raise ValueError(f"cannot read @wait {rest!r}: say e.g. 'until X done', "
+                             "'until idle', 'until all done', 'until 1 idle' or "
+                             "'until X position >= 5000'")
+        if m["idle"]:
+            what: tuple = ("idle", ())
+        elif m["axes"]:
+            what = (m["state"].lower(), _axes(m["axes"]))
+        elif m["axis"]:
+            what = ("position", (m["axis"].upper(),), m["op"] or ">=", int(m["at"]))
         else:
-            what = ("done", "")
+            what = ("done", ())
         return Step(line, "wait-until", rest, (what, timeout))
     if not rest:
         raise ValueError("@wait needs a duration or 'until ...'")
-    if not _DURATION.match(rest):
+    if not DURATION.match(rest):
         raise ValueError(f"not a duration: {rest!r} (say e.g. 0.5 s, 250 ms, 100 ticks, "
                          "or until X done)")
-    parse_duration(rest, DEFAULT_UPDATE_RATE_HZ)  # e.g. 1.5 ticks: refused now, not mid-run
+    parse_duration(rest, CHECK_RATE_HZ)  # e.g. 1.5 ticks: refused now, not mid-run
     return Step(line, "wait", rest)
 
 
 _EXPECT = re.compile(
-    r"^(?:(?P<axis>[A-Za-z])\s+(?P<field>position|encoder|velocity)\s+(?P<value>-?\d+)"
-    r"|(?P<axis2>[A-Za-z])\s+(?P<done>not\s+done|done)"
-    r"|(?P<axis3>[A-Za-z])\s+(?P<overtravel>no\s+overtravel|overtravel)"
-    r"|(?P<error>no\s+error|error)"
-    r"|bit\s+(?P<bit>\d+)\s+(?P<level>high|low)"
-    r"|captures\s+(?P<captures>\d+)"
-    r"|doorbell\s+(?P<doorbell>0x[0-9a-fA-F]+|\d+))$",
+    r"^(?:(?P<axis>[A-Za-z0-9]+)\s+(?P<field>position|encoder|velocity)\s+(?P<value>-?\d+)"
+    r"|(?P<axis2>[A-Za-z0-9]+)\s+(?P<state>not\s+done|done|moving|not\s+moving|idle"
+    r"|no\s+overtravel|overtravel)"
+    r"|(?P<io>bit|input|output)\s+(?P<bit>\d+)\s+(?P<level>high|low))$",
     re.I,
 )
 
 
 def _parse_expect(line: int, rest: str) -> Step:
+    """The shared expectations are read now; any other words are the controller's own
+    (the MAXk's `error`, `doorbell 0x...`, `captures 2`) and are read when they run."""
+    words = rest.split()
+    if not words:
+        raise ValueError("@expect needs something to check, e.g. 'X position 1000'")
     m = _EXPECT.match(rest.strip())
-    if not m:
-        raise ValueError(
-            f"cannot read @expect {rest!r}: say e.g. 'X position 1000', 'X done', "
-            "'X not done', 'X overtravel', 'error', 'no error', 'bit 9 high', 'captures 2' "
-            "or 'doorbell 0x1'"
-        )
-    return Step(line, "expect", rest, tuple(m.groupdict().items()))
+    return Step(line, "expect", rest, () if m is None else tuple(m.groupdict().items()))
+
+
+_TRACE = re.compile(r"^(?P<path>\S+)(?:\s+every\s+(?P<every>.+))?$", re.I)
+
+
+def _parse_trace(line: int, rest: str) -> Step:
+    m = _TRACE.match(rest.strip())
+    if m is None:
+        raise ValueError("@trace FILE.csv [every DURATION]")
+    if m["every"]:
+        parse_duration(m["every"], CHECK_RATE_HZ)
+    return Step(line, "trace", rest, (m["path"], m["every"]))
 
 
 # ---- running -------------------------------------------------------------------------
@@ -217,20 +282,9 @@ class Failure:
 
 def board_state(controller: Controller) -> list[str]:
     """A compact picture of the controller: what a failure report shows."""
-    if not isinstance(controller, MAXk):
-        engine = controller.engine
-        return [f"tick {engine.tick} ({engine.time:.6f} s), {controller.model}",
-                *controller.console().status_lines()]
-    board = controller
-    b = board.board
-    lines = [f"tick {b.tick} ({b.time:.6f} s), {b.model.name} at {b.update_rate_hz} Hz, "
-             f"mode {b.mode if b.mode != 'single' else 'A' + b.axes[b.current_axis].letter}"]
-    for s in board.status():
-        lines.append(f"{s.letter}: position {s.position}, encoder {s.encoder}, "
-                     f"velocity {s.velocity}, {s.status}, {s.queued} queued")
-    lines.append(f"doorbell 0x{b.doorbell:08x}"
-                 + (f", last command error: {b.last_error}" if b.command_error else ""))
-    return lines
+    engine = controller.engine
+    return [f"tick {engine.tick} ({engine.time:.6f} s), {controller.model} at "
+            f"{engine.update_rate_hz:g} Hz", *controller.console().status_lines()]
 
 
 @dataclass
@@ -251,144 +305,98 @@ def run_script(script: Script, *, model: str | None = None,
                board: Controller | None = None,
                on_step: Callable[[Step], None] | None = None) -> Transcript:
     """Run a script on a fresh controller; the same script always gives the same
-    transcript. Written against the controller contract: its console runs the command
-    lines, its engine owns time; `@expect`, `@world` and `@wait until X done` speak of a
-    MAXk's axes and flags, and fail on another controller.
+    transcript. Written against the contracts, for every controller alike: its console
+    runs the command lines, its engine owns time, its world view answers `@world`,
+    `@expect` and `@wait until`.
 
     With check=False nothing is compared (what `--record` uses). A caller may pass its
     own fresh controller, e.g. one with a trace observer attached, and an on_step
     callback that runs after every step.
     """
     if board is None:
-        name = model or script.model
-        rate = update_rate_hz or (script.update_rate_hz if script.rate_given or
-                                  isinstance(board, MAXk) or name.lower().startswith("maxk")
-                                  else None)
-        board = build(name, BuildOptions(update_rate_hz=rate))
+        board = build(model or script.model,
+                      BuildOptions(update_rate_hz=update_rate_hz or script.update_rate_hz))
     controller = board
     console = controller.console()
     engine = controller.engine
+    view = controller.world_view()
     transcript = Transcript(board=controller)
     pending: list[str] = []  # replies of the last command line not yet matched
     last_command, last_line = "", 0
     strict = check and script.checks_replies
+    traces: list[tuple[Any, Any]] = []
 
     def fail(line: int, command: str, expected: str, actual: str) -> None:
         transcript.failures.append(
             Failure(line, command, expected, actual, engine.tick, board_state(controller)))
 
-    for step in script.steps:
-        if strict and pending and step.kind != "expect-reply":
-            fail(last_line, last_command, "(no more replies)", pending[0])
-            pending.clear()
-        maxk = controller if isinstance(controller, MAXk) else None
-        maxk_only = step.kind in ("world", "expect") or (
-            step.kind == "wait-until" and step.args[0][0] != "idle")
-        if maxk_only and maxk is None:
-            fail(step.line, f"@{step.kind.split('-')[0]} {step.text}", step.text,
-                 f"not a directive for the {controller.kind}")
-            continue
-        if step.kind == "send":
-            try:
-                replies = console.execute(step.text)
-            except Exception as error:  # a fault in the emulator: a failure, not a crash
-                replies = []
-                fail(step.line, step.text, "(the line run)",
-                     f"internal error: {type(error).__name__}: {error}")
-            transcript.entries.append((step.line, engine.tick, step.text, replies))
-            pending = list(replies)
-            last_command, last_line = step.text, step.line
-        elif step.kind == "expect-reply":
-            if not check:
-                continue
-            actual = pending.pop(0) if pending else "(no reply)"
-            if actual != step.text:
-                fail(step.line, last_command, step.text, actual)
-        elif step.kind == "wait":
-            try:
-                engine.advance(parse_duration(step.text, int(engine.update_rate_hz)))
-            except Exception as error:  # a fault in the emulator: a failure, not a crash
-                fail(step.line, f"@wait {step.text}", step.text,
-                     f"internal error: {type(error).__name__}: {error}")
-        elif step.kind == "wait-until":
-            (what, axes), timeout_text = step.args
-            timeout = parse_duration(timeout_text, int(engine.update_rate_hz))
-            try:
-                if what == "idle":
-                    ok = engine.run_until(lambda _e: console.is_idle(), timeout)
-                else:
-                    assert maxk is not None
-                    ok = maxk.run_until_done(*axes, timeout=timeout * engine.period)
-            except KeyError as error:  # an axis this model does not have
-                fail(step.line, f"@wait {step.text}", step.text, str(error.args[0]))
-                continue
-            except Exception as error:  # a fault in the emulator: a failure, not a crash
-                fail(step.line, f"@wait {step.text}", step.text,
-                     f"internal error: {type(error).__name__}: {error}")
-                continue
-            if not ok and check:
-                fail(step.line, f"@wait {step.text}", f"{what} {axes}".strip(),
-                     f"timed out after {timeout_text}")
-        elif step.kind == "world":
-            try:
-                step.args[0](maxk)
-            except (KeyError, ValueError) as error:
-                fail(step.line, f"@world {step.text}", step.text, str(error))
-        elif step.kind == "expect" and check:
-            assert maxk is not None
-            problem = _check_expect(maxk, step)
-            if problem is not None:
-                fail(step.line, f"@expect {step.text}", step.text, problem)
-        if on_step is not None:
-            on_step(step)
+    try:
+        for step in script.steps:
+            if strict and pending and step.kind != "expect-reply":
+                fail(last_line, last_command, "(no more replies)", pending[0])
+                pending.clear()
+            if step.kind == "send":
+                try:
+                    replies = console.execute(step.text)
+                except Exception as error:  # a fault in the emulator: a failure, not a crash
+                    replies = []
+                    fail(step.line, step.text, "(the line run)",
+                         f"internal error: {type(error).__name__}: {error}")
+                transcript.entries.append((step.line, engine.tick, step.text, replies))
+                pending = list(replies)
+                last_command, last_line = step.text, step.line
+            elif step.kind == "expect-reply":
+                if not check:
+                    continue
+                actual = pending.pop(0) if pending else "(no reply)"
+                if actual != step.text:
+                    fail(step.line, last_command, step.text, actual)
+            elif step.kind == "wait":
+                try:
+                    engine.advance(parse_duration(step.text, engine.update_rate_hz))
+                except Exception as error:  # a fault in the emulator: a failure, not a crash
+                    fail(step.line, f"@wait {step.text}", step.text,
+                         f"internal error: {type(error).__name__}: {error}")
+            elif step.kind == "wait-until":
+                what, timeout_text = step.args
+                timeout = parse_duration(timeout_text, engine.update_rate_hz)
+                try:
+                    ok = wait_until(controller, view, what, timeout)
+                except KeyError as error:  # an axis this controller does not have
+                    fail(step.line, f"@wait {step.text}", step.text, str(error.args[0]))
+                    continue
+                except Exception as error:  # a fault in the emulator: a failure, not a crash
+                    fail(step.line, f"@wait {step.text}", step.text,
+                         f"internal error: {type(error).__name__}: {error}")
+                    continue
+                if not ok and check:
+                    fail(step.line, f"@wait {step.text}", step.text.partition(" within ")[0],
+                         f"timed out after {timeout_text}")
+            elif step.kind == "world":
+                try:
+                    step.args[0](view)
+                except (KeyError, ValueError, OverflowError) as error:
+                    fail(step.line, f"@world {step.text}", step.text,
+                         str(error.args[0] if error.args else error))
+            elif step.kind == "trace":
+                problem = start_trace(controller, step.args, traces)
+                if problem is not None:
+                    fail(step.line, f"@trace {step.text}", step.text, problem)
+            elif step.kind == "expect" and check:
+                problem = check_expect(view, step.text, step.args)
+                if problem is not None:
+                    fail(step.line, f"@expect {step.text}", step.text, problem)
+            for tracer, _stream in traces:
+                tracer.sample(f"line {step.line}")
+            if on_step is not None:
+                on_step(step)
+    finally:
+        for tracer, stream in traces:
+            tracer.detach()
+            stream.close()
     if strict and pending:
         fail(last_line, last_command, "(no more replies)", pending[0])
     return transcript
-
-
-def _check_expect(board: MAXk, step: Step) -> str | None:
-    """None when the expectation holds, else what was found instead."""
-    g = dict(step.args)
-    try:
-        if g["field"]:
-            letter = g["axis"].upper()
-            fieldname = g["field"].lower()
-            value = {
-                "position": board.position,
-                "encoder": board.encoder,
-                "velocity": lambda x: round(board.velocity(x)),
-            }[fieldname](letter)
-            return None if value == int(g["value"]) else f"{letter} {fieldname} {value}"
-        if g["done"]:
-            letter = g["axis2"].upper()
-            done = board.done(letter)
-            return None if done == (g["done"].lower() == "done") else (
-                f"{letter} {'done' if done else 'not done'}")
-        if g["overtravel"]:
-            letter = g["axis3"].upper()
-            latched = bool(board.board.axis(letter).flags & 0x2)
-            want = g["overtravel"].lower() == "overtravel"
-            return None if latched == want else (
-                f"{letter} {'overtravel' if latched else 'no overtravel'}")
-        if g["bit"]:
-            bit = int(g["bit"])
-            if bit > 15:
-                return f"no bit {bit} (0..15)"
-            high = board.board.io.level(bit, board.board)
-            return None if high == (g["level"].lower() == "high") else (
-                f"bit {bit} {'high' if high else 'low'}")
-        if g["captures"]:
-            waiting = len(board.board.capture_ring)
-            return None if waiting == int(g["captures"]) else f"captures {waiting}"
-        if g["error"]:
-            error = board.command_error
-            if error == (g["error"].lower() == "error"):
-                return None
-            return f"error (last: {board.last_error})" if error else "no error"
-        word = board.doorbell
-        return None if word == int(g["doorbell"], 0) else f"doorbell 0x{word:08x}"
-    except KeyError as error:  # an axis the board does not have
-        return str(error.args[0])
 
 
 def load_script(path: str | Path) -> Script:

@@ -90,6 +90,27 @@ class HostedBoards:
         self.clock.now += seconds
         self.call(lambda: [s.pacer.sync() for s in self.services])
 
+    def until_run(self, host: Client, board: int = 1, timeout: float = 10.0) -> None:
+        """Wait (a liveness bound, not a clock) until every byte `host` sent has reached
+        the door and run: known through the door's contract (the host's traffic record
+        and its client's `input_run`), for any controller, with no probe command."""
+        import time
+
+        service = self.services[board - 1]
+        name = f"127.0.0.1:{host.sock.getsockname()[1]}"
+
+        def run() -> bool:
+            for client in service.clients:
+                traffic = client.traffic
+                if traffic is not None and traffic.peer == name:
+                    return traffic.bytes_in == host.sent and client.input_run
+            return False
+
+        deadline = time.monotonic() + timeout
+        while not self.call(run):
+            assert time.monotonic() < deadline, "the door never ran what the host sent"
+            time.sleep(0.001)
+
     def connect(self, board: int = 1) -> Client:
         client = Client(self.ports[board - 1])
         self._closers.append(client.close)
@@ -113,16 +134,20 @@ class Client:
 
     def __init__(self, port: int, eol: bytes = b"\n\r") -> None:
         self.sock = socket.create_connection(("127.0.0.1", port), timeout=5)
+        self.sent = 0  # bytes sent, for HostedBoards.until_run
         self.eol = eol
         self.buffer = b""
         self.held: list[str] = []  # lines read early by command(), handed out by line()
 
     def send(self, text: str | bytes) -> None:
-        self.sock.sendall(text.encode() if isinstance(text, str) else text)
+        data = text.encode() if isinstance(text, str) else text
+        self.sock.sendall(data)
+        self.sent += len(data)
 
     def command(self, text: str) -> None:
-        """Send commands and know the server has run them: a #WS probe follows, and its
-        =0 comes back only after everything before it was processed."""
+        """Send MAX commands and know the server has run them: a #WS probe follows, and its
+        =0 comes back only after everything before it was processed (a MAXk's way; any
+        controller's: `HostedBoards.until_run`)."""
         self.send(text + "\n#WS\n")
         while True:
             line = self._read_line()

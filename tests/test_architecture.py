@@ -123,7 +123,9 @@ def test_controllers_do_not_share_personalities_or_languages():
                 for other in SIBLING_PACKAGES:
                     if target.startswith(other):
                         theirs = target[len(other):].split(".")[0]
-                        if other == prefix and theirs != own:
+                        shared = (PACKAGE / other.strip(".").replace("maxk.", "", 1).replace(
+                            ".", "/") / f"{theirs}.py").is_file()  # a module every one shares
+                        if other == prefix and theirs != own and not shared:
                             crossing.append(f"{name} imports {target}")
     assert not crossing, "\n".join(crossing)
 
@@ -144,3 +146,49 @@ def test_long_modules_say_why():
                 long.append(f"{name}: {text.count(chr(10))} lines")
     assert not long, "modules over ~500 lines without 'Long module:' in their docstring: " \
         + ", ".join(long)
+
+
+GENERIC_DOORS = ("maxk.cli", "maxk.repl", "maxk.script", "maxk.script_directives",
+                 "maxk.pytest_plugin", "maxk.trace", "maxk.pathplot", "maxk.host.server",
+                 "maxk.host.client", "maxk.host.serve", "maxk.host.pacing",
+                 "maxk.host.traffic")
+"""Doors written once for every controller. (The MAXk's own doors, its PCI map, its
+`maxk://` URL and its servo tuning assistant, name it by nature.)"""
+CONTRACTS = ("maxk.controllers.contract", "maxk.controllers.registry",
+             "maxk.controllers.world_view", "maxk.controllers.world_settings",
+             "maxk.firmware_model.engine")  # (the engine is the contract's clock)
+KIND_NAMES = ("MAXk", "MM4005", "MC405", "PoKeys")
+
+
+def test_the_doors_name_no_controller():
+    """A door speaks to controllers through the contracts and the registry only: it
+    imports no controller, personality or language, and no string in its code (its
+    docstrings and comments aside) names a kind of controller."""
+    graph = _graph()
+    for door in GENERIC_DOORS:
+        for target in graph[door]:
+            below = _layer(target) < _layer("maxk.controllers") and target not in CONTRACTS
+            controller = target.startswith("maxk.controllers.") and target not in CONTRACTS
+            assert not (below or controller), f"{door} imports {target}"
+        tree = ast.parse(_modules()[door].read_text(encoding="utf-8"))
+        docstrings = {id(node.body[0].value) for node in ast.walk(tree)
+                      if isinstance(node, ast.Module | ast.FunctionDef | ast.ClassDef
+                                    | ast.AsyncFunctionDef)
+                      and node.body and isinstance(node.body[0], ast.Expr)}
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Constant) and isinstance(node.value, str)
+                    and id(node) not in docstrings):
+                named = [k for k in KIND_NAMES if k in node.value]
+                assert not named or _context(tree, node) in ("help", "description"), (
+                    door, node.value)
+
+
+def _context(tree: ast.AST, target: ast.AST) -> str:
+    """The keyword a string is passed as (`help=`, `description=`), if any: a door's help
+    text may name models as examples."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            for keyword in node.keywords:
+                if any(sub is target for sub in ast.walk(keyword.value)):
+                    return keyword.arg or ""
+    return ""

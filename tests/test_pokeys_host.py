@@ -116,7 +116,7 @@ def test_bad_requests_get_silence_and_the_stream_stays_aligned() -> None:
     wrong_header[7] = header_sum(wrong_header)
     session.feed(bytes(wrong_header))
     assert session.read() == b""
-    assert host.send(host.create(0x77)) is None  # unknown command: 5 sends, no reply
+    assert host.send(host.create(0xF7)) is None  # unknown command: 5 sends, no reply
     assert host.request_id == 5
     assert host.pev2(0x10, 8) is None  # axis 8 does not exist
     assert host.pev2(0xFF, 19, 3, payload=bytes(56)) is None  # 57 bytes do not fit

@@ -931,8 +931,8 @@ def test_holds_repl_words_refuse_bad_durations(model: str) -> None:
 
 
 @pytest.mark.parametrize("board", ["MM4005", "MC405"])
-@pytest.mark.parametrize(("body", "code"), [("@expect X position 5", 1),
-                                            ("@world X limits 5 -5", 1),
+@pytest.mark.parametrize(("body", "code"), [("@expect X position 5", 2),  # no axis X there
+                                            ("@world X limits 5 -5", 2),  # (refused read)
                                             ("@wait 1e400 s", 2), ("< stray", 2),
                                             ("@wait until idle", 0)])
 def test_holds_maxk_run_refuses_bad_directives(tmp_path, board: str, body: str,

@@ -113,7 +113,7 @@ def test_holds_mc405_ex_behind_a_wait_in_separate_writes(trio: HostedBoards) -> 
         sock.sendall(b"EX\r\n")
         client = trio.services[0].clients
         deadline = time.monotonic() + 10
-        while not trio.call(lambda: any(len(c._inbox) == 8 for c in client)):
+        while not trio.call(lambda: any(c.held_input == 8 for c in client)):
             assert time.monotonic() < deadline
             time.sleep(0.01)
         trio.advance(0.05)
@@ -148,7 +148,7 @@ def test_holds_mc405_hang_up_runs_input_the_door_held(trio: HostedBoards) -> Non
     _recv_until(sock, _ends_with(b"WA(100)\r\n"))
     sock.sendall(b"MOVE(10)\r\n")
     deadline = time.monotonic() + 10
-    while not trio.call(lambda: bool(client._inbox)):  # type: ignore[attr-defined]
+    while not trio.call(lambda: bool(client.held_input)):  # type: ignore[attr-defined]
         assert time.monotonic() < deadline
         time.sleep(0.01)
     sock.close()
@@ -632,7 +632,7 @@ def test_holds_mc405_hosts_gone_behind_a_wait_idle_leave_when_it_ends(
             sock.sendall(f"VR({i})={i + 1}\r\n".encode())
             client = _client_of(trio, before | set(gone))
             deadline = time.monotonic() + 10
-            while not trio.call(lambda c=client: bool(c._inbox)):  # type: ignore[attr-defined]
+            while not trio.call(lambda c=client: bool(c.held_input)):  # type: ignore[attr-defined]
                 assert time.monotonic() < deadline
                 time.sleep(0.01)
             sock.close()

@@ -56,7 +56,7 @@ def test_board_and_rate_directives():
     ("@board MAXk-9999\n", "unknown controller model"),
     ("@wait soon\n", "not a duration"),
     ("@expect X happy\n", "cannot read @expect"),
-    ("@rate 1000\n", "@rate takes"),
+    ("@rate 1000\n", "the MAXk runs at 1024, 2048, 4096, 8192 Hz, not 1000"),
     ("@wait until X done within abc\n", "not a duration: 'abc'"),
     ("@wait until idle within -1 s\n", "not a duration: '-1 s'"),
     ("@wait until all done within 1.5 ticks\n", "ticks must be whole"),
@@ -103,6 +103,10 @@ def test_record_round_trip(tmp_path):
     assert not run_script(load_script(path)).failures
 
 
-def test_wait_for_an_axis_the_model_lacks_fails_cleanly():
-    t = run_script(parse_script("@board MAXk-1000\n@wait until K done\n"))
+def test_wait_for_an_axis_the_model_lacks_is_refused_when_read():
+    with pytest.raises(ScriptError) as info:
+        parse_script("@board MAXk-1000\n@wait until K done\n")
+    assert "no axis 'K'" in str(info.value) and info.value.line == 2
+    # the same script on a controller given at run time fails the run, cleanly
+    t = run_script(parse_script("@board MAXk-A000\n@wait until K done\n"), model="MAXk-1000")
     assert t.failures and "no axis 'K'" in t.failures[0].actual

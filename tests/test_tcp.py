@@ -155,7 +155,7 @@ def test_client_that_never_reads_does_not_grow_memory(hosted):
             break
 
     def held() -> int:
-        return sum(len(c._inbox) + c._unsent() for c in hosted.services[0].clients)
+        return sum(c.held_input + c._unsent() for c in hosted.services[0].clients)
 
     for _ in range(50):  # let the server run what it will run
         hosted.advance(0.0)

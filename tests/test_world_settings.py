@@ -39,9 +39,10 @@ def test_script_analog_and_bad_world_lines():
         assert message in str(info.value) and info.value.line == 1
 
 
-def test_world_for_an_axis_the_model_lacks_fails_the_run_cleanly():
-    t = run("@board MAXk-1000\n@world K limits 1 -1\n")
-    assert t.failures and "no axis 'K'" in t.failures[0].actual
+def test_world_for_an_axis_the_model_lacks_is_refused_when_read():
+    with pytest.raises(ScriptError) as info:
+        parse_script("@board MAXk-1000\n@world K limits 1 -1\n", "w.maxk")
+    assert "no axis 'K'" in str(info.value) and info.value.line == 2
 
 
 def test_repl_world_and_capture():

@@ -14,11 +14,12 @@ these protocols, so a new controller gets every door by declaring its session:
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal, Protocol
 
 if TYPE_CHECKING:
+    from maxk.controllers.world_view import WorldView
     from maxk.firmware_model.engine import Engine
 
 Transport = Literal["tcp", "udp", "pty"]
@@ -81,6 +82,68 @@ class Console(Protocol):
         ...
 
 
+class ConsoleBase:
+    """The `Console` defaults a controller's console inherits, so that it writes only
+    what it has: `execute` (and usually `status_line`, `help`, `words`). A console of a
+    controller (`self.controller`) gets the prompt, idleness and the full status from
+    the contracts."""
+
+    def __init__(self, controller: Controller) -> None:
+        self.controller = controller
+
+    def execute(self, line: str) -> list[str]:  # pragma: no cover - each has its own
+        raise NotImplementedError
+
+    def new_errors(self) -> list[str]:
+        return []
+
+    def prompt(self) -> str:
+        return f"{self.controller.model}> "
+
+    def status_line(self, width: int = 80) -> str:
+        """Time and each axis's position (D done, ~ moving), cut to `width`."""
+        engine = self.controller.engine
+        view = self.controller.world_view()
+        parts = []
+        for name in view.axis_names:
+            r = view.reading(name)
+            parts.append(f"{name}{r.position}{'~' if r.moving else 'D' if r.done else ''}")
+        return f" t={engine.time:.3f}s  {' '.join(parts)}"[:width]
+
+    def status_lines(self) -> list[str]:
+        view = self.controller.world_view()
+        lines = ["axis  position   encoder  velocity  state"]
+        for name in view.axis_names:
+            r = view.reading(name)
+            state = "moving" if r.moving else "done" if r.done else "stopped"
+            encoder = "-" if r.encoder is None else str(r.encoder)
+            lines.append(f"{name:>4} {r.position:>9} {encoder:>9} {round(r.velocity):>9}  "
+                         f"{' '.join([state, *r.flags])}")
+        return lines
+
+    def help(self, topic: str) -> list[str] | None:
+        return None
+
+    def words(self) -> list[str]:
+        return []
+
+    def summary(self, word: str) -> str:
+        return ""
+
+    def is_idle(self) -> bool:
+        view = self.controller.world_view()
+        return not any(view.reading(name).moving for name in view.axis_names)
+
+    def repl_help(self) -> list[str]:
+        return []
+
+    def after_reset(self) -> list[str]:
+        return [f"reset: {self.controller.model} powered up again"]
+
+    def repl_word(self, word: str, rest: str) -> list[str] | None:
+        return None
+
+
 class Controller(Protocol):
     """A controller as the doors see it."""
 
@@ -100,6 +163,7 @@ class Controller(Protocol):
     # every feed is one whole datagram (the UDP door uses it when it is there).
     def console(self) -> Console: ...
     def reset(self) -> None: ...
+    def world_view(self) -> WorldView: ...  # the machine around it (controllers/world_view.py)
 
 
 class Recording(Protocol):
@@ -156,3 +220,19 @@ class ControllerKind:
     build: Callable[[str, BuildOptions], Controller]
     summary: str = ""
     default_archive: Callable[[str, int], object] | None = None  # (model, number) -> path
+    update_rates_hz: Sequence[int] = ()  # the rates it can run at, its default first
+    line_options: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # option ->
+    # its values (`serve --eol lf`); () for a flag (`--ack`)
+    shared_memory: bool = False  # has a PCI map a host can open (`serve --shm`)
+    default_port: int | None = None  # the port its host software has built in
+    reference: Callable[[], str] | None = None  # its command table as Markdown
+
+    @property
+    def default_rate_hz(self) -> int | None:
+        return self.update_rates_hz[0] if self.update_rates_hz else None
+
+    def check_rate(self, rate_hz: int | None) -> None:
+        """ValueError naming the rates this kind runs at, for one it cannot run."""
+        if rate_hz is not None and rate_hz not in self.update_rates_hz:
+            rates = ", ".join(str(r) for r in sorted(self.update_rates_hz))
+            raise ValueError(f"the {self.name} runs at {rates} Hz, not {rate_hz}")

@@ -16,16 +16,17 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import replace
 
 from maxk.commands.max.interpreter import Interpreter
 from maxk.commands.max.lexer import SEPARATORS
 from maxk.commands.max.session import Framing, MaxSession
 from maxk.controllers.contract import Notify, Transport, VirtualTime
 from maxk.controllers.maxk_console import AxisStatus, MaxConsole
-from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource
+from maxk.controllers.world_view import AxisReading, WorldView
+from maxk.firmware_model.world import AxisWorld, InputSource
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.board import Board, CommandErrorRecord
+from maxk.personalities.maxk.capture import EDGES
 from maxk.personalities.maxk.models import DEFAULT_MODEL, DEFAULT_UPDATE_RATE_HZ
 from maxk.personalities.maxk.parameters import ParameterArchive, default_archive_path
 
@@ -46,6 +47,7 @@ class MAXk(VirtualTime):
         self.interpreter = Interpreter(self.board)
         self.framing = Framing()  # how sessions frame replies (`maxk serve --eol/--ack`)
         self._sessions: list[MaxSession] = []
+        self._view: MaxWorldView | None = None
 
     # ---- the door contract (controllers/contract.py) ---------------------------------
     kind = "MAXk"
@@ -119,6 +121,12 @@ class MAXk(VirtualTime):
         )
 
     # ---- the world around the board ---------------------------------------------------
+    def world_view(self) -> MaxWorldView:
+        """The world contract (controllers/world_view.py): `@world`, `:world`, `@expect`."""
+        if self._view is None:
+            self._view = MaxWorldView(self)
+        return self._view
+
     def stage(self, letter: str) -> AxisWorld:
         """The stage of one axis (switch positions in physical steps since power-up).
         Change it through the set_* methods so a running motion sees the change."""
@@ -127,66 +135,40 @@ class MAXk(VirtualTime):
     def set_limits(self, letter: str, *, plus: float | None | str = "keep",
                    minus: float | None | str = "keep") -> None:
         """Place the limit switches (None: no switch on that side)."""
-        stage = self.stage(letter)
-        if plus != "keep":
-            stage.set_plus_limit(plus)  # type: ignore[arg-type]
-        if minus != "keep":
-            stage.set_minus_limit(minus)  # type: ignore[arg-type]
-        self.board.world_changed()
+        self.world_view().set_limits(letter, plus=plus, minus=minus)
 
     def set_home(self, letter: str, low: float | None, high: float | None) -> None:
         """The home switch is active from low to high (None, None: no home switch)."""
-        self.stage(letter).set_home(low, high)
-        self.board.world_changed()
-
-    @staticmethod
-    def _switch(name: str) -> str:
-        if name not in SWITCHES:
-            raise ValueError(f"switches are {', '.join(SWITCHES)}, not {name!r}")
-        return SWITCHES[name]
+        self.world_view().set_home(letter, low, high)
 
     def set_index(self, letter: str, period: int, width: int = 4, offset: int = 0) -> None:
         """Encoder index marks every `period` counts, `width` counts wide, one at `offset`."""
-        stage = self.stage(letter)
-        stage.index_period, stage.index_width, stage.index_offset = period, width, offset
-        self.board.world_changed()
+        self.world_view().set_index(letter, period, width, offset)
 
     def fault(self, letter: str, switch: str, state: str | None) -> None:
         """Stick a switch ('plus', 'minus' or 'home') 'active' or 'inactive'; None clears."""
-        if state not in FAULTS:
-            raise ValueError(f"fault state must be one of {FAULTS}")
-        getattr(self.stage(letter), self._switch(switch)).fault = state
-        self.board.world_changed()
+        self.world_view().fault(letter, switch, state)
 
     def bounce(self, letter: str, switch: str, steps: int) -> None:
         """Make a switch ('plus', 'minus' or 'home') chatter within `steps` of its edges."""
-        getattr(self.stage(letter), self._switch(switch)).bounce = max(0, int(steps))
-        self.board.world_changed()
+        self.world_view().bounce(letter, switch, steps)
 
     def miss_steps(self, letter: str, steps: int) -> None:
         """A stepper misses `steps` steps now (negative: the stage overshoots): its stage
         lags the motor from here on, so an encoder (PSE) sees the slip."""
-        self.stage(letter).lost_steps += int(steps)
-        self.board.world_changed()
+        self.world_view().miss_steps(letter, steps)
 
     def set_backlash(self, letter: str, steps: int) -> None:
         """Give a stepper's stage `steps` of play: after the motor reverses, the stage
         does not follow its first `steps` steps (an encoder on the stage sees it; BC on
         the board compensates)."""
-        steps = int(steps)
-        if steps < 0:
-            raise ValueError(f"backlash is a number of steps >= 0, not {steps}")
-        self.board.axis(letter).backlash_now(self.board)  # a past motion at the old play
-        self.stage(letter).backlash = steps
-        self.board.world_changed()
+        self.world_view().set_backlash(letter, int(steps))
 
     def set_motor(self, letter: str, **parameters: object) -> None:
         """Change the motor a servo axis drives (see MotorPlant: inertia,
         viscous_friction, coulomb_friction, torque_constant, amplifier, amplifier_gain,
         resistance, encoder_lines)."""
-        stage = self.stage(letter)
-        stage.motor = replace(stage.motor, **parameters)  # type: ignore[arg-type]
-        self.board.world_changed()
+        self.world_view().set_motor(letter, **parameters)
 
     def capture(self, letter: str, *, home: str | None | bool = False, index: bool | None = None,
                 inputs_rising: int | None = None, inputs_falling: int | None = None) -> None:
@@ -209,8 +191,7 @@ class MAXk(VirtualTime):
         """A general purpose input's level: a constant, or a function of the board."""
         if not 0 <= bit <= 15:
             raise ValueError("general purpose bits are 0..15")
-        self.board.world.digital[bit] = level
-        self.board.world_changed()
+        self.world_view().set_input(bit, level)
 
     def set_analog(self, channel: int, volts: float | InputSource) -> None:
         """An analog input (0..3) in volts (+/-10 V), constant or a function of the board."""
@@ -261,3 +242,112 @@ class MAXk(VirtualTime):
             )
             for a in board.axes
         ]
+
+
+class MaxWorldView(WorldView):
+    """The MAXk's world behind the contract: axes X..K, general purpose inputs 0..15,
+    analog inputs 0..3; the capture set-up and the doorbell as its own words."""
+
+    def __init__(self, maxk: MAXk) -> None:
+        board = maxk.board
+        super().__init__(board.world, board.model.axis_letters, inputs=range(16),
+                         analog=range(4), changed=board.world_changed, source_owner=board)
+        self.maxk = maxk
+
+    def reading(self, name: str) -> AxisReading:
+        board = self.maxk.board
+        axis = board.axis(self.axis_names[self.index(name)])
+        flags = axis.flags
+        words = tuple(word for bit, word in ((F.AXIS_DONE, "done"),
+                                             (F.AXIS_OVERTRAVEL, "overtravel"),
+                                             (F.AXIS_SLIP, "slip")) if flags & bit)
+        return AxisReading(axis.letter, axis.motor_position(board),
+                           axis.encoder_position(board), axis.velocity(board),
+                           bool(flags & F.AXIS_DONE), axis.motion is not None, words)
+
+    def set_backlash(self, name: str, steps: int) -> None:
+        self.maxk.board.axis(self.axis_names[self.index(name)]).backlash_now(self.maxk.board)
+        super().set_backlash(name, steps)  # a past motion counted at the old play first
+
+    def output_level(self, number: int) -> bool | None:
+        if not 0 <= number <= 15:
+            return None
+        return self.maxk.board.io.level(number, self.maxk.board)
+
+    def input_level(self, number: int) -> bool:
+        return self.maxk.board.io.level(number, self.maxk.board)
+
+    def extra_setting(self, name: str | None, words: list[str]) -> str | None:
+        if name is None or not words or words[0].lower() != "capture":
+            return None
+        letter = self.axis_names[self.index(name)]
+        args = words[1:]
+        kind = args[0].lower() if args else ""
+        if kind == "home" and len(args) == 2 and args[1].lower() in (*EDGES, "off"):
+            edge = None if args[1].lower() == "off" else args[1].lower()
+            self.maxk.capture(letter, home=edge)
+        elif kind == "index" and len(args) == 2 and args[1].lower() in ("on", "off"):
+            self.maxk.capture(letter, index=args[1].lower() == "on")
+        elif kind == "inputs" and len(args) == 3:
+            try:
+                rising, falling = int(args[1], 0), int(args[2], 0)
+            except ValueError:
+                raise ValueError(f"not bit masks: {args[1]!r} {args[2]!r}") from None
+            self.maxk.capture(letter, inputs_rising=rising, inputs_falling=falling)
+        else:
+            raise ValueError("capture home rising|falling|both|off, capture index on|off, "
+                             "or capture inputs RISING_MASK FALLING_MASK")
+        return f"{letter} capture {' '.join(args)}"
+
+    def extra_expect(self, words: list[str]) -> str | None | bool:
+        board = self.maxk.board
+        text = " ".join(words).lower()
+        if text in ("error", "no error"):
+            error = board.command_error
+            if error == (text == "error"):
+                return None
+            return f"error (last: {board.last_error})" if error else "no error"
+        if len(words) == 2 and words[0].lower() == "captures" and words[1].isdigit():
+            waiting = len(board.capture_ring)
+            return None if waiting == int(words[1]) else f"captures {waiting}"
+        if len(words) == 2 and words[0].lower() == "doorbell":
+            try:
+                want = int(words[1], 0)
+            except ValueError:
+                return f"not a doorbell word: {words[1]!r}"
+            word = board.doorbell
+            return None if word == want else f"doorbell 0x{word:08x}"
+        return False
+
+    def trace_axis_columns(self, after_done: bool = False) -> list[str]:
+        return ["queued"] if after_done else ["status"]
+
+    def trace_axis_values(self, name: str, after_done: bool = False) -> list[object]:
+        board = self.maxk.board
+        axis = board.axis(self.axis_names[self.index(name)])
+        return [len(axis.queue)] if after_done else [axis.status_string(board)]
+
+    def trace_columns(self) -> list[str]:
+        return ["doorbell", "command_error"]
+
+    def trace_values(self) -> list[object]:
+        board = self.maxk.board
+        return [f"0x{board.doorbell:08x}", int(board.command_error)]
+
+    def describe(self) -> list[str]:
+        b = self.maxk.board
+        lines = []
+        for line, cap in zip(super().describe(), b.capture_config, strict=False):
+            capture = []
+            if cap.home:
+                capture.append(f"home {cap.home}")
+            if cap.index:
+                capture.append("index")
+            if cap.on_inputs:
+                capture.append(f"inputs {cap.io_rising:#x}/{cap.io_falling:#x}")
+            lines.append(line + (f"; capture {', '.join(capture)}" if capture else ""))
+        inputs = "".join("1" if b.world.digital_level(i, b) else "0" for i in range(15, -1, -1))
+        lines.append(f"inputs (15..0): {inputs}; analog: " + ", ".join(
+            f"{b.world.analog_volts(c, b):g} V" for c in range(4)))
+        lines.append(f"capture ring: {len(b.capture_ring)} waiting, {b.capture_ring.lost} lost")
+        return lines

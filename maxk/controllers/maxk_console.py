@@ -11,8 +11,8 @@ from typing import Protocol
 
 from maxk.commands.max.reference import help_text
 from maxk.commands.max.table import COMMANDS, lookup
+from maxk.controllers.contract import ConsoleBase
 from maxk.controllers.glance import short_position
-from maxk.controllers.world_settings import describe_world, parse_world
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.flags import (
     COMMAND_ERROR,
@@ -26,7 +26,6 @@ from maxk.personalities.maxk.flags import (
 REPL_WORDS = """\
   :errors      recent command errors and why
   :doorbell    doorbell flags     :clear       write ones to clear every doorbell bit
-  :world       the stage          :world X limits 5000 -5000   (docs/io.md)
   :capture     read the capture ring (as a host would)
   :commands    list mnemonics"""
 
@@ -55,10 +54,11 @@ class MaxControls(Protocol):
     def status(self) -> list[AxisStatus]: ...
 
 
-class MaxConsole:
+class MaxConsole(ConsoleBase):
     """The `Console` of a MAXk controller."""
 
     def __init__(self, maxk: MaxControls) -> None:
+        super().__init__(maxk)  # type: ignore[arg-type]
         self.maxk = maxk
         self._errors_seen = 0  # a power-up error is shown with the first line
 
@@ -129,13 +129,6 @@ class MaxConsole:
         if word == "clear":
             b.write_doorbell(0xFFFF_FFFF)
             return ["doorbell cleared"]
-        if word == "world":
-            if not rest:
-                return describe_world(self.maxk)
-            try:
-                return [parse_world(rest)(self.maxk)]
-            except (KeyError, ValueError, OverflowError) as error:
-                return [f"world: {error}"]
         if word == "capture":
             entries = b.capture_ring.read()
             if not entries:

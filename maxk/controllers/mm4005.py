@@ -30,6 +30,7 @@ from typing import Final
 from maxk.commands.mm4005 import COMMANDS, Interpreter, MM4005Session
 from maxk.commands.mm4005.fmt import fixed, position_decimals
 from maxk.controllers.contract import Notify, Transport, VirtualTime
+from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
@@ -156,6 +157,10 @@ class MM4005Controller(VirtualTime):
 
     def world_changed(self) -> None:
         self.machine.world_changed()
+
+    def world_view(self) -> MM4005WorldView:
+        """The world contract (controllers/world_view.py): axes 1..n."""
+        return MM4005WorldView(self.machine)
 
     def trace_path(self, axes: tuple[int, int] | None = None,
                    every_ticks: int = 20) -> PathTrace:
@@ -362,3 +367,28 @@ def _shorten(part: str) -> str:
     except ValueError:
         return part
 
+
+
+class MM4005WorldView(WorldView):
+    """The MM4005's world behind the contract: axes named 1..n as its commands number
+    them (`1PA10`), positions in encoder counts since power-up; no general inputs are
+    modelled, so the view has none (D)."""
+
+    def __init__(self, machine: MM4005) -> None:
+        super().__init__(machine.world, [str(n) for n in range(1, len(machine.axes) + 1)],
+                         inputs=(), analog=(), changed=machine.world_changed,
+                         source_owner=machine)
+        self.machine = machine
+
+    def reading(self, name: str) -> AxisReading:
+        number = self.index(name) + 1
+        machine = self.machine
+        a = machine.axis(number)
+        status = machine.status(number)
+        flags = tuple(word for on, word in ((status.plus_limit, "plus-limit"),
+                                            (status.minus_limit, "minus-limit"),
+                                            (status.home_signal, "home"),
+                                            (status.power_off, "motor-off")) if on)
+        steps = a.steps_now(machine)
+        return AxisReading(str(number), steps + a.counter_offset, steps + a.encoder_offset,
+                           a.velocity(machine), not status.moving, status.moving, flags)

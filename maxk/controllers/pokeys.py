@@ -25,6 +25,7 @@ from collections.abc import Mapping, Sequence
 from maxk.commands.pokeys import PoKeysSession, make_request
 from maxk.controllers.contract import BuildOptions, Notify, Transport
 from maxk.controllers.pokeys_console import PoKeysConsole
+from maxk.controllers.pokeys_io import PoKeysIOApi
 from maxk.controllers.pokeys_status import (
     V1_STATES,
     V2_STATES,
@@ -32,8 +33,10 @@ from maxk.controllers.pokeys_status import (
     PoKeysError,
     axis_index,
 )
-from maxk.firmware_model.world import AxisWorld, World
+from maxk.controllers.world_view import AxisReading, WorldView
+from maxk.firmware_model.world import AxisWorld, InputSource, World
 from maxk.personalities.pokeys import (
+    AXIS_LETTERS,
     MODELS,
     AxisConfigBits,
     PoKeysDevice,
@@ -44,9 +47,11 @@ from maxk.personalities.pokeys import (
 )
 from maxk.personalities.pokeys.constants import SLOT_SECONDS
 from maxk.personalities.pokeys.engine import PulseEngine
+from maxk.personalities.pokeys.io import PINS
+from maxk.personalities.pokeys.world import PoKeysIOWorld
 
 
-class PoKeys:
+class PoKeys(PoKeysIOApi):
     """A PoKeys56E (pulse engine v1) or PoKeys57E / 57CNC (v2): the door contract and a
     Python API speaking the device's requests in virtual time."""
 
@@ -365,8 +370,18 @@ class PoKeys:
         return struct.unpack_from("<8i", r, 8), r[40]
 
     # ---- the world around the device ----------------------------------------------
+    @property
+    def pins(self) -> PoKeysIOWorld:
+        """The pins' side of the world: set_input, analog, press_key, press_kbd48,
+        attach_encoder, output_levels."""
+        return self.device.pins
+
     def stage(self, axis: int) -> AxisWorld:
         return self.world.axes[axis]
+
+    def world_view(self) -> PoKeysWorldView:
+        """The world contract (controllers/world_view.py): axes X..V (or 1..8)."""
+        return PoKeysWorldView(self)
 
     def set_limits(self, axis: int, *, plus: float | None | str = "keep",
                    minus: float | None | str = "keep") -> None:
@@ -381,9 +396,10 @@ class PoKeys:
         self.stage(axis).set_home(low, high)
 
     def set_input(self, number: int, level: object) -> None:
-        """A digital input (0: the e-stop, n: probe input n): a level or a function of
-        the engine (e.g. `axis_position_source("Z", lambda p: p <= -1234)`)."""
-        self.world.digital[number] = level  # type: ignore[assignment]
+        """A digital input (0: the e-stop, n: pin n and probe input n): a level or a
+        function of the engine (e.g. `axis_position_source("Z", lambda p: p <= -1234)`);
+        edges on a counter pin count."""
+        self.device.pins.set_input(number, level)
 
     def press_estop(self, pressed: bool = True) -> None:
         world = self.device.engine.world
@@ -403,10 +419,94 @@ def _encode(rows: Sequence[Sequence[int]], wide: bool, width: int) -> bytes:
 
 
 def build(model: str, options: BuildOptions | None = None) -> PoKeys:
-    """The registry's builder (a PoKeys takes none of the options: no archive, its own
-    1 ms slot)."""
-    return PoKeys(model)
+    """The registry's builder: an archive file keeps what PK_SaveConfiguration saved
+    (pins, PWM, encoders, ...) across runs, as the device's flash does; its own 1 ms slot."""
+    dev = PoKeys(model)
+    if options is not None and options.archive:
+        dev.device.io.archive = str(options.archive)
+        dev.device.io.load_archive()
+    return dev
 
 
 __all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
            "pokeys_world"]
+
+
+class PoKeysWorldView(WorldView):
+    """The PoKeys's world behind the contract: axes X Y Z A B C U V (or 1..8) as the
+    device's configuration software names them, positions in pulses; digital inputs by
+    number as the pulse engine reads them (0 the e-stop, n probe input n; pins 1..55 on
+    the 57 series; edges on a counter pin count), analog inputs on pins 41..47 (0..3.3 V),
+    the digital outputs' levels."""
+
+    def __init__(self, dev: PoKeys) -> None:
+        super().__init__(dev.world, AXIS_LETTERS[:dev.axes], inputs=range(56),
+                         analog=range(41, 48), analog_volts=(0.0, 3.3),
+                         changed=dev.device.machine.world_changed,
+                         source_owner=dev.device.machine)
+        self.dev = dev
+
+    def set_input(self, number: int, level: bool | InputSource) -> None:
+        if number not in self.inputs:
+            raise ValueError(f"no input {number} (0 the e-stop, pins 1..55)")
+        self.dev.device.pins.set_input(number, level)
+
+    def output_level(self, number: int) -> bool | None:
+        if not 1 <= number <= PINS or not self.dev.device.io.is_output(number):
+            return None
+        return self.dev.device.io.output_level(number)
+
+    def describe(self) -> list[str]:
+        """`:world`: the stages and inputs, then what the device drives and what the
+        world wires to it (outputs, PWM, encoders, keys)."""
+        device = self.dev.device
+        lines = super().describe()
+        outputs = device.pins.output_levels()
+        if outputs:
+            lines.append("outputs " + " ".join(f"{p} {'high' if v else 'low'}"
+                                               for p, v in outputs.items()))
+        for n in range(6):
+            if device.io.pwm_enabled >> n & 1:
+                lines.append(f"pwm {n} (pin {22 - n}) {device.pwm_output(n) * 100:.1f}%")
+        for i, e in enumerate(device.io.encoders):
+            if e.axis is not None:
+                lines.append(f"encoder {i} on {AXIS_LETTERS[e.axis]}"
+                             f"{' reversed' if e.direction < 0 else ''}: "
+                             f"{device.pins.encoder_value(i)}")
+        if device.io.matrix_keys:
+            lines.append("matrix keys pressed " + " ".join(map(str, sorted(
+                device.io.matrix_keys))))
+        if device.io.kbd48.keys:
+            lines.append("kbd48CNC keys pressed " + " ".join(map(str, sorted(
+                device.io.kbd48.keys))))
+        return lines
+
+    def trace_columns(self) -> list[str]:
+        """The output pins as a bit mask (bit p-1 = pin p) and each PWM channel's duty."""
+        return ["outputs"] + [f"pwm{n}_duty" for n in range(6)]
+
+    def trace_values(self) -> list[object]:
+        device = self.dev.device
+        mask = sum(1 << (p - 1) for p, level in device.pins.output_levels().items() if level)
+        values: list[object] = [f"{mask:014x}"]
+        return values + [f"{device.pwm_output(n) * 100:.2f}" for n in range(6)]
+
+    def index(self, name: str) -> int:
+        try:
+            return axis_index(str(name).strip(), self.dev.axes)
+        except ValueError as error:
+            raise KeyError(str(error)) from None
+
+    def reading(self, name: str) -> AxisReading:
+        i = self.index(name)
+        engine = self.dev.pulse_engine
+        a = engine.axes[i]
+        moving = engine.moving(a)
+        state = engine.axis_state(a)
+        velocity = 0.0
+        planned = engine.motion_plan(i)
+        if moving and planned is not None:  # pulses a slot, as counts per second
+            t = (engine.slot - planned.start) * SLOT_SECONDS
+            velocity = planned.plan.velocity(t)
+        return AxisReading(AXIS_LETTERS[i], a.position, None, velocity, not moving, moving,
+                           (state.name.lower(),))

@@ -18,6 +18,7 @@ from typing import Any, overload
 
 from maxk.commands.pokeys.table import ENTRIES
 from maxk.controllers.glance import short_position
+from maxk.controllers.pokeys_console_io import IO_WORDS, IOWords
 from maxk.controllers.pokeys_status import (
     STATE_SHORT,
     SWITCH_WORDS,
@@ -63,6 +64,8 @@ WORDS: dict[str, tuple[str, str]] = {
     "request": ("request CMD [P1 P2 P3 P4] [: PAYLOAD HEX]",
                 "send one raw request frame; the reply in hex, or no reply"),
     "reboot": ("reboot", "v2: PulseEngineReboot"),
+    **IO_WORDS,
+    "requests": ("requests", "every request the device answers, with source and confidence"),
 }
 
 REPL_WORDS = """\
@@ -70,7 +73,7 @@ REPL_WORDS = """\
   :trace FILE  write a CSV slot trace from now (:trace off to stop)
   :plot FILE   draw the traced slots: position, pulse rate, buffer fill (PNG)
   :plan X      the axis's motion as a plan (phases)
-  :requests    the device's requests with source and confidence"""
+  :requests    the device's requests with source and confidence (also: help requests)"""
 
 
 SHOWN_SLOTS_MAX = 100_000
@@ -104,7 +107,7 @@ class _Repeated(Sequence[list[int]]):
         return list(self.row)
 
 
-class PoKeysConsole:
+class PoKeysConsole(IOWords):
     """The `Console` of a PoKeys device."""
 
     def __init__(self, dev: PoKeysControls) -> None:
@@ -181,6 +184,8 @@ class PoKeysConsole:
         return self._do_status([])
 
     def help(self, topic: str) -> list[str] | None:
+        if topic.lower() == "requests":
+            return self._do_requests([])
         entry = WORDS.get(topic.lower())
         if entry is None:
             return None
@@ -221,9 +226,12 @@ class PoKeysConsole:
             except ValueError as error:
                 return [f"! plan: {error}"]
         if word == "requests":
-            return [f"{e.command:#04x} {'*' if e.sub < 0 else f'{e.sub:#04x}'} {e.name} "
-                    f"[{e.confidence}] {e.source}" for e in ENTRIES]
+            return self._do_requests([])
         return None
+
+    def _do_requests(self, args: list[str]) -> list[str]:
+        return [f"{e.command:#04x} {'*' if e.sub < 0 else f'{e.sub:#04x}'} {e.name} "
+                f"[{e.confidence}] {e.source}" for e in ENTRIES]
 
     # ---- queries ---------------------------------------------------------------------
     def _do_status(self, args: list[str]) -> list[str]:
@@ -240,7 +248,7 @@ class PoKeysConsole:
             ("soft", s.soft_limit)) if bits]
         if switches:
             lines.append("switches: " + ", ".join(switches))
-        return lines
+        return lines + self._io_status()
 
     def _do_pos(self, args: list[str]) -> list[str]:
         s = self.dev.status()
@@ -490,7 +498,7 @@ class PoKeysConsole:
             # one trace at a time: the running one ends (its file closed) as a new one starts
             self.recorder.detach()
             out.append(f"trace: the previous trace ended, {self.recorder.slots} slots written")
-        self.recorder = SlotRecorder(self.dev.pulse_engine, stream)
+        self.recorder = SlotRecorder(self.dev.pulse_engine, stream, device=self.dev.device)
         self.recorder.attach()
         return [*out, f"trace: {rest}"]
 

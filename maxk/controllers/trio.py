@@ -18,9 +18,12 @@ and survive a restart of the emulator, as the controller's flash does.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable
 from pathlib import Path
+
+import numpy as np
 
 from maxk.commands.trio.interpreter import Interpreter
 from maxk.commands.trio.keywords import KEYWORDS, Kind, lookup
@@ -29,6 +32,7 @@ from maxk.commands.trio.scheduler import ProcessScheduler
 from maxk.commands.trio.session import TrioCommandLine
 from maxk.commands.trio.system import ProgramCommands
 from maxk.controllers.contract import Notify, Transport, VirtualTime
+from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
@@ -122,6 +126,10 @@ class MC405(VirtualTime):
     def _broadcast(self, text: str) -> None:
         for session in self.scheduler.sessions:
             session.hear(text)
+
+    def world_view(self) -> MC405WorldView:
+        """The world contract (controllers/world_view.py): axes 0..n as AXIS(n) names them."""
+        return MC405WorldView(self.machine)
 
     # ---- the Python API, in virtual time -----------------------------------------------------
     def send(self, line: str) -> list[str]:
@@ -345,3 +353,28 @@ def _lines(text: str, line: str) -> tuple[list[str], list[str]]:
         elif item:
             out.append(item)
     return out, errors
+
+
+MC405_INPUTS = range(32)
+"""Digital inputs IN(0)..IN(31): the MC405's built-in inputs and bidirectional channels
+with room for an expansion (D: the contract only needs the numbers a program reads)."""
+
+
+class MC405WorldView(WorldView):
+    """The MC405's world behind the contract: axes named 0..n as `AXIS(n)` names them,
+    positions in counts (DPOS x UNITS, DEFPOS not applied); inputs IN(n), analog AIN(n)."""
+
+    def __init__(self, machine: MC405Machine) -> None:
+        super().__init__(machine.world, [str(i) for i in range(machine.axis_count)],
+                         inputs=MC405_INPUTS, analog=range(8), changed=machine.changed,
+                         source_owner=machine)
+        self.machine = machine
+
+    def reading(self, name: str) -> AxisReading:
+        i = self.index(name)
+        machine = self.machine
+        now = machine.demand(i)
+        ahead = float(machine.demand_counts(i, np.array([machine.tick + 1]))[0])
+        idle = machine.axis_idle(i)
+        return AxisReading(str(i), math.floor(now + 1e-9), None,
+                           (ahead - now) * machine.update_rate_hz, idle, not idle)

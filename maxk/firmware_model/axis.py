@@ -11,7 +11,7 @@ power-up (what the switches see); counters a host reads are offsets from them.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -199,3 +199,73 @@ def first_tick(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:
         else:
             lo = mid + 1
     return lo
+
+
+SwitchSide = int  # +1: the plus limit, -1: the minus limit
+
+
+class MotionEnds:
+    """The shared machine ends its axes' motions: an event source that, on each motion's
+    end tick, stands the axis on its final step (`finish_motion`, which calls the axis's
+    `motion_ended` hook) and tells the personality (`on_end(axis, tick)`: a queue moves
+    on, a done flag sets). Given limit switches (`limit_at(axis, side)`: the physical
+    position of that side's limit, None for none), it also finds, exactly to the tick,
+    where a motion reaches one, and calls `on_limit(axis, side, tick)` there (the
+    personality stops the axis its controller's way). A new controller adds one for its
+    axes and writes only what its controller does at an end or a limit."""
+
+    def __init__(self, axes: Sequence[MotionAxis], engine: Clock,
+                 on_end: Callable[[MotionAxis, int], None] = lambda axis, tick: None, *,
+                 limit_at: Callable[[MotionAxis, SwitchSide], float | None] | None = None,
+                 on_limit: Callable[[MotionAxis, SwitchSide, int], None] | None = None
+                 ) -> None:
+        self.axes = axes
+        self.engine = engine
+        self.on_end = on_end
+        self.limit_at = limit_at
+        self.on_limit = on_limit
+        self._limit: dict[int, tuple[object, int | None, SwitchSide]] = {}  # per axis:
+        # (the motion it was found for, the tick it reaches a limit, which limit)
+
+    def _limit_tick(self, axis: MotionAxis) -> tuple[int | None, SwitchSide]:
+        found = self._limit.get(axis.index)
+        if found is not None and found[0] is axis.motion:
+            return found[1], found[2]
+        best: tuple[int | None, SwitchSide] = (None, 1)
+        if self.limit_at is not None and axis.motion is not None:
+            for side in (1, -1):
+                edge = self.limit_at(axis, side)
+                if edge is None:
+                    continue
+                tick = axis.tick_reaching(edge, side, self.engine)
+                if tick is not None and (best[0] is None or tick < best[0]):
+                    best = (tick, side)
+        self._limit[axis.index] = (axis.motion, *best)
+        return best
+
+    def changed(self) -> None:
+        """A switch moved: find the limits afresh."""
+        self._limit.clear()
+
+    def next_event(self) -> int | None:
+        soonest: int | None = None
+        for axis in self.axes:
+            if axis.motion is None:
+                continue
+            for tick in (axis.motion_end, self._limit_tick(axis)[0]):
+                if tick is not None and (soonest is None or tick < soonest):
+                    soonest = tick
+        return soonest
+
+    def on_event(self, now: int) -> None:
+        for axis in self.axes:
+            if axis.motion is None:
+                continue
+            tick, side = self._limit_tick(axis)
+            if tick is not None and tick <= now and self.on_limit is not None and (
+                    axis.motion_end is None or tick <= axis.motion_end):
+                self._limit.pop(axis.index, None)
+                self.on_limit(axis, side, now)
+            elif axis.motion_end is not None and axis.motion_end <= now:
+                axis.finish_motion()
+                self.on_end(axis, now)

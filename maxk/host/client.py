@@ -6,12 +6,15 @@ host from starving another or growing the server.
 from __future__ import annotations
 
 import asyncio
-import sys
+import logging
 import time
 from dataclasses import dataclass, field
 
 from maxk.controllers.contract import Controller, Session
 from maxk.host.pacing import Pacer
+from maxk.host.traffic import Traffic, TrafficBook, peer_name
+
+log = logging.getLogger("maxk.door")
 
 HIGH_WATER = 256 * 1024  # bytes of unsent replies before a client's input stops being run
 HARD_LIMIT = 1024 * 1024  # unread beyond this, unasked output waits in its session (bounded there)
@@ -34,9 +37,16 @@ class Service:
     udp_ports: list[tuple[str, int]] = field(default_factory=list)
     ptys: list[str] = field(default_factory=list)
     _last_fault: str = field(default="", repr=False)
+    traffic: TrafficBook | None = None  # each host's recent bytes (made at the first one)
 
     def open_session(self, client: Client) -> Session:
         return self.controller.open_session(notify=client.flush_session)
+
+    def open_traffic(self, transport: str, peer: object) -> Traffic:
+        """A record of one host's bytes, in this controller's book of hosts."""
+        if self.traffic is None:
+            self.traffic = TrafficBook(self.controller.engine)
+        return self.traffic.open(transport, peer_name(peer))
 
     def handle(self, session: Session, data: bytes) -> bytes:
         """Bring the controller to now, feed the bytes, return what the session says."""
@@ -68,7 +78,7 @@ class Service:
                 f"{type(error).__name__}: {error}{running}; still serving")
         if line != self._last_fault:
             self._last_fault = line
-            print(line, file=sys.stderr, flush=True)
+            log.error("%s", line)
 
 
 def _holding(session: Session) -> bool:
@@ -90,6 +100,7 @@ class Client:
     session: Session | None = None
     service: Service
     loop: asyncio.AbstractEventLoop
+    traffic: Traffic | None = None  # this host's recent bytes, and its log
 
     def _client_init(self) -> None:
         self._inbox = bytearray()
@@ -97,6 +108,18 @@ class Client:
         self._closing = False  # the host hung up: its input runs out, then the session goes
         self._output_full = False  # unread replies above HIGH_WATER
         self._input_held = False  # reading paused (inbox full or output full)
+
+    @property
+    def held_input(self) -> int:
+        """Bytes of this host's input the door holds, not yet run."""
+        return len(self._inbox)
+
+    @property
+    def input_run(self) -> bool:
+        """Everything of this host's input that reached the door has run: none waits here
+        and its session holds none (a test knows a command has run without a probe)."""
+        return not self._inbox and not self._scheduled and not (
+            self.session is not None and _holding(self.session))
 
     # what a stream provides
     def _write(self, data: bytes) -> None:  # pragma: no cover - interface
@@ -112,6 +135,8 @@ class Client:
     def send(self, data: bytes, *, droppable: bool = False) -> None:
         if droppable and self._unsent() > HARD_LIMIT:
             return  # a notification to a host that never reads: lost, memory bounded
+        if self.traffic is not None:
+            self.traffic.outgoing(data)
         self._write(data)
 
     def flush_session(self) -> None:
@@ -134,6 +159,8 @@ class Client:
         poll, a query) is served at once: only a backlog waits for its turn."""
         if self.session is None:
             return
+        if self.traffic is not None:
+            self.traffic.incoming(data)
         idle = not self._inbox and not self._scheduled
         self._inbox += data
         if idle and not self._output_full:
@@ -205,6 +232,8 @@ class Client:
         self._drop_session()
 
     def _drop_session(self) -> None:
+        if self.traffic is not None:
+            self.traffic.closed()
         self.service.clients.discard(self)
         if self.session is not None:
             self.session.close()

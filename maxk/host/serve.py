@@ -6,24 +6,30 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import logging
 import math
 import signal
 import sys
 from pathlib import Path
 from typing import Any
 
-from maxk.commands.max.session import EOLS
 from maxk.controllers.contract import BuildOptions
-from maxk.controllers.registry import build, canonical_model, kind_of
+from maxk.controllers.registry import (
+    DEFAULT_MODEL,
+    build,
+    canonical_model,
+    default_archive,
+    kind_of,
+    line_option_choices,
+)
 from maxk.host.pacing import Pacer
 from maxk.host.server import Server, Service
-from maxk.personalities.maxk.parameters import default_archive_path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--boards", type=int, default=None, help="how many controllers "
                         "(1-16; J5 jumper numbers 1..N); default: one per model given")
-    parser.add_argument("--model", default="MAXk-8000",
+    parser.add_argument("--model", default=DEFAULT_MODEL,
                         help="controller model, or a comma list with one model per "
                         "controller (kinds may be mixed)")
     store = parser.add_mutually_exclusive_group()
@@ -47,12 +53,39 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "of board 1 (board N: PATH with N appended), e.g. /dev/shm/maxk")
     parser.add_argument("--speed", type=_speed, default=1.0, help="K times faster than real "
                         "time (default 1)")
-    parser.add_argument("--eol", choices=sorted(EOLS), default="lfcr",
-                        help="reply line ending (default lfcr: LF CR as the EPICS MAXnet "
-                        "driver expects; lf for firmware >= 1.33 style)")
-    parser.add_argument("--ack", action="store_true", help="lead every reply with ACK 0x06")
+    parser.add_argument("--eol", choices=line_option_choices("eol"), default=None,
+                        help="a MAXk's reply line ending (default lfcr: LF CR as the EPICS "
+                        "MAXnet driver expects; lf for firmware >= 1.33 style)")
+    parser.add_argument("--ack", action="store_true", help="a MAXk leads every reply with "
+                        "ACK 0x06")
+    parser.add_argument("-v", "--verbose", action="count", default=0,
+                        help="-v: hosts connecting and leaving; -vv: every host's bytes in "
+                        "and replies out, with virtual time stamps (logger maxk.door.*)")
+    parser.add_argument("--log-level", choices=LEVELS, default=None, type=str.lower,
+                        help="the maxk loggers' level (default warning: faults only)")
     parser.add_argument("--seconds", type=float, default=None,
                         help="stop after this many seconds (default: run until interrupted)")
+
+
+LEVELS = ("debug", "info", "warning", "error")
+
+
+def configure_logging(args: argparse.Namespace) -> None:
+    """Faults go to stderr as before (one line each); `-v`/`--log-level` show more, each
+    line naming its logger (`maxk.door.tcp: 127.0.0.1:41234 t=0.500000 <- b'WY'`)."""
+    verbose = getattr(args, "verbose", 0)
+    level = (args.log_level or ("debug" if verbose >= 2 else "info" if verbose else
+                                "warning")).upper()
+    logger = logging.getLogger("maxk")
+    logger.setLevel(level)
+    if not any(getattr(h, "maxk_serve", False) for h in logger.handlers):
+        handler = logging.StreamHandler(sys.stderr)
+        handler.maxk_serve = True  # type: ignore[attr-defined]
+        logger.addHandler(handler)
+        logger.propagate = False
+    for each in logger.handlers:
+        each.setFormatter(logging.Formatter(
+            "%(message)s" if level == "WARNING" else "%(name)s: %(message)s"))
 
 
 def _speed(text: str) -> float:
@@ -65,8 +98,6 @@ def _speed(text: str) -> float:
     return value
 
 
-DEFAULT_PORTS = {"PoKeys": 20055, "MC405": 23}
-"""Ports the hosts' software has built in: PoKeysLib's 20055, atrio's telnet 23."""
 
 
 async def _open(opener: Any, service: Service, args: argparse.Namespace,
@@ -76,7 +107,7 @@ async def _open(opener: Any, service: Service, args: argparse.Namespace,
     use, or 23 without the right to bind it)."""
     if args.port is not None:
         return await opener(service, args.host, 0 if args.port == 0 else args.port + number - 1)
-    built_in = DEFAULT_PORTS.get(service.controller.kind)
+    built_in = kind_of(service.controller.model).default_port
     if built_in is not None:
         try:
             return await opener(service, args.host, built_in)
@@ -108,12 +139,21 @@ async def serve(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"maxk serve: {error}", file=sys.stderr)
         return 2
-    line_options = {"eol": args.eol, **({"ack": ""} if args.ack else {})}
+    asked = {**({"eol": args.eol} if args.eol else {}), **({"ack": ""} if args.ack else {})}
+    for option in asked:
+        if not any(option in kind_of(m).line_options for m in models):
+            print(f"maxk serve: --{option} means nothing to the "
+                  f"{', '.join(sorted({kind_of(m).name for m in models}))}", file=sys.stderr)
+            return 2
     services = []
     for number, model in enumerate(models, start=1):
-        archive = None if args.no_archive else str(
-            Path(args.archive_dir) / f"{model}-board{number}.params.json"
-            if args.archive_dir else default_archive_path(model, number))
+        kind = kind_of(model)
+        archive = default_archive(model, number)
+        if args.no_archive or archive is None:
+            archive = None
+        elif args.archive_dir:
+            archive = str(Path(args.archive_dir) / Path(archive).name)
+        line_options = {k: v for k, v in asked.items() if k in kind.line_options}
         controller = build(model, BuildOptions(number, archive, None, line_options))
         services.append(Service(number, controller, Pacer(controller, args.speed)))
     server = Server(services)
@@ -124,17 +164,23 @@ async def serve(args: argparse.Namespace) -> int:
             controller = service.controller
             transports = controller.transports
             where = []
+            tcp_port = None
             if not args.no_tcp and "tcp" in transports:
-                host, bound = await _open(server.open_tcp, service, args, n)
-                where.append(f"tcp {host}:{bound}")
+                host, tcp_port = await _open(server.open_tcp, service, args, n)
+                where.append(f"tcp {host}:{tcp_port}")
             if not args.no_tcp and "udp" in transports:
-                host, bound = await _open(server.open_udp, service, args, n)
+                try:  # one port number for both, as a host (PoKeysLib) dials one number
+                    if tcp_port is None:
+                        raise OSError
+                    host, bound = await server.open_udp(service, args.host, tcp_port)
+                except OSError:
+                    host, bound = await _open(server.open_udp, service, args, n)
                 where.append(f"udp {host}:{bound}")
             if (args.pty or args.pty_link) and "pty" in transports:
                 link = _numbered(args.pty_link, n, boards) if args.pty_link else None
                 path = server.open_pty(service, link)
                 where.append(f"serial {path}" + (f" (link {link})" if link else ""))
-            if args.shm and kind_of(controller.model).name == "MAXk":
+            if args.shm and kind_of(controller.model).shared_memory:
                 from maxk.host.shared_memory import SharedMemoryDoor
 
                 door = SharedMemoryDoor(service, _numbered(args.shm, n, boards))
@@ -164,4 +210,5 @@ async def serve(args: argparse.Namespace) -> int:
 
 
 def main(args: argparse.Namespace) -> int:
+    configure_logging(args)
     return asyncio.run(serve(args))

@@ -15,9 +15,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import ctypes
+import logging
 import os
 import struct
-import sys
 import termios
 import tty
 from collections.abc import Callable
@@ -34,6 +34,9 @@ from maxk.host.client import (  # noqa: F401  (the limits, re-exported for the d
     Client,
     Service,
 )
+from maxk.host.traffic import Traffic
+
+log = logging.getLogger("maxk.door.serve")
 
 
 class TcpClient(asyncio.Protocol, Client):
@@ -46,6 +49,8 @@ class TcpClient(asyncio.Protocol, Client):
         self.transport = transport  # type: ignore[assignment]
         self.loop = asyncio.get_running_loop()
         transport.set_write_buffer_limits(high=HIGH_WATER)  # type: ignore[attr-defined]
+        info = getattr(transport, "get_extra_info", None)  # (a test's stand-in may lack it)
+        self.traffic = self.service.open_traffic("tcp", info("peername") if info else "?")
         self.session = self.service.open_session(self)
         self.service.clients.add(self)
 
@@ -90,6 +95,7 @@ class UdpDoor(asyncio.DatagramProtocol):
         self.service = service
         self.transport: asyncio.DatagramTransport | None = None
         self.sessions: dict[object, Session] = {}
+        self.traffic: dict[object, Traffic] = {}  # per host address, as the sessions
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         self.transport = transport  # type: ignore[assignment]
@@ -105,8 +111,13 @@ class UdpDoor(asyncio.DatagramProtocol):
             if len(self.sessions) >= UDP_PEERS:
                 oldest = next(iter(self.sessions))
                 self.sessions.pop(oldest).close()
+                self.traffic.pop(oldest).closed()
+            self.traffic[addr] = self.service.open_traffic("udp", addr)
         self.sessions[addr] = session  # most recent last
+        traffic = self.traffic[addr]
+        traffic.incoming(data)
         out = self.service.handle(session, data)
+        traffic.outgoing(out)
         size = self.service.controller.packet_size or len(out) or 1
         if self.transport is not None:
             for i in range(0, len(out), size):
@@ -200,6 +211,7 @@ class PtyClient(Client):
         os.set_blocking(self.master, False)
         self.loop = loop
         self._client_init()
+        self.traffic = service.open_traffic("pty", self.path)
         self.session = service.open_session(self)
         self._reading = True
         self._watch = _OpenWatch.on(self.path)
@@ -333,8 +345,7 @@ class Server:
                 try:
                     step()
                 except Exception as error:  # one board's failure must not stop the others
-                    print(f"maxk serve: {error!r} (in {step!r}); still serving",
-                          file=sys.stderr, flush=True)
+                    log.error("maxk serve: %r (in %r); still serving", error, step)
             await asyncio.sleep(self.pace_interval)
 
     def stop(self) -> None:

@@ -13,6 +13,7 @@ from maxk.commands.max.context import (
 from maxk.commands.max.queued import (
     SETTING_QUERIES,
 )
+from maxk.commands.max.table import Timing, bind
 from maxk.personalities.maxk import flags as F
 from maxk.personalities.maxk.axis import Axis
 from maxk.personalities.maxk.board import Board
@@ -312,3 +313,6 @@ IMMEDIATE: dict[str, Callable[[Context], str | None]] = {
     "?KA": _gain_query("ka"),
     "?KP": _gain_query("kp"),
 }
+
+
+bind(Timing.IMMEDIATE, IMMEDIATE)

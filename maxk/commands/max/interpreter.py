@@ -9,11 +9,11 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from maxk.commands.max.context import CommandError, Context
-from maxk.commands.max.immediate import IMMEDIATE
+from maxk.commands.max.immediate import IMMEDIATE  # noqa: F401  (binds the behaviours)
 from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
-from maxk.commands.max.queued import QUEUED, SETTING_QUERIES, validate_queued
+from maxk.commands.max.queued import SETTING_QUERIES, validate_queued
 from maxk.commands.max.queued_motion import go_together, linear_target
-from maxk.commands.max.table import AA, Operand, Start, Timing
+from maxk.commands.max.table import AA, Operand, Start, Timing, check_bound
 from maxk.commands.max.vector import dispatch_vector
 from maxk.personalities.maxk.axis import Axis, LinearMove, StartGroup
 from maxk.personalities.maxk.board import Board
@@ -191,7 +191,7 @@ def _dispatch(board: Board, cmd: ParsedCommand) -> str | None:
             raise CommandError(f"{spec.mnemonic}: no operand given")
     ctx = Context(board, cmd, axes, values)
     if timing is _IMMEDIATE:
-        reply = IMMEDIATE[spec.mnemonic](ctx)
+        reply = spec.handler(ctx)  # type: ignore[misc]
         if board.cross_axis_event:  # a flush released an AA start group
             board.run_queues()
         return reply
@@ -219,12 +219,12 @@ def _dispatch_positional(board: Board, cmd: ParsedCommand, axis) -> str | None:
     value = values[0] if len(values) == 1 else tuple(values)
     ctx = Context(board, cmd, [axis], [value])
     if spec.timing is Timing.IMMEDIATE:
-        return IMMEDIATE[spec.mnemonic](ctx)
+        return spec.handler(ctx)  # type: ignore[misc]
     if board.mode == "single":
         _enqueue(ctx)
         return None
     validate_queued(ctx)
-    action = QUEUED[spec.mnemonic](value, ctx)
+    action = spec.handler(value, ctx)  # type: ignore[misc]
     if action(axis, board) is not None:
         raise CommandError(f"{spec.mnemonic} cannot wait outside a queue")
     if board.cross_axis_event:  # an output changed: an SW may be waiting on it
@@ -261,8 +261,8 @@ def _enqueue(ctx: Context) -> None:
         relative = start is _LINEAR_RELATIVE
         actions = [linear_target(sync, v, relative) for v in ctx.values]
     else:
-        factory = QUEUED[mnemonic]
-        actions = [factory(value, ctx) for value in ctx.values]
+        factory = spec.handler
+        actions = [factory(value, ctx) for value in ctx.values]  # type: ignore[misc]
     direct = mnemonic != "LS" and mnemonic != "WH"  # LE/WG jump back to them
     for axis, action in zip(ctx.axes, actions, strict=True):
         queue = axis.queue
@@ -280,3 +280,6 @@ def _enqueue(ctx: Context) -> None:
     if board.cross_axis_event:
         board.run_queues()
     return None
+
+
+check_bound()  # every entry has its behaviour, now that every module bound its own

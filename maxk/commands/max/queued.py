@@ -43,6 +43,7 @@ from maxk.commands.max.queued_motion import (
     _wait_cycle,
     _while_start,
 )
+from maxk.commands.max.table import Timing, bind
 from maxk.firmware_model.profiles import RampShape
 from maxk.firmware_model.servo import ServoLoop
 from maxk.personalities.maxk.axis import Axis
@@ -400,6 +401,17 @@ NOT_MODELLED_YET: dict[str, str] = {
     "ET": "ET: encoder tracking (electronic gearing) is not modelled",
 }
 """Commands in the table whose effect is not modelled yet: refused visibly, never ignored."""
+
+
+def _not_modelled(mnemonic: str) -> QueuedFactory:
+    def refuse(value: object, ctx: Context) -> Action:
+        raise CommandError(NOT_MODELLED_YET[mnemonic])
+
+    return refuse
+
+
+bind(Timing.QUEUED, QUEUED)
+bind(Timing.QUEUED, {m: _not_modelled(m) for m in NOT_MODELLED_YET})
 
 
 _BIT_COMMANDS = frozenset({"BH", "BL", "IO", "SW", "BW"})

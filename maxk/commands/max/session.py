@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from maxk.commands.line_session import LineSession
 from maxk.commands.max.interpreter import Interpreter
 from maxk.personalities.maxk.board import Board
 
@@ -42,47 +43,39 @@ class Framing:
         return cls(EOLS[eol], "ack" in options)
 
 
-class MaxSession:
-    """Bytes in, framed replies and notifications out (the `Session` contract)."""
+class MaxSession(LineSession):
+    """Bytes in, framed replies and notifications out (the `Session` contract). The MAX
+    lexer reads the stream itself (a command ends at `;`, CR or LF), so `feed` is its."""
+
+    unasked_limit = NOTIFICATIONS_KEPT
 
     def __init__(self, board: Board, framing: Framing,
                  notify: Callable[[], None] | None = None) -> None:
+        super().__init__(notify)
         self.board = board
         self.framing = framing
         self.interpreter = Interpreter(board)
         self.interpreter.on_reply = self._reply
-        self._out = bytearray()
         self._feeding = False
-        self._notify = notify
-        self.closed = False
         board.add_flag_listener(self._flags_set)
 
     def _flags_set(self, word: int) -> None:
-        if len(self._out) > NOTIFICATIONS_KEPT:
-            return  # a host that never reads loses notifications (never replies)
-        self._out += self.framing.notification(word)
-        if self._notify is not None:
-            self._notify()
+        self.unasked(self.framing.notification(word))  # lost by a host that never reads
 
     def _reply(self, text: str) -> None:
         """A query's reply, in order with the notifications of the commands around it; one
         held by WQ comes when the queue has emptied and wakes the door."""
-        self._out += self.framing.reply(text)
-        if not self._feeding and self._notify is not None:
-            self._notify()
+        self.reply(self.framing.reply(text))
+        if not self._feeding and self.notify is not None:
+            self.notify()
 
     def feed(self, data: bytes) -> None:
         self._feeding = True
         try:
             for text in self.interpreter.write(data):
-                self._out += self.framing.reply(text)
+                self.reply(self.framing.reply(text))
         finally:
             self._feeding = False
-
-    def read(self) -> bytes:
-        out = bytes(self._out)
-        self._out.clear()
-        return out
 
     def lose_partial_command(self) -> None:
         """A controller reset: a command half received is lost."""
@@ -91,5 +84,4 @@ class MaxSession:
 
     def close(self) -> None:
         self.board.remove_flag_listener(self._flags_set)
-        self._notify = None
-        self.closed = True
+        super().close()

@@ -13,9 +13,12 @@ the single source of truth is one place to read and to review.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
+from maxk.commands.tables import TableError, unique_table
 from maxk.personalities.maxk.contouring import MAX_VECTOR_VELOCITY, OVERRIDE_MAX
 from maxk.personalities.maxk.models import (
     MAX_ACCELERATION,
@@ -85,6 +88,10 @@ class CommandSpec:
     applied_at_stop: bool = False  # queued just before ST/SA, it acts first (evidence E4)
     assign_form: bool = False  # `VO=#`: '=' may stand for the form letter
     hex_operands: bool = False  # operands in hexadecimal (VIO)
+    handler: Callable[..., Any] | None = field(default=None, compare=False, repr=False)
+    # ^ what it does, bound once by the module that owns the behaviour (`bind`): an
+    # immediate command's handler(ctx), a queued one's factory(value, ctx), a vector
+    # command's handler(board, task, cmd); none for mode commands and MT/ML (by `start`)
 
     @property
     def syntax(self) -> str:
@@ -888,8 +895,34 @@ _SPECS: list[CommandSpec] = [
        notes="Not modelled: refused with a command error that says so (never ignored)."),
 ]
 
-COMMANDS: dict[str, CommandSpec] = {spec.mnemonic: spec for spec in _SPECS}
+COMMANDS: dict[str, CommandSpec] = unique_table(_SPECS, lambda spec: spec.mnemonic,
+                                                 "MAX command table")
 """Every mnemonic the board understands, keyed by its upper-case spelling."""
+
+
+def bind(timing: Timing, handlers: Mapping[str, Callable[..., Any]]) -> None:
+    """Bind behaviours on their table entries, once each (at import of the module that
+    owns them): a mnemonic not in the table, of another timing, or bound twice is an
+    error at import, not a surprise at run time."""
+    for mnemonic, handler in handlers.items():
+        spec = COMMANDS.get(mnemonic)
+        if spec is None:
+            raise TableError(f"{mnemonic}: a behaviour for a mnemonic not in the table")
+        if spec.timing is not timing:
+            raise TableError(f"{mnemonic}: bound as {timing.value}, listed as "
+                             f"{spec.timing.value}")
+        if spec.handler is not None:
+            raise TableError(f"{mnemonic}: bound twice")
+        object.__setattr__(spec, "handler", handler)  # (frozen: only here, only once)
+
+
+def check_bound() -> None:
+    """Every entry has its behaviour (called once every behaviour module is imported)."""
+    loose = [m for m, spec in COMMANDS.items() if spec.handler is None
+             and spec.timing is not Timing.MODE
+             and spec.start not in (Start.LINEAR_ABSOLUTE, Start.LINEAR_RELATIVE)]
+    if loose:
+        raise TableError(f"table entries without a behaviour: {', '.join(loose)}")
 
 GROUP_TITLES = {
     "mode": "Axis and mode selection",

@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 from maxk.commands.max.context import CommandError
 from maxk.commands.max.lexer import ParsedCommand
+from maxk.commands.max.table import Timing, bind
 from maxk.firmware_model.path import SegmentDef
 from maxk.personalities.maxk.board import Board
 from maxk.personalities.maxk.contouring import (
@@ -32,7 +33,7 @@ def dispatch_vector(board: Board, cmd: ParsedCommand) -> str | None:
     index = DEFAULT_TASK if cmd.task is None else cmd.task
     if index not in TASKS:
         raise CommandError(f"{cmd.mnemonic}[{index}]: vector tasks are 1-{TASKS[-1]}")
-    reply = _HANDLERS[cmd.mnemonic](board, board.contour_task(index), cmd)
+    reply = cmd.spec.handler(board, board.contour_task(index), cmd)  # type: ignore[misc]
     if board.cross_axis_event:
         board.run_queues()
     return reply
@@ -249,3 +250,6 @@ _HANDLERS: dict[str, Handler] = {
     "VA": _va, "VV": _vv, "VIO": _vio, "VID": _vid, "VP": _vp, "VC": _vc, "VE": _ve,
     "VG": _vg, "VH": _vh, "VO": _vo, "VOA": _voa, "VRV": _vrv, "VRC": _vrc,
 }
+
+
+bind(Timing.VECTOR, _HANDLERS)

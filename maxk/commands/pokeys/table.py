@@ -16,7 +16,10 @@ from dataclasses import dataclass
 from typing import Final
 
 from ...personalities.pokeys.device import PoKeysDevice
+from ..tables import unique_table
 from . import device_commands as dev
+from . import io_commands as io
+from . import peripheral_commands as per
 from . import pev1_commands as v1
 from . import pev2_commands as v2
 from .packet import Reply, Request
@@ -150,14 +153,152 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(PEV1, 0x36, "PK_PEBufferFlush", v1.flush, "reference 10; seed v1", "C"),
     _e(PEV1, 0x37, "PK_PEBufferFreeSizeGet", v1.free_slots, "reference 10; seed v1", "C",
        "In INTERNAL/JOGGING the controller's look-ahead (<= 10 slots) is not free (I)."),
+    # ---- pins and I/O (PoKeysLibIO.c) ----------------------------------------------------
+    _e(0xC0, ANY, "PK_PinConfigurationGet/Set", io.pin_configuration, "PoKeysLibIO.c", "C",
+       "[2]=0 [3]=0 get, [2]=1 set functions; [3]=1/2 counter options get/set. Each "
+       "model's pin capabilities from the library's device tables; a set-up with any pin "
+       "refused changes nothing and gets no reply (D: the library then reports a transfer "
+       "error, the device's way of refusing a frame)."),
+    _e(0xC1, ANY, "PK_PinConfigurationGet/Set (key mapping type)", io.key_mapping,
+       "PoKeysLibIO.c", "I", "USB keyboard emulation only; over the network: zeros (D)."),
+    _e(0xC2, ANY, "PK_PinConfigurationGet/Set (key codes)", io.key_mapping, "PoKeysLibIO.c",
+       "I", "As 0xC1."),
+    _e(0xC3, ANY, "PK_PinConfigurationGet/Set (key modifiers)", io.key_mapping,
+       "PoKeysLibIO.c", "I", "As 0xC1."),
+    _e(0xD7, ANY, "PK_PinConfigurationGet/Set (triggered inputs)", io.key_mapping,
+       "PoKeysLibIO.c", "I", "As 0xC1."),
+    _e(0xCC, ANY, "PK_DigitalIOGet/Set/SetGet", io.digital_io, "PoKeysLibIO.c", "C",
+       "Inputs: world digital input p = pin p (D); outputs only on output pins; [20..26] "
+       "keeps a pin. Output pins read back their driven level (D)."),
+    _e(0x30, ANY, "PK_DigitalIOGetSingle", io.digital_get_single, "PoKeysLibIO.c", "C",
+       "[2]=0 ok, [3] level; a pin past 55 answers [2]=1 (D)."),
+    _e(0x40, ANY, "PK_DigitalIOSetSingle", io.digital_set_single, "PoKeysLibIO.c", "C",
+       "[2]=1 when the pin is not a digital output: nothing changes (D)."),
+    _e(0x3A, ANY, "PK_AnalogIOGet", io.analog_get, "PoKeysLibIO.c", "C",
+       "Pins 41..47, 12-bit big-endian; 0..3.3 V full scale (D); 0 on a pin not "
+       "configured as analog input (D)."),
+    _e(0x38, ANY, "PK_AnalogRCFilterGet", io.analog_filter, "PoKeysLibIO.c", "C",
+       "u32 at [2..5]; stored, the filter is not applied (D)."),
+    _e(0x39, ANY, "PK_AnalogRCFilterSet", io.analog_filter, "PoKeysLibIO.c", "C"),
+    _e(0xD8, ANY, "PK_DigitalCounterGet", io.counters_get, "PoKeysLibIO.c", "C",
+       "Rising edges of the world's input on a pin configured as counter (D: options "
+       "stored only); a pin without a counter reads 0."),
+    _e(0x1D, ANY, "PK_DigitalCounterClear", io.counters_clear, "PoKeysLibIO.c", "C"),
+    _e(0xCB, ANY, "PK_PWMConfigurationGet/Set, PK_PWMUpdate", io.pwm, "PoKeysLibIO.c", "C",
+       "Channel n on pin 22-n, period and duty in 25 MHz clocks; update ([3]=1) sets the "
+       "duties only (I); a channel on a pin that cannot drive refuses the frame (D)."),
+    _e(0xDA, ANY, "PK_PoExtBusGet/Set", per.poextbus, "PoKeysLibIO.c", "C",
+       "10 bytes; the set is echoed (the library compares)."),
+    # ---- encoders (PoKeysLibEncoders.c) ------------------------------------------------
+    _e(0xC4, ANY, "PK_EncoderConfigurationGet/Set (options)", io.encoder_options,
+       "PoKeysLibEncoders.c", "C", "Bit 0 enables counting (I)."),
+    _e(0xC5, ANY, "PK_EncoderConfigurationGet/Set (channel pins)", io.encoder_options,
+       "PoKeysLibEncoders.c", "C", "A pins [8+i], B pins [33+i]; stored (the world gives "
+       "the counts)."),
+    _e(0xC6, ANY, "PK_EncoderConfigurationGet/Set (direction A keys)", io.encoder_options,
+       "PoKeysLibEncoders.c", "I", "USB only: zeros (D)."),
+    _e(0xC7, ANY, "PK_EncoderConfigurationGet/Set (direction B keys)", io.encoder_options,
+       "PoKeysLibEncoders.c", "I", "USB only: zeros (D)."),
+    _e(0xCE, ANY, "PK_EncoderConfigurationGet/Set (fast encoders)", io.fast_encoders,
+       "PoKeysLibEncoders.c", "C",
+       "[2]=2 get; a set's configuration is 0, 1 or 10 (I), others refused; a nonzero one "
+       "makes encoders 0..2 count (D)."),
+    _e(0x1C, ANY, "PK_EncoderConfigurationGet/Set (ultra-fast)", io.ultra_fast_encoder,
+       "PoKeysLibEncoders.c", "C", "[2]=0xFF get; nonzero configuration = encoder 25 "
+       "counts (D)."),
+    _e(0xCD, ANY, "PK_EncoderValuesGet/Set", io.encoder_values, "PoKeysLibEncoders.c", "C",
+       "An encoder attached to an axis counts its stage's pulses exactly, 1 count a pulse "
+       "(D), while enabled."),
+    _e(PEV2, 0x37, "PK_EncoderValuesGet (ultra-fast test values)",
+       io.ultra_fast_test_values, "PoKeysLibEncoders.c", "I",
+       "Index count, ticks per rotation, velocity: 0 (no spindle model, D)."),
+    # ---- the rest of the device ------------------------------------------------------------
+    _e(0x83, ANY, "PK_RTCGet/Set", per.rtc, "PoKeysLibRTC.c", "C",
+       "Runs on virtual time from 2018-01-10 00:00:00 (D); day of week 0 = Sunday (D); a "
+       "set with an impossible date is refused (D)."),
+    _e(0xCA, ANY, "PK_MatrixKBConfigurationGet/Set, PK_MatrixKBStatusGet",
+       per.matrix_keyboard, "PoKeysLibMatrixKB.c", "C",
+       "Key n = row * 8 + column (D); keys report only inside the configured size while "
+       "the keyboard is on ([8] bit 0, I)."),
+    _e(0xD0, ANY, "PK_LCDConfigurationGet/Set", per.lcd_configuration, "PoKeysLibLCD.c",
+       "C", "Up to 4 rows of 20 columns (D)."),
+    _e(0xD1, ANY, "PK_LCD operations (init, clear, cursor, print, update, ...)",
+       per.lcd_operation, "PoKeysLibLCD.c", "C",
+       "Text kept as the display shows it; characters past column 20 are dropped (D)."),
+    _e(0xDD, ANY, "PK_PoNET (status, module settings, status, LEDs, light, PWM)", per.ponet,
+       "PoKeysLibPoNET.c", "C",
+       "One kbd48CNC on module 0 (type/address 0x10, D) whose 48 keys the world presses."),
+    _e(0x81, ANY, "PK_FailsafeSettingsGet/Set", per.failsafe, "PoKeysLibFailsafe.c", "C",
+       "Stored; the failsafe timeout is not modelled (D)."),
+    _e(0x50, ANY, "PK_SaveConfiguration", per.save_configuration, "PoKeysLibDeviceData.c",
+       "C", "Pins, counters' options, PWM, encoders, RC filter, matrix keyboard, LCD and "
+       "failsafe set-ups survive a reset, and the run with an archive file (D)."),
+    _e(0x52, ANY, "PK_ClearConfiguration", per.save_configuration, "PoKeysLibDeviceData.c",
+       "C", "The saved set-up is the factory one again (D)."),
+    _e(PEV2, 0x0A, "PK_PEv2_SyncedPWMSetup", per.synced_pwm, "PoKeysLibPulseEngine_v2.c", "I",
+       "The channel's output duty follows the axis's speed / max speed (D)."),
+    _e(PEV2, 0x0B, "PK_PEv2_SyncOutputsSetup", per.sync_outputs, "PoKeysLibPulseEngine_v2.c",
+       "I", "Stored, not acted on (D)."),
+    *[_e(PEV2, sub, name, per.threading_request, "PoKeysLibPulseEngine_v2.c", "D",
+         "Answered with zeros; threading is not modelled (nothing prepared or active).")
+      for sub, name in ((0x30, "PK_PEv2_ThreadingPrepareForTrigger"),
+                        (0x31, "PK_PEv2_ThreadingForceTriggerReady"),
+                        (0x32, "PK_PEv2_ThreadingTrigger"),
+                        (0x33, "PK_PEv2_ThreadingRelease"), (0x34, "PK_PEv2_ThreadingCancel"),
+                        (0x35, "PK_PEv2_ThreadingStatusGet"),
+                        (0x36, "PK_PEv2_ThreadingSetup"))],
+    _e(PEV2, 0x40, "PK_PEv2_BacklashCompensationSettings_Get", per.backlash,
+       "PoKeysLibPulseEngine_v2.c", "C", "Stored; registers 0 (not applied, D)."),
+    _e(PEV2, 0x41, "PK_PEv2_BacklashCompensationSettings_Set", per.backlash,
+       "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(PEV2, 0x50, "PK_PoStep_ConfigurationGet/Set", per.postep,
+       "PoKeysLibPulseEngine_v2.c", "C", "Stored and echoed."),
+    _e(PEV2, 0x51, "PK_PoStep_StatusGet", per.postep, "PoKeysLibPulseEngine_v2.c", "C",
+       "No PoStep answers: every status byte 0 (D)."),
+    _e(PEV2, 0x52, "PK_PoStep_DriverConfigurationGet/Set (currents)", per.postep,
+       "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(PEV2, 0x53, "PK_PoStep_DriverConfigurationGet/Set (modes)", per.postep,
+       "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(0x82, ANY, "PK_PoIL* (state, core, memory, tasks)", per.poil, "PoKeysLibPoIL.c", "I",
+       "No PoIL program runs (D): state zeros, no tasks; memory types 1..7 keep what is "
+       "written (shared slots = type 4), reads of other memory give zeros (D)."),
+    _e(0xD5, ANY, "PK_MatrixLEDConfigurationGet/Set", per.matrix_led,
+       "PoKeysLibMatrixLED.c", "C", "Stored and read back."),
+    _e(0xD6, ANY, "PK_MatrixLEDUpdate", per.matrix_led, "PoKeysLibMatrixLED.c", "C",
+       "Display rows kept, not shown (D)."),
+    _e(0x4B, ANY, "PK_WS2812_Update / SendLEDdata", per.taken, "PoKeysLibWS2812.c", "I",
+       "Taken; no LED strip is modelled (D)."),
+    _e(0xDE, ANY, "PK_UARTConfigure/Write/Read", per.uart, "PoKeysLibUART.c", "C",
+       "Nothing on the line: writes taken whole, reads give 0 bytes (D)."),
+    _e(0x07, ANY, "PK_Get/SetFastUSBEnableStatus", per.fast_usb, "PoKeysLibDeviceData.c",
+       "I", "A network device: fast USB off (D)."),
+    _e(0x84, ANY, "PK_ReadDeviceLog", per.device_log, "PoKeysLibDeviceData.c", "I",
+       "An empty log (D)."),
+    _e(PEV2, 0x18, "PK_PEv2_InternalDriversConfigurationGet", per.internal_drivers,
+       "PoKeysLibPulseEngine_v2.c", "C", "Stored and read back; no internal driver (D)."),
+    _e(PEV2, 0x19, "PK_PEv2_InternalDriversConfigurationSet", per.internal_drivers,
+       "PoKeysLibPulseEngine_v2.c", "C"),
+    _e(0xBB, ANY, "PK_GetDebugValues", per.taken, "PoKeysLibDeviceData.c", "I",
+       "13 x i32 at [8] per part: zeros (D)."),
+    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", per.easy_sensors_setup,
+       "PoKeysLibEasySensors.c", "C", "100 sensors' set-ups stored (D)."),
+    _e(0x77, ANY, "PK_EasySensorsValueGetAll", per.easy_sensors_values,
+       "PoKeysLibEasySensors.c", "C", "Nothing attached: values 0, OK bits 0 (D)."),
+    _e(0xDB, ANY, "PK_I2C*", per.i2c, "PoKeysLibI2C.c", "C",
+       "Nothing on the bus: transfers end in error, a scan finds no address (D)."),
+    _e(0xE5, ANY, "PK_SPI*", per.spi, "PoKeysLibSPI.c", "C",
+       "Writes are sent; reads give 0xFF (nothing drives MISO, D)."),
+    _e(0xDC, ANY, "PK_1Wire*", per.one_wire, "PoKeysLib1Wire.c", "C",
+       "No presence pulse: read status 2 (D), scans find nothing."),
+    _e(0x86, ANY, "PK_CAN*", per.can, "PoKeysLibCAN.c", "C", "No message is ever received."),
 ]
 
-_BY_KEY: Final = {(e.command, e.sub): e for e in ENTRIES}
+_BY_KEY: Final = unique_table(ENTRIES, lambda e: (e.command, e.sub), "PoKeys table")
 
 NOT_MODELLED: Final = (
-    "0x85 0x0A/0x0B synced PWM and outputs, 0x18/0x19 drivers, 0x30-0x36 threading, "
-    "0x40/0x41 backlash, 0x50-0x53 PoStep, hybrid probing; every other PoKeys command "
-    "(I/O, encoders, LCD, ...): silent.")
+    "Hybrid probing: silent. "
+    "Threading, PoIL programs, WS2812 and matrix LED displays, the UART line: answered, "
+    "not modelled.")
 
 
 def lookup(command: int, sub: int) -> CommandEntry | None:

@@ -6,10 +6,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Final
 
+from ...firmware_model.world import World
+from .io import DeviceIO
 from .machine import SlotEngine
 from .pev1 import PulseEngineV1
 from .pev2 import PulseEngineV2
-from .world import PulseEngineWorld, SharedWorld, pokeys_world
+from .world import PoKeysIOWorld, PulseEngineWorld, SharedWorld, pokeys_world
 
 
 @dataclass(frozen=True)
@@ -58,9 +60,35 @@ class PoKeysDevice:
     user_id: int = 0
     lock_status: int = 0
     machine: SlotEngine = field(init=False)
+    io: DeviceIO = field(init=False)
+    pins: PoKeysIOWorld = field(init=False)
 
     def __post_init__(self) -> None:
         self.machine = SlotEngine(self.engine)
+        self.io = DeviceIO(self.identity.model)
+        world = self.machine.world or World.default(len(self.engine.axes))
+        self.pins = PoKeysIOWorld(self.io, world, self._stage, lambda: self.machine,
+                                  self.machine.world_changed)
+
+    def pwm_output(self, channel: int) -> float:
+        """PWM channel's duty as a fraction of its period, as the pin puts it out: a
+        channel synced to an axis (0x85 0x0A) follows that axis's speed over its max
+        speed (D), else the duty the host set."""
+        enabled, axis, synced = self.io.synced_pwm
+        if not (enabled and synced == channel):
+            return self.io.pwm_fraction(channel)
+        if not self.io.pwm_enabled >> channel & 1:
+            return 0.0
+        found = self.engine.motion_plan(axis)
+        max_speed = self.engine.axes[axis].settings.max_speed * 1000.0  # pulses/s
+        if found is None or max_speed <= 0:
+            return 0.0
+        t = (self.engine.slot - found.start) / 1000.0
+        return min(1.0, abs(found.plan.velocity(t)) / max_speed)
+
+    def _stage(self, axis: int) -> int:
+        axes = self.engine.axes
+        return axes[axis].stage if 0 <= axis < len(axes) else 0
 
     @classmethod
     def create(cls, model: str = "PoKeys57CNC", world: PulseEngineWorld | None = None,
@@ -90,6 +118,11 @@ class PoKeysDevice:
         for a, before in zip(self.engine.axes, old.axes, strict=True):
             a.counter_offset = -before.stage  # the stage stays where it stood
         self.machine.replace_pulse_engine(self.engine)
+        wiring = [(e.axis, e.direction) for e in self.io.encoders]  # the machine's wiring
+        self.io.power_up()  # the saved set-up; counters, outputs and encoders at 0
+        for e, (axis, direction) in zip(self.io.encoders, wiring, strict=True):
+            e.axis, e.direction = axis, direction
+            e.axis_from = self._stage(axis) if axis is not None else 0
 
 
 def new_engine(ident: Identity, world: PulseEngineWorld) -> PulseEngineV1 | PulseEngineV2:

@@ -9,6 +9,7 @@ two ``next_*`` questions let the engine jump over stretches where nothing change
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple, Protocol
@@ -202,3 +203,131 @@ class SharedWorld:
         timed = callable(self.world.digital.get(self.estop_input)) or any(
             callable(s) for s in self.mpg.values())
         return slot + 1 if timed else None
+
+
+class PoKeysIOWorld:
+    """The PoKeys's pins on the shared `World`: what a test, a script, the REPL or the
+    world contract drives (inputs, analog volts, keys, encoders on axes) and what the
+    device drives (outputs, PWM), read through one object.
+
+    World digital input p is pin p's level (input 0 is the dedicated e-stop, not a pin);
+    world analog channel p is pin p's voltage. Counters count the rising edges the world
+    makes on a pin configured as a counter (D: the counter options are stored, not used);
+    an input that is a function is sampled when the device reads it (D)."""
+
+    def __init__(self, io: Any, world: World, stage: Callable[[int], int],
+                 board: Callable[[], Any] = lambda: None,
+                 changed: Callable[[], None] = lambda: None) -> None:
+        self.io = io  # a personalities.pokeys.io.DeviceIO
+        self.world = world
+        self.stage = stage  # axis index -> its stage (physical pulses)
+        self.board = board
+        self.changed = changed
+        self._levels: dict[int, bool] = {}
+
+    # ---- inputs the world drives -----------------------------------------------------
+    def set_input(self, pin: int, level: object) -> None:
+        """Pin `pin` (1..55; 0 = the e-stop input) at a level or a function of time."""
+        if not 0 <= pin <= 55:
+            raise ValueError(f"no input {pin} (pins 1..55, 0 the e-stop)")
+        self.world.digital[pin] = level  # type: ignore[assignment]
+        self.sample(pin)
+        self.changed()
+
+    def analog(self, pin: int, volts: object) -> None:
+        """Pin `pin`'s voltage (0..3.3 V on the analog pins 41..47)."""
+        from .io import ANALOG_FULL_SCALE, ANALOG_PINS
+        if pin not in ANALOG_PINS:
+            raise ValueError(f"pin {pin} has no analog input (pins 41..47)")
+        if not callable(volts):
+            v = float(volts)  # type: ignore[arg-type]
+            if not math.isfinite(v) or not 0.0 <= v <= ANALOG_FULL_SCALE:
+                raise ValueError(f"volts must be a number from 0 to {ANALOG_FULL_SCALE}, "
+                                 f"not {volts}")
+        self.world.analog[pin] = volts  # type: ignore[assignment]
+
+    def press_key(self, key: int, pressed: bool = True) -> None:
+        """Matrix keyboard key (row * 8 + column, D) pressed or released."""
+        if not 0 <= key < 128:
+            raise ValueError(f"no matrix key {key} (0..127 = row*8 + column)")
+        (self.io.matrix_keys.add if pressed else self.io.matrix_keys.discard)(key)
+
+    def press_kbd48(self, key: int, pressed: bool = True) -> None:
+        """kbd48CNC key 0..47 on the PoNET bus."""
+        if not 0 <= key < 48:
+            raise ValueError(f"no kbd48CNC key {key} (0..47)")
+        keys = self.io.kbd48.keys
+        (keys.add if pressed else keys.discard)(key)
+
+    def attach_encoder(self, encoder: int, axis: int | None, direction: int = 1) -> None:
+        """Encoder `encoder` (0..25; 25 the ultra-fast one) counts axis `axis`'s stage from
+        now on (None: detached, it keeps its count)."""
+        if not 0 <= encoder < len(self.io.encoders):
+            raise ValueError(f"no encoder {encoder} (0..{len(self.io.encoders) - 1})")
+        e = self.io.encoders[encoder]
+        e.base = self.encoder_value(encoder)
+        e.axis = axis
+        e.direction = -1 if direction < 0 else 1
+        e.axis_from = self.stage(axis) if axis is not None else 0
+
+    # ---- what the device reads -------------------------------------------------------
+    def input_level(self, pin: int) -> bool:
+        return self.world.digital_level(pin, self.board())
+
+    def sample(self, pin: int) -> bool:
+        """The pin's level now; a rising edge since the last sample counts (counter pins)."""
+        level = self.input_level(pin)
+        before = self._levels.get(pin, False)
+        self._levels[pin] = level
+        if level and not before and 1 <= pin <= 55 and self.io.counts(pin):
+            self.io.counters[pin - 1] = (self.io.counters[pin - 1] + 1) & 0xFFFFFFFF
+        return level
+
+    def pin_level(self, pin: int) -> bool:
+        """What DigitalIOGet reports for pin: an output its driven level, an input the
+        world's level (inverted when the pin is inverted)."""
+        from .io import DIGITAL_OUTPUT, INVERT
+        f = self.io.functions[pin - 1]
+        if f & DIGITAL_OUTPUT:
+            return bool(self.io.output_level(pin))
+        level = self.sample(pin)
+        return level != bool(f & INVERT)
+
+    def analog_code(self, pin: int) -> int:
+        """12-bit code of an analog input pin (0 unless configured as one)."""
+        from .io import ANALOG_FULL_SCALE, ANALOG_INPUT
+        if not self.io.functions[pin - 1] & ANALOG_INPUT:
+            return 0
+        volts = self.world.analog_volts(pin, self.board())
+        return max(0, min(4095, round(volts / ANALOG_FULL_SCALE * 4095)))
+
+    def encoder_counting(self, encoder: int) -> bool:
+        if encoder == 25:
+            return self.io.ultra_fast[0] != 0
+        if encoder < 3 and self.io.fast_encoders[0] != 0:
+            return True
+        return bool(self.io.encoders[encoder].options & 1)
+
+    def encoder_value(self, encoder: int) -> int:
+        e = self.io.encoders[encoder]
+        if e.axis is None or not self.encoder_counting(encoder):
+            return int(e.base)
+        return int(e.base + e.direction * (self.stage(e.axis) - e.axis_from))
+
+    def load_encoder(self, encoder: int, value: int) -> None:
+        e = self.io.encoders[encoder]
+        e.base = value
+        if e.axis is not None:
+            e.axis_from = self.stage(e.axis)
+
+    def freeze_encoders(self) -> list[int]:
+        """Before a configuration change: every encoder's count, to restart from."""
+        return [self.encoder_value(i) for i in range(len(self.io.encoders))]
+
+    def restart_encoders(self, values: list[int]) -> None:
+        for i, v in enumerate(values):
+            self.load_encoder(i, v)
+
+    def output_levels(self) -> dict[int, bool]:
+        """Every digital output pin's level."""
+        return {p: self.io.output_level(p) for p in range(1, 56) if self.io.is_output(p)}

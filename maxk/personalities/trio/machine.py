@@ -28,6 +28,7 @@ from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.path import PathPlan
 from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
+from maxk.firmware_model.world import World
 
 from .kinematics import Kinematics
 from .memory import TableMemory, VrMemory
@@ -75,6 +76,7 @@ class MC405Machine(Kinematics, Engine):
         self.revision = 0
         self.tracer: PwmTrace | None = None
         self.axes: list[TrioAxis] = []
+        self.world = World.default(axis_count)  # the machine around it: kept over EX
         self._power_up()
         self.outputs = PwmLinks(self)
         self.add_source(_MotionEvents(self))

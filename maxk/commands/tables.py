@@ -1,0 +1,28 @@
+"""What every language's table shares: one entry per name, a duplicate refused at import.
+
+A table built with a dict comprehension keeps the last of two entries with one name and
+says nothing; `unique_table` says which name came twice, so a table stays the single
+source of truth it claims to be."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable, Iterable
+from typing import TypeVar
+
+Entry = TypeVar("Entry")
+Key = TypeVar("Key", bound=Hashable)
+
+
+class TableError(Exception):
+    """A language's table is not well formed (found at import)."""
+
+
+def unique_table(entries: Iterable[Entry], key: Callable[[Entry], Key],
+                 what: str = "table") -> dict[Key, Entry]:
+    table: dict[Key, Entry] = {}
+    for entry in entries:
+        name = key(entry)
+        if name in table:
+            raise TableError(f"{what}: {name!r} is listed twice")
+        table[name] = entry
+    return table
