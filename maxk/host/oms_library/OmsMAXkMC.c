@@ -240,6 +240,33 @@ static long map_mailbox_wait(oms_board *b, unsigned offset, uint32_t busy_value,
     }
 }
 
+/* Wait until the board has refreshed its registers after what it just took (the tick
+ * counter is written after the flags in each refresh), so a flag read next is current. */
+static long map_settle(oms_board *b, long ms)
+{
+    double deadline = now_ms() + (double)ms;
+    uint32_t tick = map_get(b, MAP_TICK);
+    while (map_get(b, MAP_TICK) == tick) {
+        if (now_ms() > deadline)
+            return COMMAND_TIME_OUT;
+        pause_us(100);
+    }
+    return SUCCESS;
+}
+
+/* Wait until the board has taken all text written so far and refreshed after it. */
+static long map_sync(oms_board *b, long ms)
+{
+    double deadline = now_ms() + (double)ms;
+    uint32_t target = map_get(b, MAP_CMD_INSERT);
+    while (map_get(b, MAP_CMD_PROCESS) != target) {
+        if (now_ms() > deadline)
+            return COMMAND_TIME_OUT;
+        pause_us(100);
+    }
+    return map_settle(b, ms);
+}
+
 static long map_write_text(oms_board *b, const char *text, size_t n)
 {
     double deadline = now_ms() + (double)b->command_ms;
@@ -966,6 +993,7 @@ static long clear_axis_flags(oms_board *b, long axes, unsigned kinds)
     if (b->transport == OMS_MAP) {
         uint32_t mask = 0;
         long rc;
+        int texted = 0;
         for (i = 0; i < 8; i++)
             if (axes & (1L << i)) {
                 if (kinds & 1u)
@@ -981,13 +1009,17 @@ static long clear_axis_flags(oms_board *b, long axes, unsigned kinds)
                     mask |= i == 8 ? ODBR_W_NOTIFY : ODBR_K_NOTIFY;
                 else if ((rc = command(b, "A%cCA;", AXIS_LETTERS[i])) != SUCCESS)
                     return rc;
+                else
+                    texted = 1;
             }
         if (!mask)
-            return SUCCESS;
+            return texted ? map_sync(b, b->command_ms) : SUCCESS;
         if ((rc = map_mailbox_wait(b, MAP_ODBR_CLEAR, 0, b->command_ms)) != SUCCESS)
             return rc;
         map_put(b, MAP_ODBR_CLEAR, mask);
-        return map_mailbox_wait(b, MAP_ODBR_CLEAR, 0, b->command_ms);
+        if ((rc = map_mailbox_wait(b, MAP_ODBR_CLEAR, 0, b->command_ms)) != SUCCESS)
+            return rc;
+        return map_settle(b, b->command_ms);
     }
 #endif
     tcp_drain(b);
@@ -1009,10 +1041,24 @@ static long clear_axis_flags(oms_board *b, long axes, unsigned kinds)
             if (kinds & 4u)
                 b->notified &= ~(1UL << (21 + i));
         }
-        if (kinds & 1u) {
-            long rc = command(b, "A%cCA;", AXIS_LETTERS[i]);
+        if (kinds & 6u) {
+            /* the board's overtravel and slip flags clear with RA (which clears its done
+             * flag too: decision D in docs/oms-library.md); a later event notifies again */
+            char line[OMS_LINE_MAX];
+            long rc = query(b, line, sizeof line, "A%cRA;", AXIS_LETTERS[i]);
             if (rc != SUCCESS)
                 return rc;
+            tcp_drain(b);
+            b->notified &= ~(i < 8 ? (1UL << i) | (1UL << (8 + i)) | (1UL << (16 + i))
+                                   : (1UL << (17 + i)) | (1UL << (19 + i)) | (1UL << (21 + i)));
+        } else if (kinds & 1u) {
+            /* CA, then QA: its reply comes after any done notification already on its way,
+             * so what arrives after it is news */
+            char line[OMS_LINE_MAX];
+            long rc = query(b, line, sizeof line, "A%cCA;QA;", AXIS_LETTERS[i]);
+            if (rc != SUCCESS)
+                return rc;
+            b->notified &= ~(i < 8 ? 1UL << i : 1UL << (17 + i));
         }
     }
     return SUCCESS;
@@ -1209,6 +1255,7 @@ static long clear_status(HANDLE h, long status)
         CHECK(map_mailbox_wait(b, MAP_ODBR_CLEAR, 0, b->command_ms));
         map_put(b, MAP_ODBR_CLEAR, ODBR_COMMAND_ERROR);
         CHECK(map_mailbox_wait(b, MAP_ODBR_CLEAR, 0, b->command_ms));
+        CHECK(map_settle(b, b->command_ms));
         goto done;
     }
 #endif
@@ -1310,18 +1357,8 @@ static long wait_done(oms_board *b, long axes, long ms)
     int i;
 #ifdef OMS_HAVE_MAP
     if (b->transport == OMS_MAP) {
-        uint32_t target = map_get(b, MAP_CMD_INSERT), tick;
-        while (map_get(b, MAP_CMD_PROCESS) != target) {
-            if (now_ms() > deadline)
-                return MOVE_TIME_OUT;
-            pause_us(100);
-        }
-        tick = map_get(b, MAP_TICK);
-        while (map_get(b, MAP_TICK) == tick) {
-            if (now_ms() > deadline)
-                return MOVE_TIME_OUT;
-            pause_us(100);
-        }
+        if (map_sync(b, ms < 0 ? 0 : ms) != SUCCESS)
+            return MOVE_TIME_OUT;
         for (;;) {
             axis_flag_bits(b, bits, NULL);
             for (i = 0; i < OMS_AXES; i++)
@@ -1341,6 +1378,9 @@ static long wait_done(oms_board *b, long axes, long ms)
             continue;
         if ((rc = query(b, line, sizeof line, "A%cQA;", AXIS_LETTERS[i])) != SUCCESS)
             return rc;
+        /* QA tells the state now: a done notification taken in before its reply is an
+         * earlier move's, still on its way when the flag was cleared */
+        b->notified &= ~(i < 8 ? 1UL << i : 1UL << (17 + i));
         if (line[1] == 'D')
             pending &= ~(1L << i);
     }

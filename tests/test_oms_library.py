@@ -1,0 +1,168 @@
+"""The vendor's motion-control library API (libOmsMAXkMC) over served boards: a C program
+calling every exported function through the PCI map and through the TCP door, a Python
+ctypes host written the way the published GUI code is, and the library's own limits.
+
+The boards run on the wall clock here (a separate process cannot be told when virtual
+time moves); every limit given to a ...Wait is generous except the one that must expire,
+which waits for a move 1000 times longer than its limit."""
+
+from __future__ import annotations
+
+import ctypes
+import fcntl
+import os
+import struct
+import subprocess
+from ctypes import byref, c_long, create_string_buffer
+from pathlib import Path
+
+import pytest
+
+from maxk import MAXk
+from maxk.host import memory_map as M
+from maxk.host import oms_library
+from tests.hosting import HostedBoards
+
+ROOT = Path(__file__).parent.parent
+pytestmark = pytest.mark.skipif(oms_library.compiler() is None, reason="no C compiler")
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory) -> Path:
+    """The library built from the source in this tree (not whatever an install left)."""
+    return oms_library.build(tmp_path_factory.mktemp("lib") / oms_library.LIBRARY_NAME)
+
+
+@pytest.fixture(scope="module")
+def check_program(library: Path) -> Path:
+    exe = library.parent / "oms_library_check"
+    result = subprocess.run(
+        [*oms_library.compiler().split(), "-Wall", f"-I{oms_library.INCLUDE_DIR}", "-o", str(exe),
+         str(ROOT / "tests" / "oms_library_check.c"), f"-L{library.parent}", "-lOmsMAXkMC",
+         f"-Wl,-rpath,{library.parent}", "-lpthread"],
+        capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    # the legacy habit `void main(void)` costs one warning, nothing else
+    warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
+    assert len(warnings) <= 1 and all("main" in w for w in warnings), result.stderr
+    return exe
+
+
+def _prepare_world(board: MAXk) -> None:
+    board.set_limits("T", plus=3000, minus=-3000)
+    board.set_home("U", 500, 560)
+    board.set_home("Z", 200, 400)
+    board.set_index("Z", 1000, 4, 300)
+    board.set_input(3, True)
+
+
+def _reference_homes() -> dict[str, int]:
+    """The same homing commands on a board run directly: where each home must end."""
+    ref = MAXk("MAXk-A000")
+    _prepare_world(ref)
+    out: dict[str, int] = {}
+
+    def run(text: str, letter: str) -> int:
+        ref.send(f"A{letter};CA;{text}")
+        assert ref.run_until_done(letter)
+        return int(ref.query(f"A{letter} RP"))
+
+    ref.send("AZ;PSE;")
+    run("AZ;MR-100;GO;ID;", "Z")
+    ref.send("AU;VL20000;AC200000;HL;HH;")
+    out["home_fwd_U"] = run("AU;HSHM0;ID;", "U")
+    run("AU;MA30;GD;ID;", "U")
+    run("AU;MR3000;GD;ID;", "U")
+    out["home_rev_U"] = run("AU;HSHR100;ID;", "U")
+    run("AU;MR-3000;GD;ID;", "U")
+    out["home_fwd2_U"] = run("AU;HSHM7;ID;", "U")
+    run("AU;MR3000;GD;ID;", "U")
+    out["home_rev2_U"] = run("AU;HSHR-5;ID;", "U")
+    ref.send("AZ;VL20000;AC200000;")
+    out["home_enc_fwd_Z"] = run("AZ;HEHM0;ID;", "Z")
+    run("AZ;MR2000;GD;ID;", "Z")
+    out["home_enc_rev_Z"] = run("AZ;HEHR0;ID;", "Z")
+    return out
+
+
+def _served(tmp_path: Path) -> tuple[HostedBoards, list[str]]:
+    paths = [str(tmp_path / "maxk"), str(tmp_path / "maxk2")]
+    boards = HostedBoards(models=("MAXk-A000", "MAXk-4000"), shm_paths=paths,
+                          real_time_speed=1.0)
+    boards.call(lambda: _prepare_world(boards.services[0].controller))
+    return boards, paths
+
+
+def _run_check(exe: Path, env: dict[str, str], boards: HostedBoards) -> dict[str, str]:
+    """Run the program; when it stops at `io_check`, look at the world's I/O lines."""
+    board = boards.services[0].controller.board
+    proc = subprocess.Popen([str(exe)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env={**os.environ, **env})
+    assert proc.stdout is not None and proc.stdin is not None
+    printed: dict[str, str] = {}
+    try:
+        for line in proc.stdout:
+            key, _, value = line.rstrip("\n").partition(" ")
+            printed[key] = value
+            if key == "io_check":
+                # outputs 9 and 12 high, 15 low, input 3 high: in the world, not only in replies
+                printed["world_io"] = str(boards.call(lambda: board.io.word(board)))
+                proc.stdin.write("\n")
+                proc.stdin.flush()
+        proc.wait(timeout=300)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.stdin.close()
+        proc.stdout.close()
+        stderr = proc.stderr.read() if proc.stderr else ""
+        if proc.stderr:
+            proc.stderr.close()
+    assert proc.returncode == 0, f"{printed}\n{stderr}"
+    return printed
+
+
+def _check_board(boards: HostedBoards, printed: dict[str, str], transport: str) -> None:
+    board = boards.services[0].controller
+    for key, expected in _reference_homes().items():
+        assert int(printed[key]) == expected, key
+    assert printed["description"].startswith("MAXk-A000, ver:")
+    assert int(printed["home_sensors"]) & 0x10 == 0x10  # U stopped on its switch
+    assert int(printed["flags_U"]) & 0x0A == 0x0A  # done and home switch
+    assert int(printed["limit_T"]) >= 3000
+    x, y, _z, t, u, _v, _r, _s, w, k = (int(v) for v in printed["motor"].split())
+    assert (x, y, u, w, k) == (1900, 2400, int(printed["home_rev2_U"]), 1, 12345)
+    assert t <= -3000  # stopped on the minus limit it was sent to find
+    assert int(printed["world_io"]) & 0xFF08 == 0x1208 == int(printed["io_check"]) & 0xFF08
+    # each call reached the board as a host's commands, in its book of hosts (what
+    # `maxk serve -vv` logs): the last ones are the 1000-step kill's reply and WY
+    hosts = [t for t in boards.services[0].traffic.hosts if t.transport == transport]
+    said = b"".join(e.data for t in hosts for e in t.entries if e.direction == "in")
+    assert said.endswith(b"AXRP;WY;")
+    # ... and the bad command among them in the board's error list (the REPL's :errors)
+    assert any(record.command.startswith("QQ") for record in board.board.errors)
+
+
+def test_every_function_through_the_map(tmp_path, check_program):
+    boards, paths = _served(tmp_path)
+    try:
+        printed = _run_check(check_program, {"MAXK_OMSMAXK1": f"shm:{paths[0]}",
+                                             "MAXK_OMSMAXK2": paths[1],
+                                             "MAXK_OMS_CONFIG": str(tmp_path / "none.conf")},
+                             boards)
+        _check_board(boards, printed, "shm")
+    finally:
+        boards.close()
+
+
+def test_every_function_over_tcp(tmp_path, check_program):
+    boards, _ = _served(tmp_path)
+    config = tmp_path / "oms.conf"
+    config.write_text("# where the boards are\n"
+                      f"OmsMAXk1 = tcp:127.0.0.1:{boards.ports[0]}\n"
+                      f"OmsMAXk2 = tcp:127.0.0.1:{boards.ports[1]}\n")
+    try:
+        printed = _run_check(check_program, {"MAXK_OMS_CONFIG": str(config)}, boards)
+        _check_board(boards, printed, "tcp")
+    finally:
+        boards.close()
