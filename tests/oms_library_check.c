@@ -106,6 +106,7 @@ static int run(const char *name, const char *second)
     EXPECT(h2 != NULL, "second handle");
     other = GetOmsHandle((LPSTR)second);
     EXPECT(other != NULL && other != h, "board 2");
+    EXPECT(h2 == h, "handles of one board are one handle");
 
     /* ---- general -------------------------------------------------------------------- */
     GetOmsDllVersion(buf, sizeof buf);
@@ -433,7 +434,7 @@ static int run(const char *name, const char *second)
     OK(SendAndGetString(h, "WY", buf)); /* h still open: a board closes with its last handle */
     CloseOmsHandle(h);
     CloseOmsHandle(other);
-    CODE(SendString(h, "WY"), COMMAND_TIME_OUT);
+    CODE(SendString(h, "WY"), COMMAND_TIME_OUT); /* closed: nothing takes it */
     CODE(SendString(NULL, "WY"), COMMAND_TIME_OUT);
     printf("failures %d\n", failures);
     return failures ? 1 : 0;

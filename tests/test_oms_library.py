@@ -166,3 +166,138 @@ def test_every_function_over_tcp(tmp_path, check_program):
         _check_board(boards, printed, "tcp")
     finally:
         boards.close()
+
+
+# ---- Python hosts through ctypes ------------------------------------------------------
+def _serve(tmp_path: Path, *extra: str) -> tuple[subprocess.Popen, dict[int, str]]:
+    """`maxk serve` as a user starts it; returns the process and each board's TCP door."""
+    proc = subprocess.Popen(
+        [os.environ.get("PYTHON", "python3"), "-m", "maxk", "serve", "--no-archive",
+         "--seconds", "120", *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert proc.stdout is not None
+    doors: dict[int, str] = {}
+    for line in proc.stdout:
+        number = int(line.split()[1].rstrip(":"))
+        doors[number] = line.split(" tcp ")[1].split(",")[0].strip()
+        if "--boards" not in extra or len(doors) == int(extra[extra.index("--boards") + 1]):
+            break
+    return proc, doors
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    proc.terminate()
+    proc.wait(timeout=30)
+    for stream in (proc.stdout, proc.stderr):
+        if stream:
+            stream.close()
+
+
+def test_the_ctypes_example_runs_against_maxk_serve(tmp_path, library):
+    """examples/oms_library/ctypes_host.py: the GUI-style host, one line changed."""
+    proc, _ = _serve(tmp_path, "--model", "MAXk-8000", "--shm", str(tmp_path / "maxk"))
+    try:
+        result = subprocess.run(
+            [os.environ.get("PYTHON", "python3"),
+             str(ROOT / "examples" / "oms_library" / "ctypes_host.py")],
+            capture_output=True, text=True, timeout=120,
+            env={**os.environ, "OMS_LIBRARY": str(library),
+                 "MAXK_OMSMAXK1": str(tmp_path / "maxk")})
+    finally:
+        _stop(proc)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.splitlines() == [
+        "description: Success MAXk-8000, ver:1.33, S/N: 000001, FPGA:20",
+        "base velocity: Success", "velocity: Success", "acceleration: Success",
+        "too fast: Invalid parameter", "two axes at once: Invalid axis selection",
+        "load position: Success", "move: Success", "position: 2500 velocity: 0",
+        "bit 12 high: Success", "bit 16: Invalid bit number", "bits: 1000", "AXRP: 2500"]
+
+
+def _gui_library(path: Path) -> ctypes.CDLL:
+    """Loaded as the GUI does: no restype or argtypes declared, handles kept as ints."""
+    return ctypes.CDLL(str(path))
+
+
+def test_gui_style_calls_over_tcp_to_two_boards(tmp_path, library, monkeypatch):
+    proc, doors = _serve(tmp_path, "--boards", "2", "--model", "MAXk-4000")
+    try:
+        monkeypatch.setenv("MAXK_OMSMAXK1", f"tcp:{doors[1]}")
+        monkeypatch.setenv("MAXK_OMSMAXK2", f"tcp:{doors[2]}")
+        monkeypatch.setenv("MAXK_OMS_CONFIG", str(tmp_path / "none"))
+        lib = _gui_library(library)
+        name = [create_string_buffer(b"OmsMAXk1")]
+        one = lib.GetOmsHandle((ctypes.c_char_p)(*map(ctypes.addressof, name)))
+        two = lib.GetOmsHandle(create_string_buffer(b"OmsMAXk2"))
+        assert one != 0 and two != 0 and one != two
+        assert lib.GetOmsHandle(create_string_buffer(b"OmsMAXk3")) == 0  # handle 0: no board
+        model = create_string_buffer(80)
+        assert lib.GetOmsControllerDescription(one, model) == 0
+        assert model.value.startswith(b"MAXk-4000, ver:")
+        for handle, steps in ((one, 1500), (two, -700)):
+            assert lib.SetOmsAxisVelocity(handle, ctypes.c_long(2), ctypes.c_long(30000)) == 0
+            assert lib.MoveOmsAxisRelWait(handle, ctypes.c_long(2), ctypes.c_long(steps),
+                                          ctypes.c_long(5000)) == 0
+        positions = []
+        for handle in (one, two):
+            position = c_long(0)
+            assert lib.GetOmsAxisMotorPosition(handle, c_long(2), byref(position)) == 0
+            positions.append(position.value)
+        assert positions == [1500, -700]
+        codes = [lib.SetOmsAxisVelocity(one, c_long(1), c_long(4000001)),
+                 lib.MoveOmsAxisRel(one, c_long(5), c_long(1)),
+                 lib.SetOmsIOBit(one, c_long(16), c_long(1)),
+                 lib.SetOmsAxisAcceleration(one, c_long(1), c_long(8000001))]
+        assert codes == [5, 3, 6, 5]  # INVALID_PARAMETER, _AXIS_SELECTION, _BIT_NUMBER
+        assert lib.ResetOmsController(one) == 0
+        reply = create_string_buffer(80)
+        assert lib.SendAndGetString(one, b"AYRP", reply) == 0 and reply.value == b"0"
+        lib.CloseOmsHandle(one)
+        lib.CloseOmsHandle(two)
+        assert lib.SendString(one, b"WY") == 1  # COMMAND_TIME_OUT: the handle is closed
+    finally:
+        _stop(proc)
+
+
+# ---- the library's own limits --------------------------------------------------------
+def _dead_map(path: Path) -> int:
+    """A map a server holds (its lock) but never serves: nothing takes or answers text."""
+    image = bytearray(M.SIZE)
+    image[M.LAYOUT:M.LAYOUT + 4] = M.LAYOUT_MAGIC
+    struct.pack_into(">I", image, M.BOARD_NUMBER, 1)
+    path.write_bytes(bytes(image))
+    fd = os.open(path, os.O_RDWR)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    return fd
+
+
+def test_command_and_response_time_outs(tmp_path, library, monkeypatch):
+    fd = _dead_map(tmp_path / "dead")
+    monkeypatch.setenv("MAXK_OMSMAXK1", str(tmp_path / "dead"))
+    monkeypatch.setenv("MAXK_OMS_COMMAND_TIMEOUT_MS", "50")
+    monkeypatch.setenv("MAXK_OMS_RESPONSE_TIMEOUT_MS", "50")
+    try:
+        lib = ctypes.CDLL(str(library))
+        handle = lib.GetOmsHandle(b"OmsMAXk1")
+        assert handle != 0
+        reply = create_string_buffer(80)
+        assert lib.SendAndGetString(handle, b"WY", reply) == 2  # RESPONSE_TIME_OUT
+        assert lib.SendString(handle, b"A" * 1100) == 1  # COMMAND_TIME_OUT: the ring is full
+        assert lib.MoveOmsAxisRelWait(handle, 1, 10, 1000) in (1, 4)
+        lib.CloseOmsHandle(handle)
+    finally:
+        os.close(fd)
+
+
+def test_a_map_nobody_serves_gives_no_handle(tmp_path, library, monkeypatch):
+    """The file a killed server left behind (no lock on it), a missing file, a file of
+    another kind: GetOmsHandle says NULL, as the vendor's does for a board not found."""
+    fd = _dead_map(tmp_path / "left")
+    os.close(fd)  # the lock goes with its holder
+    (tmp_path / "other").write_bytes(b"x" * M.SIZE)
+    lib = ctypes.CDLL(str(library))
+    for where in (tmp_path / "left", tmp_path / "missing", tmp_path / "other"):
+        monkeypatch.setenv("MAXK_OMSMAXK1", str(where))
+        assert lib.GetOmsHandle(b"OmsMAXk1") == 0
+    monkeypatch.setenv("MAXK_OMSMAXK1", "tcp:127.0.0.1:1")
+    assert lib.GetOmsHandle(b"OmsMAXk1") == 0

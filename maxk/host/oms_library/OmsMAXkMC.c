@@ -528,20 +528,19 @@ static long query(oms_board *b, char *reply, size_t size, const char *fmt, ...)
 }
 
 /* ---- handles --------------------------------------------------------------------------- */
+/* A handle is the board's number (1..16) as a pointer: it survives code that keeps it
+ * in an int, as ctypes callers do by default (the Windows driver's handles are small
+ * numbers too). Handles of one board share its connection and its lock. */
 static oms_board *board_of(HANDLE h)
 {
-    oms_board *b = (oms_board *)h;
-    int i;
-    if (!b)
+    intptr_t n = (intptr_t)h;
+    oms_board *b;
+    if (n < 1 || n > OMS_BOARDS)
         return NULL;
     registry_lock();
-    for (i = 1; i <= OMS_BOARDS; i++)
-        if (g_boards[i] == b) {
-            registry_unlock();
-            return b;
-        }
+    b = g_boards[n];
     registry_unlock();
-    return NULL;
+    return b;
 }
 
 /* Where board N is: MAXK_OMSMAXK<N>, else a line `OmsMAXk<N> = WHERE` in the file named by
@@ -762,24 +761,22 @@ HANDLE _stdcall GetOmsHandle(LPSTR name)
     if (b)
         b->refs++;
     registry_unlock();
-    return (HANDLE)b;
+    return b ? (HANDLE)(intptr_t)number : NULL;
 }
 
 void _stdcall CloseOmsHandle(HANDLE h)
 {
-    oms_board *b = (oms_board *)h;
-    int i;
-    if (!b)
+    intptr_t n = (intptr_t)h;
+    oms_board *b;
+    if (n < 1 || n > OMS_BOARDS)
         return;
     registry_lock();
-    for (i = 1; i <= OMS_BOARDS; i++)
-        if (g_boards[i] == b)
-            break;
-    if (i > OMS_BOARDS || --b->refs > 0) {
+    b = g_boards[n];
+    if (!b || --b->refs > 0) {
         registry_unlock();
         return;
     }
-    g_boards[i] = NULL;
+    g_boards[n] = NULL;
     registry_unlock();
     oms_mutex_lock(&b->lock); /* a call still running on another thread ends first */
     oms_mutex_unlock(&b->lock);

@@ -70,3 +70,25 @@ def compile_command(program: str = "program.c", library: Path | None = None) -> 
     lib = library or library_path() or installed_library()
     return (f"cc -I{INCLUDE_DIR} -o {Path(program).stem} {program} "
             f"-L{lib.parent} -lOmsMAXkMC -Wl,-rpath,{lib.parent}")
+
+
+def describe(path_only: bool = False, rebuild: bool = False) -> int:
+    """`maxk library`: the library's path, its headers and a compile line (builds the
+    library first when the install could not, or when asked)."""
+    lib = library_path()
+    stale = lib is not None and lib.stat().st_mtime < SOURCE.stat().st_mtime
+    if rebuild or lib is None or (stale and compiler() is not None):
+        try:
+            lib = build()
+        except RuntimeError as error:
+            print(f"maxk library: {error}", file=sys.stderr)
+            return 1
+    if path_only:
+        print(lib)
+        return 0
+    print(f"library: {lib}")
+    print(f"headers: {INCLUDE_DIR} (OmsMAXkMC.h, OmsMAXkMC.H, windows.h)")
+    print(f"compile: {compile_command('program.c', lib)}")
+    print("boards:  MAXK_OMSMAXK<N>=shm:PATH or tcp:HOST:PORT, or ~/.config/maxk/oms.conf "
+          "(docs/oms-library.md)")
+    return 0
