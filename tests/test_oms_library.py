@@ -11,6 +11,8 @@ from __future__ import annotations
 import ctypes
 import fcntl
 import os
+import re
+import shutil
 import struct
 import subprocess
 from ctypes import byref, c_long, create_string_buffer
@@ -301,3 +303,37 @@ def test_a_map_nobody_serves_gives_no_handle(tmp_path, library, monkeypatch):
         assert lib.GetOmsHandle(b"OmsMAXk1") == 0
     monkeypatch.setenv("MAXK_OMSMAXK1", "tcp:127.0.0.1:1")
     assert lib.GetOmsHandle(b"OmsMAXk1") == 0
+
+
+# ---- Windows: the same source builds OmsMAXkMC.dll --------------------------------------
+MINGW = "x86_64-w64-mingw32-gcc"
+
+
+@pytest.mark.skipif(shutil.which(MINGW) is None, reason=f"no {MINGW} (gcc-mingw-w64-x86-64)")
+def test_the_same_source_cross_builds_the_windows_dll(tmp_path):
+    dll = tmp_path / "OmsMAXkMC.dll"
+    built = subprocess.run([MINGW, "-O2", "-Wall", "-Werror", "-shared",
+                            f"-I{oms_library.INCLUDE_DIR}", "-o", str(dll),
+                            str(oms_library.SOURCE), "-lws2_32"],
+                           capture_output=True, text=True, timeout=300)
+    assert built.returncode == 0, built.stderr
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    if objdump:
+        table = subprocess.run([objdump, "-p", str(dll)], capture_output=True, text=True).stdout
+        exported = set(re.findall(r"^\s*\[\s*\d+\] (\w+)$", table, re.M))
+        declared = set(re.findall(r"_stdcall (\w+)\(",
+                                  (oms_library.INCLUDE_DIR / "OmsMAXkMC.h").read_text()))
+        assert len(declared) == 120 and exported == declared
+    # a Windows host program, as the vendor demo is written, links against it
+    demo = tmp_path / "demo.c"
+    demo.write_text('#include <windows.h>\n#include <stdio.h>\n#include "OmsMAXkMC.H"\n'
+                    "int main(void) {\n  char reply[80];\n"
+                    '  HANDLE h = GetOmsHandle("OmsMAXk1");\n'
+                    "  if (!h) return 1;\n"
+                    '  SendAndGetString(h, "AXRP", reply);\n'
+                    "  MoveOmsAxisRelWait(h, OMS_X_AXIS, 10000, 5000);\n"
+                    "  CloseOmsHandle(h);\n  return 0;\n}\n")
+    linked = subprocess.run([MINGW, "-Wall", "-Werror", f"-I{oms_library.INCLUDE_DIR}",
+                             "-o", str(tmp_path / "demo.exe"), str(demo), str(dll)],
+                            capture_output=True, text=True, timeout=300)
+    assert linked.returncode == 0, linked.stderr

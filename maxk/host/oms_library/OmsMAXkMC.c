@@ -17,6 +17,10 @@
 #define _DEFAULT_SOURCE 1
 #endif
 
+#if defined(_WIN32)
+#include <winsock2.h> /* before windows.h, which the header includes */
+#include <ws2tcpip.h>
+#endif
 #include "OmsMAXkMC.h"
 
 #include <ctype.h>
@@ -28,8 +32,6 @@
 #include <string.h>
 
 #if defined(_WIN32)
-#include <winsock2.h>
-#include <ws2tcpip.h>
 typedef SOCKET oms_socket;
 #define OMS_BAD_SOCKET INVALID_SOCKET
 #define oms_close_socket closesocket
