@@ -337,3 +337,35 @@ def test_the_same_source_cross_builds_the_windows_dll(tmp_path):
                              "-o", str(tmp_path / "demo.exe"), str(demo), str(dll)],
                             capture_output=True, text=True, timeout=300)
     assert linked.returncode == 0, linked.stderr
+
+
+@pytest.mark.skipif(shutil.which("g++") is None, reason="no C++ compiler")
+def test_cpp_hosts_pass_string_literals_without_a_warning(tmp_path, library):
+    """C++ stage code passes literals where the API says LPSTR, as MSVC allows."""
+    source = tmp_path / "stage.cpp"
+    source.write_text('#include <windows.h>\n#include "OmsMAXkMC.h"\n'
+                      "int main() {\n  char reply[80];\n"
+                      '  HANDLE h = GetOmsHandle("OmsMAXk1");\n'
+                      "  if (h == INVALID_HANDLE_VALUE || h == NULL) return 1;\n"
+                      '  SendAndGetString(h, ";WY;", reply);\n'
+                      '  SendString(h, ";AX;PSE;LMH;");\n  SendOmsTextCommand(h, "AXRP");\n'
+                      '  SendOmsQueryCommand(h, "AXRP", reply);\n'
+                      "  AXES_DATA positions;\n  GetEncoderPositions(h, &positions);\n"
+                      "  CloseOmsHandle(h);\n  return 0;\n}\n")
+    built = subprocess.run(["g++", "-Wall", "-Wextra", "-Werror", f"-I{oms_library.INCLUDE_DIR}",
+                            "-o", str(tmp_path / "stage"), str(source), f"-L{library.parent}",
+                            "-lOmsMAXkMC"], capture_output=True, text=True, timeout=120)
+    assert built.returncode == 0, built.stderr
+
+
+def test_maxk_library_prints_the_library_headers_and_a_compile_line(capsys):
+    from maxk.cli import main
+
+    assert main(["library"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    lib = Path(out[0].split(": ", 1)[1])
+    assert lib.name == oms_library.LIBRARY_NAME and lib.exists()
+    assert out[1].startswith(f"headers: {oms_library.INCLUDE_DIR}")
+    assert out[2].startswith("compile: ") and "-lOmsMAXkMC" in out[2]
+    assert main(["library", "--path"]) == 0
+    assert capsys.readouterr().out.strip() == str(lib)

@@ -291,4 +291,20 @@ DLLIMPORT long _stdcall OMS_BigBufferSendBlock(HANDLE h, LPSTR block, long size,
 DLLIMPORT long _stdcall OMS_GetBigBufferFreeSpace(HANDLE h, long *free_space);
 DLLIMPORT long _stdcall OMS_FlushBigBuffer(HANDLE h);
 
+#if defined(__cplusplus) && !defined(OMSMAXKMC_BUILD)
+/* C++ code passes string literals where the API says LPSTR (MSVC lets it); these
+ * overloads take them without a warning and call the functions above. */
+inline HANDLE GetOmsHandle(const char *name) { return GetOmsHandle(const_cast<LPSTR>(name)); }
+inline long SendOmsQueryCommand(HANDLE h, const char *command, LPSTR reply)
+{ return SendOmsQueryCommand(h, const_cast<LPSTR>(command), reply); }
+inline long SendAndGetString(HANDLE h, const char *command, LPSTR reply)
+{ return SendAndGetString(h, const_cast<LPSTR>(command), reply); }
+inline long SendOmsTextCommand(HANDLE h, const char *command)
+{ return SendOmsTextCommand(h, const_cast<LPSTR>(command)); }
+inline long SendString(HANDLE h, const char *command)
+{ return SendString(h, const_cast<LPSTR>(command)); }
+inline long OMS_BigBufferSendBlock(HANDLE h, const char *block, long size, long *sent)
+{ return OMS_BigBufferSendBlock(h, const_cast<LPSTR>(block), size, sent); }
+#endif
+
 #endif /* MAXK_OMSMAXKMC_H */
