@@ -227,6 +227,7 @@ def test_gui_style_calls_over_tcp_to_two_boards(tmp_path, library, monkeypatch):
         monkeypatch.setenv("MAXK_OMSMAXK1", f"tcp:{doors[1]}")
         monkeypatch.setenv("MAXK_OMSMAXK2", f"tcp:{doors[2]}")
         monkeypatch.setenv("MAXK_OMS_CONFIG", str(tmp_path / "none"))
+        monkeypatch.setenv("MAXK_OMS_RESPONSE_TIMEOUT_MS", "300")
         lib = _gui_library(library)
         name = [create_string_buffer(b"OmsMAXk1")]
         one = lib.GetOmsHandle((ctypes.c_char_p)(*map(ctypes.addressof, name)))
@@ -251,6 +252,10 @@ def test_gui_style_calls_over_tcp_to_two_boards(tmp_path, library, monkeypatch):
                  lib.SetOmsIOBit(one, c_long(16), c_long(1)),
                  lib.SetOmsAxisAcceleration(one, c_long(1), c_long(8000001))]
         assert codes == [5, 3, 6, 5]  # INVALID_PARAMETER, _AXIS_SELECTION, _BIT_NUMBER
+        # a command that answers nothing times out and owes nothing to the next query
+        reply = create_string_buffer(80)
+        assert lib.SendAndGetString(one, b"AX;LP5", reply) == 2  # RESPONSE_TIME_OUT
+        assert lib.SendAndGetString(one, b"AXRP", reply) == 0 and reply.value == b"5"
         assert lib.ResetOmsController(one) == 0
         reply = create_string_buffer(80)
         assert lib.SendAndGetString(one, b"AYRP", reply) == 0 and reply.value == b"0"

@@ -125,7 +125,6 @@ typedef struct oms_board {
     oms_socket sock;
     char inbox[OMS_LINE_MAX]; /* received reply text not yet taken */
     size_t inbox_len;
-    int stale_replies; /* replies owed to calls that timed out: dropped when they come */
     unsigned long notified; /* TCP: flag bits the board has notified, not yet cleared */
     eOMSBuffMode buffer_mode;
     long command_ms, response_ms;
@@ -417,8 +416,6 @@ static int take_line(oms_board *b, char *line, size_t size)
             char word[16] = {0};
             memcpy(word, b->inbox + start + 5, len - 5 < 15 ? len - 5 : 15);
             b->notified |= parse_hex(word);
-        } else if (b->stale_replies > 0) {
-            b->stale_replies--;
         } else {
             size_t keep = len < size - 1 ? len : size - 1;
             memcpy(line, b->inbox + start, keep);
@@ -442,10 +439,8 @@ static long read_line(oms_board *b, char *line, size_t size)
     for (;;) {
         if (take_line(b, line, size))
             return SUCCESS;
-        if (now_ms() > deadline) {
-            b->stale_replies++;
+        if (now_ms() > deadline)
             return RESPONSE_TIME_OUT;
-        }
 #ifdef OMS_HAVE_MAP
         if (b->transport == OMS_MAP) {
             if (!map_pull(b))
@@ -453,10 +448,8 @@ static long read_line(oms_board *b, char *line, size_t size)
             continue;
         }
 #endif
-        if (tcp_pull(b, 5) < 0) {
-            b->stale_replies++;
+        if (tcp_pull(b, 5) < 0)
             return RESPONSE_TIME_OUT;
-        }
     }
 }
 
@@ -488,6 +481,21 @@ static void tcp_drain(oms_board *b)
         } else {
             at = (size_t)(end - b->inbox) + 1;
         }
+    }
+}
+
+/* Before a query: replies nobody waits for any more (a call that timed out, a command
+ * text holding two queries, a query sent with SendString) are dropped, so the reply
+ * taken next is this query's. Notifications are kept. */
+static void discard_replies(oms_board *b)
+{
+    char scratch[OMS_LINE_MAX];
+#ifdef OMS_HAVE_MAP
+    if (b->transport == OMS_MAP)
+        map_pull(b);
+#endif
+    tcp_drain(b);
+    while (take_line(b, scratch, sizeof scratch)) {
     }
 }
 
@@ -525,6 +533,7 @@ static long query(oms_board *b, char *reply, size_t size, const char *fmt, ...)
     va_end(args);
     if (n < 0 || (size_t)n >= sizeof text)
         return INVALID_PARAMETER;
+    discard_replies(b);
     rc = write_text(b, text);
     return rc != SUCCESS ? rc : read_line(b, reply, size);
 }
@@ -847,7 +856,6 @@ long _stdcall ResetOmsController(HANDLE h)
         if (rc == SUCCESS) /* the board answers again once power-up initialization ran */
             rc = map_mailbox_wait(b, MAP_FIRMWARE_FLAGS, 0xFFFFFFFFu, b->command_ms);
         b->inbox_len = 0;
-        b->stale_replies = 0;
         map_put(b, MAP_RESP_PROCESS, map_get(b, MAP_RESP_INSERT));
         goto done;
     }
@@ -868,6 +876,7 @@ static long send_and_get(HANDLE h, LPSTR cmd, LPSTR reply)
         goto done;
     }
     reply[0] = 0;
+    discard_replies(b);
     CHECK(write_text(b, cmd));
     /* a command without its terminator still runs: the board ends it at the separator */
     if (cmd[0] && !strchr(";\r\n", cmd[strlen(cmd) - 1]))
