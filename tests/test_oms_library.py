@@ -356,7 +356,8 @@ def test_cpp_hosts_pass_string_literals_without_a_warning(tmp_path, library):
                       '  SendString(h, ";AX;PSE;LMH;");\n  SendOmsTextCommand(h, "AXRP");\n'
                       '  SendOmsQueryCommand(h, "AXRP", reply);\n'
                       "  AXES_DATA positions;\n  GetEncoderPositions(h, &positions);\n"
-                      "  CloseOmsHandle(h);\n  return 0;\n}\n")
+                      "  DWORD started = GetTickCount();\n  Sleep(2);\n"
+                      "  CloseOmsHandle(h);\n  return GetTickCount() >= started ? 0 : 1;\n}\n")
     built = subprocess.run(["g++", "-Wall", "-Wextra", "-Werror", f"-I{oms_library.INCLUDE_DIR}",
                             "-o", str(tmp_path / "stage"), str(source), f"-L{library.parent}",
                             "-lOmsMAXkMC"], capture_output=True, text=True, timeout=120)

@@ -14,7 +14,8 @@
 #define OMSMAXKMC_BUILD 1
 #if !defined(_WIN32)
 #define _POSIX_C_SOURCE 200809L
-#define _DEFAULT_SOURCE 1
+#define _DEFAULT_SOURCE 1 /* glibc: flock, the BSD socket words */
+#define _DARWIN_C_SOURCE 1 /* macOS: the same */
 #endif
 
 #if defined(_WIN32)
@@ -64,6 +65,9 @@ typedef pthread_mutex_t oms_mutex;
 #define oms_mutex_unlock(m) pthread_mutex_unlock(m)
 #define oms_mutex_destroy(m) pthread_mutex_destroy(m)
 #define OMS_HAVE_MAP 1
+#ifndef MSG_NOSIGNAL /* macOS: SO_NOSIGPIPE on the socket instead */
+#define MSG_NOSIGNAL 0
+#endif
 #endif
 
 #define OMS_LIBRARY_VERSION "OmsMAXkMC v1.00 (maxk emulator library 1.0)"
@@ -177,6 +181,12 @@ static void pause_us(long us)
     nanosleep(&t, NULL);
 #endif
 }
+
+#if !defined(_WIN32)
+/* The windows.h stand-in's Sleep and GetTickCount (include/windows.h). */
+OMS_LINKAGE void OmsCompatSleep(DWORD ms) { pause_us((long)ms * 1000L); }
+OMS_LINKAGE DWORD OmsCompatTickCount(void) { return (DWORD)(uint64_t)now_ms(); }
+#endif
 
 /* How long the library waits for the board to take a command and to answer it
  * (MAXK_OMS_COMMAND_TIMEOUT_MS / MAXK_OMS_RESPONSE_TIMEOUT_MS; default 2000 ms). */
@@ -704,6 +714,9 @@ static int open_tcp(oms_board *b, const char *where)
     {
         int one = 1;
         setsockopt(s, IPPROTO_TCP, TCP_NODELAY, (const char *)&one, sizeof one);
+#ifdef SO_NOSIGPIPE
+        setsockopt(s, SOL_SOCKET, SO_NOSIGPIPE, (const char *)&one, sizeof one);
+#endif
     }
     b->sock = s;
     return 1;

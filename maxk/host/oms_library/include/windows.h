@@ -13,8 +13,6 @@
 #include <stdint.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
-#include <unistd.h>
 
 typedef void *HANDLE;
 typedef HANDLE *PHANDLE;
@@ -68,7 +66,6 @@ typedef double DOUBLE;
 #define _T(s) s
 
 /* Helpers legacy programs lean on. */
-#define Sleep(ms) usleep((useconds_t)(ms) * 1000u)
 #define ZeroMemory(p, n) memset((p), 0, (n))
 #define lstrlen(s) ((int)strlen(s))
 #define lstrcpy(d, s) strcpy((d), (s))
@@ -79,12 +76,18 @@ typedef double DOUBLE;
 #define stricmp strcasecmp
 #define strnicmp strncasecmp
 
-static inline DWORD GetTickCount(void)
-{
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (DWORD)((uint64_t)now.tv_sec * 1000u + (uint64_t)now.tv_nsec / 1000000u);
+/* Sleep and GetTickCount live in libOmsMAXkMC, so they work in strict ISO C modes
+ * (-ansi) where the POSIX clock calls are hidden. */
+#ifdef __cplusplus
+extern "C" {
+#endif
+void OmsCompatSleep(DWORD ms);
+DWORD OmsCompatTickCount(void);
+#ifdef __cplusplus
 }
+#endif
+#define Sleep(ms) OmsCompatSleep((DWORD)(ms))
+#define GetTickCount() OmsCompatTickCount()
 
 #endif /* _WIN32 */
 #endif /* MAXK_WINDOWS_COMPAT_H */
