@@ -368,6 +368,22 @@ static int run(const char *name, const char *second)
     EXPECT(mask == 0 && value == 0, "slip flags %#lx", mask);
     OK(ClrSlipFlags(h, OMS_Z_AXIS));
     OK(ClrOmsSlipFlags(h, OMS_Z_AXIS));
+    /* S gets an encoder and slip detection; the test makes its stage miss 50 steps */
+    OK(SendString(h, "AS;PSE;IS;ES10;"));
+    OK(SendAndGetString(h, "ASRP", buf)); /* taken by the board by now */
+    printf("world slip\n");
+    fflush(stdout);
+    EXPECT(getchar() == '\n', "the test's go-ahead");
+    OK(MoveOmsAxisRelWait(h, OMS_S_AXIS, 1000, 20000));
+    OK(GetOmsAxisSlipFlag(h, OMS_S_AXIS, &flag));
+    EXPECT(flag == TRUE, "S slipped");
+    OK(GetSlipFlags(h, &mask));
+    EXPECT(mask == OMS_S_AXIS, "slip flags %#lx", mask);
+    OK(GetOmsEncoderFlags(h, OMS_S_AXIS, &value));
+    EXPECT(value & AXIS_SLIPPED, "S encoder flags %#lx", value);
+    OK(ClrOmsSlipFlags(h, OMS_S_AXIS));
+    OK(GetAllOmsSlipFlags(h, &mask));
+    EXPECT(mask == 0, "slip flags cleared %#lx", mask);
 
     /* ---- ramps -------------------------------------------------------------------------- */
     OK(SelectOmsCosineRamp(h, OMS_X_AXIS));

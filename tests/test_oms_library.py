@@ -96,7 +96,8 @@ def _served(tmp_path: Path) -> tuple[HostedBoards, list[str]]:
 
 
 def _run_check(exe: Path, env: dict[str, str], boards: HostedBoards) -> dict[str, str]:
-    """Run the program; when it stops at `io_check`, look at the world's I/O lines."""
+    """Run the program; at `world slip` make S's stage miss steps, at `io_check` look at
+    the world's I/O lines; each time answer so it goes on."""
     board = boards.services[0].controller.board
     proc = subprocess.Popen([str(exe)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env={**os.environ, **env})
@@ -106,6 +107,10 @@ def _run_check(exe: Path, env: dict[str, str], boards: HostedBoards) -> dict[str
         for line in proc.stdout:
             key, _, value = line.rstrip("\n").partition(" ")
             printed[key] = value
+            if key == "world" and value == "slip":
+                boards.call(lambda: boards.services[0].controller.miss_steps("S", 50))
+                proc.stdin.write("\n")
+                proc.stdin.flush()
             if key == "io_check":
                 # outputs 9 and 12 high, 15 low, input 3 high: in the world, not only in replies
                 printed["world_io"] = str(boards.call(lambda: board.io.word(board)))
