@@ -311,8 +311,12 @@ def test_a_map_nobody_serves_gives_no_handle(tmp_path, library, monkeypatch):
     for where in (tmp_path / "left", tmp_path / "missing", tmp_path / "other"):
         monkeypatch.setenv("MAXK_OMSMAXK1", str(where))
         assert lib.GetOmsHandle(b"OmsMAXk1") == 0
-    monkeypatch.setenv("MAXK_OMSMAXK1", "tcp:127.0.0.1:1")
-    assert lib.GetOmsHandle(b"OmsMAXk1") == 0
+    monkeypatch.setenv("MAXK_OMS_COMMAND_TIMEOUT_MS", "200")
+    monkeypatch.setenv("MAXK_OMS_RESPONSE_TIMEOUT_MS", "200")
+    for where in ("tcp:127.0.0.1:1", "tcp:10.255.255.1:5001", "tcp:no-such-host.invalid:1",
+                  "tcp:nonsense"):
+        monkeypatch.setenv("MAXK_OMSMAXK1", where)
+        assert lib.GetOmsHandle(b"OmsMAXk1") == 0  # refused, not a MAX board, no such name
 
 
 # ---- Windows: the same source builds OmsMAXkMC.dll --------------------------------------

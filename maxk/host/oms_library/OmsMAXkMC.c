@@ -678,6 +678,28 @@ static int open_map(oms_board *b, const char *path)
 }
 #endif
 
+/* connect(), but given up after `ms` (an address that never answers would otherwise
+ * hold GetOmsHandle for the system's own limit, minutes). */
+static int connect_within(oms_socket s, const struct addrinfo *ai, long ms)
+{
+#if defined(_WIN32)
+    (void)ms;
+    return connect(s, ai->ai_addr, (int)ai->ai_addrlen) == 0;
+#else
+    int flags = fcntl(s, F_GETFL, 0), error = 0;
+    socklen_t len = sizeof error;
+    struct pollfd p = {s, POLLOUT, 0};
+    if (flags < 0 || fcntl(s, F_SETFL, flags | O_NONBLOCK) < 0)
+        return 0;
+    if (connect(s, ai->ai_addr, ai->ai_addrlen) != 0) {
+        if (errno != EINPROGRESS || poll(&p, 1, (int)ms) != 1 ||
+            getsockopt(s, SOL_SOCKET, SO_ERROR, &error, &len) != 0 || error != 0)
+            return 0;
+    }
+    return fcntl(s, F_SETFL, flags) == 0;
+#endif
+}
+
 static int open_tcp(oms_board *b, const char *where)
 {
     char host[256];
@@ -703,7 +725,7 @@ static int open_tcp(oms_board *b, const char *where)
         s = socket(ai->ai_family, ai->ai_socktype, ai->ai_protocol);
         if (s == OMS_BAD_SOCKET)
             continue;
-        if (connect(s, ai->ai_addr, (int)ai->ai_addrlen) == 0)
+        if (connect_within(s, ai, env_ms("MAXK_OMS_COMMAND_TIMEOUT_MS", 2000)))
             break;
         oms_close_socket(s);
         s = OMS_BAD_SOCKET;
@@ -737,8 +759,16 @@ static oms_board *open_board(int number)
     b->command_ms = env_ms("MAXK_OMS_COMMAND_TIMEOUT_MS", 2000);
     b->response_ms = env_ms("MAXK_OMS_RESPONSE_TIMEOUT_MS", 2000);
     if (strncmp(where, "tcp:", 4) == 0) {
-        if (open_tcp(b, where + 4))
+        char line[OMS_LINE_MAX];
+        if (open_tcp(b, where + 4)) {
+            /* something answers there: a MAX board says so to WY (a port of anything
+             * else is no board) */
             b->transport = OMS_TCP;
+            if (query(b, line, sizeof line, "WY;") != SUCCESS || strncmp(line, "MAX", 3) != 0) {
+                oms_close_socket(b->sock);
+                b->transport = 0;
+            }
+        }
     }
 #ifdef OMS_HAVE_MAP
     else if (open_map(b, strncmp(where, "shm:", 4) == 0 ? where + 4 : where)) {
