@@ -1,13 +1,13 @@
 """A PoKeys57CNC's I/O polled at 1 kHz over UDP beside a streaming pulse engine, in real
 time behind `maxk serve`'s server (the same `Server`, `Service`, `Pacer`).
 
-Two hosts, each on its own thread: a streaming host on TCP keeps 3 buffered axes' slot
-buffer about half full (0xFF fills); an I/O host on UDP, once a millisecond, does what a
-LinuxCNC-style loop does with PoKeysLib: PK_DigitalIOGet (0xCC), PK_AnalogIOGet (0x3A)
-and PK_EncoderValuesGet (0xCD 0, 0xCD 1, 0x85 0x37), with an encoder wired to the moving
-X axis and a world input toggling. Figures: the round trip of each request (p50, p99,
-max) and of the whole 5-request cycle, how many cycles missed their millisecond, and
-whether the buffer ran dry.
+Two hosts, each in its own process as real hosts are: a streaming host on TCP keeps 3
+buffered axes' slot buffer about half full (0xFF fills); an I/O host on UDP, once a
+millisecond, does what a LinuxCNC-style loop does with PoKeysLib: PK_DigitalIOGet
+(0xCC), PK_AnalogIOGet (0x3A) and PK_EncoderValuesGet (0xCD 0, 0xCD 1, 0x85 0x37), with
+an encoder wired to the moving X axis and a world input toggling. Figures: the round
+trip of each request (p50, p99, max) and of the whole 5-request cycle, how many cycles
+missed their millisecond, and whether the buffer ran dry.
 
 Run: PYTHONPATH=. python3 benchmarks/pokeys_io.py [--seconds 10]
 (also `python -m benchmarks pokeys_io`, beside the naive loop's figure)
@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import multiprocessing
 import socket
 import struct
 import threading
 import time
+from multiprocessing.connection import Connection
 
 from benchmarks.figure import Figure
 from maxk.commands.pokeys import make_request
@@ -109,49 +111,36 @@ def _percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, int(len(ordered) * q))] * 1e3
 
 
-def run(seconds: float = 10.0) -> dict[str, float]:
-    door = Door()
-    stream = Host(socket.create_connection(("127.0.0.1", door.tcp), timeout=5))
-    udp = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    udp.settimeout(5)
-    io = Host(udp, ("127.0.0.1", door.udp))
-    # set-up through the requests: 3 buffered axes, pins, an encoder on X, analog volts
-    stream.ask(0x85, 0x01, payload=bytes([AXES, 0, 1]))
-    config = bytearray(45)
-    config[0] = 0x01
-    struct.pack_into("<f", config, 8, 125.0)
-    for axis in range(AXES):
-        stream.ask(0x85, 0x11, axis, payload=bytes(config))
-    functions = bytearray(55)
-    functions[0], functions[2], functions[40] = 0x04, 0x02 | 0x40, 0x08
-    io.ask(0xC0, 1, payload=bytes(functions))
-    io.ask(0xC4, 1, payload=bytes([1]))
-    pins = door.controller.device.pins
-    door.call(lambda: pins.attach_encoder(0, 0))
-    door.call(lambda: pins.analog(41, 1.5))
-    door.call(lambda: pins.set_input(3, lambda board: int(board.time * 50) % 2 == 0))
+def _stream(port: int, seconds: float, out: Connection) -> None:
+    """The streaming host (its own process, as a real host is): keeps 3 buffered axes'
+    slot buffer about half full."""
+    stream = Host(socket.create_connection(("127.0.0.1", port), timeout=5))
     row = bytes([1, 0x81, 2])  # +1, -1, +2 pulses a slot
     accepted = 0
     for _ in range(4):
         accepted += stream.ask(0x85, 0xFF, 16, AXES, row * 16)[2]
     stream.ask(0x85, 0x02, 3)  # RUNNING
-    stop = threading.Event()
     start = time.monotonic()
+    while time.monotonic() - start < seconds:
+        consumed = (time.monotonic() - start) * 1000.0
+        want = max(0, min(18, int(HALF - (accepted - consumed))))
+        accepted += stream.ask(0x85, 0xFF, want, AXES, row * want)[2]
+        time.sleep(0.004)
+    position = struct.unpack_from("<i", stream.ask(0x85, 0x00), 24)[0]
+    out.send((stream.round_trips, position))
 
-    def streaming() -> None:
-        nonlocal accepted
-        while not stop.is_set():
-            consumed = (time.monotonic() - start) * 1000.0
-            want = max(0, min(18, int(HALF - (accepted - consumed))))
-            accepted += stream.ask(0x85, 0xFF, want, AXES, row * want)[2]
-            time.sleep(0.004)
 
-    streamer = threading.Thread(target=streaming, daemon=True)
-    streamer.start()
+def _poll(port: int, seconds: float, out: Connection) -> None:
+    """The I/O host (its own process): every millisecond DigitalIOGet, AnalogIOGet and
+    EncoderValuesGet as PoKeysLib sends them."""
+    udp = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    udp.settimeout(5)
+    io = Host(udp, ("127.0.0.1", port))
     cycles: list[float] = []
     late = 0
-    tick = time.perf_counter()
     encoder = 0
+    start = time.monotonic()
+    tick = time.perf_counter()
     while time.monotonic() - start < seconds:
         begin = time.perf_counter()
         io.ask(0xCC, 0)
@@ -167,19 +156,49 @@ def run(seconds: float = 10.0) -> dict[str, float]:
         else:
             late += 1
             tick = time.perf_counter()
-    stop.set()
-    streamer.join(5)
-    position = struct.unpack_from("<i", stream.ask(0x85, 0x00), 24)[0]
+    out.send((io.round_trips, cycles, late, encoder))
+
+
+def run(seconds: float = 10.0) -> dict[str, float]:
+    """The device behind its doors in this process; the two hosts in their own
+    processes, speaking only through the sockets."""
+    door = Door()
+    setup = Host(socket.create_connection(("127.0.0.1", door.tcp), timeout=5))
+    setup.ask(0x85, 0x01, payload=bytes([AXES, 0, 1]))
+    config = bytearray(45)
+    config[0] = 0x01
+    struct.pack_into("<f", config, 8, 125.0)
+    for axis in range(AXES):
+        setup.ask(0x85, 0x11, axis, payload=bytes(config))
+    functions = bytearray(55)
+    functions[0], functions[2], functions[40] = 0x04, 0x02 | 0x40, 0x08
+    setup.ask(0xC0, 1, payload=bytes(functions))
+    setup.ask(0xC4, 1, payload=bytes([1]))
+    pins = door.controller.device.pins
+    door.call(lambda: pins.attach_encoder(0, 0))
+    door.call(lambda: pins.analog(41, 1.5))
+    door.call(lambda: pins.set_input(3, lambda board: int(board.time * 50) % 2 == 0))
+    context = multiprocessing.get_context("fork")
+    stream_in, stream_out = context.Pipe(duplex=False)
+    poll_in, poll_out = context.Pipe(duplex=False)
+    streamer = context.Process(target=_stream, args=(door.tcp, seconds, stream_out))
+    poller = context.Process(target=_poll, args=(door.udp, seconds, poll_out))
+    streamer.start()
+    poller.start()
+    stream_trips, position = stream_in.recv()
+    trips, cycles, late, encoder = poll_in.recv()
+    streamer.join(10)
+    poller.join(10)
     starved = door.starved
     door.close()
     assert abs(position - encoder) <= 125, (position, encoder)  # the encoder follows X
     return {"cycles": len(cycles), "late": late, "starved": starved,
-            "requests": len(io.round_trips),
-            "p50_ms": _percentile(io.round_trips, 0.5),
-            "p99_ms": _percentile(io.round_trips, 0.99),
-            "max_ms": max(io.round_trips) * 1e3,
+            "requests": len(trips),
+            "p50_ms": _percentile(trips, 0.5),
+            "p99_ms": _percentile(trips, 0.99),
+            "max_ms": max(trips) * 1e3,
             "cycle_p99_ms": _percentile(cycles, 0.99),
-            "stream_p99_ms": _percentile(stream.round_trips, 0.99)}
+            "stream_p99_ms": _percentile(stream_trips, 0.99)}
 
 
 def figures(seconds: float = 10.0) -> list[Figure]:

@@ -300,3 +300,22 @@ def test_backlash_postep_and_buses_with_nothing_attached(lib):
     assert r is not None and r[3] == 1 and r[8:12] == b"\xff" * 4
     assert h.send(h.create(0xDC, 0x21))[8:10] == bytes([1, 0])  # type: ignore[index]
     assert h.send(h.create(0x86, 0x31))[3] == 0  # type: ignore[index]
+
+
+def test_every_library_request_is_answered_over_the_socket(lib):
+    """Each request of PoKeysLib's functions, over this transport: one 64-byte reply."""
+    from tests.test_pokeys_io_robustness import LIBRARY_REQUESTS
+
+    h = lib.host
+    first_of = {0x85: 0x00, 0xD6: 0x01, 0x4B: 0x00, 0x07: 0x0A, 0x1C: 0xFF, 0xC0: 0,
+                0xCA: 10, 0xCE: 2, 0x30: 0, 0x40: 0, 0xDB: 0x02, 0xDC: 0x11, 0x76: 0,
+                0x77: 0}
+    for command, sub in LIBRARY_REQUESTS:
+        if command == 0xB0:
+            continue
+        first = first_of.get(command, 0) if sub is None else sub
+        p2 = {0x76: 1, 0x50: 0x55, 0x52: 0x55, 0xD1: 1, 0xDD: 0x10}.get(command, 0)
+        p3 = 1 if command == 0x85 and first in (0xFE, 0xFF) else 0
+        payload = bytes([0, 0, 0, 0, 1, 1, 1, 0, 0xEA, 0x07]) if command == 0x83 else b""
+        reply = h.send(h.create(command, first, p2, p3, payload=payload))
+        assert reply is not None and reply[1] == command, (hex(command), hex(first))

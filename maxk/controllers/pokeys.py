@@ -33,10 +33,9 @@ from maxk.controllers.pokeys_status import (
     PoKeysError,
     axis_index,
 )
-from maxk.controllers.world_view import AxisReading, WorldView
-from maxk.firmware_model.world import AxisWorld, InputSource, World
+from maxk.controllers.pokeys_world import PoKeysWorldView
+from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.pokeys import (
-    AXIS_LETTERS,
     MODELS,
     AxisConfigBits,
     PoKeysDevice,
@@ -47,7 +46,6 @@ from maxk.personalities.pokeys import (
 )
 from maxk.personalities.pokeys.constants import SLOT_SECONDS
 from maxk.personalities.pokeys.engine import PulseEngine
-from maxk.personalities.pokeys.io import PINS
 from maxk.personalities.pokeys.world import PoKeysIOWorld
 
 
@@ -430,83 +428,3 @@ def build(model: str, options: BuildOptions | None = None) -> PoKeys:
 
 __all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
            "pokeys_world"]
-
-
-class PoKeysWorldView(WorldView):
-    """The PoKeys's world behind the contract: axes X Y Z A B C U V (or 1..8) as the
-    device's configuration software names them, positions in pulses; digital inputs by
-    number as the pulse engine reads them (0 the e-stop, n probe input n; pins 1..55 on
-    the 57 series; edges on a counter pin count), analog inputs on pins 41..47 (0..3.3 V),
-    the digital outputs' levels."""
-
-    def __init__(self, dev: PoKeys) -> None:
-        super().__init__(dev.world, AXIS_LETTERS[:dev.axes], inputs=range(56),
-                         analog=range(41, 48), analog_volts=(0.0, 3.3),
-                         changed=dev.device.machine.world_changed,
-                         source_owner=dev.device.machine)
-        self.dev = dev
-
-    def set_input(self, number: int, level: bool | InputSource) -> None:
-        if number not in self.inputs:
-            raise ValueError(f"no input {number} (0 the e-stop, pins 1..55)")
-        self.dev.device.pins.set_input(number, level)
-
-    def output_level(self, number: int) -> bool | None:
-        if not 1 <= number <= PINS or not self.dev.device.io.is_output(number):
-            return None
-        return self.dev.device.io.output_level(number)
-
-    def describe(self) -> list[str]:
-        """`:world`: the stages and inputs, then what the device drives and what the
-        world wires to it (outputs, PWM, encoders, keys)."""
-        device = self.dev.device
-        lines = super().describe()
-        outputs = device.pins.output_levels()
-        if outputs:
-            lines.append("outputs " + " ".join(f"{p} {'high' if v else 'low'}"
-                                               for p, v in outputs.items()))
-        for n in range(6):
-            if device.io.pwm_enabled >> n & 1:
-                lines.append(f"pwm {n} (pin {22 - n}) {device.pwm_output(n) * 100:.1f}%")
-        for i, e in enumerate(device.io.encoders):
-            if e.axis is not None:
-                lines.append(f"encoder {i} on {AXIS_LETTERS[e.axis]}"
-                             f"{' reversed' if e.direction < 0 else ''}: "
-                             f"{device.pins.encoder_value(i)}")
-        if device.io.matrix_keys:
-            lines.append("matrix keys pressed " + " ".join(map(str, sorted(
-                device.io.matrix_keys))))
-        if device.io.kbd48.keys:
-            lines.append("kbd48CNC keys pressed " + " ".join(map(str, sorted(
-                device.io.kbd48.keys))))
-        return lines
-
-    def trace_columns(self) -> list[str]:
-        """The output pins as a bit mask (bit p-1 = pin p) and each PWM channel's duty."""
-        return ["outputs"] + [f"pwm{n}_duty" for n in range(6)]
-
-    def trace_values(self) -> list[object]:
-        device = self.dev.device
-        mask = sum(1 << (p - 1) for p, level in device.pins.output_levels().items() if level)
-        values: list[object] = [f"{mask:014x}"]
-        return values + [f"{device.pwm_output(n) * 100:.2f}" for n in range(6)]
-
-    def index(self, name: str) -> int:
-        try:
-            return axis_index(str(name).strip(), self.dev.axes)
-        except ValueError as error:
-            raise KeyError(str(error)) from None
-
-    def reading(self, name: str) -> AxisReading:
-        i = self.index(name)
-        engine = self.dev.pulse_engine
-        a = engine.axes[i]
-        moving = engine.moving(a)
-        state = engine.axis_state(a)
-        velocity = 0.0
-        planned = engine.motion_plan(i)
-        if moving and planned is not None:  # pulses a slot, as counts per second
-            t = (engine.slot - planned.start) * SLOT_SECONDS
-            velocity = planned.plan.velocity(t)
-        return AxisReading(AXIS_LETTERS[i], a.position, None, velocity, not moving, moving,
-                           (state.name.lower(),))

@@ -231,6 +231,6 @@ class IOWords:
         return [self.dev.rtc()]
 
     def _do_save(self, args: list[str]) -> list[str]:
-        self.dev.request(0x50, 0xAA, 0x55)
+        self.dev.save_configuration()
         return []
 

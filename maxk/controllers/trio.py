@@ -279,6 +279,28 @@ class TrioConsole:
     def words(self) -> list[str]:
         return sorted(KEYWORDS)
 
+    def program_lines(self) -> list[str]:
+        """`:programs`: every process and where it stands, then the store's programs."""
+        runtime = self.controller.runtime
+        now = self.controller.machine.servo_tick()
+        lines = []
+        for process, task in sorted(runtime.tasks.items()):
+            wake = task.wake
+            if task.due is None and wake is not None:
+                state = "waiting for the machine (WAIT IDLE, a full move buffer)"
+            elif task.due is not None and task.due > now + 1:
+                state = f"waiting until tick {task.due}"
+            else:
+                state = "running"
+            lines.append(f"process {process}: {task.ctx.program} line {task.ctx.line}, "
+                         f"{state}")
+        if not lines:
+            lines.append("no process is running")
+        store = self.controller.programs
+        lines.append(f"{len(store.names())} program(s) in the store, {store.total} bytes"
+                     + (f" ({store.damage})" if store.damage else ""))
+        return lines
+
     def summary(self, word: str) -> str:
         keyword = lookup(word.strip())
         return "" if keyword is None else keyword.summary
@@ -288,7 +310,8 @@ class TrioConsole:
                 "  :gates             every gate toggle so far (tick, axis, level, position)",
                 "  :trace             record every servo cycle from now (XY 0,1; PWM 0-4)",
                 "  :trace FILE.csv    write what was recorded",
-                "  :plot FILE.png [AXIS]  the XY path coloured by that axis's PWM duty"]
+                "  :plot FILE.png [AXIS]  the XY path coloured by that axis's PWM duty",
+                "  :programs          each process: its program, line and what it waits for"]
 
     def after_reset(self) -> list[str]:
         m = self.controller.machine
@@ -306,6 +329,8 @@ class TrioConsole:
         """`:pwm`, `:gates`, `:trace [FILE]`, `:plot FILE [AXIS]` (see repl_help)."""
         word = word.lstrip(":").lower()
         machine = self.controller.machine
+        if word == "programs":
+            return self.program_lines()
         if word == "pwm":
             return self.pwm_lines()
         if word == "gates":

@@ -21,14 +21,6 @@ from ...personalities.pokeys.io import (
 from .packet import Reply, Request
 
 
-def _bits(levels: list[bool]) -> bytes:
-    out = bytearray((len(levels) + 7) // 8)
-    for i, level in enumerate(levels):
-        if level:
-            out[i // 8] |= 1 << (i % 8)
-    return bytes(out)
-
-
 def _bit(raw: bytes, offset: int, i: int) -> bool:
     return bool(raw[offset + i // 8] >> (i % 8) & 1)
 
@@ -67,8 +59,7 @@ def key_mapping(device: PoKeysDevice, req: Request) -> Reply | None:
 
 # ---- digital I/O ---------------------------------------------------------------------------
 def _inputs(device: PoKeysDevice) -> bytes:
-    pins = device.pins
-    return _bits([pins.pin_level(p) for p in range(1, PINS + 1)])
+    return device.pins.pin_bits().to_bytes(7, "little")
 
 
 def digital_io(device: PoKeysDevice, req: Request) -> Reply | None:

@@ -181,8 +181,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "u32 at [2..5]; stored, the filter is not applied (D)."),
     _e(0x39, ANY, "PK_AnalogRCFilterSet", io.analog_filter, "PoKeysLibIO.c", "C"),
     _e(0xD8, ANY, "PK_DigitalCounterGet", io.counters_get, "PoKeysLibIO.c", "C",
-       "Rising edges of the world's input on a pin configured as counter (D: options "
-       "stored only); a pin without a counter reads 0."),
+       "Rising edges of the world's input on a pin configured as counter, an input that "
+       "follows time or an axis sampled every slot (D: options stored only); a pin "
+       "without a counter reads 0."),
     _e(0x1D, ANY, "PK_DigitalCounterClear", io.counters_clear, "PoKeysLibIO.c", "C"),
     _e(0xCB, ANY, "PK_PWMConfigurationGet/Set, PK_PWMUpdate", io.pwm, "PoKeysLibIO.c", "C",
        "Channel n on pin 22-n, period and duty in 25 MHz clocks; update ([3]=1) sets the "

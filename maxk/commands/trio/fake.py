@@ -66,6 +66,9 @@ class FakeTrioMachine:
         self.vp_speed = [0.0] * axis_count
         self._counts = [0] * axis_count  # PWM encoder baseline, counts
         self.queues: list[deque[_Move]] = [deque() for _ in range(axis_count)]
+        self.inputs: dict[int, bool] = {}  # IN(n) levels a test sets
+        self.analog: dict[int, float] = {}  # AIN(n) volts a test sets
+        self.outputs: dict[int, bool] = {}
         self.connpaths: dict[int, tuple[int, float]] = {}
         self.cams: dict[int, _Cam] = {}
         self.gate_events: list[tuple[int, int, bool]] = []  # (tick, axis, gate level)
@@ -245,3 +248,19 @@ class FakeTrioMachine:
         self.dpos[axis] = cam.origin + value * cam.multiplier / self.axis_params[axis]["UNITS"]
         if travelled >= cam.distance:
             del self.cams[axis]
+
+    def digital_input(self, number: int) -> bool:
+        return self.inputs.get(number, False)
+
+    def analog_input(self, channel: int) -> float:
+        return self.analog.get(channel, 0.0)
+
+    def output(self, number: int) -> bool:
+        return self.outputs.get(number, False)
+
+    def set_output(self, number: int, on: bool) -> None:
+        self.outputs[number] = on
+
+    def movecirc(self, axes: Sequence[float], args: Sequence[float]) -> None:
+        """The fake goes straight to the arc's end (the MC405 machine draws the arc)."""
+        self.move([int(a) for a in axes], list(args[:2]))

@@ -5,6 +5,9 @@ a full move buffer), so a program runs beside the command line: the scheduler re
 each process once per servo cycle. Every argument of a statement is evaluated and
 checked before the machine is asked to act, and the machine is asked once, so an error
 leaves nothing half-applied.
+
+Long module: expressions, statements, strings and I/O share one evaluator and its error
+rules (every argument checked before the machine acts), kept in one place.
 """
 
 from __future__ import annotations
@@ -14,18 +17,24 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from .keywords import Keyword, Kind
+from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
+    MAX_ARRAY,
     Assign,
     Binary,
+    Bit,
     Call,
     Command,
+    Declare,
+    Dim,
     Expr,
+    Format,
     IfLine,
     Num,
     Param,
+    Perform,
     Print,
     Stmt,
     Str,
@@ -69,6 +78,22 @@ def format_number(value: float) -> str:
     return f"{value:.4f}"
 
 
+MAX_STRING = 1024  # characters in one string value (D: bounds memory)
+
+# RUN_ERROR codes (D: the numbering is ours, one per error text the emulator gives; 0 none)
+ERROR_CODES = {text: n for n, text in enumerate((
+    "Syntax error", "Parameter out of range", "Arithmetic error", "Divide by zero",
+    "Invalid axis number", "Parameter is read only", "Structure error", "Label not found",
+    "Stack overflow", "RETURN without GOSUB", "Array index out of range",
+    "Variable not defined", "Type mismatch", "String too long", "Program not found",
+    "Program is running", "Invalid program name", "VR index out of range",
+    "TABLE index out of range", "Cannot assign to a constant"), start=1)}
+
+
+def error_code(message: str) -> float:
+    return float(ERROR_CODES.get(message, len(ERROR_CODES) + 1))
+
+
 @dataclass
 class ProcessContext:
     """One process's own state: its BASE axes, its local variables, where it is."""
@@ -76,9 +101,20 @@ class ProcessContext:
     process: int
     program: str = ""  # "" for the command line
     base: list[int] = field(default_factory=lambda: [0])
-    variables: dict[str, float] = field(default_factory=dict)
+    variables: dict[str, Value] = field(default_factory=dict)
     line: int = 0
     loops: dict[int, tuple[float, float]] = field(default_factory=dict)  # FOR end, step
+    arrays: dict[str, list[Value]] = field(default_factory=dict)  # DIM name(n)
+    types: dict[str, str] = field(default_factory=dict)  # DIM name AS type
+    pc: int = 0  # the next step
+    stack: list[int] = field(default_factory=list)  # GOSUB return steps
+    cases: dict[int, Value] = field(default_factory=dict)  # SELECT_CASE values
+    on_error: int | None = None  # ON BASICERROR GOTO handler step
+    run_error: float = 0.0  # RUN_ERROR: the last error's code
+    error_line: float = 0.0  # ERROR_LINE: the line it happened on
+    ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
+    stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
+    functions: Callable[[str, list[Value]], Value] | None = None  # the program's FUNCTIONs
 
 
 class SystemHook(Protocol):
@@ -91,6 +127,12 @@ class SystemHook(Protocol):
 
     def system_parameter(self, name: str) -> float | None: ...
 
+    def context_of(self, process: int) -> ProcessContext | None: ...
+
+    constants: dict[str, Value]
+    globals: dict[str, int]
+    analog_outputs: dict[int, float]
+
 
 _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
@@ -99,11 +141,119 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
+IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
+FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
 
 def _truth(value: bool) -> float:
     return -1.0 if value else 0.0
+
+
+PROCESS_PARAMETERS = frozenset({"RUN_ERROR", "ERROR_LINE", "TICKS", "PROCNUMBER",
+                                "PROC_LINE", "PROC_STATUS"})
+
+
+def _text(value: Value) -> str:
+    return value if isinstance(value, str) else format_number(value)
+
+
+def _checked(text: str) -> str:
+    if len(text) > MAX_STRING:
+        raise TrioError("String too long")
+    return text
+
+
+def _string_binary(op: str, left: Value, right: Value) -> Value:
+    """Strings: + joins (a number joins as PRINT shows it), comparisons compare."""
+    if op == "+":
+        return _checked(_text(left) + _text(right))
+    if not (isinstance(left, str) and isinstance(right, str)):
+        raise TrioError("Type mismatch")
+    comparisons = {"=": left == right, "<>": left != right, "<": left < right,
+                   ">": left > right, "<=": left <= right, ">=": left >= right}
+    if op not in comparisons:
+        raise TrioError("Type mismatch")
+    return _truth(comparisons[op])
+
+
+def _int_arg(value: Value) -> int:
+    if isinstance(value, str) or value != int(value) or abs(value) > MAX_STRING * 1e6:
+        raise TrioError("Parameter out of range")
+    return int(value)
+
+
+def _str_arg(value: Value) -> str:
+    if not isinstance(value, str):
+        raise TrioError("Type mismatch")
+    return value
+
+
+def _chr(args: list[Value]) -> Value:
+    code = _int_arg(args[0])
+    if not 0 <= code <= 255:
+        raise TrioError("Parameter out of range")
+    return chr(code)
+
+
+def _hex(args: list[Value]) -> Value:
+    number = _int_arg(args[0])
+    return f"{number & 0xFFFFFFFFFFFF if number < 0 else number:X}"
+
+
+def _mid(args: list[Value]) -> Value:
+    text, start = _str_arg(args[0]), _int_arg(args[1])
+    count = _int_arg(args[2]) if len(args) > 2 else len(text)
+    if start < 1 or count < 0:
+        raise TrioError("Parameter out of range")
+    return text[start - 1:start - 1 + count]
+
+
+def _val(args: list[Value]) -> Value:
+    try:
+        number = float(_str_arg(args[0]).strip() or "0")
+    except ValueError:
+        return 0.0
+    if not math.isfinite(number):
+        raise TrioError("Arithmetic error")
+    return number
+
+
+def _instr(args: list[Value]) -> Value:
+    """INSTR([start,] text, find): 1-based position, 0 when absent."""
+    start = _int_arg(args[0]) if len(args) == 3 else 1
+    text, find = _str_arg(args[-2]), _str_arg(args[-1])
+    if start < 1:
+        raise TrioError("Parameter out of range")
+    return float(text.find(find, start - 1) + 1)
+
+
+def _arity(low: int, high: int,
+           function: Callable[[list[Value]], Value]) -> Callable[[list[Value]], Value]:
+    def checked(args: list[Value]) -> Value:
+        if not low <= len(args) <= high:
+            raise TrioError("Syntax error")
+        return function(args)
+    return checked
+
+
+_STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
+    "CHR": _arity(1, 1, _chr),
+    "HEX": _arity(1, 1, _hex),
+    "ASC": _arity(1, 2, lambda a: float(ord(_str_arg(a[0])[_int_arg(a[1]) - 1
+                                                             if len(a) > 1 else 0]))
+                  if _str_arg(a[0]) else 0.0),
+    "LEN": _arity(1, 1, lambda a: float(len(_str_arg(a[0])))),
+    "LEFT": _arity(2, 2, lambda a: _str_arg(a[0])[:max(0, _int_arg(a[1]))]),
+    "RIGHT": _arity(2, 2, lambda a: _str_arg(a[0])[len(_str_arg(a[0])) - max(
+        0, _int_arg(a[1])):] if _int_arg(a[1]) > 0 else ""),
+    "MID": _arity(2, 3, _mid),
+    "UCASE": _arity(1, 1, lambda a: _str_arg(a[0]).upper()),
+    "LCASE": _arity(1, 1, lambda a: _str_arg(a[0]).lower()),
+    "STR": _arity(1, 3, lambda a: _text(Interpreter.number_value(a[0]))),
+    "VAL": _arity(1, 1, _val),
+    "INSTR": _arity(2, 3, _instr),
+}
 
 
 class Interpreter:
@@ -120,20 +270,35 @@ class Interpreter:
         if isinstance(expr, Str):
             return expr.text
         if isinstance(expr, Var):
-            return ctx.variables.get(expr.name, 0.0)
+            return self.variable(expr.name, ctx)
         if isinstance(expr, Param):
             return self.read_parameter(expr, ctx)
         if isinstance(expr, Call):
             return self.call(expr, ctx)
+        if isinstance(expr, Bit):
+            return float((int(self.number(expr.operand, ctx)) >> expr.bit) & 1)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             return -operand if expr.op == "-" else float(~int(operand))
         return self.binary(expr, ctx)
 
+    def variable(self, name: str, ctx: ProcessContext) -> Value:
+        """A name: the process's own variable, else a GLOBAL's VR, else a CONSTANT, else
+        0 (an unassigned TrioBASIC variable reads 0)."""
+        value = ctx.variables.get(name)
+        if value is not None:
+            return value
+        if name in self.hook.globals:
+            return self.machine.vr_read(self.hook.globals[name])
+        return self.hook.constants.get(name, 0.0)
+
     def number(self, expr: Expr, ctx: ProcessContext) -> float:
-        value = self.evaluate(expr, ctx)
+        return self.number_value(self.evaluate(expr, ctx))
+
+    @staticmethod
+    def number_value(value: Value) -> float:
         if isinstance(value, str):
-            raise TrioError("Syntax error")
+            raise TrioError("Type mismatch")
         return value
 
     def integer(self, expr: Expr, ctx: ProcessContext) -> int:
@@ -142,9 +307,12 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         return int(value)
 
-    def binary(self, expr: Binary, ctx: ProcessContext) -> float:
-        a, b = self.number(expr.left, ctx), self.number(expr.right, ctx)
+    def binary(self, expr: Binary, ctx: ProcessContext) -> Value:
+        left, right = self.evaluate(expr.left, ctx), self.evaluate(expr.right, ctx)
         op = expr.op
+        if isinstance(left, str) or isinstance(right, str):
+            return _string_binary(op, left, right)
+        a, b = left, right
         try:
             result = self._apply(op, a, b)
         except (ZeroDivisionError, OverflowError, ValueError, TypeError):
@@ -179,8 +347,15 @@ class Interpreter:
                        ">=": a >= b}
         return _truth(comparisons[op])
 
-    def call(self, expr: Call, ctx: ProcessContext) -> float:
+    def call(self, expr: Call, ctx: ProcessContext) -> Value:
         name = expr.name
+        if name not in KEYWORDS:  # a DIM array's element, or a FUNCTION's value
+            if name not in ctx.arrays and ctx.functions is not None:
+                return ctx.functions(name, [self.evaluate(a, ctx) for a in expr.args])
+            array, index = self._element(name, expr.args, ctx)
+            return array[index]
+        if name in _STRING_FUNCTIONS:
+            return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
         if name == "BASE":
             if expr.args:
                 raise TrioError("Syntax error")
@@ -188,6 +363,8 @@ class Interpreter:
         args = [self.evaluate(a, ctx) for a in expr.args]
         if name in ("IS_PROG", "PROG_TYPE"):
             return self.hook.system_function(name, args)
+        if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
+            return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
         if len(numbers) != len(args):
             raise TrioError("Syntax error")
@@ -202,6 +379,8 @@ class Interpreter:
                 result = self.machine.table_read(self._index(numbers[0]))
             elif name == "VR" and len(numbers) == 1:
                 result = self.machine.vr_read(self._index(numbers[0]))
+            elif name in KEYWORDS and name not in _MATH and name != "ATAN2":
+                result = 0.0  # a token-table function not modelled: 0 (its table note)
             else:
                 raise TrioError("Syntax error")
         except OverflowError:
@@ -211,6 +390,56 @@ class Interpreter:
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
         return float(result)
+
+    def io_function(self, name: str, args: list[float]) -> float:
+        m = self.machine
+        if name in ("AIN", "AOUT"):
+            if len(args) != 1:
+                raise TrioError("Syntax error")
+            channel = self._point(args[0], 8)
+            if name == "AOUT":
+                return self.hook.analog_outputs.get(channel, 0.0)
+            return float(round(m.analog_input(channel) / 10.0 * 2047))
+        read = m.digital_input if name == "IN" else m.output
+        if not args:
+            args = [0.0, IO_POINTS - 1.0]
+        if len(args) == 1:
+            return 1.0 if read(self._point(args[0], IO_POINTS)) else 0.0
+        first, last = self._point(args[0], IO_POINTS), self._point(args[1], IO_POINTS)
+        if last < first:
+            raise TrioError("Parameter out of range")
+        return float(sum(1 << k for k in range(last - first + 1) if read(first + k)))
+
+    @staticmethod
+    def _point(value: float, count: int) -> int:
+        if value != int(value) or not 0 <= value < count:
+            raise TrioError("Parameter out of range")
+        return int(value)
+
+    def axis_status(self, axis: int) -> float:
+        """AXISSTATUS: the limit bits the emulator knows (16, 32, 512, 1024)."""
+        m = self.machine
+        bits = 0
+        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
+            wired = m.axis_parameter(name, axis)
+            if 0 <= wired < IO_POINTS and m.digital_input(int(wired)):
+                bits |= bit
+        dpos = m.axis_parameter("DPOS", axis)
+        if dpos > m.axis_parameter("FS_LIMIT", axis):
+            bits |= 512
+        if dpos < m.axis_parameter("RS_LIMIT", axis):
+            bits |= 1024
+        return float(bits)
+
+    def _element(self, name: str, args: tuple[Expr, ...],
+                 ctx: ProcessContext) -> tuple[list[Value], int]:
+        array = ctx.arrays.get(name)
+        if array is None or len(args) != 1:
+            raise TrioError("Variable not defined")
+        index = self.number(args[0], ctx)
+        if index != int(index) or not 0 <= index < len(array):
+            raise TrioError("Array index out of range")
+        return array, int(index)
 
     @staticmethod
     def _index(value: float) -> int:
@@ -226,6 +455,16 @@ class Interpreter:
 
     def read_parameter(self, expr: Param, ctx: ProcessContext) -> float:
         keyword = expr.keyword
+        if keyword.name in PROCESS_PARAMETERS:
+            if expr.process is not None:
+                number = self.number(expr.process, ctx)
+                if number != int(number) or not 0 <= number < 64:
+                    raise TrioError("Parameter out of range")
+                other = self.hook.context_of(int(number))
+                if other is None:
+                    return 0.0  # a process with no program: stopped, no error
+                ctx = other
+            return self.process_parameter(keyword.name, ctx)
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             owned = self.hook.system_parameter(keyword.name)
             if owned is not None:
@@ -234,7 +473,24 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
+        if keyword.name == "AXISSTATUS":
+            return self._machine(lambda: self.axis_status(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
+
+    def process_parameter(self, name: str, ctx: ProcessContext) -> float:
+        """The parameters each process has its own of."""
+        if name == "RUN_ERROR":
+            return ctx.run_error
+        if name == "ERROR_LINE":
+            return ctx.error_line
+        if name == "TICKS":  # counts down one a servo cycle from the value last set (I)
+            value, since = ctx.ticks
+            return value - (self.machine.servo_tick() - since)
+        if name == "PROCNUMBER":
+            return float(ctx.process)
+        if name == "PROC_LINE":
+            return float(ctx.line)
+        return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
 
     @staticmethod
     def _machine(action: Callable[[], float]) -> float:
@@ -263,22 +519,108 @@ class Interpreter:
             branch = stmt.then if self.number(stmt.condition, ctx) != 0 else stmt.otherwise
             for inner in branch:
                 yield from self.execute(inner, ctx)
+        elif isinstance(stmt, Declare):
+            self.declare(stmt, ctx)
+        elif isinstance(stmt, Dim):
+            self.dim(stmt, ctx)
+        elif isinstance(stmt, Perform):
+            self.evaluate(stmt.call, ctx)
         else:
             raise TrioError("Structure error")  # a block statement outside a program
 
+    def declare(self, stmt: Declare, ctx: ProcessContext) -> None:
+        """CONSTANT "name", value and GLOBAL "name", vr: names every process sees."""
+        value = self.evaluate(stmt.value, ctx)
+        if stmt.what == "GLOBAL":
+            index = self._index(self.number_value(value))
+            self._machine(lambda: self.machine.vr_read(index))  # a VR that exists
+            self.hook.globals[stmt.name] = index
+        else:
+            known = self.hook.constants.get(stmt.name)
+            if known is not None and known != value:
+                raise TrioError("Cannot assign to a constant")
+            self.hook.constants[stmt.name] = value
+        if len(self.hook.constants) + len(self.hook.globals) > 4096:  # (D) bounded
+            raise TrioError("Parameter out of range")
+
+    def dim(self, stmt: Dim, ctx: ProcessContext) -> None:
+        empty: Value = "" if stmt.type == "STRING" else 0.0
+        if stmt.size is not None:
+            size = self.number(stmt.size, ctx)
+            if size != int(size) or not 0 < size <= MAX_ARRAY:
+                raise TrioError("Parameter out of range")
+            if sum(len(a) for a in ctx.arrays.values()) + size > 4 * MAX_ARRAY:
+                raise TrioError("Parameter out of range")  # (D) a process's array memory
+            ctx.arrays[stmt.name] = [empty] * int(size)
+        else:
+            ctx.variables[stmt.name] = empty
+        ctx.types[stmt.name] = stmt.type if stmt.type != "STRING" else f"STRING{stmt.length}"
+
     def print(self, stmt: Print, ctx: ProcessContext) -> None:
+        """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
+        emulator has one terminal; channel numbers are checked, 0..255)."""
+        if stmt.channel is not None:
+            channel = self.number(stmt.channel, ctx)
+            if channel != int(channel) or not 0 <= channel <= 255:
+                raise TrioError("Parameter out of range")
         parts = []
-        for expr, separator in stmt.items:
-            value = self.evaluate(expr, ctx)
-            parts.append(value if isinstance(value, str) else format_number(value))
+        for item, separator in stmt.items:
+            if isinstance(item, Format):
+                number = self.number(item.value, ctx)
+                parts.append(f"{number:{item.width}.{item.decimals}f}")
+            else:
+                value = self.evaluate(item, ctx)
+                parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
         self.output("".join(parts) + ("\r\n" if stmt.newline else ""))
 
+    def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
+        """A value as a DIMmed variable of that name holds it."""
+        kind = ctx.types.get(name)
+        if kind is None:
+            return value
+        if kind.startswith("STRING"):
+            if not isinstance(value, str):
+                raise TrioError("Type mismatch")
+            return value[:int(kind[6:])]
+        number = self.number_value(value)
+        if kind == "INTEGER":
+            return float(math.trunc(number))
+        if kind == "BOOLEAN":
+            return _truth(number != 0)
+        return number
+
     def assign(self, stmt: Assign, ctx: ProcessContext) -> None:
-        value = self.number(stmt.value, ctx)
         target = stmt.target
+        raw = self.evaluate(stmt.value, ctx)
         if isinstance(target, Var):
-            ctx.variables[target.name] = value
+            name = target.name
+            if name not in ctx.variables and name in self.hook.globals:
+                number = self.number_value(raw)
+                self._act(lambda: self.machine.vr_write(self.hook.globals[name], number))
+            elif name not in ctx.variables and name in self.hook.constants:
+                raise TrioError("Cannot assign to a constant")
+            else:
+                if len(ctx.variables) >= 4096 and name not in ctx.variables:
+                    raise TrioError("Parameter out of range")  # (D) bounded
+                ctx.variables[name] = self._typed(name, raw, ctx)
+            return
+        if isinstance(target, Call) and target.name == "AOUT":
+            channel = self._point(self.number(target.args[0], ctx), 8)
+            value = self.number_value(raw)
+            if not -2048 <= value <= 2047:
+                raise TrioError("Parameter out of range")
+            self.hook.analog_outputs[channel] = value
+            return
+        if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
+            raise TrioError("Parameter is read only")
+        if isinstance(target, Call) and target.name != "VR":
+            array, index = self._element(target.name, target.args, ctx)
+            array[index] = self._typed(target.name, raw, ctx)
+            return
+        value = self.number_value(raw)
+        if isinstance(target, Param) and target.keyword.name == "TICKS":
+            ctx.ticks = (value, self.machine.servo_tick())
             return
         if isinstance(target, Call):  # VR(i) = value
             index = self._index(self.number(target.args[0], ctx))
@@ -322,6 +664,11 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
+        elif name == "MOVECIRC":
+            axes = self.group(stmt.axis, ctx, 2)
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.movecirc(axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -345,6 +692,8 @@ class Interpreter:
             KEYWORDS["MPE"].check(args[0])
         elif name == "RAPIDSTOP":
             self._act(m.rapidstop)
+        elif name == "OP":
+            self.op(args)
         else:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
@@ -360,11 +709,72 @@ class Interpreter:
             self._act(lambda: m.cancel(axis))
         elif name == "PWM_CONTROL":
             self._act(lambda: m.pwm_control(axis, args))
+        elif name in ("FORWARD", "REVERSE"):
+            yield from self._forever(axis, 1 if name == "FORWARD" else -1)
+        elif name == "DATUM":
+            yield from self.datum(axis, args[0])
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
+
+    def _forever(self, axis: int, direction: int) -> Wait:
+        """FORWARD/REVERSE: a move long enough to end only by CANCEL."""
+        m = self.machine
+        while not m.can_load([axis]):
+            yield ON_CHANGE
+        units = m.axis_parameter("UNITS", axis)
+        self._act(lambda: m.move([axis], [FOREVER_COUNTS / units * direction]))
+
+    def _stop_and_settle(self, axis: int) -> Wait:
+        self._act(lambda: self.machine.cancel(axis))
+        while not self.machine.axis_idle(axis):
+            yield ON_CHANGE
+
+    def datum(self, axis: int, mode: float) -> Wait:
+        """DATUM(n) on the shared world's switches (see the keyword's note)."""
+        m = self.machine
+        if mode == 0:
+            return  # clears motion errors: none are modelled
+        if mode not in (3, 4, 5, 6):
+            raise TrioError("Parameter out of range")
+        wired = m.axis_parameter("DATUM_IN", axis)
+        if not 0 <= wired < IO_POINTS:
+            raise TrioError("Parameter out of range")
+        switch = int(wired)
+        direction = 1 if mode in (3, 5) else -1
+        if not m.digital_input(switch):
+            yield from self._forever(axis, direction)
+            while not m.digital_input(switch):
+                yield None  # the input is watched every servo cycle
+            yield from self._stop_and_settle(axis)
+        speed = m.axis_parameter("SPEED", axis)
+        self._act(lambda: m.set_axis_parameter("SPEED", axis, m.axis_parameter("CREEP", axis)))
+        try:
+            yield from self._forever(axis, -direction)
+            while not m.digital_input(switch):
+                yield None  # back into the switch, when the fast search ran past it
+            while m.digital_input(switch):
+                yield None
+            yield from self._stop_and_settle(axis)
+        finally:
+            m.set_axis_parameter("SPEED", axis, speed)
+        self._act(lambda: m.defpos([axis], [0.0]))
+
+    def op(self, args: list[float]) -> None:
+        """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""
+        m = self.machine
+        if len(args) == 2:
+            m.set_output(self._point(args[0], IO_POINTS), args[1] != 0)
+        elif len(args) == 1:
+            pattern = args[0]
+            if pattern != int(pattern) or not 0 <= pattern < 2 ** 24:
+                raise TrioError("Parameter out of range")
+            for k in range(8, IO_POINTS):
+                m.set_output(k, bool((int(pattern) >> (k - 8)) & 1))
+        else:
+            raise TrioError("Syntax error")  # OP(first, last, pattern): not modelled (D)
 
     def _axis_number(self, value: float) -> int:
         if value != int(value) or not 0 <= value < self.machine.axis_count:
@@ -377,6 +787,8 @@ class Interpreter:
             action()
         except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
+        except OverflowError:
+            raise TrioError("Arithmetic error") from None
 
 
 def base_array(axes: Sequence[int], axis_count: int) -> list[int]:

@@ -287,6 +287,104 @@ _ENTRIES: list[Keyword] = [
                source=f"{SEED}; {TOK}; {MAN}",
                note="WAIT UNTIL tests once per servo cycle (D). Allowed on the command "
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
+    # ---- drives, limits and I/O ------------------------------------------------------------
+    *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
+            value_range=(-1, 31), source=f"{TOK}; {MAN}", confidence="I",
+            note=f"IN(n) of that input reads the world's {switch} switch of this axis at its "
+            "position (unless the world drives input n itself); AXISSTATUS shows it. The "
+            "switch does not stop motion (not modelled, docs/not-modelled.md).")
+      for name, what, switch in (("FWD_IN", "forward limit", "plus-limit"),
+                                 ("REV_IN", "reverse limit", "minus-limit"),
+                                 ("DATUM_IN", "datum (home) switch", "home"))],
+    _axis("FS_LIMIT", "Forward software limit, user units.", default=200000000000,
+          source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). Reported in "
+          "AXISSTATUS bit 9 when DPOS is beyond it; it does not stop motion (not modelled)."),
+    _axis("RS_LIMIT", "Reverse software limit, user units.", default=-200000000000,
+          source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT, AXISSTATUS bit 10."),
+    _axis("AXISSTATUS", "Axis status bits: 16 forward limit, 32 reverse limit, 512 forward "
+          "soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
+          confidence="I", note="Bits from the limit inputs and the soft limits; the drive and "
+          "following-error bits read 0 (no drive faults are modelled, D)."),
+    _axis("SERVO", "Position loop on (ON) or off for the axis.", value_range=(-1, 1),
+          source=f"{TOK}; {MAN}", confidence="D", note="Stored; motion runs on the demand "
+          "whatever its value (not modelled)."),
+    _axis("AXIS_ENABLE", "Enable of the axis's drive.", value_range=(-1, 1),
+          source=f"{TOK}; {MAN}", confidence="D", note="Stored; not modelled (as SERVO)."),
+    _axis("CREEP", "The slow speed of the second part of a DATUM search, user units/s.",
+          default=200, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Power-up 200 (D)."),
+    _command("DATUM", "DATUM(n): 0 clears motion errors; 3/5 search forward at SPEED for "
+             "the DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
+             "reverse; the position there becomes 0.", (1, 1), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="The search runs on the planner watching the input every servo cycle; "
+             "the zero is where the creep stopped after the input went off (D: not the "
+             "exact edge). 1 and 2 (Z mark searches) are 'Parameter out of range' (not "
+             "modelled); 5 and 6 do not look for the Z mark (D). The statement returns when "
+             "the search ends (D: the controller returns at once and the axis moves on). "
+             "Without a DATUM_IN: 'Parameter out of range' (D)."),
+    _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
+             "first two BASE axes, end and centre relative to the start.", (5, 7), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="On the shared path planner at the base axis's SPEED and ACCEL; direction "
+             "1 clockwise, 0 anticlockwise (I); an end on the start is a whole circle; the "
+             "6th and 7th arguments are refused unless 0 (D)."),
+    _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
+             (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D)."),
+    _command("REVERSE", "Move in reverse continuously at SPEED until CANCEL.", (0, 0),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I", note="As FORWARD."),
+    _function("IN", "IN(n): input n, 1 on / 0 off; IN(a, b): inputs a..b as a binary "
+              "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
+              note="Reads the shared world's inputs (the world contract can drive them)."),
+    _command("OP", "OP(n, ON|OFF) sets output n; OP(n) reads it as a function.", (1, 3),
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="Outputs 0..31 kept by the machine, off at power up (D); OP(pattern) with "
+             "one argument sets outputs 8..31 from bits (I)."),
+    _function("READ_OP", "READ_OP(n): output n, 1/0; READ_OP(a, b): outputs a..b as a "
+              "binary number.", (1, 2), source=f"{TOK}; {MAN}", confidence="I",
+              note="Reads the outputs OP set (I)."),
+    _function("AIN", "AIN(n): analog input n as a 12-bit signed count (-2048..2047 for "
+              "-10..10 V).", (1, 1), source=f"{TOK}; {MAN}", confidence="D",
+              note="The scaling is our decision (D); the volts come from the world."),
+    _command("AOUT", "AOUT(n) = value: analog output n; AOUT(n) reads it back.", (1, 1),
+             source=f"{TOK}; {MAN}", confidence="D",
+             note="Kept by the language per controller; no analog world output (D)."),
+    # ---- processes and errors ------------------------------------------------------------------
+    _system("RUN_ERROR", "The code of the last runtime error of this process (PROC(n): of "
+            "process n).", writable=False, confidence="D",
+            note="Set when ON BASICERROR GOTO catches an error. The numbers are ours (D): "
+            "1 Syntax error, 2 Parameter out of range, 3 Arithmetic error, 4 Divide by zero, "
+            "5 Invalid axis number ... (interpreter.ERROR_CODES)."),
+    _system("ERROR_LINE", "The program line of the last runtime error of this process.",
+            writable=False, note="Lines of an INCLUDEd program report the INCLUDE's line (D)."),
+    _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
+            "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
+    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
+            "stopped.", writable=False, confidence="I",
+            note="Paused/stepping (2, 3) do not exist in the emulator (D)."),
+    _system("PROCNUMBER", "The number of the process reading it.", writable=False),
+    _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
+    # ---- strings --------------------------------------------------------------------------
+    _function("CHR", "CHR(n): the one-character string of code n (0..255).", (1, 2)),
+    _function("HEX", "HEX(n): n in hexadecimal, upper case; negatives as 48-bit two's "
+              "complement (D).", (1, 1)),
+    _function("ASC", "ASC(s[, i]): the code of character i (1-based) of s.", (1, 2)),
+    _function("LEN", "LEN(s): characters in s.", (1, 1)),
+    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2)),
+    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2)),
+    _function("MID", "MID(s, start[, n]): n characters from start (1-based).", (2, 3)),
+    _function("UCASE", "UCASE(s): upper case.", (1, 1)),
+    _function("LCASE", "LCASE(s): lower case.", (1, 1)),
+    _function("STR", "STR(x): x as PRINT shows it.", (1, 3),
+              note="Width and decimals arguments are accepted and not applied (D)."),
+    _function("VAL", "VAL(s): the number s spells (0 when it spells none, I).", (1, 1)),
+    _function("INSTR", "INSTR([start,] s, find): the 1-based place of find in s, 0 if "
+              "absent.", (2, 4)),
+    _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
+               confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
+    Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
+            args=(1, 1)),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),
@@ -301,7 +399,81 @@ _ENTRIES: list[Keyword] = [
             "the base axis.", f"{SEED}; {TOK}", args=(1, 1)),
 ]
 
-KEYWORDS: dict[str, Keyword] = {k.name: k for k in _ENTRIES}
+# Statements the parser handles itself (structure, declarations, errors).
+_STATEMENTS = {
+    "GOTO": "GOTO label: go on at the line after `label:`.",
+    "GOSUB": "GOSUB label: call the routine at `label:`; RETURN comes back.",
+    "RETURN": "Return from a GOSUB.",
+    "ELSEIF": "ELSEIF cond THEN: another branch of a block IF.",
+    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program.",
+    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program.",
+    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array.",
+    "AS": "Part of DIM.", "FLOAT": "Part of DIM.", "INTEGER": "Part of DIM.",
+    "BOOLEAN": "Part of DIM.", "STRING": "Part of DIM: STRING(n).",
+    "SELECT_CASE": "SELECT_CASE expr ... CASE v[, v] ... CASE ELSE ... END_CASE.",
+    "CASE": "Part of SELECT_CASE.", "END_CASE": "Ends SELECT_CASE.",
+    "BASICERROR": "ON BASICERROR GOTO label: a runtime error jumps to label.",
+    "FUNCTION": "FUNCTION name(p [AS type], ...) [AS type] ... ENDFUNC: a function of the "
+                "program, called as name(...); RETURN value gives its value.",
+    "ENDFUNC": "Ends a FUNCTION (its value is then 0).",
+}
+_STATEMENT_NOTE = ("Handled by the parser and the process runner; the form is from the "
+                   "token table and public programs (I).")
+
+
+def _from_token_table() -> list[Keyword]:
+    """Every token-table word without a hand-written entry: its kind and arity from the
+    table, its effect "not modelled" (D) unless named above."""
+    from .tokentable import TOKENS
+
+    known = {k.name for k in _ENTRIES}
+    out: list[Keyword] = []
+    for row in TOKENS.split("\n"):
+        fields = row.split()
+        if not fields or fields[1] in known:
+            continue
+        tag, name = fields[0], fields[1]
+        if name in _STATEMENTS:
+            out.append(_statement(name, _STATEMENTS[name], note=_STATEMENT_NOTE, confidence="I"))
+        elif tag == "V":
+            scope, access = int(fields[2]), fields[3]
+            note = ("Not modelled: stored and read back, no effect on the machine (D)."
+                    if access == "w" else "Not modelled: reads 0 (D).")
+            make = _axis if scope == 1 else _system
+            out.append(make(name, f"Token-table {'axis' if scope == 1 else 'system'} "
+                            f"parameter.", writable=access == "w", confidence="D", note=note))
+        elif tag == "C":
+            kind, low, high, modifier = fields[2], int(fields[3]), int(fields[4]), fields[5]
+            if kind == "f":
+                out.append(_function(name, "Token-table function.", (low, high),
+                                     confidence="D", note="Not modelled: returns 0 (D)."))
+            elif kind == "o":
+                out.append(Keyword(name, Kind.OPERATOR, "Operator.", TOK))
+            else:
+                out.append(_command(name, "Token-table command.", (low, high),
+                                    axis=modifier == "1", confidence="D",
+                                    note="Not modelled: accepted, no effect on the machine "
+                                    "(D); as a function it returns 0."))
+        elif tag == "M":
+            out.append(Keyword(name, Kind.MODIFIER, f"{name}(n) modifier.", TOK, "C",
+                               "Not modelled beyond AXIS(n): accepted, ignored (D).",
+                               args=(1, 1)))
+        elif tag == "T":
+            out.append(_constant(name, float(fields[2])))
+    return out
+
+
+def _index(entries: list[Keyword]) -> dict[str, Keyword]:
+    """The table by name; a keyword listed twice is an error at import."""
+    table: dict[str, Keyword] = {}
+    for entry in entries:
+        if entry.name in table:
+            raise ValueError(f"TrioBASIC keyword {entry.name} is listed twice")
+        table[entry.name] = entry
+    return table
+
+
+KEYWORDS: dict[str, Keyword] = _index(_ENTRIES + _from_token_table())
 
 
 def lookup(name: str) -> Keyword | None:

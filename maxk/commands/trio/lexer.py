@@ -40,7 +40,7 @@ class Token:
 _DIGITS = frozenset("0123456789")
 _LETTERS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
 _TWO_CHAR_OPS = ("<=", ">=", "<>")
-_ONE_CHAR_OPS = "+-*/^=<>(),;:?"
+_ONE_CHAR_OPS = "+-*/^=<>(),;:?#[]"
 
 
 def tokenize(line: str) -> list[Token]:

@@ -59,6 +59,10 @@ class TrioMachine(Protocol):
         """MOVEABS: load an absolute interpolated move."""
         ...
 
+    def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MOVECIRC(end1, end2, centre1, centre2, direction) on the first two axes."""
+        ...
+
     def axis_idle(self, axis: int) -> bool:
         """No move running or buffered on the axis (IDLE, WAIT IDLE)."""
         ...
@@ -100,4 +104,20 @@ class TrioMachine(Protocol):
         ...
 
     def vr_write(self, index: int, value: float) -> None:
+        ...
+
+    # ---- I/O ------------------------------------------------------------------------
+    def digital_input(self, number: int) -> bool:
+        """IN(n): the input's level (the world's input, or the limit/home switch of an
+        axis whose FWD_IN/REV_IN/DATUM_IN names it)."""
+        ...
+
+    def analog_input(self, channel: int) -> float:
+        """AIN(n) in volts, -10..10."""
+        ...
+
+    def output(self, number: int) -> bool:
+        ...
+
+    def set_output(self, number: int, on: bool) -> None:
         ...

@@ -8,6 +8,8 @@ links them into jumps when a program is compiled.
 
 Precedence, loosest first (D where the manual is silent): OR XOR, AND, NOT,
 comparisons, + -, * / MOD, unary minus, ^.
+
+Long module: one recursive-descent parser for every statement form of the language.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ class Var:
 class Param:
     keyword: Keyword
     axis: Expr | None  # AXIS(n) modifier
+    process: Expr | None = None  # PROC(n) modifier
 
 
 @dataclass(frozen=True)
@@ -60,20 +63,122 @@ class Binary:
     right: Expr
 
 
-Expr = Num | Str | Var | Param | Call | Unary | Binary
+@dataclass(frozen=True)
+class Bit:
+    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0."""
+
+    operand: Expr
+    bit: int
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
 
 # ---- statements ----------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
+class Format:
+    """``x[w,d]`` in a PRINT: the value in a field of w characters with d decimals."""
+
+    value: Expr
+    width: int
+    decimals: int
+
+
+@dataclass(frozen=True)
 class Print:
-    items: tuple[tuple[Expr, str], ...]  # (expression, separator after it: ',' ';' or '')
+    items: tuple[tuple[Expr | Format, str], ...]  # (item, separator after it: ',' ';' '')
     newline: bool
+    channel: Expr | None = None  # PRINT #n, ...
+
+
+@dataclass(frozen=True)
+class Label:
+    name: str
+
+
+@dataclass(frozen=True)
+class Goto:
+    label: str
+
+
+@dataclass(frozen=True)
+class Gosub:
+    label: str
+
+
+@dataclass(frozen=True)
+class Return:
+    value: Expr | None = None
+
+
+@dataclass(frozen=True)
+class ElseIf:
+    condition: Expr
+
+
+@dataclass(frozen=True)
+class SelectCase:
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Case:
+    """CASE v[, v][, a TO b]; no choices: CASE ELSE."""
+
+    choices: tuple[tuple[Expr, Expr | None], ...]
+
+
+@dataclass(frozen=True)
+class EndCase:
+    pass
+
+
+@dataclass(frozen=True)
+class OnError:
+    label: str | None  # None: ON BASICERROR with no handler (turns it off)
+
+
+@dataclass(frozen=True)
+class Declare:
+    """CONSTANT "name", value / GLOBAL "name", vr."""
+
+    what: str  # "CONSTANT" or "GLOBAL"
+    name: str
+    value: Expr
+
+
+@dataclass(frozen=True)
+class FunctionDef:
+    """FUNCTION name(p [AS type], ...) [AS type]: a function of this program."""
+
+    name: str
+    params: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class EndFunc:
+    pass
+
+
+@dataclass(frozen=True)
+class Perform:
+    """A user FUNCTION called as a statement, its value dropped."""
+
+    call: Call
+
+
+@dataclass(frozen=True)
+class Dim:
+    name: str
+    size: Expr | None  # array length, None: a scalar
+    type: str  # INTEGER FLOAT BOOLEAN STRING
+    length: int = 0  # STRING(n)
 
 
 @dataclass(frozen=True)
 class Assign:
-    target: Var | Param | Call  # Call only for VR(i)
+    target: Var | Param | Call  # Call: VR(i) or a user array element
     value: Expr
 
 
@@ -150,8 +255,13 @@ class Next:
 
 
 Stmt = (Print | Assign | Command | WaitIdle | WaitUntil | IfLine | IfBlock | Else | EndIf
-        | While | Wend | Repeat | Until | For | Next)
-BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next)
+        | While | Wend | Repeat | Until | For | Next | Label | Goto | Gosub | Return | ElseIf
+        | SelectCase | Case | EndCase | OnError | Declare | Dim | FunctionDef | EndFunc
+        | Perform)
+BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next, Label,
+                    Goto, Gosub, Return, ElseIf, SelectCase, Case, EndCase, OnError,
+                    FunctionDef, EndFunc)
+MAX_ARRAY = 65536  # elements of one DIM array (D)
 
 _EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
 _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
@@ -169,10 +279,28 @@ def parse_expression(text: str) -> Expr:
     return expr
 
 
+MAX_NESTING = 64  # brackets, unary operators and calls nested in one expression (D)
+MAX_OPERATORS = 128  # binary operators in one line (D: evaluation recurses through them)
+
+
 class _Parser:
     def __init__(self, tokens: list[Token]) -> None:
         self.tokens = tokens
         self.pos = 0
+        self.depth = 0
+        self.operators = 0
+
+    def binary(self, op: str, left: Expr, right: Expr) -> Binary:
+        self.operators += 1
+        if self.operators > MAX_OPERATORS:
+            raise TrioError("Expression too complex")
+        return Binary(op, left, right)
+
+    def nest(self) -> None:
+        """Count one level of nesting; a deeper expression is refused, never a crash."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise TrioError("Expression too complex")
 
     # ---- token helpers ---------------------------------------------------------------
     @property
@@ -225,7 +353,8 @@ class _Parser:
                 self.advance()
                 continue
             statement = self.statement()
-            if isinstance(statement, BLOCK_STATEMENTS):
+            if isinstance(statement, BLOCK_STATEMENTS) and not isinstance(
+                    statement, (Goto, Gosub, Return)):
                 raise TrioError("Syntax error")
             out.append(statement)
             if not self.at_statement_end():
@@ -243,13 +372,36 @@ class _Parser:
         keyword = lookup(name)
         if keyword is None:
             self.advance()
+            if self.at_op(":") and self.pos == 1:  # `name:` starting a line: a label
+                return Label(name)
+            if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
+                args = self.user_args()
+                if not self.at_op("="):
+                    return Perform(Call(name, args))
+                self.advance()
+                if len(args) != 1:
+                    raise TrioError("Syntax error")
+                return Assign(Call(name, args), self.expression())
             self.expect_op("=")
             return Assign(Var(name), self.expression())
+        if name == "ON" and self.tokens[self.pos + 1].text == "BASICERROR":
+            self.advance()
+            self.advance()
+            if self.tok.kind is Tok.END:
+                return OnError(None)
+            if not self.at_name("GOTO"):
+                raise TrioError("Syntax error")
+            self.advance()
+            return OnError(self.label_name())
         self.advance()
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
         if keyword.kind is Kind.COMMAND:
-            return self.command(keyword)
+            command = self.command(keyword)
+            if self.at_op("=") and command.args:  # AOUT(n) = value
+                self.advance()
+                return Assign(Call(name, command.args), self.expression())
+            return command
         if name in _PARAM_COMMANDS and self.at_op("("):
             return self.command(keyword)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
@@ -264,10 +416,48 @@ class _Parser:
             return Assign(Call("VR", (index,)), self.expression())
         raise TrioError("Syntax error")
 
+    def label_name(self) -> str:
+        tok = self.advance()
+        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        return tok.text
+
     def block_or_statement(self, name: str) -> Stmt:
         if name == "PRINT":
             return self.print_rest()
+        if name == "GOTO":
+            return Goto(self.label_name())
+        if name == "GOSUB":
+            return Gosub(self.label_name())
+        if name == "RETURN":
+            return Return(None if self.at_statement_end() else self.expression())
+        if name == "ELSEIF":
+            condition = self.expression()
+            if not self.at_name("THEN"):
+                raise TrioError("Syntax error")
+            self.advance()
+            self.expect_end()
+            return ElseIf(condition)
+        if name == "SELECT_CASE":
+            return SelectCase(self.expression())
+        if name == "CASE":
+            return self.case()
+        if name == "END_CASE":
+            return EndCase()
+        if name in ("CONSTANT", "GLOBAL"):
+            tok = self.advance()
+            if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
+                raise TrioError("Syntax error")
+            self.expect_op(",")
+            return Declare(name, tok.text.upper(), self.expression())
+        if name == "DIM":
+            return self.dim()
+        if name == "FUNCTION":
+            return self.function()
+        if name == "ENDFUNC":
+            return EndFunc()
         if name == "IF":
+            self.nest()
             condition = self.expression()
             if not self.at_name("THEN"):
                 raise TrioError("Syntax error")
@@ -309,6 +499,85 @@ class _Parser:
                 return WaitUntil(self.expression())
         raise TrioError("Syntax error")
 
+    def case(self) -> Case:
+        if self.at_name("ELSE"):
+            self.advance()
+            return Case(())
+        choices: list[tuple[Expr, Expr | None]] = []
+        while True:
+            low = self.expression()
+            high = None
+            if self.at_name("TO"):
+                self.advance()
+                high = self.expression()
+            choices.append((low, high))
+            if not self.at_op(","):
+                return Case(tuple(choices))
+            self.advance()
+
+    def user_args(self) -> tuple[Expr, ...]:
+        self.expect_op("(")
+        args: list[Expr] = []
+        if not self.at_op(")"):
+            args.append(self.expression())
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
+        self.expect_op(")")
+        return tuple(args)
+
+    def skip_type(self) -> None:
+        if self.at_name("AS"):
+            self.advance()
+            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+                raise TrioError("Syntax error")
+            if self.advance().text == "STRING" and self.at_op("("):
+                self.advance()
+                self.advance()
+                self.expect_op(")")
+
+    def function(self) -> FunctionDef:
+        name = self.label_name()
+        params: list[str] = []
+        if self.at_op("("):
+            self.advance()
+            while not self.at_op(")"):
+                params.append(self.label_name())
+                self.skip_type()
+                if not self.at_op(","):
+                    break
+                self.advance()
+            self.expect_op(")")
+        self.skip_type()
+        if len(set(params)) != len(params):
+            raise TrioError("Syntax error")
+        return FunctionDef(name, tuple(params))
+
+    def dim(self) -> Dim:
+        tok = self.advance()
+        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        size = None
+        if self.at_op("("):
+            self.advance()
+            size = self.expression()
+            self.expect_op(")")
+        kind, length = "FLOAT", 0
+        if self.at_name("AS"):
+            self.advance()
+            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+                raise TrioError("Syntax error")
+            kind = self.advance().text
+            if kind == "STRING":
+                self.expect_op("(")
+                number = self.advance()
+                if number.kind is not Tok.NUMBER or not 0 < number.value <= 1024 \
+                        or number.value != int(number.value):
+                    raise TrioError("Syntax error")
+                length = int(number.value)
+                self.expect_op(")")
+        return Dim(tok.text, size, kind, length)
+
     def for_statement(self) -> For:
         tok = self.advance()
         if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
@@ -326,10 +595,33 @@ class _Parser:
         return For(tok.text, start, end, step)
 
     def print_rest(self) -> Print:
-        items: list[tuple[Expr, str]] = []
+        items: list[tuple[Expr | Format, str]] = []
         newline = True
+        channel = None
+        if self.at_op("#"):
+            self.advance()
+            channel = self.expression()
+            if not self.at_op(","):
+                return Print((), True, channel)
+            self.advance()
         while not self.at_statement_end():
-            expr = self.expression()
+            expr: Expr | Format = self.expression()
+            if self.at_op("["):
+                self.advance()
+                width = self.advance()
+                decimals = 0
+                if self.at_op(","):
+                    self.advance()
+                    tok = self.advance()
+                    if tok.kind is not Tok.NUMBER:
+                        raise TrioError("Syntax error")
+                    decimals = int(tok.value)
+                self.expect_op("]")
+                if width.kind is not Tok.NUMBER or not 0 <= width.value <= 127 \
+                        or not 0 <= decimals <= 15:
+                    raise TrioError("Syntax error")
+                assert not isinstance(expr, Format)
+                expr = Format(expr, int(width.value), decimals)
             separator = ""
             if self.at_op(",", ";"):
                 separator = self.advance().text
@@ -338,7 +630,7 @@ class _Parser:
                 break
         if items and items[-1][1]:
             newline = False  # a trailing ',' or ';' keeps the line open
-        return Print(tuple(items), newline)
+        return Print(tuple(items), newline, channel)
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
@@ -372,50 +664,57 @@ class _Parser:
 
     # ---- expressions ---------------------------------------------------------------------
     def expression(self) -> Expr:
+        self.nest()
         left = self.and_expr()
         while self.at_name("OR", "XOR"):
             op = self.advance().text
-            left = Binary(op, left, self.and_expr())
+            left = self.binary(op, left, self.and_expr())
+        self.depth -= 1
         return left
 
     def and_expr(self) -> Expr:
         left = self.not_expr()
         while self.at_name("AND"):
             self.advance()
-            left = Binary("AND", left, self.not_expr())
+            left = self.binary("AND", left, self.not_expr())
         return left
 
     def not_expr(self) -> Expr:
         if self.at_name("NOT"):
             self.advance()
-            return Unary("NOT", self.not_expr())
+            self.nest()
+            operand = self.not_expr()
+            self.depth -= 1
+            return Unary("NOT", operand)
         return self.comparison()
 
     def comparison(self) -> Expr:
         left = self.additive()
         while self.at_op("=", "<>", "<", ">", "<=", ">="):
             op = self.advance().text
-            left = Binary(op, left, self.additive())
+            left = self.binary(op, left, self.additive())
         return left
 
     def additive(self) -> Expr:
         left = self.term()
         while self.at_op("+", "-"):
             op = self.advance().text
-            left = Binary(op, left, self.term())
+            left = self.binary(op, left, self.term())
         return left
 
     def term(self) -> Expr:
         left = self.unary()
         while self.at_op("*", "/") or self.at_name("MOD"):
             op = self.advance().text
-            left = Binary(op, left, self.unary())
+            left = self.binary(op, left, self.unary())
         return left
 
     def unary(self) -> Expr:
         if self.at_op("-", "+"):
             op = self.advance().text
+            self.nest()
             operand = self.unary()
+            self.depth -= 1
             return Unary("-", operand) if op == "-" else operand
         return self.power()
 
@@ -423,7 +722,7 @@ class _Parser:
         left = self.primary()
         while self.at_op("^"):
             self.advance()
-            left = Binary("^", left, self.unary_primary())
+            left = self.binary("^", left, self.unary_primary())
         return left
 
     def unary_primary(self) -> Expr:
@@ -446,13 +745,34 @@ class _Parser:
             raise TrioError("Syntax error")
         keyword = lookup(tok.text)
         if keyword is None:
+            if self.at_op("("):  # an element of a DIM array, or a FUNCTION's value
+                return Call(tok.text, self.user_args())
             return Var(tok.text)
         if keyword.kind is Kind.CONSTANT:
             return Num(keyword.default)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
             axis = self.axis_modifier() if keyword.axis_modifier else None
-            return Param(keyword, axis)
-        if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS:
+            process = None
+            if self.at_name("PROC"):
+                self.advance()
+                self.expect_op("(")
+                process = self.expression()
+                self.expect_op(")")
+            if axis is None and keyword.axis_modifier:
+                axis = self.axis_modifier()
+            param: Expr = Param(keyword, axis, process)
+            tok = self.tok
+            if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
+                self.advance()
+                bit = int(tok.text[1:])
+                if bit > 52:
+                    raise TrioError("Parameter out of range")
+                if axis is None and keyword.axis_modifier and self.at_name("AXIS"):
+                    param = Param(keyword, self.axis_modifier(), process)  # x.n AXIS(a)
+                return Bit(param, bit)
+            return param
+        if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
+                keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
         raise TrioError("Syntax error")
 

@@ -227,6 +227,9 @@ class TrioCommandLine:
                 statements = parse_line(line)
                 if any(isinstance(s, BLOCK_STATEMENTS) for s in statements):
                     raise TrioError("Structure error")
+        except RecursionError:  # (the parser's limits keep this from happening)
+            self._error(TrioError("Expression too complex"))
+            return
         except TrioError as exc:
             self._error(exc)
             return

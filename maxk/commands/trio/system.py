@@ -33,6 +33,13 @@ class ProgramCommands:
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
+        self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
+        self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
+        self.analog_outputs: dict[int, float] = {}  # AOUT(n)
+
+    def context_of(self, process: int) -> ProcessContext | None:
+        task = self.tasks.get(process)
+        return task.ctx if task is not None else None
 
     # ---- SystemHook ---------------------------------------------------------------------
     def system_parameter(self, name: str) -> float | None:
@@ -53,8 +60,12 @@ class ProgramCommands:
 
     def system_command(self, keyword: Keyword, args: list[Value],
                        ctx: ProcessContext) -> Wait:
-        handler = getattr(self, "cmd_" + keyword.name.lower())
-        handler(args)
+        if keyword.name == "STOP" and not args and ctx.program:
+            ctx.stopped = True  # STOP alone in a program: this program ends here
+            args = [ctx.program]
+        handler = getattr(self, "cmd_" + keyword.name.lower(), None)
+        if handler is not None:  # else a token-table word the emulator does not model:
+            handler(args)  # accepted with no effect (its table note says so)
         return _done()
 
     # ---- program handling -----------------------------------------------------------------
@@ -114,10 +125,17 @@ class ProgramCommands:
 
     def compile(self, name: str) -> list[Step]:
         """Compile one program; its errors carry the line number."""
-        steps = compile_program(self.programs.lines[name])
+        steps = compile_program(self.programs.lines[name], self._included)
         self.compiled[name] = steps
         self.programs.set_compiled(name, 4 * len(steps))
         return steps
+
+    def _included(self, name: str) -> list[str]:
+        """INCLUDE "NAME": the lines of a BASIC program in the store."""
+        info = self.programs.get(name)
+        if info.type not in _BASIC_TYPES:
+            raise TrioError("Program cannot be run")
+        return self.programs.lines[info.name]
 
     def _compile_reporting(self, name: str) -> None:
         if self.programs.get(name).type not in _BASIC_TYPES:
@@ -183,9 +201,12 @@ class ProgramCommands:
         name = self._target(args[:1])
         for process, task in list(self.tasks.items()):
             if task.ctx.program == name:
+                task.ctx.stopped = True
                 del self.tasks[process]
 
     def halt(self) -> None:
+        for task in self.tasks.values():
+            task.ctx.stopped = True
         self.tasks.clear()
 
     def cmd_halt(self, args: list[Value]) -> None:

@@ -11,7 +11,7 @@ from .io import DeviceIO
 from .machine import SlotEngine
 from .pev1 import PulseEngineV1
 from .pev2 import PulseEngineV2
-from .world import PoKeysIOWorld, PulseEngineWorld, SharedWorld, pokeys_world
+from .world import CounterSampler, PoKeysIOWorld, PulseEngineWorld, SharedWorld, pokeys_world
 
 
 @dataclass(frozen=True)
@@ -69,6 +69,7 @@ class PoKeysDevice:
         world = self.machine.world or World.default(len(self.engine.axes))
         self.pins = PoKeysIOWorld(self.io, world, self._stage, lambda: self.machine,
                                   self.machine.world_changed)
+        self.machine.add_source(CounterSampler(self.pins, lambda: self.machine.tick))
 
     def pwm_output(self, channel: int) -> float:
         """PWM channel's duty as a fraction of its period, as the pin puts it out: a

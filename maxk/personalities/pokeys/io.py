@@ -14,7 +14,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Final
 
@@ -111,6 +111,8 @@ def check_function(pin: int, function: int, caps: int) -> str | None:
     goes with digital in/out and triggered inputs, the counter with a digital input."""
     if function == 0:
         return None
+    if not 0 <= function <= 0xFF:
+        return f"pin {pin}: a function is one byte, not {function}"
     main = function & (DIGITAL_INPUT | DIGITAL_OUTPUT | ANALOG_INPUT | ANALOG_OUTPUT
                        | TRIGGERED_INPUT)
     if main == 0 or main & (main - 1):
@@ -177,7 +179,7 @@ class Kbd48:
 CONFIG_FIELDS: Final = ("functions", "counter_options", "pwm_enabled", "pwm_duty",
                         "pwm_period", "encoder_setup", "fast_encoders", "ultra_fast",
                         "analog_filter", "matrix_config", "matrix_decimation", "lcd_setup",
-                        "failsafe", "poextbus_failsafe")
+                        "failsafe")
 
 
 @dataclass
@@ -208,7 +210,6 @@ class DeviceIO:
     lcd: Lcd = field(default_factory=Lcd)
     kbd48: Kbd48 = field(default_factory=Kbd48)
     failsafe: bytes = bytes(25)  # [3], [4], then [8..30] of the 0x81 frame
-    poextbus_failsafe: bytes = b""
     backlash: bytes = bytes(34)  # [3], [4], then [8..39]
     postep: bytes = bytes(25)  # enable, then 8 x (type, address, update)
     postep_currents: bytes = bytes(48)
@@ -310,8 +311,8 @@ class DeviceIO:
         try:
             functions = [int(f) for f in config.get("functions", fresh.functions)][:PINS]
             fresh.set_functions(functions + [0] * (PINS - len(functions)))
-            for name in ("counter_options", "pwm_duty"):
-                values = [int(v) & 0xFFFFFFFF for v in config.get(name, [])]
+            for name, mask in (("counter_options", 0xFF), ("pwm_duty", 0xFFFFFFFF)):
+                values = [int(v) & mask for v in config.get(name, [])]
                 target = getattr(fresh, name)
                 target[:len(values)] = values[:len(target)]
             fresh.pwm_enabled = int(config.get("pwm_enabled", 0)) & 0x3F
@@ -340,7 +341,7 @@ class DeviceIO:
             elif name == "lcd_setup":
                 self.lcd.configuration = fresh.lcd.configuration
                 self.lcd.rows, self.lcd.columns = fresh.lcd.rows, fresh.lcd.columns
-            elif name != "poextbus_failsafe":
+            else:
                 setattr(self, name, getattr(fresh, name))
         self.outputs = [False] * PINS
 
@@ -406,5 +407,3 @@ def pressed_bits(keys: set[int], count: int) -> bytes:
             out[k // 8] |= 1 << (k % 8)
     return bytes(out)
 
-
-OutputListener = Callable[[int, bool], None]

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any, NamedTuple, Protocol
 
 from ...firmware_model.world import AxisWorld, Switch, World
+from .io import ANALOG_FULL_SCALE, ANALOG_INPUT, ANALOG_PINS, DIGITAL_OUTPUT, INVERT
 
 
 class SwitchLevels(NamedTuple):
@@ -213,7 +214,7 @@ class PoKeysIOWorld:
     World digital input p is pin p's level (input 0 is the dedicated e-stop, not a pin);
     world analog channel p is pin p's voltage. Counters count the rising edges the world
     makes on a pin configured as a counter (D: the counter options are stored, not used);
-    an input that is a function is sampled when the device reads it (D)."""
+    an input that is a function is sampled every slot by `CounterSampler` (D)."""
 
     def __init__(self, io: Any, world: World, stage: Callable[[int], int],
                  board: Callable[[], Any] = lambda: None,
@@ -236,7 +237,6 @@ class PoKeysIOWorld:
 
     def analog(self, pin: int, volts: object) -> None:
         """Pin `pin`'s voltage (0..3.3 V on the analog pins 41..47)."""
-        from .io import ANALOG_FULL_SCALE, ANALOG_PINS
         if pin not in ANALOG_PINS:
             raise ValueError(f"pin {pin} has no analog input (pins 41..47)")
         if not callable(volts):
@@ -283,19 +283,38 @@ class PoKeysIOWorld:
             self.io.counters[pin - 1] = (self.io.counters[pin - 1] + 1) & 0xFFFFFFFF
         return level
 
+    def timed_counters(self) -> list[int]:
+        """Counter pins whose world input is a function (of time or of an axis): their
+        edges can come at any slot, so they are sampled every slot (`CounterSampler`)."""
+        return [pin for pin, source in self.world.digital.items()
+                if callable(source) and 1 <= pin <= 55 and self.io.counts(pin)]
+
     def pin_level(self, pin: int) -> bool:
         """What DigitalIOGet reports for pin: an output its driven level, an input the
         world's level (inverted when the pin is inverted)."""
-        from .io import DIGITAL_OUTPUT, INVERT
         f = self.io.functions[pin - 1]
         if f & DIGITAL_OUTPUT:
             return bool(self.io.output_level(pin))
-        level = self.sample(pin)
+        level = self.sample(pin) if pin in self.world.digital else False
         return level != bool(f & INVERT)
+
+    def pin_bits(self) -> int:
+        """Every pin's level as DigitalIOGet packs them: bit p-1 = pin p."""
+        bits = 0
+        digital = self.world.digital
+        functions = self.io.functions
+        for i in range(55):
+            f = functions[i]
+            if f & DIGITAL_OUTPUT:
+                level = self.io.output_level(i + 1)
+            else:
+                level = (self.sample(i + 1) if i + 1 in digital else False) != bool(f & INVERT)
+            if level:
+                bits |= 1 << i
+        return bits
 
     def analog_code(self, pin: int) -> int:
         """12-bit code of an analog input pin (0 unless configured as one)."""
-        from .io import ANALOG_FULL_SCALE, ANALOG_INPUT
         if not self.io.functions[pin - 1] & ANALOG_INPUT:
             return 0
         volts = self.world.analog_volts(pin, self.board())
@@ -331,3 +350,21 @@ class PoKeysIOWorld:
     def output_levels(self) -> dict[int, bool]:
         """Every digital output pin's level."""
         return {p: self.io.output_level(p) for p in range(1, 56) if self.io.is_output(p)}
+
+
+class CounterSampler:
+    """An event source of the device's engine: while a counter pin follows a function,
+    its input is sampled at every slot boundary, so the counter sees each edge the world
+    makes (one a slot at most, as the pulse engine reads its inputs once a slot, D)."""
+
+    def __init__(self, pins: PoKeysIOWorld, tick: Callable[[], int]) -> None:
+        self.pins = pins
+        self.sampled = tick()  # the slot last sampled
+
+    def next_event(self) -> int | None:
+        return self.sampled + 1 if self.pins.timed_counters() else None
+
+    def on_event(self, now: int) -> None:
+        for pin in self.pins.timed_counters():
+            self.pins.sample(pin)
+        self.sampled = now

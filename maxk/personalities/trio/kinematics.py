@@ -52,7 +52,12 @@ class Kinematics:
         else:
             assert run.arrays is not None
             s, _v = run.arrays.state((ticks - run.plan_tick) * self.period)
-            position = run.arrays.point(s, run.axes.index(axis))
+            k = run.axes.index(axis)
+            if run.arcs and run.plan is not None:  # MOVECIRC: the planner's own geometry
+                plan = run.plan
+                position = np.array([plan.point(float(x), k) for x in np.ravel(s)])
+            else:
+                position = run.arrays.point(s, k)
         if a.motion_end is not None:
             position = np.where(ticks >= a.motion_end, float(a.steps + m.final_offset),
                                 position)

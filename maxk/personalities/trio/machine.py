@@ -14,6 +14,9 @@ position is passed), and everything between is closed form:
 
 `revision` counts every change a waiting program could notice; the process scheduler
 of the language uses it to wake WAIT IDLE and full-buffer waits.
+
+Long module: the MC405's parameters, motion queues, links and I/O on one engine are one
+state; splitting them would spread every change across files.
 """
 
 from __future__ import annotations
@@ -91,6 +94,7 @@ class MC405Machine(Kinematics, Engine):
         self.distance_done = [0.0] * self._axis_count  # path distance per base, user units
         self.table = TableMemory()
         self.vr = VrMemory()
+        self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         if hasattr(self, "outputs"):
             self.outputs.reset()
         self.changed()
@@ -194,17 +198,55 @@ class MC405Machine(Kinematics, Engine):
     def _buffered(self, axis: int) -> int:
         return sum(run.moves_left(self.tick, self.period) for run in self.queues[axis])
 
+    def _counts(self, axis: int, value: float) -> float:
+        """User units to counts, refused when beyond the position range (an overflow on
+        the controller: every operand checked before anything is loaded)."""
+        counts = value * self.axes[axis].units
+        if not abs(counts) < MAX_COUNTS:  # also NaN and inf
+            raise ValueError("Parameter out of range")
+        return counts
+
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
-        deltas = [round(d * self.axes[a].units) for a, d in zip(axes, distances, strict=True)]
+        deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
         self._load(tuple(axes), deltas)
 
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
             axis = self.axes[a]
-            target = round(p * axis.units) - axis.datum  # physical counts
-            deltas.append(round(target - self._end_counts(a)))
+            target = round(self._counts(a, p)) - axis.datum  # physical counts
+            delta = target - self._end_counts(a)
+            if not abs(delta) < MAX_COUNTS:
+                raise ValueError("Parameter out of range")
+            deltas.append(round(delta))
         self._load(tuple(axes), deltas)
+
+    # ---- I/O on the shared world --------------------------------------------------------
+    def digital_input(self, number: int) -> bool:
+        """IN(n): a level the world sets for input n; else the switch of an axis wired to
+        it by FWD_IN/REV_IN/DATUM_IN, at the axis's position (D: the world's per-axis
+        switches reach the controller through the inputs the program names)."""
+        if number in self.world.digital:
+            return self.world.digital_level(number, self)  # type: ignore[arg-type]
+        for i, axis in enumerate(self.axes):
+            params = axis.params
+            for name, switch in (("FWD_IN", "plus_limit"), ("REV_IN", "minus_limit"),
+                                 ("DATUM_IN", "home")):
+                if params.get(name, -1) == number:
+                    stage = self.world.axes[i]
+                    if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
+                        return True
+        return False
+
+    def analog_input(self, channel: int) -> float:
+        return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
+
+    def output(self, number: int) -> bool:
+        return self.digital_outputs.get(number, False)
+
+    def set_output(self, number: int, on: bool) -> None:
+        self.digital_outputs[number] = on
+        self.changed()
 
     def axis_idle(self, axis: int) -> bool:
         a = self.axes[axis]
@@ -314,7 +356,27 @@ class MC405Machine(Kinematics, Engine):
                 position += sum(delta[k] for delta in run.deltas)
         return position
 
-    def _load(self, axes: tuple[int, ...], deltas: list[int]) -> None:
+    def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the shared path
+        planner from here to the end, about the centre (both relative); direction 1 turns
+        clockwise, 0 anticlockwise (I); an end on the start is a whole circle."""
+        if len(args) < 5 or args[4] not in (0, 1) or any(a != 0 for a in args[5:]):
+            raise ValueError("Parameter out of range")
+        ex, ey = (round(self._counts(a, v)) for a, v in zip(axes, args[:2], strict=True))
+        cx, cy = (self._counts(a, v) for a, v in zip(axes, args[2:4], strict=True))
+        if cx == 0 and cy == 0:
+            raise ValueError("Parameter out of range")
+        start = math.atan2(-cy, -cx)
+        end = math.atan2(ey - cy, ex - cx)
+        turn = math.degrees(end - start) % 360.0
+        if args[4] == 1:
+            turn = turn - 360.0 if turn > 0 else -360.0
+        elif turn == 0:
+            turn = 360.0
+        self._load(tuple(axes), [ex, ey], arc=(cx, cy, turn))
+
+    def _load(self, axes: tuple[int, ...], deltas: list[int],
+              arc: tuple[float, float, float] | None = None) -> None:
         base = self.axes[axes[0]]
         speed = base.params["SPEED"] * base.units
         accel = base.params["ACCEL"] * base.units
@@ -330,6 +392,8 @@ class MC405Machine(Kinematics, Engine):
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
+            if arc is not None:
+                last.arcs[len(last.deltas)] = arc
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -340,6 +404,8 @@ class MC405Machine(Kinematics, Engine):
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge)
+        if arc is not None:
+            run.arcs[0] = arc
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()

@@ -60,6 +60,8 @@ class Run:
     end_tick: int = 0
     profile: Motion | None = None  # single-axis runs
     segments: list[Segment] = field(default_factory=list)
+    arcs: dict[int, tuple[float, float, float]] = field(default_factory=dict)
+    # move index -> an arc's centre (counts from the move's start) and turn (degrees)
 
     @property
     def base(self) -> int:
@@ -80,7 +82,13 @@ class Run:
         """Segments of every move loaded so far, from the group's start position."""
         defs = self.definitions()
         while len(self.segments) < len(defs):
-            defn = defs[len(self.segments)]
+            j = len(self.segments)
+            defn = defs[j]
+            start = self.segments[-1].end if self.segments else origin
+            if j in self.arcs:  # MOVECIRC: the centre on the path's own frame
+                dx, dy, angle = self.arcs[j]
+                defn = SegmentDef("arc", (start[0] + dx, start[1] + dy), True, angle,
+                                  defn.v_start, defn.v_end, defn.accel, None)
             if self.segments:
                 last = self.segments[-1]
                 self.segments.append(Segment(defn, last.end, last.s0 + last.length, last.v_end))
