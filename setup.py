@@ -1,8 +1,16 @@
 """The compiled servo kernel, built where a C compiler exists and skipped where none does:
-without it maxk runs its servo loop in Python (README, "Servo speed")."""
+without it maxk runs its servo loop in Python (README, "Servo speed"). Beside it, the same
+way, libOmsMAXkMC: the vendor motion-control library API for legacy host programs
+(docs/oms-library.md); without a compiler `maxk library` says how to get it."""
+
+import sys
+from pathlib import Path
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+
+OMS_LIBRARY_DIR = Path("maxk") / "host" / "oms_library"
+OMS_LIBRARY_NAME = "libOmsMAXkMC.dylib" if sys.platform == "darwin" else "libOmsMAXkMC.so"
 
 
 class OptionalBuildExt(build_ext):
@@ -13,6 +21,24 @@ class OptionalBuildExt(build_ext):
             super().run()
         except Exception as exc:  # no compiler at all (distutils' own errors vary)
             self._skip(exc)
+        try:
+            self._build_oms_library()
+        except Exception as exc:
+            print(f"maxk: libOmsMAXkMC was not built ({exc}); `maxk library --build` "
+                  "builds it once a C compiler is installed")
+
+    def _build_oms_library(self) -> None:
+        """A plain shared library (not a Python extension), beside its source."""
+        if sys.platform == "win32":
+            return  # Windows hosts use the vendor's own DLL or build ours (docs)
+        target = OMS_LIBRARY_DIR if self.inplace else Path(self.build_lib) / OMS_LIBRARY_DIR
+        target.mkdir(parents=True, exist_ok=True)
+        objects = self.compiler.compile(
+            [str(OMS_LIBRARY_DIR / "OmsMAXkMC.c")], output_dir=self.build_temp,
+            include_dirs=[str(OMS_LIBRARY_DIR / "include")],
+            extra_postargs=["-O2", "-fPIC", "-fvisibility=hidden"])
+        self.compiler.link_shared_object(objects, str(target / OMS_LIBRARY_NAME),
+                                         libraries=["pthread"])
 
     def build_extension(self, ext: Extension) -> None:
         try:

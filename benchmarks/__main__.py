@@ -305,6 +305,8 @@ BENCHMARKS: dict[str, Callable[[], Figure | list[Figure]]] = {
     "servo_serve": lambda: __import__("benchmarks.servo_serve", fromlist=["figures"]).figures(),
     "fairness": lambda: __import__("benchmarks.fairness", fromlist=["figures"]).figures(),
     "pokeys_io": lambda: __import__("benchmarks.pokeys_io", fromlist=["figures"]).figures(),
+    "oms_library": lambda: __import__("benchmarks.oms_library",
+                                      fromlist=["figures"]).figures(),
 }
 
 

@@ -107,6 +107,11 @@ def build_parser() -> argparse.ArgumentParser:
     tune.add_argument("--no-plot", action="store_true", help="print the summary only")
 
     sub.add_parser("models", help="list the board models")
+
+    library = sub.add_parser("library", help="where the vendor-API C library "
+                             "(libOmsMAXkMC) and its headers are, and how to compile with them")
+    library.add_argument("--path", action="store_true", help="print the library's path only")
+    library.add_argument("--build", action="store_true", help="(re)build it with the C compiler")
     return parser
 
 
@@ -148,6 +153,10 @@ def _main(argv: list[str] | None) -> int:
         return serve_main(args)
     if args.command == "tune":
         return _tune(args)
+    if args.command == "library":
+        from maxk.host.oms_library import describe
+
+        return describe(path_only=args.path, rebuild=args.build)
     if args.command == "models":
         from maxk.controllers.registry import KINDS, build
 

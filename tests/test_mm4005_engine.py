@@ -304,7 +304,7 @@ def test_console() -> None:
     assert len(console.status_line(40)) <= 40
     assert not console.is_idle()
     assert console.repl_word("status", "") is None
-    assert len(console.status_lines()) == 1 + 4 + 2
+    assert len(console.status_lines()) == 1 + 4 + 5  # + XY, time-based, pulses, servo, errors
     mm.run_until_idle()
     assert console.is_idle()
     mm.reset()
@@ -321,7 +321,8 @@ def test_pulse_log_csv_and_repl_word(tmp_path) -> None:  # type: ignore[no-untyp
     assert lines[1].split(",")[4:7] == ["2", "10000", "0"]
     target = tmp_path / "pulses.csv"
     assert mm.console().repl_word("pulses-csv", str(target)) == [
-        f"11 pulses written to {target}"]
+        f"11 pulses written to {target}; later pulses are appended as they fire "
+        "(:pulses-csv off stops)"]
     assert target.read_text().splitlines() == lines
 
 

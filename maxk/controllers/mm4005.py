@@ -22,10 +22,10 @@ from __future__ import annotations
 
 import csv
 import io
+import weakref
 from collections import deque
-from collections.abc import Callable
 from pathlib import Path
-from typing import Final
+from typing import IO, Final
 
 from maxk.commands.mm4005 import COMMANDS, Interpreter, MM4005Session
 from maxk.commands.mm4005.fmt import fixed, position_decimals
@@ -35,6 +35,9 @@ from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
 from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
+from maxk.personalities.mm4005.timed import TracePoint
+
+from .mm4005_trace import MM4005Recording, PathTrace
 
 DEFAULT_MODEL: Final = "MM4005"
 MODELS: Final = (DEFAULT_MODEL, *(f"MM4005-{n}" for n in range(1, MAX_AXES + 1)))
@@ -177,74 +180,70 @@ class MM4005Controller(VirtualTime):
 
     @property
     def pulses(self) -> list[PulseRecord]:
-        """The synchronized pulses of the running or last trajectory."""
+        """The XY trajectory's synchronized pulses the ring still holds."""
         return self.machine.pulse_log
 
-    def pulse_rows(self) -> list[tuple[object, ...]]:
+    @property
+    def trace_points(self) -> list[TracePoint]:
+        """The time-based trajectory's pulses (TQ's trace) the ring still holds."""
+        return self.machine.trace_points
+
+    @property
+    def timed_log(self) -> bool:
+        """Is the pulse log the time-based trajectory's (EC) rather than the XY one's?"""
+        records = self.machine.pulse_trace.records
+        return bool(records) and isinstance(records[-1], TracePoint)
+
+    def pulse_header(self) -> tuple[str, ...]:
+        if not self.timed_log:
+            return PULSE_CSV_HEADER
+        names = range(1, self.machine.axis_count + 1)
+        return ("pulse", "tick", "time_s", "element",
+                *(f"{n}{kind}" for n in names for kind in ("TH", "TP")))
+
+    def pulse_row(self, record: PulseRecord | TracePoint) -> tuple[object, ...]:
         period = self.machine.period
-        return [(p.index, p.tick, f"{p.tick * period:.4f}", f"{p.distance:.6f}", p.element,
-                 p.x_counts, p.y_counts, p.x, p.y) for p in self.pulses]
+        if isinstance(record, TracePoint):
+            values = [v for pair in zip(record.theoretical, record.actual, strict=True)
+                      for v in pair]
+            return (record.number, record.tick, f"{record.tick * period:.4f}",
+                    record.element, *(f"{v:.6f}" for v in values))
+        p = record
+        return (p.index, p.tick, f"{p.tick * period:.4f}", f"{p.distance:.6f}", p.element,
+                p.x_counts, p.y_counts, p.x, p.y)
+
+    def pulse_rows(self) -> list[tuple[object, ...]]:
+        return [self.pulse_row(r) for r in self.machine.pulse_trace.records]
 
     def pulse_csv(self, path: str | Path | None = None) -> str:
-        """The pulse trace as CSV (tick, time, path distance, element, X/Y); written to
-        `path` when given."""
+        """The pulse log the ring holds as CSV (XY runs: tick, time, path distance,
+        element, X/Y; time-based runs: tick, time, element, every axis's TH and TP);
+        written to `path` when given."""
         out = io.StringIO()
         writer = csv.writer(out, lineterminator="\n")
-        writer.writerow(PULSE_CSV_HEADER)
+        writer.writerow(self.pulse_header())
         writer.writerows(self.pulse_rows())
         text = out.getvalue()
         if path is not None:
             Path(path).write_text(text)
         return text
 
+    def stream_pulses(self, stream: IO[str] | None) -> None:
+        """From now on every pulse, as it fires, is written to `stream` as a CSV row
+        (the whole log, however long: the ring keeps only the newest); None stops."""
+        trace = self.machine.pulse_trace
+        if stream is None:
+            trace.sink = None
+            return
+        writer = csv.writer(stream, lineterminator="\n")
 
-class PathTrace:
-    """Where two axes were (whole counts) every N ticks while the machine ran: the data
-    a path plot draws, with the pulse log as the marks on it."""
+        def sink(record: PulseRecord | TracePoint) -> None:
+            if stream.closed:  # its owner went away: stop streaming
+                trace.sink = None
+                return
+            writer.writerow(self.pulse_row(record))
 
-    def __init__(self, machine: MM4005, axes: tuple[int, int], every_ticks: int) -> None:
-        self.machine = machine
-        self.axes = (machine.axis(axes[0]), machine.axis(axes[1]))
-        self.every_ticks = every_ticks
-        self.samples: list[tuple[int, int, int]] = []  # (tick, x counts, y counts)
-
-    def attach(self) -> PathTrace:
-        self.machine.add_observer(self.sample, self.every_ticks)
-        self.sample(self.machine)
-        return self
-
-    def detach(self) -> None:
-        self.machine.remove_observer(self.sample)
-
-    def sample(self, machine: MM4005) -> None:
-        x, y = self.axes
-        self.samples.append((machine.tick, x.counts(machine), y.counts(machine)))
-
-    def csv(self) -> str:
-        return "tick,x_counts,y_counts\n" + "".join(f"{t},{x},{y}\n" for t, x, y in self.samples)
-
-
-class MM4005Recording:
-    """A run's path samples and pulses: CSV (the pulses beside it as NAME.pulses.csv)
-    and the XY path with every pulse marked on it."""
-
-    def __init__(self, controller: MM4005Controller, trace: PathTrace) -> None:
-        self.controller = controller
-        self.trace = trace
-
-    def write_csv(self, path: str) -> None:
-        self.trace.sample(self.controller.machine)
-        Path(path).write_text(self.trace.csv())
-        self.controller.pulse_csv(str(Path(path).with_suffix(".pulses.csv")))
-
-    def plot(self, path: str, title: str, draw: Callable[..., object]) -> None:
-        self.trace.sample(self.controller.machine)
-        samples = self.trace.samples
-        x_axis, y_axis = (a.index + 1 for a in self.trace.axes)
-        draw(path, [s[1] for s in samples], [s[2] for s in samples],
-             marks=[(p.x_counts, p.y_counts) for p in self.controller.pulses],
-             marks_label="synchronized pulses",
-             axis_names=(f"axis {x_axis}", f"axis {y_axis}"), title=title or "MM4005 path")
+        trace.sink = sink
 
 
 class MM4005Console:
@@ -252,6 +251,13 @@ class MM4005Console:
 
     def __init__(self, controller: MM4005Controller) -> None:
         self.controller = controller
+        self._stream: IO[str] | None = None  # the file :pulses-csv streams to
+
+    def _close_stream(self) -> None:
+        if self._stream is not None:
+            self.controller.stream_pulses(None)
+            self._stream.close()
+            self._stream = None
 
     def execute(self, line: str) -> list[str]:
         """The replies of one line (without CR)."""
@@ -281,10 +287,13 @@ class MM4005Console:
             flag = "*" if status.moving else ("o" if status.power_off else "")
             parts.append(f"{axis}:{self._position_text(axis)}{flag}")
         element = m.trajectory_element()
-        if element:
+        timed = m.timed_run
+        if timed is not None and not timed.finished:  # the time-based run: elements done
+            parts.append(f"XC{m.elements_done()}/{len(timed.starts) - 1}")
+        elif element:
             parts.append(f"AT{element}")
-        if self.controller.pulses:
-            parts.append(f"P{len(self.controller.pulses)}")
+        if m.pulse_trace.total:
+            parts.append(f"P{m.pulse_trace.total}")
         line = " ".join(parts)
         if len(line) > width:  # 4 long positions: drop the decimals beyond 2
             parts = [parts[0]] + [_shorten(p) for p in parts[1:]]
@@ -306,7 +315,18 @@ class MM4005Console:
         traj = m.trajectory
         lines.append(f"trajectory: {len(traj.elements)} elements, AT{m.trajectory_element()}, "
                      f"X axis {traj.x_axis}, Y axis {traj.y_axis}, VV {traj.velocity:g}, "
-                     f"VS {traj.acceleration:g}; pulses fired {len(self.controller.pulses)}")
+                     f"VS {traj.acceleration:g}")
+        timed = m.timed
+        lines.append(f"time-based trajectory: {len(timed.elements)} elements, axes "
+                     f"{','.join(map(str, sorted(timed.axes))) or '-'}, UC {timed.accel_time:g}, "
+                     f"{'verified' if timed.verified else 'not verified'}, MB{timed.pulse_start} "
+                     f"ME{timed.pulse_end} MN{timed.pulse_request}, XC{m.elements_done()}")
+        trace = m.pulse_trace
+        lines.append(f"pulses fired {trace.total} (the log keeps the newest {trace.capacity:,}; "
+                     f"{trace.dropped:,} dropped)")
+        servos = [str(n) for n in range(1, m.axis_count + 1) if m.settings[n - 1].servo_on]
+        lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
+                     + ("" if servos else "profile-only axes)"))
         lines.append(f"error register: {self.controller.errors.peek().char}")
         return lines
 
@@ -329,7 +349,9 @@ class MM4005Console:
 
     def repl_help(self) -> list[str]:
         return ["  :pulses      the pulse log of the running or last trajectory (CSV lines)",
-                "  :pulses-csv FILE   write it to FILE"]
+                "  :pulses-csv FILE   write it to FILE and append every later pulse as it "
+                "fires (the whole log; :pulses shows the newest 20,000); "
+                ":pulses-csv off stops"]
 
     def after_reset(self) -> list[str]:
         m = self.controller.machine
@@ -346,14 +368,24 @@ class MM4005Console:
             rows = self.controller.pulse_rows()
             return [",".join(PULSE_CSV_HEADER)] + [",".join(map(str, r)) for r in rows]
         if word == "pulses-csv":
-            if not rest.strip():
-                return ["! :pulses-csv needs a file name"]
-            path = Path(rest.strip())
+            target = rest.strip()
+            if not target:
+                return ["! :pulses-csv needs a file name (or 'off')"]
+            self._close_stream()
+            if target.lower() == "off":
+                return ["pulses no longer streamed"]
+            path = Path(target)
             try:
                 self.controller.pulse_csv(path)
+                self._stream = open(path, "a", encoding="utf-8", newline="")  # noqa: SIM115
             except (OSError, ValueError) as error:  # no such folder, a NUL in the name
                 return [f"! :pulses-csv: {error}"]
-            return [f"{len(self.controller.pulses)} pulses written to {path}"]
+            self._stream.reconfigure(line_buffering=True)
+            weakref.finalize(self, self._stream.close)
+            self.controller.stream_pulses(self._stream)
+            count = len(self.controller.machine.pulse_trace.records)
+            return [f"{count} pulses written to {path}; later pulses are appended as they "
+                    "fire (:pulses-csv off stops)"]
         return None
 
 

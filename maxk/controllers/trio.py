@@ -397,6 +397,12 @@ class MC405WorldView(WorldView):
                          source_owner=machine)
         self.machine = machine
 
+    def input_level(self, number: int) -> bool:
+        return self.machine.digital_input(number)  # as IN(n) reads it
+
+    def output_level(self, number: int) -> bool | None:
+        return self.machine.output(number) if number in MC405_INPUTS else None
+
     def reading(self, name: str) -> AxisReading:
         i = self.index(name)
         machine = self.machine

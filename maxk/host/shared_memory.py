@@ -93,6 +93,8 @@ class SharedMemoryDoor:
             raise
         self._written_removal = 0
         self._capture_written = b""
+        # the map's host in the controller's book of hosts, like any door's (`-vv`)
+        self.traffic = service.open_traffic("shm", path)
 
     # ---- raw access -------------------------------------------------------------------
     def _read(self, offset: int, size: int) -> bytes:
@@ -207,8 +209,11 @@ class SharedMemoryDoor:
             data = (self._read(M.CMD_RING + process, M.RING_SIZE - process)
                     + self._read(M.CMD_RING, insert))
         self._put(M.CMD_PROCESS, insert)
+        self.traffic.incoming(data)
         for reply in self.interpreter.write(data):
-            self._pending += reply.encode("latin-1") + b"\n"
+            out = reply.encode("latin-1") + b"\n"
+            self.traffic.outgoing(out)
+            self._pending += out
 
     def _write_replies(self) -> None:
         insert = self._get(M.RESP_INSERT) % M.RING_SIZE

@@ -10,6 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
+from maxk.personalities.mm4005.errors import UNAUTHORIZED, MM4005Error
+from maxk.personalities.mm4005.settings import AxisSettings
+from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
 
 
 @dataclass
@@ -48,10 +51,42 @@ class FakeMM4005:
     axes: list[FakeAxis] = field(default_factory=list)
     runs: list[TrajectoryRun] = field(default_factory=list)
     _running: _Running | None = None
+    timed: TimedTrajectory = field(default_factory=lambda: TimedTrajectory(4))
+    pulse_trace: PulseTrace = field(default_factory=PulseTrace)
+    settings: list[AxisSettings] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not self.axes:
             self.axes = [FakeAxis() for _ in range(self.axis_count)]
+        self.timed = TimedTrajectory(self.axis_count)
+        self.settings = [AxisSettings() for _ in range(self.axis_count)]
+
+    # --- the time-based trajectory: defined and verified here; it runs on the engine ------
+    def verify_timed(self) -> None:
+        self.timed.verify(lambda axis: self.settings[axis - 1].get("VU"))
+
+    def execute_timed(self, scale: float) -> None:
+        raise MM4005Error(UNAUTHORIZED, "the in-memory machine does not run EC")
+
+    def elements_done(self) -> int:
+        return 0
+
+    def apply_gains(self, axis: int) -> None:
+        self.settings[axis - 1].update_filter()
+
+    def take_errors(self) -> list[int]:
+        return []
+
+    def abort(self) -> None:
+        for axis in range(1, self.axis_count + 1):
+            self.stop(axis)
+
+    def desired_velocity(self, axis: int) -> float:
+        a = self._axis(axis)
+        if a.move is None:
+            return 0.0
+        _tick, start, end, speed = a.move
+        return speed if end >= start else -speed
 
     # --- time ---------------------------------------------------------------------------
     def advance(self, ticks: int) -> None:

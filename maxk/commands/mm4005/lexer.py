@@ -44,6 +44,8 @@ def split_line(line: str) -> list[str]:
 
 
 def _axis(rule: AxisRule, digits: str, axis_count: int) -> int | None:
+    if len(digits) > 9:  # no axis or element number has this many digits
+        raise MM4005Error(AXIS_NUMBER, f"number {digits[:20]}...")
     number = int(digits) if digits else None
     if rule is AxisRule.NONE:
         if number is not None:
@@ -85,7 +87,8 @@ def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bo
         return value, False
     if not _INTEGER.match(text):
         raise MM4005Error(PARAMETER, f"not an integer: {text!r}")
-    value = int(text)
+    if len(text) > 12 or abs(value := int(text)) > MAX_OPERAND:  # 2^63, 250 digits: C
+        raise MM4005Error(PARAMETER, f"{spec.mnemonic}{text[:20]}: beyond +/-{MAX_OPERAND:g}")
     if kind is Operand.MODE and value not in MODES:
         raise MM4005Error(PARAMETER, f"mode {value}")
     return value, False

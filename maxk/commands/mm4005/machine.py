@@ -11,6 +11,8 @@ from __future__ import annotations
 from typing import Protocol
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
+from maxk.personalities.mm4005.settings import AxisSettings
+from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
 
 
 class MM4005Machine(Protocol):
@@ -114,4 +116,47 @@ class MM4005Machine(Protocol):
 
     def trajectory_element(self) -> int:
         """AT: the element under execution, 0 when no trajectory runs."""
+        ...
+
+    @property
+    def timed(self) -> TimedTrajectory:
+        """The time-based trajectory definition (NC/DC/UC/DT/DX/MB/ME/MN/GC)."""
+        ...
+
+    @property
+    def pulse_trace(self) -> PulseTrace:
+        """The last run's pulses (a bounded ring): NQ, TQ."""
+        ...
+
+    @property
+    def settings(self) -> list[AxisSettings]:
+        """Each axis's stored settings the motion does not read (index axis - 1)."""
+        ...
+
+    def verify_timed(self) -> None:
+        """VC."""
+        ...
+
+    def execute_timed(self, scale: float) -> None:
+        """EC at a time scale."""
+        ...
+
+    def elements_done(self) -> int:
+        """XC."""
+        ...
+
+    def desired_velocity(self, axis: int) -> float:
+        """DV: the profile's velocity now, units/s."""
+        ...
+
+    def apply_gains(self, axis: int) -> None:
+        """UF: the gains set take effect on the loop."""
+        ...
+
+    def take_errors(self) -> list[int]:
+        """Axes whose following error turned their motor off since the last look."""
+        ...
+
+    def abort(self) -> None:
+        """AB: every motion and trajectory stops at once."""
         ...

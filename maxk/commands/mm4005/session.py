@@ -1,8 +1,10 @@
 """The MM4005 on the wire: CR-terminated lines in, CR-terminated replies out.
 
-Framing (EPICS reference): every host line ends with CR; replies are the reply text and
-one CR, never LF (the model 1 driver reads a stray LF into the next reply and breaks).
-LF bytes from the host are dropped so CR LF hosts work (D); empty lines are ignored.
+Framing: a host line ends at CR, LF or CR LF (the EPICS drivers end with CR, the EPICS
+trajectory scan with CR CR, StreamDevice and Tcl hosts with LF): CR and LF each end a
+line and the empty line between CR and LF is ignored, as every empty line is (D: the
+manual's "terminator" accepts either, I). Replies are the reply text and one CR, never
+LF (the model 1 driver reads a stray LF into the next reply and breaks).
 """
 
 from __future__ import annotations
@@ -10,8 +12,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Final
 
+from maxk.commands.line_session import LineSession
 from maxk.personalities.mm4005 import ErrorRegister, MM4005Error
-from maxk.personalities.mm4005.errors import UNKNOWN_MESSAGE
+from maxk.personalities.mm4005.errors import FOLLOWING_ERROR, UNKNOWN_MESSAGE
 
 from .lexer import MAX_LINE, parse_line
 from .machine import MM4005Machine
@@ -19,7 +22,6 @@ from .spec import CommandSpec, Context
 from .table import COMMANDS
 
 CR: Final = b"\r"
-LF: Final = b"\n"
 
 
 class Interpreter:
@@ -37,6 +39,8 @@ class Interpreter:
     def execute_line(self, line: str) -> list[str]:
         """Replies of one line (without CR). A malformed command rejects the whole line;
         a refused command stops the line there, the ones before it stay done (D)."""
+        if self.context.machine.take_errors():  # a following error since the last line
+            self.context.errors.record(FOLLOWING_ERROR)
         try:
             commands = parse_line(line, self.table, self.context.machine.axis_count)
         except MM4005Error as error:
@@ -52,48 +56,22 @@ class Interpreter:
         return replies
 
 
-class MM4005Session:
+class MM4005Session(LineSession):
     """The door-facing session: ``feed`` host bytes in any split, ``read`` the replies."""
 
+    terminators = b"\r\n"  # CR, LF or CR LF (the empty line between is ignored)
+    line_limit = MAX_LINE  # manual 3.3.1.3: 110 characters
+
     def __init__(self, machine: MM4005Machine, interpreter: Interpreter | None = None) -> None:
+        super().__init__()
         self.interpreter = interpreter or Interpreter(machine)
-        self._line = bytearray()
-        self._overflow = False
-        self._out = bytearray()
-        self.closed = False
 
-    def close(self) -> None:
-        """The host went away: the MM4005 never speaks unasked, so only forget its line."""
-        self.closed = True
-        self.discard_partial_line()
+    def line_too_long(self) -> None:
+        """Longer than 110 characters: refused whole with A, as parse_line does."""
+        self.interpreter.errors.record(UNKNOWN_MESSAGE)
 
-    def discard_partial_line(self) -> None:
-        """A reset loses a line half received."""
-        self._line.clear()
-        self._overflow = False
-
-    def feed(self, data: bytes) -> None:
-        for byte in data:
-            if byte == CR[0]:
-                self._end_line()
-            elif byte != LF[0]:
-                if len(self._line) <= MAX_LINE:
-                    self._line.append(byte)
-                else:
-                    self._overflow = True  # bounded memory; the line is refused anyway
-
-    def read(self) -> bytes:
-        out, self._out = bytes(self._out), bytearray()
-        return out
-
-    def _end_line(self) -> None:
-        text = self._line.decode("latin-1")
-        self._line.clear()
-        if self._overflow:  # longer than 110 characters: refused like parse_line does
-            self._overflow = False
-            self.interpreter.errors.record(UNKNOWN_MESSAGE)
-            return
+    def run_line(self, text: str) -> None:
         if not text.strip(" \t"):
             return
         for reply in self.interpreter.execute_line(text):
-            self._out += reply.encode("latin-1") + CR
+            self.reply(reply.encode("latin-1") + CR)

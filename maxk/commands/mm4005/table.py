@@ -14,6 +14,8 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_settings as st
+from . import handlers_timed as tm
 from . import handlers_trajectory as tr
 from .spec import AxisRule, CommandSpec, Handler, Operand
 
@@ -25,8 +27,9 @@ _NONE = Operand.NONE
 
 
 def _spec(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, *, query: bool,
-          replies: bool, source: str, confidence: str, note: str = "") -> CommandSpec:
-    summary = (handler.__doc__ or "").strip().splitlines()[0]
+          replies: bool, source: str, confidence: str, note: str = "",
+          summary: str = "") -> CommandSpec:
+    summary = summary or (handler.__doc__ or "").strip().splitlines()[0]
     return CommandSpec(mnemonic, handler, axis, operand, query, replies, summary, source,
                        confidence, note)
 
@@ -38,12 +41,12 @@ def _tell(mnemonic: str, handler: Handler, axis: AxisRule, source: str, confiden
 
 
 def _set(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, source: str,
-         confidence: str, note: str = "", query: bool = True) -> CommandSpec:
+         confidence: str, note: str = "", query: bool = True, summary: str = "") -> CommandSpec:
     return _spec(mnemonic, handler, axis, operand, query=query, replies=False, source=source,
-                 confidence=confidence, note=note)
+                 confidence=confidence, note=note, summary=summary)
 
 
-_ENTRIES: Final[tuple[CommandSpec, ...]] = (
+_DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
     # --- status, positions, errors (what the EPICS drivers poll) ---
     _tell("TP", ax.tell_position, _ONE, "manual 3.41 example '3TP5.32'; EPICS TP; poll", "C",
           "all axes '1TP0.0000,2TP0.0000' (token count = axis count); decimals are ours (D)"),
@@ -142,6 +145,117 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = (
     _set("NN", tr.pulse_count, _NO, Operand.INTEGER, "seed 6.1.2 NN", "C"),
     _set("NS", tr.pulse_arm, _NO, _NONE, "seed 6.1.2 NS", "C", "taken by the next ET (D)",
          query=False),
+)
+
+_SCAN = "EPICS MM4005_trajectoryScan.st (reference mm4005-trajectory-scan.md)"
+_NOPAGE = "the MM4005 page was not found; "
+
+_ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
+    # --- the time-based trajectory of the EPICS trajectory scan ---
+    _set("NC", tm.new_timed, _NO, _NONE, f"{_SCAN} #3 'initialize new trajectory'", "C",
+         "keeps UC and GC (D)", query=False),
+    _set("DC", tm.take_part, _REQ, Operand.INTEGER, f"{_SCAN} #4 'nDC0|1'", "C",
+         "1 takes part, 0 not", query=False),
+    _set("UC", tm.accel_time, _NO, _NUM, f"{_SCAN} #5 'acceleration time'", "C",
+         "0.001..100 s, default 0.5 s (D); used for the acceleration VC reports, |dv|/UC; "
+         "positions are not smoothed (D)"),
+    _set("DT", tm.element_time, AxisRule.ELEMENT, _NUM, f"{_SCAN} #6 'iDT' element time", "C",
+         "i = an element defined or the next one (D); at least one servo cycle (D)",
+         query=False),
+    _set("DX", tm.displacement, _REQ, _NUM, f"{_SCAN} #7 'nDX' displacement in the element",
+         "C", "applies to the element the last DT named (I)", query=False),
+    _set("MB", tm.pulse_first, _NO, Operand.INTEGER, f"{_SCAN} #9 'MBs'", "C"),
+    _set("ME", tm.pulse_last, _NO, Operand.INTEGER, f"{_SCAN} #9 'MEe'", "C"),
+    _set("MN", tm.pulse_number, _NO, Operand.INTEGER, f"{_SCAN} #9 'MN(p+1)'", "C",
+         "n - 1 pulses evenly spaced in time, the first at the start of MB, spacing "
+         "(end of ME - start of MB)/(n - 1) (D from the scan's 'one fewer pulse')"),
+    _set("VC", tm.verify_timed, _NO, _NONE, f"{_SCAN} #10 'verify trajectory'", "C",
+         "checks K, L, H (VU), G (GC), N, P; TB tells (letters ours, D)", query=False),
+    _tell("RC", tm.verify_report, _REQ, f"{_SCAN} #12 'nRC1..6'", "C",
+          "1/2 element and value of the largest speed change, 3/4 velocity, 5/6 "
+          "acceleration; integers for odd, 6 decimals for even (D)",
+          operand=Operand.INTEGER),
+    _set("GC", tm.speed_error_limit, _REQ, _NUM, f"{_SCAN} #1-2 'nGC?' / 'nGC<%f>'", "C",
+         "maximum speed change between elements; default 0 = not checked (D)"),
+    _set("LS", tm.load_sequence, _NO, _NONE, f"{_SCAN} #14 'LS,<s>EC'", "D",
+         _NOPAGE + "accepted, no effect", query=False),
+    _set("EC", tm.execute_timed, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
+         "C", "prefix 0 real (1 simulate: refused C, not modelled); element times x the "
+         "operand, 0.01..1000 (D); H if an element then beats VU", query=False),
+    _tell("XC", tm.elements_done, _NO, f"{_SCAN} #16 'XC1' -> 'XCnnnn'", "C",
+          "elements completed; an operand 0..2 is accepted and ignored (D)",
+          operand=Operand.MODE),
+    _tell("NQ", tm.trace_count, _NO, f"{_SCAN} #20 'NQ' -> 'NQnnnn'", "C",
+          "pulses of the last run (the ring keeps the newest 20,000)"),
+    _tell("TQ", tm.trace_point, AxisRule.ELEMENT, f"{_SCAN} #21 'iTQ'", "C",
+          "'iTQ,1THa,1TPb,...' for every installed axis at pulse i"),
+    _set("AB", tm.abort_motion, _NO, _NONE, f"{_SCAN} #22 'AB' on the Abort PV", "C",
+         "every motion and trajectory stops at once, power stays on (D)", query=False),
+    # --- servo gains (EPICS model 1 driver) and other settings ---
+    _set("KP", st.setting, _ONE, _NUM, "EPICS model 1 'nKP' (PID gains)", "C",
+         "0..1e6; takes effect at UF; KP 0 (factory) = the exact profile-only axis (D)",
+         summary="KP: proportional gain of the servo loop"),
+    _set("KI", st.setting, _ONE, _NUM, "EPICS model 1 'nKI'", "C", "as KP",
+         summary="KI: integral gain of the servo loop"),
+    _set("KD", st.setting, _ONE, _NUM, "EPICS model 1 'nKD'", "C", "as KP",
+         summary="KD: derivative gain of the servo loop"),
+    _set("KS", st.setting, _ONE, _NUM, "hosts' 'nKS'", "I",
+         _NOPAGE + "read as integral saturation, 0..1 (I)",
+         summary="KS: integral saturation of the servo loop"),
+    _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains", "C",
+         "the gains set take effect (I)", query=False),
+    _set("FE", st.setting, _ONE, _NUM, "sibling Newport ESP 'FE' following-error limit", "I",
+         _NOPAGE + "stored, default 1 unit (D)",
+         summary="FE: following-error limit (motor off beyond it)"),
+    _set("BA", st.setting, _ONE, _NUM, "hosts' 'nBA' backlash compensation", "I",
+         _NOPAGE + "stored, no effect on motion (D)",
+         summary="BA: backlash compensation"),
+    _tell("XB", st.tell_backlash, _ONE, "hosts' 'nXB'", "I", _NOPAGE + "reads BA (I)"),
+    _set("OH", st.setting, _ONE, _NUM, "hosts' 'nOH' home search high speed", "I",
+         _NOPAGE + "stored; OR searches at VA (D)",
+         summary="OH: home search high speed"),
+    _set("OL", st.setting, _ONE, _NUM, "hosts' 'nOL' home search low speed", "I",
+         _NOPAGE + "stored; OR searches at VA (D)",
+         summary="OL: home search low speed"),
+    _set("VU", st.setting, _ONE, _NUM, "hosts' 'nVU' maximum speed", "I",
+         _NOPAGE + "default 100 units/s (D); VC checks each element against it",
+         summary="VU: maximum speed of the axis"),
+    _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN' units", "D",
+         _NOPAGE + "a units code 0..10, stored; TN reads 'mm' (D)",
+         summary="SN: displacement units code"),
+    _set("SD", st.setting, _ONE, _NUM, "hosts' 'nSD'", "D",
+         _NOPAGE + "meaning not found: stored and read back, no effect",
+         summary="SD: a stored value (meaning not found)"),
+    _set("MR", st.setting, _ONE, _NUM, "hosts' 'nMR'", "D",
+         _NOPAGE + "meaning not found: stored and read back, no effect",
+         summary="MR: a stored value (meaning not found)"),
+    _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
+         _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
+    _set("MV", st.jog, _REQ, _NUM, "hosts' 'nMV+'/'nMV-'", "I",
+         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); the operand is a signed "
+         "number ('1MV1', '1MV-1'), a bare sign answers C (D)", query=False),
+    _set("ML", st.to_limit, _REQ, _NUM, "hosts' 'nML+'/'nML-'", "I",
+         _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
+    _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
+         _NOPAGE + "accepted, no effect", query=False),
+    _tell("DV", st.tell_desired_velocity, _ONE, "hosts' 'nDV' desired velocity", "I",
+          "the profile's velocity now, units/s (I)"),
+    _tell("DA", st.tell_desired_acceleration, _ONE, "hosts' 'nDA' desired acceleration", "I",
+          "reads AC (I)"),
+    _tell("DF", st.tell_following_error, _ONE, "hosts' 'nDF' following error", "I",
+          "TH - TP (I)"),
+    _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I", "'mm' (D)"),
+    _tell("TA", st.tell_axis_type, _ONE, "hosts' 'nTA' axis type", "D", "'DC' (D)"),
+    _tell("XI", st.tell_index, _ONE, "hosts' 'nXI'", "D",
+          _NOPAGE + "reads XH (no encoder index modelled)"),
+    _tell("XP", st.tell_program, _NO, "hosts' 'XP'", "D",
+          _NOPAGE + "'XP0': stored programs are not modelled"),
+    _tell("TS", st.tell_controller_status, _NO, "hosts' 'TS' controller status", "I",
+          "bit 0 moving, 1 trajectory, 2 error waiting, 6 always 1 (D, as MS)"),
+    _tell("ZT", st.tell_parameters, _NO, "hosts' 'ZT' read all parameters", "I",
+          "one line per axis, layout ours (D)"),
+    _tell("ZP", st.tell_pulse_setup, _NO, "hosts' 'ZP'", "D",
+          _NOPAGE + "reads the pulse set-up MB/ME/MN and NQ, layout ours (D)"),
 )
 
 COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES}

@@ -68,11 +68,31 @@ TRAVEL_LIMITS: Final = _code(
     "R", "Trajectory outside travel limits", "D",
     "letter ours: ET when the path (from where X and Y stand) leaves an axis's SL/SR limits")
 
+TRAJECTORY_SPEED_CHANGE: Final = _code(
+    "G", "Trajectory speed change too large", "D",
+    "letter ours: VC finds a speed change between two elements of the time-based "
+    "trajectory above the axis's GC ('maximum allowable speed error between blocks', "
+    "MM4005_trajectoryScan.st)")
+TRAJECTORY_VELOCITY: Final = _code(
+    "H", "Trajectory velocity too large", "D",
+    "letter ours: VC finds an element of the time-based trajectory faster than the "
+    "axis's maximum speed VU")
+TRAJECTORY_NOT_VERIFIED: Final = _code(
+    "J", "Trajectory not verified", "D",
+    "letter ours: EC before a VC that passed on the present definition")
+
+FOLLOWING_ERROR: Final = _code(
+    "F", "Following error", "D",
+    "letter ours: a servo axis (gains applied by UF) lagged its profile by more than FE "
+    "(or its loop tripped): its motor was turned off")
+
 ERROR_CODES: Final[dict[str, ErrorCode]] = {
     code.char: code
     for code in (NO_ERROR, UNKNOWN_MESSAGE, AXIS_NUMBER, PARAMETER, UNAUTHORIZED,
                  TRAJECTORY_EMPTY, TRAJECTORY_ELEMENT, ANGLE_DISCONTINUITY, PULSE_ELEMENTS,
-                 PULSE_NUMBER, NOT_AUTHORIZED_FUNCTION, TRAVEL_LIMITS, TIME_OUT)
+                 PULSE_NUMBER, NOT_AUTHORIZED_FUNCTION, TRAVEL_LIMITS, TIME_OUT,
+                 TRAJECTORY_SPEED_CHANGE, TRAJECTORY_VELOCITY, TRAJECTORY_NOT_VERIFIED,
+                 FOLLOWING_ERROR)
 }
 
 UNKNOWN_ERROR_TEXT: Final = "Unknown error code"  # manual 3.126: TB with an out-of-range code

@@ -23,7 +23,7 @@ import itertools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Final, Protocol
 
 from maxk.firmware_model.outputs import EvenlySpaced, path_trigger_ticks
 from maxk.firmware_model.path import (
@@ -43,6 +43,14 @@ if TYPE_CHECKING:
     from maxk.firmware_model.engine import Engine
 
 PULSE_BATCH: Final = 256  # pulse ticks computed ahead at a time
+
+
+class PulseSink(Protocol):
+    """Where fired pulses go: the machine's bounded pulse trace."""
+
+    def begin(self) -> None: ...
+
+    def add(self, record: PulseRecord) -> None: ...
 
 
 def axis_motion(plan: PathPlan, k: int, resolution: float, origin: int,
@@ -103,7 +111,7 @@ class TrajectoryExecution:
     """ET's run: the plan, the axes following it, the pulses, AT. An event source."""
 
     def __init__(self, run: TrajectoryRun, x: MM4005Axis, y: MM4005Axis,
-                 engine: Engine) -> None:
+                 engine: Engine, pulses: PulseSink) -> None:
         self.run = run
         self.axes = (x, y)
         self.engine = engine
@@ -118,7 +126,8 @@ class TrajectoryExecution:
         self.end_tick: int | None = None
         self.finished = False
         self.stopping = False
-        self.pulses: list[PulseRecord] = []
+        self.pulses = pulses
+        pulses.begin()
         self._pulse_distances: EvenlySpaced | None = None
         self._pulse_end = 0.0
         self._next_pulse = 0  # index of the first pulse not yet scheduled or fired
@@ -239,7 +248,7 @@ class TrajectoryExecution:
         distance = self._pulse_end if last else spaced.start + index * spaced.step
         x, y = self.axes
         xc, yc = self._counts_at(tick)
-        self.pulses.append(PulseRecord(index, tick, distance, plan.points.element(index),
+        self.pulses.add(PulseRecord(index, tick, distance, plan.points.element(index),
                                        xc, yc, xc * x.resolution, yc * y.resolution))
 
     def _counts_at(self, tick: int) -> tuple[int, int]:

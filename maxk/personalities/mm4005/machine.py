@@ -7,6 +7,10 @@ Time: integer ticks of the servo update cycle, 0.5 ms (manual 7.1.1: "the servo 
 cycle (0.0005s)", C). The MPN's Tbase is that cycle too (I: the pulse output is set once
 per cycle, which is what VV x Tbase bounds: at most one pulse per cycle).
 
+Long module: one machine whose point-to-point moves, home searches, both trajectories,
+servo loops and events act on the same axes and must see each other's state (a stop, a
+limit or a following error ends whatever the axis is doing).
+
 Decisions (D) beyond the manual are listed in docs/mm4005.md: the home search's edge and
 stages, a stop at a hardware limit, a PA/PR while moving (stop, then go), MF stopping at
 once, the power-up state.
@@ -19,12 +23,15 @@ from typing import Final
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
+from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, advance_servo_axes
 from maxk.firmware_model.world import Switch, World
 
-from .errors import UNAUTHORIZED, MM4005Error
+from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
-from .stage import HomeSearch, HomeStage, MM4005Axis
+from .settings import AxisSettings
+from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
+from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
 from .trajectory import Trajectory, TrajectoryRun
 
 UPDATE_RATE_HZ: Final = 2000  # manual 7.1.1: servo update cycle 0.0005 s (C)
@@ -48,6 +55,12 @@ class MM4005(Engine):
             self.add_source(axis)
         self.trajectory = Trajectory()
         self.execution: TrajectoryExecution | None = None  # the running or last run
+        self.timed = TimedTrajectory(axis_count)  # NC/DT/DX/...: the time-based one
+        self.timed_run: TimedExecution | None = None
+        self.pulse_trace = PulseTrace()  # the last run's pulses, a bounded ring
+        self.settings = [AxisSettings() for _ in range(axis_count)]
+        self._servo_axes: list[MM4005Axis] = []
+        self.following_errors: list[int] = []
 
     # ---- what the language reads ----------------------------------------------------------
     @property
@@ -68,7 +81,63 @@ class MM4005(Engine):
 
     def position(self, axis: int) -> float:
         a = self.axis(axis)
-        return a.counts(self) * a.resolution
+        return a.encoder(self) * a.resolution
+
+    # ---- the servo ----------------------------------------------------------------------
+    def apply_gains(self, axis: int) -> None:
+        """UF: the gains set take effect. KP > 0 runs the axis through the shared servo
+        (PID on the world's motor plant); KP 0, the factory value, leaves the exact,
+        profile-only axis (D)."""
+        a = self.axis(axis)
+        settings = self.settings[axis - 1]
+        settings.update_filter()
+        kp, ki, kd, ks = settings.active_gains
+        if not settings.servo_on:
+            a.servo = None
+        else:
+            a.config = ServoConfig(Gains(kp=kp, ki=ki, kd=kd, ku=ks * DAC_LIMIT / 4.0))
+            if a.servo is None:
+                a.servo = ServoLoop(float(a.steps_now(self)), self.tick)
+                a.servo.closed = a.powered
+        self._servo_axes = [x for x in self.axes if x.servo is not None]
+
+    def integrate(self, limit: int) -> bool:
+        """The servo loops run every tick up to the next event; a following error above
+        FE (checked at each event and each slice a door advances) or the loop's own trip
+        turns the motor off (the error is reported as F)."""
+        servos = self._servo_axes
+        if not servos:
+            return False
+        advance_servo_axes(servos, self, limit)
+        tripped = [a for a in servos if a.servo is not None and a.servo.trip_tick is not None]
+        if tripped:  # the loop's own trip: act at its tick (the others wait ahead)
+            first = min(a.servo.trip_tick for a in tripped  # type: ignore[union-attr]
+                        if a.servo is not None and a.servo.trip_tick is not None)
+            self.tick = max(self.tick, first)
+            for a in tripped:
+                assert a.servo is not None
+                if a.servo.trip_tick == first:
+                    a.servo.trip_tick = None
+                    self._following_error(a)
+            return True
+        over = [a for a in servos if a.powered and abs(a.exact_counts_at(self, limit)
+                - a.servo_counts()) * a.resolution > self.settings[a.index].get("FE")]
+        if not over:
+            return False
+        self.tick = max(self.tick, limit)  # the loops stand at `limit`: act there
+        for a in over:
+            self._following_error(a)
+        return True
+
+    def _following_error(self, a: MM4005Axis) -> None:
+        """The motor is turned off (as MF); the next command line records error F."""
+        self.following_errors.append(a.index + 1)
+        self.set_power(a.index + 1, False)
+
+    def take_errors(self) -> list[int]:
+        """Axes whose following error turned their motor off since the last look."""
+        out, self.following_errors = self.following_errors, []
+        return out
 
     def theoretical_position(self, axis: int) -> float:
         a = self.axis(axis)
@@ -83,6 +152,11 @@ class MM4005(Engine):
 
     def set_velocity(self, axis: int, value: float) -> None:
         self.axis(axis).speed = value
+
+    def desired_velocity(self, axis: int) -> float:
+        """DV: the profile's velocity now, units/s."""
+        a = self.axis(axis)
+        return a.velocity(self) * a.resolution
 
     def acceleration(self, axis: int) -> float:
         return self.axis(axis).acceleration
@@ -126,23 +200,111 @@ class MM4005(Engine):
                           home_signal=world.home.active(steps))
 
     def trajectory_element(self) -> int:
+        timed = self.timed_run
+        if timed is not None and not timed.finished:
+            return timed.element_at(self.tick)
         run = self.execution
         return 0 if run is None else run.element()
 
     @property
     def pulse_log(self) -> list[PulseRecord]:
-        """The pulses of the running or last trajectory, in firing order."""
-        return [] if self.execution is None else self.execution.pulses
+        """The XY trajectory's pulses the ring still holds, in firing order."""
+        return [r for r in self.pulse_trace.records if isinstance(r, PulseRecord)]
+
+    @property
+    def trace_points(self) -> list[TracePoint]:
+        """The time-based trajectory's pulses the ring still holds, in firing order."""
+        return [r for r in self.pulse_trace.records if isinstance(r, TracePoint)]
 
     def is_idle(self) -> bool:
         run = self.execution
+        timed = self.timed_run
         return (all(a.motion is None and a.homing is None for a in self.axes)
-                and (run is None or run.finished))
+                and (run is None or run.finished) and (timed is None or timed.finished))
+
+    # ---- the time-based trajectory ----------------------------------------------------------
+    def verify_timed(self) -> None:
+        """VC: check the time-based definition against each axis's VU and GC."""
+        self.timed.verify(lambda axis: self.settings[axis - 1].get("VU"))
+
+    def execute_timed(self, scale: float) -> None:
+        """EC: run the verified time-based trajectory, element times x ``scale``. Every
+        taking-part axis must be powered and still (D)."""
+        from .errors import TRAJECTORY_NOT_VERIFIED
+        timed = self.timed
+        if not timed.verified:
+            raise MM4005Error(TRAJECTORY_NOT_VERIFIED, "VC first")
+        for number in timed.axes:
+            a = self.axis(number)
+            if not a.powered or a.motion is not None or a.homing is not None:
+                raise MM4005Error(UNAUTHORIZED, f"axis {number} off or moving")
+        for number, figures in timed.figures.items():  # a time scale below 1 speeds it up
+            if figures.velocity / scale > self.settings[number - 1].get("VU"):
+                raise MM4005Error(TRAJECTORY_VELOCITY, f"axis {number} at this time scale")
+        for number in timed.axes:  # piecewise linear: its extremes are element boundaries
+            here = self.theoretical_position(number)
+            left, right = self.axis(number).limits
+            position = low = high = here
+            for element in timed.elements:
+                position += element.moves.get(number, 0.0)
+                low, high = min(low, position), max(high, position)
+            if low < left - 1e-9 or high > right + 1e-9:
+                raise MM4005Error(TRAVEL_LIMITS, f"axis {number} would leave TL..TR")
+        previous = self.timed_run
+        if previous is not None:
+            self.remove_source(previous)
+        run = TimedExecution(timed, [self.axis(n) for n in sorted(timed.axes)], self,
+                             self._positions, scale, self.pulse_trace)
+        self.timed_run = run
+        self.add_source(run)
+        for a in run.axes:
+            self.schedule_switches(a)
+
+    def _positions(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        numbers = range(1, len(self.axes) + 1)
+        return (tuple(self.theoretical_position(a) for a in numbers),
+                tuple(self.position(a) for a in numbers))
+
+    def elements_done(self) -> int:
+        """XC: elements of the time-based trajectory completed (0 before any run)."""
+        run = self.timed_run
+        return 0 if run is None else run.elements_done()
+
+    def abort(self) -> None:
+        """AB: every axis and any trajectory stop where they are, at once; power stays
+        on (D)."""
+        timed = self.timed_run
+        if timed is not None:
+            timed.abort()
+        run = self.execution
+        if run is not None and not run.finished:
+            run.abort()
+        for a in self.axes:
+            a.homing = None
+            a.pending_target = None
+            if a.motion is not None:
+                a.freeze(self)
+            a.target_counts = a.counts(self)
+
+    def _timed_stop(self, a: MM4005Axis) -> bool:
+        """ST or a limit on an axis of the time-based run: the run ends, its later pulses
+        never fire, each of its axes brakes at its AC (D)."""
+        timed = self.timed_run
+        if timed is None or timed.finished or a not in timed.axes:
+            return False
+        timed.abort_braking()
+        for member in timed.axes:
+            if member.motion is not None:
+                self._plan_stop(member)
+        return True
 
     def known_end(self) -> int | None:
         """The last tick at which a motion or trajectory now running is planned to end
         (None: one runs without a planned end, a home search seeking its switch)."""
         ends: list[int] = []
+        timed = self.timed_run
+        if timed is not None and not timed.finished:
+            ends.append(timed.end_tick)
         for a in self.axes:
             if a.motion is not None:
                 if a.motion_end is None:
@@ -158,6 +320,8 @@ class MM4005(Engine):
         """PA/PR: a trapezoidal move at VA and AC. Given while the axis moves, the axis
         first stops at AC and then goes to the new destination (D)."""
         a = self.axis(axis)
+        if a.in_trajectory:
+            raise MM4005Error(UNAUTHORIZED, "the axis runs a trajectory")
         target = a.to_counts(position)
         if a.motion is not None:
             a.homing = None
@@ -196,6 +360,8 @@ class MM4005(Engine):
     def stop(self, axis: int) -> None:
         """ST: decelerate at AC (a trajectory's axes ramp down along the path at VS)."""
         a = self.axis(axis)
+        if self._timed_stop(a):
+            return
         run = self.execution
         if a.in_trajectory and run is not None:
             run.stop()
@@ -211,6 +377,9 @@ class MM4005(Engine):
         """MO/MF. Power off stops the axis where it is, at once (and a trajectory it is in)."""
         a = self.axis(axis)
         if not on:
+            timed = self.timed_run
+            if timed is not None and a in timed.axes:
+                timed.abort()
             run = self.execution
             if a.in_trajectory and run is not None:
                 run.abort()
@@ -219,6 +388,14 @@ class MM4005(Engine):
             if a.motion is not None:
                 a.freeze(self)
             a.target_counts = a.counts(self)
+        servo = a.servo
+        if servo is not None and on != a.powered:
+            if on:  # the command starts where the motor stands: no jump
+                a.steps = servo.encoder_counts()
+                a.target_counts = a.counts(self)
+                servo.reset_filter(0.0)
+                servo.tripped = False
+            servo.closed = on
         a.powered = on
 
     def search_home(self, axis: int, mode: int) -> None:
@@ -261,7 +438,7 @@ class MM4005(Engine):
             a.pending_target = None
             a.homing = None
             a.in_trajectory = True
-        execution = TrajectoryExecution(run, x, y, self)
+        execution = TrajectoryExecution(run, x, y, self, self.pulse_trace)
         self.execution = execution
         self.add_source(execution)
         for a in (x, y):
@@ -309,6 +486,8 @@ class MM4005(Engine):
         VS); a home search or a waiting destination is abandoned (D)."""
         a.homing = None
         a.pending_target = None
+        if self._timed_stop(a):
+            return
         run = self.execution
         if a.in_trajectory and run is not None:
             run.stop()
@@ -381,6 +560,14 @@ class MM4005(Engine):
         if self.execution is not None:
             self.remove_source(self.execution)
             self.execution = None
+        if self.timed_run is not None:
+            self.remove_source(self.timed_run)
+            self.timed_run = None
+        self.timed = TimedTrajectory(len(self.axes))
+        self.pulse_trace.begin()
+        self.settings = [AxisSettings() for _ in self.axes]
+        self._servo_axes = []
+        self.following_errors = []
         for i, old in enumerate(self.axes):
             old.freeze(self)
             self.remove_source(old)

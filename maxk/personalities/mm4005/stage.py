@@ -12,11 +12,20 @@ for a stop to end, a trajectory driving it) is held here; the machine acts on it
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 from typing import TYPE_CHECKING, Protocol
 
 from maxk.firmware_model.axis import MotionAxis
+from maxk.firmware_model.servo import Gains
+
+
+@dataclass(frozen=True, slots=True)
+class ServoConfig:
+    """What the shared servo loop reads of an MM4005 axis: the PID gains in force."""
+
+    gains: Gains = Gains()
+    servo_polarity: int = 1
 
 if TYPE_CHECKING:
     from maxk.firmware_model.engine import Engine
@@ -59,6 +68,8 @@ class MM4005Axis(MotionAxis):
     homing: HomeSearch | None = None
     pending_target: int | None = None  # a PA/PR given while moving: after the stop
     in_trajectory: bool = False
+    # the loop's settings as the shared servo reads them (gains in force since UF)
+    config: ServoConfig = field(default_factory=lambda: ServoConfig())
 
     # ---- the engine's event-source interface ---------------------------------------------
     def next_event(self) -> int | None:
@@ -78,7 +89,16 @@ class MM4005Axis(MotionAxis):
         return round(units / self.resolution)
 
     def counts_at(self, tick: int, period: float) -> int:
+        """The profile's whole counts at a tick (the commanded position)."""
         return self.steps_at_tick(tick, period) + self.counter_offset
+
+    def encoder(self, engine: Engine) -> int:
+        """The encoder counter (TP): the servo's plant when the loop runs (KP set and
+        applied by UF), else the profile's whole counts (the exact, profile-only axis)."""
+        servo = self.servo
+        if servo is not None:
+            return servo.encoder_counts() + self.counter_offset
+        return self.counts(engine)
 
     def counts(self, engine: Engine) -> int:
         return self.counts_at(engine.tick, engine.period)
@@ -91,6 +111,19 @@ class MM4005Axis(MotionAxis):
             return float(self.counts(engine))
         t = (engine.tick - self.motion_start) * engine.period
         return self.steps + self.counter_offset + m.offset(t)
+
+    def exact_counts_at(self, engine: Engine, tick: int) -> float:
+        """The profile's exact counts at any tick of the running motion."""
+        m = self.motion
+        if m is None or (self.motion_end is not None and tick >= self.motion_end):
+            return float(self.counts_at(tick, engine.period))
+        return self.steps + self.counter_offset + m.offset((tick - self.motion_start)
+                                                           * engine.period)
+
+    def servo_counts(self) -> int:
+        """The encoder counter of a servo axis."""
+        assert self.servo is not None
+        return self.servo.encoder_counts() + self.counter_offset
 
     def counts_per_second(self, units: float) -> float:
         return units / self.resolution

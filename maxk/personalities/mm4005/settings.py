@@ -1,0 +1,68 @@
+"""Per-axis settings the MM4005 stores and reports but whose effect is modelled elsewhere
+or not at all: the servo gains, backlash, home search speeds, the maximum speed VU,
+the following-error limit. Each has a default and a range; a value outside it is refused
+(C) with nothing changed. Meanings and defaults are recorded per command in the table
+(maxk/commands/mm4005/table.py); where the MM4005 page was not found they are marked I/D.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final
+
+
+@dataclass(frozen=True, slots=True)
+class SettingRule:
+    """A stored setting: default, inclusive range, whole numbers only or not."""
+
+    default: float
+    low: float
+    high: float
+    integer: bool = False
+
+
+RULES: Final[dict[str, SettingRule]] = {
+    "KP": SettingRule(0.0, 0.0, 1e6),  # proportional gain; 0 = factory (profile only)
+    "KI": SettingRule(0.0, 0.0, 1e6),  # integral gain
+    "KD": SettingRule(0.0, 0.0, 1e6),  # derivative gain
+    "KS": SettingRule(1.0, 0.0, 1.0),  # integral saturation, fraction of full output
+    "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units
+    "BA": SettingRule(0.0, 0.0, 1e3),  # backlash compensation, units
+    "OH": SettingRule(1.0, 1e-6, 1e6),  # home search high speed, units/s
+    "OL": SettingRule(0.1, 1e-6, 1e6),  # home search low speed, units/s
+    "VU": SettingRule(100.0, 1e-6, 1e6),  # maximum speed, units/s
+    "SN": SettingRule(0.0, 0.0, 10.0, integer=True),  # displacement units code
+    "SD": SettingRule(0.0, 0.0, 1e6),  # stored, no effect (meaning not found)
+    "MR": SettingRule(0.0, -1e6, 1e6),  # stored, no effect (meaning not found)
+}
+
+
+class AxisSettings:
+    """One axis's stored settings (as set, or their defaults) and the gains in force."""
+
+    def __init__(self) -> None:
+        self.values = {name: rule.default for name, rule in RULES.items()}
+        # the gains the loop uses: KP/KI/KD/KS as of the last UF (D: UF applies them)
+        self.active_gains = (0.0, 0.0, 0.0, 1.0)
+
+    def get(self, name: str) -> float:
+        return self.values[name]
+
+    def check(self, name: str, value: float) -> bool:
+        rule = RULES[name]
+        if not rule.low <= value <= rule.high:
+            return False
+        return not (rule.integer and value != int(value))
+
+    def set(self, name: str, value: float) -> None:
+        self.values[name] = value
+
+    def update_filter(self) -> None:
+        """UF: the gains set by KP/KI/KD/KS take effect."""
+        v = self.values
+        self.active_gains = (v["KP"], v["KI"], v["KD"], v["KS"])
+
+    @property
+    def servo_on(self) -> bool:
+        """Factory gains (KP 0 in force): the exact, profile-only axis (D)."""
+        return self.active_gains[0] > 0.0
