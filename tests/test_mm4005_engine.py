@@ -299,7 +299,7 @@ def test_console() -> None:
     assert console.new_errors() == ["! A Unknown message code"]
     assert console.help("ms")[0].startswith("MS: ")
     assert console.help("ZZ") is None
-    assert "NN" in console.words() and console.summary("nn").startswith("NN: number")
+    assert "NN" in console.words() and console.summary("nn").startswith("number of pulses")
     assert any(":pulses" in line for line in console.repl_help())
     assert len(console.status_line(40)) <= 40
     assert not console.is_idle()

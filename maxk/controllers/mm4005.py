@@ -334,7 +334,7 @@ class MM4005Console:
         spec = COMMANDS.get(topic.strip().upper())
         if spec is None:
             return None
-        lines = [f"{spec.mnemonic}: {spec.summary}",
+        lines = [f"{spec.mnemonic}: {_plain(spec.mnemonic, spec.summary)}",
                  f"  source: {spec.source} ({spec.confidence})"]
         if spec.note:
             lines.append(f"  note: {spec.note}")
@@ -345,7 +345,7 @@ class MM4005Console:
 
     def summary(self, word: str) -> str:
         spec = COMMANDS.get(word.strip().upper())
-        return "" if spec is None else spec.summary
+        return "" if spec is None else _plain(spec.mnemonic, spec.summary)
 
     def repl_help(self) -> list[str]:
         return ["  :pulses      the pulse log of the running or last trajectory (CSV lines)",
@@ -424,3 +424,9 @@ class MM4005WorldView(WorldView):
         steps = a.steps_now(machine)
         return AxisReading(str(number), steps + a.counter_offset, steps + a.encoder_offset,
                            a.velocity(machine), not status.moving, status.moving, flags)
+
+
+def _plain(mnemonic: str, summary: str) -> str:
+    """A summary without the mnemonic its handler's docstring starts with (`TP: ...`), so
+    help and completion do not say it twice."""
+    return summary.removeprefix(f"{mnemonic}: ")
