@@ -278,3 +278,31 @@ def test_a_query_held_by_wq_answers_once_the_queue_is_empty(shm):
     h, host, _ = shm
     # RP waits behind WQ until the move has ended, then answers through the ring
     assert host.query("AX;VL50000;AC500000;MR2000;GO;WQ;RP;") == "2000"
+
+
+def test_a_command_in_the_ring_wakes_the_door_without_a_pacing_pass(tmp_path):
+    """The ring watcher (issue 28: a map round trip under 1 ms): with no pacing loop at
+    all, a host's command in the ring is still run and answered, so the door woke on the
+    host's write, not on a pass of the pacer."""
+    import asyncio
+
+    from maxk.controllers.registry import build
+    from maxk.host.client import Service
+    from maxk.host.pacing import Pacer
+    from maxk.host.shared_memory import SharedMemoryDoor
+
+    controller = build("MAXk-1000")
+    service = Service(1, controller, Pacer(controller, 1.0, lambda: 0.0))
+    path = str(tmp_path / "maxk-watched")
+
+    async def main() -> str:
+        door = SharedMemoryDoor(service, path)
+        door.watch(asyncio.get_running_loop())
+        host = SharedMemoryHost(path)
+        try:
+            return await asyncio.to_thread(host.query, "WY")
+        finally:
+            host.close()
+            door.close()
+
+    assert asyncio.run(main()) == "MAXk-1000, ver:1.33, S/N: 000001, FPGA:20"

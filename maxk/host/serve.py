@@ -215,6 +215,7 @@ async def serve(args: argparse.Namespace) -> int:
                 from maxk.host.shared_memory import SharedMemoryDoor
 
                 door = SharedMemoryDoor(service, _numbered(args.shm, n, boards))
+                door.watch(asyncio.get_running_loop())  # a host's command wakes it
                 memories.append(door)
                 server.after_pacing(door.update)
                 where.append(f"shared memory {door.path}")
