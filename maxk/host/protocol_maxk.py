@@ -24,9 +24,8 @@ from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from maxk.commands.max.session import EOLS
 from maxk.controllers.contract import BuildOptions, Controller, Session
-from maxk.controllers.registry import build, canonical_model
+from maxk.controllers.registry import DEFAULT_MODEL, build, canonical_model
 from maxk.host.pacing import Pacer
-from maxk.personalities.maxk.models import DEFAULT_MODEL
 
 POLL = 0.0005  # seconds between looks while a read waits (the wall clock is the door's)
 MAX_INCOMING = 1 << 20  # unread bytes kept; beyond this the oldest are lost, as on a line
