@@ -861,6 +861,15 @@ void _stdcall CloseOmsHandle(HANDLE h)
             goto done;                                                                   \
     } while (0)
 
+/* A call's argument refused with the API's own code, before anything changes. */
+#define REFUSE_IF(condition, code)                                                       \
+    do {                                                                                 \
+        if (condition) {                                                                 \
+            rc = (code);                                                                 \
+            goto done;                                                                   \
+        }                                                                                \
+    } while (0)
+
 /* ---- axis masks ---------------------------------------------------------------------- */
 static int single_axis(long mask)
 {
@@ -914,10 +923,7 @@ static long send_and_get(HANDLE h, LPSTR cmd, LPSTR reply)
 {
     char line[OMS_LINE_MAX];
     BEGIN(h)
-    if (!cmd || !reply) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!cmd || !reply, INVALID_PARAMETER);
     reply[0] = 0;
     discard_replies(b);
     CHECK(write_text(b, cmd));
@@ -936,10 +942,7 @@ long _stdcall SendAndGetString(HANDLE h, LPSTR cmd, LPSTR reply) { return send_a
 static long send_only(HANDLE h, LPSTR cmd)
 {
     BEGIN(h)
-    if (!cmd) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!cmd, INVALID_PARAMETER);
     CHECK(write_text(b, cmd));
 done:
     END
@@ -971,10 +974,7 @@ long _stdcall GetOmsControllerDescription(HANDLE h, LPSTR text)
 {
     char line[OMS_LINE_MAX];
     BEGIN(h)
-    if (!text) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!text, INVALID_PARAMETER);
     text[0] = 0;
     CHECK(query(b, line, sizeof line, "WY;"));
     copy_reply(text, line);
@@ -1120,10 +1120,7 @@ static long flags_mask(HANDLE h, long *out, unsigned kind)
     unsigned bits[OMS_AXES];
     int i;
     BEGIN(h)
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(axis_flag_bits(b, bits, NULL));
     *out = 0;
     for (i = 0; i < OMS_AXES; i++)
@@ -1143,14 +1140,8 @@ static long axis_flag(HANDLE h, long axis, BOOL *out, unsigned kind)
     unsigned bits[OMS_AXES];
     int i = single_axis(axis);
     BEGIN(h)
-    if (i < 0) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(i < 0, INVALID_AXIS_SELECTION);
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(axis_flag_bits(b, bits, NULL));
     *out = (bits[i] & kind) ? TRUE : FALSE;
 done:
@@ -1163,10 +1154,7 @@ long _stdcall GetOmsAxisSlipFlag(HANDLE h, long axis, BOOL *s) { return axis_fla
 static long clear_flags(HANDLE h, long axes, unsigned kind)
 {
     BEGIN(h)
-    if (!valid_axes(axes)) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
+    REFUSE_IF(!valid_axes(axes), INVALID_AXIS_SELECTION);
     CHECK(clear_axis_flags(b, axes, kind));
 done:
     END
@@ -1248,10 +1236,7 @@ static long limit_flags(oms_board *b, long *out)
 static long get_limit_flags(HANDLE h, long *out)
 {
     BEGIN(h)
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(limit_flags(b, out));
 done:
     END
@@ -1266,10 +1251,7 @@ static long clear_limits(HANDLE h, long limits)
 {
     long axes = (limits | (limits >> 10)) & OMS_ALL_AXES;
     BEGIN(h)
-    if (limits <= 0 || (limits & ~0xFFFFFL)) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
+    REFUSE_IF(limits <= 0 || (limits & ~0xFFFFFL), INVALID_AXIS_SELECTION);
     CHECK(clear_axis_flags(b, axes, 2u));
 done:
     END
@@ -1283,10 +1265,7 @@ static long status_flags(HANDLE h, long *out)
     unsigned bits[OMS_AXES];
     unsigned long error = 0;
     BEGIN(h)
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(axis_flag_bits(b, bits, &error));
     *out = error ? COMMAND_ERROR : 0;
 done:
@@ -1327,14 +1306,8 @@ long _stdcall GetOmsAxisFlags(HANDLE h, long axis, long *flags)
     unsigned bits[OMS_AXES];
     int i = single_axis(axis);
     BEGIN(h)
-    if (i < 0) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!flags) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(i < 0, INVALID_AXIS_SELECTION);
+    REFUSE_IF(!flags, INVALID_PARAMETER);
     /* QA: direction P/M, done D/N, overtravel L/N, home H/N (leaves the flags set) */
     CHECK(query(b, line, sizeof line, "A%cQA;", AXIS_LETTERS[i]));
     CHECK(axis_flag_bits(b, bits, NULL));
@@ -1354,10 +1327,7 @@ done:
 long _stdcall GetOmsLimitSensors(HANDLE h, long *limits)
 {
     BEGIN(h)
-    if (!limits) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!limits, INVALID_PARAMETER);
     CHECK(limit_sensors(b, limits));
 done:
     END
@@ -1366,10 +1336,7 @@ done:
 long _stdcall GetOmsHomeSensors(HANDLE h, long *axes)
 {
     BEGIN(h)
-    if (!axes) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!axes, INVALID_PARAMETER);
 #ifdef OMS_HAVE_MAP
     if (b->transport == OMS_MAP) {
         *axes = (long)(map_get(b, MAP_HOME_WORD) & OMS_ALL_AXES);
@@ -1639,14 +1606,8 @@ static long axis_position(HANDLE h, long axis, long *out, int kind)
     long values[OMS_AXES];
     int i = single_axis(axis);
     BEGIN(h)
-    if (i < 0) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(i < 0, INVALID_AXIS_SELECTION);
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(read_positions(b, axis, kind, values));
     *out = values[i];
 done:
@@ -1662,14 +1623,8 @@ static long positions(HANDLE h, long axes, PAXES_DATA data, int kind)
     long values[OMS_AXES];
     int i;
     BEGIN(h)
-    if (!valid_axes(axes)) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!data) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!valid_axes(axes), INVALID_AXIS_SELECTION);
+    REFUSE_IF(!data, INVALID_PARAMETER);
     CHECK(read_positions(b, axes, kind, values));
     for (i = 0; i < OMS_AXES; i++)
         if (axes & (1L << i))
@@ -1691,10 +1646,7 @@ long _stdcall GetPositionData(HANDLE h, PPOSITION_DATA data)
     long motor[OMS_AXES], encoder[OMS_AXES];
     int i;
     BEGIN(h)
-    if (!data) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!data, INVALID_PARAMETER);
 #ifdef OMS_HAVE_MAP
     if (b->transport == OMS_MAP) {
         map_put(b, MAP_POSITION_REQUEST, 1);
@@ -1742,20 +1694,14 @@ static long find_limit(HANDLE h, long axis, long velocity, long ms, int sign)
             CHECK(axis_flag_bits(b, bits, NULL));
             if (bits[i] & 2u)
                 break;
-            if (now_ms() > deadline) {
-                rc = MOVE_TIME_OUT;
-                goto done;
-            }
+            REFUSE_IF(now_ms() > deadline, MOVE_TIME_OUT);
 #ifdef OMS_HAVE_MAP
             if (b->transport == OMS_MAP) {
                 pause_us(200);
                 continue;
             }
 #endif
-            if (tcp_pull(b, 20) < 0) {
-                rc = RESPONSE_TIME_OUT;
-                goto done;
-            }
+            REFUSE_IF(tcp_pull(b, 20) < 0, RESPONSE_TIME_OUT);
         }
     done:
         END
@@ -1796,14 +1742,8 @@ static long axis_report(HANDLE h, long axis, const char *what, long *out)
     char line[OMS_LINE_MAX];
     int i = single_axis(axis);
     BEGIN(h)
-    if (i < 0) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(i < 0, INVALID_AXIS_SELECTION);
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(query(b, line, sizeof line, "A%c%s;", AXIS_LETTERS[i], what));
     *out = strtol(line, NULL, 10);
 done:
@@ -1816,14 +1756,8 @@ static long selected_report(HANDLE h, long axes, const char *what, PAXES_DATA da
     const char *p = line;
     int i;
     BEGIN(h)
-    if (!valid_axes(axes)) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!data) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!valid_axes(axes), INVALID_AXIS_SELECTION);
+    REFUSE_IF(!data, INVALID_PARAMETER);
     CHECK(query(b, line, sizeof line, "AM%s;", what));
     for (i = 0; i < OMS_AXES; i++) {
         long v = (p && *p && *p != ',') ? strtol(p, NULL, 10) : 0;
@@ -1899,14 +1833,8 @@ long _stdcall GetOmsEncoderFlags(HANDLE h, long axis, long *flags)
     char line[OMS_LINE_MAX];
     int i = single_axis(axis);
     BEGIN(h)
-    if (i < 0) {
-        rc = INVALID_AXIS_SELECTION;
-        goto done;
-    }
-    if (!flags) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(i < 0, INVALID_AXIS_SELECTION);
+    REFUSE_IF(!flags, INVALID_PARAMETER);
     /* EA: slip detection E/D, position maintenance E/D, slipped S/N, dead band D/N,
      * index H/N; an axis without an encoder answers nothing but a command error */
     CHECK(query(b, line, sizeof line, "AM;EA;"));
@@ -1998,10 +1926,7 @@ static long hex_report(HANDLE h, const char *text, long *out)
 {
     char line[OMS_LINE_MAX];
     BEGIN(h)
-    if (!out) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!out, INVALID_PARAMETER);
     CHECK(query(b, line, sizeof line, "%s", text));
     *out = (long)(parse_hex(line) & 0xFFFFu);
 done:
@@ -2099,10 +2024,7 @@ long _stdcall OMS_SetCommandBuffer(HANDLE h, eOMSBuffMode mode, long size)
 long _stdcall OMS_GetCommandBufferSelection(HANDLE h, eOMSBuffMode *mode)
 {
     BEGIN(h)
-    if (!mode) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!mode, INVALID_PARAMETER);
     *mode = b->buffer_mode;
 done:
     END
@@ -2111,10 +2033,7 @@ done:
 long _stdcall OMS_BigBufferSendBlock(HANDLE h, LPSTR block, long size, long *sent)
 {
     BEGIN(h)
-    if (!block || size < 0) {
-        rc = INVALID_PARAMETER;
-        goto done;
-    }
+    REFUSE_IF(!block || size < 0, INVALID_PARAMETER);
     if (sent)
         *sent = 0;
 #ifdef OMS_HAVE_MAP
