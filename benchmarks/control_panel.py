@@ -21,7 +21,7 @@ import threading
 import time
 import urllib.request
 
-from benchmarks.doors import BUSY
+from benchmarks.doors import BUSY, PacingWatch
 from benchmarks.figure import Figure
 from benchmarks.live_server import percentile, print_figures
 from benchmarks.servo_figures import naive_reference
@@ -45,15 +45,8 @@ def _serve(seconds: float, ports_out, stats_out, done) -> None:  # type: ignore[
         services.append(Service(n, controller, Pacer(controller)))
     server = Server(services)
     door = ControlDoor(services, stream_hz=PANEL_HZ)
-    worst = {"lag": 0.0, "gap": 0.0}
-    last = [time.monotonic()]
-
-    def watch() -> None:
-        for service in services:
-            worst["lag"] = max(worst["lag"], abs(service.pacer.lag()))
-        now = time.monotonic()
-        worst["gap"] = max(worst["gap"], now - last[0])
-        last[0] = now
+    watch = PacingWatch(services)
+    worst = watch.worst
 
     async def main() -> None:
         ports = []
@@ -63,7 +56,7 @@ def _serve(seconds: float, ports_out, stats_out, done) -> None:  # type: ignore[
         control = (await door.start("127.0.0.1", 0))[1]
         server.after_pacing(watch)
         ports_out.send((ports, control))
-        last[0] = time.monotonic()
+        watch.restart()
         loop = asyncio.get_running_loop()
         loop.call_later(seconds + 300.0, server.stop)  # a bound, should the benchmark die
 
