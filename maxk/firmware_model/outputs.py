@@ -14,6 +14,8 @@ closed form:
   starts; the MM4005's pulses every NI along the trajectory between two elements). The
   tick is the path plan's inverse in closed form (`PathPlan.time_at`); evenly spaced
   distances are generated lazily, so a million pulses cost nothing until they are due.
+  Outputs at given times along a plan (the MM4005's time-based pulses, evenly spaced in
+  time) fire on the first update tick at or after their time (`time_trigger_ticks`).
 - **Computed outputs**: a value recomputed every update from the path speed and another
   axis's position (the Trio's speed-linked PWM mark), evaluated at any tick in closed
   form from the motions it depends on.
@@ -104,10 +106,17 @@ def path_trigger_ticks(plan: PathPlan, plan_tick: int, period: float,
     return out
 
 
+def time_trigger_ticks(plan_tick: int, period: float, times: Iterable[tuple[float, Payload]]
+                       ) -> list[tuple[int, Payload]]:
+    """Each output at `t` seconds after the plan's start (tick `plan_tick`) fires on the
+    first update tick at or after it (a time a rounding error past a tick stays on it)."""
+    return [(plan_tick + math.ceil(t / period - 1e-9), payload) for t, payload in times]
+
+
 @dataclass(frozen=True, slots=True)
 class EvenlySpaced:
-    """`count` positions along a path: `start`, then every `step` (the MM4005's NB..NE
-    pulses at NI); generated lazily."""
+    """`count` positions along a path or times along a plan: `start`, then every `step`
+    (the MM4005's NB..NE pulses at NI, its MB..ME pulses in time); generated lazily."""
 
     start: float
     step: float

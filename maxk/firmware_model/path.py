@@ -13,7 +13,11 @@ interface (`ContourMotion`), split into phases where that axis may turn round, s
 searches, outputs tied to positions and the servo work on it unchanged.
 
 Used by the MAXk's vector contouring; the same planner carries any controller's
-interpolated path (the Trio's BASE group moves, the MM4005's trajectory).
+interpolated path (the Trio's BASE group moves, the MM4005's trajectory). A path may also
+be given in time rather than speed (`plan_timed`: each segment a displacement over a given
+duration, the MM4005's time-based trajectory): the same segments and pieces, with the
+speed along the path continuous across every seam and each segment ending exactly on its
+duration.
 
 Long module: the geometry, the speed plan (made whole, or lazily as far as it is looked
 at) and each axis's view of it are one planner whose parts read each other's private
@@ -24,7 +28,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 from maxk.firmware_model.profiles import RampShape
@@ -535,6 +539,79 @@ def plan_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
     duration = v_now / accel
     return PathPlan(segments, [Piece(0.0, duration, s_now, v_now, -accel)], s_now, duration,
                     starts)
+
+
+# ---- paths of given durations -----------------------------------------------------------
+def timed_segments(displacements: Sequence[Sequence[float]]) -> list[Segment]:
+    """Lines from the origin, one per displacement (one value per axis of the path)."""
+    segments: list[Segment] = []
+    start = tuple(0.0 for _ in displacements[0]) if displacements else ()
+    s0 = 0.0
+    for delta in displacements:
+        end = tuple(a + d for a, d in zip(start, delta, strict=True))
+        seg = Segment(SegmentDef("line", end, False, 0.0, None, 0.0, 0.0, None), start, s0,
+                      None)
+        segments.append(seg)
+        start, s0 = seg.end, s0 + seg.length
+    return segments
+
+
+def seam_speed(before: Segment, v_before: float, after: Segment, v_after: float) -> float:
+    """The path speed at the seam of two timed segments: the lower of their mean speeds,
+    scaled by the cosine of the turn between them (0 for a turn of 90 degrees or more, or
+    a dwell), so that no axis reverses at speed and the segments' own speeds bound it."""
+    if before.length <= 0 or after.length <= 0:
+        return 0.0
+    turn = sum(a * b for a, b in zip(before.unit, after.unit, strict=True))
+    return min(v_before, v_after) * max(0.0, min(1.0, turn))
+
+
+def plan_timed(segments: list[Segment], durations: Sequence[float],
+               blend: float) -> PathPlan:
+    """A path whose segments last given durations, from rest to rest.
+
+    Each segment starts and ends at its seam speeds (`seam_speed`; 0 at the path's two
+    ends) and changes speed over a ramp of min(blend, duration) / 2 at each end, at
+    constant acceleration; between the ramps it cruises at the one speed that covers its
+    length in exactly its duration. So the path stands exactly on every seam at the sum
+    of the durations before it, the speed along the path is continuous (a speed change
+    between segments is spread over up to `blend` seconds across the seam), and it never
+    runs backwards: the seam speeds are at most the segment's mean speed, so the cruise
+    is at least that mean (at most twice it, a segment starting and ending at rest)."""
+    n = len(segments)
+    if n != len(durations) or n == 0:
+        raise ValueError("one duration per segment, at least one segment")
+    means = [seg.length / duration for seg, duration in zip(segments, durations, strict=True)]
+    seams = [0.0] + [seam_speed(segments[i], means[i], segments[i + 1], means[i + 1])
+                     for i in range(n - 1)] + [0.0]
+    pieces: list[Piece] = []
+    t = 0.0
+    for i, (seg, duration) in enumerate(zip(segments, durations, strict=True)):
+        length = seg.length
+        w_in, w_out = seams[i], seams[i + 1]
+        ramp = min(blend, duration) / 2.0
+        if length <= 0:
+            pieces.append(Piece(t, duration, seg.s0, 0.0, 0.0))
+            t += duration
+            continue
+        cruise = (length - (w_in + w_out) * ramp / 2.0) / (duration - ramp)
+        ramp_in = ramp if cruise != w_in else 0.0  # (a ramp at one speed is cruise)
+        ramp_out = ramp if cruise != w_out else 0.0
+        if ramp_in > 0:
+            pieces.append(Piece(t, ramp_in, seg.s0, w_in, (cruise - w_in) / ramp_in))
+        middle = duration - ramp_in - ramp_out
+        if middle > 0:
+            pieces.append(Piece(t + ramp_in, middle,
+                                seg.s0 + (w_in + cruise) * ramp_in / 2.0, cruise, 0.0))
+        if ramp_out > 0:  # placed from the segment's end, so that it ends exactly on it
+            pieces.append(Piece(t + duration - ramp_out, ramp_out,
+                                seg.s0 + length - (cruise + w_out) * ramp_out / 2.0, cruise,
+                                (w_out - cruise) / ramp_out))
+        t += duration
+    plan = PathPlan(segments, pieces, 0.0, t)
+    last = segments[-1]
+    plan._s_end = last.s0 + last.length
+    return plan
 
 
 # ---- what each axis follows -------------------------------------------------------------

@@ -2,34 +2,41 @@
 MB/ME/MN, VC, RC, GC, EC, XC, NQ, TQ), with its pulses and the trace read back per pulse.
 
 A definition is a list of elements, each a duration (``iDT``) and a displacement per
-taking-part axis (``nDX``, controller units). Each axis moves at a constant velocity
-``dx / dt`` within an element, so at every element boundary it stands exactly on the sum
-of its displacements (D: positions piecewise linear in time; the speed steps between
-elements are what GC bounds and what VC reports; UC is the time the firmware allows for
-each such step, used for the acceleration VC reports: |dv| / UC). On the shared engine
-each axis runs one `profiles.Motion` whose phases are the elements (constant speed, in
-counts of the axis's TU), so limit switches, MS, TP/TH and the servo see an ordinary
-motion.
+taking-part axis (``nDX``, controller units). EC runs it on the shared path planner
+(`firmware_model.path.plan_timed`), as the XY trajectory runs: the elements are the
+segments of one path through the taking-part axes' space (user units, from where they
+stand), each lasting exactly its duration x the time scale. The speed along the path is
+continuous across every seam, a speed change spread over up to UC seconds across it (D:
+the seam speed is the lower of the two elements' mean speeds, scaled by the cosine of the
+turn between them), and each element cruises at the one speed that makes it end exactly
+on its sum of displacements at its end time: so at every element boundary every axis
+stands exactly where the host put it. The run starts and ends at rest. Each axis follows
+its coordinate in counts of its own TU (`path.ContourMotion`), so limit switches, MS,
+TP/TH and the servo see an ordinary motion. VC's figures stay the host's: the elements'
+mean speeds dx / dt and their steps (what GC bounds, RC reports, |dv| / UC the
+acceleration).
 
 Pulses (``MBs,MEe,MNn``): the controller "puts out one fewer pulse than requested"
 (the scan sends n = pulses + 1): n - 1 pulses evenly spaced in time, the first at the
 start of element s, spacing (end of e - start of s) / (n - 1) (D: so with one pulse per
 element each pulse marks an element's start, the scan's trajectory point). Each pulse
-fires on the first servo tick at or after its time (`outputs.EvenlySpaced` times) and
+fires on the first servo tick at or after its time (`outputs.EvenlySpaced` times through
+`outputs.time_trigger_ticks`) and
 records every axis's theoretical (TH) and actual (TP) position then: the trace NQ counts
 and ``iTQ`` reads.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final
 
-from maxk.firmware_model.outputs import EvenlySpaced
-from maxk.firmware_model.profiles import Motion, Phase, RampShape
+from maxk.firmware_model.outputs import EvenlySpaced, time_trigger_ticks
+from maxk.firmware_model.path import ContourMotion, PathPlan, plan_timed, timed_segments
 
 from .errors import (
     PARAMETER,
@@ -208,28 +215,24 @@ class TimedTrajectory:
         return out
 
 
-def axis_motion(trajectory: TimedTrajectory, axis: int, resolution: float,
-                scale: float) -> Motion:
-    """The axis's share as a shared `profiles.Motion`: one constant-speed phase per
-    element, in counts of TU; it ends on the whole count nearest the summed displacement."""
-    phases: list[Phase] = []
-    t = 0.0
-    s = 0.0
-    direction = 0
-    for e in trajectory.elements:
-        duration = e.duration * scale
-        d = e.moves.get(axis, 0.0) / resolution
-        sign = 1 if d >= 0 else -1
-        if d and not direction:
-            direction = sign
-        phases.append(Phase(t, duration, s, abs(d) / duration, abs(d) / duration, sign,
-                            RampShape.LINEAR))
-        t += duration
-        s += d
-    # a phase that does not move takes the motion's way, so "monotonic" stays true
-    phases = [p if p.v1 else Phase(p.t0, p.duration, p.s0, 0.0, 0.0, direction or 1,
-                                   RampShape.LINEAR) for p in phases]
-    return Motion(phases, t, round(s), t, direction or 1, max(p.v1 for p in phases))
+def trajectory_plan(trajectory: TimedTrajectory, scale: float) -> PathPlan:
+    """The definition as the shared planner's path through the taking-part axes (in the
+    order of their numbers), element times x ``scale``, speed changes over UC."""
+    axes = sorted(trajectory.axes)
+    displacements = [[e.moves.get(a, 0.0) for a in axes] for e in trajectory.elements]
+    return plan_timed(timed_segments(displacements),
+                      [e.duration * scale for e in trajectory.elements], trajectory.accel_time)
+
+
+def axis_motion(plan: PathPlan, k: int, resolution: float) -> ContourMotion:
+    """Axis k of the plan in its own counts (1 / TU per user unit). Its reach is the
+    extremes of its element boundaries: along each straight element it only moves one
+    way, so limit searches skip switches it never gets to."""
+    scale = 1.0 / resolution
+    motion = ContourMotion(plan, k, 0.0, scale)
+    ends = [0.0] + [seg.end[k] * scale for seg in plan.segments]
+    motion.reach = (min(ends) - 1.0, max(ends) + 1.0)
+    return motion
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,8 +265,9 @@ class TimedExecution:
         self._spaced: EvenlySpaced | None = None
         self._next = 0
         self._due: list[tuple[int, int]] = []
-        for axis_number, axis in zip(sorted(trajectory.axes), self.axes, strict=True):
-            motion = axis_motion(trajectory, axis_number, axis.resolution, scale)
+        self.plan = trajectory_plan(trajectory, scale)
+        for k, axis in enumerate(self.axes):
+            motion = axis_motion(self.plan, k, axis.resolution)
             axis.pending_target = None
             axis.homing = None
             axis.in_trajectory = True
@@ -282,12 +286,8 @@ class TimedExecution:
         spaced = self._spaced
         if spaced is None or self._due:
             return
-        period = self.machine.period
-        batch = []
-        for t, index in spaced.from_index(self._next):
-            batch.append((self.start_tick + math.ceil(t / period - 1e-9), index))
-            if len(batch) == PULSE_BATCH:
-                break
+        batch = time_trigger_ticks(self.start_tick, self.machine.period,
+                                   itertools.islice(spaced.from_index(self._next), PULSE_BATCH))
         if batch:
             self._next = batch[-1][1] + 1
         self._due = batch[::-1]
