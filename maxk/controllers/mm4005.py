@@ -29,7 +29,7 @@ from typing import IO, Final
 
 from maxk.commands.mm4005 import COMMANDS, Interpreter, MM4005Session
 from maxk.commands.mm4005.fmt import fixed, position_decimals
-from maxk.controllers.contract import Notify, Transport, VirtualTime
+from maxk.controllers.contract import ConsoleBase, Notify, Transport, VirtualTime
 from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
@@ -246,11 +246,16 @@ class MM4005Controller(VirtualTime):
         trace.sink = sink
 
 
-class MM4005Console:
-    """The REPL's and scripts' view of an MM4005 (the `Console` contract)."""
+class MM4005Console(ConsoleBase):
+    """The REPL's and scripts' view of an MM4005 on the shared `ConsoleBase`: the prompt,
+    the per-axis status table and idleness (no axis moving: a trajectory's axes move
+    until it ends) come from the contract; the status line adds a running trajectory's
+    progress (AT, or XCn/N of a time-based run) and the pulses fired."""
+
+    controller: MM4005Controller
 
     def __init__(self, controller: MM4005Controller) -> None:
-        self.controller = controller
+        super().__init__(controller)
         self._stream: IO[str] | None = None  # the file :pulses-csv streams to
 
     def _close_stream(self) -> None:
@@ -271,9 +276,6 @@ class MM4005Console:
         lines = [f"! {code.char} {code.text}" for code in register.noted]
         register.noted.clear()
         return lines
-
-    def prompt(self) -> str:
-        return f"{self.controller.model}> "
 
     def _position_text(self, axis: int) -> str:
         m = self.controller.machine
@@ -301,9 +303,11 @@ class MM4005Console:
         return line
 
     def status_lines(self) -> list[str]:
+        """The contract's axis table (counts), then the MM4005's own words per axis (user
+        units, MS, DP, VA, AC, limits) and its trajectories, pulses, servo, register."""
         m = self.controller.machine
         lines = [f"{self.controller.model} at {m.time:.4f} s (tick {m.tick}, "
-                 f"{m.update_rate_hz:g} Hz)"]
+                 f"{m.update_rate_hz:g} Hz)", *super().status_lines()]
         for axis in range(1, m.axis_count + 1):
             status = m.status(axis)
             left, right = m.travel_limits(axis)
@@ -328,6 +332,11 @@ class MM4005Console:
         lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
                      + ("" if servos else "profile-only axes)"))
         lines.append(f"error register: {self.controller.errors.peek().char}")
+        run = m.timed_run
+        if run is not None and not run.finished:
+            lines.append(f"time-based run: XC{m.elements_done()}/{len(run.starts) - 1}, "
+                         f"element {run.element_at(m.tick)}, {m.pulse_trace.total} pulses, "
+                         f"ends at tick {run.end_tick}")
         return lines
 
     def help(self, topic: str) -> list[str] | None:
@@ -357,9 +366,6 @@ class MM4005Console:
         m = self.controller.machine
         return [f"reset: {m.axis_count} axes, counters 0, trajectory cleared, "
                 f"error register clear (tick {m.tick})"]
-
-    def is_idle(self) -> bool:
-        return self.controller.machine.is_idle()
 
     def repl_word(self, word: str, rest: str) -> list[str] | None:
         """`:pulses` lists the pulse log; `:pulses-csv FILE` writes it as CSV."""

@@ -209,10 +209,19 @@ class MotionEnds:
     end tick, stands the axis on its final step (`finish_motion`, which calls the axis's
     `motion_ended` hook) and tells the personality (`on_end(axis, tick)`: a queue moves
     on, a done flag sets). Given limit switches (`limit_at(axis, side)`: the physical
-    position of that side's limit, None for none), it also finds, exactly to the tick,
-    where a motion reaches one, and calls `on_limit(axis, side, tick)` there (the
-    personality stops the axis its controller's way). A new controller adds one for its
-    axes and writes only what its controller does at an end or a limit."""
+    position from which that side's limit is active, None for none; -inf/+inf for a
+    switch stuck active), it also finds, exactly to the tick, where a motion reaches one,
+    and calls `on_limit(axis, side, tick)` there (the personality stops the axis its
+    controller's way). A new controller adds one for its axes and writes only what its
+    controller does at an end or a limit.
+
+    A limit that becomes active under a moving axis (a switch moved onto it, a fault that
+    sticks it active) acts on the tick the world changed (`changed()`, then the engine's
+    next pass at that tick, or `act_now()`) if the axis travels toward it then, else on
+    the first tick it turns toward it. The motion a limit leaves the axis with (its stop,
+    which runs on into the pressed switch) never trips that side again; a motion that
+    knows its reach (`reach`: the offsets it stays within, as `path.ContourMotion` has)
+    skips the limits it never gets to, without making its phases."""
 
     def __init__(self, axes: Sequence[MotionAxis], engine: Clock,
                  on_end: Callable[[MotionAxis, int], None] = lambda axis, tick: None, *,
@@ -226,26 +235,48 @@ class MotionEnds:
         self.on_limit = on_limit
         self._limit: dict[int, tuple[object, int | None, SwitchSide]] = {}  # per axis:
         # (the motion it was found for, the tick it reaches a limit, which limit)
+        self._braking: dict[int, tuple[object, SwitchSide]] = {}  # per axis: the motion
+        # a limit left it with, and that limit's side
 
     def _limit_tick(self, axis: MotionAxis) -> tuple[int | None, SwitchSide]:
         found = self._limit.get(axis.index)
-        if found is not None and found[0] is axis.motion:
+        motion = axis.motion
+        if found is not None and found[0] is motion:
             return found[1], found[2]
         best: tuple[int | None, SwitchSide] = (None, 1)
-        if self.limit_at is not None and axis.motion is not None:
+        if self.limit_at is not None and motion is not None:
+            engine = self.engine
+            braking = self._braking.get(axis.index)
+            reach = getattr(motion, "reach", None)
             for side in (1, -1):
+                if braking is not None and braking[0] is motion and braking[1] == side:
+                    continue
                 edge = self.limit_at(axis, side)
                 if edge is None:
                     continue
-                tick = axis.tick_reaching(edge, side, self.engine)
+                if reach is not None and (edge > axis.steps + reach[1] if side > 0
+                                          else edge < axis.steps + reach[0]):
+                    continue  # (beyond where the motion ever goes)
+                here = axis.steps_now(engine)
+                if side * (here - edge) >= 0 and side * axis.velocity(engine) > 0:
+                    tick: int | None = engine.tick  # pressed now, travelling into it
+                else:
+                    tick = axis.tick_reaching(edge, side, engine)
                 if tick is not None and (best[0] is None or tick < best[0]):
                     best = (tick, side)
-        self._limit[axis.index] = (axis.motion, *best)
+        self._limit[axis.index] = (motion, *best)
         return best
 
     def changed(self) -> None:
-        """A switch moved: find the limits afresh."""
+        """A switch moved or a fault was set: find the limits afresh."""
         self._limit.clear()
+
+    def act_now(self) -> None:
+        """Do at once what is due at the present tick (a world change made outside the
+        engine's pass: a limit now pressed under a moving axis)."""
+        due = self.next_event()
+        if due is not None and due <= self.engine.tick:
+            self.on_event(self.engine.tick)
 
     def next_event(self) -> int | None:
         soonest: int | None = None
@@ -266,6 +297,7 @@ class MotionEnds:
                     axis.motion_end is None or tick <= axis.motion_end):
                 self._limit.pop(axis.index, None)
                 self.on_limit(axis, side, now)
+                self._braking[axis.index] = (axis.motion, side)
             elif axis.motion_end is not None and axis.motion_end <= now:
                 axis.finish_motion()
                 self.on_end(axis, now)

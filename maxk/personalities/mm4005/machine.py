@@ -21,10 +21,11 @@ from __future__ import annotations
 import math
 from typing import Final
 
+from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.profiles import RampShape, plan_jog, plan_move, plan_stop
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, advance_servo_axes
-from maxk.firmware_model.world import Switch, World
+from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
@@ -52,7 +53,10 @@ class MM4005(Engine):
         self.world = World.default(axis_count)
         self.axes = [MM4005Axis(i, str(i + 1), host=self) for i in range(axis_count)]
         for axis in self.axes:
-            self.add_source(axis)
+            self.add_source(axis)  # (its home search's edge)
+        self.ends = MotionEnds(self.axes, self, self._on_end, limit_at=self._limit_at,
+                               on_limit=self._on_limit)
+        self.add_source(self.ends)
         self.trajectory = Trajectory()
         self.execution: TrajectoryExecution | None = None  # the running or last run
         self.timed = TimedTrajectory(axis_count)  # NC/DT/DX/...: the time-based one
@@ -446,27 +450,16 @@ class MM4005(Engine):
 
     # ---- events ----------------------------------------------------------------------------
     def axis_event(self, axis: MM4005Axis, now: int) -> None:
-        """One of the axis's ticks has come: a switch edge, or its motion's end."""
+        """A home search's tick has come: it meets the home edge."""
         if axis.switch_tick is not None and now >= axis.switch_tick:
             axis.switch_tick = None
-            self._switch_event(axis)
-        if axis.motion_end is not None and now >= axis.motion_end:
-            axis.finish_motion()
-            self._motion_done(axis)
-        elif axis.motion is not None and axis.switch_tick is None:
-            self.schedule_switches(axis)
-
-    def _switch_event(self, a: MM4005Axis) -> None:
-        if a.motion is None:
-            return
-        direction = a.travel_direction(self)
-        if self._limit_pressed(a, direction):
-            self._limit_tripped(a)
-            return
-        homing = a.homing
-        if homing is not None and homing.stage is HomeStage.SEEK and self._home_met(a, homing):
-            homing.stage = HomeStage.BRAKE
-            self._plan_stop(a)
+            homing = axis.homing
+            if (axis.motion is not None and homing is not None
+                    and homing.stage is HomeStage.SEEK and self._home_met(axis, homing)):
+                homing.stage = HomeStage.BRAKE
+                self._plan_stop(axis)
+            elif axis.motion is not None:
+                self.schedule_switches(axis)
 
     def _home_met(self, a: MM4005Axis, homing: HomeSearch) -> bool:
         if homing.edge is None:
@@ -481,9 +474,29 @@ class MM4005(Engine):
         switch = world.plus_limit if direction > 0 else world.minus_limit
         return switch.active(a.steps_now(self))
 
+    def _limit_at(self, axis: MotionAxis, side: int) -> float | None:
+        """Where that side's hardware limit is active from, for the shared `MotionEnds`:
+        a switch stuck active is active everywhere (-inf/+inf), one stuck inactive
+        never."""
+        world = self.world.axes[axis.index]
+        switch = world.plus_limit if side > 0 else world.minus_limit
+        if switch.fault == STUCK_ACTIVE:
+            return -math.inf if side > 0 else math.inf
+        return _edge(switch, side)
+
+    def _on_limit(self, axis: MotionAxis, side: int, tick: int) -> None:
+        assert isinstance(axis, MM4005Axis)
+        self._limit_tripped(axis)
+
+    def _on_end(self, axis: MotionAxis, tick: int) -> None:
+        assert isinstance(axis, MM4005Axis)
+        self._motion_done(axis)
+
     def _limit_tripped(self, a: MM4005Axis) -> None:
         """A hardware travel limit: the axis brakes at AC (a trajectory along its path at
-        VS); a home search or a waiting destination is abandoned (D)."""
+        VS; a time-based run ends, each of its axes braking at its AC); a home search or
+        a waiting destination is abandoned (D). MS shows the limit's bit while the
+        switch is active."""
         a.homing = None
         a.pending_target = None
         if self._timed_stop(a):
@@ -491,8 +504,6 @@ class MM4005(Engine):
         run = self.execution
         if a.in_trajectory and run is not None:
             run.stop()
-            for member in run.axes:
-                self.schedule_switches(member)
         else:
             self._plan_stop(a)
 
@@ -507,7 +518,6 @@ class MM4005(Engine):
                     c = a.counts_per_second
                     a.begin(plan_move(distance, 0.0, c(a.speed), c(a.acceleration),
                                       c(a.acceleration), _RAMP), self)
-                    self.schedule_switches(a)
                     return
             a.homing = None
             a.load_position(a.to_counts(a.home_preset), self)
@@ -520,37 +530,14 @@ class MM4005(Engine):
                 a.target_counts = a.counts(self)  # into a pressed limit: it stays (D)
 
     def schedule_switches(self, a: MM4005Axis) -> None:
-        """The next tick at which the running motion meets a limit switch or, searching
-        home, the home edge (bisection over its monotonic phases, exact to the tick)."""
+        """A home search: the tick at which it meets the home edge (bisection over its
+        monotonic phases, exact to the tick). Limits are the shared `MotionEnds`'."""
         a.switch_tick = None
-        m = a.motion
-        if m is None:
-            return
-        world = self.world.axes[a.index]
-        here = a.steps_now(self)
-        span = getattr(m, "reach", None)
-        candidates: list[int] = []
-        for direction, switch in ((1, world.plus_limit), (-1, world.minus_limit)):
-            edge = _edge(switch, direction)
-            if edge is None or switch.active(here):
-                continue
-            if span is not None and not a.steps - 1 + span[0] <= edge <= a.steps + 1 + span[1]:
-                continue  # the path never gets there
-            if m.end_time is not None and m.monotonic and (
-                    m.direction != direction
-                    or direction * (a.steps + m.final_offset - edge) < 0):
-                continue
-            tick = a.tick_reaching(edge, direction, self)
-            if tick is not None:
-                candidates.append(tick)
         homing = a.homing
-        if homing is not None and homing.stage is HomeStage.SEEK and homing.edge is not None:
+        if (a.motion is not None and homing is not None and homing.stage is HomeStage.SEEK
+                and homing.edge is not None):
             goal = homing.edge if homing.direction > 0 else homing.edge - 1
-            tick = a.tick_reaching(goal, homing.direction, self)
-            if tick is not None:
-                candidates.append(tick)
-        if candidates:
-            a.switch_tick = min(candidates)
+            a.switch_tick = a.tick_reaching(goal, homing.direction, self)
 
     # ---- power-up --------------------------------------------------------------------------
     def reset(self) -> None:
@@ -573,14 +560,18 @@ class MM4005(Engine):
             self.remove_source(old)
             axis = MM4005Axis(i, str(i + 1), host=self, steps=old.steps)
             axis.counter_offset = -old.steps
-            self.axes[i] = axis
+            self.axes[i] = axis  # (the same list: MotionEnds ends the new axes' motions)
             self.add_source(axis)
+        self.ends.changed()
         self.trajectory = Trajectory()
 
     def world_changed(self) -> None:
-        """A switch moved or a fault was set: every running motion looks again."""
+        """A switch moved or a fault was set: every running motion looks again, and a
+        limit now pressed under an axis travelling into it acts on this tick."""
+        self.ends.changed()
         for a in self.axes:
             self.schedule_switches(a)
+        self.ends.act_now()
 
 
 def _edge(switch: Switch, direction: int) -> float | None:

@@ -73,11 +73,9 @@ class MM4005Axis(MotionAxis):
 
     # ---- the engine's event-source interface ---------------------------------------------
     def next_event(self) -> int | None:
-        best = self.motion_end
-        switch = self.switch_tick
-        if switch is not None and (best is None or switch < best):
-            best = switch
-        return best
+        """A home search's edge; the motion's end and the limits are the machine's shared
+        `MotionEnds`'."""
+        return self.switch_tick
 
     def on_event(self, now: int) -> None:
         assert self.host is not None
