@@ -304,7 +304,10 @@ def test_console() -> None:
     assert len(console.status_line(40)) <= 40
     assert not console.is_idle()
     assert console.repl_word("status", "") is None
-    assert len(console.status_lines()) == 1 + 4 + 5  # + XY, time-based, pulses, servo, errors
+    lines = console.status_lines()  # the contract's axis table, then the MM4005's own
+    assert lines[1] == "axis  position   encoder  velocity  state"
+    assert lines[2].split() == ["1", "375", "375", "1000", "moving"]
+    assert len(lines) == 1 + 5 + 4 + 5  # + XY, time-based, pulses, servo, errors
     mm.run_until_idle()
     assert console.is_idle()
     mm.reset()
