@@ -280,12 +280,19 @@ class MotionEnds:
 
     def next_event(self) -> int | None:
         soonest: int | None = None
-        for axis in self.axes:
-            if axis.motion is None:
+        found = self._limit
+        for axis in self.axes:  # (the engine asks twice a pass: kept lean)
+            motion = axis.motion
+            if motion is None:
                 continue
-            for tick in (axis.motion_end, self._limit_tick(axis)[0]):
-                if tick is not None and (soonest is None or tick < soonest):
-                    soonest = tick
+            known = found.get(axis.index)
+            limit = known[1] if known is not None and known[0] is motion else (
+                self._limit_tick(axis)[0])
+            end = axis.motion_end
+            if end is not None and (soonest is None or end < soonest):
+                soonest = end
+            if limit is not None and (soonest is None or limit < soonest):
+                soonest = limit
         return soonest
 
     def on_event(self, now: int) -> None:
