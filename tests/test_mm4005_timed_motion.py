@@ -135,3 +135,38 @@ def test_a_limit_in_a_time_based_run_aborts_it_and_its_pulses() -> None:
     assert mm.send("XC;NQ;MS;1TH;2TH") == ["XC1", "NQ2", "1MSD,2MS\\", "1TH2.0000",
                                            "2TH2.0000"]
     assert mm.send("TE") == ["TE@"]
+
+
+def test_a_switch_moved_onto_a_moving_axis_stops_it_there() -> None:
+    """The + limit moved to count 500 while the axis passes 875 going up: pressed under an
+    axis travelling into it, it acts on that tick (as a fault would)."""
+    mm = MM4005Controller("MM4005-2")
+    mm.send("1VA1;1AC4;1PA5")
+    mm.engine.advance(2000)
+    mm.world_view().set_limits("1", plus=500)
+    assert mm.run_until_idle() and mm.engine.tick == 2500
+    assert mm.send("1TP;1MS") == ["1TP1.0000", "1MSL"]
+
+
+def test_the_xy_trajectory_ramps_down_along_its_path_at_a_limit_stuck_mid_path() -> None:
+    """VV 1, VS 10: 0.1 s up to speed, then 1 unit/s along X. At 0.5 s (0.45 units) X's +
+    limit sticks active: the path ramps down at VS, 0.05 units in 0.1 s; AT then 0."""
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("NT;VV1;VS10;LX2;CR1;CA90;LY3;ET;TE") == ["TE@"]
+    mm.engine.advance(1000)
+    assert mm.send("AT;1TP") == ["AT1", "1TP0.4500"]
+    mm.world_view().fault("1", "plus", STUCK_ACTIVE)
+    assert mm.run_until_idle() and mm.engine.tick == 1200
+    assert mm.send("AT;1TP;2TP;MS") == ["AT0", "1TP0.5000", "2TP0.0000", "1MSL,2MSD"]
+
+
+def test_time_scale_stretches_every_element_and_keeps_the_boundaries() -> None:
+    """0EC2: each element lasts twice its DT; the axes still stand on every point."""
+    mm = MM4005Controller("MM4005-2")
+    mm.send("NC;1DC1;2DC1;1DT0.5;1DX1;2DX-1;2DT0.5;1DX0.5;2DX-1;MB1,ME2,MN3;VC;0EC2")
+    assert mm.send("TE") == ["TE@"]
+    mm.engine.advance(2000)
+    assert mm.send("XC;1TH;2TH") == ["XC1", "1TH1.0000", "2TH-1.0000"]
+    assert mm.run_until_idle() and mm.engine.tick == 4000
+    assert mm.send("XC;1TH;2TH") == ["XC2", "1TH1.5000", "2TH-2.0000"]
+    assert [p.tick for p in mm.engine.trace_points] == [0, 2000]
