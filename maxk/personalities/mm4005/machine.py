@@ -265,9 +265,14 @@ class MM4005(Engine):
             self.schedule_switches(a)
 
     def _positions(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        numbers = range(1, len(self.axes) + 1)
-        return (tuple(self.theoretical_position(a) for a in numbers),
-                tuple(self.position(a) for a in numbers))
+        """Every installed axis's TH and TP now, in user units (a time-based pulse)."""
+        th: list[float] = []
+        tp: list[float] = []
+        for a in self.axes:
+            exact, encoder = a.th_tp_counts(self)
+            th.append(exact * a.resolution)
+            tp.append(encoder * a.resolution)
+        return tuple(th), tuple(tp)
 
     def elements_done(self) -> int:
         """XC: elements of the time-based trajectory completed (0 before any run)."""

@@ -118,6 +118,19 @@ class MM4005Axis(MotionAxis):
         return self.steps + self.counter_offset + m.offset((tick - self.motion_start)
                                                            * engine.period)
 
+    def th_tp_counts(self, engine: Engine) -> tuple[float, int]:
+        """(TH, TP) in counts now, the profile evaluated once (a pulse's trace point)."""
+        m = self.motion
+        if m is None or (self.motion_end is not None and engine.tick >= self.motion_end):
+            counts = self.counts(engine)
+            return float(counts), self.encoder(engine) if self.servo is not None else counts
+        offset = m.offset((engine.tick - self.motion_start) * engine.period)
+        base = self.steps + self.counter_offset
+        servo = self.servo
+        if servo is not None:
+            return base + offset, servo.encoder_counts() + self.counter_offset
+        return base + offset, base + int(offset)
+
     def servo_counts(self) -> int:
         """The encoder counter of a servo axis."""
         assert self.servo is not None
