@@ -543,7 +543,8 @@ def plan_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
 
 # ---- paths of given durations -----------------------------------------------------------
 def timed_segments(displacements: Sequence[Sequence[float]]) -> list[Segment]:
-    """Lines from the origin, one per displacement (one value per axis of the path)."""
+    """Lines from the origin, one per displacement (one value per axis of the path). They
+    carry no speed or acceleration of their own: `plan_timed` gives their times."""
     segments: list[Segment] = []
     start = tuple(0.0 for _ in displacements[0]) if displacements else ()
     s0 = 0.0

@@ -245,7 +245,7 @@ class MM4005(Engine):
         for number, figures in timed.figures.items():  # a time scale below 1 speeds it up
             if figures.velocity / scale > self.settings[number - 1].get("VU"):
                 raise MM4005Error(TRAJECTORY_VELOCITY, f"axis {number} at this time scale")
-        for number in timed.axes:  # piecewise linear: its extremes are element boundaries
+        for number in timed.axes:  # one way along each element: extremes at its boundaries
             here = self.theoretical_position(number)
             left, right = self.axis(number).limits
             position = low = high = here
