@@ -170,3 +170,35 @@ def test_time_scale_stretches_every_element_and_keeps_the_boundaries() -> None:
     assert mm.run_until_idle() and mm.engine.tick == 4000
     assert mm.send("XC;1TH;2TH") == ["XC2", "1TH1.5000", "2TH-2.0000"]
     assert [p.tick for p in mm.engine.trace_points] == [0, 2000]
+
+
+@settings(max_examples=15, deadline=None)
+@given(elements=st.lists(st.tuples(st.integers(-300, 300), st.integers(-300, 300)),
+                         min_size=1, max_size=12),
+       dt=st.sampled_from([0.05, 0.1, 0.25, 0.3, 1.0]),
+       uc=st.sampled_from([0.001, 0.1, 0.5, 2.0]))
+def test_every_element_boundary_is_exact_and_every_pulse_marks_one(
+        elements: list[tuple[int, int]], dt: float, uc: float) -> None:
+    """Whatever the elements and UC, TH stands on the sum of the displacements at every
+    element's end tick (displacements in whole counts: TP equals it too), XC counts it,
+    and with MN = elements + 1 (equal times) pulse k fires on element k's start tick."""
+    mm = MM4005Controller("MM4005-2")
+    lines = ["NC", "1DC1", "2DC1", f"UC{uc}", "1VU1000", "2VU1000"]
+    for i, (dx, dy) in enumerate(elements, start=1):
+        lines.append(f"{i}DT{dt};1DX{dx / 1000};2DX{dy / 1000}")
+    lines += [f"MB1,ME{len(elements)},MN{len(elements) + 1}", "VC", "0EC1"]
+    for line in lines:
+        assert mm.send(line) == [], line
+    assert mm.send("TE") == ["TE@"]
+    start, x, y, tick = mm.engine.tick, 0, 0, 0
+    starts = []
+    for number, (dx, dy) in enumerate(elements, start=1):
+        starts.append(tick)
+        tick += round(dt / 0.0005)
+        x, y = x + dx, y + dy
+        mm.engine.advance_to(start + tick)
+        assert mm.send("1TH;2TH;1TP;2TP;XC") == [
+            f"1TH{x / 1000:.4f}", f"2TH{y / 1000:.4f}", f"1TP{x / 1000:.4f}",
+            f"2TP{y / 1000:.4f}", f"XC{number}"]
+    assert mm.run_until_idle()
+    assert [p.tick - start for p in mm.engine.trace_points] == starts

@@ -586,6 +586,7 @@ def plan_timed(segments: list[Segment], durations: Sequence[float],
     seams = [0.0] + [seam_speed(segments[i], means[i], segments[i + 1], means[i + 1])
                      for i in range(n - 1)] + [0.0]
     pieces: list[Piece] = []
+    end_times: list[float] = []
     t = 0.0
     for i, (seg, duration) in enumerate(zip(segments, durations, strict=True)):
         length = seg.length
@@ -594,6 +595,7 @@ def plan_timed(segments: list[Segment], durations: Sequence[float],
         if length <= 0:
             pieces.append(Piece(t, duration, seg.s0, 0.0, 0.0))
             t += duration
+            end_times.append(t)
             continue
         cruise = (length - (w_in + w_out) * ramp / 2.0) / (duration - ramp)
         ramp_in = ramp if cruise != w_in else 0.0  # (a ramp at one speed is cruise)
@@ -609,10 +611,29 @@ def plan_timed(segments: list[Segment], durations: Sequence[float],
                                 seg.s0 + length - (cruise + w_out) * ramp_out / 2.0, cruise,
                                 (w_out - cruise) / ramp_out))
         t += duration
-    plan = PathPlan(segments, pieces, 0.0, t)
-    last = segments[-1]
-    plan._s_end = last.s0 + last.length
-    return plan
+        end_times.append(t)
+    return TimedPlan(segments, pieces, end_times)
+
+
+class TimedPlan(PathPlan):
+    """A `plan_timed` plan: at a time within a rounding error of a segment's end time the
+    path stands exactly on that end (a tick whose time is the sum of the durations, to
+    the last bit or not, finds the axes on the element's end point)."""
+
+    def __init__(self, segments: list[Segment], pieces: list[Piece],
+                 end_times: list[float]) -> None:
+        super().__init__(segments, pieces, 0.0, end_times[-1])
+        self._s_end = segments[-1].s0 + segments[-1].length
+        self._end_times = end_times  # each segment's end time (increasing)
+        self._end_s = [seg.s0 + seg.length for seg in segments]
+
+    def state(self, t: float) -> tuple[float, float]:
+        s, v = super().state(t)
+        ends = self._end_times
+        i = bisect.bisect_left(ends, t - 1e-9 - 1e-12 * abs(t))
+        if i < len(ends) and abs(ends[i] - t) <= 1e-9 + 1e-12 * abs(t):
+            return self._end_s[i], v
+        return s, v
 
 
 # ---- what each axis follows -------------------------------------------------------------
@@ -642,6 +663,10 @@ class ContourMotion:
     # the offsets the motion stays within, if its user knows them (switch searches
     # skip the switches outside: cheaper than making every phase of a long path)
     reach: tuple[float, float] | None = None
+    # an offset within this share of itself (+1) of a whole count is that count (0: never):
+    # a path whose points are whole counts (a timed path's element ends) stands on them
+    # where the axis's whole steps are counted, not a rounding error short of them
+    snap = 0.0
 
     def __init__(self, plan: PathPlan, k: int, origin: float, scale: float = 1.0) -> None:
         self.plan = plan
@@ -753,7 +778,12 @@ class ContourMotion:
         if self.end_time is not None and t >= self.end_time:
             return float(self.final_offset)
         s, _v = self.plan.state(t)
-        return self.plan.point(s, self.k) * self.scale - self.origin
+        x = self.plan.point(s, self.k) * self.scale - self.origin
+        if self.snap:
+            whole = round(x)
+            if abs(x - whole) <= self.snap * (1.0 + abs(x)):
+                return float(whole)
+        return x
 
     def velocity(self, t: float) -> float:
         if not self._final:

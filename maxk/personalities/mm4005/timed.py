@@ -230,6 +230,7 @@ def axis_motion(plan: PathPlan, k: int, resolution: float) -> ContourMotion:
     way, so limit searches skip switches it never gets to."""
     scale = 1.0 / resolution
     motion = ContourMotion(plan, k, 0.0, scale)
+    motion.snap = 1e-12  # (the host's whole-count points are whole counts: TP reads them)
     ends = [0.0] + [seg.end[k] * scale for seg in plan.segments]
     motion.reach = (min(ends) - 1.0, max(ends) + 1.0)
     return motion
