@@ -122,7 +122,7 @@ def test_every_host_mnemonic_is_known() -> None:
     s: MM4005Session = mm.open_session()
     for query in ("TS", "1TN", "1TA", "1DA", "1DF", "1DV", "1XB", "1XI", "XP", "ZP", "ZT",
                   "1KP?", "1KI?", "1KD?", "1KS?", "1OL?", "1OH?", "1VU?", "1SN?", "1SU?",
-                  "1SD?", "1MR?", "1BA?", "1GC?", "UC?", "MB?", "ME?", "MN?", "XC", "NQ"):
+                  "1SD?", "1MR?", "TX", "1GC?", "UC?", "MB?", "ME?", "MN?", "XC", "NQ"):
         s.feed(query.encode() + b"\r")
         assert s.read(), query
         s.feed(b"TE\r")
@@ -210,7 +210,7 @@ def test_ec_refuses_a_run_outside_the_travel_limits_and_bad_forms() -> None:
     s.feed(b"1SR5\rNC\r1DC1\r1DT1\r1DX3\r2DT1\r1DX3\rVC\rTB\r0EC1\rTB\r1MS\r")
     assert s.read() == b"TB@ No error\rTBR Trajectory outside travel limits\r1MSD\r"
     for line, code in ((b"0DT1", b"C"), (b"5DT1", b"L"), (b"1RC7", b"C"), (b"RC1", b"B"),
-                       (b"9GC?", b"B"), (b"1EC1", b"C"), (b"1TQ", b"C"), (b"1DC2", b"C"),
+                       (b"9GC?", b"B"), (b"1EC1", b"R"), (b"2EC1", b"C"), (b"1TQ", b"C"), (b"1DC2", b"C"),
                        (b"MN2002", b"P"), (b"1234567890TQ", b"B"), (b"1RC?", b"C"),
                        (b"1RC", b"C")):
         s.feed(line + b"\rTE\r")
@@ -245,7 +245,7 @@ def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
     assert mm.send("1KP-1") == [] and mm.send("TE") == ["TEC"]  # out of range: unchanged
     assert mm.send("1SN2.5") == [] and mm.send("TE") == ["TEC"]  # an integer setting
     assert mm.send("1SU0.01") == [] and mm.send("TE") == ["TEC"]  # TU is fixed
-    assert mm.send("1KP?;1SN?") == ["1KP0", "1SN0"]
+    assert mm.send("1KP?;1SN?") == ["1KP0", "1SN2"]  # 2 = mm (sibling ESP300 codes)
     assert mm.send("1BA0.02;1XB;1DA;1VA2;1AC8;1MV1;TS") == ["1XB0.02", "1DA4", "TSA"]
     mm.engine.advance(1000)  # 0.5 s: at VA 2 after a 0.25 s ramp at AC 8
     assert mm.send("1DV;1MS") == ["1DV2.0000", "1MSE"]

@@ -8,6 +8,7 @@ setting's range (maxk/personalities/mm4005/settings.py) before anything changes.
 
 from __future__ import annotations
 
+from maxk.personalities.mm4005 import status
 from maxk.personalities.mm4005.errors import PARAMETER, MM4005Error
 from maxk.personalities.mm4005.settings import RULES
 
@@ -15,7 +16,9 @@ from . import fmt
 from .handlers_axis import axes_of
 from .spec import Command, Context
 
-UNITS_NAME = "mm"  # TN (D: the stages' units; the units codes of SN are not modelled)
+MAX_BACKLASH_COUNTS = 10000  # manual 3.25: BA up to the distance of 10000 encoder counts
+UNIT_NAMES = ("counts", "steps", "mm", "um", "in", "milli-in", "micro-in", "deg", "grad",
+              "rad", "mrad", "urad")  # TN: the name of SN's code (the names are ours, D)
 
 
 def setting(ctx: Context, cmd: Command) -> list[str]:
@@ -82,7 +85,7 @@ def tell_backlash(ctx: Context, cmd: Command) -> list[str]:
 
 def tell_units(ctx: Context, cmd: Command) -> list[str]:
     """TN: the axis's units name."""
-    return _per_axis(ctx, cmd, [UNITS_NAME] * ctx.machine.axis_count)
+    return _per_axis(ctx, cmd, [UNIT_NAMES[int(x.get("SN"))] for x in ctx.machine.settings])
 
 
 def tell_axis_type(ctx: Context, cmd: Command) -> list[str]:
@@ -103,18 +106,33 @@ def tell_program(ctx: Context, cmd: Command) -> list[str]:
 
 
 def tell_controller_status(ctx: Context, cmd: Command) -> list[str]:
-    """TS: controller status character: bit 0 an axis moving, bit 1 a trajectory
-    running, bit 2 an error waiting in the register, bit 6 always 1."""
+    """TS: controller status character (manual 3.139): bits 0-3 axes 1-4 moving, bit 4
+    motor power off, bit 6 always 1 (idle and powered: 'TS@')."""
     m = ctx.machine
-    bits = 0x40
-    if any(m.status(a).moving for a in range(1, m.axis_count + 1)):
-        bits |= 0x01
-    if m.trajectory_element() or (m.elements_done() < len(m.timed.elements)
-                                  and any(m.status(a).moving for a in m.timed.axes)):
-        bits |= 0x02
-    if ctx.errors.peek().char != "@":
-        bits |= 0x04
-    return ["TS" + chr(bits)]
+    statuses = [m.status(a) for a in range(1, m.axis_count + 1)]
+    return ["TS" + status.controller_status([s.moving for s in statuses],
+                                            any(s.power_off for s in statuses))]
+
+
+def tell_controller_activity(ctx: Context, cmd: Command) -> list[str]:
+    """TX: controller activity character (manual 3.142): remote mode and this command
+    line executing ('TXJ'), bit 4 while a trajectory runs ('TXZ')."""
+    m = ctx.machine
+    timed_running = (m.elements_done() < len(m.timed.elements)
+                     and any(m.status(a).moving for a in m.timed.axes))
+    return ["TX" + status.controller_activity(bool(m.trajectory_element()) or timed_running)]
+
+
+def backlash(ctx: Context, cmd: Command) -> list[str]:
+    """BA: backlash compensation (manual 3.25): 0 (or nothing) disables it; at most the
+    distance of 10000 encoder counts."""
+    assert cmd.axis is not None
+    value = 0.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
+    limit = MAX_BACKLASH_COUNTS * ctx.machine.resolution(cmd.axis)
+    if not 0.0 <= value <= limit * (1 + 1e-12):
+        raise MM4005Error(PARAMETER, f"BA outside 0..{fmt.short(limit)}")
+    ctx.machine.settings[cmd.axis - 1].set("BA", value)
+    return []
 
 
 def tell_parameters(ctx: Context, cmd: Command) -> list[str]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_manual as mn
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
@@ -179,9 +180,11 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "maximum speed change between elements; default 0 = not checked (D)"),
     _set("LS", tm.load_sequence, _NO, _NONE, f"{_SCAN} #14 'LS,<s>EC'", "D",
          _NOPAGE + "accepted, no effect", query=False),
-    _set("EC", tm.execute_timed, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
-         "C", "prefix 0 real (1 simulate: refused C, not modelled); element times x the "
-         "operand, 0.01..1000 (D); H if an element then beats VU", query=False),
+    _set("EC", mn.execute, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
+         "C", "prefix 0 real, 1 simulation (the scan's SimMode); element times x the "
+         "operand, 0.01..1000 (D); H if an element then beats VU. 1EC (D, page not "
+         "found): 0EC's checks and letters (J D H R) without moving anything; XC, NQ, TQ "
+         "keep the last real run", query=False),
     _tell("XC", tm.elements_done, _NO, f"{_SCAN} #16 'XC1' -> 'XCnnnn'", "C",
           "elements completed; an operand 0..2 is accepted and ignored (D)",
           operand=Operand.MODE),
@@ -207,10 +210,13 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("FE", st.setting, _ONE, _NUM, "sibling Newport ESP 'FE' following-error limit", "I",
          _NOPAGE + "stored, default 1 unit (D)",
          summary="FE: following-error limit (motor off beyond it)"),
-    _set("BA", st.setting, _ONE, _NUM, "hosts' 'nBA' backlash compensation", "I",
-         _NOPAGE + "stored, no effect on motion (D)",
-         summary="BA: backlash compensation"),
-    _tell("XB", st.tell_backlash, _ONE, "hosts' 'nXB'", "I", _NOPAGE + "reads BA (I)"),
+    _set("BA", st.backlash, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.25 BA 'xxBAnn', axis 1..4 (missing: B), nn missing: 0", "C",
+         "0 to the distance of 10000 encoder counts (10000 x TU), else C; 0 disables; read "
+         "with XB (the manual's syntax has no '?'). Stored: the correction on reversals "
+         "is not applied to motion (not modelled)", query=False),
+    _tell("XB", st.tell_backlash, _ONE, "manual 3.25 BA 'Rel. Commands: XB - Read backlash "
+          "compensation'", "C", "reply 'nXBvalue' like the other reads (I)"),
     _set("OH", st.setting, _ONE, _NUM, "hosts' 'nOH' home search high speed", "I",
          _NOPAGE + "stored; OR searches at VA (D)",
          summary="OH: home search high speed"),
@@ -220,8 +226,11 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("VU", st.setting, _ONE, _NUM, "hosts' 'nVU' maximum speed", "I",
          _NOPAGE + "default 100 units/s (D); VC checks each element against it",
          summary="VU: maximum speed of the axis"),
-    _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN' units", "D",
-         _NOPAGE + "a units code 0..10, stored; TN reads 'mm' (D)",
+    _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN'; sibling ESP300 3-133 "
+         "'SN set axis displacement units'", "I",
+         _NOPAGE + "codes 0..11 as the ESP300's (0 encoder count, 1 motor step, 2 mm, 3 um, "
+         "4 in, 5 milli-in, 6 micro-in, 7 deg, 8 grad, 9 rad, 10 mrad, 11 urad), default 2 "
+         "(mm, I); a label only, nothing is converted (as the ESP300 says); TN names it",
          summary="SN: displacement units code"),
     _set("SD", st.setting, _ONE, _NUM, "hosts' 'nSD'", "D",
          _NOPAGE + "meaning not found: stored and read back, no effect",
@@ -231,9 +240,10 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          summary="MR: a stored value (meaning not found)"),
     _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
          _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
-    _set("MV", st.jog, _REQ, _NUM, "hosts' 'nMV+'/'nMV-'", "I",
-         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); the operand is a signed "
-         "number ('1MV1', '1MV-1'), a bare sign answers C (D)", query=False),
+    _set("MV", st.jog, _REQ, Operand.SIGN, "hosts' 'nMV+'/'nMV-'; sibling ESP300 3-101 "
+         "'MV move indefinitely', '3MV+'", "I",
+         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); '+', '-' or a signed number "
+         "('1MV+', '1MV-1'); 0 answers C (D)", query=False),
     _set("ML", st.to_limit, _REQ, _NUM, "hosts' 'nML+'/'nML-'", "I",
          _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
     _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
@@ -244,14 +254,26 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
           "reads AC (I)"),
     _tell("DF", st.tell_following_error, _ONE, "hosts' 'nDF' following error", "I",
           "TH - TP (I)"),
-    _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I", "'mm' (D)"),
+    _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I",
+          "the name of SN's code ('1TNmm' by default); the names are ours (D)"),
     _tell("TA", st.tell_axis_type, _ONE, "hosts' 'nTA' axis type", "D", "'DC' (D)"),
     _tell("XI", st.tell_index, _ONE, "hosts' 'nXI'", "D",
           _NOPAGE + "reads XH (no encoder index modelled)"),
     _tell("XP", st.tell_program, _NO, "hosts' 'XP'", "D",
           _NOPAGE + "'XP0': stored programs are not modelled"),
-    _tell("TS", st.tell_controller_status, _NO, "hosts' 'TS' controller status", "I",
-          "bit 0 moving, 1 trajectory, 2 error waiting, 6 always 1 (D, as MS)"),
+    _tell("TS", st.tell_controller_status, _NO, "manual 3.139 TS 'Returns TSaa'", "C",
+          "bits 0-3 axes 1-4 moving, 4 motor power off (any installed axis off, I), 5 "
+          "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
+          "as a public MM4006 StreamDevice host expects"),
+    _tell("TX", st.tell_controller_activity, _NO, "manual 3.142 TX 'Returns TXaa'", "C",
+          "bit 0 program running (never: no stored programs), 1 command line executing and "
+          "3 remote mode (always, as TX itself is answered: 'TXJ', the manual's example), "
+          "2 manual jog (never), 4 trajectory executing (XY or time-based: 'TXZ'), 6 "
+          "default 1"),
+    _set("RQ", mn.not_modelled, _NO, _NONE, "manual 3.139 TS bit 7 'IEEE SRQ Interruption "
+         "Status (Sent by RQ command)'", "C",
+         "generates a GPIB service request: no GPIB door exists here, so RQ answers Q "
+         "(not modelled, D)", query=False, summary="RQ: generate an IEEE service request"),
     _tell("ZT", st.tell_parameters, _NO, "hosts' 'ZT' read all parameters", "I",
           "one line per axis, layout ours (D)"),
     _tell("ZP", st.tell_pulse_setup, _NO, "hosts' 'ZP'", "D",

@@ -42,7 +42,8 @@ UNAUTHORIZED: Final = _code(
     "D", "Unauthorized execution", "C", "manual 3.41 DP: 'D - Unauthorized execution'")
 NOT_AUTHORIZED_FUNCTION: Final = _code(
     "Q", "Function not authorized", "I",
-    "French MM4005 firmware text 'Q Fonction non autorise'; never raised here")
+    "French MM4005 firmware text 'Q Fonction non autorise'; raised (D) by a command the "
+    "table knows but the emulator cannot carry out (RQ, the program commands)")
 TIME_OUT: Final = _code(
     "S", "Communication time-out", "C",
     "manual 3.75 MS 'S - Communication time-out'; never raised (no link time-out modelled)")

@@ -27,11 +27,11 @@ RULES: Final[dict[str, SettingRule]] = {
     "KD": SettingRule(0.0, 0.0, 1e6),  # derivative gain
     "KS": SettingRule(1.0, 0.0, 1.0),  # integral saturation, fraction of full output
     "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units
-    "BA": SettingRule(0.0, 0.0, 1e3),  # backlash compensation, units
+    "BA": SettingRule(0.0, 0.0, 1e3),  # backlash (manual 3.25: BA checks 10000 x TU itself)
     "OH": SettingRule(1.0, 1e-6, 1e6),  # home search high speed, units/s
     "OL": SettingRule(0.1, 1e-6, 1e6),  # home search low speed, units/s
     "VU": SettingRule(100.0, 1e-6, 1e6),  # maximum speed, units/s
-    "SN": SettingRule(0.0, 0.0, 10.0, integer=True),  # displacement units code
+    "SN": SettingRule(2.0, 0.0, 11.0, integer=True),  # displacement units code, 2 = mm
     "SD": SettingRule(0.0, 0.0, 1e6),  # stored, no effect (meaning not found)
     "MR": SettingRule(0.0, -1e6, 1e6),  # stored, no effect (meaning not found)
 }
