@@ -210,7 +210,8 @@ def test_ec_refuses_a_run_outside_the_travel_limits_and_bad_forms() -> None:
     s.feed(b"1SR5\rNC\r1DC1\r1DT1\r1DX3\r2DT1\r1DX3\rVC\rTB\r0EC1\rTB\r1MS\r")
     assert s.read() == b"TB@ No error\rTBR Trajectory outside travel limits\r1MSD\r"
     for line, code in ((b"0DT1", b"C"), (b"5DT1", b"L"), (b"1RC7", b"C"), (b"RC1", b"B"),
-                       (b"9GC?", b"B"), (b"1EC1", b"R"), (b"2EC1", b"C"), (b"1TQ", b"C"), (b"1DC2", b"C"),
+                       (b"9GC?", b"B"), (b"1EC1", b"R"), (b"2EC1", b"C"), (b"1TQ", b"C"),
+                       (b"1DC2", b"C"),
                        (b"MN2002", b"P"), (b"1234567890TQ", b"B"), (b"1RC?", b"C"),
                        (b"1RC", b"C")):
         s.feed(line + b"\rTE\r")

@@ -76,7 +76,7 @@ def controller_status(moving: list[bool], power_off: bool, srq: bool = False) ->
     """TS's character: bits 5 (default 0) and 6 (default 1) are the manual's defaults,
     so an idle powered controller reads '@' (as a public MM4006 host expects)."""
     value = DEFAULT_ONE
-    for bit, axis_moving in zip(TS_AXIS_MOVING, moving):
+    for bit, axis_moving in zip(TS_AXIS_MOVING, moving[:4], strict=False):
         if axis_moving:
             value |= bit
     if power_off:
