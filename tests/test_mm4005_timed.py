@@ -249,7 +249,7 @@ def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
     assert mm.send("1KP?;1SN?") == ["1KP0", "1SN2"]  # 2 = mm (sibling ESP300 codes)
     assert mm.send("1BA0.02;1XB;1DA;1VA2;1AC8;1MV1;TS") == ["1XB0.02", "1DA4", "TSA"]
     mm.engine.advance(1000)  # 0.5 s: at VA 2 after a 0.25 s ramp at AC 8
-    assert mm.send("1DV;1MS") == ["1DV2.0000", "1MSE"]
+    assert mm.send("1DV;1DV1;1MS") == ["1DV2.0000", "1DV100.0000", "1MSE"]
     assert mm.send("1ST") == []
     mm.run_until_idle()
     assert mm.send("1ML-1;TE") == ["TE@"]

@@ -57,10 +57,14 @@ def _positions(ctx: Context, values: list[float]) -> list[str]:
 
 
 def tell_desired_velocity(ctx: Context, cmd: Command) -> list[str]:
-    """DV: the desired (profile) velocity now, units/s."""
+    """DV: the velocity VA set (manual 3.43); 'xxDV1' the maximum allowed velocity."""
+    assert cmd.axis is not None
+    pp = 0.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
+    if pp < 0 or pp != int(pp):
+        raise MM4005Error(PARAMETER, "DV's parameter is 0 or 1")
     m = ctx.machine
-    return _per_axis(ctx, cmd, [fmt.fixed(m.desired_velocity(a), 4)
-                                for a in range(1, m.axis_count + 1)])
+    value = m.velocity(cmd.axis) if pp == 0 else m.settings[cmd.axis - 1].get("VU")
+    return [f"{cmd.axis}DV{fmt.fixed(value, 4)}"]
 
 
 def tell_desired_acceleration(ctx: Context, cmd: Command) -> list[str]:

@@ -248,8 +248,10 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
     _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
          _NOPAGE + "accepted, no effect", query=False),
-    _tell("DV", st.tell_desired_velocity, _ONE, "hosts' 'nDV' desired velocity", "I",
-          "the profile's velocity now, units/s (I)"),
+    _tell("DV", st.tell_desired_velocity, _REQ, "manual 3.43 DV 'xxDVpp'", "C",
+          "axis 1..4 required (B); pp missing or 0: the velocity VA programmed, pp >= 1: "
+          "the maximum allowed velocity (VU here, I); a negative or fractional pp answers "
+          "C (D); 4 decimals (D)", operand=Operand.OPTIONAL_NUMBER),
     _tell("DA", st.tell_desired_acceleration, _ONE, "hosts' 'nDA' desired acceleration", "I",
           "reads AC (I)"),
     _tell("DF", st.tell_following_error, _ONE, "hosts' 'nDF' following error", "I",

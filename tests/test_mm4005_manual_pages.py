@@ -1,0 +1,149 @@
+"""The MM4005 commands whose manual pages were found (TS 3.139, TX 3.142, BA 3.25, DV
+3.43), the known-but-not-modelled RQ, the simulated execution 1EC, MV's sign operand,
+SN's codes named by TN, and the table as `help` and `maxk commands` show it."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from maxk.commands.mm4005 import COMMANDS
+from maxk.controllers.mm4005 import MM4005Controller
+
+
+def test_ts_bits_follow_the_manual_table() -> None:
+    mm = MM4005Controller("MM4005")  # 4 axes: bits 0..3
+    assert mm.send("TS") == ["TS@"]  # bit 6 default high, everything else low
+    assert mm.send("1PA1;4PA1;TS") == ["TSI"]  # 0x40 | 0x01 | 0x08
+    mm.run_until_idle()
+    assert mm.send("TS") == ["TS@"]
+    assert mm.send("2MF;TS") == ["TSP"]  # 0x40 | 0x10: motor power off
+    assert mm.send("2MO;TS") == ["TS@"]
+    assert mm.send("1TS") == [] and mm.send("TE") == ["TEB"]  # no axis number
+
+
+def test_tx_reads_remote_and_command_line_and_a_running_trajectory() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("TX") == ["TXJ"]  # the manual's example: remote mode, line executing
+    mm.send("NC;1DC1;2DC0;UC0.5;1DT0.5;1DX0.1;VC")
+    assert mm.send("TB") == ["TB@ No error"]
+    assert mm.send("0EC1;TX") == ["TXZ"]  # bit 4: a trajectory is executing
+    mm.run_until_idle()
+    assert mm.send("TX") == ["TXJ"]
+    assert mm.send("LX1;CR1,CA90;ET;TX") == ["TXZ"]  # the XY trajectory too
+    mm.run_until_idle()
+    assert mm.send("TX") == ["TXJ"]
+
+
+def test_ba_missing_value_is_zero_and_the_limit_is_10000_counts() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("1BA0.0012;2BA0.0008;XB") == ["1XB0.0012,2XB0.0008"]
+    assert mm.send("1BA;1XB") == ["1XB0"]  # nn missing: 0 disables it
+    assert mm.send("1BA10;1XB") == ["1XB10"]  # 10000 counts of TU 0.001
+    for bad, code in (("1BA10.001", "C"), ("1BA-0.1", "C"), ("BA0.1", "B"), ("5BA0.1", "B"),
+                      ("1BA?", "C"), ("1.5BA1", "A")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    assert mm.send("1XB") == ["1XB10"]  # every refusal changed nothing
+
+
+def test_dv_reads_the_programmed_velocity_or_the_maximum_allowed() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("2VA2.5;2DV") == ["2DV2.5000"]  # the manual's example, our decimals
+    assert mm.send("2VU20;2DV1;2DV3") == ["2DV20.0000", "2DV20.0000"]  # pp >= 1: maximum
+    mm.send("2PA5")
+    mm.engine.advance(10)  # while it accelerates DV still reports VA
+    assert mm.send("2DV0") == ["2DV2.5000"]
+    for bad, code in (("DV", "B"), ("2DV-1", "C"), ("2DV0.5", "C")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+
+
+def test_rq_is_known_and_answered_as_not_modelled() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("RQ") == []
+    assert mm.send("TB") == ["TBQ Function not authorized"]
+    assert mm.send("XX") == [] and mm.send("TE") == ["TEA"]  # unknown stays A
+    console = mm.console()
+    console.execute("RQ")
+    assert console.new_errors()[-1] == "! Q Function not authorized"
+    help_lines = console.help("RQ")
+    assert help_lines is not None and "not modelled" in " ".join(help_lines)
+
+
+def test_mv_takes_a_bare_sign_and_ml_goes_to_the_limit() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("1SR2;1SL-3;1MV+") == []
+    mm.run_until_idle()
+    assert mm.send("1TP") == ["1TP2.0000"]
+    assert mm.send("1MV-") == []
+    mm.run_until_idle()
+    assert mm.send("1TP") == ["1TP-3.0000"]
+    for bad in ("1MV", "1MV0", "1MV+-", "1MV++"):
+        assert mm.send(bad) == [] and mm.send("TE") == ["TEC"], bad
+
+
+def test_sn_codes_are_named_by_tn() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("TN") == ["1TNmm,2TNmm"]
+    assert mm.send("2SN7;TN;2SN?") == ["1TNmm,2TNdeg", "2SN7"]
+    assert mm.send("1SN0;1TN") == ["1TNcounts"]
+    assert mm.send("1SN12") == [] and mm.send("TE;1SN?") == ["TEC", "1SN0"]
+
+
+def _defined(mm: MM4005Controller, lines: str) -> None:
+    mm.send(lines)
+    assert mm.send("TB") == ["TB@ No error"]
+
+
+def test_1ec_simulates_without_moving_and_refuses_as_0ec_would() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("1EC1") == [] and mm.send("TE") == ["TEJ"]  # not verified
+    _defined(mm, "NC;1DC1;2DC1;UC0.5;1DT0.5;1DX0.5;2DX-0.25;2DT0.5;1DX0.5;2DX0;VC")
+    assert mm.send("1EC1;TE;MS;1TP;2TP;XC;NQ") == ["TE@", "1MSD,2MSD", "1TP0.0000",
+                                                   "2TP0.0000", "XC0", "NQ0"]
+    mm.engine.advance(4000)  # 2 s later nothing has moved
+    assert mm.send("TP") == ["1TP0.0000,2TP0.0000"]
+    # every check of 0EC, in 1EC, with the same letter, and nothing changes
+    cases = (("1VU1.5", "1EC0.5", "H", "1VU100"),  # 2 units/s at time scale 0.5 beats VU 1.5
+             ("1SR0.9", "1EC1", "R", "1SR100"),  # the run would leave TL..TR
+             ("2MF", "1EC1", "D", "2MO"),  # an axis off
+             ("", "1EC0.001", "C", ""))  # time scale below 0.01
+    for before, line, code, after in cases:
+        if before:
+            mm.send(before)
+        assert mm.send(line) == [] and mm.send("TE") == [f"TE{code}"], line
+        real = line.replace("1EC", "0EC")
+        if code != "C":
+            assert mm.send(real) == [] and mm.send("TE") == [f"TE{code}"], real
+        assert mm.send("MS") == ["1MSD,2MSD"] or code == "D"
+        if after:
+            mm.send(after)
+    assert mm.send("1EC1;TE;0EC1;TE") == ["TE@", "TE@"]  # then the real run starts
+    mm.run_until_idle()
+    assert mm.send("TP;XC") == ["1TP1.0000,2TP-0.2500", "XC2"]
+    assert mm.send("2EC1") == [] and mm.send("TE") == ["TEC"]
+
+
+def test_help_lists_every_table_entry_with_source_and_confidence() -> None:
+    console = MM4005Controller("MM4005-2").console()
+    assert console.words() == sorted(COMMANDS)
+    for word in console.words():
+        spec = COMMANDS[word]
+        assert spec.confidence in ("C", "I", "D"), word
+        assert spec.source and console.summary(word), word
+        lines = console.help(word)
+        assert lines is not None and f"({spec.confidence})" in lines[1], word
+    for word in ("TS", "TX", "RQ", "BA", "XB", "DV", "EC"):
+        assert word in console.words()
+
+
+@pytest.mark.parametrize("word", ["TX", "BA"])
+def test_maxk_commands_shows_the_table(word: str) -> None:
+    listing = subprocess.run([sys.executable, "-m", "maxk", "commands", "--model", "MM4005"],
+                             capture_output=True, text=True, check=True).stdout.splitlines()
+    assert len(listing) == len(COMMANDS)
+    assert any(line.split()[0] == word for line in listing)
+    one = subprocess.run([sys.executable, "-m", "maxk", "commands", "--model", "MM4005", word],
+                         capture_output=True, text=True, check=True).stdout
+    assert "manual 3." in one and "(C)" in one
