@@ -57,7 +57,7 @@ def _positions(ctx: Context, values: list[float]) -> list[str]:
 
 
 def tell_desired_velocity(ctx: Context, cmd: Command) -> list[str]:
-    """DV: the velocity VA set (manual 3.43); 'xxDV1' the maximum allowed velocity."""
+    """DV: the velocity VA set; 'xxDV1' the maximum allowed velocity (manual 3.43)."""
     assert cmd.axis is not None
     pp = 0.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
     if pp < 0 or pp != int(pp):
@@ -110,8 +110,10 @@ def tell_program(ctx: Context, cmd: Command) -> list[str]:
 
 
 def tell_controller_status(ctx: Context, cmd: Command) -> list[str]:
-    """TS: controller status character (manual 3.139): bits 0-3 axes 1-4 moving, bit 4
-    motor power off, bit 6 always 1 (idle and powered: 'TS@')."""
+    """TS: the controller status character: axes 1-4 moving, motor power off.
+
+    Manual 3.139: bits 0-3 axes 1-4 moving, bit 4 motor power off, bit 6 always 1 (idle
+    and powered: 'TS@')."""
     m = ctx.machine
     statuses = [m.status(a) for a in range(1, m.axis_count + 1)]
     return ["TS" + status.controller_status([s.moving for s in statuses],
@@ -119,8 +121,10 @@ def tell_controller_status(ctx: Context, cmd: Command) -> list[str]:
 
 
 def tell_controller_activity(ctx: Context, cmd: Command) -> list[str]:
-    """TX: controller activity character (manual 3.142): remote mode and this command
-    line executing ('TXJ'), bit 4 while a trajectory runs ('TXZ')."""
+    """TX: the controller activity character: remote, command line, trajectory running.
+
+    Manual 3.142: remote mode and this command line executing ('TXJ'), bit 4 while a
+    trajectory runs ('TXZ')."""
     m = ctx.machine
     timed_running = (m.elements_done() < len(m.timed.elements)
                      and any(m.status(a).moving for a in m.timed.axes))
@@ -128,8 +132,9 @@ def tell_controller_activity(ctx: Context, cmd: Command) -> list[str]:
 
 
 def backlash(ctx: Context, cmd: Command) -> list[str]:
-    """BA: backlash compensation (manual 3.25): 0 (or nothing) disables it; at most the
-    distance of 10000 encoder counts."""
+    """BA: set the backlash compensation of an axis (0 or nothing disables it).
+
+    Manual 3.25: at most the distance of 10000 encoder counts."""
     assert cmd.axis is not None
     value = 0.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
     limit = MAX_BACKLASH_COUNTS * ctx.machine.resolution(cmd.axis)
