@@ -147,3 +147,16 @@ def test_maxk_commands_shows_the_table(word: str) -> None:
     one = subprocess.run([sys.executable, "-m", "maxk", "commands", "--model", "MM4005", word],
                          capture_output=True, text=True, check=True).stdout
     assert "manual 3." in one and "(C)" in one
+
+
+def test_xp_xi_xd_read_the_gains_in_force_until_uf() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("2KP0.005;2KI0.005;2KD0.05;2XP;2XI;2XD") == ["2XP0", "2XI0", "2XD0"]
+    assert mm.send("2UF;2XP;2XI;2XD;1XP") == ["2XP0.005", "2XI0.005", "2XD0.05", "1XP0"]
+    assert mm.send("2KS0.5;2KS?;2TF") == ["2KS0.5", "2TFKP0.005,KI0.005,KD0.05,KS1,FE1"]
+    assert mm.send("2UF;2TF") == ["2TFKP0.005,KI0.005,KD0.05,KS0.5,FE1"]
+    assert mm.send("2FE0.2;2XF") == ["2XF0.2"]
+    for bad, code in (("XP", "B"), ("5XD", "B"), ("2KD?", "C"), ("KD0.1", "B"), ("2KD", "C"),
+                      ("2KP?", "C"), ("2KS2", "C"), ("2XP1", "C")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    assert mm.send("2XD") == ["2XD0.05"]

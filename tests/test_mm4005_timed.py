@@ -120,8 +120,8 @@ def test_line_endings(end: bytes) -> None:
 def test_every_host_mnemonic_is_known() -> None:
     mm = MM4005Controller("MM4005-2")
     s: MM4005Session = mm.open_session()
-    for query in ("TS", "1TN", "1TA", "1DA", "1DF", "1DV", "1XB", "1XI", "XP", "ZP", "ZT",
-                  "1KP?", "1KI?", "1KD?", "1KS?", "1OL?", "1OH?", "1VU?", "1SN?", "1SU?",
+    for query in ("TS", "1TN", "1TA", "1DA", "1DF", "1DV", "1XB", "1XI", "1XP", "ZP", "ZT",
+                  "1XD", "1XF", "1TF", "1KS?", "1OL?", "1OH?", "1VU?", "1SN?", "1SU?",
                   "1SD?", "1MR?", "TX", "1GC?", "UC?", "MB?", "ME?", "MN?", "XC", "NQ"):
         s.feed(query.encode() + b"\r")
         assert s.read(), query
@@ -132,8 +132,8 @@ def test_every_host_mnemonic_is_known() -> None:
         s.feed(command.encode() + b"\r")
         s.feed(b"TE\r")
         assert s.read() == b"TE@\r", command
-    s.feed(b"1KP?;1XB\r")
-    assert s.read() == b"1KP10\r1XB0.01\r"
+    s.feed(b"1XP;1XB\r")
+    assert s.read() == b"1XP10\r1XB0.01\r"
 
 
 @pytest.mark.parametrize("operand", ["1e308", "-1e308", "1e-320", "NaN", "inf",
@@ -240,13 +240,13 @@ def test_two_hosts_one_runs_the_other_aborts() -> None:
 
 def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
     mm = MM4005Controller("MM4005-2")
-    assert mm.send("TS;1TN;1TA;1SU?;XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "XP0"]
+    assert mm.send("TS;1TN;1TA;1SU?;1XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "1XP0"]
     assert mm.send("1VU?;1FE?;1KS?") == ["1VU100", "1FE1", "1KS1"]
-    assert mm.send("KP?") == ["1KP0,2KP0"]  # without an axis: every axis
+    assert mm.send("VU?") == ["1VU100,2VU100"]  # without an axis: every axis
     assert mm.send("1KP-1") == [] and mm.send("TE") == ["TEC"]  # out of range: unchanged
     assert mm.send("1SN2.5") == [] and mm.send("TE") == ["TEC"]  # an integer setting
     assert mm.send("1SU0.01") == [] and mm.send("TE") == ["TEC"]  # TU is fixed
-    assert mm.send("1KP?;1SN?") == ["1KP0", "1SN2"]  # 2 = mm (sibling ESP300 codes)
+    assert mm.send("1XP;1SN?") == ["1XP0", "1SN2"]  # 2 = mm (sibling ESP300 codes)
     assert mm.send("1BA0.02;1XB;1DA;1VA2;1AC8;1MV1;TS") == ["1XB0.02", "1DA4", "TSA"]
     mm.engine.advance(1000)  # 0.5 s: at VA 2 after a 0.25 s ramp at AC 8
     assert mm.send("1DV;1DV1;1MS") == ["1DV2.0000", "1DV100.0000", "1MSE"]

@@ -97,16 +97,30 @@ def tell_axis_type(ctx: Context, cmd: Command) -> list[str]:
     return _per_axis(ctx, cmd, ["DC"] * ctx.machine.axis_count)
 
 
-def tell_index(ctx: Context, cmd: Command) -> list[str]:
-    """XI: the home preset as the index position (no index modelled)."""
-    m = ctx.machine
-    return _per_axis(ctx, cmd, _positions(ctx, [m.home_preset(a)
-                                                for a in range(1, m.axis_count + 1)]))
+GAINS = {"XP": 0, "XI": 1, "XD": 2}  # index into the gains in force (KP, KI, KD, KS)
 
 
-def tell_program(ctx: Context, cmd: Command) -> list[str]:
-    """XP: the program running (stored programs are not modelled: 0)."""
-    return ["XP0"]
+def tell_gain(ctx: Context, cmd: Command) -> list[str]:
+    """XP/XI/XD: a gain the servo loop uses, as of the last UF (manual 3.169-3.177)."""
+    assert cmd.axis is not None
+    gains = ctx.machine.settings[cmd.axis - 1].active_gains
+    return [f"{cmd.axis}{cmd.spec.mnemonic}{fmt.short(gains[GAINS[cmd.spec.mnemonic]])}"]
+
+
+def tell_following_limit(ctx: Context, cmd: Command) -> list[str]:
+    """XF: the maximum following error allowed (FE)."""
+    assert cmd.axis is not None
+    return [f"{cmd.axis}XF{fmt.short(ctx.machine.settings[cmd.axis - 1].get('FE'))}"]
+
+
+def tell_filter(ctx: Context, cmd: Command) -> list[str]:
+    """TF: the filter parameters the loop uses: KP, KI, KD, KS and FE."""
+    assert cmd.axis is not None
+    s = ctx.machine.settings[cmd.axis - 1]
+    kp, ki, kd, ks = s.active_gains
+    values = ",".join(f"{name}{fmt.short(v)}" for name, v in
+                      (("KP", kp), ("KI", ki), ("KD", kd), ("KS", ks), ("FE", s.get("FE"))))
+    return [f"{cmd.axis}TF{values}"]
 
 
 def tell_controller_status(ctx: Context, cmd: Command) -> list[str]:

@@ -195,21 +195,45 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("AB", tm.abort_motion, _NO, _NONE, f"{_SCAN} #22 'AB' on the Abort PV", "C",
          "every motion and trajectory stops at once, power stays on (D)", query=False),
     # --- servo gains (EPICS model 1 driver) and other settings ---
-    _set("KP", st.setting, _ONE, _NUM, "EPICS model 1 'nKP' (PID gains)", "C",
-         "0..1e6; takes effect at UF; KP 0 (factory) = the exact profile-only axis (D)",
+    _set("KP", st.setting, _REQ, _NUM, "EPICS model 1 'nKP'; manual 3.177 XP 'Rel. Commands: "
+         "KP - Set proportional gain'", "C",
+         "axis 1..4 required and no '?' as KD's page (I); read what the loop uses with XP; "
+         "takes effect at UF; 0..1e6 in the shared servo's gain scale (the manual's KD "
+         "page says 0 to 1: its scale is not modelled, D); KP 0 (factory) = the exact "
+         "profile-only axis (D)", query=False,
          summary="KP: proportional gain of the servo loop"),
-    _set("KI", st.setting, _ONE, _NUM, "EPICS model 1 'nKI'", "C", "as KP",
+    _set("KI", st.setting, _REQ, _NUM, "EPICS model 1 'nKI'; manual 3.173 XI 'Rel. Commands: "
+         "KI - Set integral gain factor'", "C", "as KP; read with XI (I)", query=False,
          summary="KI: integral gain of the servo loop"),
-    _set("KD", st.setting, _ONE, _NUM, "EPICS model 1 'nKD'", "C", "as KP",
+    _set("KD", st.setting, _REQ, _NUM, "manual 3.63 KD 'xxKDnn' (axis 1..4, nn missing: C); "
+         "EPICS model 1 'nKD'", "C",
+         "no '?' (read with XD); effect at UF; the manual's range 0 to 1 is in its own "
+         "scale, here the shared servo's 0..1e6 (D)", query=False,
          summary="KD: derivative gain of the servo loop"),
-    _set("KS", st.setting, _ONE, _NUM, "hosts' 'nKS'", "I",
-         _NOPAGE + "read as integral saturation, 0..1 (I)",
+    _set("KS", st.setting, _REQ, _NUM, "manual 3.66 KS 'xxKSnn or xxKS?', 0 to 1", "C",
+         "saturation of the integral factor, a fraction of the maximum output; effect at "
+         "UF; 'nKS?' reads the value set (I: the page says 'actual')",
          summary="KS: integral saturation of the servo loop"),
-    _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains", "C",
-         "the gains set take effect (I)", query=False),
-    _set("FE", st.setting, _ONE, _NUM, "sibling Newport ESP 'FE' following-error limit", "I",
-         _NOPAGE + "stored, default 1 unit (D)",
-         summary="FE: following-error limit (motor off beyond it)"),
+    _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains; manual "
+         "3.63 KD 'no effect until the UF (update filter) is received'", "C",
+         "KP, KI, KD, KS set take effect; without an axis every axis (D)", query=False),
+    _set("FE", st.setting, _ONE, _NUM, "manual 3.171 XF 'Rel. Commands: FE - Set maximum "
+         "following error'", "C",
+         "default 1 unit (D); beyond it every motion stops and the motor turns off (XF's "
+         "page); here it acts at once, not at the next UF as XF's note says (D)",
+         summary="FE: maximum following error (motor off beyond it)"),
+    _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
+          "the proportional gain the loop uses (as of the last UF), shortest form (I)"),
+    _tell("XI", st.tell_gain, _REQ, "manual 3.173 XI 'xxXI' -> 'xxXInn'", "C",
+          "the integral gain the loop uses (as of the last UF)"),
+    _tell("XD", st.tell_gain, _REQ, "manual 3.169 XD 'xxXD' -> 'xxXDnn'", "C",
+          "the derivative gain the loop uses (as of the last UF)"),
+    _tell("XF", st.tell_following_limit, _REQ, "manual 3.171 XF 'xxXF' -> 'xxXFnn'", "C",
+          "the maximum following error FE (in force at once here, D)"),
+    _tell("TF", st.tell_filter, _REQ, "manual 3.169-3.177 XD/XI/XP/XF 'Rel. Commands: TF - "
+          "Read filter parameters'", "C",
+          "its page was not found: the layout 'nTFKPa,KIb,KDc,KSd,FEe' (the values in the "
+          "loop) is ours (D)"),
     _set("BA", st.backlash, _REQ, Operand.OPTIONAL_NUMBER,
          "manual 3.25 BA 'xxBAnn', axis 1..4 (missing: B), nn missing: 0", "C",
          "0 to the distance of 10000 encoder counts (10000 x TU), else C; 0 disables; read "
@@ -259,10 +283,6 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I",
           "the name of SN's code ('1TNmm' by default); the names are ours (D)"),
     _tell("TA", st.tell_axis_type, _ONE, "hosts' 'nTA' axis type", "D", "'DC' (D)"),
-    _tell("XI", st.tell_index, _ONE, "hosts' 'nXI'", "D",
-          _NOPAGE + "reads XH (no encoder index modelled)"),
-    _tell("XP", st.tell_program, _NO, "hosts' 'XP'", "D",
-          _NOPAGE + "'XP0': stored programs are not modelled"),
     _tell("TS", st.tell_controller_status, _NO, "manual 3.139 TS 'Returns TSaa'", "C",
           "bits 0-3 axes 1-4 moving, 4 motor power off (any installed axis off, I), 5 "
           "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
