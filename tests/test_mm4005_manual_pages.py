@@ -155,7 +155,14 @@ def test_xp_xi_xd_read_the_gains_in_force_until_uf() -> None:
     assert mm.send("2UF;2XP;2XI;2XD;1XP") == ["2XP0.005", "2XI0.005", "2XD0.05", "1XP0"]
     assert mm.send("2KS0.5;2KS?;2TF") == ["2KS0.5", "2TFKP0.005,KI0.005,KD0.05,KS1,FE1"]
     assert mm.send("2UF;2TF") == ["2TFKP0.005,KI0.005,KD0.05,KS0.5,FE1"]
-    assert mm.send("2FE0.2;2XF") == ["2XF0.2"]
+    assert mm.send("2FE0.2;2XF") == ["2XF1"]  # FE takes effect at the next UF (3.56)
+    assert mm.send("2UF;2XF;2TF") == ["2XF0.2", "2TFKP0.005,KI0.005,KD0.05,KS0.5,FE0.2"]
+    for bad, code in (("2FE0.001", "C"), ("2FE200.1", "C"), ("2FE?", "C"), ("2FE", "C"),
+                      ("FE0.1", "B")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    assert mm.send("2FE0.002;2FE200;2UF;2XF") == ["2XF200"]  # 2 x TU .. TR - TL
+    assert mm.send("1FF?;1FF0.1;1FF?") == ["1FF1", "1FF0.1"]
+    assert mm.send("1FF0.0001") == [] and mm.send("TE;1FF?") == ["TEC", "1FF0.1"]
     for bad, code in (("XP", "B"), ("5XD", "B"), ("2KD?", "C"), ("KD0.1", "B"), ("2KD", "C"),
                       ("2KP?", "C"), ("2KS2", "C"), ("2XP1", "C")):
         assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad

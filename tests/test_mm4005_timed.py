@@ -194,11 +194,11 @@ def test_servo_follows_with_lag_and_factory_gains_stay_exact() -> None:
 
 def test_following_error_turns_the_motor_off() -> None:
     mm = MM4005Controller("MM4005-2")
-    mm.send("1KP10;1KI1;1KD160;1UF;1FE0.005;1PA1")
+    mm.send("1KP10;1KI1;1KD160;1FE0.005;1UF;1PA1")
     mm.engine.advance(400)
     assert mm.send("1MS;TB") == ["1MSF", "TBF Following error"]  # off, direction +
     assert mm.send("1PA2") == [] and mm.send("TE") == ["TED"]  # refused: power off
-    assert mm.send("1MO;1FE1;1PA0;TE") == ["TE@"]
+    assert mm.send("1MO;1FE1;1UF;1PA0;TE") == ["TE@"]
     mm.run_until_idle()
     mm.engine.advance(4000)
     assert abs(float(mm.send("1TP")[0][3:])) < 0.01
@@ -241,7 +241,7 @@ def test_two_hosts_one_runs_the_other_aborts() -> None:
 def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
     mm = MM4005Controller("MM4005-2")
     assert mm.send("TS;1TN;1TA;1SU?;1XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "1XP0"]
-    assert mm.send("1VU?;1FE?;1KS?") == ["1VU100", "1FE1", "1KS1"]
+    assert mm.send("1VU?;1XF;1KS?") == ["1VU100", "1XF1", "1KS1"]
     assert mm.send("VU?") == ["1VU100,2VU100"]  # without an axis: every axis
     assert mm.send("1KP-1") == [] and mm.send("TE") == ["TEC"]  # out of range: unchanged
     assert mm.send("1SN2.5") == [] and mm.send("TE") == ["TEC"]  # an integer setting

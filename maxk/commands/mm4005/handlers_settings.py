@@ -107,10 +107,38 @@ def tell_gain(ctx: Context, cmd: Command) -> list[str]:
     return [f"{cmd.axis}{cmd.spec.mnemonic}{fmt.short(gains[GAINS[cmd.spec.mnemonic]])}"]
 
 
-def tell_following_limit(ctx: Context, cmd: Command) -> list[str]:
-    """XF: the maximum following error allowed (FE)."""
+def following_error_limit(ctx: Context, cmd: Command) -> list[str]:
+    """FE: set the maximum following error; it takes effect at the next UF (3.56)."""
+    assert cmd.axis is not None and isinstance(cmd.value, float)
+    m = ctx.machine
+    left, right = m.travel_limits(cmd.axis)
+    low = 2 * m.resolution(cmd.axis)
+    if not low <= cmd.value <= right - left:
+        raise MM4005Error(PARAMETER, f"FE outside {fmt.short(low)}..{fmt.short(right - left)}")
+    m.settings[cmd.axis - 1].set("FE", cmd.value)
+    return []
+
+
+def master_slave_limit(ctx: Context, cmd: Command) -> list[str]:
+    """FF: the maximum master-slave following error (stored; no master-slave here)."""
     assert cmd.axis is not None
-    return [f"{cmd.axis}XF{fmt.short(ctx.machine.settings[cmd.axis - 1].get('FE'))}"]
+    m = ctx.machine
+    settings = m.settings[cmd.axis - 1]
+    if cmd.query:
+        return [f"{cmd.axis}FF{fmt.short(settings.get('FF'))}"]
+    assert isinstance(cmd.value, float)
+    left, right = m.travel_limits(cmd.axis)
+    low = 2 * m.resolution(cmd.axis)
+    if not low <= cmd.value <= right - left:
+        raise MM4005Error(PARAMETER, f"FF outside {fmt.short(low)}..{fmt.short(right - left)}")
+    settings.set("FF", cmd.value)
+    return []
+
+
+def tell_following_limit(ctx: Context, cmd: Command) -> list[str]:
+    """XF: the maximum following error the loop uses (FE as of the last UF)."""
+    assert cmd.axis is not None
+    return [f"{cmd.axis}XF{fmt.short(ctx.machine.settings[cmd.axis - 1].following_limit)}"]
 
 
 def tell_filter(ctx: Context, cmd: Command) -> list[str]:
@@ -119,7 +147,8 @@ def tell_filter(ctx: Context, cmd: Command) -> list[str]:
     s = ctx.machine.settings[cmd.axis - 1]
     kp, ki, kd, ks = s.active_gains
     values = ",".join(f"{name}{fmt.short(v)}" for name, v in
-                      (("KP", kp), ("KI", ki), ("KD", kd), ("KS", ks), ("FE", s.get("FE"))))
+                      (("KP", kp), ("KI", ki), ("KD", kd), ("KS", ks),
+                       ("FE", s.following_limit)))
     return [f"{cmd.axis}TF{values}"]
 
 

@@ -217,11 +217,17 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains; manual "
          "3.63 KD 'no effect until the UF (update filter) is received'", "C",
          "KP, KI, KD, KS set take effect; without an axis every axis (D)", query=False),
-    _set("FE", st.setting, _ONE, _NUM, "manual 3.171 XF 'Rel. Commands: FE - Set maximum "
-         "following error'", "C",
-         "default 1 unit (D); beyond it every motion stops and the motor turns off (XF's "
-         "page); here it acts at once, not at the next UF as XF's note says (D)",
+    _set("FE", st.following_error_limit, _REQ, _NUM, "manual 3.56 FE 'xxFEnn' (axis 1..4, "
+         "nn missing: C)", "C",
+         "2 x TU up to the travel TR - TL (the manual's 'maximum device travel', D), else C; "
+         "no '?' (XF reads it); takes effect at the next UF; beyond it the motor turns off "
+         "(the manual: every axis stops and every motor turns off; here the axis that "
+         "lagged, D); default 1 unit (D)", query=False,
          summary="FE: maximum following error (motor off beyond it)"),
+    _set("FF", st.master_slave_limit, _REQ, _NUM, "manual 3.57 FF 'xxFFnn or xxFF?'", "C",
+         "2 x TU up to TR - TL, default 1 unit (D); stored and read back: master-slave "
+         "(gearing) is not modelled, so it never trips",
+         summary="FF: maximum master-slave following error"),
     _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
           "the proportional gain the loop uses (as of the last UF), shortest form (I)"),
     _tell("XI", st.tell_gain, _REQ, "manual 3.173 XI 'xxXI' -> 'xxXInn'", "C",
@@ -229,7 +235,7 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _tell("XD", st.tell_gain, _REQ, "manual 3.169 XD 'xxXD' -> 'xxXDnn'", "C",
           "the derivative gain the loop uses (as of the last UF)"),
     _tell("XF", st.tell_following_limit, _REQ, "manual 3.171 XF 'xxXF' -> 'xxXFnn'", "C",
-          "the maximum following error FE (in force at once here, D)"),
+          "the maximum following error in force (FE as of the last UF)"),
     _tell("TF", st.tell_filter, _REQ, "manual 3.169-3.177 XD/XI/XP/XF 'Rel. Commands: TF - "
           "Read filter parameters'", "C",
           "its page was not found: the layout 'nTFKPa,KIb,KDc,KSd,FEe' (the values in the "

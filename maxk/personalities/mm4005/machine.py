@@ -121,7 +121,7 @@ class MM4005(Engine):
                     self._following_error(a)
             return True
         over = [a for a in servos if a.powered and abs(a.exact_counts_at(self, limit)
-                - a.servo_counts()) * a.resolution > self.settings[a.index].get("FE")]
+                - a.servo_counts()) * a.resolution > self.settings[a.index].following_limit]
         if not over:
             return False
         self.tick = max(self.tick, limit)  # the loops stand at `limit`: act there
