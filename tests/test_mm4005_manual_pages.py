@@ -167,3 +167,16 @@ def test_xp_xi_xd_read_the_gains_in_force_until_uf() -> None:
                       ("2KP?", "C"), ("2KS2", "C"), ("2XP1", "C")):
         assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
     assert mm.send("2XD") == ["2XD0.05"]
+
+
+def test_ss_reads_every_axis_as_master_and_refuses_slaving_as_not_modelled() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("2SS?;1SS?") == ["2SS0", "1SS0"]
+    assert mm.send("2SS;2SS0;2SS2;TE") == ["TE@"]  # master (n missing or 0, or itself)
+    assert mm.send("2SS1") == [] and mm.send("TB") == ["TBQ Function not authorized"]
+    assert mm.send("2SS11") == [] and mm.send("TE") == ["TEQ"]  # n 1, p 1 (real position)
+    for bad, code in (("2SS5", "C"), ("2SS12", "C"), ("SS1", "B"), ("2SS-1", "C"),
+                      ("2SS1.5", "C")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    for known in ("1GR2", "1CD360"):
+        assert mm.send(known) == [] and mm.send("TE") == ["TEQ"], known

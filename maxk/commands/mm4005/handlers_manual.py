@@ -71,3 +71,21 @@ def not_modelled(ctx: Context, cmd: Command) -> list[str]:
     """A known command this emulator cannot carry out: refused with Q (see the note)."""
     raise MM4005Error(NOT_AUTHORIZED_FUNCTION,
                       f"{cmd.spec.mnemonic} is not modelled: {cmd.spec.note or 'see the table'}")
+
+
+def master_slave(ctx: Context, cmd: Command) -> list[str]:
+    """SS: master-slave mode; every axis is its own master here ('xxSS?' reads 0)."""
+    assert cmd.axis is not None
+    if cmd.query:
+        return [f"{cmd.axis}SS0"]
+    raw = 0.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
+    if raw != int(raw):
+        raise MM4005Error(PARAMETER, "SS takes whole numbers")
+    value = int(raw)
+    master, mode = (value // 10, value % 10) if value >= 10 else (value, 0)
+    if not (0 <= master <= ctx.machine.axis_count and mode in (0, 1) and value < 100):
+        raise MM4005Error(PARAMETER, "SS: master 0..axis count, mode 0 or 1")
+    if master not in (0, cmd.axis):
+        raise MM4005Error(NOT_AUTHORIZED_FUNCTION,
+                          "SS is not modelled: an axis cannot be slaved to another here")
+    return []

@@ -228,6 +228,20 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "2 x TU up to TR - TL, default 1 unit (D); stored and read back: master-slave "
          "(gearing) is not modelled, so it never trips",
          summary="FF: maximum master-slave following error"),
+    _set("SS", mn.master_slave, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.122 SS 'xxSSnp or xxSS?' (n master 1..4, missing 0 = master; p 0 "
+         "theoretical, 1 real position)", "C",
+         "master-slave is not modelled: 'xxSS?' reads 0 (every axis its own master), "
+         "'xxSS'/'xxSS0' are accepted, slaving to another axis answers Q; n or p out of "
+         "range C"),
+    _set("GR", mn.not_modelled, _REQ, _NUM, "manual 3.122 SS 'Rel. Commands: GR - Set "
+         "master-slave reduction ratio'", "C",
+         "master-slave is not modelled (SS): GR answers Q", query=False,
+         summary="GR: master-slave reduction ratio"),
+    _set("CD", mn.not_modelled, _REQ, _NUM, "manual 3.122 SS note 'If the CD command is used "
+         "... the slave axis cycle value'", "C",
+         "an axis cycle value (its page was not found): not modelled, answers Q",
+         query=False, summary="CD: axis cycle value"),
     _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
           "the proportional gain the loop uses (as of the last UF), shortest form (I)"),
     _tell("XI", st.tell_gain, _REQ, "manual 3.173 XI 'xxXI' -> 'xxXInn'", "C",
