@@ -178,5 +178,7 @@ def test_ss_reads_every_axis_as_master_and_refuses_slaving_as_not_modelled() -> 
     for bad, code in (("2SS5", "C"), ("2SS12", "C"), ("SS1", "B"), ("2SS-1", "C"),
                       ("2SS1.5", "C")):
         assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
-    for known in ("1GR2", "1CD360"):
-        assert mm.send(known) == [] and mm.send("TE") == ["TEQ"], known
+    assert mm.send("1CD360") == [] and mm.send("TE") == ["TEQ"]
+    assert mm.send("2GR?;2GR100;2GR?;2GR;2GR?") == ["2GR1", "2GR100", "2GR1"]  # 3.60 example
+    for bad, code in (("2GR0", "C"), ("2GR10001", "C"), ("GR2", "B")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad

@@ -19,6 +19,7 @@ from maxk.personalities.mm4005.errors import (
     MM4005Error,
 )
 
+from . import fmt
 from . import handlers_timed as tm
 from .spec import Command, Context
 
@@ -88,4 +89,20 @@ def master_slave(ctx: Context, cmd: Command) -> list[str]:
     if master not in (0, cmd.axis):
         raise MM4005Error(NOT_AUTHORIZED_FUNCTION,
                           "SS is not modelled: an axis cannot be slaved to another here")
+    return []
+
+
+GR_RANGE = (0.0001, 10000.0)  # manual 3.60
+
+
+def reduction_ratio(ctx: Context, cmd: Command) -> list[str]:
+    """GR: the master-slave reduction ratio of a slave axis (missing: 1.0)."""
+    assert cmd.axis is not None
+    settings = ctx.machine.settings[cmd.axis - 1]
+    if cmd.query:
+        return [f"{cmd.axis}GR{fmt.short(settings.get('GR'))}"]
+    value = 1.0 if cmd.value is None else float(cmd.value)  # type: ignore[arg-type]
+    if not GR_RANGE[0] <= value <= GR_RANGE[1]:
+        raise MM4005Error(PARAMETER, "GR outside 0.0001..10000")
+    settings.set("GR", value)
     return []

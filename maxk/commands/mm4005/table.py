@@ -234,10 +234,10 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "master-slave is not modelled: 'xxSS?' reads 0 (every axis its own master), "
          "'xxSS'/'xxSS0' are accepted, slaving to another axis answers Q; n or p out of "
          "range C"),
-    _set("GR", mn.not_modelled, _REQ, _NUM, "manual 3.122 SS 'Rel. Commands: GR - Set "
-         "master-slave reduction ratio'", "C",
-         "master-slave is not modelled (SS): GR answers Q", query=False,
-         summary="GR: master-slave reduction ratio"),
+    _set("GR", mn.reduction_ratio, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.60 GR 'xxGRnn or xxGR?', 0.0001 to 10000, nn missing: 1.0", "C",
+         "stored and read back ('2GR?' -> '2GR100'); no axis can be slaved here (SS), so "
+         "it moves nothing", summary="GR: master-slave reduction ratio"),
     _set("CD", mn.not_modelled, _REQ, _NUM, "manual 3.122 SS note 'If the CD command is used "
          "... the slave axis cycle value'", "C",
          "an axis cycle value (its page was not found): not modelled, answers Q",

@@ -28,6 +28,7 @@ RULES: Final[dict[str, SettingRule]] = {
     "KS": SettingRule(1.0, 0.0, 1.0),  # integral saturation, fraction of full output
     "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units (FE checks 2 TU..travel)
     "FF": SettingRule(1.0, 0.0, 1e6),  # master-slave following-error limit (stored only)
+    "GR": SettingRule(1.0, 0.0001, 10000.0),  # master-slave reduction ratio (stored only)
     "BA": SettingRule(0.0, 0.0, 1e3),  # backlash (manual 3.25: BA checks 10000 x TU itself)
     "OH": SettingRule(1.0, 1e-6, 1e6),  # home search high speed, units/s
     "OL": SettingRule(0.1, 1e-6, 1e6),  # home search low speed, units/s
