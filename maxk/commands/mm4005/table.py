@@ -197,13 +197,15 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     # --- servo gains (EPICS model 1 driver) and other settings ---
     _set("KP", st.setting, _REQ, _NUM, "EPICS model 1 'nKP'; manual 3.177 XP 'Rel. Commands: "
          "KP - Set proportional gain'", "C",
-         "axis 1..4 required and no '?' as KD's page (I); read what the loop uses with XP; "
+         "axis 1..4 required and no '?' as the KI and KD pages (I); read with XP; "
          "takes effect at UF; 0..1e6 in the shared servo's gain scale (the manual's KD "
          "page says 0 to 1: its scale is not modelled, D); KP 0 (factory) = the exact "
          "profile-only axis (D)", query=False,
          summary="KP: proportional gain of the servo loop"),
-    _set("KI", st.setting, _REQ, _NUM, "EPICS model 1 'nKI'; manual 3.173 XI 'Rel. Commands: "
-         "KI - Set integral gain factor'", "C", "as KP; read with XI (I)", query=False,
+    _set("KI", st.setting, _REQ, _NUM, "manual 3.64 KI 'xxKInn' (axis 1..4, nn missing: C); "
+         "EPICS model 1 'nKI'", "C",
+         "no '?' (read with XI); effect at UF; the manual's range 0 to 1 is in its own "
+         "scale, here the shared servo's 0..1e6 (D)", query=False,
          summary="KI: integral gain of the servo loop"),
     _set("KD", st.setting, _REQ, _NUM, "manual 3.63 KD 'xxKDnn' (axis 1..4, nn missing: C); "
          "EPICS model 1 'nKD'", "C",
