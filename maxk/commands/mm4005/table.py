@@ -36,9 +36,9 @@ def _spec(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, *, 
 
 
 def _tell(mnemonic: str, handler: Handler, axis: AxisRule, source: str, confidence: str,
-          note: str = "", operand: Operand = _NONE) -> CommandSpec:
+          note: str = "", operand: Operand = _NONE, summary: str = "") -> CommandSpec:
     return _spec(mnemonic, handler, axis, operand, query=False, replies=True, source=source,
-                 confidence=confidence, note=note)
+                 confidence=confidence, note=note, summary=summary)
 
 
 def _set(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, source: str,
@@ -245,11 +245,14 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "an axis cycle value (its page was not found): not modelled, answers Q",
          query=False, summary="CD: axis cycle value"),
     _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
-          "the proportional gain the loop uses (as of the last UF), shortest form (I)"),
+          "the proportional gain the loop uses (as of the last UF), shortest form (I)",
+          summary="XP: read the proportional gain the servo loop uses (since the last UF)"),
     _tell("XI", st.tell_gain, _REQ, "manual 3.173 XI 'xxXI' -> 'xxXInn'", "C",
-          "the integral gain the loop uses (as of the last UF)"),
+          "the integral gain the loop uses (as of the last UF)",
+          summary="XI: read the integral gain the servo loop uses (since the last UF)"),
     _tell("XD", st.tell_gain, _REQ, "manual 3.169 XD 'xxXD' -> 'xxXDnn'", "C",
-          "the derivative gain the loop uses (as of the last UF)"),
+          "the derivative gain the loop uses (as of the last UF)",
+          summary="XD: read the derivative gain the servo loop uses (since the last UF)"),
     _tell("XF", st.tell_following_limit, _REQ, "manual 3.171 XF 'xxXF' -> 'xxXFnn'", "C",
           "the maximum following error in force (FE as of the last UF)"),
     _tell("TF", st.tell_filter, _REQ, "manual 3.169-3.177 XD/XI/XP/XF 'Rel. Commands: TF - "
