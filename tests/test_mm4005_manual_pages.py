@@ -182,3 +182,13 @@ def test_ss_reads_every_axis_as_master_and_refuses_slaving_as_not_modelled() -> 
     assert mm.send("2GR?;2GR100;2GR?;2GR;2GR?") == ["2GR1", "2GR100", "2GR1"]  # 3.60 example
     for bad, code in (("2GR0", "C"), ("2GR10001", "C"), ("GR2", "B")):
         assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+
+
+def test_the_docs_table_lists_every_entry_with_its_confidence() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "mm4005.md").read_text()
+    rows = {line.split("|")[1].strip(): line.rstrip().rstrip("|").split("|")[-1].strip()
+            for line in text.splitlines() if line.startswith("| ") and line.count("|") >= 5}
+    for word, spec in COMMANDS.items():
+        assert rows.get(word) == spec.confidence, word
