@@ -63,7 +63,8 @@ def test_rq_is_known_and_answered_as_not_modelled() -> None:
     mm = MM4005Controller("MM4005-2")
     assert mm.send("RQ") == []
     assert mm.send("TB") == ["TBQ Function not authorized"]
-    assert mm.send("XX") == [] and mm.send("TE") == ["TEA"]  # unknown stays A
+    for unknown in ("ZT", "QZ", "ZZ"):  # not in the manual's list: A
+        assert mm.send(unknown) == [] and mm.send("TE") == ["TEA"], unknown
     console = mm.console()
     console.execute("RQ")
     assert console.new_errors()[-1] == "! Q Function not authorized"
@@ -192,3 +193,39 @@ def test_the_docs_table_lists_every_entry_with_its_confidence() -> None:
             for line in text.splitlines() if line.startswith("| ") and line.count("|") >= 5}
     for word, spec in COMMANDS.items():
         assert rows.get(word) == spec.confidence, word
+
+
+def test_every_command_of_the_manuals_list_is_known_and_the_unmodelled_answer_q() -> None:
+    from maxk.commands.mm4005.manual_list import CATEGORIES, GROUP
+
+    assert len(GROUP) == sum(len(names.split()) for _, names in CATEGORIES) == 189
+    mm = MM4005Controller("MM4005-2")
+    before = mm.send("TP;MS")
+    unmodelled = [word for word in GROUP if COMMANDS[word].note.endswith("answers Q")]
+    assert len(unmodelled) > 90
+    for word in unmodelled:
+        for form in (word, f"1{word}", f"{word}?", f"2{word}3.5", f"1{word}+"):
+            assert mm.send(form) == [], form
+            assert mm.send("TE") == ["TEQ"], form
+    assert mm.send("TP;MS") == before  # nothing moved, nothing changed
+    # a refused listed command stops its line there, as every refusal does
+    assert mm.send("1TP;WS;2TP") == ["1TP0.0000"] and mm.send("TE") == ["TEQ"]
+    for word in ("AB", "BA", "DV", "FE", "KS", "MS", "NQ", "SS", "TQ", "TX", "XP", "ZP"):
+        assert not COMMANDS[word].note.endswith("answers Q"), word
+
+
+def test_sd_sy_zp_from_the_list() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("SD?;SD50;SD?") == ["SD100", "SD50"]
+    for bad, code in (("SD0", "C"), ("SD100.5", "C"), ("1SD50", "B"), ("SD", "C")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    assert mm.send("1SY?;1SY1;1SY?;2SY?") == ["1SY0", "1SY1", "2SY0"]
+    assert mm.send("1SY2") == [] and mm.send("TE;1SY?") == ["TEC", "1SY1"]
+    mm.send("1PA3")
+    assert mm.send("1ZP") == [] and mm.send("TE") == ["TED"]  # moving: refused
+    mm.run_until_idle()
+    assert mm.send("1ZP;1TP;1TH;1TL;1TR;2TP") == ["1TP0.0000", "1TH0.0000", "1TL-100.0000",
+                                                  "1TR100.0000", "2TP0.0000"]
+    assert mm.send("1PA-1") == []
+    mm.run_until_idle()
+    assert mm.send("1TP") == ["1TP-1.0000"]

@@ -8,7 +8,7 @@ setting's range (maxk/personalities/mm4005/settings.py) before anything changes.
 
 from __future__ import annotations
 
-from maxk.personalities.mm4005 import status
+from maxk.personalities.mm4005 import axis_rules, status
 from maxk.personalities.mm4005.errors import PARAMETER, MM4005Error
 from maxk.personalities.mm4005.settings import RULES
 
@@ -187,29 +187,27 @@ def backlash(ctx: Context, cmd: Command) -> list[str]:
     return []
 
 
-def tell_parameters(ctx: Context, cmd: Command) -> list[str]:
-    """ZT: every axis's settings, one line per axis."""
+def speed_reduction(ctx: Context, cmd: Command) -> list[str]:
+    """SD: the controller's reduced speed in percent ('SD?' reads it)."""
+    holder = ctx.machine.settings[0]  # one value for the controller (see settings.py)
+    if cmd.query:
+        return ["SD" + fmt.short(holder.get("SD"))]
+    assert isinstance(cmd.value, float)
+    if not 0.0 < cmd.value <= 100.0:
+        raise MM4005Error(PARAMETER, "SD outside 0..100 %")
+    holder.set("SD", cmd.value)
+    return []
+
+
+def zero_position(ctx: Context, cmd: Command) -> list[str]:
+    """ZP: the present position of the axis becomes 0; the travel limits stay."""
+    assert cmd.axis is not None
     m = ctx.machine
-    lines = []
-    for a in range(1, m.axis_count + 1):
-        s = m.settings[a - 1]
-        left, right = m.travel_limits(a)
-        parts = [f"{a}ZT", f"VA{fmt.short(m.velocity(a))}", f"AC{fmt.short(m.acceleration(a))}",
-                 f"TL{fmt.short(left)}", f"TR{fmt.short(right)}"]
-        parts += [f"{name}{fmt.short(s.get(name))}" for name in RULES]
-        lines.append(" ".join(parts))
-    return lines
-
-
-def tell_pulse_setup(ctx: Context, cmd: Command) -> list[str]:
-    """ZP: the time-based trajectory's pulse set-up (MB, ME, MN) and trace count."""
-    t = ctx.machine.timed
-    return [f"ZP MB{t.pulse_start} ME{t.pulse_end} MN{t.pulse_request} "
-            f"NQ{ctx.machine.pulse_trace.total}"]
-
-
-def synchronize(ctx: Context, cmd: Command) -> list[str]:
-    """SY: accepted; nothing to synchronise on one controller."""
+    axis_rules.check_define_home(m.status(cmd.axis))
+    preset = m.home_preset(cmd.axis)
+    m.set_home_preset(cmd.axis, 0.0)
+    m.define_home(cmd.axis, m.travel_limits(cmd.axis))
+    m.set_home_preset(cmd.axis, preset)
     return []
 
 
@@ -229,8 +227,3 @@ def jog(ctx: Context, cmd: Command) -> list[str]:
     left, right = ctx.machine.travel_limits(cmd.axis)
     ctx.machine.move_to(cmd.axis, right if cmd.value > 0 else left)
     return []
-
-
-def to_limit(ctx: Context, cmd: Command) -> list[str]:
-    """ML: move to the travel limit on the operand's side."""
-    return jog(ctx, cmd)

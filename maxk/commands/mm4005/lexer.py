@@ -68,6 +68,8 @@ def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bo
             return None, True
         raise MM4005Error(PARAMETER, f"{spec.mnemonic} cannot be queried")
     kind = spec.operand
+    if kind is Operand.ANY:
+        return (text or None), False
     if kind is Operand.CHAR:
         if len(text) > 1:
             raise MM4005Error(PARAMETER, "one character expected")

@@ -18,6 +18,7 @@ from . import handlers_manual as mn
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
+from . import manual_list as ml
 from .spec import AxisRule, CommandSpec, Handler, Operand
 
 _ONE = AxisRule.ALL_OR_ONE
@@ -149,6 +150,7 @@ _DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
 )
 
 _SCAN = "EPICS MM4005_trajectoryScan.st (reference mm4005-trajectory-scan.md)"
+_LIST = ml.SOURCE
 _NOPAGE = "the MM4005 page was not found; "
 
 _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
@@ -240,10 +242,6 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "manual 3.60 GR 'xxGRnn or xxGR?', 0.0001 to 10000, nn missing: 1.0", "C",
          "stored and read back ('2GR?' -> '2GR100'); no axis can be slaved here (SS), so "
          "it moves nothing", summary="GR: master-slave reduction ratio"),
-    _set("CD", mn.not_modelled, _REQ, _NUM, "manual 3.122 SS note 'If the CD command is used "
-         "... the slave axis cycle value'", "C",
-         "an axis cycle value (its page was not found): not modelled, answers Q",
-         query=False, summary="CD: axis cycle value"),
     _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
           "the proportional gain the loop uses (as of the last UF), shortest form (I)",
           summary="XP: read the proportional gain the servo loop uses (since the last UF)"),
@@ -266,48 +264,55 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "is not applied to motion (not modelled)", query=False),
     _tell("XB", st.tell_backlash, _ONE, "manual 3.25 BA 'Rel. Commands: XB - Read backlash "
           "compensation'", "C", "reply 'nXBvalue' like the other reads (I)"),
-    _set("OH", st.setting, _ONE, _NUM, "hosts' 'nOH' home search high speed", "I",
+    _set("OH", st.setting, _ONE, _NUM, f"{_LIST}: special motion parameters; sibling ESP300 "
+         "'OH set home search high speed'", "I",
          _NOPAGE + "stored; OR searches at VA (D)",
          summary="OH: home search high speed"),
-    _set("OL", st.setting, _ONE, _NUM, "hosts' 'nOL' home search low speed", "I",
+    _set("OL", st.setting, _ONE, _NUM, f"{_LIST}: special motion parameters; sibling ESP300 "
+         "'OL set home search low speed'", "I",
          _NOPAGE + "stored; OR searches at VA (D)",
          summary="OL: home search low speed"),
-    _set("VU", st.setting, _ONE, _NUM, "hosts' 'nVU' maximum speed", "I",
-         _NOPAGE + "default 100 units/s (D); VC checks each element against it",
+    _set("VU", st.setting, _ONE, _NUM, "sibling ESP300 'VU set maximum speed'; the maximum "
+         "the time-based trajectory's VC checks", "D",
+         "not in the 06/99 manual's list (later firmware, D); default 100 units/s (D); VC "
+         "and DV1 read it",
          summary="VU: maximum speed of the axis"),
-    _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN'; sibling ESP300 3-133 "
-         "'SN set axis displacement units'", "I",
+    _set("SN", st.setting, _ONE, Operand.INTEGER, f"{_LIST}: motor and stage set-up; sibling "
+         "ESP300 3-133 'SN set axis displacement units'", "I",
          _NOPAGE + "codes 0..11 as the ESP300's (0 encoder count, 1 motor step, 2 mm, 3 um, "
          "4 in, 5 milli-in, 6 micro-in, 7 deg, 8 grad, 9 rad, 10 mrad, 11 urad), default 2 "
          "(mm, I); a label only, nothing is converted (as the ESP300 says); TN names it",
          summary="SN: displacement units code"),
-    _set("SD", st.setting, _ONE, _NUM, "hosts' 'nSD'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect",
-         summary="SD: a stored value (meaning not found)"),
-    _set("MR", st.setting, _ONE, _NUM, "hosts' 'nMR'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect",
-         summary="MR: a stored value (meaning not found)"),
-    _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
-         _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
-    _set("MV", st.jog, _REQ, Operand.SIGN, "hosts' 'nMV+'/'nMV-'; sibling ESP300 3-101 "
-         "'MV move indefinitely', '3MV+'", "I",
+    _set("SD", st.speed_reduction, _NO, _NUM, f"{_LIST}: motion parameters, 'SDnn' / 'SD?' "
+         "-> 'SDnn', a reduced speed in percent", "I",
+         _NOPAGE + "0 < nn <= 100, default 100 (D); stored and read back; the reduction is "
+         "not applied to motion (not modelled)",
+         summary="SD: reduced speed, percent"),
+    _set("SU", st.encoder_resolution, _ONE, _NUM, "sibling ESP300 'SU set encoder "
+         "resolution'", "D",
+         "not in the 06/99 manual's list (D); reads TU; setting refused C (the resolution "
+         "is fixed here, D)"),
+    _set("MV", st.jog, _REQ, Operand.SIGN, f"{_LIST}: motion parameters, 'xxMVnn' move "
+         "indefinitely; sibling ESP300 3-101 'MV move indefinitely', '3MV+'", "I",
          _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); '+', '-' or a signed number "
          "('1MV+', '1MV-1'); 0 answers C (D)", query=False),
-    _set("ML", st.to_limit, _REQ, _NUM, "hosts' 'nML+'/'nML-'", "I",
-         _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
-    _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
-         _NOPAGE + "accepted, no effect", query=False),
+    _set("SY", st.setting, _REQ, Operand.INTEGER, f"{_LIST}: special motion parameters, "
+         "'xxSYnn' synchronisation, 0 or 1", "I",
+         _NOPAGE + "stored and read back ('1SY?' -> '1SY1'), default 0 (D); what it "
+         "synchronises is not known: no effect (not modelled)",
+         summary="SY: synchronisation flag of an axis (0 or 1)"),
     _tell("DV", st.tell_desired_velocity, _REQ, "manual 3.43 DV 'xxDVpp'", "C",
           "axis 1..4 required (B); pp missing or 0: the velocity VA programmed, pp >= 1: "
           "the maximum allowed velocity (VU here, I); a negative or fractional pp answers "
           "C (D); 4 decimals (D)", operand=Operand.OPTIONAL_NUMBER),
-    _tell("DA", st.tell_desired_acceleration, _ONE, "hosts' 'nDA' desired acceleration", "I",
-          "reads AC (I)"),
-    _tell("DF", st.tell_following_error, _ONE, "hosts' 'nDF' following error", "I",
-          "TH - TP (I)"),
-    _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I",
-          "the name of SN's code ('1TNmm' by default); the names are ours (D)"),
-    _tell("TA", st.tell_axis_type, _ONE, "hosts' 'nTA' axis type", "D", "'DC' (D)"),
+    _tell("DA", st.tell_desired_acceleration, _ONE, f"{_LIST}: motion parameters, beside DV",
+          "I", "reads AC, like DV reads VA (I)"),
+    _tell("DF", st.tell_following_error, _ONE, f"{_LIST}: motion parameters, 'xxDF' read "
+          "following error", "I", "TH - TP (I)"),
+    _tell("TN", st.tell_units, _ONE, f"{_LIST}: motor and stage set-up, 'xxTN' read units",
+          "I", "the name of SN's code ('1TNmm' by default); the names are ours (D)"),
+    _tell("TA", st.tell_axis_type, _ONE, f"{_LIST}: motor and stage set-up, 'xxTA' read the "
+          "stage's name", "I", "no stage names are modelled: 'DC' (a DC servo stage, D)"),
     _tell("TS", st.tell_controller_status, _NO, "manual 3.139 TS 'Returns TSaa'", "C",
           "bits 0-3 axes 1-4 moving, 4 motor power off (any installed axis off, I), 5 "
           "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
@@ -321,10 +326,24 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "Status (Sent by RQ command)'", "C",
          "generates a GPIB service request: no GPIB door exists here, so RQ answers Q "
          "(not modelled, D)", query=False, summary="RQ: generate an IEEE service request"),
-    _tell("ZT", st.tell_parameters, _NO, "hosts' 'ZT' read all parameters", "I",
-          "one line per axis, layout ours (D)"),
-    _tell("ZP", st.tell_pulse_setup, _NO, "hosts' 'ZP'", "D",
-          _NOPAGE + "reads the pulse set-up MB/ME/MN and NQ, layout ours (D)"),
+    _set("ZP", st.zero_position, _REQ, _NONE, f"{_LIST}: motion and position control, "
+         "'xxZP' zero position (the host: 'sets the present position to 0')", "I",
+         _NOPAGE + "the counter reads 0 where the axis stands; TL/TR stay (the host sets "
+         "them again after ZP, unlike after DH); refused D while moving (D)",
+         query=False, summary="ZP: the present position becomes 0"),
 )
 
-COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES}
+
+
+def _listed(mnemonic: str) -> CommandSpec:
+    """A command of the manual's list the emulator does not carry out: answers Q."""
+    group = ml.GROUP[mnemonic]
+    return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
+                 replies=False, source=f"{_LIST}: {group}", confidence="I",
+                 note=f"a {group} command whose page was not found: not modelled, answers Q",
+                 summary=f"{mnemonic}: a {group} command (not modelled)")
+
+
+_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES}
+COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES} | {
+    name: _listed(name) for name in sorted(ml.GROUP) if name not in _MODELLED}

@@ -34,8 +34,9 @@ RULES: Final[dict[str, SettingRule]] = {
     "OL": SettingRule(0.1, 1e-6, 1e6),  # home search low speed, units/s
     "VU": SettingRule(100.0, 1e-6, 1e6),  # maximum speed, units/s
     "SN": SettingRule(2.0, 0.0, 11.0, integer=True),  # displacement units code, 2 = mm
-    "SD": SettingRule(0.0, 0.0, 1e6),  # stored, no effect (meaning not found)
-    "MR": SettingRule(0.0, -1e6, 1e6),  # stored, no effect (meaning not found)
+    "SD": SettingRule(100.0, 1e-6, 100.0),  # reduced speed, percent (the controller's one
+    # value, kept with axis 1's settings so that a reset restores it; not applied)
+    "SY": SettingRule(0.0, 0.0, 1.0, integer=True),  # synchronisation flag (stored only)
 }
 
 
