@@ -303,3 +303,51 @@ def test_the_stream_host_reads_ts_at_sign_when_idle_and_powered() -> None:
     scan.mm.run_until_idle()
     scan.write_only("3MF")
     assert scan.write_read("TS") == "TSP"  # bit 4: motor power off
+
+
+def test_a_cpp_gpib_client_reads_all_axes_with_0tp_and_0ms_at_fixed_offsets() -> None:
+    # its sscanf "1TP%lf,2TP%lf,3TP%lf" and the status bytes at offsets 3, 8 and 13
+    scan = Scan("MM4005-3")
+    scan.write_only("%1dPA%s" % (2, "%f" % 1.5))
+    scan.advance(0.1)
+    tp = scan.write_read("0TP")
+    match = re.fullmatch(r"1TP([-.\d]+),2TP([-.\d]+),3TP([-.\d]+)", tp)
+    assert match is not None and float(match.group(1)) == 0.0
+    assert 0.0 < float(match.group(2)) < 1.5
+    ms = scan.write_read("0MS")
+    assert [ms[0:3], ms[5:8], ms[10:13]] == ["1MS", "2MS", "3MS"]
+    assert [ord(ms[i]) & 1 for i in (3, 8, 13)] == [0, 1, 0]
+    scan.write_only("ST")
+    scan.write_only("%1dM%1c" % (3, "F"))
+    assert ord(scan.write_read("0MS")[13]) & 0x02  # power off
+
+
+def test_a_tcl_gpib_driver_reads_its_commands_with_a_cmd_regexp() -> None:
+    # each read is matched by ^<command>(.*)$ ; errors by TE's first character
+    scan = Scan("MM4005-4")
+
+    def get(command: str) -> str:
+        reply = scan.write_read(command)
+        match = re.fullmatch(re.escape(command.rstrip("?")) + r"(.*)", reply)
+        assert match is not None, (command, reply)
+        return match.group(1)
+
+    def set_and_check(command: str) -> None:
+        scan.write_only(command)
+        assert scan.write_read("TE")[2] == "@", command
+
+    assert float(get("4TU")) == 0.001
+    for axis_command in ("TA", "TC", "TL", "TN", "TR", "XB", "XH", "DP", "TH", "TP", "DF"):
+        get(f"1{axis_command}")
+    for command in ("4SL-20000", "4SR20000", "4VA5000", "4ZP", "4SH0", "1SY1", "SD50",
+                    "1OR0", "MO"):
+        set_and_check(command)
+    assert get("4VA?") == "5000.0000" and get("SD?") == "50" and get("1SY?") == "1"
+    assert get("TB") == "@ No error" and get("VE").startswith(" MM4005")
+    scan.mm.run_until_idle()
+    set_and_check("1PA1,2PA2")  # its XY move: two commands, one line
+    scan.mm.run_until_idle()
+    assert [get("1TP"), get("2TP")] == ["1.0000", "2.0000"]
+    for bad in ("XX", "WS", "SB1"):  # listed, not modelled: the driver sees 'Q'
+        scan.write_only(bad)
+        assert scan.write_read("TE") == "TEQ", bad
