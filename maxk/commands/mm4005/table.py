@@ -340,8 +340,8 @@ def _listed(mnemonic: str) -> CommandSpec:
     group = ml.GROUP[mnemonic]
     return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
                  replies=False, source=f"{_LIST}: {group}", confidence="I",
-                 note=f"a {group} command whose page was not found: not modelled, answers Q",
-                 summary=f"{mnemonic}: a {group} command (not modelled)")
+                 note=f"one of the {group} commands; its page was not found: not modelled, "
+                 "answers Q", summary=f"{mnemonic}: one of the {group} commands (not modelled)")
 
 
 _MODELLED: Final = {spec.mnemonic for spec in _ENTRIES}
