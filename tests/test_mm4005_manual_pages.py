@@ -229,3 +229,19 @@ def test_sd_sy_zp_from_the_list() -> None:
     assert mm.send("1PA-1") == []
     mm.run_until_idle()
     assert mm.send("1TP") == ["1TP-1.0000"]
+
+
+def test_rb_reads_the_worlds_inputs_as_the_manual_example() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("RB;0RB;3RB") == ["RB0", "RB0", "3RB0"]
+    view = mm.world_view()
+    for bit in (1, 5, 7, 8):  # 11010001 = 209, bit 1 the least significant
+        view.set_input(bit, True)
+    assert mm.send("0RB;RB;1RB;2RB;8RB") == ["RB209", "RB209", "1RB1", "2RB0", "8RB1"]
+    view.set_input(8, False)
+    assert mm.send("RB") == ["RB81"]
+    for bad, code in (("9RB", "E"), ("1RB1", "C"), ("1.5RB", "A")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    assert mm.send("TBE") == ["TBE Incorrect I/O channel number"]
+    with pytest.raises(ValueError):
+        view.set_input(9, True)  # the GPIO port has 8 inputs

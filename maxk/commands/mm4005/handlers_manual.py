@@ -10,6 +10,7 @@ see it; nothing changes (our decision, D).
 from __future__ import annotations
 
 from maxk.personalities.mm4005.errors import (
+    IO_CHANNEL,
     NOT_AUTHORIZED_FUNCTION,
     PARAMETER,
     TRAJECTORY_NOT_VERIFIED,
@@ -106,3 +107,17 @@ def reduction_ratio(ctx: Context, cmd: Command) -> list[str]:
         raise MM4005Error(PARAMETER, "GR outside 0.0001..10000")
     settings.set("GR", value)
     return []
+
+
+IO_BITS = range(1, 9)  # manual 3.103: the GPIO connector's 8 input bits
+
+
+def read_inputs(ctx: Context, cmd: Command) -> list[str]:
+    """RB: one GPIO input bit (xx 1..8: 0 or 1) or the whole byte (xx 0 or missing)."""
+    bit = cmd.axis or 0
+    if bit == 0:
+        byte = sum(1 << (b - 1) for b in IO_BITS if ctx.machine.input_level(b))
+        return [f"RB{byte}"]
+    if bit not in IO_BITS:
+        raise MM4005Error(IO_CHANNEL, f"I/O bit {bit}")
+    return [f"{bit}RB{int(ctx.machine.input_level(bit))}"]

@@ -242,6 +242,12 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "manual 3.60 GR 'xxGRnn or xxGR?', 0.0001 to 10000, nn missing: 1.0", "C",
          "stored and read back ('2GR?' -> '2GR100'); no axis can be slaved here (SS), so "
          "it moves nothing", summary="GR: master-slave reduction ratio"),
+    _tell("RB", mn.read_inputs, AxisRule.ELEMENT, "manual 3.103 RB 'xxRB', xx 0 to 8 "
+          "(missing 0, out of range E); example '0RB' -> 'RB209'", "C",
+          "the world's digital inputs 1..8 (`@world input 3 high`, the REPL's :world); "
+          "the byte has bit 1 as its least significant bit; 'xxRB0|1' for one bit; the whole "
+          "byte answers 'RBnn' for '0RB' and 'RB' alike (the manual's example, D)",
+          summary="RB: read the GPIO input port or one of its bits"),
     _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
           "the proportional gain the loop uses (as of the last UF), shortest form (I)",
           summary="XP: read the proportional gain the servo loop uses (since the last UF)"),

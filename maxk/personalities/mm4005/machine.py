@@ -260,6 +260,10 @@ class MM4005(Engine):
         for a in run.axes:
             self.schedule_switches(a)
 
+    def input_level(self, bit: int) -> bool:
+        """RB: a GPIO input bit's level in the world (manual 3.103)."""
+        return self.world.digital_level(bit, self)
+
     def _positions(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         numbers = range(1, len(self.axes) + 1)
         return (tuple(self.theoretical_position(a) for a in numbers),
