@@ -12,6 +12,12 @@ from maxk.controllers.mm4005 import MM4005Controller
 from maxk.firmware_model.path import plan_timed, timed_segments
 from maxk.firmware_model.world import STUCK_ACTIVE
 
+
+def speed(mm: MM4005Controller, axis: int) -> str:
+    """The profile's velocity now, units/s to 4 decimals (DV reads the VA programmed)."""
+    return f"{mm.engine.desired_velocity(axis):.4f}"
+
+
 # ---- the planner ------------------------------------------------------------------------
 _element = st.tuples(st.floats(0.01, 3.0),
                      st.lists(st.floats(-5.0, 5.0), min_size=2, max_size=2))
@@ -52,14 +58,14 @@ def test_a_speed_change_is_spread_over_uc_across_the_seam() -> None:
     mm.send("NC;1DC1;UC0.5;1DT1;1DX1;2DT1;1DX2;VC;0EC1")
     assert mm.send("TE") == ["TE@"]
     mm.engine.advance(1000)  # 0.5 s: cruising in element 1
-    assert mm.send("1DV") == ["1DV1.1667"]
+    assert speed(mm, 1) == "1.1667"
     mm.engine.advance(1000)  # 1.0 s: on the seam
-    assert mm.send("1TH;1DV;XC") == ["1TH1.0000", "1DV1.0000", "XC1"]
+    assert mm.send("1TH;XC") == ["1TH1.0000", "XC1"] and speed(mm, 1) == "1.0000"
     mm.engine.advance(1)
-    assert float(mm.send("1DV")[0][3:]) == pytest.approx(1.0 + 0.0005 * (2.5 - 1) / 0.25,
-                                                          abs=1e-4)
+    assert mm.engine.desired_velocity(1) == pytest.approx(1.0 + 0.0005 * (2.5 - 1) / 0.25,
+                                                          abs=1e-9)
     mm.engine.advance(999)
-    assert mm.send("1DV") == ["1DV2.5000"]
+    assert speed(mm, 1) == "2.5000"
     assert mm.run_until_idle()
     assert mm.engine.tick == 4000
     assert mm.send("1TH;1TP;XC;1MS") == ["1TH3.0000", "1TP3.0000", "XC2", "1MSD"]
@@ -72,9 +78,10 @@ def test_a_reversal_passes_through_rest_and_a_dwell_stands_still() -> None:
     mm.send("NC;1DC1;UC0.2;1DT1;1DX1;2DT0.5;3DT1;1DX-1;MB1,ME3,MN4;VC;0EC1")
     assert mm.send("TE") == ["TE@"]
     mm.engine.advance(2000)
-    assert mm.send("1TH;1DV;1MS") == ["1TH1.0000", "1DV0.0000", "1MSE"]
+    assert mm.send("1TH;1MS") == ["1TH1.0000", "1MSE"]
+    assert abs(mm.engine.desired_velocity(1)) < 1e-9  # at rest at the reversal
     mm.engine.advance(500)
-    assert mm.send("1TH;1DV") == ["1TH1.0000", "1DV0.0000"]
+    assert mm.send("1TH") == ["1TH1.0000"] and abs(mm.engine.desired_velocity(1)) < 1e-9
     mm.run_until_idle()
     assert mm.engine.tick == 5000
     ticks = [p.tick for p in mm.engine.trace_points]
@@ -93,7 +100,7 @@ def test_a_limit_stuck_active_mid_move_stops_the_move_at_that_tick() -> None:
     view.fault("1", "plus", STUCK_ACTIVE)  # (outside the engine: acts at once)
     assert mm.send("1MS;1DP") == ["1MSM", "1DP1.0000"]  # moving, +, + limit; stops at 1
     mm.engine.advance(1)
-    assert mm.send("1DV") == ["1DV0.9980"]  # 1 - 4 x 0.5 ms: braking since tick 2000
+    assert speed(mm, 1) == "0.9980"  # 1 - 4 x 0.5 ms: braking since tick 2000
     assert mm.run_until_idle() and mm.engine.tick == 2500
     assert mm.send("1TH;1TP;1MS") == ["1TH1.0000", "1TP1.0000", "1MSL"]
     assert mm.send("1PA6") == [] and mm.send("TE") == ["TED"]  # into the pressed limit
@@ -109,9 +116,9 @@ def test_a_limit_set_inside_the_engine_pass_stops_the_move_on_its_tick() -> None
     mm.send("2VA1;2AC4;2PA-5")
     mm.engine.add_observer(lambda _e: view.fault("2", "minus", STUCK_ACTIVE), 3001)
     mm.engine.advance(3001)
-    assert mm.send("2DV;2TH") == ["2DV-1.0000", "2TH-1.3755"]  # braking starts here
+    assert mm.send("2TH") == ["2TH-1.3755"] and speed(mm, 2) == "-1.0000"  # braking from here
     mm.engine.advance(1)
-    assert mm.send("2DV") == ["2DV-0.9980"]
+    assert speed(mm, 2) == "-0.9980"
     assert mm.run_until_idle() and mm.engine.tick == 3501
     assert mm.send("2TH;2MS") == ["2TH-1.5010", "2MSP"]  # on the - limit, dir -; whole counts
 
