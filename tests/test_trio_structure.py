@@ -185,9 +185,10 @@ def test_io_inputs_outputs_and_analog() -> None:
     rig.machine.analog[1] = 5.0
     out = run("OP(9, ON)\nOP(10, ON)\nOP(10, OFF)\n"
               "PRINT IN(3); IN(4); READ_OP(9); READ_OP(9, 10); AIN(1)\n"
-              "AOUT(0) = 100\nPRINT AOUT(0)\nPRINT IN(40)", rig=rig)
+              "AOUT(0) = 100\nPRINT AOUT(0)\nPRINT IN(40)\nPRINT IN(1024)", rig=rig)
     assert out == ("10111024\r\n100\r\n"  # IN(3) IN(4) READ_OP(9) READ_OP(9,10) AIN(1)
-                   "%[Process 19:Program P Line 7] - Parameter out of range\r\n")
+                   "0\r\n"  # expansion I/O: off unless set
+                   "%[Process 19:Program P Line 8] - Parameter out of range\r\n")
 
 
 def test_limit_inputs_show_in_axisstatus() -> None:

@@ -260,7 +260,8 @@ _ENTRIES: list[Keyword] = [
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
-              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count D)."),
+              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
+              "programs clear VR 0..65535)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
@@ -383,6 +384,49 @@ _ENTRIES: list[Keyword] = [
               "absent.", (2, 4)),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
+    _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "
+               "value.", source="public programs", confidence="I",
+               note="Seen in Motion Perfect library templates; the emulator treats it as "
+               "CONSTANT (I). An '=' or ',' between name and value is accepted (D)."),
+    # ---- channels (files and terminals) ---------------------------------------------------
+    _command("OPEN", "OPEN #n AS \"NAME\" FOR INPUT|OUTPUT|APPEND|FIFO_READ|FIFO_WRITE|"
+             "READ_WRITE: a channel on a file.", (0, 0), confidence="I",
+             source=f"{TOK}; public programs",
+             note="FOR INPUT reads a program of the store (a .TXT file) as text, its lines "
+             "ending CR LF (D: the store is the file system); a missing one is 'Program "
+             "not found'; a channel already open is 'Channel already open' (D). Output "
+             "modes accept and drop what is written (D)."),
+    _command("CLOSE", "CLOSE #n: close a channel.", (0, 0), confidence="I",
+             source=f"{TOK}; public programs", note="Closing a channel not open does "
+             "nothing (D)."),
+    _command("GET", "GET [#n,] v: the code of the next character of channel n.", (0, 0),
+             confidence="I", source=f"{TOK}; public programs",
+             note="Waits until a character comes: an open file gives its next one; the "
+             "terminal channels never receive one while a program runs (D), so GET on "
+             "them waits (as on a controller nobody types to)."),
+    _command("INPUT", "INPUT [#n,] v[, v]: numbers from a channel, comma or line "
+             "separated.", (0, 0), confidence="I", source=f"{TOK}; public programs",
+             note="As GET for where characters come from; at the end of a file a value "
+             "reads 0 (D)."),
+    _command("LINPUT", "LINPUT [#n,] v: one line of a channel as a string.", (0, 0),
+             confidence="I", source=f"{TOK}; public programs", note="As INPUT."),
+    _function("KEY", "KEY #n: TRUE when a character waits on channel n.", (0, 1),
+              confidence="I", source=f"{TOK}; public programs",
+              note="An open file with characters left reads TRUE; the terminal channels "
+              "read FALSE (D: no typing reaches a running program)."),
+    *[_function(name, f"{name}: {what} from the controller's clock.", (0, 0),
+                confidence="D", source=TOK,
+                note="The emulator's clock is virtual time since power up, which is 00:00:00 "
+                "on Saturday 01/01/2000 (D).")
+      for name, what in (("DATE$", "the date DD/MM/YYYY"), ("TIME$", "the time HH:MM:SS"),
+                         ("DAY$", "the day of the week"))],
+    _command("PROFINET", "PROFINET(function, slot, ...): the PROFINET slave module's "
+             "functions.", (1, 20), source="public programs", confidence="D",
+             note="No PROFINET module: accepted, no effect; as a function it returns 0 (D)."),
+    Keyword("NW_NODE_AXIS_MAP", Kind.SYSTEM_PARAMETER, "NW_NODE_AXIS_MAP(slot, node, n): the "
+            "axis a network node's drive is mapped to.", "public programs", "D",
+            "Not modelled: each (slot, node, n) keeps the value written, reads 0 before "
+            "(D).", (-1, 1023)),
     Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
             args=(1, 1)),
     # ---- constants, operators, modifiers --------------------------------------------------------

@@ -13,6 +13,7 @@ from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
+from .parser import FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
 
@@ -36,6 +37,8 @@ class ProgramCommands:
         self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
         self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
+        self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
+        self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
@@ -51,6 +54,12 @@ class ProgramCommands:
                 crc = crc16(self.programs.checksum(program).to_bytes(2, "big"), crc)
             return float(crc)
         return None
+
+    def file_text(self, name: str) -> str:
+        """OPEN #n AS "NAME" FOR INPUT: the text of a program of the store, its lines
+        ending in CR LF (D: the store is the controller's file system)."""
+        info = self.programs.get(name.upper())
+        return "".join(line + "\r\n" for line in self.programs.lines[info.name])
 
     def system_function(self, name: str, args: list[Value]) -> float:
         program = _name(args)
@@ -130,6 +139,24 @@ class ProgramCommands:
         self.programs.set_compiled(name, 4 * len(steps))
         return steps
 
+    def find_function(self, name: str) -> tuple[list[Step], int] | None:
+        """A FUNCTION of a BASIC library (.BAL) of the store, compiled when needed: its
+        library's steps and its first step (I: a library's FUNCTIONs are called by
+        name from every program, as public programs do without naming the library)."""
+        for program in self.programs.names():
+            if self.programs.info[program].type != 12:
+                continue
+            steps = self.compiled.get(program)
+            if steps is None:
+                try:
+                    steps = self.compile(program)
+                except TrioError:
+                    continue  # a library that does not compile offers nothing (D)
+            for index, step in enumerate(steps):
+                if isinstance(step.stmt, FunctionDef) and step.stmt.name == name:
+                    return steps, index
+        return None
+
     def _included(self, name: str) -> list[str]:
         """INCLUDE "NAME": the lines of a BASIC program in the store."""
         info = self.programs.get(name)
@@ -190,7 +217,7 @@ class ProgramCommands:
                 raise TrioError(f"Program {info.name} line {exc.line}: {exc.message}") from None
         assert self.interpreter is not None
         ctx = ProcessContext(process=process, program=info.name)
-        self.tasks[process] = Task(self.interpreter, steps, ctx)
+        self.tasks[process] = Task(self.interpreter, steps, ctx, self.find_function)
         return process
 
     def cmd_run(self, args: list[Value]) -> None:
