@@ -791,6 +791,10 @@ class Interpreter:
             return
         axis = self.axis_of(target.axis, ctx)
         keyword.check(value)
+        if keyword.name == "OFFPOS":  # shifts the axis's positions, then reads 0 (I)
+            dpos = self.machine.axis_parameter("DPOS", axis)
+            self._act(lambda: self.machine.defpos([axis], [dpos + value]))
+            return
         self._act(lambda: self.machine.set_axis_parameter(keyword.name, axis, value))
 
     def group(self, axis: Expr | None, ctx: ProcessContext, count: int) -> list[int]:

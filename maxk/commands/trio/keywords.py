@@ -420,6 +420,11 @@ _ENTRIES: list[Keyword] = [
                 "on Saturday 01/01/2000 (D).")
       for name, what in (("DATE$", "the date DD/MM/YYYY"), ("TIME$", "the time HH:MM:SS"),
                          ("DAY$", "the day of the week"))],
+    _axis("OFFPOS", "OFFPOS = d: shift the axis's positions (DPOS and MPOS) by d; reads 0.",
+          source=f"{TOK}; public programs", confidence="I",
+          note="Applied at once as a DEFPOS to DPOS + d, and OFFPOS reads 0 again, so the "
+          "common 'OFFPOS = d: WAIT UNTIL OFFPOS = 0' goes on (I: the controller applies it "
+          "on the next servo cycle and clears it)."),
     _command("PROFINET", "PROFINET(function, slot, ...): the PROFINET slave module's "
              "functions.", (1, 20), source="public programs", confidence="D",
              note="No PROFINET module: accepted, no effect; as a function it returns 0 (D)."),

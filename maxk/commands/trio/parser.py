@@ -951,6 +951,8 @@ class _Parser:
             return Num(keyword.default)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
             return self.parameter(keyword)
+        if tok.text == "OP" and not self.at_op("("):  # OP alone: outputs 0..31
+            return Call("OP", ())
         if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
             self.advance()
             return Call("KEY", (self.unary(),))
