@@ -9,7 +9,10 @@ sure we are (C certain, I inferred, D our decision, explained in ``note``). Sour
 - ``tokentable``: the token table shipped in atrio (AbundantRobotics/atrio,
   ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
   argument counts and whether a parameter is writable;
-- ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions).
+- ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions);
+- ``public programs``: how public TrioBASIC programs for real controllers use a word.
+
+Long module: data, one entry per keyword, with its source and confidence.
 """
 
 from __future__ import annotations
