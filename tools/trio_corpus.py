@@ -69,7 +69,10 @@ class Report:
 def program_name(path: Path) -> str:
     stem = path.name.split(".")[0]
     name = re.sub(r"[^A-Za-z0-9_]", "_", stem).upper() or "P"
-    return check_name(name[:32])
+    try:
+        return check_name(name[:32])
+    except TrioError:  # a store whose names must start with a letter
+        return check_name(("P" + name)[:32])
 
 
 def read_program(path: Path) -> Program:
