@@ -335,3 +335,24 @@ def test_every_new_keyword_says_where_it_comes_from() -> None:
                  "TIME$", "DAY$", "PROFINET", "NW_NODE_AXIS_MAP", "OFFPOS"):
         keyword = KEYWORDS[name]
         assert keyword.source and keyword.confidence in "CID" and keyword.note
+
+
+def test_reading_a_file_channel_that_is_not_open_is_an_error() -> None:
+    assert run("GET #41, c").endswith("Line 1] - Channel not open\r\n")
+    assert run("PRINT KEY #41") == "0\r\n"
+
+
+def test_values_kept_for_parameters_with_arguments_are_bounded() -> None:
+    out = run("FOR k = 0 TO 5000\n  NODE_PROFILE(0, k) = 1\nNEXT k\nPRINT k", cycles=4200)
+    assert out.endswith("Line 2] - Parameter out of range\r\n")
+
+
+def test_a_library_that_does_not_compile_offers_nothing_until_it_is_edited() -> None:
+    rig = Rig()
+    rig.command('SELECT "LIB",12')
+    rig.command("!LIB,0RFUNCTION one()")
+    rig.command("!LIB,1RRETURN 1 +")
+    rig.command("!LIB,2RENDFUNC")
+    assert run("PRINT one()", rig=rig).endswith("Line 1] - Variable not defined\r\n")
+    rig.command("!LIB,1RRETURN 1")
+    assert run("PRINT one()", rig=rig) == "1\r\n"

@@ -83,6 +83,8 @@ def format_number(value: float) -> str:
 
 
 MAX_STRING = 1024  # characters in one string value (D: bounds memory)
+MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
+FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
 
 # RUN_ERROR codes (D: the numbering is ours, one per error text the emulator gives; 0 none)
 ERROR_CODES = {text: n for n, text in enumerate((
@@ -634,6 +636,8 @@ class Interpreter:
         if stmt.action == "CLOSE":
             files.pop(number, None)
             return
+        if number >= FILE_CHANNELS and number not in files:
+            raise TrioError("Channel not open")
         while not files.get(number):
             if number in files and stmt.action != "GET":
                 break  # the end of a file: INPUT reads what there is (D)
@@ -783,7 +787,10 @@ class Interpreter:
             raise TrioError("Parameter is read only")
         if target.index or target.slot is not None:
             keyword.check(value)
-            self.hook.indexed[self._indexed_key(target, ctx)] = value
+            key = self._indexed_key(target, ctx)
+            if key not in self.hook.indexed and len(self.hook.indexed) >= MAX_INDEXED:
+                raise TrioError("Parameter out of range")  # (D) bounded
+            self.hook.indexed[key] = value
             return
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             keyword.check(value)

@@ -34,6 +34,7 @@ class ProgramCommands:
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
+        self.broken: set[str] = set()  # libraries that failed to compile since their edit
         self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
         self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
@@ -108,6 +109,7 @@ class ProgramCommands:
         self._not_running(name)
         self.programs.delete(name)
         self.compiled.pop(name, None)
+        self.broken.discard(name)
         if self.selected == name:
             self.selected = None
 
@@ -116,6 +118,7 @@ class ProgramCommands:
         self._not_running(name)
         self.programs.clear(name)
         self.compiled.pop(name, None)
+        self.broken.discard(name)
 
     def cmd_list(self, args: list[Value]) -> None:
         name = self._target(args)
@@ -127,6 +130,7 @@ class ProgramCommands:
         self._not_running(program)
         self.programs.edit(program, number, action, text)
         self.compiled.pop(program, None)
+        self.broken.discard(program)
 
     def edit_control(self, name: str, action: str) -> None:
         """``!NAME,M`` / ``!NAME,Z``: end of a download; the store is already written (D)."""
@@ -148,10 +152,13 @@ class ProgramCommands:
                 continue
             steps = self.compiled.get(program)
             if steps is None:
+                if program in self.broken:
+                    continue
                 try:
                     steps = self.compile(program)
                 except TrioError:
-                    continue  # a library that does not compile offers nothing (D)
+                    self.broken.add(program)  # offers nothing until it is edited (D)
+                    continue
             for index, step in enumerate(steps):
                 if isinstance(step.stmt, FunctionDef) and step.stmt.name == name:
                     return steps, index
