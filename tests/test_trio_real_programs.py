@@ -356,3 +356,19 @@ def test_a_library_that_does_not_compile_offers_nothing_until_it_is_edited() -> 
     assert run("PRINT one()", rig=rig).endswith("Line 1] - Variable not defined\r\n")
     rig.command("!LIB,1RRETURN 1")
     assert run("PRINT one()", rig=rig) == "1\r\n"
+
+
+@pytest.mark.parametrize(("a", "b", "printed"), [(1, 0, "one"), (0, 1, "two"),
+                                                 (0, 0, "none")])
+def test_else_of_a_block_if_may_carry_a_statement_or_a_nested_if(
+        a: int, b: int, printed: str) -> None:
+    out = run(f"""a = {a}
+b = {b}
+IF a THEN
+  PRINT "one"
+ELSE IF b THEN
+    PRINT "two"
+  ELSE PRINT "none"
+  ENDIF
+ENDIF""")
+    assert out == printed + "\r\n"

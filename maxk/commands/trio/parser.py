@@ -385,6 +385,8 @@ class _Parser:
             statements.append(statement)
             if isinstance(statement, IfLine):
                 break  # a one-line IF takes the rest of the line
+            if isinstance(statement, Else):
+                continue  # ELSE of a block IF may have its first statement after it (I)
             if self.tok.kind is not Tok.END:
                 self.expect_op(":")
         return statements
