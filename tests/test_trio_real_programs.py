@@ -372,3 +372,17 @@ ELSE IF b THEN
   ENDIF
 ENDIF""")
     assert out == printed + "\r\n"
+
+
+def test_vr_bits_and_user_flags() -> None:
+    out = run("""VR(10) = 5
+SET_BIT(4, 10)
+CLEAR_BIT(0, 10)
+PRINT VR(10); READ_BIT(4, 10); READ_BIT(1, 10)
+FLAG(3, ON)
+PRINT FLAG(3); FLAG(2); FLAGS
+FLAGS(1)
+PRINT FLAGS; FLAG(3)
+FLAG(24, ON)""")
+    assert out == ("2010\r\n-108\r\n10\r\n"
+                   "%[Process 19:Program P Line 9] - Parameter out of range\r\n")

@@ -153,6 +153,7 @@ _MATH: dict[str, Callable[[float], float]] = {
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
+_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
 # modules), off unless set (D: real cells use numbers above 100 for their alarms)
@@ -377,6 +378,8 @@ class Interpreter:
                 if expr.args else 0.0
         if name in ("DATE$", "TIME$", "DAY$"):
             return self.clock_text(name)
+        if name in _BIT_COMMANDS:
+            return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
             return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
         if name == "BASE":
@@ -817,6 +820,9 @@ class Interpreter:
 
     def command(self, stmt: Command, ctx: ProcessContext) -> Wait:
         name = stmt.keyword.name
+        if name in _BIT_COMMANDS:
+            self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
+            return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]
             yield from self.hook.system_command(stmt.keyword, values, ctx)
@@ -864,6 +870,38 @@ class Interpreter:
         else:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
+
+    def bit_command(self, name: str, args: list[float]) -> float:
+        """SET_BIT(b, vr) / CLEAR_BIT(b, vr) / READ_BIT(b, vr): bit b (0..52) of VR(vr);
+        FLAG(n[, state]) / FLAGS([value]): the 24 user flags (I: manual; every argument
+        checked before anything changes)."""
+        m = self.machine
+        if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
+            if len(args) != 2:
+                raise TrioError("Syntax error")
+            bit, index = self._point(args[0], 53), self._index(args[1])
+            value = int(self._machine(lambda: m.vr_read(index)))
+            if name == "READ_BIT":
+                return float((value >> bit) & 1)
+            value = value | (1 << bit) if name == "SET_BIT" else value & ~(1 << bit)
+            self._act(lambda: m.vr_write(index, float(value)))
+            return 0.0
+        flags = int(self.hook.indexed.get(("FLAGS", ()), 0.0))
+        if name == "FLAGS":
+            if not args:
+                return float(flags)
+            if len(args) != 1 or args[0] != int(args[0]) or not 0 <= args[0] < 1 << 24:
+                raise TrioError("Parameter out of range")
+            self.hook.indexed[("FLAGS", ())] = args[0]
+            return 0.0
+        if not 1 <= len(args) <= 2:
+            raise TrioError("Syntax error")
+        flag = self._point(args[0], 24)
+        if len(args) == 1:
+            return _truth(bool(flags >> flag & 1))
+        flags = flags | (1 << flag) if args[1] != 0 else flags & ~(1 << flag)
+        self.hook.indexed[("FLAGS", ())] = float(flags)
+        return 0.0
 
     def _axis_command(self, name: str, axis: int, args: list[float]) -> Wait:
         m = self.machine

@@ -428,6 +428,18 @@ _ENTRIES: list[Keyword] = [
           note="Applied at once as a DEFPOS to DPOS + d, and OFFPOS reads 0 again, so the "
           "common 'OFFPOS = d: WAIT UNTIL OFFPOS = 0' goes on (I: the controller applies it "
           "on the next servo cycle and clears it)."),
+    _command("SET_BIT", "SET_BIT(b, vr): set bit b of VR(vr).", (2, 2), confidence="I",
+             source=f"{TOK}; {MAN}", note="Bits 0..52 of the VR's integer part (D)."),
+    _command("CLEAR_BIT", "CLEAR_BIT(b, vr): clear bit b of VR(vr).", (2, 2),
+             confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
+              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("FLAG", "FLAG(n, state) sets user flag n (0..23); FLAG(n) reads it.", (1, 2),
+             confidence="I", source=f"{TOK}; {MAN}",
+             note="Reads TRUE (-1) or FALSE; the flags start clear and are shared by every "
+             "process (I)."),
+    _command("FLAGS", "FLAGS(value) sets the 24 user flags as bits; FLAGS reads them.",
+             (0, 1), confidence="I", source=f"{TOK}; {MAN}", note="As FLAG."),
     _command("PROFINET", "PROFINET(function, slot, ...): the PROFINET slave module's "
              "functions.", (1, 20), source="public programs", confidence="D",
              note="No PROFINET module: accepted, no effect; as a function it returns 0 (D)."),

@@ -307,6 +307,7 @@ MAX_ARRAY = 65536  # elements of one DIM array (D)
 
 _EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
 _CHANNEL_STATEMENTS = frozenset({"OPEN", "CLOSE", "GET", "INPUT", "LINPUT"})
+_BARE_READS = frozenset({"OP", "FLAGS", "TIME", "DATE", "DAY"})  # commands read bare too
 _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
 
 
@@ -953,8 +954,8 @@ class _Parser:
             return Num(keyword.default)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
             return self.parameter(keyword)
-        if tok.text == "OP" and not self.at_op("("):  # OP alone: outputs 0..31
-            return Call("OP", ())
+        if tok.text in _BARE_READS and not self.at_op("("):  # OP alone: outputs 0..31
+            return Call(tok.text, ())
         if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
             self.advance()
             return Call("KEY", (self.unary(),))
