@@ -496,7 +496,9 @@ class _Parser:
         """A parameter with its arguments (``NODE_PROFILE(s, n)``) and modifiers
         (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
         index: tuple[Expr, ...] = ()
-        if self.at_op("("):
+        if self.at_op("(") and keyword.note.startswith("Not modelled"):
+            # only a parameter the emulator keeps as written takes arguments (D): a
+            # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()
             if not index:
                 raise TrioError("Syntax error")
