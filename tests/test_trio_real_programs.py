@@ -388,7 +388,8 @@ FLAG(24, ON)""")
                    "%[Process 19:Program P Line 9] - Parameter out of range\r\n")
 
 
-@pytest.mark.parametrize("line", ["x = DPOS(1)", "SPEED(2) = 5", "x = WDOG(0)"])
+@pytest.mark.parametrize("line", ["x = DPOS(1)", "SPEED(2) = 5", "x = WDOG(0)",
+                                  "x = SPEED SLOT(0)"])
 def test_a_modelled_parameter_takes_no_arguments(line: str) -> None:
     with pytest.raises(TrioError):
         parse_line(line)

@@ -512,7 +512,8 @@ class _Parser:
                 axis = value
             elif modifier == "PROC" and process is None:
                 process = value
-            elif modifier in ("SLOT", "PORT") and slot is None:
+            elif modifier in ("SLOT", "PORT") and slot is None and \
+                    keyword.note.startswith("Not modelled"):
                 slot = value
             else:
                 raise TrioError("Syntax error")
