@@ -393,3 +393,14 @@ FLAG(24, ON)""")
 def test_a_modelled_parameter_takes_no_arguments(line: str) -> None:
     with pytest.raises(TrioError):
         parse_line(line)
+
+
+def test_lf_only_lines_held_behind_a_wait_run_a_bounded_slice_a_cycle() -> None:
+    rig = Rig()
+    rig.session.feed(b"WA(2)\n" + b"?12\n" * 2000)
+    assert rig.cycles(1) == b"WA(2)\r\n"  # held: nothing after it has run
+    first = rig.cycles(1)  # the WA ends: 2 KiB of held lines, cut at a line end
+    assert first.count(b"?12\r\n12\r\n>>") == 2048 // 4
+    rest = rig.cycles(20)
+    assert (first + rest).count(b"?12\r\n12\r\n>>") == 2000
+    assert b"Control char" not in first + rest
