@@ -96,7 +96,28 @@ class FakeTrioMachine:
             return self.pwm[axis].mark
         if name == "PWM_ENCODER":
             return self.pwm[axis].encoder
+        if name == "AXISSTATUS":
+            return float(self._axis_status(axis))
         return self.axis_params[axis][name]
+
+    def _axis_status(self, axis: int) -> int:
+        """The limit bits (16, 32, 512, 1024): the inputs FWD_IN/REV_IN name and the
+        software limits (the fake's limits do not stop its moves)."""
+        params = self.axis_params[axis]
+        bits = 0
+        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
+            if 0 <= params[name] < 32 and self.digital_input(int(params[name])):
+                bits |= bit
+        if self.dpos[axis] > params["FS_LIMIT"]:
+            bits |= 512
+        if self.dpos[axis] < params["RS_LIMIT"]:
+            bits |= 1024
+        return bits
+
+    def datum(self, axis: int, mode: int) -> None:
+        """DATUM(0): the fake has no motion errors to clear; no Z marks to search."""
+        if mode != 0:
+            raise ValueError("Parameter out of range")
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         if name == "PWM_CYCLE":

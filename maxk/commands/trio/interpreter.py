@@ -416,21 +416,6 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         return int(value)
 
-    def axis_status(self, axis: int) -> float:
-        """AXISSTATUS: the limit bits the emulator knows (16, 32, 512, 1024)."""
-        m = self.machine
-        bits = 0
-        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
-            wired = m.axis_parameter(name, axis)
-            if 0 <= wired < IO_POINTS and m.digital_input(int(wired)):
-                bits |= bit
-        dpos = m.axis_parameter("DPOS", axis)
-        if dpos > m.axis_parameter("FS_LIMIT", axis):
-            bits |= 512
-        if dpos < m.axis_parameter("RS_LIMIT", axis):
-            bits |= 1024
-        return float(bits)
-
     def _element(self, name: str, args: tuple[Expr, ...],
                  ctx: ProcessContext) -> tuple[list[Value], int]:
         array = ctx.arrays.get(name)
@@ -473,8 +458,6 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
-        if keyword.name == "AXISSTATUS":
-            return self._machine(lambda: self.axis_status(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
 
     def process_parameter(self, name: str, ctx: ProcessContext) -> float:
@@ -735,8 +718,11 @@ class Interpreter:
     def datum(self, axis: int, mode: float) -> Wait:
         """DATUM(n) on the shared world's switches (see the keyword's note)."""
         m = self.machine
-        if mode == 0:
-            return  # clears motion errors: none are modelled
+        if mode in (0, 1, 2):  # clear the motion errors; a Z-mark search, on the machine
+            self._act(lambda: m.datum(axis, int(mode)))
+            while not m.axis_idle(axis):
+                yield ON_CHANGE
+            return
         if mode not in (3, 4, 5, 6):
             raise TrioError("Parameter out of range")
         wired = m.axis_parameter("DATUM_IN", axis)

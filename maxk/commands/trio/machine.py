@@ -75,6 +75,11 @@ class TrioMachine(Protocol):
         """ACC(rate): ACCEL and DECEL together."""
         ...
 
+    def datum(self, axis: int, mode: int) -> None:
+        """DATUM(0) clears the motion errors; DATUM(1)/(2) start a Z-mark search forward /
+        reverse at CREEP (the axis is busy until it ends)."""
+        ...
+
     def cancel(self, axis: int) -> None:
         ...
 

@@ -33,6 +33,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
+from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .kinematics import Kinematics
 from .memory import TableMemory, VrMemory
 from .pwm import PwmBank, PwmError
@@ -82,6 +83,8 @@ class MC405Machine(Kinematics, Engine):
         self.world = World.default(axis_count)  # the machine around it: kept over EX
         self._power_up()
         self.outputs = PwmLinks(self)
+        self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
+        self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
 
@@ -97,6 +100,8 @@ class MC405Machine(Kinematics, Engine):
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         if hasattr(self, "outputs"):
             self.outputs.reset()
+        if hasattr(self, "drive"):
+            self.drive.reset()
         self.changed()
 
     def restart(self) -> None:
@@ -110,6 +115,11 @@ class MC405Machine(Kinematics, Engine):
     def changed(self) -> None:
         """Something a waiting program, a cache or an event search depends on changed."""
         self.revision += 1
+
+    def world_changed(self) -> None:
+        """The world moved a switch or an input: a limit it turns on acts now."""
+        self.changed()
+        self.drive.look(self.tick)
 
     @property
     def pwm(self) -> PwmBank:
@@ -165,7 +175,9 @@ class MC405Machine(Kinematics, Engine):
                 return self.mark(axis)
             self.outputs.sync_encoder(axis)
             return output.encoder
-        if name in ("DPOS", "MPOS"):  # MPOS = DPOS: no following error is modelled (D)
+        if name in AXIS_READS:
+            return self.drive.axis_parameter(name, axis)
+        if name == "DPOS":
             return self.dpos(axis)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
@@ -181,8 +193,11 @@ class MC405Machine(Kinematics, Engine):
         else:
             self.axes[axis].params[name] = value
         self.changed()
+        self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
 
     def system_parameter(self, name: str) -> float:
+        if name in SYSTEM_READS:
+            return self.drive.system_parameter(name)
         return self.system[name]
 
     def set_system_parameter(self, name: str, value: float) -> None:
@@ -190,6 +205,7 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")
         self.system[name] = value  # SERVO_PERIOD: from the next restart (EX)
         self.changed()
+        self.drive.look(self.tick)
 
     def can_load(self, axes: Sequence[int]) -> bool:
         return all(self._buffered(a) < MOVE_BUFFER and self.axes[a].link is None
@@ -260,11 +276,15 @@ class MC405Machine(Kinematics, Engine):
             axis = self.axes[a]
             axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
         self.changed()
+        self.drive.look(self.tick)
 
     def set_acc(self, axis: int, rate: float) -> None:
         params = self.axes[axis].params
         params["ACCEL"] = params["DECEL"] = rate
         self.changed()
+
+    def datum(self, axis: int, mode: int) -> None:
+        self.drive.datum(axis, mode)
 
     def cancel(self, axis: int) -> None:
         a = self.axes[axis]
@@ -377,6 +397,7 @@ class MC405Machine(Kinematics, Engine):
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
               arc: tuple[float, float, float] | None = None) -> None:
+        self.drive.check_move(axes)
         base = self.axes[axes[0]]
         speed = base.params["SPEED"] * base.units
         accel = base.params["ACCEL"] * base.units
@@ -420,6 +441,7 @@ class MC405Machine(Kinematics, Engine):
             if all(self.queues[a][0] is run and self.axes[a].link is None
                    and self.axes[a].pending_link is None for a in run.axes):
                 self._start(run)
+                self.drive.started(run)
 
     def _start(self, run: Run) -> None:
         now = self.tick
@@ -450,14 +472,15 @@ class MC405Machine(Kinematics, Engine):
             axis.steps = axis.steps_at_tick(now, self.period)
             axis.begin(run.motion_for(plan, k, axis.steps), self)
 
-    def _stop(self, run: Run) -> None:
+    def _stop(self, run: Run, decel: float | None = None) -> None:
         """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
-        DECEL); the moves buffered behind it then run."""
+        DECEL, or `decel` counts/s^2); the moves buffered behind it then run."""
         run.stopping = True
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)
-            run.profile = profile_stop(residual, velocity, 0.0, run.decel, SHAPE)
+            run.profile = profile_stop(residual, velocity, 0.0,
+                                       run.decel if decel is None else decel, SHAPE)
             run.start_tick = self.tick
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
