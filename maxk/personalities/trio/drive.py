@@ -274,10 +274,10 @@ class Drive:
                 del self.searches[axis]
                 changed = True
                 continue
-            mark = self.mark_tick(axis, direction)
-            if mark is not None and mark[0] <= now:
+            mark = self.mark_position(axis, direction)
+            if mark is not None and direction * (a.steps_now(m) - mark) >= 0:
                 m.outputs.sync_all()
-                a.datum = -mark[1]  # DPOS is 0 on the mark
+                a.datum = -mark  # DPOS is 0 on the mark
                 m._stop(queue[0])
                 del self.searches[axis]
                 changed = True
@@ -373,8 +373,19 @@ class Drive:
         m.distance_done[run.base] += float(travelled[0]) / run.units
 
     # ---- Z marks ----------------------------------------------------------------------
-    def mark_tick(self, axis: int, direction: int) -> tuple[int, int] | None:
-        """(tick, physical position) where the running search reaches the next Z mark."""
+    def mark_tick(self, axis: int, direction: int) -> int | None:
+        """The tick the running search reaches its Z mark: now if it has (None: never)."""
+        mark = self.mark_position(axis, direction)
+        if mark is None:
+            return None
+        a = self.m.axes[axis]
+        if direction * (a.steps_now(self.m) - mark) >= 0:  # type: ignore[arg-type]
+            return self.m.tick
+        return a.tick_reaching(mark, direction, self.m)  # type: ignore[arg-type]
+
+    def mark_position(self, axis: int, direction: int) -> int | None:
+        """Where (physical counts) the running search meets the first Z mark count ahead
+        of where it started: the mark's first count forward, its last in reverse."""
         m = self.m
         a = m.axes[axis]
         stage = m.world.axes[axis]
@@ -387,8 +398,7 @@ class Drive:
         else:  # its last count, behind
             top = offset + width - 1
             mark = top - math.floor((top - here) / period + 1) * period
-        tick = a.tick_reaching(mark + stage.lost_steps, direction, m)  # type: ignore[arg-type]
-        return None if tick is None else (tick, mark + stage.lost_steps)
+        return mark + stage.lost_steps
 
 
 def _edge(switch: Switch, side: int) -> float | None:
@@ -425,8 +435,8 @@ class _Limits(MotionEnds):
         soonest = super().next_event()
         for axis, direction in self.drive.searches.items():
             mark = self.drive.mark_tick(axis, direction)
-            if mark is not None and (soonest is None or mark[0] < soonest):
-                soonest = mark[0]
+            if mark is not None and (soonest is None or mark < soonest):
+                soonest = mark
         return soonest
 
     def on_event(self, now: int) -> None:
