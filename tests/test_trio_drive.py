@@ -237,7 +237,8 @@ def test_motion_error_and_error_axis_are_read_only() -> None:
 def test_datum_1_finds_the_z_mark_forward_at_creep_and_zeroes_there() -> None:
     trio = mc405("CREEP=100: ACCEL=10000: DECEL=100000")
     trio.world_view().set_index("0", 4000, 4, 1280)
-    trio.console().session.feed(b"DATUM(1)\r\n")  # it holds its prompt while it searches
+    host = trio.open_session()  # a second host: its prompt waits while the search runs
+    host.feed(b"DATUM(1)\r\n")
     at(trio, 500)
     assert trio.query("?AXISSTATUS") == "64"  # datuming
     # CREEP 100 reached in 10 cycles (0.5 count); count 1280 on tick 10 + 1279.5 x 10
