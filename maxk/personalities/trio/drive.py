@@ -34,15 +34,44 @@ What a Trio controller does, as docs/trio.md records it (source and confidence t
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from collections import deque
+from collections.abc import Sequence
+from typing import Protocol
+
+import numpy as np
 
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
-from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch
+from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
-from .runs import Run
+from .runs import Run, TrioAxis
 
-if TYPE_CHECKING:
-    from .machine import MC405Machine
+
+class _Encoders(Protocol):
+    def sync_all(self) -> None: ...
+
+
+class DriveHost(Protocol):
+    """What the drive needs of the machine (`MC405Machine`)."""
+
+    axes: list[TrioAxis]
+    queues: list[deque[Run]]
+    distance_done: list[float]
+    system: dict[str, float]
+    world: World
+    tick: int
+    period: float
+
+    @property
+    def axis_count(self) -> int: ...
+    @property
+    def outputs(self) -> _Encoders: ...
+    def dpos(self, axis: int) -> float: ...
+    def demand(self, axis: int) -> float: ...
+    def digital_input(self, number: int) -> bool: ...
+    def axis_idle(self, axis: int) -> bool: ...
+    def changed(self) -> None: ...
+    def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
+    def _stop(self, run: Run, decel: float | None = None) -> None: ...
 
 SERVO_ATYPES = frozenset({36, 77})
 """Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
@@ -76,7 +105,7 @@ _FOREVER = 2.0 ** 50  # counts a Z-mark search may travel (as FORWARD)
 class Drive:
     """Limits, motion errors, drive enables and Z-mark searches of one MC405."""
 
-    def __init__(self, machine: MC405Machine) -> None:
+    def __init__(self, machine: DriveHost) -> None:
         self.m = machine
         self.limits = _Limits(self)
         self.reset()
@@ -360,8 +389,6 @@ class Drive:
     def _halt(self, run: Run, now: int) -> None:
         """Stop a running run on this tick where it stands; it leaves the queues."""
         m = self.m
-        import numpy as np
-
         travelled, _speed = run.distance_speed(np.array([now]), m.period)
         for a in run.axes:
             axis = m.axes[a]
