@@ -135,12 +135,13 @@ _ENTRIES: list[Keyword] = [
     _axis("FE_LIMIT", "Following error limit, user units.", default=2000,
           value_range=(0, _BIG), source=f"{SEED} example 3; {TOK}", confidence="I",
           note="Power-up 2000 (D). |FE| beyond it sets AXISSTATUS bit 8 (256), in ERRORMASK "
-          "by default: a motion error (manual, C for steppers with verification); FE is 0, "
-          "so it never trips (D)."),
+          "by default: a motion error (manual, C for steppers with verification), raised "
+          "on the servo cycle it is first passed (the loop runs every cycle, D)."),
     _axis("DPOS", "Demand position, user units.", writable=False, source=f"{MAN}; {TOK}",
           note="The exact demand, fractions of a count included (D)."),
     _axis("MPOS", "Measured position, user units.", writable=False, source=f"{MAN}; {TOK}",
-          confidence="D", note="Equals DPOS: the axes follow their demand exactly (FE 0, D)."),
+          confidence="I", note="A servo axis (see FE): the encoder of the world's motor "
+          "(I); any other axis: equals DPOS (D)."),
     _axis("VP_SPEED", "Velocity profile speed: the path speed of the move this axis runs, "
           "user units/s.", writable=False, source=f"{SEED}; {TOK}",
           note="Read only (tokentable). PWM_CONTROL(2/8) links to it. Every axis of an "
@@ -326,7 +327,7 @@ _ENTRIES: list[Keyword] = [
           "1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
           confidence="I", note="Bits 4/5 from the FWD_IN/REV_IN inputs, 9/10 from DPOS "
           "against FS_LIMIT/RS_LIMIT (manual, C for 9/10), 6 while DATUM(1)/(2) searches, "
-          "1/8 from FE against FE_RANGE/FE_LIMIT (FE is 0, D); the bits that put the axis "
+          "1/8 from FE against FE_RANGE/FE_LIMIT (8 also when the servo loop trips); the bits that put the axis "
           "into motion error stay set until DATUM(0). Bits 2/3 (remote drive) read 0: no "
           "remote drives (D)."),
     _axis("ERRORMASK", "AXISSTATUS bits that put the axis into motion error.", default=268,
@@ -344,12 +345,24 @@ _ENTRIES: list[Keyword] = [
             default=-1, writable=False, source=f"{TOK}; {MAN}", confidence="I",
             note="-1 with no motion error (D); cleared by DATUM(0)."),
     _axis("FE", "Following error: DPOS - MPOS, user units.", writable=False,
-          source=f"{TOK}; {MAN}", confidence="D",
-          note="0: the emulator's axes follow their demand exactly (the shared servo loop "
-          "is not run for MC405 axes, D; docs/not-modelled.md)."),
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="On a servo axis (ATYPE 36/77 with P_GAIN above 0) the shared servo loop "
+          "drives the world's motor and FE is the demand less the encoder (I); on any "
+          "other axis it is 0, the axis following its demand exactly (D)."),
     _axis("FE_RANGE", "Following error warning range, user units (0: off).",
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="|FE| beyond it sets AXISSTATUS bit 1 (2) (I); FE is 0, so it never does (D)."),
+          note="|FE| beyond it sets AXISSTATUS bit 1 (2) (I)."),
+    *[_axis(name, f"Servo gain: {what}.", value_range=(0, _BIG), source=f"{TOK}; {MAN}",
+            confidence="D", note=f"With ATYPE 36 or 77 and P_GAIN above 0 the axis runs the "
+            f"shared servo loop (the MAXk's PID on the world's motor plant) as {term} (D: "
+            "the MC405's own scaling is not published here). Power-up 0: the exact, "
+            "profile-only axis (D).")
+      for name, what, term in (
+          ("P_GAIN", "proportional", "KP: DAC counts per count of error"),
+          ("I_GAIN", "integral", "KI/1024: DAC counts per count summed each servo cycle"),
+          ("D_GAIN", "derivative", "KD: DAC counts per count of change of the error"),
+          ("VFF_GAIN", "velocity feed forward", "KV: DAC counts per count per servo "
+           "cycle of demand speed"))],
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "

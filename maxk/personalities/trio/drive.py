@@ -23,9 +23,9 @@ What a Trio controller does, as docs/trio.md records it (source and confidence t
   axis is refused, and a servo axis whose drive goes off while it moves stops at once. A
   pulse/direction axis (ATYPE 43, 35 ...) runs its demand whatever WDOG says (the seed's
   example 1 loads its moves before WDOG=ON).
-- **Following error**: the emulator's axes follow their demand exactly (the shared servo
-  loop is not run for MC405 axes): MPOS = DPOS, FE = 0; FE_LIMIT and FE_RANGE are
-  compared with that FE (so they never trip).
+- **Following error** (`following.py`): a servo axis with gains runs the shared servo
+  loop on the world's motor; FE = DPOS - MPOS is compared with FE_LIMIT (bit 8) and
+  FE_RANGE (bit 1). Any other axis follows its demand exactly: MPOS = DPOS, FE = 0.
 - **DATUM(1)/(2)**: a search forward / reverse at CREEP for the encoder's Z mark (the
   world's index mark of the axis); on the tick the mark is reached DPOS becomes 0 there
   and the axis ramps down at DECEL. DATUM(0) clears the motion errors.
@@ -43,6 +43,7 @@ import numpy as np
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
+from .following import SERVO_ATYPES, Following
 from .runs import Run, TrioAxis
 
 
@@ -73,9 +74,6 @@ class DriveHost(Protocol):
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
 
-SERVO_ATYPES = frozenset({36, 77})
-"""Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
-servo with PWM, 77 incremental encoder servo with enable)."""
 INPUTS = 32  # inputs a limit or datum may be wired to (as IN)
 
 # AXISSTATUS bits (manual's axis status table; docs/trio.md)
@@ -108,6 +106,8 @@ class Drive:
     def __init__(self, machine: DriveHost) -> None:
         self.m = machine
         self.limits = _Limits(self)
+        self.following = Following(machine, self.enabled,
+                                   lambda axis: bool(self.motion_error >> axis & 1))
         self.reset()
 
     def reset(self) -> None:
@@ -124,10 +124,10 @@ class Drive:
     def axis_parameter(self, name: str, axis: int) -> float:
         if name == "AXISSTATUS":
             return float(self.axis_status(axis))
-        if name == "MPOS":
-            return self.m.dpos(axis)  # the axis follows its demand exactly (FE 0)
-        if name == "FE":
-            return 0.0
+        if name in ("MPOS", "FE"):
+            a = self.m.axes[axis]
+            fe = self.following.error_counts(axis) / a.units  # 0: profile-only
+            return self.m.dpos(axis) - fe if name == "MPOS" else fe
         return float(self.drive_status(axis))
 
     def system_parameter(self, name: str) -> float:
@@ -148,8 +148,8 @@ class Drive:
             bits |= REV_SOFT
         if axis in self.searches:
             bits |= DATUMING
-        fe = 0.0  # (see the module docstring)
-        if abs(fe) > params["FE_LIMIT"]:
+        fe = self.following.error_counts(axis) / m.axes[axis].units
+        if abs(fe) > params["FE_LIMIT"] or self.following.tripped(axis):
             bits |= FE_EXCEEDED
         if params["FE_RANGE"] > 0 and abs(fe) > params["FE_RANGE"]:
             bits |= FE_WARNING
@@ -212,6 +212,7 @@ class Drive:
         reverse at CREEP."""
         m = self.m
         if mode == 0:
+            self.following.rearm()
             self.latched = [0] * m.axis_count
             self.seen = [self._masked(a) for a in range(m.axis_count)]
             self.motion_error, self.error_axis = 0, -1
@@ -296,6 +297,7 @@ class Drive:
         switched off under a servo axis, motion errors."""
         m = self.m
         changed = False
+        self.following.configure()
         for axis, direction in list(self.searches.items()):
             a = m.axes[axis]
             queue = m.queues[axis]
@@ -328,6 +330,18 @@ class Drive:
         if changed:
             m.changed()
 
+    def following_error(self) -> None:
+        """The servo loops stopped on a following error (`Following.integrate`): its bit
+        holds, and a motion error follows if ERRORMASK has it."""
+        for axis in self.following.over:
+            self.latched[axis] |= FE_EXCEEDED
+            loop = self.m.axes[axis].servo
+            if loop is not None and loop.trip_tick is not None:
+                loop.trip_tick = None  # (the loop stays tripped until DATUM(0))
+                loop.tripped = True
+        self.following.over = []
+        self.look(self.m.tick)
+
     def _level_limit(self, axis: int, direction: int) -> bool:
         """A limit input the world drives as a level (or a stuck switch) that is on
         ahead of the axis: it acts when next looked at."""
@@ -343,8 +357,10 @@ class Drive:
         return False
 
     def _masked(self, axis: int) -> int:
-        mask = int(self.m.axes[axis].params["ERRORMASK"])
-        if not mask & _CAN_SET and not self.seen[axis]:
+        a = self.m.axes[axis]
+        mask = int(a.params["ERRORMASK"])
+        can = _CAN_SET if a.servo is None else _CAN_SET | FE_EXCEEDED | FE_WARNING
+        if not mask & can and not self.seen[axis] and not self.latched[axis]:
             return 0  # (no bit it holds can be set: FE is 0, no remote drives)
         return self.axis_status(axis) & mask
 

@@ -141,9 +141,17 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- the engine's hooks: traces see every servo cycle ---------------------------------
     def integrate(self, limit: int) -> bool:
-        if self.tracer is not None and limit > self.tick:
-            self.tracer.stretch(self.tick + 1, limit)
-        return False
+        """The servo axes' loops run every tick (drive.py, following.py); a following
+        error stops time at its tick."""
+        stop = self.drive.following.integrate(limit)
+        end = limit if stop is None else stop
+        if self.tracer is not None and end > self.tick:
+            self.tracer.stretch(self.tick + 1, end)
+        if stop is None:
+            return False
+        self.tick = max(self.tick, stop)
+        self.drive.following_error()
+        return True
 
     def after_events(self, now: int) -> None:
         if self.tracer is not None:

@@ -34,6 +34,7 @@ from maxk.firmware_model.path import (
 )
 from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
+from maxk.firmware_model.servo import Gains
 
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
@@ -206,6 +207,14 @@ class Cambox:
 Link = Connpath | Cambox
 
 
+@dataclass(frozen=True)
+class ServoGains:
+    """What the shared servo loop reads of a servo axis (following.py sets it)."""
+
+    gains: Gains = Gains()
+    servo_polarity: int = 1
+
+
 @dataclass
 class TrioAxis(MotionAxis):
     """One axis: the shared kinematics plus what the MC405 keeps per axis."""
@@ -216,6 +225,7 @@ class TrioAxis(MotionAxis):
     link: Link | None = None
     pending_link: Link | None = None  # CONNPATH/CAMBOX loaded behind buffered moves
     link_end: int | None = None  # CAMBOX: the tick it completes (cached per revision)
+    config: ServoGains = field(default_factory=ServoGains)  # a servo axis's loop gains
 
     @property
     def units(self) -> float:
