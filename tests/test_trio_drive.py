@@ -267,3 +267,90 @@ def test_datum_0_without_an_error_and_bad_datum_modes() -> None:
     assert trio.send("DATUM(0)") == []
     assert trio.send("DATUM(7)") == ["! Parameter out of range"]
     assert trio.send("CREEP=0: DATUM(1)") == ["! Parameter out of range"]
+
+
+# ---- servo axes: the shared servo loop on the world's motor ---------------------------------
+SERVO = ("BASE(0): ATYPE=77: P_GAIN=10: D_GAIN=160: SERVO=ON: WDOG=ON: SPEED=4000: "
+         "ACCEL=40000: DECEL=40000")
+
+
+def fe_counts(trio: MC405) -> float:
+    return round(float(trio.query("?FE")), 6)
+
+
+def test_factory_gains_keep_a_servo_axis_profile_only_and_exact() -> None:
+    trio = mc405(SERVO, "P_GAIN=0")
+    trio.send("MOVE(8000)")
+    at(trio, 1000)
+    assert trio.machine.axes[0].servo is None
+    assert (fe_counts(trio), trio.query("?MPOS")) == (0.0, trio.query("?DPOS"))
+    assert trio.run_until_idle() and dpos(trio) == 8000.0
+
+
+def test_a_servo_axis_lags_its_demand_and_mpos_reads_its_encoder() -> None:
+    trio = mc405(SERVO)
+    trio.send("MOVE(8000)")
+    at(trio, 1000)
+    lag = fe_counts(trio)
+    assert lag > 0  # at 4000 counts/s a P+D loop lags by a steady error ...
+    at(trio, 1500)
+    assert fe_counts(trio) == lag  # ... the same all along the cruise
+    assert float(trio.query("?MPOS")) == dpos(trio) - lag
+    encoder = trio.machine.axes[0].servo.encoder_counts()  # type: ignore[union-attr]
+    assert float(trio.query("?MPOS")) == encoder  # (no DEFPOS: counts)
+    assert trio.run_until_idle()
+    trio.advance(1.0)
+    assert dpos(trio) == 8000.0 and abs(fe_counts(trio)) < 20  # settled, friction left
+    assert trio.query("?AXISSTATUS") == "0"
+
+
+def test_fe_range_sets_the_warning_bit() -> None:
+    trio = mc405(SERVO, "FE_RANGE=10")
+    trio.send("MOVE(8000)")
+    at(trio, 1000)
+    assert trio.query("?AXISSTATUS") == "2" and trio.query("?MOTION_ERROR") == "0"
+
+
+def _servo_run(mask: int) -> MC405:
+    trio = mc405(SERVO, f"FE_LIMIT=30: ERRORMASK={mask}")
+    trio.send("MOVE(8000)")
+    return trio
+
+
+def test_fe_limit_raises_the_motion_error_on_the_cycle_it_is_passed_whatever_the_slicing() -> None:
+    watch = _servo_run(0)  # no error raised: find the first cycle |FE| > 30 by reading
+    first = None
+    while first is None:
+        watch.advance(ticks=1)
+        if abs(fe_counts(watch)) > 30:
+            first = watch.machine.tick
+    assert first == 81 and watch.query("?AXISSTATUS") == "256"
+    stepped = _servo_run(268)
+    while stepped.query("?MOTION_ERROR") == "0":
+        stepped.advance(ticks=1)
+    assert stepped.machine.tick == first
+    at(stepped, 400)
+    whole = _servo_run(268)
+    whole.advance(ticks=400)  # one stretch: the error is found inside it
+    for trio in (stepped, whole):
+        assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?WDOG",
+                                        "?AXISSTATUS")] == ["1", "0", "0", "256"]
+        assert trio.machine.axis_idle(0)
+    assert dpos(stepped) == dpos(whole) == 128.0  # the demand stopped on that cycle
+    assert stepped.query("?MPOS") == whole.query("?MPOS")
+
+
+def test_after_an_error_the_loop_closes_again_on_the_encoder() -> None:
+    trio = _servo_run(268)
+    trio.advance(ticks=400)
+    assert trio.send("MOVE(10)") == ["! Axis in error"]
+    trio.send("DATUM(0)")
+    assert trio.send("MOVE(10)") == ["! Axis not enabled"]  # WDOG is still OFF
+    trio.advance(0.5)  # the motor coasts to a stop with its drive off
+    mpos = trio.query("?MPOS")
+    trio.send("WDOG=ON")
+    assert trio.query("?DPOS") == mpos and fe_counts(trio) == 0.0
+    trio.send("FE_LIMIT=2000: MOVEABS(0)")
+    assert trio.run_until_idle()
+    trio.advance(1.0)
+    assert dpos(trio) == 0.0 and abs(fe_counts(trio)) < 20

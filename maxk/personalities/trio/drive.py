@@ -381,6 +381,7 @@ class Drive:
         if fired:
             m.system["WDOG"] = 0.0
             self._halt_all()
+            self.following.configure()  # the servo loops open with their drives
         return fired
 
     def _halt_all(self, only: int | None = None) -> None:
