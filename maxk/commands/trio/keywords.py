@@ -328,8 +328,8 @@ _ENTRIES: list[Keyword] = [
           confidence="I", note="Bits 4/5 from the FWD_IN/REV_IN inputs, 9/10 from DPOS "
           "against FS_LIMIT/RS_LIMIT (manual, C for 9/10), 6 while DATUM(1)/(2) searches, "
           "1/8 from FE against FE_RANGE/FE_LIMIT (8 also when the servo loop trips); the "
-          "bits that put the axis into motion error stay set until DATUM(0). Bits 2/3 (remote drive) read 0: no "
-          "remote drives (D)."),
+          "bits that put the axis into motion error stay set until DATUM(0). Bits 2/3 "
+          "(remote drive) read 0: no remote drives (D)."),
     _axis("ERRORMASK", "AXISSTATUS bits that put the axis into motion error.", default=268,
           value_range=(0, 2 ** 24 - 1), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 268 (256 following error exceeded, 8 and 4 remote drive errors: "
