@@ -12,17 +12,17 @@ published here), the integral limited to the whole DAC. The loop is closed while
 axis's drive is enabled (`Drive.enabled`); when it closes again the demand is set to
 where the motor stands (I: the controller keeps DPOS = MPOS while the servo is off).
 
-FE_LIMIT is compared on every servo cycle: each stretch the engine integrates is first
-run on a copy of the loops that records every cycle; if |FE| passes FE_LIMIT x UNITS
-counts on some cycle (and ERRORMASK holds bit 8), the real loops run only to that cycle
-and the drive raises the motion error there, so the error's tick does not depend on how
+FE_LIMIT is compared on every servo cycle: each stretch the engine integrates is run
+with the loops recording every cycle; if |FE| passes FE_LIMIT x UNITS counts on some
+cycle (and ERRORMASK holds bit 8), the loops go back to where the stretch began
+(`ServoLoop.snapshot`/`restore`) and run only to that cycle, and the drive raises the
+motion error there, so the error's tick does not depend on how
 time is sliced. A loop whose own error passes 32768 counts trips (the shared rule) and
 raises the same error.
 """
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Callable
 from typing import Protocol
 
@@ -132,7 +132,8 @@ class Following:
             return None
         free = [a for a in servos if a.link is None]
         watched = {a.index for a in free if self._watched(a)}
-        saved = {a.index: copy.deepcopy(a.servo) for a in free} if watched else {}
+        saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
+                 if a.servo is not None} if watched else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
         for a in servos:
             loop = a.servo
@@ -154,10 +155,10 @@ class Following:
         self.over = [axis for axis, tick in found.items() if tick == first]
         if first < limit and saved:  # run the loops again, only as far as the error
             for a in free:
-                again = saved[a.index]
-                assert again is not None
-                a.servo = again
-                again.advance(a, m, first)  # type: ignore[arg-type]
+                loop = a.servo
+                assert loop is not None
+                loop.restore(saved[a.index])
+                loop.advance(a, m, first)  # type: ignore[arg-type]
         return first
 
     def _watched(self, a: TrioAxis) -> bool:
