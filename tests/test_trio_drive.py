@@ -354,3 +354,27 @@ def test_after_an_error_the_loop_closes_again_on_the_encoder() -> None:
     assert trio.run_until_idle()
     trio.advance(1.0)
     assert dpos(trio) == 0.0 and abs(fe_counts(trio)) < 20
+
+
+def test_a_cancelled_z_search_is_forgotten() -> None:
+    trio = mc405("CREEP=100: ACCEL=10000: DECEL=100000")
+    host = trio.open_session()
+    host.feed(b"DATUM(1)\r\n")
+    at(trio, 500)
+    assert trio.query("?AXISSTATUS") == "64"
+    trio.send("CANCEL")
+    assert trio.query("?AXISSTATUS") == "0"
+    assert trio.run_until_idle()
+    start = dpos(trio)
+    trio.send("SPEED=1000: MOVE(3000)")  # over the mark at 1280: no zero there now
+    assert trio.run_until_idle() and dpos(trio) == start + 3000
+
+
+def test_a_restart_clears_the_motion_errors() -> None:
+    trio = mc405(FAST, "FWD_IN=3", "ERRORMASK=16")
+    trio.world_view().set_limits("0", plus=100)
+    trio.send("MOVE(1000)")
+    assert trio.run_until_idle() and trio.query("?MOTION_ERROR") == "1"
+    trio.reset()
+    assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?ERRORMASK")] == \
+        ["0", "-1", "268"]

@@ -117,7 +117,9 @@ class Drive:
         self.seen = [0] * n  # ERRORMASK'd bits at the last look (errors act on new bits)
         self.motion_error = 0  # MOTION_ERROR: a bit per axis in error
         self.error_axis = -1  # ERROR_AXIS: the first axis that went into error
-        self.searches: dict[int, int] = {}  # axis -> direction of its Z-mark search
+        self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
+        # direction and its run (the FORWARD/REVERSE at CREEP)
+        self.following.over = []
         self.limits.reset(self.m.axes)
 
     # ---- what the language reads -----------------------------------------------------
@@ -146,7 +148,7 @@ class Drive:
             bits |= FWD_SOFT
         if dpos < params["RS_LIMIT"]:
             bits |= REV_SOFT
-        if axis in self.searches:
+        if self.searching(axis) is not None:
             bits |= DATUMING
         fe = self.following.error_counts(axis) / m.axes[axis].units
         if abs(fe) > params["FE_LIMIT"] or self.following.tripped(axis):
@@ -230,8 +232,22 @@ class Drive:
             m.move([axis], [_FOREVER / params["UNITS"] * direction])
         finally:
             params["SPEED"] = speed
-        self.searches[axis] = direction
+        self.searches[axis] = (direction, m.queues[axis][-1])
         m.changed()
+
+    def searching(self, axis: int) -> int | None:
+        """The direction of the Z-mark search the axis runs now (None: none running; a
+        search whose run has ended or is stopping is forgotten)."""
+        found = self.searches.get(axis)
+        if found is None:
+            return None
+        direction, run = found
+        queue = self.m.queues[axis]
+        if run not in queue or run.stopping:
+            del self.searches[axis]
+            return None
+        running = queue[0] is run and run.started and self.m.axes[axis].motion is not None
+        return direction if running else None
 
     # ---- the limits, for the shared machine ----------------------------------------------
     def limit_at(self, axis: MotionAxis, side: int) -> float | None:
@@ -298,13 +314,12 @@ class Drive:
         m = self.m
         changed = False
         self.following.configure()
-        for axis, direction in list(self.searches.items()):
+        for axis in list(self.searches):
+            direction = self.searching(axis)
+            if direction is None:
+                continue
             a = m.axes[axis]
             queue = m.queues[axis]
-            if a.motion is None or not queue or queue[0].stopping:
-                del self.searches[axis]
-                changed = True
-                continue
             mark = self.mark_position(axis, direction)
             if mark is not None and direction * (a.steps_now(m) - mark) >= 0:
                 m.outputs.sync_all()
@@ -400,7 +415,7 @@ class Drive:
                 else:
                     for a in run.axes:
                         m.queues[a].remove(run)
-        self.searches = {a: d for a, d in self.searches.items()
+        self.searches = {a: found for a, found in self.searches.items()
                          if only is not None and a != only}
 
     def _halt(self, run: Run, now: int) -> None:
@@ -477,8 +492,9 @@ class _Limits(MotionEnds):
 
     def next_event(self) -> int | None:
         soonest = super().next_event()
-        for axis, direction in self.drive.searches.items():
-            mark = self.drive.mark_tick(axis, direction)
+        for axis in list(self.drive.searches):
+            direction = self.drive.searching(axis)
+            mark = None if direction is None else self.drive.mark_tick(axis, direction)
             if mark is not None and (soonest is None or mark < soonest):
                 soonest = mark
         return soonest
