@@ -7,7 +7,12 @@ tick 5 + p; DECEL 10000 stops it from 1000 counts/s in 100 cycles over 50 counts
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from maxk.controllers.trio import MC405
 
@@ -378,3 +383,31 @@ def test_a_restart_clears_the_motion_errors() -> None:
     trio.reset()
     assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?ERRORMASK")] == \
         ["0", "-1", "268"]
+
+
+@settings(max_examples=20, deadline=None)
+@given(speed=st.integers(50, 5000), accel=st.integers(1000, 200000),
+       switch=st.integers(1, 2999))
+def test_the_limit_acts_on_the_first_servo_tick_the_free_move_stands_on_the_switch(
+        speed: int, accel: int, switch: int) -> None:
+    setup = f"SPEED={speed}: ACCEL={accel}: DECEL={accel}"
+    free = mc405(setup)
+    free.send("MOVE(3000)")
+    end = free.machine.axes[0].motion_end
+    assert end is not None
+    ticks = np.arange(0, end + 1)
+    whole = np.floor(free.machine.demand_counts(0, ticks))  # the whole steps made
+    reached = int(np.argmax(whole >= switch))  # the first tick on the switch
+    limited = mc405(setup, "FWD_IN=3")
+    limited.world_view().set_limits("0", plus=switch)
+    limited.send("MOVE(3000)")
+    at(limited, reached)
+    at(free, reached)
+    assert limited.machine.demand(0) == free.machine.demand(0)
+    assert limited.query("?AXISSTATUS") == "16"
+    assert limited.run_until_idle()
+    stop = limited.machine.demand(0)
+    speed_then = free.machine.vp_speed(0)  # the ramp down starts from here, at DECEL
+    assert stop >= switch
+    assert abs(stop - (free.machine.demand(0) + speed_then ** 2 / (2 * accel))) <= 1.0
+    assert limited.machine.tick == reached + math.ceil(speed_then / accel * 1000 - 1e-9)
