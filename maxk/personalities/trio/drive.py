@@ -61,6 +61,7 @@ class DriveHost(Protocol):
     world: World
     tick: int
     period: float
+    revision: int  # counts every change (a parameter, the world, a motion event)
 
     @property
     def axis_count(self) -> int: ...
@@ -204,10 +205,17 @@ class Drive:
                 return
 
     def _into_limit(self, axis: int, direction: int) -> bool:
-        status = self.axis_status(axis)
+        """Is a limit ahead of a run starting now on (the axis stands on its `steps`)?"""
+        m = self.m
+        a = m.axes[axis]
+        params = a.params
+        wired = params["FWD_IN" if direction > 0 else "REV_IN"]
+        if 0 <= wired < INPUTS and m.digital_input(int(wired)):
+            return True
+        dpos = (a.steps + a.datum) / a.units
         if direction > 0:
-            return bool(status & (FWD_LIMIT | FWD_SOFT))
-        return bool(status & (REV_LIMIT | REV_SOFT))
+            return dpos > params["FS_LIMIT"]
+        return dpos < params["RS_LIMIT"]
 
     def datum(self, axis: int, mode: int) -> None:
         """DATUM(0) clears every motion error; DATUM(1)/(2) start a Z-mark search forward /
@@ -477,17 +485,22 @@ class _Limits(MotionEnds):
                          on_limit=drive.on_limit)
         self.drive = drive
         self._keys: dict[int, tuple[object, ...]] = {}
+        self._revisions: dict[int, int] = {}  # per axis: the machine's revision at its key
 
     def reset(self, axes: list) -> None:  # type: ignore[type-arg]
         self.axes = axes
         self._limit.clear()
         self._keys.clear()
+        self._revisions.clear()
 
     def _limit_tick(self, axis: MotionAxis) -> tuple[int | None, int]:
-        key = self.drive.limit_key(axis)
-        if self._keys.get(axis.index) != key:
-            self._keys[axis.index] = key
-            self._limit.pop(axis.index, None)
+        revision = self.drive.m.revision  # (what the key holds changes only with it)
+        if self._revisions.get(axis.index) != revision:
+            self._revisions[axis.index] = revision
+            key = self.drive.limit_key(axis)
+            if self._keys.get(axis.index) != key:
+                self._keys[axis.index] = key
+                self._limit.pop(axis.index, None)
         return super()._limit_tick(axis)
 
     def next_event(self) -> int | None:
