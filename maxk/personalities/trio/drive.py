@@ -279,6 +279,8 @@ class Drive:
         soft = params["FS_LIMIT" if side > 0 else "RS_LIMIT"] * a.units - a.datum
         if abs(soft) < 2.0 ** 62:
             found.append(math.ceil(soft) if side > 0 else math.floor(soft))
+        reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
+        found = [edge for edge in found if side * (edge - axis.steps) <= reach]
         if not found:
             return None
         return min(found) if side > 0 else max(found)
