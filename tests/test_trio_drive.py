@@ -411,3 +411,16 @@ def test_the_limit_acts_on_the_first_servo_tick_the_free_move_stands_on_the_swit
     assert stop >= switch
     assert abs(stop - (free.machine.demand(0) + speed_then ** 2 / (2 * accel))) <= 1.0
     assert limited.machine.tick == reached + math.ceil(speed_then / accel * 1000 - 1e-9)
+
+
+def test_a_switch_stuck_active_stops_the_axis_now_and_refuses_moves_into_it() -> None:
+    trio = mc405(FAST, "FWD_IN=3")
+    trio.send("FORWARD")
+    at(trio, 1000)
+    trio.world_view().fault("0", "plus", "active")
+    assert trio.run_until_idle()
+    assert (trio.machine.tick, dpos(trio), trio.query("?AXISSTATUS")) == (1100, 1045.0, "16")
+    trio.send("MOVE(10)")
+    assert trio.run_until_idle() and dpos(trio) == 1045.0
+    trio.send("MOVE(-45)")
+    assert trio.run_until_idle() and dpos(trio) == 1000.0
