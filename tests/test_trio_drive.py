@@ -424,3 +424,16 @@ def test_a_switch_stuck_active_stops_the_axis_now_and_refuses_moves_into_it() ->
     assert trio.run_until_idle() and dpos(trio) == 1045.0
     trio.send("MOVE(-45)")
     assert trio.run_until_idle() and dpos(trio) == 1000.0
+
+
+def test_a_movecirc_reaching_a_soft_limit_stops_the_arc() -> None:
+    trio = mc405("BASE(0,1)", FAST, "FS_LIMIT AXIS(0)=1500")
+    trio.send("MOVECIRC(0,0,1000,0,1)")  # a whole circle through x = 2000
+    assert trio.run_until_idle()
+    x, y = dpos(trio, 0), dpos(trio, 1)
+    # x passes 1500 at y = 866 going clockwise; 10 cycles at ACCEL take the path 5 further
+    assert (x, y) == (1505.0, 863.0) and trio.query("?AXISSTATUS AXIS(0)") == "512"
+    assert abs((x - 1000) ** 2 + y ** 2 - 1000 ** 2) < 2 * 1000  # still on the circle
+    free = mc405("BASE(0,1)", FAST)
+    free.send("MOVECIRC(0,0,1000,0,1)")
+    assert free.run_until_idle() and (dpos(free, 0), dpos(free, 1)) == (0.0, 0.0)
