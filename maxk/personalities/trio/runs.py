@@ -35,6 +35,8 @@ from maxk.firmware_model.path import (
 from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
 
+from .links import Connect, Movelink
+
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
 
@@ -62,6 +64,7 @@ class Run:
     segments: list[Segment] = field(default_factory=list)
     arcs: dict[int, tuple[float, float, float]] = field(default_factory=dict)
     # move index -> an arc's centre (counts from the move's start) and turn (degrees)
+    kinds: dict[int, int] = field(default_factory=dict)  # move index -> MTYPE (1: MOVE)
 
     @property
     def base(self) -> int:
@@ -86,8 +89,9 @@ class Run:
             defn = defs[j]
             start = self.segments[-1].end if self.segments else origin
             if j in self.arcs:  # MOVECIRC: the centre on the path's own frame
-                dx, dy, angle = self.arcs[j]
-                defn = SegmentDef("arc", (start[0] + dx, start[1] + dy), True, angle,
+                dx, dy, angle = self.arcs[j]  # (MHELICAL: the third axis rises along it)
+                rise = tuple(float(d) for d in self.deltas[j][2:])
+                defn = SegmentDef("arc", (start[0] + dx, start[1] + dy, *rise), True, angle,
                                   defn.v_start, defn.v_end, defn.accel, None)
             if self.segments:
                 last = self.segments[-1]
@@ -203,7 +207,7 @@ class Cambox:
         return np.where(inside, self.multiplier * step * (n - 1) / self.distance, 0.0)
 
 
-Link = Connpath | Cambox
+Link = Connpath | Cambox | Connect | Movelink
 
 
 @dataclass
