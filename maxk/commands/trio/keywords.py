@@ -10,6 +10,8 @@ sure we are (C certain, I inferred, D our decision, explained in ``note``). Sour
   ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
   argument counts and whether a parameter is writable;
 - ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions).
+
+Long module: data, one declarative entry per keyword the emulator models.
 """
 
 from __future__ import annotations

@@ -15,8 +15,8 @@ import numpy as np
 
 from maxk.firmware_model.sampling import profile_offset_speed
 
-from .links import Connect, LinkedMoves, Movelink
-from .runs import Cambox, Connpath, Run, TrioAxis
+from .links import LinkedMoves
+from .runs import Cambox, Connect, Connpath, Movelink, Run, TrioAxis
 
 
 class Kinematics:

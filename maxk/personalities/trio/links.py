@@ -35,13 +35,34 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .machine import MC405Machine
-    from .runs import Link
+from .runs import Connect, Link, Movelink, Run, TrioAxis
+
+
+class Host(Protocol):
+    """What linked moves need of the machine (MC405Machine)."""
+
+    axes: list[TrioAxis]
+    queues: list[deque[Run]]
+    revision: int
+    tick: int
+    period: float
+    motion_events: Any  # its next_event(): the next tick the motion changes by itself
+    outputs: Any  # its sync_all(): the PWM encoders see the motion before it changes
+
+    @property
+    def axis_count(self) -> int: ...
+    def changed(self) -> None: ...
+    def _now(self) -> np.ndarray: ...
+    def _buffered(self, axis: int) -> int: ...
+    def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None: ...
+    def demand(self, axis: int) -> float: ...
+    def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+
 
 REACHED = 1e-6
 """How close (counts of the link axis) counts as having travelled a MOVELINK's link
@@ -49,62 +70,6 @@ distance (D: float rounding of a position computed exactly on a whole count)."""
 LINK_OPTIONS = (0, 2, 4, 6)
 """MOVELINK link options modelled: 2 starts at an absolute link position, 4 repeats
 (D: 1, starting on a registration event, and the newer bits are refused)."""
-
-
-@dataclass
-class Connect:
-    """CONNECT(ratio, link axis): ratio counts of this axis per count of the link axis."""
-
-    ratio: float
-    link: int
-    origin: float = 0.0  # this axis's own demand (counts) when it took effect
-    link_origin: float = 0.0  # the link axis's demand (counts) then
-
-    def counts(self, link_counts: np.ndarray) -> np.ndarray:
-        return self.origin + self.ratio * (link_counts - self.link_origin)
-
-
-@dataclass
-class Movelink:
-    """MOVELINK: `distance` counts over `span` counts of the link axis's travel, ramping
-    over `accel` and `decel` of it (all counts; see the module docstring)."""
-
-    distance: float
-    span: float
-    accel: float
-    decel: float
-    link: int
-    repeat: bool = False  # option 4: runs again and again (both ways) until CANCEL
-    start_at: float | None = None  # option 2: the link position (counts) it starts at
-    origin: float = 0.0
-    link_origin: float = 0.0
-
-    @property
-    def peak(self) -> float:
-        """The axis's counts per link count between the ramps."""
-        return self.distance / (self.span - (self.accel + self.decel) / 2.0)
-
-    def profile(self, u: np.ndarray) -> np.ndarray:
-        """Counts moved after `u` counts of link travel, 0 <= u <= span."""
-        r, a, d, span = self.peak, self.accel, self.decel, self.span
-        out = r * (u - a / 2.0)
-        if a > 0:
-            out = np.where(u < a, r * u * u / (2.0 * a), out)
-        if d > 0:
-            rest = span - u
-            out = np.where(u > span - d, self.distance - r * rest * rest / (2.0 * d), out)
-        return out
-
-    def counts(self, link_counts: np.ndarray) -> np.ndarray:
-        u = link_counts - self.link_origin
-        if self.repeat:
-            cycles = np.floor(u / self.span)
-            return self.origin + cycles * self.distance + self.profile(u - cycles * self.span)
-        return self.origin + self.profile(np.clip(u, 0.0, self.span))
-
-    @property
-    def link_end(self) -> float:
-        return self.link_origin + self.span
 
 
 def movelink_from(args: list[float], units: float, link_units: float) -> Movelink:
@@ -142,14 +107,15 @@ class LinkedMoves:
     """The machine's linked moves: per-axis queues behind the running link, ADDAX, and the
     engine events where a MOVELINK ends."""
 
-    def __init__(self, machine: MC405Machine) -> None:
+    def __init__(self, machine: Host, depth: int) -> None:
         self.machine = machine
+        self.depth = depth  # moves an axis holds, running and buffered
         self._cache: tuple[int, int | None] = (-1, None)
         self.reset()
 
     def reset(self) -> None:
         count = self.machine.axis_count
-        self.chains: list[deque[Link]] = [deque() for _ in range(count)]
+        self.chains: list[deque[Connect | Movelink]] = [deque() for _ in range(count)]
         self.addax: dict[int, Addax] = {}
         self.shift = [0.0] * count  # what ended ADDAXes left on each axis (counts)
 
@@ -162,15 +128,13 @@ class LinkedMoves:
 
     def can_load(self, axis: int) -> bool:
         """Room in the axis's move buffer for one more linked move."""
-        from .machine import MOVE_BUFFER
-
         m = self.machine
         a = m.axes[axis]
         held = (m._buffered(axis) + (a.link is not None) + (a.pending_link is not None)
                 + len(self.chains[axis]))
-        return held < MOVE_BUFFER
+        return held < self.depth
 
-    def load(self, axis: int, link: Link) -> None:
+    def load(self, axis: int, link: Connect | Movelink) -> None:
         """A linked move behind whatever the axis runs or holds (it starts at once on an
         idle axis)."""
         m = self.machine
@@ -355,4 +319,4 @@ class LinkedMoves:
             m._attach(axis, self.chains[axis].popleft(), link)
 
 
-__all__ = ["Addax", "Connect", "LinkedMoves", "Movelink", "movelink_from"]
+__all__ = ["Addax", "Host", "LinkedMoves", "movelink_from"]

@@ -102,7 +102,7 @@ class MC405Machine(Kinematics, Engine):
         if hasattr(self, "links"):
             self.links.reset()
         else:
-            self.links = LinkedMoves(self)
+            self.links = LinkedMoves(self, MOVE_BUFFER)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         self.changed()
@@ -187,7 +187,7 @@ class MC405Machine(Kinematics, Engine):
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
         elif name == "ENDMOVE":
-            moves.set_endmove(self, axis, value)
+            moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         else:
@@ -369,7 +369,7 @@ class MC405Machine(Kinematics, Engine):
         moves.mhelical(self, tuple(axes), list(args))
 
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
-        moves.movemodify(self, axis, args[0])
+        moves.movemodify(self, axis, args[0], MIN_RATE)
 
     def can_link(self, axis: int) -> bool:
         return self.links.can_load(axis)

@@ -15,18 +15,31 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import Protocol
 
 import numpy as np
 
-from maxk.firmware_model.path import plan_path
+from maxk.firmware_model.path import PathPlan, plan_path
 
-from .links import Connect, Movelink
-from .runs import Cambox, Run
+from .links import Host as LinkHost
+from .links import LinkedMoves
+from .runs import Cambox, Connect, Link, Movelink, Run
 
-if TYPE_CHECKING:
-    from .machine import MC405Machine
-    from .runs import Link
+
+class Host(LinkHost, Protocol):
+    """What these moves need of the machine (Host) beyond what links do."""
+
+    links: LinkedMoves
+    distance_done: list[float]
+
+    def _counts(self, axis: int, value: float) -> float: ...
+    def _end_counts(self, axis: int) -> float: ...
+    def _load(self, axes: tuple[int, ...], deltas: list[int],
+              arc: tuple[float, float, float] | None = None, kind: int = 1) -> None: ...
+    def _apply_plan(self, run: Run, plan: PathPlan) -> None: ...
+    def can_load(self, axes: Sequence[int]) -> bool: ...
+    def axis_idle(self, axis: int) -> bool: ...
 
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
@@ -54,7 +67,7 @@ def move_kind(axes: tuple[int, ...], deltas: list[int], absolute: bool) -> int:
     return MOVEABS if absolute else MOVE
 
 
-def arc_of(m: MC405Machine, axes: tuple[int, ...], args: list[float]
+def arc_of(m: Host, axes: tuple[int, ...], args: list[float]
            ) -> tuple[int, int, tuple[float, float, float]]:
     """The end (whole counts) and (centre, turn) of MOVECIRC's and MHELICAL's arc from
     the first five arguments; direction 1 turns clockwise, 0 anticlockwise (I); an end
@@ -75,7 +88,7 @@ def arc_of(m: MC405Machine, axes: tuple[int, ...], args: list[float]
     return ex, ey, (cx, cy, turn)
 
 
-def mhelical(m: MC405Machine, axes: tuple[int, ...], args: list[float]) -> None:
+def mhelical(m: Host, axes: tuple[int, ...], args: list[float]) -> None:
     if len(args) < 6 or any(a != 0 for a in args[6:]):
         raise ValueError("Parameter out of range")  # modes other than 0: not modelled (D)
     ex, ey, arc = arc_of(m, axes, args)
@@ -83,13 +96,13 @@ def mhelical(m: MC405Machine, axes: tuple[int, ...], args: list[float]) -> None:
     m._load(axes[:3], [ex, ey, rise], arc=arc, kind=MHELICAL)
 
 
-def own_target(m: MC405Machine, axis: int, position: float) -> int:
+def own_target(m: Host, axis: int, position: float) -> int:
     """The axis's own demand (physical counts) at which DPOS reads `position` (what
     DEFPOS and ended ADDAXes shifted taken off)."""
     return round(m._counts(axis, position) - m.axes[axis].datum - m.links.shift[axis])
 
 
-def movemodify(m: MC405Machine, axis: int, position: float) -> None:
+def movemodify(m: Host, axis: int, position: float, min_rate: float) -> None:
     target = own_target(m, axis, position)
     queue = m.queues[axis]
     run = queue[0] if queue else None
@@ -108,9 +121,7 @@ def movemodify(m: MC405Machine, axis: int, position: float) -> None:
         raise ValueError("Parameter out of range")  # (D: only a single axis's last move)
     params = a.params
     speed, accel = params["SPEED"] * a.units, params["ACCEL"] * a.units
-    from .machine import MIN_RATE
-
-    if not min(speed, accel) >= MIN_RATE:
+    if not min(speed, accel) >= min_rate:
         raise ValueError("Parameter out of range")
     now = m._now()
     here = float(m.own_counts(axis, now)[0])
@@ -137,11 +148,11 @@ def movemodify(m: MC405Machine, axis: int, position: float) -> None:
     m.changed()
 
 
-def moves_left(m: MC405Machine, run: Run) -> int:
+def moves_left(m: Host, run: Run) -> int:
     return run.moves_left(m.tick, m.period)
 
 
-def _current(m: MC405Machine, run: Run) -> int:
+def _current(m: Host, run: Run) -> int:
     """The index of the move a started run is on."""
     if run.plan is None or run.profile is not None:
         return 0
@@ -149,7 +160,7 @@ def _current(m: MC405Machine, run: Run) -> int:
     return run.segment_index(s)
 
 
-def held(m: MC405Machine, axis: int) -> tuple[bool, list[int]]:
+def held(m: Host, axis: int) -> tuple[bool, list[int]]:
     """(a move is executing, the MTYPEs of every move the axis holds, in order)."""
     a = m.axes[axis]
     kinds: list[int] = []
@@ -164,7 +175,7 @@ def held(m: MC405Machine, axis: int) -> tuple[bool, list[int]]:
     return executing, kinds
 
 
-def report(m: MC405Machine, name: str, axis: int) -> float:
+def report(m: Host, name: str, axis: int) -> float:
     """The value of one of REPORTS."""
     a = m.axes[axis]
     if name in ("MTYPE", "NTYPE", "MOVES_BUFFERED"):
@@ -195,7 +206,7 @@ def report(m: MC405Machine, name: str, axis: int) -> float:
     return (end + m.links.shift[axis] + a.datum) / a.units  # ENDMOVE
 
 
-def _move_end(m: MC405Machine, axis: int, here: float) -> float:
+def _move_end(m: Host, axis: int, here: float) -> float:
     """Where the axis's own demand ends the move it runs (here when none has an end)."""
     a = m.axes[axis]
     if isinstance(a.link, Movelink) and not a.link.repeat:
@@ -210,7 +221,7 @@ def _move_end(m: MC405Machine, axis: int, here: float) -> float:
     return float(segment.end[run.axes.index(axis)])
 
 
-def set_endmove(m: MC405Machine, axis: int, value: float) -> None:
+def set_endmove(m: Host, axis: int, value: float, min_rate: float) -> None:
     """ENDMOVE = v: on an idle axis the demand steps to v (C: manual, DPOS); on a running
     single-axis move it is MOVEMODIFY(v) (D); otherwise refused."""
     if m.axis_idle(axis):
@@ -223,7 +234,7 @@ def set_endmove(m: MC405Machine, axis: int, value: float) -> None:
         a.fraction = target - a.steps
         m.changed()
         return
-    movemodify(m, axis, value)
+    movemodify(m, axis, value, min_rate)
 
 
 __all__ = ["REPORTS", "arc_of", "held", "mhelical", "move_kind", "movemodify", "report",

@@ -35,8 +35,6 @@ from maxk.firmware_model.path import (
 from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
 
-from .links import Connect, Movelink
-
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
 
@@ -205,6 +203,62 @@ class Cambox:
         step = self.values[j + 1] - self.values[j]
         inside = (travelled >= 0) & (travelled < self.distance)
         return np.where(inside, self.multiplier * step * (n - 1) / self.distance, 0.0)
+
+
+@dataclass
+class Connect:
+    """CONNECT(ratio, link axis): ratio counts of this axis per count of the link axis."""
+
+    ratio: float
+    link: int
+    origin: float = 0.0  # this axis's own demand (counts) when it took effect
+    link_origin: float = 0.0  # the link axis's demand (counts) then
+
+    def counts(self, link_counts: np.ndarray) -> np.ndarray:
+        return self.origin + self.ratio * (link_counts - self.link_origin)
+
+
+@dataclass
+class Movelink:
+    """MOVELINK: `distance` counts over `span` counts of the link axis's travel, ramping
+    over `accel` and `decel` of it (all counts; see the module docstring)."""
+
+    distance: float
+    span: float
+    accel: float
+    decel: float
+    link: int
+    repeat: bool = False  # option 4: runs again and again (both ways) until CANCEL
+    start_at: float | None = None  # option 2: the link position (counts) it starts at
+    origin: float = 0.0
+    link_origin: float = 0.0
+
+    @property
+    def peak(self) -> float:
+        """The axis's counts per link count between the ramps."""
+        return self.distance / (self.span - (self.accel + self.decel) / 2.0)
+
+    def profile(self, u: np.ndarray) -> np.ndarray:
+        """Counts moved after `u` counts of link travel, 0 <= u <= span."""
+        r, a, d, span = self.peak, self.accel, self.decel, self.span
+        out = r * (u - a / 2.0)
+        if a > 0:
+            out = np.where(u < a, r * u * u / (2.0 * a), out)
+        if d > 0:
+            rest = span - u
+            out = np.where(u > span - d, self.distance - r * rest * rest / (2.0 * d), out)
+        return out
+
+    def counts(self, link_counts: np.ndarray) -> np.ndarray:
+        u = link_counts - self.link_origin
+        if self.repeat:
+            cycles = np.floor(u / self.span)
+            return self.origin + cycles * self.distance + self.profile(u - cycles * self.span)
+        return self.origin + self.profile(np.clip(u, 0.0, self.span))
+
+    @property
+    def link_end(self) -> float:
+        return self.link_origin + self.span
 
 
 Link = Connpath | Cambox | Connect | Movelink
