@@ -406,9 +406,10 @@ _ENTRIES: list[Keyword] = [
           "position is not modelled apart from the demand here)."),
     _axis("LINK_AXIS", "The axis a linked move follows (CONNECT, MOVELINK, CAMBOX link "
           "axis, CONNPATH base); -1 none.", writable=False, source=f"{TOK}; {MAN}",
-          confidence="I"),
+          confidence="I", note="-1 for none is our reading of the manual (I)."),
     _axis("ADDAX_AXIS", "The axis ADDAX adds to this one; -1 none.", writable=False,
-          source=f"{TOK}; {MAN}", confidence="I"),
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="-1 for none is our reading of the manual (I)."),
     _function("IN", "IN(n): input n, 1 on / 0 off; IN(a, b): inputs a..b as a binary "
               "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the shared world's inputs (the world contract can drive them)."),
