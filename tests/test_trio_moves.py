@@ -176,6 +176,32 @@ def test_repeated_movelinks_never_drift_off_the_link() -> None:
         assert dpos(trio, 1) == pytest.approx(expected, abs=1e-6), tick
 
 
+@given(distance=st.integers(-500, 500), span=st.integers(1, 400),
+       ramps=st.tuples(st.floats(0, 1), st.floats(0, 1)),
+       moves=st.lists(st.integers(0, 600), min_size=1, max_size=3),
+       probes=st.lists(st.integers(0, 3000), max_size=8))
+def test_movelink_follows_its_profile_over_any_link_moves(
+        distance: int, span: int, ramps: tuple[float, float], moves: list[int],
+        probes: list[int]) -> None:
+    """MOVELINK's rule at every tick: the profile of the link axis's travel since it
+    started (forward moves of the link here), held at the end once the link has
+    travelled the whole distance."""
+    acc, dec = ramps[0] * span, ramps[1] * span
+    if acc + dec > span:  # both shortened in proportion (as the manual says)
+        acc, dec = acc * span / (acc + dec), dec * span / (acc + dec)
+    trio = master("SPEED=700: ACCEL=9000: DECEL=9000")
+    assert trio.send(f"MOVELINK({distance}, {span}, {ramps[0] * span!r}, "
+                     f"{ramps[1] * span!r}, 0) AXIS(3)") == []
+    for counts in moves:
+        trio.send(f"MOVE({counts}) AXIS(0)")
+    for tick in sorted(probes):
+        at(trio, max(tick, trio.tick))
+        u = dpos(trio, 0)
+        expected = link_profile(u, distance, span, acc, dec)
+        assert dpos(trio, 3) == pytest.approx(expected, abs=1e-6), (tick, u)
+        assert read(trio, "MTYPE AXIS(3)") == (22 if u < span - 1e-6 else 0)
+
+
 def test_movelink_options_start_at_a_link_position_and_repeat() -> None:
     trio = master("SPEED=1000: ACCEL=1e6: DECEL=1e6")
     trio.send("MOVELINK(100, 100, 0, 0, 0, 2, 400) AXIS(1)")  # waits for link 400
@@ -440,3 +466,39 @@ def test_a_flying_shear_program_runs_as_written() -> None:
         assert shear == pytest.approx(expected, abs=1e-6), u
     trio.advance(2.0)
     assert b"shear at 0 after 3" in session.read()
+
+
+def test_extreme_linked_moves_stay_finite_or_are_refused() -> None:
+    trio = master("SPEED=1000: ACCEL=1e6: DECEL=1e6")
+    reply = trio.send("MOVELINK(1e15, 1e-300, 0, 0, 0, 4) AXIS(1)")
+    assert len(reply) == 1 and "Parameter out of range" in reply[0]
+    for line in ("MOVELINK(1e20, 10, 0, 0, 0) AXIS(1)", "CONNECT(1e300, 0) AXIS(1)",
+                 "MHELICAL(1, 0, 1, 0, 0, 1e300)", "MOVEMODIFY(1e300) AXIS(0)",
+                 "ENDMOVE AXIS(0) = 1e300"):
+        reply = trio.send(line)
+        assert len(reply) == 1 and "Parameter out of range" in reply[0], (line, reply)
+    assert trio.send("MOVELINK(5e14, 1e-6, 0, 0, 0, 4) AXIS(2)") == []  # the shortest
+    assert trio.send("CONNECT(1e15, 0) AXIS(3)") == []
+    trio.send("MOVE(1000) AXIS(0)")
+    trio.advance(2.0)
+    for axis in (2, 3):
+        assert math.isfinite(dpos(trio, axis))
+        assert math.isfinite(read(trio, f"MSPEED AXIS({axis})"))
+    assert trio.query("?PWM_ENCODER AXIS(3)") != ""
+    trio.reset()  # a restart (EX) drops every link and ADDAX
+    assert [read(trio, f"MTYPE AXIS({a})") for a in (1, 2, 3)] == [0, 0, 0]
+
+
+def test_a_program_loading_links_endlessly_waits_on_the_buffer() -> None:
+    """A program that loads MOVELINKs faster than they run holds at 16 per axis."""
+    trio = MC405()
+    assert trio.load("FILL", "\n".join([
+        "BASE(1)", "n = 0", "WHILE n < 100", "  MOVELINK(1, 10, 0, 0, 0)", "  n = n + 1",
+        "WEND"])) == []
+    assert trio.send('RUN "FILL"') == []
+    trio.advance(1.0)
+    assert read(trio, "MOVES_BUFFERED AXIS(1)") == 15 and read(trio, "MTYPE AXIS(1)") == 22
+    trio.send("BASE(0): SPEED=1000: ACCEL=1e6: DECEL=1e6: MOVE(1000)")
+    trio.advance(2.0)
+    assert dpos(trio, 1) == pytest.approx(100.0, abs=1e-9)  # every one ran, in order
+    assert read(trio, "IDLE AXIS(1)") == -1

@@ -67,6 +67,9 @@ class Host(Protocol):
 REACHED = 1e-6
 """How close (counts of the link axis) counts as having travelled a MOVELINK's link
 distance (D: float rounding of a position computed exactly on a whole count)."""
+MIN_SPAN = 1e-6
+"""The shortest link distance, counts (D: shorter, a repeating MOVELINK's cycle count
+would overflow a double)."""
 LINK_OPTIONS = (0, 2, 4, 6)
 """MOVELINK link options modelled: 2 starts at an absolute link position, 4 repeats
 (D: 1, starting on a registration event, and the newer bits are refused)."""
@@ -86,6 +89,8 @@ def movelink_from(args: list[float], units: float, link_units: float) -> Movelin
         scale = span / (accel + decel)
         accel, decel = accel * scale, decel * scale
     counts = [v * link_units for v in (span, accel, decel)]
+    if not counts[0] >= MIN_SPAN:
+        raise ValueError("Parameter out of range")
     start = args[6] * link_units if int(options) & 2 and len(args) > 6 else None
     if int(options) & 2 and start is None:
         raise ValueError("Parameter out of range")  # option 2 needs its link position

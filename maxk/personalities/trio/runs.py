@@ -233,21 +233,20 @@ class Movelink:
     origin: float = 0.0
     link_origin: float = 0.0
 
-    @property
-    def peak(self) -> float:
-        """The axis's counts per link count between the ramps."""
-        return self.distance / (self.span - (self.accel + self.decel) / 2.0)
-
     def profile(self, u: np.ndarray) -> np.ndarray:
-        """Counts moved after `u` counts of link travel, 0 <= u <= span."""
-        r, a, d, span = self.peak, self.accel, self.decel, self.span
-        out = r * (u - a / 2.0)
-        if a > 0:
-            out = np.where(u < a, r * u * u / (2.0 * a), out)
-        if d > 0:
-            rest = span - u
-            out = np.where(u > span - d, self.distance - r * rest * rest / (2.0 * d), out)
-        return out
+        """Counts moved after `u` counts of link travel, 0 <= u <= span: distance x a
+        shape of u / span (at most twice the mean ratio: no overflow for any span)."""
+        x = u / self.span
+        a, d = self.accel / self.span, self.decel / self.span
+        peak = 1.0 / (1.0 - (a + d) / 2.0)  # the share of the link's speed between ramps
+        shape = peak * (x - a / 2.0)
+        with np.errstate(over="ignore"):  # (a tiny ramp's branch where it is not taken)
+            if a > 0:
+                shape = np.where(x < a, peak * x * x / (2.0 * a), shape)
+            if d > 0:
+                rest = 1.0 - x
+                shape = np.where(x > 1.0 - d, 1.0 - peak * rest * rest / (2.0 * d), shape)
+        return self.distance * shape
 
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
         u = link_counts - self.link_origin
