@@ -203,8 +203,8 @@ def report(m: Host, name: str, axis: int) -> float:
     end = _move_end(m, axis, here)
     if name == "REMAIN":
         return abs(end - here) / a.units
-    added = float(m.demand_counts(axis, now)[0]) - here  # ADDAX's part, as DPOS has it
-    return (end + added + a.datum) / a.units  # ENDMOVE
+    extra = float(m.demand_counts(axis, now)[0]) - here  # ADDAX's part, as DPOS has it
+    return (end + extra + a.datum) / a.units  # ENDMOVE
 
 
 def _move_end(m: Host, axis: int, here: float) -> float:
