@@ -50,12 +50,12 @@ class Host(Protocol):
     revision: int
     tick: int
     period: float
-    motion_events: Any  # its next_event(): the next tick the motion changes by itself
     outputs: Any  # its sync_all(): the PWM encoders see the motion before it changes
 
     @property
     def axis_count(self) -> int: ...
     def changed(self) -> None: ...
+    def motion_horizon(self) -> int | None: ...
     def _now(self) -> np.ndarray: ...
     def _buffered(self, axis: int) -> int: ...
     def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None: ...
@@ -291,7 +291,7 @@ class LinkedMoves:
         m = self.machine
         if self._cache[0] == m.revision:
             return self._cache[1]
-        horizon = m.motion_events.next_event()
+        horizon = m.motion_horizon()
         best: int | None = None
         for a in m.axes:
             link = a.link

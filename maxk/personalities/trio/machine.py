@@ -84,10 +84,9 @@ class MC405Machine(Kinematics, Engine):
         self.world = World.default(axis_count)  # the machine around it: kept over EX
         self._power_up()
         self.outputs = PwmLinks(self)
-        self.motion_events = _MotionEvents(self)
-        self.add_source(self.motion_events)
-        self.add_source(self.links)  # MOVELINKs ending (links.py)
+        self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
+        self.add_source(self.links)  # MOVELINKs ending (links.py)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -370,6 +369,13 @@ class MC405Machine(Kinematics, Engine):
 
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         moves.movemodify(self, axis, args[0], MIN_RATE)
+
+    def motion_horizon(self) -> int | None:
+        """The next tick the motion changes by itself (a run or a CAMBOX ends)."""
+        for source in self._sources:
+            if isinstance(source, _MotionEvents):
+                return source.next_event()
+        return None
 
     def can_link(self, axis: int) -> bool:
         return self.links.can_load(axis)
