@@ -502,3 +502,32 @@ def test_a_program_loading_links_endlessly_waits_on_the_buffer() -> None:
     trio.advance(2.0)
     assert dpos(trio, 1) == pytest.approx(100.0, abs=1e-9)  # every one ran, in order
     assert read(trio, "IDLE AXIS(1)") == -1
+
+
+def test_a_cambox_on_a_connected_axis_ends_and_a_movelink_behind_it_starts() -> None:
+    """A CAMBOX linked to an axis that is itself CONNECTed ends on the tick the link
+    has travelled its distance; the MOVELINK buffered behind it then takes over."""
+    trio = master("SPEED=100: ACCEL=1e6: DECEL=1e6")
+    trio.send("TABLE(0, 0, 40, 80)")
+    trio.send("CONNECT(2,0) AXIS(5)")  # the cam's master runs at twice axis 0
+    assert trio.send("CAMBOX(0, 2, 1, 100, 5) AXIS(6)") == []
+    assert trio.send("MOVELINK(10, 20, 0, 0, 5) AXIS(6)") == []
+    assert (read(trio, "MTYPE AXIS(6)"), read(trio, "NTYPE AXIS(6)")) == (20, 22)
+    trio.send("MOVE(100) AXIS(0)")
+    for tick in (0, 100, 300, 499):
+        at(trio, tick)
+        travel = dpos(trio, 5)
+        assert dpos(trio, 6) == pytest.approx(80 * travel / 100, abs=1e-9), tick
+        assert read(trio, "MTYPE AXIS(6)") == 20
+    # axis 0 ramps in 0.1 ms (0.005 of travel lost), so the cam's master, 200 t - 0.01,
+    # passes 100 between ticks 500 and 501
+    at(trio, 500)
+    assert read(trio, "MTYPE AXIS(6)") == 20
+    at(trio, 501)
+    assert (read(trio, "MTYPE AXIS(6)"), dpos(trio, 6)) == (22, 80.0)
+    taken_up = dpos(trio, 5)  # (not a MOVELINK before it: from the tick's position)
+    at(trio, 550)
+    assert dpos(trio, 6) == pytest.approx(80 + 10 * (dpos(trio, 5) - taken_up) / 20,
+                                          abs=1e-9)
+    trio.advance(1.0)
+    assert (dpos(trio, 6), read(trio, "IDLE AXIS(6)")) == (pytest.approx(90.0), -1)

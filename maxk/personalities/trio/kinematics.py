@@ -136,6 +136,8 @@ class Kinematics:
         """The tick the link axis has travelled the CAMBOX's link distance."""
         link = self.axes[axis].link
         assert isinstance(link, Cambox)
+        if self.links.ends_here(link):
+            return None  # on a linked (or ADDAX) link axis: links.py finds its end
         if self.dpos(link.link) - link.link_origin >= link.distance - 1e-9:
             return self.tick
         target = link.link_origin + link.distance  # link axis DPOS, user units

@@ -39,7 +39,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .runs import Connect, Link, Movelink, Run, TrioAxis
+from .runs import Cambox, Connect, Link, Movelink, Run, TrioAxis
 
 
 class Host(Protocol):
@@ -59,6 +59,7 @@ class Host(Protocol):
     def _now(self) -> np.ndarray: ...
     def _buffered(self, axis: int) -> int: ...
     def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None: ...
+    def _unlink(self, axis: int) -> None: ...
     def demand(self, axis: int) -> float: ...
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
     def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
@@ -247,7 +248,8 @@ class LinkedMoves:
         return True
 
     def cancelled(self, axis: int) -> None:
-        """CANCEL ended the running link: the next one buffered takes over from here."""
+        """The running link ended (CANCEL, a CAMBOX done): the next one buffered takes
+        over from here."""
         m = self.machine
         a = m.axes[axis]
         if a.link is None and a.pending_link is None and self.chains[axis]:
@@ -262,26 +264,42 @@ class LinkedMoves:
         for chain in self.chains:
             chain.clear()
 
-    # ---- the engine's events: a MOVELINK ends -----------------------------------------
-    def _travelled(self, link: Movelink, tick: int) -> bool:
-        m = self.machine
-        position = float(m.demand_counts(link.link, np.array([tick]))[0])
-        return position >= link.link_end - REACHED
+    # ---- the engine's events: a MOVELINK ends (and a CAMBOX on a linked axis) ----------
+    def ends_here(self, link: Link) -> bool:
+        """A link whose end this source finds: a MOVELINK, or a CAMBOX whose link axis is
+        itself linked or has ADDAX (the machine's CAMBOX search follows moves only)."""
+        if isinstance(link, Movelink):
+            return not link.repeat
+        if isinstance(link, Cambox):
+            leader = link.link
+            return (isinstance(self.machine.axes[leader].link, Connect | Movelink | Cambox)
+                    or leader in self.addax or self.shift[leader] != 0)
+        return False
 
-    def end_tick(self, link: Movelink, horizon: int | None) -> int | None:
+    def _done(self, link: Link, tick: int) -> bool:
+        m = self.machine
+        if isinstance(link, Movelink):
+            position = float(m.demand_counts(link.link, np.array([tick]))[0])
+            return position >= link.link_end - REACHED
+        assert isinstance(link, Cambox)
+        la = m.axes[link.link]
+        position = float(m.demand_counts(link.link, np.array([tick]))[0])
+        return (position + la.datum) / la.units - link.link_origin >= link.distance - 1e-9
+
+    def end_tick(self, link: Link, horizon: int | None) -> int | None:
         """The first servo tick the link axis has travelled the link distance, up to the
         horizon (the next tick the motion changes by itself: until then the link axis's
         position is one closed form, taken as monotonic, D); None: not by then."""
         m = self.machine
         now = m.tick
-        if self._travelled(link, now):
+        if self._done(link, now):
             return now
-        if horizon is None or horizon <= now or not self._travelled(link, horizon):
+        if horizon is None or horizon <= now or not self._done(link, horizon):
             return None
         lo, hi = now, horizon
         while hi - lo > 1:
             mid = (lo + hi) // 2
-            if self._travelled(link, mid):
+            if self._done(link, mid):
                 hi = mid
             else:
                 lo = mid
@@ -295,7 +313,7 @@ class LinkedMoves:
         best: int | None = None
         for a in m.axes:
             link = a.link
-            if isinstance(link, Movelink) and not link.repeat:
+            if link is not None and self.ends_here(link):
                 tick = self.end_tick(link, horizon)
                 if tick is not None and (best is None or tick < best):
                     best = tick
@@ -307,8 +325,13 @@ class LinkedMoves:
         m.outputs.sync_all()  # the encoders see the motion before it changes
         for axis, a in enumerate(m.axes):
             link = a.link
-            if isinstance(link, Movelink) and not link.repeat and self._travelled(link, now):
+            if link is None or not self.ends_here(link) or not self._done(link, now):
+                continue
+            if isinstance(link, Movelink):
                 self.finish(axis, link)
+            else:  # a CAMBOX: the machine's own end of one, then what is buffered
+                m._unlink(axis)
+                self.cancelled(axis)
         m.changed()
 
     def finish(self, axis: int, link: Movelink) -> None:

@@ -533,6 +533,7 @@ class MC405Machine(Kinematics, Engine):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
                 self._unlink(a)
+                self.links.cancelled(a)  # a linked move buffered behind it starts
                 self.changed()
 
 
