@@ -295,7 +295,7 @@ def test_console() -> None:
     assert console.new_errors() == []
     assert console.execute("TE") == ["TEC"]  # the console saw it without clearing it
     session = mm.open_session()  # a host's error shows too
-    session.feed(b"XX\r")
+    session.feed(b"ZZ\r")  # not a command of the manual's list
     assert console.new_errors() == ["! A Unknown message code"]
     assert console.help("ms")[0].startswith("MS: ")
     assert console.help("ZZ") is None

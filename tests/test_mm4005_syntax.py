@@ -147,7 +147,7 @@ def test_a_refused_command_stops_the_line_and_keeps_what_ran_before() -> None:
 def test_the_error_register_keeps_only_the_last_error() -> None:
     _, s = _session()
     _ask(s, "9TP")
-    _ask(s, "XX")
+    _ask(s, "ZZ")  # not a command of the manual's list
     assert _ask(s, "TB") == b"TBA Unknown message code\r"
     assert _ask(s, "TB") == b"TB@ No error\r"
 

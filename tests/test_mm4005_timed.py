@@ -120,20 +120,20 @@ def test_line_endings(end: bytes) -> None:
 def test_every_host_mnemonic_is_known() -> None:
     mm = MM4005Controller("MM4005-2")
     s: MM4005Session = mm.open_session()
-    for query in ("TS", "1TN", "1TA", "1DA", "1DF", "1DV", "1XB", "1XI", "XP", "ZP", "ZT",
-                  "1KP?", "1KI?", "1KD?", "1KS?", "1OL?", "1OH?", "1VU?", "1SN?", "1SU?",
-                  "1SD?", "1MR?", "1BA?", "1GC?", "UC?", "MB?", "ME?", "MN?", "XC", "NQ"):
+    for query in ("TS", "1TN", "1TA", "1DA", "1DF", "1DV", "1XB", "1XI", "1XP", "1XD", "1XF",
+                  "1TF", "1KS?", "1OL?", "1OH?", "1VU?", "1SN?", "1SU?", "SD?", "1SY?", "TX",
+                  "1GC?", "UC?", "MB?", "ME?", "MN?", "XC", "NQ"):
         s.feed(query.encode() + b"\r")
         assert s.read(), query
         s.feed(b"TE\r")
         assert s.read() == b"TE@\r", query
-    for command in ("1KP10", "1KI1", "1KD0.5", "1UF", "1BA0.01", "SY", "1OL0.5", "1OH2",
-                    "2SN2", "1SD1", "1MR0", "LS", "AB"):
+    for command in ("1KP10", "1KI1", "1KD0.5", "1UF", "1BA0.01", "1SY1", "1OL0.5", "1OH2",
+                    "2SN2", "SD50", "1ZP", "LS", "AB"):
         s.feed(command.encode() + b"\r")
         s.feed(b"TE\r")
         assert s.read() == b"TE@\r", command
-    s.feed(b"1KP?;1XB\r")
-    assert s.read() == b"1KP10\r1XB0.01\r"
+    s.feed(b"1XP;1XB\r")
+    assert s.read() == b"1XP10\r1XB0.01\r"
 
 
 @pytest.mark.parametrize("operand", ["1e308", "-1e308", "1e-320", "NaN", "inf",
@@ -194,11 +194,11 @@ def test_servo_follows_with_lag_and_factory_gains_stay_exact() -> None:
 
 def test_following_error_turns_the_motor_off() -> None:
     mm = MM4005Controller("MM4005-2")
-    mm.send("1KP10;1KI1;1KD160;1UF;1FE0.005;1PA1")
+    mm.send("1KP10;1KI1;1KD160;1FE0.005;1UF;1PA1")
     mm.engine.advance(400)
     assert mm.send("1MS;TB") == ["1MSF", "TBF Following error"]  # off, direction +
     assert mm.send("1PA2") == [] and mm.send("TE") == ["TED"]  # refused: power off
-    assert mm.send("1MO;1FE1;1PA0;TE") == ["TE@"]
+    assert mm.send("1MO;1FE1;1UF;1PA0;TE") == ["TE@"]
     mm.run_until_idle()
     mm.engine.advance(4000)
     assert abs(float(mm.send("1TP")[0][3:])) < 0.01
@@ -210,7 +210,8 @@ def test_ec_refuses_a_run_outside_the_travel_limits_and_bad_forms() -> None:
     s.feed(b"1SR5\rNC\r1DC1\r1DT1\r1DX3\r2DT1\r1DX3\rVC\rTB\r0EC1\rTB\r1MS\r")
     assert s.read() == b"TB@ No error\rTBR Trajectory outside travel limits\r1MSD\r"
     for line, code in ((b"0DT1", b"C"), (b"5DT1", b"L"), (b"1RC7", b"C"), (b"RC1", b"B"),
-                       (b"9GC?", b"B"), (b"1EC1", b"C"), (b"1TQ", b"C"), (b"1DC2", b"C"),
+                       (b"9GC?", b"B"), (b"1EC1", b"R"), (b"2EC1", b"C"), (b"1TQ", b"C"),
+                       (b"1DC2", b"C"),
                        (b"MN2002", b"P"), (b"1234567890TQ", b"B"), (b"1RC?", b"C"),
                        (b"1RC", b"C")):
         s.feed(line + b"\rTE\r")
@@ -239,23 +240,23 @@ def test_two_hosts_one_runs_the_other_aborts() -> None:
 
 def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
     mm = MM4005Controller("MM4005-2")
-    assert mm.send("TS;1TN;1TA;1SU?;XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "XP0"]
-    assert mm.send("1VU?;1FE?;1KS?") == ["1VU100", "1FE1", "1KS1"]
-    assert mm.send("KP?") == ["1KP0,2KP0"]  # without an axis: every axis
+    assert mm.send("TS;1TN;1TA;1SU?;1XP") == ["TS@", "1TNmm", "1TADC", "1SU0.001", "1XP0"]
+    assert mm.send("1VU?;1XF;1KS?") == ["1VU100", "1XF1", "1KS1"]
+    assert mm.send("VU?") == ["1VU100,2VU100"]  # without an axis: every axis
     assert mm.send("1KP-1") == [] and mm.send("TE") == ["TEC"]  # out of range: unchanged
     assert mm.send("1SN2.5") == [] and mm.send("TE") == ["TEC"]  # an integer setting
     assert mm.send("1SU0.01") == [] and mm.send("TE") == ["TEC"]  # TU is fixed
-    assert mm.send("1KP?;1SN?") == ["1KP0", "1SN0"]
+    assert mm.send("1XP;1SN?") == ["1XP0", "1SN2"]  # 2 = mm (sibling ESP300 codes)
     assert mm.send("1BA0.02;1XB;1DA;1VA2;1AC8;1MV1;TS") == ["1XB0.02", "1DA4", "TSA"]
     mm.engine.advance(1000)  # 0.5 s: at VA 2 after a 0.25 s ramp at AC 8
-    assert mm.send("1DV;1MS") == ["1DV2.0000", "1MSE"]
+    assert mm.send("1DV;1DV1;1MS") == ["1DV2.0000", "1DV100.0000", "1MSE"]
     assert mm.send("1ST") == []
     mm.run_until_idle()
-    assert mm.send("1ML-1;TE") == ["TE@"]
+    assert mm.send("1MV-;TE") == ["TE@"]
     assert mm.send("1MV0") == [] and mm.send("TE") == ["TEC"]
-    zt = mm.send("ZT")
-    assert len(zt) == 2 and zt[0].startswith("1ZT VA2 AC8 TL-100 TR100 KP0")
-    assert mm.send("MB3;ME7;MN9;ZP") == ["ZP MB3 ME7 MN9 NQ0"]
+    mm.send("1ST")
+    mm.run_until_idle()
+    assert mm.send("1ZP;1TP;1TL;1TR") == ["1TP0.0000", "1TL-100.0000", "1TR100.0000"]
 
 
 def test_servo_axes_in_a_time_based_run_read_back_their_lag() -> None:

@@ -403,12 +403,12 @@ def _shorten(part: str) -> str:
 
 class MM4005WorldView(WorldView):
     """The MM4005's world behind the contract: axes named 1..n as its commands number
-    them (`1PA10`), positions in encoder counts since power-up; no general inputs are
-    modelled, so the view has none (D)."""
+    them (`1PA10`), positions in encoder counts since power-up; the GPIO inputs 1..8
+    that RB reads (manual 3.103); no analog inputs (RA's page was not found)."""
 
     def __init__(self, machine: MM4005) -> None:
         super().__init__(machine.world, [str(n) for n in range(1, len(machine.axes) + 1)],
-                         inputs=(), analog=(), changed=machine.world_changed,
+                         inputs=tuple(range(1, 9)), analog=(), changed=machine.world_changed,
                          source_owner=machine)
         self.machine = machine
 

@@ -54,12 +54,16 @@ class FakeMM4005:
     timed: TimedTrajectory = field(default_factory=lambda: TimedTrajectory(4))
     pulse_trace: PulseTrace = field(default_factory=PulseTrace)
     settings: list[AxisSettings] = field(default_factory=list)
+    inputs: dict[int, bool] = field(default_factory=dict)  # GPIO input bit -> level (RB)
 
     def __post_init__(self) -> None:
         if not self.axes:
             self.axes = [FakeAxis() for _ in range(self.axis_count)]
         self.timed = TimedTrajectory(self.axis_count)
         self.settings = [AxisSettings() for _ in range(self.axis_count)]
+
+    def input_level(self, bit: int) -> bool:
+        return self.inputs.get(bit, False)
 
     # --- the time-based trajectory: defined and verified here; it runs on the engine ------
     def verify_timed(self) -> None:

@@ -68,17 +68,21 @@ def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bo
             return None, True
         raise MM4005Error(PARAMETER, f"{spec.mnemonic} cannot be queried")
     kind = spec.operand
+    if kind is Operand.ANY:
+        return (text or None), False
     if kind is Operand.CHAR:
         if len(text) > 1:
             raise MM4005Error(PARAMETER, "one character expected")
         return (text.upper() or None), False
     if not text:
-        if kind in (Operand.NUMBER, Operand.INTEGER):
+        if kind in (Operand.NUMBER, Operand.INTEGER, Operand.SIGN):
             raise MM4005Error(PARAMETER, f"{spec.mnemonic} needs a value")
         return (0 if kind is Operand.MODE else None), False
     if kind is Operand.NONE:
         raise MM4005Error(PARAMETER, f"{spec.mnemonic} takes no value")
-    if kind is Operand.NUMBER:
+    if kind is Operand.SIGN and text in ("+", "-"):
+        return (1.0 if text == "+" else -1.0), False
+    if kind in (Operand.NUMBER, Operand.OPTIONAL_NUMBER, Operand.SIGN):
         if not _NUMBER.match(text):
             raise MM4005Error(PARAMETER, f"not a number: {text!r}")
         value = float(text)

@@ -137,6 +137,10 @@ class MM4005Machine(Protocol):
         """VC."""
         ...
 
+    def input_level(self, bit: int) -> bool:
+        """RB: the level of GPIO input bit 1..8, as the world around the controller sets it."""
+        ...
+
     def execute_timed(self, scale: float) -> None:
         """EC at a time scale."""
         ...

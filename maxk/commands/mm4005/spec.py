@@ -29,6 +29,9 @@ class Operand(Enum):
     INTEGER = "integer"
     CHAR = "char"  # TB's error code
     MODE = "mode"  # OR's optional search mode 0..2
+    OPTIONAL_NUMBER = "optional number"  # BA: a missing value means 0 (manual 3.25)
+    SIGN = "sign"  # MV: '+', '-' or a signed number (sibling ESP300 'xxMV+')
+    ANY = "any"  # a listed command not modelled: whatever follows is taken (it answers Q)
 
 
 @dataclass(slots=True)

@@ -14,9 +14,11 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_manual as mn
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
+from . import manual_list as ml
 from .spec import AxisRule, CommandSpec, Handler, Operand
 
 _ONE = AxisRule.ALL_OR_ONE
@@ -35,9 +37,9 @@ def _spec(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, *, 
 
 
 def _tell(mnemonic: str, handler: Handler, axis: AxisRule, source: str, confidence: str,
-          note: str = "", operand: Operand = _NONE) -> CommandSpec:
+          note: str = "", operand: Operand = _NONE, summary: str = "") -> CommandSpec:
     return _spec(mnemonic, handler, axis, operand, query=False, replies=True, source=source,
-                 confidence=confidence, note=note)
+                 confidence=confidence, note=note, summary=summary)
 
 
 def _set(mnemonic: str, handler: Handler, axis: AxisRule, operand: Operand, source: str,
@@ -148,6 +150,7 @@ _DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
 )
 
 _SCAN = "EPICS MM4005_trajectoryScan.st (reference mm4005-trajectory-scan.md)"
+_LIST = ml.SOURCE
 _NOPAGE = "the MM4005 page was not found; "
 
 _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
@@ -179,9 +182,11 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          "maximum speed change between elements; default 0 = not checked (D)"),
     _set("LS", tm.load_sequence, _NO, _NONE, f"{_SCAN} #14 'LS,<s>EC'", "D",
          _NOPAGE + "accepted, no effect", query=False),
-    _set("EC", tm.execute_timed, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
-         "C", "prefix 0 real (1 simulate: refused C, not modelled); element times x the "
-         "operand, 0.01..1000 (D); H if an element then beats VU", query=False),
+    _set("EC", mn.execute, AxisRule.ELEMENT, _NUM, f"{_SCAN} #14 '<s>EC<timescale>'",
+         "C", "prefix 0 real, 1 simulation (the scan's SimMode); element times x the "
+         "operand, 0.01..1000 (D); H if an element then beats VU. 1EC (D, page not "
+         "found): 0EC's checks and letters (J D H R) without moving anything; XC, NQ, TQ "
+         "keep the last real run", query=False),
     _tell("XC", tm.elements_done, _NO, f"{_SCAN} #16 'XC1' -> 'XCnnnn'", "C",
           "elements completed; an operand 0..2 is accepted and ignored (D)",
           operand=Operand.MODE),
@@ -192,70 +197,159 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("AB", tm.abort_motion, _NO, _NONE, f"{_SCAN} #22 'AB' on the Abort PV", "C",
          "every motion and trajectory stops at once, power stays on (D)", query=False),
     # --- servo gains (EPICS model 1 driver) and other settings ---
-    _set("KP", st.setting, _ONE, _NUM, "EPICS model 1 'nKP' (PID gains)", "C",
-         "0..1e6; takes effect at UF; KP 0 (factory) = the exact profile-only axis (D)",
+    _set("KP", st.setting, _REQ, _NUM, "EPICS model 1 'nKP'; manual 3.177 XP 'Rel. Commands: "
+         "KP - Set proportional gain'", "C",
+         "axis 1..4 required and no '?' as the KI and KD pages (I); read with XP; "
+         "takes effect at UF; 0..1e6 in the shared servo's gain scale (the manual's KD "
+         "page says 0 to 1: its scale is not modelled, D); KP 0 (factory) = the exact "
+         "profile-only axis (D)", query=False,
          summary="KP: proportional gain of the servo loop"),
-    _set("KI", st.setting, _ONE, _NUM, "EPICS model 1 'nKI'", "C", "as KP",
+    _set("KI", st.setting, _REQ, _NUM, "manual 3.64 KI 'xxKInn' (axis 1..4, nn missing: C); "
+         "EPICS model 1 'nKI'", "C",
+         "no '?' (read with XI); effect at UF; the manual's range 0 to 1 is in its own "
+         "scale, here the shared servo's 0..1e6 (D)", query=False,
          summary="KI: integral gain of the servo loop"),
-    _set("KD", st.setting, _ONE, _NUM, "EPICS model 1 'nKD'", "C", "as KP",
+    _set("KD", st.setting, _REQ, _NUM, "manual 3.63 KD 'xxKDnn' (axis 1..4, nn missing: C); "
+         "EPICS model 1 'nKD'", "C",
+         "no '?' (read with XD); effect at UF; the manual's range 0 to 1 is in its own "
+         "scale, here the shared servo's 0..1e6 (D)", query=False,
          summary="KD: derivative gain of the servo loop"),
-    _set("KS", st.setting, _ONE, _NUM, "hosts' 'nKS'", "I",
-         _NOPAGE + "read as integral saturation, 0..1 (I)",
+    _set("KS", st.setting, _REQ, _NUM, "manual 3.66 KS 'xxKSnn or xxKS?', 0 to 1", "C",
+         "saturation of the integral factor, a fraction of the maximum output; effect at "
+         "UF; 'nKS?' reads the value set (I: the page says 'actual')",
          summary="KS: integral saturation of the servo loop"),
-    _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains", "C",
-         "the gains set take effect (I)", query=False),
-    _set("FE", st.setting, _ONE, _NUM, "sibling Newport ESP 'FE' following-error limit", "I",
-         _NOPAGE + "stored, default 1 unit (D)",
-         summary="FE: following-error limit (motor off beyond it)"),
-    _set("BA", st.setting, _ONE, _NUM, "hosts' 'nBA' backlash compensation", "I",
-         _NOPAGE + "stored, no effect on motion (D)",
-         summary="BA: backlash compensation"),
-    _tell("XB", st.tell_backlash, _ONE, "hosts' 'nXB'", "I", _NOPAGE + "reads BA (I)"),
-    _set("OH", st.setting, _ONE, _NUM, "hosts' 'nOH' home search high speed", "I",
+    _set("UF", st.update_filter, _ONE, _NONE, "EPICS model 1 'nUF' after the gains; manual "
+         "3.63 KD 'no effect until the UF (update filter) is received'", "C",
+         "KP, KI, KD, KS set take effect; without an axis every axis (D)", query=False),
+    _set("FE", st.following_error_limit, _REQ, _NUM, "manual 3.56 FE 'xxFEnn' (axis 1..4, "
+         "nn missing: C)", "C",
+         "2 x TU up to the travel TR - TL (the manual's 'maximum device travel', D), else C; "
+         "no '?' (XF reads it); takes effect at the next UF; beyond it the motor turns off "
+         "(the manual: every axis stops and every motor turns off; here the axis that "
+         "lagged, D); default 1 unit (D)", query=False,
+         summary="FE: maximum following error (motor off beyond it)"),
+    _set("FF", st.master_slave_limit, _REQ, _NUM, "manual 3.57 FF 'xxFFnn or xxFF?'", "C",
+         "2 x TU up to TR - TL, default 1 unit (D); stored and read back: master-slave "
+         "(gearing) is not modelled, so it never trips",
+         summary="FF: maximum master-slave following error"),
+    _set("SS", mn.master_slave, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.122 SS 'xxSSnp or xxSS?' (n master 1..4, missing 0 = master; p 0 "
+         "theoretical, 1 real position)", "C",
+         "master-slave is not modelled: 'xxSS?' reads 0 (every axis its own master), "
+         "'xxSS'/'xxSS0' are accepted, slaving to another axis answers Q; n or p out of "
+         "range C"),
+    _set("GR", mn.reduction_ratio, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.60 GR 'xxGRnn or xxGR?', 0.0001 to 10000, nn missing: 1.0", "C",
+         "stored and read back ('2GR?' -> '2GR100'); no axis can be slaved here (SS), so "
+         "it moves nothing", summary="GR: master-slave reduction ratio"),
+    _tell("RB", mn.read_inputs, AxisRule.ELEMENT, "manual 3.103 RB 'xxRB', xx 0 to 8 "
+          "(missing 0, out of range E); example '0RB' -> 'RB209'", "C",
+          "the world's digital inputs 1..8 (`@world input 3 high`, the REPL's :world); "
+          "the byte has bit 1 as its least significant bit; 'xxRB0|1' for one bit; the whole "
+          "byte answers 'RBnn' for '0RB' and 'RB' alike (the manual's example, D)",
+          summary="RB: read the GPIO input port or one of its bits"),
+    _tell("XP", st.tell_gain, _REQ, "manual 3.177 XP 'xxXP' -> 'xxXPnn'", "C",
+          "the proportional gain the loop uses (as of the last UF), shortest form (I)",
+          summary="XP: read the proportional gain the servo loop uses (since the last UF)"),
+    _tell("XI", st.tell_gain, _REQ, "manual 3.173 XI 'xxXI' -> 'xxXInn'", "C",
+          "the integral gain the loop uses (as of the last UF)",
+          summary="XI: read the integral gain the servo loop uses (since the last UF)"),
+    _tell("XD", st.tell_gain, _REQ, "manual 3.169 XD 'xxXD' -> 'xxXDnn'", "C",
+          "the derivative gain the loop uses (as of the last UF)",
+          summary="XD: read the derivative gain the servo loop uses (since the last UF)"),
+    _tell("XF", st.tell_following_limit, _REQ, "manual 3.171 XF 'xxXF' -> 'xxXFnn'", "C",
+          "the maximum following error in force (FE as of the last UF)"),
+    _tell("TF", st.tell_filter, _REQ, "manual 3.169-3.177 XD/XI/XP/XF 'Rel. Commands: TF - "
+          "Read filter parameters'", "C",
+          "its page was not found: the layout 'nTFKPa,KIb,KDc,KSd,FEe' (the values in the "
+          "loop) is ours (D)"),
+    _set("BA", st.backlash, _REQ, Operand.OPTIONAL_NUMBER,
+         "manual 3.25 BA 'xxBAnn', axis 1..4 (missing: B), nn missing: 0", "C",
+         "0 to the distance of 10000 encoder counts (10000 x TU), else C; 0 disables; read "
+         "with XB (the manual's syntax has no '?'). Stored: the correction on reversals "
+         "is not applied to motion (not modelled)", query=False),
+    _tell("XB", st.tell_backlash, _ONE, "manual 3.25 BA 'Rel. Commands: XB - Read backlash "
+          "compensation'", "C", "reply 'nXBvalue' like the other reads (I)"),
+    _set("OH", st.setting, _ONE, _NUM, f"{_LIST}: special motion parameters; sibling ESP300 "
+         "'OH set home search high speed'", "I",
          _NOPAGE + "stored; OR searches at VA (D)",
          summary="OH: home search high speed"),
-    _set("OL", st.setting, _ONE, _NUM, "hosts' 'nOL' home search low speed", "I",
+    _set("OL", st.setting, _ONE, _NUM, f"{_LIST}: special motion parameters; sibling ESP300 "
+         "'OL set home search low speed'", "I",
          _NOPAGE + "stored; OR searches at VA (D)",
          summary="OL: home search low speed"),
-    _set("VU", st.setting, _ONE, _NUM, "hosts' 'nVU' maximum speed", "I",
-         _NOPAGE + "default 100 units/s (D); VC checks each element against it",
+    _set("VU", st.setting, _ONE, _NUM, "sibling ESP300 'VU set maximum speed'; the maximum "
+         "the time-based trajectory's VC checks", "D",
+         "not in the 06/99 manual's list (later firmware, D); default 100 units/s (D); VC "
+         "and DV1 read it",
          summary="VU: maximum speed of the axis"),
-    _set("SN", st.setting, _ONE, Operand.INTEGER, "hosts' 'nSN' units", "D",
-         _NOPAGE + "a units code 0..10, stored; TN reads 'mm' (D)",
+    _set("SN", st.setting, _ONE, Operand.INTEGER, f"{_LIST}: motor and stage set-up; sibling "
+         "ESP300 3-133 'SN set axis displacement units'", "I",
+         _NOPAGE + "codes 0..11 as the ESP300's (0 encoder count, 1 motor step, 2 mm, 3 um, "
+         "4 in, 5 milli-in, 6 micro-in, 7 deg, 8 grad, 9 rad, 10 mrad, 11 urad), default 2 "
+         "(mm, I); a label only, nothing is converted (as the ESP300 says); TN names it",
          summary="SN: displacement units code"),
-    _set("SD", st.setting, _ONE, _NUM, "hosts' 'nSD'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect",
-         summary="SD: a stored value (meaning not found)"),
-    _set("MR", st.setting, _ONE, _NUM, "hosts' 'nMR'", "D",
-         _NOPAGE + "meaning not found: stored and read back, no effect",
-         summary="MR: a stored value (meaning not found)"),
-    _set("SU", st.encoder_resolution, _ONE, _NUM, "hosts' 'nSU?' encoder resolution", "I",
-         _NOPAGE + "reads TU; setting refused C (the resolution is fixed here, D)"),
-    _set("MV", st.jog, _REQ, _NUM, "hosts' 'nMV+'/'nMV-'", "I",
-         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); the operand is a signed "
-         "number ('1MV1', '1MV-1'), a bare sign answers C (D)", query=False),
-    _set("ML", st.to_limit, _REQ, _NUM, "hosts' 'nML+'/'nML-'", "I",
-         _NOPAGE + "as MV: to the travel limit on that side (I)", query=False),
-    _set("SY", st.synchronize, _NO, _NONE, "hosts' 'SY'", "D",
-         _NOPAGE + "accepted, no effect", query=False),
-    _tell("DV", st.tell_desired_velocity, _ONE, "hosts' 'nDV' desired velocity", "I",
-          "the profile's velocity now, units/s (I)"),
-    _tell("DA", st.tell_desired_acceleration, _ONE, "hosts' 'nDA' desired acceleration", "I",
-          "reads AC (I)"),
-    _tell("DF", st.tell_following_error, _ONE, "hosts' 'nDF' following error", "I",
-          "TH - TP (I)"),
-    _tell("TN", st.tell_units, _ONE, "hosts' 'nTN' units name", "I", "'mm' (D)"),
-    _tell("TA", st.tell_axis_type, _ONE, "hosts' 'nTA' axis type", "D", "'DC' (D)"),
-    _tell("XI", st.tell_index, _ONE, "hosts' 'nXI'", "D",
-          _NOPAGE + "reads XH (no encoder index modelled)"),
-    _tell("XP", st.tell_program, _NO, "hosts' 'XP'", "D",
-          _NOPAGE + "'XP0': stored programs are not modelled"),
-    _tell("TS", st.tell_controller_status, _NO, "hosts' 'TS' controller status", "I",
-          "bit 0 moving, 1 trajectory, 2 error waiting, 6 always 1 (D, as MS)"),
-    _tell("ZT", st.tell_parameters, _NO, "hosts' 'ZT' read all parameters", "I",
-          "one line per axis, layout ours (D)"),
-    _tell("ZP", st.tell_pulse_setup, _NO, "hosts' 'ZP'", "D",
-          _NOPAGE + "reads the pulse set-up MB/ME/MN and NQ, layout ours (D)"),
+    _set("SD", st.speed_reduction, _NO, _NUM, f"{_LIST}: motion parameters, 'SDnn' / 'SD?' "
+         "-> 'SDnn', a reduced speed in percent", "I",
+         _NOPAGE + "0 < nn <= 100, default 100 (D); stored and read back; the reduction is "
+         "not applied to motion (not modelled)",
+         summary="SD: reduced speed, percent"),
+    _set("SU", st.encoder_resolution, _ONE, _NUM, "sibling ESP300 'SU set encoder "
+         "resolution'", "D",
+         "not in the 06/99 manual's list (D); reads TU; setting refused C (the resolution "
+         "is fixed here, D)"),
+    _set("MV", st.jog, _REQ, Operand.SIGN, f"{_LIST}: motion parameters, 'xxMVnn' move "
+         "indefinitely; sibling ESP300 3-101 'MV move indefinitely', '3MV+'", "I",
+         _NOPAGE + "moves at VA toward TR (+) or TL (-) (I); '+', '-' or a signed number "
+         "('1MV+', '1MV-1'); 0 answers C (D)", query=False),
+    _set("SY", st.setting, _REQ, Operand.INTEGER, f"{_LIST}: special motion parameters, "
+         "'xxSYnn' synchronisation, 0 or 1", "I",
+         _NOPAGE + "stored and read back ('1SY?' -> '1SY1'), default 0 (D); what it "
+         "synchronises is not known: no effect (not modelled)",
+         summary="SY: synchronisation flag of an axis (0 or 1)"),
+    _tell("DV", st.tell_desired_velocity, _REQ, "manual 3.43 DV 'xxDVpp'", "C",
+          "axis 1..4 required (B); pp missing or 0: the velocity VA programmed, pp >= 1: "
+          "the maximum allowed velocity (VU here, I); a negative or fractional pp answers "
+          "C (D); 4 decimals (D)", operand=Operand.OPTIONAL_NUMBER),
+    _tell("DA", st.tell_desired_acceleration, _ONE, f"{_LIST}: motion parameters, beside DV",
+          "I", "reads AC, like DV reads VA (I)"),
+    _tell("DF", st.tell_following_error, _ONE, f"{_LIST}: motion parameters, 'xxDF' read "
+          "following error", "I", "TH - TP (I)"),
+    _tell("TN", st.tell_units, _ONE, f"{_LIST}: motor and stage set-up, 'xxTN' read units",
+          "I", "the name of SN's code ('1TNmm' by default); the names are ours (D)"),
+    _tell("TA", st.tell_axis_type, _ONE, f"{_LIST}: motor and stage set-up, 'xxTA' read the "
+          "stage's name", "I", "no stage names are modelled: 'DC' (a DC servo stage, D)"),
+    _tell("TS", st.tell_controller_status, _NO, "manual 3.139 TS 'Returns TSaa'", "C",
+          "bits 0-3 axes 1-4 moving, 4 motor power off (any installed axis off, I), 5 "
+          "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
+          "as a public MM4006 StreamDevice host expects"),
+    _tell("TX", st.tell_controller_activity, _NO, "manual 3.142 TX 'Returns TXaa'", "C",
+          "bit 0 program running (never: no stored programs), 1 command line executing and "
+          "3 remote mode (always, as TX itself is answered: 'TXJ', the manual's example), "
+          "2 manual jog (never), 4 trajectory executing (XY or time-based: 'TXZ'), 6 "
+          "default 1"),
+    _set("RQ", mn.not_modelled, _NO, _NONE, "manual 3.139 TS bit 7 'IEEE SRQ Interruption "
+         "Status (Sent by RQ command)'", "C",
+         "generates a GPIB service request: no GPIB door exists here, so RQ answers Q "
+         "(not modelled, D)", query=False, summary="RQ: generate an IEEE service request"),
+    _set("ZP", st.zero_position, _REQ, _NONE, f"{_LIST}: motion and position control, "
+         "'xxZP' zero position (the host: 'sets the present position to 0')", "I",
+         _NOPAGE + "the counter reads 0 where the axis stands; TL/TR stay (the host sets "
+         "them again after ZP, unlike after DH); refused D while moving (D)",
+         query=False, summary="ZP: the present position becomes 0"),
 )
 
-COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES}
+
+
+def _listed(mnemonic: str) -> CommandSpec:
+    """A command of the manual's list the emulator does not carry out: answers Q."""
+    group = ml.GROUP[mnemonic]
+    return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
+                 replies=False, source=f"{_LIST}: {group}", confidence="I",
+                 note=f"one of the {group} commands; its page was not found: not modelled, "
+                 "answers Q", summary=f"{mnemonic}: one of the {group} commands (not modelled)")
+
+
+_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES}
+COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES} | {
+    name: _listed(name) for name in sorted(ml.GROUP) if name not in _MODELLED}

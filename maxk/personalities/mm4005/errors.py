@@ -38,11 +38,14 @@ PARAMETER: Final = _code(
     "C", "Parameter out of limits", "I",
     "LDS1000 (same TE scheme) 'C: Parameters out of limits'; French MM4005 firmware text "
     "'C Parametre manque, hors limites ou incorrect' (missing, out of range or wrong)")
+IO_CHANNEL: Final = _code(
+    "E", "Incorrect I/O channel number", "C", "manual 3.103 RB: 'E - Incorrect I/O channel number'")
 UNAUTHORIZED: Final = _code(
     "D", "Unauthorized execution", "C", "manual 3.41 DP: 'D - Unauthorized execution'")
 NOT_AUTHORIZED_FUNCTION: Final = _code(
     "Q", "Function not authorized", "I",
-    "French MM4005 firmware text 'Q Fonction non autorise'; never raised here")
+    "French MM4005 firmware text 'Q Fonction non autorise'; raised (D) by a command the "
+    "table knows but the emulator cannot carry out (RQ, the program commands)")
 TIME_OUT: Final = _code(
     "S", "Communication time-out", "C",
     "manual 3.75 MS 'S - Communication time-out'; never raised (no link time-out modelled)")
@@ -88,7 +91,7 @@ FOLLOWING_ERROR: Final = _code(
 
 ERROR_CODES: Final[dict[str, ErrorCode]] = {
     code.char: code
-    for code in (NO_ERROR, UNKNOWN_MESSAGE, AXIS_NUMBER, PARAMETER, UNAUTHORIZED,
+    for code in (NO_ERROR, UNKNOWN_MESSAGE, AXIS_NUMBER, PARAMETER, UNAUTHORIZED, IO_CHANNEL,
                  TRAJECTORY_EMPTY, TRAJECTORY_ELEMENT, ANGLE_DISCONTINUITY, PULSE_ELEMENTS,
                  PULSE_NUMBER, NOT_AUTHORIZED_FUNCTION, TRAVEL_LIMITS, TIME_OUT,
                  TRAJECTORY_SPEED_CHANGE, TRAJECTORY_VELOCITY, TRAJECTORY_NOT_VERIFIED,

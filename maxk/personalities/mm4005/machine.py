@@ -121,7 +121,7 @@ class MM4005(Engine):
                     self._following_error(a)
             return True
         over = [a for a in servos if a.powered and abs(a.exact_counts_at(self, limit)
-                - a.servo_counts()) * a.resolution > self.settings[a.index].get("FE")]
+                - a.servo_counts()) * a.resolution > self.settings[a.index].following_limit]
         if not over:
             return False
         self.tick = max(self.tick, limit)  # the loops stand at `limit`: act there
@@ -259,6 +259,10 @@ class MM4005(Engine):
         self.add_source(run)
         for a in run.axes:
             self.schedule_switches(a)
+
+    def input_level(self, bit: int) -> bool:
+        """RB: a GPIO input bit's level in the world (manual 3.103)."""
+        return self.world.digital_level(bit, self)
 
     def _positions(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         numbers = range(1, len(self.axes) + 1)

@@ -26,14 +26,17 @@ RULES: Final[dict[str, SettingRule]] = {
     "KI": SettingRule(0.0, 0.0, 1e6),  # integral gain
     "KD": SettingRule(0.0, 0.0, 1e6),  # derivative gain
     "KS": SettingRule(1.0, 0.0, 1.0),  # integral saturation, fraction of full output
-    "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units
-    "BA": SettingRule(0.0, 0.0, 1e3),  # backlash compensation, units
+    "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units (FE checks 2 TU..travel)
+    "FF": SettingRule(1.0, 0.0, 1e6),  # master-slave following-error limit (stored only)
+    "GR": SettingRule(1.0, 0.0001, 10000.0),  # master-slave reduction ratio (stored only)
+    "BA": SettingRule(0.0, 0.0, 1e3),  # backlash (manual 3.25: BA checks 10000 x TU itself)
     "OH": SettingRule(1.0, 1e-6, 1e6),  # home search high speed, units/s
     "OL": SettingRule(0.1, 1e-6, 1e6),  # home search low speed, units/s
     "VU": SettingRule(100.0, 1e-6, 1e6),  # maximum speed, units/s
-    "SN": SettingRule(0.0, 0.0, 10.0, integer=True),  # displacement units code
-    "SD": SettingRule(0.0, 0.0, 1e6),  # stored, no effect (meaning not found)
-    "MR": SettingRule(0.0, -1e6, 1e6),  # stored, no effect (meaning not found)
+    "SN": SettingRule(2.0, 0.0, 11.0, integer=True),  # displacement units code, 2 = mm
+    "SD": SettingRule(100.0, 1e-6, 100.0),  # reduced speed, percent (the controller's one
+    # value, kept with axis 1's settings so that a reset restores it; not applied)
+    "SY": SettingRule(0.0, 0.0, 1.0, integer=True),  # synchronisation flag (stored only)
 }
 
 
@@ -44,6 +47,8 @@ class AxisSettings:
         self.values = {name: rule.default for name, rule in RULES.items()}
         # the gains the loop uses: KP/KI/KD/KS as of the last UF (D: UF applies them)
         self.active_gains = (0.0, 0.0, 0.0, 1.0)
+        # the following-error limit the loop checks: FE as of the last UF (manual 3.56)
+        self.following_limit = RULES["FE"].default
 
     def get(self, name: str) -> float:
         return self.values[name]
@@ -58,9 +63,10 @@ class AxisSettings:
         self.values[name] = value
 
     def update_filter(self) -> None:
-        """UF: the gains set by KP/KI/KD/KS take effect."""
+        """UF: the gains set by KP/KI/KD/KS and the limit FE take effect."""
         v = self.values
         self.active_gains = (v["KP"], v["KI"], v["KD"], v["KS"])
+        self.following_limit = v["FE"]
 
     @property
     def servo_on(self) -> bool:
