@@ -285,3 +285,23 @@ class FakeTrioMachine:
     def movecirc(self, axes: Sequence[float], args: Sequence[float]) -> None:
         """The fake goes straight to the arc's end (the MC405 machine draws the arc)."""
         self.move([int(a) for a in axes], list(args[:2]))
+
+    def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """The fake goes straight to the helix's end, as it does for MOVECIRC."""
+        self.move([int(a) for a in axes[:3]], [*args[:2], args[5]])
+
+    def movemodify(self, axis: int, args: Sequence[float]) -> None:
+        """The fake has no running move to modify: an absolute move (as on an idle axis)."""
+        self.move_abs([axis], [args[0]])
+
+    def can_link(self, axis: int) -> bool:
+        return self.can_load([axis])
+
+    def movelink(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")  # (the fake has no links)
+
+    def connect(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")
+
+    def addax(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")

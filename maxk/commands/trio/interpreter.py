@@ -141,7 +141,8 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
+                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
@@ -647,11 +648,11 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
-        elif name == "MOVECIRC":
-            axes = self.group(stmt.axis, ctx, 2)
+        elif name in ("MOVECIRC", "MHELICAL"):
+            axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRC" else 3)
             while not m.can_load(axes):
                 yield ON_CHANGE
-            self._act(lambda: m.movecirc(axes, args))
+            self._act(lambda: (m.movecirc if name == "MOVECIRC" else m.mhelical)(axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -696,6 +697,14 @@ class Interpreter:
             yield from self._forever(axis, 1 if name == "FORWARD" else -1)
         elif name == "DATUM":
             yield from self.datum(axis, args[0])
+        elif name in ("MOVELINK", "CONNECT"):  # linked moves queue behind links too
+            while not m.can_link(axis):
+                yield ON_CHANGE
+            self._act(lambda: (m.movelink if name == "MOVELINK" else m.connect)(axis, args))
+        elif name == "MOVEMODIFY":  # acts on the running move: never waits (D)
+            self._act(lambda: m.movemodify(axis, args))
+        elif name == "ADDAX":
+            self._act(lambda: m.addax(axis, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE

@@ -224,6 +224,80 @@ _ENTRIES: list[Keyword] = [
              "link distance; ends when the link axis has travelled it. Options other than "
              "0 are refused (D), and so is a link axis that itself follows this axis "
              "through CAMBOX links (D: a loop of links has no position)."),
+    # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
+    _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
+             "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
+             "distance3 along it.", (6, 9), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="One arc segment of the shared path planner whose third "
+             "axis rises in proportion to the arc; the path speed is the circle's, at the "
+             "base axis's SPEED and ACCEL (I); mode and the 8th/9th arguments other than 0 "
+             "are refused (D). MTYPE 3."),
+    _command("MOVEMODIFY", "MOVEMODIFY(position): the running move of the base axis now "
+             "ends at this absolute position.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Re-planned from where the axis is at the speed it has "
+             "(SPEED/ACCEL of the axis now); if it cannot stop short of the new end it stops "
+             "and comes back (I). On an idle axis an absolute move (I). Refused on a linked "
+             "axis, an interpolated group or a merged move with more buffered behind it (D). "
+             "Never waits. MTYPE 5."),
+    _command("MOVELINK", "MOVELINK(distance, link dist, link acc, link dec, link axis[, "
+             "options[, link pos]]): move distance while the link axis travels link dist, "
+             "ramping over its first link acc and last link dec.", (5, 13), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="The axis's speed share of the link ramps linearly with the link's travel "
+             "(a parabola in position), constant between (I); link acc + link dec above "
+             "link dist are both shortened in proportion (I). It follows the link axis's "
+             "DEMAND position (D: the manual's link is the measured one) and ends on the "
+             "first servo tick the link has travelled link dist; the next MOVELINK "
+             "buffered on the same link axis takes over at that exact link position (no "
+             "drift: I). Options: 2 starts when the link axis reaches link pos (already "
+             "past: from where it is, D), 4 repeats both ways until CANCEL; 1 (registration) "
+             "and others are refused (D). Buffered like a move (NTYPE 22). MTYPE 22."),
+    _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
+             "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="Ratio in counts per count, not user units (C: manual, Trio support). "
+             "Follows the link axis's demand position (D). A second CONNECT on the same link "
+             "axis changes the ratio at once from where both are; on another link axis it is "
+             "ignored while the first runs (C: manual). Buffered behind moves and links like "
+             "a move. CLUTCH_RATE is not modelled. MTYPE 21."),
+    _command("ADDAX", "ADDAX(axis): add that axis's demand movements to the base axis's "
+             "own; ADDAX(-1) ends it.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Count for count from when it is given (I); after "
+             "ADDAX(-1) the axis keeps what was added. Not buffered: it acts at once (I). "
+             "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
+             "aims its own moves, without the live ADDAX part (D)."),
+    _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
+          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 20 CAMBOX, 21 CONNECT, 22 "
+          "MOVELINK, 23 CONNPATH.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The codes as recalled from the manual's MTYPE table (the table's text was "
+          "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
+          "MOVE of exactly 2^50 counts reads as FORWARD/REVERSE (D)."),
+    _axis("NTYPE", "The type of the next move held in the axis's buffer (MTYPE codes); 0 "
+          "none.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The move after the running one (merged moves, runs queued, linked moves); "
+          "with none running, the first held (I)."),
+    _axis("MOVES_BUFFERED", "Moves held in the axis's buffer behind the one running.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="Up to 16 moves held per axis, running included (D, docs/trio.md)."),
+    _axis("REMAIN", "The distance left of the move running, user units.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I", note="Unsigned; along the axis for its "
+          "share of a path move, the axis's own distance left for a MOVELINK, 0 for links "
+          "without an end and at rest (I)."),
+    _axis("ENDMOVE", "The absolute end position of the move running, user units; written "
+          "on an idle axis it steps the demand there.", source=f"{TOK}; {MAN}",
+          confidence="I", note="Reads DPOS when there is no move. Written on an idle axis "
+          "the demand steps to it (C: manual DPOS entry); on a running single-axis move it "
+          "is MOVEMODIFY (D); otherwise 'Parameter out of range' (D)."),
+    _axis("MSPEED", "The axis's speed over the last servo cycle, user units/s (signed).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="D",
+          note="The demand's change over the servo cycle before now (D: the measured "
+          "position is not modelled apart from the demand here)."),
+    _axis("LINK_AXIS", "The axis a linked move follows (CONNECT, MOVELINK, CAMBOX link "
+          "axis, CONNPATH base); -1 none.", writable=False, source=f"{TOK}; {MAN}",
+          confidence="I", note="-1 for none is our reading of the manual (I)."),
+    _axis("ADDAX_AXIS", "The axis ADDAX adds to this one; -1 none.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="-1 for none is our reading of the manual (I)."),
     _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),

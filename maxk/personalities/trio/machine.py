@@ -34,7 +34,9 @@ from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from .drive import AXIS_READS, SYSTEM_READS, Drive
+from . import moves
 from .kinematics import Kinematics
+from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
@@ -87,6 +89,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
+        self.add_source(self.links)  # MOVELINKs ending (links.py)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -98,6 +101,10 @@ class MC405Machine(Kinematics, Engine):
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
+        if hasattr(self, "links"):
+            self.links.reset()
+        else:
+            self.links = LinkedMoves(self, MOVE_BUFFER)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         if hasattr(self, "drive"):
@@ -189,6 +196,8 @@ class MC405Machine(Kinematics, Engine):
             return self.dpos(axis)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name in moves.REPORTS:
+            return moves.report(self, name, axis)
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
@@ -196,6 +205,8 @@ class MC405Machine(Kinematics, Engine):
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
+        elif name == "ENDMOVE":
+            moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         else:
@@ -232,18 +243,17 @@ class MC405Machine(Kinematics, Engine):
 
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
         deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
-        self._load(tuple(axes), deltas)
+        self._load(tuple(axes), deltas, kind=moves.move_kind(tuple(axes), deltas, False))
 
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
-            axis = self.axes[a]
-            target = round(self._counts(a, p)) - axis.datum  # physical counts
+            target = moves.own_target(self, a, p)  # physical counts
             delta = target - self._end_counts(a)
             if not abs(delta) < MAX_COUNTS:
                 raise ValueError("Parameter out of range")
             deltas.append(round(delta))
-        self._load(tuple(axes), deltas)
+        self._load(tuple(axes), deltas, kind=moves.MOVEABS)
 
     # ---- I/O on the shared world --------------------------------------------------------
     def digital_input(self, number: int) -> bool:
@@ -274,7 +284,8 @@ class MC405Machine(Kinematics, Engine):
 
     def axis_idle(self, axis: int) -> bool:
         a = self.axes[axis]
-        return not self.queues[axis] and a.link is None and a.pending_link is None
+        return (not self.queues[axis] and a.link is None and a.pending_link is None
+                and not self.links.chains[axis])
 
     def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         if not all(abs(p * self.axes[a].units) < MAX_COUNTS
@@ -298,11 +309,13 @@ class MC405Machine(Kinematics, Engine):
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
+            self.links.cancelled(axis)  # the next linked move buffered starts
         elif self.queues[axis] and self.queues[axis][0].started:
             self._stop(self.queues[axis][0])
         self.changed()
 
     def rapidstop(self) -> None:
+        self.links.clear()
         for axis in range(self._axis_count):
             queue = self.queues[axis]
             while queue and not queue[-1].started:
@@ -331,25 +344,10 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Invalid axis number")
         if distance <= 0 or start != int(start) or end != int(end) or end <= start:
             raise ValueError("Parameter out of range")
-        if self._follows(int(link_axis), axis):
+        if self.links.depends(int(link_axis), axis):
             raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
         values = np.array(self.table.read_run(int(start), int(end)))
         self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
-
-    def _follows(self, axis: int, leader: int) -> bool:
-        """Does `axis` follow `leader` through CAMBOX links (running or waiting)? Linking
-        the leader to it would make each axis's position depend on itself."""
-        seen: set[int] = set()
-        while axis not in seen:
-            if axis == leader:
-                return True
-            seen.add(axis)
-            a = self.axes[axis]
-            link = a.link if a.link is not None else a.pending_link
-            if not isinstance(link, Cambox):
-                return False
-            axis = link.link
-        return False
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
@@ -371,8 +369,9 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- loading moves -------------------------------------------------------------------------
     def _end_counts(self, axis: int) -> float:
-        """Where the axis stands once its buffered moves are done (physical counts)."""
-        position = self.demand(axis)
+        """Where the axis stands once its buffered moves are done (physical counts, its
+        own demand: ADDAX's part not included)."""
+        position = self.own_demand(axis)
         for run in self.queues[axis]:
             k = run.axes.index(axis)
             if run.started and run.profile is None and run.plan is not None:
@@ -386,25 +385,40 @@ class MC405Machine(Kinematics, Engine):
 
     def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
         """MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the shared path
-        planner from here to the end, about the centre (both relative); direction 1 turns
-        clockwise, 0 anticlockwise (I); an end on the start is a whole circle."""
-        if len(args) < 5 or args[4] not in (0, 1) or any(a != 0 for a in args[5:]):
+        planner from here to the end, about the centre (both relative): moves.arc_of."""
+        if len(args) < 5 or any(a != 0 for a in args[5:]):
             raise ValueError("Parameter out of range")
-        ex, ey = (round(self._counts(a, v)) for a, v in zip(axes, args[:2], strict=True))
-        cx, cy = (self._counts(a, v) for a, v in zip(axes, args[2:4], strict=True))
-        if cx == 0 and cy == 0:
-            raise ValueError("Parameter out of range")
-        start = math.atan2(-cy, -cx)
-        end = math.atan2(ey - cy, ex - cx)
-        turn = math.degrees(end - start) % 360.0
-        if args[4] == 1:
-            turn = turn - 360.0 if turn > 0 else -360.0
-        elif turn == 0:
-            turn = 360.0
-        self._load(tuple(axes), [ex, ey], arc=(cx, cy, turn))
+        ex, ey, arc = moves.arc_of(self, tuple(axes), list(args))
+        self._load(tuple(axes), [ex, ey], arc=arc, kind=moves.MOVECIRC)
+
+    # ---- linked moves and the moves of links.py / moves.py --------------------------------
+    def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        moves.mhelical(self, tuple(axes), list(args))
+
+    def movemodify(self, axis: int, args: Sequence[float]) -> None:
+        moves.movemodify(self, axis, args[0], MIN_RATE)
+
+    def motion_horizon(self) -> int | None:
+        """The next tick the motion changes by itself (a run or a CAMBOX ends)."""
+        for source in self._sources:
+            if isinstance(source, _MotionEvents):
+                return source.next_event()
+        return None
+
+    def can_link(self, axis: int) -> bool:
+        return self.links.can_load(axis)
+
+    def connect(self, axis: int, args: Sequence[float]) -> None:
+        self.links.connect(axis, list(args))
+
+    def movelink(self, axis: int, args: Sequence[float]) -> None:
+        self.links.movelink(axis, list(args))
+
+    def addax(self, axis: int, args: Sequence[float]) -> None:
+        self.links.set_addax(axis, args[0])
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None) -> None:
+              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE) -> None:
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
         speed = base.params["SPEED"] * base.units
@@ -423,6 +437,7 @@ class MC405Machine(Kinematics, Engine):
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:
                 last.arcs[len(last.deltas)] = arc
+            last.kinds[len(last.deltas)] = kind
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -435,6 +450,7 @@ class MC405Machine(Kinematics, Engine):
                   single=len(axes) == 1 and not merge)
         if arc is not None:
             run.arcs[0] = arc
+        run.kinds[0] = kind
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
@@ -523,8 +539,10 @@ class MC405Machine(Kinematics, Engine):
             self._attach(axis, link)
         self.changed()
 
-    def _attach(self, axis: int, link: Link) -> None:
-        link.origin = self.demand(axis)
+    def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None:
+        if self.links.attach(axis, link, handover):  # CONNECT, MOVELINK
+            return
+        link.origin = self.own_demand(axis)
         if isinstance(link, Connpath):
             link.distance0 = float(self.path_distance(link.base, self._now())[0])
         else:
@@ -534,7 +552,7 @@ class MC405Machine(Kinematics, Engine):
     def _unlink(self, axis: int) -> None:
         a = self.axes[axis]
         if a.link is not None:
-            position = self.demand(axis)
+            position = self.own_demand(axis)
             a.link = None
             a.steps = math.floor(position)
             a.fraction = position - a.steps
@@ -546,6 +564,7 @@ class MC405Machine(Kinematics, Engine):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
                 self._unlink(a)
+                self.links.cancelled(a)  # a linked move buffered behind it starts
                 self.changed()
 
 
