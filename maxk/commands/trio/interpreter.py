@@ -152,7 +152,8 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
+                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
@@ -469,21 +470,6 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         return int(value)
 
-    def axis_status(self, axis: int) -> float:
-        """AXISSTATUS: the limit bits the emulator knows (16, 32, 512, 1024)."""
-        m = self.machine
-        bits = 0
-        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
-            wired = m.axis_parameter(name, axis)
-            if 0 <= wired < IO_POINTS and m.digital_input(int(wired)):
-                bits |= bit
-        dpos = m.axis_parameter("DPOS", axis)
-        if dpos > m.axis_parameter("FS_LIMIT", axis):
-            bits |= 512
-        if dpos < m.axis_parameter("RS_LIMIT", axis):
-            bits |= 1024
-        return float(bits)
-
     def _element(self, name: str, args: tuple[Expr, ...],
                  ctx: ProcessContext) -> tuple[list[Value], int]:
         """The array and flat index of ``name(i[, j ...])`` (row-major, from 0)."""
@@ -533,8 +519,6 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
-        if keyword.name == "AXISSTATUS":
-            return self._machine(lambda: self.axis_status(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
 
     def _indexed_key(self, expr: Param, ctx: ProcessContext) -> tuple[str, tuple[float, ...]]:
@@ -837,11 +821,11 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
-        elif name == "MOVECIRC":
-            axes = self.group(stmt.axis, ctx, 2)
+        elif name in ("MOVECIRC", "MHELICAL"):
+            axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRC" else 3)
             while not m.can_load(axes):
                 yield ON_CHANGE
-            self._act(lambda: m.movecirc(axes, args))
+            self._act(lambda: (m.movecirc if name == "MOVECIRC" else m.mhelical)(axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -918,6 +902,14 @@ class Interpreter:
             yield from self._forever(axis, 1 if name == "FORWARD" else -1)
         elif name == "DATUM":
             yield from self.datum(axis, args[0])
+        elif name in ("MOVELINK", "CONNECT"):  # linked moves queue behind links too
+            while not m.can_link(axis):
+                yield ON_CHANGE
+            self._act(lambda: (m.movelink if name == "MOVELINK" else m.connect)(axis, args))
+        elif name == "MOVEMODIFY":  # acts on the running move: never waits (D)
+            self._act(lambda: m.movemodify(axis, args))
+        elif name == "ADDAX":
+            self._act(lambda: m.addax(axis, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE
@@ -940,8 +932,11 @@ class Interpreter:
     def datum(self, axis: int, mode: float) -> Wait:
         """DATUM(n) on the shared world's switches (see the keyword's note)."""
         m = self.machine
-        if mode == 0:
-            return  # clears motion errors: none are modelled
+        if mode in (0, 1, 2):  # clear the motion errors; a Z-mark search, on the machine
+            self._act(lambda: m.datum(axis, int(mode)))
+            while not m.axis_idle(axis):
+                yield ON_CHANGE
+            return
         if mode not in (3, 4, 5, 6):
             raise TrioError("Parameter out of range")
         wired = m.axis_parameter("DATUM_IN", axis)
