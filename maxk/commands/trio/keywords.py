@@ -474,6 +474,20 @@ _ENTRIES: list[Keyword] = [
              "bits AXISSTATUS held), WDOG stays OFF (I). The statement returns when the "
              "search ends (D: the controller returns at once and the axis moves on). "
              "Without a DATUM_IN, 3..6 are 'Parameter out of range' (D)."),
+    _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
+             "first two BASE axes, end and centre relative to the start.", (5, 7), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="On the shared path planner at the base axis's SPEED and ACCEL; direction "
+             "1 clockwise, 0 anticlockwise (I); an end on the start is a whole circle; the "
+             "6th and 7th arguments are refused unless 0 (D). A limit met ramps the path "
+             "down along itself (see FWD_IN). MTYPE 4."),
+    _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
+             (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D), "
+             "or by the forward limit (FWD_IN, FS_LIMIT) at FASTDEC. MTYPE 10."),
+    _command("REVERSE", "Move in reverse continuously at SPEED until CANCEL.", (0, 0),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As FORWARD, towards REV_IN and RS_LIMIT. MTYPE 11."),
     _function("IN", "IN(n): input n, 1 on / 0 off; IN(a, b): inputs a..b as a binary "
               "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the shared world's inputs (the world contract can drive them)."),
@@ -535,6 +549,11 @@ _ENTRIES: list[Keyword] = [
              "ending CR LF (D: the store is the file system); a missing one is 'Program "
              "not found'; a channel already open is 'Channel already open' (D). Output "
              "modes accept and drop what is written (D)."),
+    *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
+               source=f"{TOK}; public programs",
+               note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
+               "with no effect (D).")
+      for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
     _command("CLOSE", "CLOSE #n: close a channel.", (0, 0), confidence="I",
              source=f"{TOK}; public programs", note="Closing a channel not open does "
              "nothing (D)."),
