@@ -109,7 +109,7 @@ def test_table_and_vr() -> None:
     assert ask("TABLE(11)+TABLE(10)", rig) == "3.5000"
     rig.command("VR(5)=TABLE(12)*2")
     assert ask("VR(5)", rig) == "6"
-    for bad in ("?TABLE(-1)", "?VR(4096)", "VR(1.5)=2", "TABLE(1)"):
+    for bad in ("?TABLE(-1)", "?VR(65536)", "VR(1.5)=2", "TABLE(1)"):
         with pytest.raises(AtrioError):
             rig.command(bad)
 

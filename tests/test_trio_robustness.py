@@ -147,7 +147,7 @@ def test_the_store_has_the_controllers_limits(hosted, host) -> None:  # noqa: F8
 
 
 def test_a_bad_program_name_is_refused_by_every_command(hosted, host) -> None:  # noqa: F811
-    for command in ('SELECT "../X",0', 'SELECT "1X",0', 'SELECT "A.B",0', 'LIST "../X"',
+    for command in ('SELECT "../X",0', 'SELECT "A.B",0', 'LIST "../X"',
                     'DEL "/etc/passwd"', 'RUN "..\\X"', 'SELECT "' + "A" * 33 + '",0'):
         with pytest.raises(HostError):
             host.cmd(command)

@@ -185,9 +185,10 @@ def test_io_inputs_outputs_and_analog() -> None:
     rig.machine.analog[1] = 5.0
     out = run("OP(9, ON)\nOP(10, ON)\nOP(10, OFF)\n"
               "PRINT IN(3); IN(4); READ_OP(9); READ_OP(9, 10); AIN(1)\n"
-              "AOUT(0) = 100\nPRINT AOUT(0)\nPRINT IN(40)", rig=rig)
+              "AOUT(0) = 100\nPRINT AOUT(0)\nPRINT IN(40)\nPRINT IN(1024)", rig=rig)
     assert out == ("10111024\r\n100\r\n"  # IN(3) IN(4) READ_OP(9) READ_OP(9,10) AIN(1)
-                   "%[Process 19:Program P Line 7] - Parameter out of range\r\n")
+                   "0\r\n"  # expansion I/O: off unless set
+                   "%[Process 19:Program P Line 8] - Parameter out of range\r\n")
 
 
 def test_limit_inputs_show_in_axisstatus() -> None:
@@ -343,3 +344,23 @@ def test_movecirc_draws_the_arc_on_the_shared_planner(direction: int, y_sign: in
     assert console.execute("?DPOS AXIS(0), DPOS AXIS(1), IDLE") == ["200\t0\t-1"]
     assert console.execute("MOVECIRC(0,0,0,0,0)") == []
     assert console.new_errors() == ["! Parameter out of range"]
+
+
+def test_the_docs_keyword_table_is_the_one_keywords_py_writes() -> None:
+    """docs/trio.md's table is generated from the keyword table, not kept by hand: a
+    keyword whose entry changes (or is lost in a merge) shows in the page at once."""
+    from pathlib import Path
+
+    from maxk.commands.trio.keyword_doc import table
+
+    text = (Path(__file__).parent.parent / "docs" / "trio.md").read_text()
+    assert table() in text
+
+
+def test_a_word_the_interpreter_acts_on_is_never_listed_as_not_modelled() -> None:
+    from maxk.commands.trio import interpreter
+
+    acted_on = (interpreter._MACHINE_COMMANDS | interpreter._BIT_COMMANDS
+                | set(interpreter._MATH) | interpreter.PROCESS_PARAMETERS)
+    listed = {name for name in acted_on if KEYWORDS[name].note.startswith("Not modelled")}
+    assert listed == set()

@@ -393,7 +393,7 @@ class MC405WorldView(WorldView):
 
     def __init__(self, machine: MC405Machine) -> None:
         super().__init__(machine.world, [str(i) for i in range(machine.axis_count)],
-                         inputs=MC405_INPUTS, analog=range(8), changed=machine.changed,
+                         inputs=MC405_INPUTS, analog=range(8), changed=machine.world_changed,
                          source_owner=machine)
         self.machine = machine
 

@@ -100,6 +100,12 @@ class Segment:
                 theta = self.theta0 + self.turn
                 end = (_snap(self.cx + self.radius * math.cos(theta)),
                        _snap(self.cy + self.radius * math.sin(theta)), *start[2:])
+            # a helix: values beyond the centre move further axes linearly along the
+            # arc (relative); the path length stays the arc's (its speed is the circle's)
+            rise = tuple(0.0 if v is None else v for v in defn.values[2:])
+            if any(rise):
+                end = (*end[:2], *(s + d for s, d in zip(start[2:], rise, strict=False)),
+                       *start[2 + len(rise):])
             self.end = end
 
     @property
@@ -112,7 +118,10 @@ class Segment:
             return self.end[k]
         if not self.is_arc:
             return self.start[k] + self.unit[k] * sigma
-        if k > 1 or self.radius == 0:
+        if k > 1:  # (a helix's further axes: in proportion to the arc)
+            rise = self.end[k] - self.start[k]
+            return self.start[k] + rise * sigma / self.length if rise else self.start[k]
+        if self.radius == 0:
             return self.start[k]
         theta = self.theta0 + math.copysign(sigma / self.radius, self.turn)
         if k == 0:
@@ -123,7 +132,9 @@ class Segment:
         """d(axis k)/ds: the share of the vector velocity axis k carries."""
         if not self.is_arc:
             return self.unit[k]
-        if k > 1 or self.radius == 0:
+        if k > 1:
+            return (self.end[k] - self.start[k]) / self.length if self.length else 0.0
+        if self.radius == 0:
             return 0.0
         sign = 1.0 if self.turn > 0 else -1.0
         theta = self.theta0 + sign * sigma / self.radius

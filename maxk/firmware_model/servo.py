@@ -394,6 +394,17 @@ class ServoLoop:
         self.q = error
         self._cache = None
 
+    def snapshot(self) -> tuple[array, int, int | None]:
+        """The loop's state now: run it ahead, then `restore` it to go again only as far
+        as something found on the way (an MC405 FE_LIMIT passed on some tick)."""
+        return array("d", self.x), self.tick, self.trip_tick
+
+    def restore(self, state: tuple[array, int, int | None]) -> None:
+        x, self.tick, self.trip_tick = state
+        self.x[:] = x
+        self._cache = None  # (solutions and stretches found from the later state)
+        self._fast = None
+
     def counters_moved(self, motor: float, encoder: float) -> None:
         """LP/LO/LPE, homing or #UR moved the counters by these amounts: the filter's
         memory moves with them, so nothing jumps (no derivative or feed-forward kick)."""

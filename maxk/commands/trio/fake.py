@@ -96,7 +96,28 @@ class FakeTrioMachine:
             return self.pwm[axis].mark
         if name == "PWM_ENCODER":
             return self.pwm[axis].encoder
+        if name == "AXISSTATUS":
+            return float(self._axis_status(axis))
         return self.axis_params[axis][name]
+
+    def _axis_status(self, axis: int) -> int:
+        """The limit bits (16, 32, 512, 1024): the inputs FWD_IN/REV_IN name and the
+        software limits (the fake's limits do not stop its moves)."""
+        params = self.axis_params[axis]
+        bits = 0
+        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
+            if 0 <= params[name] < 32 and self.digital_input(int(params[name])):
+                bits |= bit
+        if self.dpos[axis] > params["FS_LIMIT"]:
+            bits |= 512
+        if self.dpos[axis] < params["RS_LIMIT"]:
+            bits |= 1024
+        return bits
+
+    def datum(self, axis: int, mode: int) -> None:
+        """DATUM(0): the fake has no motion errors to clear; no Z marks to search."""
+        if mode != 0:
+            raise ValueError("Parameter out of range")
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         if name == "PWM_CYCLE":
@@ -264,3 +285,23 @@ class FakeTrioMachine:
     def movecirc(self, axes: Sequence[float], args: Sequence[float]) -> None:
         """The fake goes straight to the arc's end (the MC405 machine draws the arc)."""
         self.move([int(a) for a in axes], list(args[:2]))
+
+    def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """The fake goes straight to the helix's end, as it does for MOVECIRC."""
+        self.move([int(a) for a in axes[:3]], [*args[:2], args[5]])
+
+    def movemodify(self, axis: int, args: Sequence[float]) -> None:
+        """The fake has no running move to modify: an absolute move (as on an idle axis)."""
+        self.move_abs([axis], [args[0]])
+
+    def can_link(self, axis: int) -> bool:
+        return self.can_load([axis])
+
+    def movelink(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")  # (the fake has no links)
+
+    def connect(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")
+
+    def addax(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")

@@ -22,10 +22,12 @@ from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
     MAX_ARRAY,
+    ArrayFill,
     Assign,
     Binary,
     Bit,
     Call,
+    Channel,
     Command,
     Declare,
     Dim,
@@ -41,10 +43,12 @@ from .parser import (
     Unary,
     Var,
     WaitIdle,
+    WaitLoaded,
     WaitUntil,
 )
 
 Value = float | str
+Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
 
 
 MAX_WA_MS = 1e12  # WA in ms beyond about 30 years is refused (D): time has no such ticks
@@ -79,6 +83,8 @@ def format_number(value: float) -> str:
 
 
 MAX_STRING = 1024  # characters in one string value (D: bounds memory)
+MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
+FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
 
 # RUN_ERROR codes (D: the numbering is ours, one per error text the emulator gives; 0 none)
 ERROR_CODES = {text: n for n, text in enumerate((
@@ -105,6 +111,7 @@ class ProcessContext:
     line: int = 0
     loops: dict[int, tuple[float, float]] = field(default_factory=dict)  # FOR end, step
     arrays: dict[str, list[Value]] = field(default_factory=dict)  # DIM name(n)
+    shapes: dict[str, tuple[int, ...]] = field(default_factory=dict)  # DIM name(n, m)
     types: dict[str, str] = field(default_factory=dict)  # DIM name AS type
     pc: int = 0  # the next step
     stack: list[int] = field(default_factory=list)  # GOSUB return steps
@@ -114,7 +121,7 @@ class ProcessContext:
     error_line: float = 0.0  # ERROR_LINE: the line it happened on
     ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
     stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
-    functions: Callable[[str, list[Value]], Value] | None = None  # the program's FUNCTIONs
+    functions: Callable[[str, list[Argument]], Value] | None = None  # FUNCTIONs it calls
 
 
 class SystemHook(Protocol):
@@ -132,6 +139,10 @@ class SystemHook(Protocol):
     constants: dict[str, Value]
     globals: dict[str, int]
     analog_outputs: dict[int, float]
+    indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
+    files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+
+    def file_text(self, name: str) -> str: ...
 
 
 _MATH: dict[str, Callable[[float], float]] = {
@@ -141,8 +152,12 @@ _MATH: dict[str, Callable[[float], float]] = {
 }
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
-                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC"})
+                               "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
+                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
+_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
+IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
+# modules), off unless set (D: real cells use numbers above 100 for their alarms)
 FOREVER_COUNTS = 2.0 ** 50  # FORWARD/REVERSE: a move this long, ended by CANCEL (D)
 
 
@@ -343,6 +358,11 @@ class Interpreter:
             return float(int(a) | int(b))
         if op == "XOR":
             return float(int(a) ^ int(b))
+        if op in ("<<", ">>"):
+            if not 0 <= int(b) <= 63:
+                raise ValueError("shift")
+            value = int(a) << int(b) if op == "<<" else int(a) >> int(b)
+            return float(value)
         comparisons = {"=": a == b, "<>": a != b, "<": a < b, ">": a > b, "<=": a <= b,
                        ">=": a >= b}
         return _truth(comparisons[op])
@@ -351,9 +371,16 @@ class Interpreter:
         name = expr.name
         if name not in KEYWORDS:  # a DIM array's element, or a FUNCTION's value
             if name not in ctx.arrays and ctx.functions is not None:
-                return ctx.functions(name, [self.evaluate(a, ctx) for a in expr.args])
+                return ctx.functions(name, [self.argument(a, ctx) for a in expr.args])
             array, index = self._element(name, expr.args, ctx)
             return array[index]
+        if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
+            return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
+                if expr.args else 0.0
+        if name in ("DATE$", "TIME$", "DAY$"):
+            return self.clock_text(name)
+        if name in _BIT_COMMANDS:
+            return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
             return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
         if name == "BASE":
@@ -366,6 +393,8 @@ class Interpreter:
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
+        if name not in _MATH and name not in ("ATAN2", "TABLE", "VR"):
+            return 0.0  # a token-table function not modelled: 0 (its table note)
         if len(numbers) != len(args):
             raise TrioError("Syntax error")
         try:
@@ -391,6 +420,31 @@ class Interpreter:
             raise TrioError("Arithmetic error")
         return float(result)
 
+    def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
+        """A FUNCTION's argument: a DIM array named alone goes by reference (the
+        function's ``AS INTEGER()`` parameter), anything else by value."""
+        if isinstance(expr, Var) and expr.name in ctx.arrays:
+            return ctx.arrays[expr.name]
+        return self.evaluate(expr, ctx)
+
+    def clock_text(self, name: str) -> str:
+        """DATE$/TIME$/DAY$ from the virtual clock: power-up is 00:00:00 on Saturday
+        01/01/2000 (D: the emulator has no calendar of its own)."""
+        seconds = int(self.machine.servo_tick() * self.machine.servo_period_us() / 1e6)
+        days, rest = divmod(seconds, 86400)
+        if name == "TIME$":
+            return f"{rest // 3600:02d}:{rest % 3600 // 60:02d}:{rest % 60:02d}"
+        if name == "DAY$":
+            return ("Saturday", "Sunday", "Monday", "Tuesday", "Wednesday", "Thursday",
+                    "Friday")[days % 7]
+        return f"{1 + days % 28:02d}/01/2000"
+
+    def _channel(self, args: Sequence[Expr], ctx: ProcessContext) -> int:
+        number = self.number(args[0], ctx)
+        if number != int(number) or not 0 <= number <= 255:
+            raise TrioError("Parameter out of range")
+        return int(number)
+
     def io_function(self, name: str, args: list[float]) -> float:
         m = self.machine
         if name in ("AIN", "AOUT"):
@@ -404,9 +458,9 @@ class Interpreter:
         if not args:
             args = [0.0, IO_POINTS - 1.0]
         if len(args) == 1:
-            return 1.0 if read(self._point(args[0], IO_POINTS)) else 0.0
-        first, last = self._point(args[0], IO_POINTS), self._point(args[1], IO_POINTS)
-        if last < first:
+            return 1.0 if read(self._point(args[0], IO_SPACE)) else 0.0
+        first, last = self._point(args[0], IO_SPACE), self._point(args[1], IO_SPACE)
+        if not first <= last < first + IO_POINTS:
             raise TrioError("Parameter out of range")
         return float(sum(1 << k for k in range(last - first + 1) if read(first + k)))
 
@@ -416,30 +470,20 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         return int(value)
 
-    def axis_status(self, axis: int) -> float:
-        """AXISSTATUS: the limit bits the emulator knows (16, 32, 512, 1024)."""
-        m = self.machine
-        bits = 0
-        for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
-            wired = m.axis_parameter(name, axis)
-            if 0 <= wired < IO_POINTS and m.digital_input(int(wired)):
-                bits |= bit
-        dpos = m.axis_parameter("DPOS", axis)
-        if dpos > m.axis_parameter("FS_LIMIT", axis):
-            bits |= 512
-        if dpos < m.axis_parameter("RS_LIMIT", axis):
-            bits |= 1024
-        return float(bits)
-
     def _element(self, name: str, args: tuple[Expr, ...],
                  ctx: ProcessContext) -> tuple[list[Value], int]:
+        """The array and flat index of ``name(i[, j ...])`` (row-major, from 0)."""
         array = ctx.arrays.get(name)
-        if array is None or len(args) != 1:
+        shape = ctx.shapes.get(name, (len(array),) if array is not None else ())
+        if array is None or len(args) != len(shape):
             raise TrioError("Variable not defined")
-        index = self.number(args[0], ctx)
-        if index != int(index) or not 0 <= index < len(array):
-            raise TrioError("Array index out of range")
-        return array, int(index)
+        flat = 0
+        for arg, size in zip(args, shape, strict=True):
+            index = self.number(arg, ctx)
+            if index != int(index) or not 0 <= index < size:
+                raise TrioError("Array index out of range")
+            flat = flat * size + int(index)
+        return array, flat
 
     @staticmethod
     def _index(value: float) -> int:
@@ -455,6 +499,8 @@ class Interpreter:
 
     def read_parameter(self, expr: Param, ctx: ProcessContext) -> float:
         keyword = expr.keyword
+        if expr.index or expr.slot is not None:
+            return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:
             if expr.process is not None:
                 number = self.number(expr.process, ctx)
@@ -473,9 +519,17 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
-        if keyword.name == "AXISSTATUS":
-            return self._machine(lambda: self.axis_status(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
+
+    def _indexed_key(self, expr: Param, ctx: ProcessContext) -> tuple[str, tuple[float, ...]]:
+        """Where a parameter with arguments or a SLOT/PORT modifier is stored (D: not
+        modelled beyond keeping the value written)."""
+        numbers = [self.number(e, ctx) for e in expr.index]
+        if expr.slot is not None:
+            numbers.append(self.number(expr.slot, ctx))
+        if not all(math.isfinite(n) and abs(n) < 1e9 for n in numbers):
+            raise TrioError("Parameter out of range")
+        return expr.keyword.name, tuple(numbers)
 
     def process_parameter(self, name: str, ctx: ProcessContext) -> float:
         """The parameters each process has its own of."""
@@ -525,11 +579,85 @@ class Interpreter:
             self.dim(stmt, ctx)
         elif isinstance(stmt, Perform):
             self.evaluate(stmt.call, ctx)
+        elif isinstance(stmt, ArrayFill):
+            self.fill(stmt, ctx)
+        elif isinstance(stmt, Channel):
+            yield from self.channel(stmt, ctx)
+        elif isinstance(stmt, WaitLoaded):
+            axis = self.axis_of(stmt.axis, ctx)
+            while not self.machine.can_load([axis]):
+                yield ON_CHANGE
         else:
             raise TrioError("Structure error")  # a block statement outside a program
 
+    def fill(self, stmt: ArrayFill, ctx: ProcessContext) -> None:
+        """``name = a, b, c``: the first elements of the array, each value typed as the
+        DIM says; every value is checked before one is stored."""
+        array = ctx.arrays.get(stmt.name)
+        if array is None:
+            raise TrioError("Variable not defined")
+        if len(stmt.values) > len(array):
+            raise TrioError("Array index out of range")
+        values = [self._typed(stmt.name, self.evaluate(v, ctx), ctx) for v in stmt.values]
+        array[:len(values)] = values
+
+    def channel(self, stmt: Channel, ctx: ProcessContext) -> Wait:
+        """OPEN/CLOSE/GET/INPUT/LINPUT on a channel (see docs/trio.md): a file opened FOR
+        INPUT is read a character at a time; the terminal channels (none opened) never
+        receive a character while a program runs, so GET/INPUT on them wait (D)."""
+        files = self.hook.files
+        number = 0 if stmt.channel is None else self._channel((stmt.channel,), ctx)
+        if stmt.action == "OPEN":
+            assert stmt.name is not None
+            name = self.evaluate(stmt.name, ctx)
+            if not isinstance(name, str):
+                raise TrioError("Type mismatch")
+            if number in files:
+                raise TrioError("Channel already open")
+            if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
+                text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
+                files[number] = [ord(c) for c in reversed(text)]
+            else:
+                files[number] = []
+            return
+        if stmt.action == "CLOSE":
+            files.pop(number, None)
+            return
+        if number >= FILE_CHANNELS and number not in files:
+            raise TrioError("Channel not open")
+        while not files.get(number):
+            if number in files and stmt.action != "GET":
+                break  # the end of a file: INPUT reads what there is (D)
+            yield ON_CHANGE
+        waiting = files.get(number, [])
+        if stmt.action == "GET":
+            self.store(stmt.targets[0], float(waiting.pop()), ctx)
+            return
+        for target in stmt.targets:
+            chars = []
+            while waiting and waiting[-1] not in (10, 13) and (
+                    stmt.action == "LINPUT" or chr(waiting[-1]) != ","):
+                chars.append(chr(waiting.pop()))
+            if waiting and chr(waiting[-1]) in ",\r":
+                waiting.pop()
+            if waiting and waiting[-1] == 10:
+                waiting.pop()
+            text = "".join(chars)
+            value: Value = text if stmt.action == "LINPUT" else _val([text])
+            self.store(target, value, ctx)
+
+    def store(self, target: Expr, value: Value, ctx: ProcessContext) -> None:
+        """GET/INPUT storing into a variable, an array element or VR(i)."""
+        assert isinstance(target, (Var, Call))
+        self.assign(Assign(target, Str(value) if isinstance(value, str) else Num(value)),
+                    ctx)
+
     def declare(self, stmt: Declare, ctx: ProcessContext) -> None:
-        """CONSTANT "name", value and GLOBAL "name", vr: names every process sees."""
+        """CONSTANT "name", value and GLOBAL "name", vr: names every process sees;
+        CONSTANT alone clears every CONSTANT."""
+        if not stmt.name:
+            self.hook.constants.clear()
+            return
         value = self.evaluate(stmt.value, ctx)
         if stmt.what == "GLOBAL":
             index = self._index(self.number_value(value))
@@ -544,17 +672,32 @@ class Interpreter:
             raise TrioError("Parameter out of range")
 
     def dim(self, stmt: Dim, ctx: ProcessContext) -> None:
+        """DIM: every name a scalar or an array of the dimensions given, holding the
+        initial value (0, "" or the ``= value``)."""
+        kind = stmt.type if stmt.type != "STRING" else f"STRING{stmt.length}"
         empty: Value = "" if stmt.type == "STRING" else 0.0
-        if stmt.size is not None:
-            size = self.number(stmt.size, ctx)
+        shape: tuple[int, ...] = ()
+        for expr in stmt.sizes:
+            size = self.number(expr, ctx)
             if size != int(size) or not 0 < size <= MAX_ARRAY:
                 raise TrioError("Parameter out of range")
-            if sum(len(a) for a in ctx.arrays.values()) + size > 4 * MAX_ARRAY:
-                raise TrioError("Parameter out of range")  # (D) a process's array memory
-            ctx.arrays[stmt.name] = [empty] * int(size)
-        else:
-            ctx.variables[stmt.name] = empty
-        ctx.types[stmt.name] = stmt.type if stmt.type != "STRING" else f"STRING{stmt.length}"
+            shape += (int(size),)
+        count = math.prod(shape) if shape else 0
+        if count > MAX_ARRAY or sum(len(a) for a in ctx.arrays.values()) \
+                + count * len(stmt.names) > 4 * MAX_ARRAY:
+            raise TrioError("Parameter out of range")  # (D) a process's array memory
+        for name in stmt.names:
+            ctx.types[name] = kind
+        if stmt.value is not None:
+            empty = self._typed(stmt.names[0], self.evaluate(stmt.value, ctx), ctx)
+        for name in stmt.names:
+            if shape:
+                ctx.arrays[name] = [empty] * count
+                ctx.shapes[name] = shape
+                ctx.variables.pop(name, None)
+            else:
+                ctx.variables[name] = empty
+                ctx.arrays.pop(name, None)
 
     def print(self, stmt: Print, ctx: ProcessContext) -> None:
         """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
@@ -629,12 +772,23 @@ class Interpreter:
         keyword = target.keyword
         if not keyword.writable:
             raise TrioError("Parameter is read only")
+        if target.index or target.slot is not None:
+            keyword.check(value)
+            key = self._indexed_key(target, ctx)
+            if key not in self.hook.indexed and len(self.hook.indexed) >= MAX_INDEXED:
+                raise TrioError("Parameter out of range")  # (D) bounded
+            self.hook.indexed[key] = value
+            return
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             keyword.check(value)
             self._act(lambda: self.machine.set_system_parameter(keyword.name, value))
             return
         axis = self.axis_of(target.axis, ctx)
         keyword.check(value)
+        if keyword.name == "OFFPOS":  # shifts the axis's positions, then reads 0 (I)
+            dpos = self.machine.axis_parameter("DPOS", axis)
+            self._act(lambda: self.machine.defpos([axis], [dpos + value]))
+            return
         self._act(lambda: self.machine.set_axis_parameter(keyword.name, axis, value))
 
     def group(self, axis: Expr | None, ctx: ProcessContext, count: int) -> list[int]:
@@ -650,6 +804,9 @@ class Interpreter:
 
     def command(self, stmt: Command, ctx: ProcessContext) -> Wait:
         name = stmt.keyword.name
+        if name in _BIT_COMMANDS:
+            self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
+            return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]
             yield from self.hook.system_command(stmt.keyword, values, ctx)
@@ -664,11 +821,11 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
-        elif name == "MOVECIRC":
-            axes = self.group(stmt.axis, ctx, 2)
+        elif name in ("MOVECIRC", "MHELICAL"):
+            axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRC" else 3)
             while not m.can_load(axes):
                 yield ON_CHANGE
-            self._act(lambda: m.movecirc(axes, args))
+            self._act(lambda: (m.movecirc if name == "MOVECIRC" else m.mhelical)(axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -698,6 +855,38 @@ class Interpreter:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
 
+    def bit_command(self, name: str, args: list[float]) -> float:
+        """SET_BIT(b, vr) / CLEAR_BIT(b, vr) / READ_BIT(b, vr): bit b (0..52) of VR(vr);
+        FLAG(n[, state]) / FLAGS([value]): the 24 user flags (I: manual; every argument
+        checked before anything changes)."""
+        m = self.machine
+        if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
+            if len(args) != 2:
+                raise TrioError("Syntax error")
+            bit, index = self._point(args[0], 53), self._index(args[1])
+            value = int(self._machine(lambda: m.vr_read(index)))
+            if name == "READ_BIT":
+                return float((value >> bit) & 1)
+            value = value | (1 << bit) if name == "SET_BIT" else value & ~(1 << bit)
+            self._act(lambda: m.vr_write(index, float(value)))
+            return 0.0
+        flags = int(self.hook.indexed.get(("FLAGS", ()), 0.0))
+        if name == "FLAGS":
+            if not args:
+                return float(flags)
+            if len(args) != 1 or args[0] != int(args[0]) or not 0 <= args[0] < 1 << 24:
+                raise TrioError("Parameter out of range")
+            self.hook.indexed[("FLAGS", ())] = args[0]
+            return 0.0
+        if not 1 <= len(args) <= 2:
+            raise TrioError("Syntax error")
+        flag = self._point(args[0], 24)
+        if len(args) == 1:
+            return _truth(bool(flags >> flag & 1))
+        flags = flags | (1 << flag) if args[1] != 0 else flags & ~(1 << flag)
+        self.hook.indexed[("FLAGS", ())] = float(flags)
+        return 0.0
+
     def _axis_command(self, name: str, axis: int, args: list[float]) -> Wait:
         m = self.machine
         if name == "ACC":
@@ -713,6 +902,14 @@ class Interpreter:
             yield from self._forever(axis, 1 if name == "FORWARD" else -1)
         elif name == "DATUM":
             yield from self.datum(axis, args[0])
+        elif name in ("MOVELINK", "CONNECT"):  # linked moves queue behind links too
+            while not m.can_link(axis):
+                yield ON_CHANGE
+            self._act(lambda: (m.movelink if name == "MOVELINK" else m.connect)(axis, args))
+        elif name == "MOVEMODIFY":  # acts on the running move: never waits (D)
+            self._act(lambda: m.movemodify(axis, args))
+        elif name == "ADDAX":
+            self._act(lambda: m.addax(axis, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE
@@ -735,8 +932,11 @@ class Interpreter:
     def datum(self, axis: int, mode: float) -> Wait:
         """DATUM(n) on the shared world's switches (see the keyword's note)."""
         m = self.machine
-        if mode == 0:
-            return  # clears motion errors: none are modelled
+        if mode in (0, 1, 2):  # clear the motion errors; a Z-mark search, on the machine
+            self._act(lambda: m.datum(axis, int(mode)))
+            while not m.axis_idle(axis):
+                yield ON_CHANGE
+            return
         if mode not in (3, 4, 5, 6):
             raise TrioError("Parameter out of range")
         wired = m.axis_parameter("DATUM_IN", axis)
@@ -766,7 +966,7 @@ class Interpreter:
         """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""
         m = self.machine
         if len(args) == 2:
-            m.set_output(self._point(args[0], IO_POINTS), args[1] != 0)
+            m.set_output(self._point(args[0], IO_SPACE), args[1] != 0)
         elif len(args) == 1:
             pattern = args[0]
             if pattern != int(pattern) or not 0 <= pattern < 2 ** 24:

@@ -9,7 +9,10 @@ sure we are (C certain, I inferred, D our decision, explained in ``note``). Sour
 - ``tokentable``: the token table shipped in atrio (AbundantRobotics/atrio,
   ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
   argument counts and whether a parameter is writable;
-- ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions).
+- ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions);
+- ``public programs``: how public TrioBASIC programs for real controllers use a word.
+
+Long module: a declarative table, one entry per keyword with its source and notes.
 """
 
 from __future__ import annotations
@@ -104,6 +107,11 @@ def _constant(name: str, value: float, *, source: str = TOK, note: str = "") -> 
 
 
 _REGISTER = (0.0, float(PWM_REGISTER_MAX))
+_LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching the switch is "
+               "cancelled on that servo tick (found exactly) and ramps down at FASTDEC, or "
+               "DECEL when FASTDEC is 0 (I); a move into the switch while it is on is "
+               "cancelled as it starts (no step); moves away from it run (I). An input the "
+               "world drives as a level acts when it changes (D).")
 
 _ENTRIES: list[Keyword] = [
     # ---- axis parameters ------------------------------------------------------------
@@ -127,11 +135,14 @@ _ENTRIES: list[Keyword] = [
           "of its base axis is ON as it is loaded and both are on the same axes (I)."),
     _axis("FE_LIMIT", "Following error limit, user units.", default=2000,
           value_range=(0, _BIG), source=f"{SEED} example 3; {TOK}", confidence="I",
-          note="Stored; power-up 2000 (D)."),
+          note="Power-up 2000 (D). |FE| beyond it sets AXISSTATUS bit 8 (256), in ERRORMASK "
+          "by default: a motion error (manual, C for steppers with verification), raised "
+          "on the servo cycle it is first passed (the loop runs every cycle, D)."),
     _axis("DPOS", "Demand position, user units.", writable=False, source=f"{MAN}; {TOK}",
           note="The exact demand, fractions of a count included (D)."),
     _axis("MPOS", "Measured position, user units.", writable=False, source=f"{MAN}; {TOK}",
-          confidence="D", note="Equals DPOS: no following error is modelled (D)."),
+          confidence="I", note="A servo axis (see FE): the encoder of the world's motor "
+          "(I); any other axis: equals DPOS (D)."),
     _axis("VP_SPEED", "Velocity profile speed: the path speed of the move this axis runs, "
           "user units/s.", writable=False, source=f"{SEED}; {TOK}",
           note="Read only (tokentable). PWM_CONTROL(2/8) links to it. Every axis of an "
@@ -153,7 +164,10 @@ _ENTRIES: list[Keyword] = [
           "Reads raw counts, unsigned 0..2^29-1 (D)."),
     # ---- system parameters -----------------------------------------------------------
     _system("WDOG", "Enable switch for the drives; PWM is generated only with WDOG=ON.",
-            value_range=(-1, 1), source=f"{SEED}; {TOK}"),
+            value_range=(-1, 1), source=f"{SEED}; {TOK}",
+            note="A servo axis (ATYPE 36, 77) moves only with WDOG ON (see SERVO); a motion "
+            "error sets it OFF (I). Pulse/direction axes run their demand whatever it is "
+            "(I: the seed's example 1 loads its moves before WDOG=ON)."),
     _system("SERVO_PERIOD", "Servo cycle in microseconds (one tick of the emulator).",
             default=1000, value_range=(250, 2000), source=f"{MAN}; {TOK}", confidence="D",
             note="MC405 default 1000 us. 250, 500, 1000 or 2000 accepted; the new period "
@@ -211,6 +225,80 @@ _ENTRIES: list[Keyword] = [
              "link distance; ends when the link axis has travelled it. Options other than "
              "0 are refused (D), and so is a link axis that itself follows this axis "
              "through CAMBOX links (D: a loop of links has no position)."),
+    # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
+    _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
+             "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
+             "distance3 along it.", (6, 9), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="One arc segment of the shared path planner whose third "
+             "axis rises in proportion to the arc; the path speed is the circle's, at the "
+             "base axis's SPEED and ACCEL (I); mode and the 8th/9th arguments other than 0 "
+             "are refused (D). MTYPE 3."),
+    _command("MOVEMODIFY", "MOVEMODIFY(position): the running move of the base axis now "
+             "ends at this absolute position.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Re-planned from where the axis is at the speed it has "
+             "(SPEED/ACCEL of the axis now); if it cannot stop short of the new end it stops "
+             "and comes back (I). On an idle axis an absolute move (I). Refused on a linked "
+             "axis, an interpolated group or a merged move with more buffered behind it (D). "
+             "Never waits. MTYPE 5."),
+    _command("MOVELINK", "MOVELINK(distance, link dist, link acc, link dec, link axis[, "
+             "options[, link pos]]): move distance while the link axis travels link dist, "
+             "ramping over its first link acc and last link dec.", (5, 13), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="The axis's speed share of the link ramps linearly with the link's travel "
+             "(a parabola in position), constant between (I); link acc + link dec above "
+             "link dist are both shortened in proportion (I). It follows the link axis's "
+             "DEMAND position (D: the manual's link is the measured one) and ends on the "
+             "first servo tick the link has travelled link dist; the next MOVELINK "
+             "buffered on the same link axis takes over at that exact link position (no "
+             "drift: I). Options: 2 starts when the link axis reaches link pos (already "
+             "past: from where it is, D), 4 repeats both ways until CANCEL; 1 (registration) "
+             "and others are refused (D). Buffered like a move (NTYPE 22). MTYPE 22."),
+    _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
+             "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="Ratio in counts per count, not user units (C: manual, Trio support). "
+             "Follows the link axis's demand position (D). A second CONNECT on the same link "
+             "axis changes the ratio at once from where both are; on another link axis it is "
+             "ignored while the first runs (C: manual). Buffered behind moves and links like "
+             "a move. CLUTCH_RATE is not modelled. MTYPE 21."),
+    _command("ADDAX", "ADDAX(axis): add that axis's demand movements to the base axis's "
+             "own; ADDAX(-1) ends it.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Count for count from when it is given (I); after "
+             "ADDAX(-1) the axis keeps what was added. Not buffered: it acts at once (I). "
+             "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
+             "aims its own moves, without the live ADDAX part (D)."),
+    _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
+          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 20 CAMBOX, 21 CONNECT, 22 "
+          "MOVELINK, 23 CONNPATH.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The codes as recalled from the manual's MTYPE table (the table's text was "
+          "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
+          "MOVE of exactly 2^50 counts reads as FORWARD/REVERSE (D)."),
+    _axis("NTYPE", "The type of the next move held in the axis's buffer (MTYPE codes); 0 "
+          "none.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The move after the running one (merged moves, runs queued, linked moves); "
+          "with none running, the first held (I)."),
+    _axis("MOVES_BUFFERED", "Moves held in the axis's buffer behind the one running.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="Up to 16 moves held per axis, running included (D, docs/trio.md)."),
+    _axis("REMAIN", "The distance left of the move running, user units.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I", note="Unsigned; along the axis for its "
+          "share of a path move, the axis's own distance left for a MOVELINK, 0 for links "
+          "without an end and at rest (I)."),
+    _axis("ENDMOVE", "The absolute end position of the move running, user units; written "
+          "on an idle axis it steps the demand there.", source=f"{TOK}; {MAN}",
+          confidence="I", note="Reads DPOS when there is no move. Written on an idle axis "
+          "the demand steps to it (C: manual DPOS entry); on a running single-axis move it "
+          "is MOVEMODIFY (D); otherwise 'Parameter out of range' (D)."),
+    _axis("MSPEED", "The axis's speed over the last servo cycle, user units/s (signed).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="D",
+          note="The demand's change over the servo cycle before now (D: the measured "
+          "position is not modelled apart from the demand here)."),
+    _axis("LINK_AXIS", "The axis a linked move follows (CONNECT, MOVELINK, CAMBOX link "
+          "axis, CONNPATH base); -1 none.", writable=False, source=f"{TOK}; {MAN}",
+          confidence="I", note="-1 for none is our reading of the manual (I)."),
+    _axis("ADDAX_AXIS", "The axis ADDAX adds to this one; -1 none.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="-1 for none is our reading of the manual (I)."),
     _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
@@ -260,7 +348,8 @@ _ENTRIES: list[Keyword] = [
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
-              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count D)."),
+              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
+              "programs clear VR 0..65535)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
@@ -287,53 +376,118 @@ _ENTRIES: list[Keyword] = [
                source=f"{SEED}; {TOK}; {MAN}",
                note="WAIT UNTIL tests once per servo cycle (D). Allowed on the command "
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
-    # ---- drives, limits and I/O ------------------------------------------------------------
+    # ---- drives, limits and I/O (personalities/trio/drive.py) ----------------------------
     *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
             value_range=(-1, 31), source=f"{TOK}; {MAN}", confidence="I",
             note=f"IN(n) of that input reads the world's {switch} switch of this axis at its "
-            "position (unless the world drives input n itself); AXISSTATUS shows it. The "
-            "switch does not stop motion (not modelled, docs/not-modelled.md).")
-      for name, what, switch in (("FWD_IN", "forward limit", "plus-limit"),
-                                 ("REV_IN", "reverse limit", "minus-limit"),
-                                 ("DATUM_IN", "datum (home) switch", "home"))],
+            "position (unless the world drives input n itself)." + stop)
+      for name, what, switch, stop in (
+          ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4)),
+          ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5)),
+          ("DATUM_IN", "datum (home) switch", "home", " DATUM(3..6) search for it."))],
     _axis("FS_LIMIT", "Forward software limit, user units.", default=200000000000,
-          source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). Reported in "
-          "AXISSTATUS bit 9 when DPOS is beyond it; it does not stop motion (not modelled)."),
+          source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). DPOS beyond it "
+          "sets AXISSTATUS bit 9 (512). A motion reaching it (the first servo tick DPOS is at "
+          "or beyond it) is cancelled there and ramps down to zero (manual: 'ramp down the "
+          "speed to zero then cancel the move', C), at FASTDEC or DECEL as a hard limit; "
+          "moves further forward are cancelled as they start (I)."),
     _axis("RS_LIMIT", "Reverse software limit, user units.", default=-200000000000,
-          source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT, AXISSTATUS bit 10."),
-    _axis("AXISSTATUS", "Axis status bits: 16 forward limit, 32 reverse limit, 512 forward "
-          "soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
-          confidence="I", note="Bits from the limit inputs and the soft limits; the drive and "
-          "following-error bits read 0 (no drive faults are modelled, D)."),
+          source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT: AXISSTATUS bit 10 "
+          "(1024) while DPOS is below it (manual, C); it stops reverse motion the same way."),
+    _axis("FASTDEC", "Deceleration at a limit, user units/s^2 (0: DECEL).", default=0,
+          value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
+          "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D)."),
+    _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
+          "reverse limit, 64 datuming, 256 following error exceeded, 512 forward soft limit, "
+          "1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
+          confidence="I", note="Bits 4/5 from the FWD_IN/REV_IN inputs, 9/10 from DPOS "
+          "against FS_LIMIT/RS_LIMIT (manual, C for 9/10), 6 while DATUM(1)/(2) searches, "
+          "1/8 from FE against FE_RANGE/FE_LIMIT (8 also when the servo loop trips); the "
+          "bits that put the axis into motion error stay set until DATUM(0). Bits 2/3 "
+          "(remote drive) read 0: no remote drives (D)."),
+    _axis("ERRORMASK", "AXISSTATUS bits that put the axis into motion error.", default=268,
+          value_range=(0, 2 ** 24 - 1), source=f"{TOK}; {MAN}", confidence="I",
+          note="Power-up 268 (256 following error exceeded, 8 and 4 remote drive errors: "
+          "I). A bit newly set in AXISSTATUS AND ERRORMASK (looked at on every event: D) "
+          "stops every axis at once, drops the buffered moves, sets WDOG OFF and the axis's "
+          "MOTION_ERROR bit (I). Acting on newly set bits only is our decision (D): an axis "
+          "left standing on a limit after DATUM(0) can move off it."),
+    _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,
+            source=f"{TOK}; {MAN}", confidence="I",
+            note="Set by ERRORMASK (see it), cleared by DATUM(0) (I). A move on an axis in "
+            "error is refused with 'Axis in error' (D: the text is ours)."),
+    _system("ERROR_AXIS", "The first axis that went into motion error (-1: none).",
+            default=-1, writable=False, source=f"{TOK}; {MAN}", confidence="I",
+            note="-1 with no motion error (D); cleared by DATUM(0)."),
+    _axis("FE", "Following error: DPOS - MPOS, user units.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="On a servo axis (ATYPE 36/77 with P_GAIN above 0) the shared servo loop "
+          "drives the world's motor and FE is the demand less the encoder (I); on any "
+          "other axis it is 0, the axis following its demand exactly (D)."),
+    _axis("FE_RANGE", "Following error warning range, user units (0: off).",
+          value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="|FE| beyond it sets AXISSTATUS bit 1 (2) (I)."),
+    *[_axis(name, f"Servo gain: {what}.", value_range=(0, _BIG), source=f"{TOK}; {MAN}",
+            confidence="D", note=f"With ATYPE 36 or 77 and P_GAIN above 0 the axis runs the "
+            f"shared servo loop (the MAXk's PID on the world's motor plant) as {term} (D: "
+            "the MC405's own scaling is not published here). Power-up 0: the exact, "
+            "profile-only axis (D).")
+      for name, what, term in (
+          ("P_GAIN", "proportional", "KP: DAC counts per count of error"),
+          ("I_GAIN", "integral", "KI/1024: DAC counts per count summed each servo cycle"),
+          ("D_GAIN", "derivative", "KD: DAC counts per count of change of the error"),
+          ("VFF_GAIN", "velocity feed forward", "KV: DAC counts per count per servo "
+           "cycle of demand speed"))],
+    _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="D",
+          note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
+          "emulator knows it (D: the MC405's own axes have no drive word): 0x37 enabled "
+          "(ready, switched on, operation enabled, voltage, quick stop) or 0x50 disabled "
+          "(voltage, switch-on disabled); +8 fault while the axis is in motion error, "
+          "+0x400 target reached while idle, +0x800 internal limit while an AXISSTATUS "
+          "limit bit is set, +0x2000 following error with bit 8."),
     _axis("SERVO", "Position loop on (ON) or off for the axis.", value_range=(-1, 1),
-          source=f"{TOK}; {MAN}", confidence="D", note="Stored; motion runs on the demand "
-          "whatever its value (not modelled)."),
-    _axis("AXIS_ENABLE", "Enable of the axis's drive.", value_range=(-1, 1),
-          source=f"{TOK}; {MAN}", confidence="D", note="Stored; not modelled (as SERVO)."),
-    _axis("CREEP", "The slow speed of the second part of a DATUM search, user units/s.",
-          default=200, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          source=f"{TOK}; {MAN}", confidence="I", note="On a servo axis (ATYPE 36 or 77) "
+          "the drive is enabled only with SERVO ON, WDOG ON and AXIS_ENABLE ON: a move is "
+          "refused with 'Axis not enabled' (D: the text is ours) and one running stops at "
+          "once when it goes off (D). Power-up OFF (I). Pulse/direction axes ignore it "
+          "(manual: on a stepper it only gates the position verification, C)."),
+    _axis("AXIS_ENABLE", "Enable of the axis's drive.", default=1, value_range=(-1, 1),
+          source=f"{TOK}; {MAN}", confidence="I", note="Power-up ON (I). OFF disables the "
+          "drive of any axis (as SERVO does a servo axis's)."),
+    _axis("CREEP", "The slow speed of the second part of a DATUM search, and of the "
+          "Z-mark searches DATUM(1)/(2), user units/s.", default=200,
+          value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 200 (D)."),
-    _command("DATUM", "DATUM(n): 0 clears motion errors; 3/5 search forward at SPEED for "
-             "the DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
+    _command("DATUM", "DATUM(n): 0 clears motion errors; 1/2 search forward/reverse at CREEP "
+             "for the encoder's Z mark, zero there; 3/5 search forward at SPEED for the "
+             "DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
              "reverse; the position there becomes 0.", (1, 1), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
-             note="The search runs on the planner watching the input every servo cycle; "
-             "the zero is where the creep stopped after the input went off (D: not the "
-             "exact edge). 1 and 2 (Z mark searches) are 'Parameter out of range' (not "
-             "modelled); 5 and 6 do not look for the Z mark (D). The statement returns when "
-             "the search ends (D: the controller returns at once and the axis moves on). "
-             "Without a DATUM_IN: 'Parameter out of range' (D)."),
+             note="1/2: the Z mark is the world's index mark of the axis, found exactly to "
+             "the servo tick; DPOS is 0 on the mark's first count met, then the axis ramps "
+             "down at DECEL (D: it stops a ramp past the mark). 3..6 run on the planner "
+             "watching the input every servo cycle; the zero is where the creep stopped "
+             "after the input went off (D: not the exact edge); 5 and 6 do not look for the "
+             "Z mark (D). 0 clears every axis's motion error (MOTION_ERROR, ERROR_AXIS, the "
+             "bits AXISSTATUS held), WDOG stays OFF (I). The statement returns when the "
+             "search ends (D: the controller returns at once and the axis moves on). "
+             "Without a DATUM_IN, 3..6 are 'Parameter out of range' (D)."),
     _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
              "first two BASE axes, end and centre relative to the start.", (5, 7), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
              note="On the shared path planner at the base axis's SPEED and ACCEL; direction "
              "1 clockwise, 0 anticlockwise (I); an end on the start is a whole circle; the "
-             "6th and 7th arguments are refused unless 0 (D)."),
+             "6th and 7th arguments are refused unless 0 (D). A limit met ramps the path "
+             "down along itself (see FWD_IN). MTYPE 4."),
     _command("FORWARD", "Move forward continuously at SPEED until CANCEL or RAPIDSTOP.",
              (0, 0), axis=True, source=f"{TOK}; {MAN}", confidence="I",
-             note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D)."),
+             note="A move of 2^50 counts on the shared planner, ended by CANCEL's ramp (D), "
+             "or by the forward limit (FWD_IN, FS_LIMIT) at FASTDEC. MTYPE 10."),
     _command("REVERSE", "Move in reverse continuously at SPEED until CANCEL.", (0, 0),
-             axis=True, source=f"{TOK}; {MAN}", confidence="I", note="As FORWARD."),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As FORWARD, towards REV_IN and RS_LIMIT. MTYPE 11."),
     _function("IN", "IN(n): input n, 1 on / 0 off; IN(a, b): inputs a..b as a binary "
               "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the shared world's inputs (the world contract can drive them)."),
@@ -383,6 +537,71 @@ _ENTRIES: list[Keyword] = [
               "absent.", (2, 4)),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
+    _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "
+               "value.", source="public programs", confidence="I",
+               note="Seen in Motion Perfect library templates; the emulator treats it as "
+               "CONSTANT (I). An '=' or ',' between name and value is accepted (D)."),
+    # ---- channels (files and terminals) ---------------------------------------------------
+    _command("OPEN", "OPEN #n AS \"NAME\" FOR INPUT|OUTPUT|APPEND|FIFO_READ|FIFO_WRITE|"
+             "READ_WRITE: a channel on a file.", (0, 0), confidence="I",
+             source=f"{TOK}; public programs",
+             note="FOR INPUT reads a program of the store (a .TXT file) as text, its lines "
+             "ending CR LF (D: the store is the file system); a missing one is 'Program "
+             "not found'; a channel already open is 'Channel already open' (D). Output "
+             "modes accept and drop what is written (D)."),
+    *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
+               source=f"{TOK}; public programs",
+               note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
+               "with no effect (D).")
+      for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
+    _command("CLOSE", "CLOSE #n: close a channel.", (0, 0), confidence="I",
+             source=f"{TOK}; public programs", note="Closing a channel not open does "
+             "nothing (D)."),
+    _command("GET", "GET [#n,] v: the code of the next character of channel n.", (0, 0),
+             confidence="I", source=f"{TOK}; public programs",
+             note="Waits until a character comes: an open file gives its next one; the "
+             "terminal channels never receive one while a program runs (D), so GET on "
+             "them waits (as on a controller nobody types to)."),
+    _command("INPUT", "INPUT [#n,] v[, v]: numbers from a channel, comma or line "
+             "separated.", (0, 0), confidence="I", source=f"{TOK}; public programs",
+             note="As GET for where characters come from; at the end of a file a value "
+             "reads 0 (D)."),
+    _command("LINPUT", "LINPUT [#n,] v: one line of a channel as a string.", (0, 0),
+             confidence="I", source=f"{TOK}; public programs", note="As INPUT."),
+    _function("KEY", "KEY #n: TRUE when a character waits on channel n.", (0, 1),
+              confidence="I", source=f"{TOK}; public programs",
+              note="An open file with characters left reads TRUE; the terminal channels "
+              "read FALSE (D: no typing reaches a running program)."),
+    *[_function(name, f"{name}: {what} from the controller's clock.", (0, 0),
+                confidence="D", source=TOK,
+                note="The emulator's clock is virtual time since power up, which is 00:00:00 "
+                "on Saturday 01/01/2000 (D).")
+      for name, what in (("DATE$", "the date DD/MM/YYYY"), ("TIME$", "the time HH:MM:SS"),
+                         ("DAY$", "the day of the week"))],
+    _axis("OFFPOS", "OFFPOS = d: shift the axis's positions (DPOS and MPOS) by d; reads 0.",
+          source=f"{TOK}; public programs", confidence="I",
+          note="Applied at once as a DEFPOS to DPOS + d, and OFFPOS reads 0 again, so the "
+          "common 'OFFPOS = d: WAIT UNTIL OFFPOS = 0' goes on (I: the controller applies it "
+          "on the next servo cycle and clears it)."),
+    _command("SET_BIT", "SET_BIT(b, vr): set bit b of VR(vr).", (2, 2), confidence="I",
+             source=f"{TOK}; {MAN}", note="Bits 0..52 of the VR's integer part (D)."),
+    _command("CLEAR_BIT", "CLEAR_BIT(b, vr): clear bit b of VR(vr).", (2, 2),
+             confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
+              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("FLAG", "FLAG(n, state) sets user flag n (0..23); FLAG(n) reads it.", (1, 2),
+             confidence="I", source=f"{TOK}; {MAN}",
+             note="Reads TRUE (-1) or FALSE; the flags start clear and are shared by every "
+             "process (I)."),
+    _command("FLAGS", "FLAGS(value) sets the 24 user flags as bits; FLAGS reads them.",
+             (0, 1), confidence="I", source=f"{TOK}; {MAN}", note="As FLAG."),
+    _command("PROFINET", "PROFINET(function, slot, ...): the PROFINET slave module's "
+             "functions.", (1, 20), source="public programs", confidence="D",
+             note="No PROFINET module: accepted, no effect; as a function it returns 0 (D)."),
+    Keyword("NW_NODE_AXIS_MAP", Kind.SYSTEM_PARAMETER, "NW_NODE_AXIS_MAP(slot, node, n): the "
+            "axis a network node's drive is mapped to.", "public programs", "D",
+            "Not modelled: each (slot, node, n) keeps the value written, reads 0 before "
+            "(D).", (-1, 1023)),
     Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
             args=(1, 1)),
     # ---- constants, operators, modifiers --------------------------------------------------------

@@ -38,8 +38,11 @@ class Token:
 
 
 _DIGITS = frozenset("0123456789")
+# Blanks between tokens: a CR (a line from a Windows file or a terminal's CR LF) and a
+# form feed are blanks like space and tab (D: Motion Perfect files are CR LF).
+_BLANK = " \t\r\f\v"
 _LETTERS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
-_TWO_CHAR_OPS = ("<=", ">=", "<>")
+_TWO_CHAR_OPS = ("<<", ">>", "<=", ">=", "<>")
 _ONE_CHAR_OPS = "+-*/^=<>(),;:?#[]"
 
 
@@ -49,7 +52,7 @@ def tokenize(line: str) -> list[Token]:
     i, n = 0, len(line)
     while i < n:
         c = line[i]
-        if c in " \t":
+        if c in _BLANK:
             i += 1
         elif c == "'":
             break

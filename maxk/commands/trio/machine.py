@@ -63,6 +63,31 @@ class TrioMachine(Protocol):
         """MOVECIRC(end1, end2, centre1, centre2, direction) on the first two axes."""
         ...
 
+    def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MHELICAL(end1, end2, centre1, centre2, direction, distance3[, mode]): MOVECIRC's
+        arc on the first two axes, the third moving distance3 along it."""
+        ...
+
+    def movemodify(self, axis: int, args: Sequence[float]) -> None:
+        """MOVEMODIFY(position): the running move now ends at this absolute position."""
+        ...
+
+    def can_link(self, axis: int) -> bool:
+        """Room for one more linked move (MOVELINK, CONNECT) on the axis."""
+        ...
+
+    def movelink(self, axis: int, args: Sequence[float]) -> None:
+        """MOVELINK(distance, link dist, link acc, link dec, link axis[, options[, pos]])."""
+        ...
+
+    def connect(self, axis: int, args: Sequence[float]) -> None:
+        """CONNECT(ratio, link axis): electronic gearing until CANCEL."""
+        ...
+
+    def addax(self, axis: int, args: Sequence[float]) -> None:
+        """ADDAX(n): superimpose axis n's demand; ADDAX(-1) ends it."""
+        ...
+
     def axis_idle(self, axis: int) -> bool:
         """No move running or buffered on the axis (IDLE, WAIT IDLE)."""
         ...
@@ -73,6 +98,11 @@ class TrioMachine(Protocol):
 
     def set_acc(self, axis: int, rate: float) -> None:
         """ACC(rate): ACCEL and DECEL together."""
+        ...
+
+    def datum(self, axis: int, mode: int) -> None:
+        """DATUM(0) clears the motion errors; DATUM(1)/(2) start a Z-mark search forward /
+        reverse at CREEP (the axis is busy until it ends)."""
         ...
 
     def cancel(self, axis: int) -> None:

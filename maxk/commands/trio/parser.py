@@ -42,6 +42,8 @@ class Param:
     keyword: Keyword
     axis: Expr | None  # AXIS(n) modifier
     process: Expr | None = None  # PROC(n) modifier
+    slot: Expr | None = None  # SLOT(n) or PORT(n) modifier (stored per number, D)
+    index: tuple[Expr, ...] = ()  # NODE_PROFILE(slot, node): a parameter with arguments
 
 
 @dataclass(frozen=True)
@@ -170,10 +172,47 @@ class Perform:
 
 @dataclass(frozen=True)
 class Dim:
-    name: str
-    size: Expr | None  # array length, None: a scalar
+    """DIM a[, b ...][(n[, m])] [AS type[(n[, m])]] [= value]: each name the same."""
+
+    names: tuple[str, ...]
+    sizes: tuple[Expr, ...]  # array dimensions, () for scalars
     type: str  # INTEGER FLOAT BOOLEAN STRING
     length: int = 0  # STRING(n)
+    value: Expr | None = None  # the initial value
+
+
+@dataclass(frozen=True)
+class ArrayFill:
+    """``name = v0, v1, ...``: the first elements of a DIM array."""
+
+    name: str
+    values: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class OnJump:
+    """ON expr GOTO|GOSUB l1, l2, ...: the n-th label (1-based); out of range goes on."""
+
+    value: Expr
+    labels: tuple[str, ...]
+    gosub: bool
+
+
+@dataclass(frozen=True)
+class Channel:
+    """OPEN #n AS "name" FOR mode / CLOSE #n / GET #n, v / INPUT #n, v [, v] /
+    LINPUT #n, v: the channel statements."""
+
+    action: str
+    channel: Expr | None
+    name: Expr | None = None
+    mode: str = ""
+    targets: tuple[Expr, ...] = ()
+
+
+@dataclass(frozen=True)
+class WaitLoaded:
+    axis: Expr | None
 
 
 @dataclass(frozen=True)
@@ -257,13 +296,18 @@ class Next:
 Stmt = (Print | Assign | Command | WaitIdle | WaitUntil | IfLine | IfBlock | Else | EndIf
         | While | Wend | Repeat | Until | For | Next | Label | Goto | Gosub | Return | ElseIf
         | SelectCase | Case | EndCase | OnError | Declare | Dim | FunctionDef | EndFunc
-        | Perform)
+        | Perform | ArrayFill | OnJump | Channel | WaitLoaded)
 BLOCK_STATEMENTS = (IfBlock, Else, EndIf, While, Wend, Repeat, Until, For, Next, Label,
                     Goto, Gosub, Return, ElseIf, SelectCase, Case, EndCase, OnError,
-                    FunctionDef, EndFunc)
+                    FunctionDef, EndFunc, OnJump)
+JUMPS = (Goto, Gosub, Return, OnJump)  # block statements a one-line IF may hold
+DIM_TYPES = ("INTEGER", "FLOAT", "BOOLEAN", "STRING")
+CHANNEL_MODES = ("INPUT", "OUTPUT", "APPEND", "FIFO_READ", "FIFO_WRITE", "READ_WRITE")
 MAX_ARRAY = 65536  # elements of one DIM array (D)
 
 _EXPRESSION_COMMANDS = frozenset({"TABLE", "BASE"})  # commands that also read as functions
+_CHANNEL_STATEMENTS = frozenset({"OPEN", "CLOSE", "GET", "INPUT", "LINPUT"})
+_BARE_READS = frozenset({"OP", "FLAGS", "TIME", "DATE", "DAY"})  # commands read bare too
 _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
 
 
@@ -342,6 +386,8 @@ class _Parser:
             statements.append(statement)
             if isinstance(statement, IfLine):
                 break  # a one-line IF takes the rest of the line
+            if isinstance(statement, Else):
+                continue  # ELSE of a block IF may have its first statement after it (I)
             if self.tok.kind is not Tok.END:
                 self.expect_op(":")
         return statements
@@ -353,8 +399,7 @@ class _Parser:
                 self.advance()
                 continue
             statement = self.statement()
-            if isinstance(statement, BLOCK_STATEMENTS) and not isinstance(
-                    statement, (Goto, Gosub, Return)):
+            if isinstance(statement, BLOCK_STATEMENTS) and not isinstance(statement, JUMPS):
                 raise TrioError("Syntax error")
             out.append(statement)
             if not self.at_statement_end():
@@ -371,19 +416,7 @@ class _Parser:
         name = tok.text
         keyword = lookup(name)
         if keyword is None:
-            self.advance()
-            if self.at_op(":") and self.pos == 1:  # `name:` starting a line: a label
-                return Label(name)
-            if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
-                args = self.user_args()
-                if not self.at_op("="):
-                    return Perform(Call(name, args))
-                self.advance()
-                if len(args) != 1:
-                    raise TrioError("Syntax error")
-                return Assign(Call(name, args), self.expression())
-            self.expect_op("=")
-            return Assign(Var(name), self.expression())
+            return self.user_statement(name)
         if name == "ON" and self.tokens[self.pos + 1].text == "BASICERROR":
             self.advance()
             self.advance()
@@ -393,9 +426,14 @@ class _Parser:
                 raise TrioError("Syntax error")
             self.advance()
             return OnError(self.label_name())
+        if name == "ON" and self.tokens[self.pos + 1].kind is not Tok.END:
+            self.advance()
+            return self.on_jump()
         self.advance()
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
+        if name in _CHANNEL_STATEMENTS:
+            return self.channel_statement(name)
         if keyword.kind is Kind.COMMAND:
             command = self.command(keyword)
             if self.at_op("=") and command.args:  # AOUT(n) = value
@@ -405,16 +443,123 @@ class _Parser:
         if name in _PARAM_COMMANDS and self.at_op("("):
             return self.command(keyword)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
-            axis = self.axis_modifier() if keyword.axis_modifier else None
+            target = self.parameter(keyword)
             self.expect_op("=")
-            return Assign(Param(keyword, axis), self.expression())
+            return Assign(target, self.expression())
         if name == "VR":
             self.expect_op("(")
             index = self.expression()
             self.expect_op(")")
             self.expect_op("=")
             return Assign(Call("VR", (index,)), self.expression())
+        if keyword.kind is Kind.FUNCTION:  # a function called for its effect: POKE(...)
+            return Perform(Call(name, self.call_args(keyword)))
         raise TrioError("Syntax error")
+
+    def user_statement(self, name: str) -> Stmt:
+        """A statement starting with a name that is no keyword: a label, an assignment to
+        a variable or an array element, an array filled from a list, a FUNCTION called."""
+        self.advance()
+        if self.at_op(":") and self.pos == 1:  # `name:` starting a line: a label
+            return Label(name)
+        if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
+            args = self.user_args()
+            if not self.at_op("="):
+                return Perform(Call(name, args))
+            self.advance()
+            if not args:
+                raise TrioError("Syntax error")
+            return Assign(Call(name, args), self.expression())
+        self.expect_op("=")
+        value = self.expression()
+        if not self.at_op(","):
+            return Assign(Var(name), value)
+        values = [value]
+        while self.at_op(","):
+            self.advance()
+            values.append(self.expression())
+        return ArrayFill(name, tuple(values))
+
+    def on_jump(self) -> OnJump:
+        """ON expr GOSUB|GOTO label, label, ..."""
+        value = self.expression()
+        if not self.at_name("GOTO", "GOSUB"):
+            raise TrioError("Syntax error")
+        gosub = self.advance().text == "GOSUB"
+        labels = [self.label_name()]
+        while self.at_op(","):
+            self.advance()
+            labels.append(self.label_name())
+        return OnJump(value, tuple(labels), gosub)
+
+    def parameter(self, keyword: Keyword) -> Param:
+        """A parameter with its arguments (``NODE_PROFILE(s, n)``) and modifiers
+        (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
+        index: tuple[Expr, ...] = ()
+        if self.at_op("(") and keyword.note.startswith("Not modelled"):
+            # only a parameter the emulator keeps as written takes arguments (D): a
+            # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
+            index = self.user_args()
+            if not index:
+                raise TrioError("Syntax error")
+        axis = process = slot = None
+        while self.at_name("AXIS", "PROC", "SLOT", "PORT"):
+            modifier = self.advance().text
+            self.expect_op("(")
+            value = self.expression()
+            self.expect_op(")")
+            if modifier == "AXIS" and keyword.axis_modifier and axis is None:
+                axis = value
+            elif modifier == "PROC" and process is None:
+                process = value
+            elif modifier in ("SLOT", "PORT") and slot is None and \
+                    keyword.note.startswith("Not modelled"):
+                slot = value
+            else:
+                raise TrioError("Syntax error")
+        return Param(keyword, axis, process, slot, index)
+
+    def channel_statement(self, name: str) -> Channel:
+        """OPEN #n AS "name" FOR mode, CLOSE #n, GET #n, v, INPUT [#n,] v[, v],
+        LINPUT #n, v."""
+        channel = None
+        if self.at_op("#"):
+            self.advance()
+            channel = self.expression()
+        if name == "OPEN":
+            if channel is None or not self.at_name("AS"):
+                raise TrioError("Syntax error")
+            self.advance()
+            file_name = self.expression()
+            if not self.at_name("FOR"):
+                raise TrioError("Syntax error")
+            self.advance()
+            if not self.at_name(*CHANNEL_MODES):
+                raise TrioError("Syntax error")
+            return Channel("OPEN", channel, file_name, self.advance().text)
+        if name == "CLOSE":
+            return Channel("CLOSE", channel)
+        if channel is not None:
+            self.expect_op(",")
+        targets = [self.target()]
+        while name == "INPUT" and self.at_op(","):
+            self.advance()
+            targets.append(self.target())
+        return Channel(name, channel, targets=tuple(targets))
+
+    def target(self) -> Expr:
+        """Where GET/INPUT store: a variable, an array element or VR(i)."""
+        tok = self.advance()
+        if tok.kind is not Tok.NAME:
+            raise TrioError("Syntax error")
+        if tok.text == "VR" or lookup(tok.text) is None and self.at_op("("):
+            args = self.user_args()
+            if len(args) != 1 and tok.text == "VR":
+                raise TrioError("Syntax error")
+            return Call(tok.text, args)
+        if lookup(tok.text) is not None:
+            raise TrioError("Syntax error")
+        return Var(tok.text)
 
     def label_name(self) -> str:
         tok = self.advance()
@@ -444,6 +589,15 @@ class _Parser:
             return self.case()
         if name == "END_CASE":
             return EndCase()
+        if name == "CONSTANT" and self.at_statement_end():
+            return Declare("CONSTANT", "", Num(0.0))  # clears every CONSTANT (I)
+        if name == "DEFCONST":  # DEFCONST name value: a CONSTANT (I, public programs)
+            tok = self.advance()
+            if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+                raise TrioError("Syntax error")
+            if self.at_op("=", ","):
+                self.advance()
+            return Declare("CONSTANT", tok.text, self.expression())
         if name in ("CONSTANT", "GLOBAL"):
             tok = self.advance()
             if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
@@ -497,6 +651,9 @@ class _Parser:
             if self.at_name("UNTIL"):
                 self.advance()
                 return WaitUntil(self.expression())
+            if self.at_name("LOADED"):
+                self.advance()
+                return WaitLoaded(self.axis_modifier())
         raise TrioError("Syntax error")
 
     def case(self) -> Case:
@@ -527,13 +684,16 @@ class _Parser:
         return tuple(args)
 
     def skip_type(self) -> None:
+        """``AS type`` of a FUNCTION or its parameter; ``AS type()`` passes an array."""
         if self.at_name("AS"):
             self.advance()
-            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+            if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
-            if self.advance().text == "STRING" and self.at_op("("):
+            self.advance()
+            if self.at_op("("):
                 self.advance()
-                self.advance()
+                if not self.at_op(")"):
+                    self.advance()
                 self.expect_op(")")
 
     def function(self) -> FunctionDef:
@@ -553,19 +713,32 @@ class _Parser:
             raise TrioError("Syntax error")
         return FunctionDef(name, tuple(params))
 
-    def dim(self) -> Dim:
-        tok = self.advance()
-        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+    def dimensions(self) -> tuple[Expr, ...]:
+        """``(n[, m ...])``: an array's dimensions."""
+        sizes = self.user_args()
+        if not sizes:
             raise TrioError("Syntax error")
-        size = None
-        if self.at_op("("):
+        return sizes
+
+    def dim(self) -> Dim:
+        names: list[str] = []
+        sizes: tuple[Expr, ...] = ()
+        while True:
+            tok = self.advance()
+            if tok.kind is not Tok.NAME or lookup(tok.text) is not None or tok.text in names:
+                raise TrioError("Syntax error")
+            names.append(tok.text)
+            if self.at_op("("):
+                if sizes:
+                    raise TrioError("Syntax error")
+                sizes = self.dimensions()
+            if not self.at_op(","):
+                break
             self.advance()
-            size = self.expression()
-            self.expect_op(")")
         kind, length = "FLOAT", 0
         if self.at_name("AS"):
             self.advance()
-            if not self.at_name("INTEGER", "FLOAT", "BOOLEAN", "STRING"):
+            if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
             kind = self.advance().text
             if kind == "STRING":
@@ -576,7 +749,15 @@ class _Parser:
                     raise TrioError("Syntax error")
                 length = int(number.value)
                 self.expect_op(")")
-        return Dim(tok.text, size, kind, length)
+            if self.at_op("("):  # DIM a AS INTEGER(8): the size after the type
+                if sizes:
+                    raise TrioError("Syntax error")
+                sizes = self.dimensions()
+        value = None
+        if self.at_op("="):
+            self.advance()
+            value = self.expression()
+        return Dim(tuple(names), sizes, kind, length, value)
 
     def for_statement(self) -> For:
         tok = self.advance()
@@ -689,8 +870,17 @@ class _Parser:
         return self.comparison()
 
     def comparison(self) -> Expr:
-        left = self.additive()
+        left = self.shift()
         while self.at_op("=", "<>", "<", ">", "<=", ">="):
+            op = self.advance().text
+            left = self.binary(op, left, self.shift())
+        return left
+
+    def shift(self) -> Expr:
+        """``<<`` and ``>>`` on the integer parts, between comparisons and + - (D: as C
+        orders them; the programs seen always bracket them)."""
+        left = self.additive()
+        while self.at_op("<<", ">>"):
             op = self.advance().text
             left = self.binary(op, left, self.additive())
         return left
@@ -732,6 +922,21 @@ class _Parser:
         return self.primary()
 
     def primary(self) -> Expr:
+        expr = self.operand()
+        tok = self.tok
+        if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
+            self.advance()  # value.n: bit n of a variable, element, bracket or parameter
+            bit = int(tok.text[1:])
+            if bit > 52:
+                raise TrioError("Parameter out of range")
+            if isinstance(expr, Param) and expr.axis is None and \
+                    expr.keyword.axis_modifier and self.at_name("AXIS"):
+                expr = Param(expr.keyword, self.axis_modifier(), expr.process, expr.slot,
+                             expr.index)  # x.n AXIS(a)
+            return Bit(expr, bit)
+        return expr
+
+    def operand(self) -> Expr:
         tok = self.advance()
         if tok.kind is Tok.NUMBER:
             return Num(tok.value)
@@ -751,26 +956,12 @@ class _Parser:
         if keyword.kind is Kind.CONSTANT:
             return Num(keyword.default)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
-            axis = self.axis_modifier() if keyword.axis_modifier else None
-            process = None
-            if self.at_name("PROC"):
-                self.advance()
-                self.expect_op("(")
-                process = self.expression()
-                self.expect_op(")")
-            if axis is None and keyword.axis_modifier:
-                axis = self.axis_modifier()
-            param: Expr = Param(keyword, axis, process)
-            tok = self.tok
-            if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
-                self.advance()
-                bit = int(tok.text[1:])
-                if bit > 52:
-                    raise TrioError("Parameter out of range")
-                if axis is None and keyword.axis_modifier and self.at_name("AXIS"):
-                    param = Param(keyword, self.axis_modifier(), process)  # x.n AXIS(a)
-                return Bit(param, bit)
-            return param
+            return self.parameter(keyword)
+        if tok.text in _BARE_READS and not self.at_op("("):  # OP alone: outputs 0..31
+            return Call(tok.text, ())
+        if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
+            self.advance()
+            return Call("KEY", (self.unary(),))
         if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
@@ -780,13 +971,15 @@ class _Parser:
         if keyword.string_arg and self.tok.kind is Tok.STRING:
             return (Str(self.advance().text),)
         if not self.at_op("("):
-            if keyword.name == "BASE":
-                return ()
+            if keyword.name == "BASE" or keyword.args[0] == 0:
+                return ()  # DATE$, KEY, BASE: a function of no arguments
             raise TrioError("Syntax error")
         self.advance()
-        args = [self.expression()]
-        while self.at_op(","):
-            self.advance()
+        args: list[Expr] = []
+        if not self.at_op(")"):
             args.append(self.expression())
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
         self.expect_op(")")
         return tuple(args)

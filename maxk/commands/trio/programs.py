@@ -65,10 +65,11 @@ class ProgramInfo:
 
 
 def check_name(name: str) -> str:
-    """A program name as the controller takes it: a letter, then letters, digits and
-    underscores, up to 32 (upper-cased): never a path."""
+    """A program name as the controller takes it: letters, digits and underscores, up to
+    32 (upper-cased): never a path. A name may start with a digit (I: a public Motion
+    Perfect project keeps its data files as 0123.TXT and opens them by name)."""
     upper = name.upper()
-    if not upper or len(upper) > 32 or not set(upper) <= _NAME_CHARS or upper[0].isdigit():
+    if not upper or len(upper) > 32 or not set(upper) <= _NAME_CHARS:
         raise TrioError("Invalid program name")
     return upper
 

@@ -5,7 +5,10 @@ for the CR, the output lines (each CR LF), the prompt ``>>`` (no trailing space)
 for the LF: the LF itself, ``Control char : 0x10000000A`` CR LF and ``>>`` again. An
 error is one ``%[COMMAND LINE] - <text>`` line (D: atrio needs ``%[COMMAND`` and CR LF;
 the rest of the text is ours), followed by the prompt as usual. Telnet negotiation
-(IAC ...) and NUL bytes are dropped from the input.
+(IAC ...) and NUL bytes are dropped from the input. The LF answer is the controller's:
+atrio sends CR LF and its reply pattern requires ``>>`` LF ``Control char : ...`` CR LF
+``>>`` (C, atrio's trio.py). An LF that follows no CR ends a line as CR does (D: a
+terminal or ``nc`` that sends LF alone gets its command run, not a control-char report).
 
 A command that waits (``WA(100)``, ``WAIT IDLE``) holds the command line: its output and
 prompt come when it ends, and bytes received meanwhile are kept and handled after it, at
@@ -38,8 +41,8 @@ LINE_LIMIT = 1024  # characters in one command line (D)
 RESUME_SLICE = 2048  # held input handled a servo cycle once a wait has ended, to a line end (D)
 HEAR_LIMIT = 1 << 20  # unread output past which program PRINTs are not kept for a host (D)
 _IAC, _SB, _SE = 0xFF, 0xFA, 0xF0
-_EDIT = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),(\d+)([RID])(.*)", re.DOTALL)
-_EDIT_CONTROL = re.compile(r"!([A-Za-z_][A-Za-z0-9_]*),([A-Z])")
+_EDIT = re.compile(r"!([A-Za-z0-9_]+),(\d+)([RID])(.*)", re.DOTALL)
+_EDIT_CONTROL = re.compile(r"!([A-Za-z0-9_]+),([A-Z])")
 _EX = re.compile(r"\s*EX\s*(\(\s*\d*\s*\))?\s*", re.IGNORECASE)
 
 
@@ -76,6 +79,7 @@ class TrioCommandLine(LineSession):
         self._input = bytearray()
         self._consumed = 0  # bytes of _input handled by the running pump
         self._telnet = 0  # 0 data, 1 after IAC, 2 option byte, 3 in SB, 4 IAC in SB
+        self._after_cr = False  # the last byte was a CR: an LF now is CR LF's LF
         self._busy: Generator[Wake | None, None, None] | None = None
         self.busy_wake: Wake | None = None  # what a waiting command-line statement awaits
         self.busy_due: int | None = None  # scheduler: the tick to resume it
@@ -164,8 +168,10 @@ class TrioCommandLine(LineSession):
         data = self._input
         end = len(data)
         if limit is not None and limit < end:  # to the end of the line the limit falls in
-            cr = data.find(b"\r", limit - 1)
-            end = end if cr < 0 else cr + 2 if data[cr + 1:cr + 2] == b"\n" else cr + 1
+            ends = [k for k in (data.find(b"\r", limit - 1), data.find(b"\n", limit - 1))
+                    if k >= 0]
+            cr = min(ends) if ends else -1
+            end = end if cr < 0 else cr + 2 if data[cr:cr + 2] == b"\r\n" else cr + 1
         try:
             self._pump_bytes(data, end)
         finally:  # a fault inside a statement loses that input, not the stream after it
@@ -179,14 +185,20 @@ class TrioCommandLine(LineSession):
             self._consumed = i
             if self._telnet or byte == _IAC:
                 self._telnet_byte(byte)
-            elif byte == 0:
                 continue
-            elif byte == 0x0D:
+            if byte == 0:
+                continue
+            after_cr, self._after_cr = self._after_cr, byte == 0x0D
+            if byte == 0x0D or byte == 0x0A and not after_cr:
+                # CR ends a line; so does an LF that follows no CR (D: a terminal that
+                # sends LF alone, as nc does, works like one that sends CR)
                 self._out += b"\r\n"
                 line = self._line.decode("latin-1")
                 self._line.clear()
                 self._execute(line)
             elif byte < 0x20 or byte == 0x7F:
+                # the LF of a CR LF (atrio's framing expects this answer) and any other
+                # control character
                 self._out.append(byte)
                 self._out += f"Control char : 0x1{byte:08X}\r\n".encode() + PROMPT
             else:

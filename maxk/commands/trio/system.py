@@ -13,6 +13,7 @@ from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
+from .parser import FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
 
@@ -33,9 +34,12 @@ class ProgramCommands:
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
+        self.broken: set[str] = set()  # libraries that failed to compile since their edit
         self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
         self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
+        self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
+        self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
@@ -51,6 +55,12 @@ class ProgramCommands:
                 crc = crc16(self.programs.checksum(program).to_bytes(2, "big"), crc)
             return float(crc)
         return None
+
+    def file_text(self, name: str) -> str:
+        """OPEN #n AS "NAME" FOR INPUT: the text of a program of the store, its lines
+        ending in CR LF (D: the store is the controller's file system)."""
+        info = self.programs.get(name.upper())
+        return "".join(line + "\r\n" for line in self.programs.lines[info.name])
 
     def system_function(self, name: str, args: list[Value]) -> float:
         program = _name(args)
@@ -99,6 +109,7 @@ class ProgramCommands:
         self._not_running(name)
         self.programs.delete(name)
         self.compiled.pop(name, None)
+        self.broken.discard(name)
         if self.selected == name:
             self.selected = None
 
@@ -107,6 +118,7 @@ class ProgramCommands:
         self._not_running(name)
         self.programs.clear(name)
         self.compiled.pop(name, None)
+        self.broken.discard(name)
 
     def cmd_list(self, args: list[Value]) -> None:
         name = self._target(args)
@@ -118,6 +130,7 @@ class ProgramCommands:
         self._not_running(program)
         self.programs.edit(program, number, action, text)
         self.compiled.pop(program, None)
+        self.broken.discard(program)
 
     def edit_control(self, name: str, action: str) -> None:
         """``!NAME,M`` / ``!NAME,Z``: end of a download; the store is already written (D)."""
@@ -129,6 +142,27 @@ class ProgramCommands:
         self.compiled[name] = steps
         self.programs.set_compiled(name, 4 * len(steps))
         return steps
+
+    def find_function(self, name: str) -> tuple[list[Step], int] | None:
+        """A FUNCTION of a BASIC library (.BAL) of the store, compiled when needed: its
+        library's steps and its first step (I: a library's FUNCTIONs are called by
+        name from every program, as public programs do without naming the library)."""
+        for program in self.programs.names():
+            if self.programs.info[program].type != 12:
+                continue
+            steps = self.compiled.get(program)
+            if steps is None:
+                if program in self.broken:
+                    continue
+                try:
+                    steps = self.compile(program)
+                except TrioError:
+                    self.broken.add(program)  # offers nothing until it is edited (D)
+                    continue
+            for index, step in enumerate(steps):
+                if isinstance(step.stmt, FunctionDef) and step.stmt.name == name:
+                    return steps, index
+        return None
 
     def _included(self, name: str) -> list[str]:
         """INCLUDE "NAME": the lines of a BASIC program in the store."""
@@ -190,7 +224,7 @@ class ProgramCommands:
                 raise TrioError(f"Program {info.name} line {exc.line}: {exc.message}") from None
         assert self.interpreter is not None
         ctx = ProcessContext(process=process, program=info.name)
-        self.tasks[process] = Task(self.interpreter, steps, ctx)
+        self.tasks[process] = Task(self.interpreter, steps, ctx, self.find_function)
         return process
 
     def cmd_run(self, args: list[Value]) -> None:

@@ -30,7 +30,7 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
-from .interpreter import Interpreter, ProcessContext, Value, Wake, error_code
+from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, error_code
 from .lexer import TrioError
 from .parser import (
     Case,
@@ -49,6 +49,7 @@ from .parser import (
     Label,
     Next,
     OnError,
+    OnJump,
     Repeat,
     Return,
     SelectCase,
@@ -72,6 +73,7 @@ class Step:
     stmt: Stmt
     target: int = -1  # jump destination (block statements)
     opener: int = -1  # CASE: the SELECT_CASE step it belongs to
+    choices: tuple[int, ...] = ()  # ON ... GOTO/GOSUB: the destinations, in order
 
 
 @dataclass
@@ -83,17 +85,32 @@ class _Open:
     ends: list[int] = field(default_factory=list)  # jumps to the end of the block
 
 
+_NAME_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_$")
+
+
+def _code_part(text: str) -> str:
+    """The line without its ``'`` comment (a quote inside a string is no comment)."""
+    quoted = False
+    for i, c in enumerate(text):
+        if c == '"':
+            quoted = not quoted
+        elif c == "'" and not quoted:
+            return text[:i]
+    return text
+
+
 def join_continued(lines: list[str]) -> list[tuple[int, str]]:
-    """Logical lines with the number of their first line: a line ending in `` _`` goes
-    on on the next one."""
+    """Logical lines with the number of their first line: a line whose code ends in a
+    ``_`` that is not part of a name (``x + _``, ``f(a)_``) goes on on the next one, a
+    comment after the ``_`` dropped."""
     out: list[tuple[int, str]] = []
     pending: tuple[int, str] | None = None
     for number, text in enumerate(lines, start=1):
         if pending is not None:
             number, text = pending[0], pending[1] + " " + text
             pending = None
-        stripped = text.rstrip()
-        if stripped.endswith("_") and (len(stripped) == 1 or stripped[-2] in " \t,("):
+        stripped = _code_part(text).rstrip()
+        if stripped.endswith("_") and (len(stripped) == 1 or stripped[-2] not in _NAME_CHARS):
             pending = (number, stripped[:-1])
             continue
         out.append((number, text))
@@ -186,11 +203,17 @@ def compile_program(lines: list[str],
         label = None
         if isinstance(step.stmt, (Goto, Gosub, OnError)):
             label = step.stmt.label
+        if isinstance(step.stmt, OnJump):
+            missing = [name for name in step.stmt.labels if name not in labels]
+            if missing:
+                raise TrioError("Label not found", step.line)
         if label is not None:
             if label not in labels:
                 raise TrioError("Label not found", step.line)
             targets[index] = labels[label]
-    return [Step(s.line, s.stmt, targets.get(i, -1), openers.get(i, -1))
+    jumps = {index: tuple(labels[name] for name in step.stmt.labels)
+             for index, step in enumerate(steps) if isinstance(step.stmt, OnJump)}
+    return [Step(s.line, s.stmt, targets.get(i, -1), openers.get(i, -1), jumps.get(i, ()))
             for i, s in enumerate(steps)]
 
 
@@ -270,8 +293,13 @@ def _link(stmt: Stmt, index: int, line: int, open_blocks: list[_Open],
 class Task:
     """One running process: a compiled program and its context."""
 
-    def __init__(self, interpreter: Interpreter, steps: list[Step], ctx: ProcessContext) -> None:
+    def __init__(self, interpreter: Interpreter, steps: list[Step], ctx: ProcessContext,
+                 library: Callable[[str], tuple[list[Step], int] | None] | None = None
+                 ) -> None:
+        """`library` finds a FUNCTION of the store's BASIC libraries (.BAL) by name: its
+        library's steps and where it starts (None: no such function)."""
         self.interpreter = interpreter
+        self.library = library
         self.steps = steps
         self.ctx = ctx
         self._run = self._program()
@@ -285,14 +313,20 @@ class Task:
         self.budget = FUNCTION_STATEMENTS
         ctx.functions = self.call_function
 
-    def call_function(self, name: str, args: list[Value]) -> Value:
-        """Run a FUNCTION of the program to its RETURN value (or ENDFUNC: 0), with its
-        parameters as its own variables, inside the statement that calls it: it may
-        not wait (D)."""
+    def call_function(self, name: str, args: list[Argument]) -> Value:
+        """Run a FUNCTION of the program, or of a BASIC library of the store (I: a
+        library's FUNCTIONs are seen by every program), to its RETURN value (or ENDFUNC:
+        0), with its parameters as its own variables, inside the statement that calls it:
+        it may not wait (D). A DIM array passed alone goes by reference."""
         start = self.functions.get(name)
+        steps = self.steps
+        if start is None and self.library is not None:
+            found = self.library(name)
+            if found is not None:
+                steps, start = found
         if start is None:
             raise TrioError("Variable not defined")
-        define = self.steps[start].stmt
+        define = steps[start].stmt
         assert isinstance(define, FunctionDef)
         if len(args) != len(define.params):
             raise TrioError("Syntax error")
@@ -300,8 +334,12 @@ class Task:
             raise TrioError("Stack overflow")
         outer = self.ctx
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
-                             variables=dict(zip(define.params, args, strict=True)),
                              functions=self.call_function, ticks=outer.ticks)
+        for param, arg in zip(define.params, args, strict=True):
+            if isinstance(arg, list):
+                ctx.arrays[param] = arg
+            else:
+                ctx.variables[param] = arg
         if self.depth == 0:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.depth += 1
@@ -311,7 +349,7 @@ class Task:
                 self.budget -= 1
                 if self.budget < 0:
                     raise TrioError("Function too long")
-                step = self.steps[pc]
+                step = steps[pc]
                 ctx.line = step.line
                 stmt = step.stmt
                 if isinstance(stmt, EndFunc):
@@ -320,7 +358,7 @@ class Task:
                     if stmt.value is None:
                         return 0.0
                     return self.interpreter.evaluate(stmt.value, ctx)
-                for wake in self._step(ctx, pc, step, True):
+                for wake in self._step(ctx, pc, step, True, steps):
                     if wake is not _PASS and wake is not _LOOPED:
                         raise TrioError("Function cannot wait")
                 pc = ctx.pc
@@ -380,8 +418,8 @@ class Task:
                 ctx.error_line = step.line
                 pc, ctx.on_error = ctx.on_error, None
 
-    def _step(self, ctx: ProcessContext, pc: int, step: Step,
-              waited: bool) -> Generator[Wake | None | object, None, None]:
+    def _step(self, ctx: ProcessContext, pc: int, step: Step, waited: bool,
+              steps: list[Step] | None = None) -> Generator[Wake | None | object, None, None]:
         """Run one step, setting ctx.pc to the next; yields _PASS to end a loop pass
         (a servo cycle unless one was already given up) and _LOOPED after a back-edge."""
         interp, stmt = self.interpreter, step.stmt
@@ -403,6 +441,14 @@ class Task:
             if not ctx.stack:
                 raise TrioError("RETURN without GOSUB")
             ctx.pc = ctx.stack.pop()
+        elif isinstance(stmt, OnJump):
+            choice = interp.number(stmt.value, ctx)
+            if choice == int(choice) and 1 <= choice <= len(step.choices):
+                if stmt.gosub:  # (out of range: on to the next statement, I)
+                    if len(ctx.stack) >= GOSUB_DEPTH:
+                        raise TrioError("Stack overflow")
+                    ctx.stack.append(pc + 1)
+                ctx.pc = step.choices[int(choice) - 1]
         elif isinstance(stmt, OnError):
             ctx.on_error = step.target if stmt.label is not None else None
         elif isinstance(stmt, SelectCase):
@@ -431,7 +477,7 @@ class Task:
             ctx.pc = pc + 1 if _in_range(start, end, increment) else step.target
         elif isinstance(stmt, Next):
             opener = step.target - 1
-            loop = self.steps[opener].stmt
+            loop = (steps or self.steps)[opener].stmt
             assert isinstance(loop, For)
             if stmt.variable is not None and stmt.variable != loop.variable:
                 raise TrioError("Structure error")

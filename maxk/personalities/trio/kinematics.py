@@ -15,7 +15,8 @@ import numpy as np
 
 from maxk.firmware_model.sampling import profile_offset_speed
 
-from .runs import Cambox, Connpath, Run, TrioAxis
+from .links import LinkedMoves
+from .runs import Cambox, Connect, Connpath, Movelink, Run, TrioAxis
 
 
 class Kinematics:
@@ -24,6 +25,7 @@ class Kinematics:
     axes: list[TrioAxis]
     queues: list[deque[Run]]
     distance_done: list[float]
+    links: LinkedMoves
     tick: int
     period: float
 
@@ -33,9 +35,15 @@ class Kinematics:
 
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray:
         """The exact demand position (physical counts, DEFPOS not applied) at ticks
-        between now and the next event."""
+        between now and the next event: the axis's own, and what ADDAX adds."""
+        return self.links.superimpose(axis, ticks, self.own_counts(axis, ticks))
+
+    def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """The demand of the axis's own moves and links (ADDAX's part not included)."""
         a = self.axes[axis]
         link = a.link
+        if isinstance(link, Connect | Movelink):
+            return link.counts(self.demand_counts(link.link, ticks))
         if isinstance(link, Connpath):
             travelled = self.path_distance(link.base, ticks) - link.distance0
             return link.origin + link.ratio * travelled * a.units
@@ -82,6 +90,10 @@ class Kinematics:
         interpolated group reads the group's path speed, I), in the base's user units."""
         a = self.axes[axis]
         link = a.link
+        if isinstance(link, Connect | Movelink) or axis in self.links.addax:
+            # the demand's change over the servo cycle before each tick (D)
+            change = self.demand_counts(axis, ticks) - self.demand_counts(axis, ticks - 1)
+            return np.abs(change) / (self.period * a.units)
         if isinstance(link, Connpath):
             return abs(link.ratio) * self.path_speed(link.base, ticks)
         if isinstance(link, Cambox):
@@ -104,6 +116,9 @@ class Kinematics:
     def demand(self, axis: int) -> float:
         return float(self.demand_counts(axis, self._now())[0])
 
+    def own_demand(self, axis: int) -> float:
+        return float(self.own_counts(axis, self._now())[0])
+
     def dpos(self, axis: int) -> float:
         return float(self.dpos_at(axis, self._now())[0])
 
@@ -113,7 +128,7 @@ class Kinematics:
     def counts_at(self, axis: int, tick: int) -> int:
         """Whole counts the axis has made (what PWM_ENCODER counts)."""
         a = self.axes[axis]
-        if a.link is not None:
+        if a.link is not None or self.links.shift[axis] or axis in self.links.addax:
             return math.floor(float(self.demand_counts(axis, np.array([tick]))[0]))
         return a.steps_at_tick(tick, self.period)
 
@@ -121,6 +136,8 @@ class Kinematics:
         """The tick the link axis has travelled the CAMBOX's link distance."""
         link = self.axes[axis].link
         assert isinstance(link, Cambox)
+        if self.links.ends_here(link):
+            return None  # on a linked (or ADDAX) link axis: links.py finds its end
         if self.dpos(link.link) - link.link_origin >= link.distance - 1e-9:
             return self.tick
         target = link.link_origin + link.distance  # link axis DPOS, user units

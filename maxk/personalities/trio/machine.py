@@ -33,7 +33,10 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
+from . import moves
+from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .kinematics import Kinematics
+from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
@@ -82,8 +85,11 @@ class MC405Machine(Kinematics, Engine):
         self.world = World.default(axis_count)  # the machine around it: kept over EX
         self._power_up()
         self.outputs = PwmLinks(self)
+        self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
+        self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
+        self.add_source(self.links)  # MOVELINKs ending (links.py)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -95,8 +101,14 @@ class MC405Machine(Kinematics, Engine):
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
+        if hasattr(self, "links"):
+            self.links.reset()
+        else:
+            self.links = LinkedMoves(self, MOVE_BUFFER)
         if hasattr(self, "outputs"):
             self.outputs.reset()
+        if hasattr(self, "drive"):
+            self.drive.reset()
         self.changed()
 
     def restart(self) -> None:
@@ -110,6 +122,11 @@ class MC405Machine(Kinematics, Engine):
     def changed(self) -> None:
         """Something a waiting program, a cache or an event search depends on changed."""
         self.revision += 1
+
+    def world_changed(self) -> None:
+        """The world moved a switch or an input: a limit it turns on acts now."""
+        self.changed()
+        self.drive.look(self.tick)
 
     @property
     def pwm(self) -> PwmBank:
@@ -131,9 +148,17 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- the engine's hooks: traces see every servo cycle ---------------------------------
     def integrate(self, limit: int) -> bool:
-        if self.tracer is not None and limit > self.tick:
-            self.tracer.stretch(self.tick + 1, limit)
-        return False
+        """The servo axes' loops run every tick (drive.py, following.py); a following
+        error stops time at its tick."""
+        stop = self.drive.following.integrate(limit)
+        end = limit if stop is None else stop
+        if self.tracer is not None and end > self.tick:
+            self.tracer.stretch(self.tick + 1, end)
+        if stop is None:
+            return False
+        self.tick = max(self.tick, stop)
+        self.drive.following_error()
+        return True
 
     def after_events(self, now: int) -> None:
         if self.tracer is not None:
@@ -165,10 +190,14 @@ class MC405Machine(Kinematics, Engine):
                 return self.mark(axis)
             self.outputs.sync_encoder(axis)
             return output.encoder
-        if name in ("DPOS", "MPOS"):  # MPOS = DPOS: no following error is modelled (D)
+        if name in AXIS_READS:
+            return self.drive.axis_parameter(name, axis)
+        if name == "DPOS":
             return self.dpos(axis)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name in moves.REPORTS:
+            return moves.report(self, name, axis)
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
@@ -176,13 +205,18 @@ class MC405Machine(Kinematics, Engine):
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
+        elif name == "ENDMOVE":
+            moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         else:
             self.axes[axis].params[name] = value
         self.changed()
+        self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
 
     def system_parameter(self, name: str) -> float:
+        if name in SYSTEM_READS:
+            return self.drive.system_parameter(name)
         return self.system[name]
 
     def set_system_parameter(self, name: str, value: float) -> None:
@@ -190,6 +224,7 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")
         self.system[name] = value  # SERVO_PERIOD: from the next restart (EX)
         self.changed()
+        self.drive.look(self.tick)
 
     def can_load(self, axes: Sequence[int]) -> bool:
         return all(self._buffered(a) < MOVE_BUFFER and self.axes[a].link is None
@@ -208,18 +243,17 @@ class MC405Machine(Kinematics, Engine):
 
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None:
         deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
-        self._load(tuple(axes), deltas)
+        self._load(tuple(axes), deltas, kind=moves.move_kind(tuple(axes), deltas, False))
 
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
-            axis = self.axes[a]
-            target = round(self._counts(a, p)) - axis.datum  # physical counts
+            target = moves.own_target(self, a, p)  # physical counts
             delta = target - self._end_counts(a)
             if not abs(delta) < MAX_COUNTS:
                 raise ValueError("Parameter out of range")
             deltas.append(round(delta))
-        self._load(tuple(axes), deltas)
+        self._load(tuple(axes), deltas, kind=moves.MOVEABS)
 
     # ---- I/O on the shared world --------------------------------------------------------
     def digital_input(self, number: int) -> bool:
@@ -250,7 +284,8 @@ class MC405Machine(Kinematics, Engine):
 
     def axis_idle(self, axis: int) -> bool:
         a = self.axes[axis]
-        return not self.queues[axis] and a.link is None and a.pending_link is None
+        return (not self.queues[axis] and a.link is None and a.pending_link is None
+                and not self.links.chains[axis])
 
     def defpos(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         if not all(abs(p * self.axes[a].units) < MAX_COUNTS
@@ -260,21 +295,27 @@ class MC405Machine(Kinematics, Engine):
             axis = self.axes[a]
             axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
         self.changed()
+        self.drive.look(self.tick)
 
     def set_acc(self, axis: int, rate: float) -> None:
         params = self.axes[axis].params
         params["ACCEL"] = params["DECEL"] = rate
         self.changed()
 
+    def datum(self, axis: int, mode: int) -> None:
+        self.drive.datum(axis, mode)
+
     def cancel(self, axis: int) -> None:
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
+            self.links.cancelled(axis)  # the next linked move buffered starts
         elif self.queues[axis] and self.queues[axis][0].started:
             self._stop(self.queues[axis][0])
         self.changed()
 
     def rapidstop(self) -> None:
+        self.links.clear()
         for axis in range(self._axis_count):
             queue = self.queues[axis]
             while queue and not queue[-1].started:
@@ -303,25 +344,10 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Invalid axis number")
         if distance <= 0 or start != int(start) or end != int(end) or end <= start:
             raise ValueError("Parameter out of range")
-        if self._follows(int(link_axis), axis):
+        if self.links.depends(int(link_axis), axis):
             raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
         values = np.array(self.table.read_run(int(start), int(end)))
         self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
-
-    def _follows(self, axis: int, leader: int) -> bool:
-        """Does `axis` follow `leader` through CAMBOX links (running or waiting)? Linking
-        the leader to it would make each axis's position depend on itself."""
-        seen: set[int] = set()
-        while axis not in seen:
-            if axis == leader:
-                return True
-            seen.add(axis)
-            a = self.axes[axis]
-            link = a.link if a.link is not None else a.pending_link
-            if not isinstance(link, Cambox):
-                return False
-            axis = link.link
-        return False
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
@@ -343,8 +369,9 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- loading moves -------------------------------------------------------------------------
     def _end_counts(self, axis: int) -> float:
-        """Where the axis stands once its buffered moves are done (physical counts)."""
-        position = self.demand(axis)
+        """Where the axis stands once its buffered moves are done (physical counts, its
+        own demand: ADDAX's part not included)."""
+        position = self.own_demand(axis)
         for run in self.queues[axis]:
             k = run.axes.index(axis)
             if run.started and run.profile is None and run.plan is not None:
@@ -358,25 +385,41 @@ class MC405Machine(Kinematics, Engine):
 
     def movecirc(self, axes: Sequence[int], args: Sequence[float]) -> None:
         """MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the shared path
-        planner from here to the end, about the centre (both relative); direction 1 turns
-        clockwise, 0 anticlockwise (I); an end on the start is a whole circle."""
-        if len(args) < 5 or args[4] not in (0, 1) or any(a != 0 for a in args[5:]):
+        planner from here to the end, about the centre (both relative): moves.arc_of."""
+        if len(args) < 5 or any(a != 0 for a in args[5:]):
             raise ValueError("Parameter out of range")
-        ex, ey = (round(self._counts(a, v)) for a, v in zip(axes, args[:2], strict=True))
-        cx, cy = (self._counts(a, v) for a, v in zip(axes, args[2:4], strict=True))
-        if cx == 0 and cy == 0:
-            raise ValueError("Parameter out of range")
-        start = math.atan2(-cy, -cx)
-        end = math.atan2(ey - cy, ex - cx)
-        turn = math.degrees(end - start) % 360.0
-        if args[4] == 1:
-            turn = turn - 360.0 if turn > 0 else -360.0
-        elif turn == 0:
-            turn = 360.0
-        self._load(tuple(axes), [ex, ey], arc=(cx, cy, turn))
+        ex, ey, arc = moves.arc_of(self, tuple(axes), list(args))
+        self._load(tuple(axes), [ex, ey], arc=arc, kind=moves.MOVECIRC)
+
+    # ---- linked moves and the moves of links.py / moves.py --------------------------------
+    def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        moves.mhelical(self, tuple(axes), list(args))
+
+    def movemodify(self, axis: int, args: Sequence[float]) -> None:
+        moves.movemodify(self, axis, args[0], MIN_RATE)
+
+    def motion_horizon(self) -> int | None:
+        """The next tick the motion changes by itself (a run or a CAMBOX ends)."""
+        for source in self._sources:
+            if isinstance(source, _MotionEvents):
+                return source.next_event()
+        return None
+
+    def can_link(self, axis: int) -> bool:
+        return self.links.can_load(axis)
+
+    def connect(self, axis: int, args: Sequence[float]) -> None:
+        self.links.connect(axis, list(args))
+
+    def movelink(self, axis: int, args: Sequence[float]) -> None:
+        self.links.movelink(axis, list(args))
+
+    def addax(self, axis: int, args: Sequence[float]) -> None:
+        self.links.set_addax(axis, args[0])
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None) -> None:
+              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE) -> None:
+        self.drive.check_move(axes)
         base = self.axes[axes[0]]
         speed = base.params["SPEED"] * base.units
         accel = base.params["ACCEL"] * base.units
@@ -394,6 +437,7 @@ class MC405Machine(Kinematics, Engine):
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:
                 last.arcs[len(last.deltas)] = arc
+            last.kinds[len(last.deltas)] = kind
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -406,6 +450,7 @@ class MC405Machine(Kinematics, Engine):
                   single=len(axes) == 1 and not merge)
         if arc is not None:
             run.arcs[0] = arc
+        run.kinds[0] = kind
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
@@ -420,6 +465,7 @@ class MC405Machine(Kinematics, Engine):
             if all(self.queues[a][0] is run and self.axes[a].link is None
                    and self.axes[a].pending_link is None for a in run.axes):
                 self._start(run)
+                self.drive.started(run)
 
     def _start(self, run: Run) -> None:
         now = self.tick
@@ -450,14 +496,15 @@ class MC405Machine(Kinematics, Engine):
             axis.steps = axis.steps_at_tick(now, self.period)
             axis.begin(run.motion_for(plan, k, axis.steps), self)
 
-    def _stop(self, run: Run) -> None:
+    def _stop(self, run: Run, decel: float | None = None) -> None:
         """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
-        DECEL); the moves buffered behind it then run."""
+        DECEL, or `decel` counts/s^2); the moves buffered behind it then run."""
         run.stopping = True
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)
-            run.profile = profile_stop(residual, velocity, 0.0, run.decel, SHAPE)
+            run.profile = profile_stop(residual, velocity, 0.0,
+                                       run.decel if decel is None else decel, SHAPE)
             run.start_tick = self.tick
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
@@ -492,8 +539,10 @@ class MC405Machine(Kinematics, Engine):
             self._attach(axis, link)
         self.changed()
 
-    def _attach(self, axis: int, link: Link) -> None:
-        link.origin = self.demand(axis)
+    def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None:
+        if self.links.attach(axis, link, handover):  # CONNECT, MOVELINK
+            return
+        link.origin = self.own_demand(axis)
         if isinstance(link, Connpath):
             link.distance0 = float(self.path_distance(link.base, self._now())[0])
         else:
@@ -503,7 +552,7 @@ class MC405Machine(Kinematics, Engine):
     def _unlink(self, axis: int) -> None:
         a = self.axes[axis]
         if a.link is not None:
-            position = self.demand(axis)
+            position = self.own_demand(axis)
             a.link = None
             a.steps = math.floor(position)
             a.fraction = position - a.steps
@@ -515,6 +564,7 @@ class MC405Machine(Kinematics, Engine):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
                 self._unlink(a)
+                self.links.cancelled(a)  # a linked move buffered behind it starts
                 self.changed()
 
 

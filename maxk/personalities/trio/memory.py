@@ -6,7 +6,8 @@ shares. Both hold floating-point values that start at zero.
 
 Sizes (decision D, recorded in the keyword table): the seed does not give them. TABLE
 holds 512,000 values (the MC4xx family's documented TSIZE order of magnitude: the
-Omron/Trio MC64 manual gives 500,000 usable), VR 4,096.
+Omron/Trio MC64 manual gives 500,000 usable), VR 65,536 (I: public programs for MC4 and
+MC6 controllers clear VR(0) to VR(65535) and keep data at VR(17000)).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 TABLE_SIZE = 512_000
-VR_COUNT = 4096
+VR_COUNT = 65536
 
 
 class MemoryRangeError(ValueError):

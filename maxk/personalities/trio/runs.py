@@ -34,6 +34,7 @@ from maxk.firmware_model.path import (
 )
 from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
+from maxk.firmware_model.servo import Gains
 
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
@@ -62,6 +63,7 @@ class Run:
     segments: list[Segment] = field(default_factory=list)
     arcs: dict[int, tuple[float, float, float]] = field(default_factory=dict)
     # move index -> an arc's centre (counts from the move's start) and turn (degrees)
+    kinds: dict[int, int] = field(default_factory=dict)  # move index -> MTYPE (1: MOVE)
 
     @property
     def base(self) -> int:
@@ -86,8 +88,9 @@ class Run:
             defn = defs[j]
             start = self.segments[-1].end if self.segments else origin
             if j in self.arcs:  # MOVECIRC: the centre on the path's own frame
-                dx, dy, angle = self.arcs[j]
-                defn = SegmentDef("arc", (start[0] + dx, start[1] + dy), True, angle,
+                dx, dy, angle = self.arcs[j]  # (MHELICAL: the third axis rises along it)
+                rise = tuple(float(d) for d in self.deltas[j][2:])
+                defn = SegmentDef("arc", (start[0] + dx, start[1] + dy, *rise), True, angle,
                                   defn.v_start, defn.v_end, defn.accel, None)
             if self.segments:
                 last = self.segments[-1]
@@ -203,7 +206,70 @@ class Cambox:
         return np.where(inside, self.multiplier * step * (n - 1) / self.distance, 0.0)
 
 
-Link = Connpath | Cambox
+@dataclass
+class Connect:
+    """CONNECT(ratio, link axis): ratio counts of this axis per count of the link axis."""
+
+    ratio: float
+    link: int
+    origin: float = 0.0  # this axis's own demand (counts) when it took effect
+    link_origin: float = 0.0  # the link axis's demand (counts) then
+
+    def counts(self, link_counts: np.ndarray) -> np.ndarray:
+        return self.origin + self.ratio * (link_counts - self.link_origin)
+
+
+@dataclass
+class Movelink:
+    """MOVELINK: `distance` counts over `span` counts of the link axis's travel, ramping
+    over `accel` and `decel` of it (all counts; see the module docstring)."""
+
+    distance: float
+    span: float
+    accel: float
+    decel: float
+    link: int
+    repeat: bool = False  # option 4: runs again and again (both ways) until CANCEL
+    start_at: float | None = None  # option 2: the link position (counts) it starts at
+    origin: float = 0.0
+    link_origin: float = 0.0
+
+    def profile(self, u: np.ndarray) -> np.ndarray:
+        """Counts moved after `u` counts of link travel, 0 <= u <= span: distance x a
+        shape of u / span (at most twice the mean ratio: no overflow for any span)."""
+        x = u / self.span
+        a, d = self.accel / self.span, self.decel / self.span
+        peak = 1.0 / (1.0 - (a + d) / 2.0)  # the share of the link's speed between ramps
+        shape = peak * (x - a / 2.0)
+        with np.errstate(over="ignore"):  # (a tiny ramp's branch where it is not taken)
+            if a > 0:
+                shape = np.where(x < a, peak * x * x / (2.0 * a), shape)
+            if d > 0:
+                rest = 1.0 - x
+                shape = np.where(x > 1.0 - d, 1.0 - peak * rest * rest / (2.0 * d), shape)
+        return self.distance * shape
+
+    def counts(self, link_counts: np.ndarray) -> np.ndarray:
+        u = link_counts - self.link_origin
+        if self.repeat:
+            cycles = np.floor(u / self.span)
+            return self.origin + cycles * self.distance + self.profile(u - cycles * self.span)
+        return self.origin + self.profile(np.clip(u, 0.0, self.span))
+
+    @property
+    def link_end(self) -> float:
+        return self.link_origin + self.span
+
+
+Link = Connpath | Cambox | Connect | Movelink
+
+
+@dataclass(frozen=True)
+class ServoGains:
+    """What the shared servo loop reads of a servo axis (following.py sets it)."""
+
+    gains: Gains = Gains()
+    servo_polarity: int = 1
 
 
 @dataclass
@@ -216,6 +282,7 @@ class TrioAxis(MotionAxis):
     link: Link | None = None
     pending_link: Link | None = None  # CONNPATH/CAMBOX loaded behind buffered moves
     link_end: int | None = None  # CAMBOX: the tick it completes (cached per revision)
+    config: ServoGains = field(default_factory=ServoGains)  # a servo axis's loop gains
 
     @property
     def units(self) -> float:

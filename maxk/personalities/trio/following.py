@@ -1,0 +1,188 @@
+"""Servo axes of the MC405 on the shared servo loop: following error and FE_LIMIT.
+
+An axis is a servo when its ATYPE is a servo type (36, 77) and P_GAIN is above 0: the
+shared loop (`firmware_model/servo.py`, the PID the MAXk and MM4005 run) then drives the
+world's motor plant of the axis every servo cycle, MPOS reads the plant's encoder and FE
+is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis stays the exact, profile-only
+axis it always was (MPOS = DPOS, FE = 0), so every exact figure keeps its meaning.
+
+The gains map onto the shared filter as DAC = P_GAIN e + D_GAIN (e - e_prev) + I_GAIN
+sum(e) + VFF_GAIN v (counts, counts per servo cycle: D, the MC405's own scaling is not
+published here), the integral limited to the whole DAC. The loop is closed while the
+axis's drive is enabled (`Drive.enabled`); when it closes again the demand is set to
+where the motor stands (I: the controller keeps DPOS = MPOS while the servo is off).
+
+FE_LIMIT is compared on every servo cycle: each stretch the engine integrates is run
+with the loops recording every cycle; if |FE| passes FE_LIMIT x UNITS counts on some
+cycle (and ERRORMASK holds bit 8), the loops go back to where the stretch began
+(`ServoLoop.snapshot`/`restore`) and run only to that cycle, and the drive raises the
+motion error there, so the error's tick does not depend on how
+time is sliced. A loop whose own error passes 32768 counts trips (the shared rule) and
+raises the same error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol
+
+from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop
+from maxk.firmware_model.world import World
+
+from .runs import ServoGains, TrioAxis
+
+
+class ServoHost(Protocol):
+    """What the loops need of the machine: its axes, time, world and demand."""
+
+    axes: list[TrioAxis]
+    tick: int
+    period: float
+    world: World
+
+    def demand(self, axis: int) -> float: ...
+
+SERVO_ATYPES = frozenset({36, 77})
+"""Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
+servo with PWM, 77 incremental encoder servo with enable)."""
+FE_EXCEEDED = 1 << 8
+
+
+def gains_of(params: dict[str, float]) -> Gains | None:
+    """The loop's gains for an axis's parameters; None: not a servo (profile-only)."""
+    if int(params["ATYPE"]) not in SERVO_ATYPES or not params["P_GAIN"] > 0:
+        return None
+    return Gains(kp=params["P_GAIN"], ki=params["I_GAIN"] * 1024.0, kd=params["D_GAIN"],
+                 ku=DAC_LIMIT / 4.0, kv=params["VFF_GAIN"])
+
+
+class Following:
+    """The servo loops of one MC405's servo axes."""
+
+    def __init__(self, machine: ServoHost, enabled: Callable[[int], bool],
+                 in_error: Callable[[int], bool]) -> None:
+        self.m = machine
+        self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
+        self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
+        self.over: list[int] = []  # axes whose following error stopped the last stretch
+
+    @property
+    def servos(self) -> list[TrioAxis]:
+        return [a for a in self.m.axes if a.servo is not None]
+
+    def configure(self) -> None:
+        """Gains, enables or ATYPE changed: make, update or drop each axis's loop and close
+        or open it with its drive."""
+        m = self.m
+        for i, a in enumerate(m.axes):
+            gains = gains_of(a.params)
+            if gains is None:
+                a.servo = None
+                continue
+            if a.config.gains != gains:
+                a.config = ServoGains(gains)
+            loop = a.servo
+            if loop is None:
+                loop = a.servo = ServoLoop(m.demand(i), m.tick)
+                loop.closed = False
+            enabled = self.enabled(i)
+            if enabled and not loop.closed:
+                self._close(a, loop)
+            elif not enabled and loop.closed:
+                loop.closed = False
+
+    def _close(self, a: TrioAxis, loop: ServoLoop) -> None:
+        """Close the loop on an idle axis: the demand first moves to the encoder."""
+        if a.motion is None and a.link is None:
+            here = float(loop.encoder_counts())
+            delta = here - (a.steps + a.fraction)
+            a.steps, a.fraction = int(here), 0.0
+            loop.counters_moved(delta, 0.0)
+        loop.reset_filter(self.m.demand(a.index) - loop.p)
+        loop.closed = True
+
+    def rearm(self) -> None:
+        """DATUM(0): a loop its own following error tripped runs again."""
+        for a in self.servos:
+            loop = a.servo
+            assert loop is not None
+            if loop.tripped or loop.trip_tick is not None:
+                loop.tripped = False
+                loop.trip_tick = None
+                loop.reset_filter(self.m.demand(a.index) - loop.p)
+
+    # ---- readings ---------------------------------------------------------------------
+    def measured(self, axis: int) -> float | None:
+        """MPOS in counts without DEFPOS (None: not a servo, MPOS = DPOS)."""
+        loop = self.m.axes[axis].servo
+        return None if loop is None else float(loop.encoder_counts())
+
+    def error_counts(self, axis: int) -> float:
+        """FE in counts: demand - encoder (0 for a profile-only axis)."""
+        measured = self.measured(axis)
+        return 0.0 if measured is None else self.m.demand(axis) - measured
+
+    # ---- every servo cycle -------------------------------------------------------------
+    def integrate(self, limit: int) -> int | None:
+        """Run the loops to `limit`; the tick of a following error that stops them on the
+        way (the loops then stand there, `over` names the axes), or None."""
+        m = self.m
+        servos = self.servos
+        if not servos:
+            return None
+        free = [a for a in servos if a.link is None]
+        watched = {a.index for a in free if self._watched(a)}
+        saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
+                 if a.servo is not None} if watched else {}
+        found: dict[int, int] = {}  # axis -> the tick its error passed
+        for a in servos:
+            loop = a.servo
+            assert loop is not None
+            if a.link is not None:  # a linked servo axis follows its demand (D)
+                loop.p, loop.w, loop.tick = m.demand(a.index), 0.0, limit
+                continue
+            if a.index in watched:
+                loop.recorder = []
+            loop.advance(a, m, limit)  # type: ignore[arg-type]
+            over = self._first_over(a, loop) if a.index in watched else None
+            loop.recorder = None
+            ticks = [t for t in (over, loop.trip_tick) if t is not None]
+            if ticks:
+                found[a.index] = min(ticks)
+        if not found:
+            return None
+        first = min(found.values())
+        self.over = [axis for axis, tick in found.items() if tick == first]
+        if first < limit and saved:  # run the loops again, only as far as the error
+            for a in free:
+                loop = a.servo
+                assert loop is not None
+                loop.restore(saved[a.index])
+                loop.advance(a, m, first)  # type: ignore[arg-type]
+        return first
+
+    def _watched(self, a: TrioAxis) -> bool:
+        """Is the axis's following error compared with FE_LIMIT now?"""
+        loop = a.servo
+        assert loop is not None
+        return (loop.closed and not loop.tripped and a.link is None
+                and not self.in_error(a.index)
+                and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
+
+    @staticmethod
+    def _first_over(a: TrioAxis, loop: ServoLoop) -> int | None:
+        samples = loop.recorder
+        if not samples:
+            return None
+        bound = a.params["FE_LIMIT"] * a.units
+        for sample in samples:
+            if abs(sample[5]) > bound:
+                return int(sample[0])
+        return None
+
+    def tripped(self, axis: int) -> bool:
+        loop = self.m.axes[axis].servo
+        return loop is not None and (loop.tripped or loop.trip_tick is not None)
+
+
+__all__ = ["SERVO_ATYPES", "Following", "gains_of"]

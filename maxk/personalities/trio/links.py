@@ -1,0 +1,350 @@
+"""Linked motion of the MC405: CONNECT, MOVELINK and ADDAX on the shared engine.
+
+A linked axis has no motion of its own: its demand position is a closed-form function
+of another axis's demand position (counts, DEFPOS not applied), evaluated on arrays of
+servo ticks like every other position of the machine (`kinematics.py`):
+
+- CONNECT(ratio, link axis): electronic gearing. The axis moves `ratio` counts per count
+  of the link axis from where both were when it took effect (C: the ratio is in
+  encoder counts, not user units), until CANCEL or RAPIDSTOP. A second CONNECT on the
+  same link axis changes the ratio at once, from where both are (no jump); one on
+  another link axis is ignored while the first runs (C, manual).
+- MOVELINK(distance, link distance, link acc, link dec, link axis[, options[, link
+  pos]]): the axis moves `distance` while the link axis travels `link distance`; over
+  the first `link acc` of it the axis's share of the link's speed ramps up from zero,
+  over the last `link dec` down to zero (so its position is a parabola in the link's
+  travel there, a straight line between). It ends on the servo tick the link has
+  travelled the whole link distance (found in closed form between events, an event of
+  the engine); a MOVELINK buffered behind it on the same link axis takes over at the
+  exact link position the first ended on, so a repeated cycle (a flying shear) never
+  drifts by the servo cycle's rounding.
+- ADDAX(axis): the demand of another axis is superimposed on this one's own motion,
+  count for count, from where it was when ADDAX took effect; ADDAX(-1) ends it and the
+  axis keeps what was added (a constant shift of its demand).
+
+Linked moves are buffered moves: they queue per axis behind the moves and links loaded
+before them (NTYPE reports the next), and a move loaded after a link waits for it to end
+(the machine's rule for every link).
+
+Everything here is pure arithmetic on numpy arrays; `LinkedMoves` is the machine's event
+source for MOVELINK ends and keeps the per-axis queues and ADDAX state.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+
+from .runs import Cambox, Connect, Link, Movelink, Run, TrioAxis
+
+
+class Host(Protocol):
+    """What linked moves need of the machine (MC405Machine)."""
+
+    axes: list[TrioAxis]
+    queues: list[deque[Run]]
+    revision: int
+    tick: int
+    period: float
+    outputs: Any  # its sync_all(): the PWM encoders see the motion before it changes
+
+    @property
+    def axis_count(self) -> int: ...
+    def changed(self) -> None: ...
+    def motion_horizon(self) -> int | None: ...
+    def _now(self) -> np.ndarray: ...
+    def _buffered(self, axis: int) -> int: ...
+    def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None: ...
+    def _unlink(self, axis: int) -> None: ...
+    def demand(self, axis: int) -> float: ...
+    def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+
+
+REACHED = 1e-6
+"""How close (counts of the link axis) counts as having travelled a MOVELINK's link
+distance (D: float rounding of a position computed exactly on a whole count)."""
+MIN_SPAN = 1e-6
+"""The shortest link distance, counts (D: shorter, a repeating MOVELINK's cycle count
+would overflow a double)."""
+LINK_OPTIONS = (0, 2, 4, 6)
+"""MOVELINK link options modelled: 2 starts at an absolute link position, 4 repeats
+(D: 1, starting on a registration event, and the newer bits are refused)."""
+
+
+def movelink_from(args: list[float], units: float, link_units: float) -> Movelink:
+    """A MOVELINK from its arguments (user units; counts from here on). Refusals:
+    'Parameter out of range' for a link distance that is not positive, negative ramps,
+    options not modelled (see LINK_OPTIONS)."""
+    distance, span, accel, decel, link = args[:5]
+    options = args[5] if len(args) > 5 else 0.0
+    if any(a != 0 for a in args[7:]):
+        raise ValueError("Parameter out of range")  # the newer arguments: not modelled (D)
+    if not (span > 0 and accel >= 0 and decel >= 0) or options not in LINK_OPTIONS:
+        raise ValueError("Parameter out of range")
+    if accel + decel > span:  # both shortened in proportion to fit (I: manual)
+        scale = span / (accel + decel)
+        accel, decel = accel * scale, decel * scale
+    counts = [v * link_units for v in (span, accel, decel)]
+    if not counts[0] >= MIN_SPAN:
+        raise ValueError("Parameter out of range")
+    start = args[6] * link_units if int(options) & 2 and len(args) > 6 else None
+    if int(options) & 2 and start is None:
+        raise ValueError("Parameter out of range")  # option 2 needs its link position
+    if not all(math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (*counts, distance * units)):
+        raise ValueError("Parameter out of range")
+    return Movelink(distance * units, counts[0], counts[1], counts[2], int(link),
+                    repeat=bool(int(options) & 4), start_at=start)
+
+
+@dataclass
+class Addax:
+    """ADDAX(link) on an axis: the link axis's demand change since `origin` is added."""
+
+    link: int
+    origin: float  # the link axis's demand (counts) when ADDAX took effect
+
+
+class LinkedMoves:
+    """The machine's linked moves: per-axis queues behind the running link, ADDAX, and the
+    engine events where a MOVELINK ends."""
+
+    def __init__(self, machine: Host, depth: int) -> None:
+        self.machine = machine
+        self.depth = depth  # moves an axis holds, running and buffered
+        self._cache: tuple[int, int | None] = (-1, None)
+        self.reset()
+
+    def reset(self) -> None:
+        count = self.machine.axis_count
+        self.chains: list[deque[Connect | Movelink]] = [deque() for _ in range(count)]
+        self.addax: dict[int, Addax] = {}
+        self.shift = [0.0] * count  # what ended ADDAXes left on each axis (counts)
+
+    # ---- loading ----------------------------------------------------------------------
+    def check_axis(self, value: float, axis: int) -> int:
+        """A link axis argument: a whole axis number other than the axis itself."""
+        if value != int(value) or not 0 <= value < self.machine.axis_count or value == axis:
+            raise ValueError("Invalid axis number")
+        return int(value)
+
+    def can_load(self, axis: int) -> bool:
+        """Room in the axis's move buffer for one more linked move."""
+        m = self.machine
+        a = m.axes[axis]
+        held = (m._buffered(axis) + (a.link is not None) + (a.pending_link is not None)
+                + len(self.chains[axis]))
+        return held < self.depth
+
+    def load(self, axis: int, link: Connect | Movelink) -> None:
+        """A linked move behind whatever the axis runs or holds (it starts at once on an
+        idle axis)."""
+        m = self.machine
+        leader = getattr(link, "link", None)
+        if isinstance(leader, int) and self.depends(leader, axis):
+            raise ValueError("Parameter out of range")  # a loop of links has no position (D)
+        a = m.axes[axis]
+        if a.link is None and a.pending_link is None:
+            if m.queues[axis]:
+                a.pending_link = link  # it starts when the buffered moves are done
+            else:
+                m._attach(axis, link)
+        else:
+            self.chains[axis].append(link)
+        m.changed()
+
+    def connect(self, axis: int, args: list[float]) -> None:
+        ratio, link = args[0], self.check_axis(args[1], axis)
+        if not abs(ratio) < 2.0 ** 53:
+            raise ValueError("Parameter out of range")
+        m = self.machine
+        running = m.axes[axis].link
+        if isinstance(running, Connect):
+            if running.link == link:  # a new ratio from here on (no jump)
+                running.origin = float(m.own_counts(axis, m._now())[0])
+                running.link_origin = m.demand(link)
+                running.ratio = ratio
+                m.changed()
+            return  # another link axis: ignored while this CONNECT runs (C)
+        self.load(axis, Connect(ratio, link))
+
+    def movelink(self, axis: int, args: list[float]) -> None:
+        if len(args) < 5:
+            raise ValueError("Syntax error")
+        link = self.check_axis(args[4], axis)
+        m = self.machine
+        self.load(axis, movelink_from(args, m.axes[axis].units, m.axes[link].units))
+
+    def set_addax(self, axis: int, value: float) -> None:
+        """ADDAX(n): superimpose axis n's demand from now; ADDAX(-1): stop adding."""
+        m = self.machine
+        if value != -1:
+            link = self.check_axis(value, axis)
+            if self.depends(link, axis):
+                raise ValueError("Parameter out of range")  # each would add the other (D)
+        now = m._now()
+        old = self.addax.pop(axis, None)
+        if old is not None:
+            self.shift[axis] += float(m.demand_counts(old.link, now)[0]) - old.origin
+        if value != -1:
+            self.addax[axis] = Addax(int(value), m.demand(int(value)))
+        m.changed()
+
+    def depends(self, axis: int, leader: int) -> bool:
+        """Does `axis`'s demand follow `leader`'s, through links running or buffered
+        (CAMBOX, CONNECT, MOVELINK) or ADDAX? Linking `leader` to `axis` would then make a
+        position depend on itself."""
+        m = self.machine
+        seen: set[int] = set()
+        todo = [axis]
+        while todo:
+            a = todo.pop()
+            if a == leader:
+                return True
+            if a in seen:
+                continue
+            seen.add(a)
+            ax = m.axes[a]
+            for link in (ax.link, ax.pending_link, *self.chains[a]):
+                target = getattr(link, "link", None)
+                if isinstance(target, int):
+                    todo.append(target)
+            if a in self.addax:
+                todo.append(self.addax[a].link)
+        return False
+
+    # ---- positions ----------------------------------------------------------------------
+    def superimpose(self, axis: int, ticks: np.ndarray, own: np.ndarray) -> np.ndarray:
+        """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left)."""
+        shift = self.shift[axis]
+        added = self.addax.get(axis)
+        if added is None:
+            return own + shift if shift else own
+        return own + shift + (self.machine.demand_counts(added.link, ticks) - added.origin)
+
+    def attach(self, axis: int, link: Link, handover: Link | None = None) -> bool:
+        """Start a CONNECT or MOVELINK on the axis now (False: not one of ours). Behind a
+        MOVELINK that just ended on the same link axis, it starts from that one's exact
+        end (slave and link), not from the servo tick's positions."""
+        if not isinstance(link, Connect | Movelink):
+            return False
+        m = self.machine
+        now = m._now()
+        link.origin = float(m.own_counts(axis, now)[0])
+        link.link_origin = float(m.demand_counts(link.link, now)[0])
+        if isinstance(handover, Movelink) and handover.link == link.link:
+            link.origin = handover.origin + handover.distance
+            link.link_origin = handover.link_end
+        if isinstance(link, Movelink) and link.start_at is not None:
+            # option 2: from the absolute link position (its DPOS), once the link gets
+            # there; already past it: from where it is (D)
+            start = link.start_at - m.axes[link.link].datum
+            link.link_origin = max(link.link_origin, start)
+        m.axes[axis].link = link
+        return True
+
+    def cancelled(self, axis: int) -> None:
+        """The running link ended (CANCEL, a CAMBOX done): the next one buffered takes
+        over from here."""
+        m = self.machine
+        a = m.axes[axis]
+        if a.link is None and a.pending_link is None and self.chains[axis]:
+            link = self.chains[axis].popleft()
+            if m.queues[axis]:
+                a.pending_link = link
+            else:
+                m._attach(axis, link)
+
+    def clear(self) -> None:
+        """RAPIDSTOP: every buffered linked move goes."""
+        for chain in self.chains:
+            chain.clear()
+
+    # ---- the engine's events: a MOVELINK ends (and a CAMBOX on a linked axis) ----------
+    def ends_here(self, link: Link) -> bool:
+        """A link whose end this source finds: a MOVELINK, or a CAMBOX whose link axis is
+        itself linked or has ADDAX (the machine's CAMBOX search follows moves only)."""
+        if isinstance(link, Movelink):
+            return not link.repeat
+        if isinstance(link, Cambox):
+            leader = link.link
+            return (isinstance(self.machine.axes[leader].link, Connect | Movelink | Cambox)
+                    or leader in self.addax or self.shift[leader] != 0)
+        return False
+
+    def _done(self, link: Link, tick: int) -> bool:
+        m = self.machine
+        if isinstance(link, Movelink):
+            position = float(m.demand_counts(link.link, np.array([tick]))[0])
+            return position >= link.link_end - REACHED
+        assert isinstance(link, Cambox)
+        la = m.axes[link.link]
+        position = float(m.demand_counts(link.link, np.array([tick]))[0])
+        return (position + la.datum) / la.units - link.link_origin >= link.distance - 1e-9
+
+    def end_tick(self, link: Link, horizon: int | None) -> int | None:
+        """The first servo tick the link axis has travelled the link distance, up to the
+        horizon (the next tick the motion changes by itself: until then the link axis's
+        position is one closed form, taken as monotonic, D); None: not by then."""
+        m = self.machine
+        now = m.tick
+        if self._done(link, now):
+            return now
+        if horizon is None or horizon <= now or not self._done(link, horizon):
+            return None
+        lo, hi = now, horizon
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if self._done(link, mid):
+                hi = mid
+            else:
+                lo = mid
+        return hi
+
+    def next_event(self) -> int | None:
+        m = self.machine
+        if self._cache[0] == m.revision:
+            return self._cache[1]
+        horizon = m.motion_horizon()
+        best: int | None = None
+        for a in m.axes:
+            link = a.link
+            if link is not None and self.ends_here(link):
+                tick = self.end_tick(link, horizon)
+                if tick is not None and (best is None or tick < best):
+                    best = tick
+        self._cache = (m.revision, best)
+        return best
+
+    def on_event(self, now: int) -> None:
+        m = self.machine
+        m.outputs.sync_all()  # the encoders see the motion before it changes
+        for axis, a in enumerate(m.axes):
+            link = a.link
+            if link is None or not self.ends_here(link) or not self._done(link, now):
+                continue
+            if isinstance(link, Movelink):
+                self.finish(axis, link)
+            else:  # a CAMBOX: the machine's own end of one, then what is buffered
+                m._unlink(axis)
+                self.cancelled(axis)
+        m.changed()
+
+    def finish(self, axis: int, link: Movelink) -> None:
+        """The MOVELINK is done: the axis rests exactly at its end; the next buffered
+        linked move starts."""
+        m = self.machine
+        a = m.axes[axis]
+        end = link.origin + link.distance
+        a.link = None
+        a.steps = math.floor(end)
+        a.fraction = end - a.steps
+        if self.chains[axis]:
+            m._attach(axis, self.chains[axis].popleft(), link)
+
+
+__all__ = ["Addax", "Host", "LinkedMoves", "movelink_from"]
