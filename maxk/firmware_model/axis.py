@@ -280,12 +280,14 @@ class MotionEnds:
 
     def next_event(self) -> int | None:
         soonest: int | None = None
-        found = self._limit
-        for axis in self.axes:  # (the engine asks twice a pass: kept lean)
+        # the engine asks twice a pass: the cache is read here directly, unless a subclass
+        # decides itself when its cache holds (it overrides _limit_tick)
+        found = self._limit if type(self)._limit_tick is MotionEnds._limit_tick else None
+        for axis in self.axes:
             motion = axis.motion
             if motion is None:
                 continue
-            known = found.get(axis.index)
+            known = None if found is None else found.get(axis.index)
             limit = known[1] if known is not None and known[0] is motion else (
                 self._limit_tick(axis)[0])
             end = axis.motion_end
