@@ -127,13 +127,13 @@ def test_every_host_mnemonic_is_known() -> None:
         assert s.read(), query
         s.feed(b"TE\r")
         assert s.read() == b"TE@\r", query
-    for command in ("1KP10", "1KI1", "1KD0.5", "1UF", "1BA0.01", "1SY1", "1OL0.5", "1OH2",
+    for command in ("1KP0.1", "1KI0.1", "1KD0.5", "1UF", "1BA0.01", "1SY1", "1OL0.5", "1OH2",
                     "2SN2", "SD50", "1ZP", "LS", "AB"):
         s.feed(command.encode() + b"\r")
         s.feed(b"TE\r")
         assert s.read() == b"TE@\r", command
     s.feed(b"1XP;1XB\r")
-    assert s.read() == b"1XP10\r1XB0.01\r"
+    assert s.read() == b"1XP0.1\r1XB0.01\r"
 
 
 @pytest.mark.parametrize("operand", ["1e308", "-1e308", "1e-320", "NaN", "inf",
@@ -180,7 +180,7 @@ def test_pulse_ring_is_bounded_and_streams() -> None:
 
 def test_servo_follows_with_lag_and_factory_gains_stay_exact() -> None:
     mm = MM4005Controller("MM4005-2")
-    assert mm.send("1KP10;1KI1;1KD160;2VA1;2AC4;1VA1;1AC4;1PA1;2PA1") == []
+    assert mm.send("1KP0.1;1KI0.1;1KD0.16;2VA1;2AC4;1VA1;1AC4;1PA1;2PA1") == []
     mm.engine.advance(1000)  # 0.5 s: axis 1 still profile-only (no UF yet)
     assert mm.send("1TP;1TH;1DF") == ["1TP0.3750", "1TH0.3750", "1DF0.0000"]
     mm.run_until_idle()
@@ -194,7 +194,7 @@ def test_servo_follows_with_lag_and_factory_gains_stay_exact() -> None:
 
 def test_following_error_turns_the_motor_off() -> None:
     mm = MM4005Controller("MM4005-2")
-    mm.send("1KP10;1KI1;1KD160;1FE0.005;1UF;1PA1")
+    mm.send("1KP0.1;1KI0.1;1KD0.16;1FE0.005;1UF;1PA1")
     mm.engine.advance(400)
     assert mm.send("1MS;TB") == ["1MSF", "TBF Following error"]  # off, direction +
     assert mm.send("1PA2") == [] and mm.send("TE") == ["TED"]  # refused: power off
@@ -261,7 +261,7 @@ def test_settings_reports_and_moves_of_the_other_host_mnemonics() -> None:
 
 def test_servo_axes_in_a_time_based_run_read_back_their_lag() -> None:
     mm = MM4005Controller("MM4005-2")
-    mm.send("1KP10;1KI1;1KD160;1UF")
+    mm.send("1KP0.1;1KI0.1;1KD0.16;1UF")
     define(mm, [(0.5 * i, 0.25 * i) for i in range(9)], 0.25, 8)
     mm.send("0EC1")
     mm.run_until_idle()
@@ -273,3 +273,21 @@ def test_servo_axes_in_a_time_based_run_read_back_their_lag() -> None:
         assert abs(p.actual[1] - 0.25 * k) <= 0.001 + 1e-9  # axis 2: profile-only
     lags = [p.theoretical[0] - p.actual[0] for p in points[1:]]
     assert all(0.001 < lag < 0.2 for lag in lags), lags  # axis 1 follows behind, moving up
+
+
+@pytest.mark.parametrize("gains", ["0.2", "0.02", "1"])
+def test_gains_in_the_manuals_range_give_a_loop_that_follows(gains: str) -> None:
+    """The EPICS model 1 driver writes a motor record's PCOF/ICOF/DCOF (0..1) as
+    `nKP%f;nUF;`: every value of the manual's range must give a loop that reaches the
+    target, with no following-error trip on a 1 mm/s move."""
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send(f"1KP{gains};1UF;1KI{gains};1UF;1KD{gains};1UF;1AC5;1VA1;1PA2.5") == []
+    mm.engine.advance(2000 * 10)
+    assert mm.send("1MS;TB") == ["1MSD", "TB@ No error"]
+    assert abs(float(mm.send("1TP")[0][3:]) - 2.5) <= 0.01  # within ten counts
+
+
+def test_a_gain_above_the_manuals_range_is_refused_whole() -> None:
+    mm = MM4005Controller("MM4005-2")
+    assert mm.send("1KP1.5") == [] and mm.send("TE") == ["TEC"]
+    assert mm.send("1UF;1XP") == ["1XP0"]

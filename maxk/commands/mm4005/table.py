@@ -200,19 +200,19 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     _set("KP", st.setting, _REQ, _NUM, "EPICS model 1 'nKP'; manual 3.177 XP 'Rel. Commands: "
          "KP - Set proportional gain'", "C",
          "axis 1..4 required and no '?' as the KI and KD pages (I); read with XP; "
-         "takes effect at UF; 0..1e6 in the shared servo's gain scale (the manual's KD "
-         "page says 0 to 1: its scale is not modelled, D); KP 0 (factory) = the exact "
+         "takes effect at UF; 0 to 1 as KD's page (I), above 1 is C; 1.0 stands for the "
+         "shared servo's KP 100 (D, settings.FULL_SCALE); KP 0 (factory) = the exact "
          "profile-only axis (D)", query=False,
          summary="KP: proportional gain of the servo loop"),
     _set("KI", st.setting, _REQ, _NUM, "manual 3.64 KI 'xxKInn' (axis 1..4, nn missing: C); "
          "EPICS model 1 'nKI'", "C",
-         "no '?' (read with XI); effect at UF; the manual's range 0 to 1 is in its own "
-         "scale, here the shared servo's 0..1e6 (D)", query=False,
+         "no '?' (read with XI); effect at UF; the manual's range 0 to 1 (C), above 1 "
+         "is C; 1.0 stands for the shared servo's KI 10 (D, settings.FULL_SCALE)", query=False,
          summary="KI: integral gain of the servo loop"),
     _set("KD", st.setting, _REQ, _NUM, "manual 3.63 KD 'xxKDnn' (axis 1..4, nn missing: C); "
          "EPICS model 1 'nKD'", "C",
-         "no '?' (read with XD); effect at UF; the manual's range 0 to 1 is in its own "
-         "scale, here the shared servo's 0..1e6 (D)", query=False,
+         "no '?' (read with XD); effect at UF; the manual's range 0 to 1 (C), above 1 "
+         "is C; 1.0 stands for the shared servo's KD 1000 (D, settings.FULL_SCALE)", query=False,
          summary="KD: derivative gain of the servo loop"),
     _set("KS", st.setting, _REQ, _NUM, "manual 3.66 KS 'xxKSnn or xxKS?', 0 to 1", "C",
          "saturation of the integral factor, a fraction of the maximum output; effect at "

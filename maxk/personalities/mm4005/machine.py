@@ -29,7 +29,7 @@ from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
-from .settings import AxisSettings
+from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
 from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
@@ -99,7 +99,9 @@ class MM4005(Engine):
         if not settings.servo_on:
             a.servo = None
         else:
-            a.config = ServoConfig(Gains(kp=kp, ki=ki, kd=kd, ku=ks * DAC_LIMIT / 4.0))
+            full_p, full_i, full_d = FULL_SCALE  # the manual's 0..1 on the shared filter
+            a.config = ServoConfig(Gains(kp=kp * full_p, ki=ki * full_i, kd=kd * full_d,
+                                         ku=ks * DAC_LIMIT / 4.0))
             if a.servo is None:
                 a.servo = ServoLoop(float(a.steps_now(self)), self.tick)
                 a.servo.closed = a.powered

@@ -21,10 +21,19 @@ class SettingRule:
     integer: bool = False
 
 
+# The shared filter's KP, KI, KD that the manual's full scale 1.0 stands for (D: the
+# MM4005's own hardware scale is not published). Chosen so that the whole range 0..1 gives a
+# stable loop on the world's default motor and KP 0.1, KI 0.1, KD 0.16 is the well-damped
+# tuning the servo tests use; a host that writes a motor record's PCOF/ICOF/DCOF (0..1, as
+# the EPICS model 1 driver sends them with UF) gets a loop that follows.
+FULL_SCALE: Final[tuple[float, float, float]] = (100.0, 10.0, 1000.0)
+
 RULES: Final[dict[str, SettingRule]] = {
-    "KP": SettingRule(0.0, 0.0, 1e6),  # proportional gain; 0 = factory (profile only)
-    "KI": SettingRule(0.0, 0.0, 1e6),  # integral gain
-    "KD": SettingRule(0.0, 0.0, 1e6),  # derivative gain
+    # the gains in the manual's range 0 to 1 (KD/KI pages 3.63/3.64, C); 0 = factory (profile
+    # only); FULL_SCALE maps them onto the shared servo filter's gains (D)
+    "KP": SettingRule(0.0, 0.0, 1.0),  # proportional gain
+    "KI": SettingRule(0.0, 0.0, 1.0),  # integral gain
+    "KD": SettingRule(0.0, 0.0, 1.0),  # derivative gain
     "KS": SettingRule(1.0, 0.0, 1.0),  # integral saturation, fraction of full output
     "FE": SettingRule(1.0, 0.0, 1e6),  # following-error limit, units (FE checks 2 TU..travel)
     "FF": SettingRule(1.0, 0.0, 1e6),  # master-slave following-error limit (stored only)
