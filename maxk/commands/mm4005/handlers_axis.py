@@ -40,10 +40,6 @@ def _in_trajectory(ctx: Context, axis: int) -> bool:
     return m.trajectory_element() != 0 and axis in (m.trajectory.x_axis, m.trajectory.y_axis)
 
 
-def _number(cmd: Command) -> float:
-    assert isinstance(cmd.value, float)  # the lexer enforces Operand.NUMBER
-    return cmd.value
-
 
 # --- tell commands ---------------------------------------------------------------------
 def tell_position(ctx: Context, cmd: Command) -> list[str]:
@@ -121,7 +117,7 @@ def velocity(ctx: Context, cmd: Command) -> list[str]:
     axis = _required_axis(cmd)
     if cmd.query:
         return [f"{axis}VA{_position_text(ctx, axis, ctx.machine.velocity(axis))}"]
-    value = _number(cmd)
+    value = cmd.number()
     axis_rules.check_rate(value, "VA")
     ctx.machine.set_velocity(axis, value)
     return []
@@ -132,7 +128,7 @@ def acceleration(ctx: Context, cmd: Command) -> list[str]:
     axis = _required_axis(cmd)
     if cmd.query:
         return [f"{axis}AC{_position_text(ctx, axis, ctx.machine.acceleration(axis))}"]
-    value = _number(cmd)
+    value = cmd.number()
     axis_rules.check_rate(value, "AC")
     ctx.machine.set_acceleration(axis, value)
     return []
@@ -144,7 +140,7 @@ def left_limit(ctx: Context, cmd: Command) -> list[str]:
     limits = ctx.machine.travel_limits(axis)
     if cmd.query:
         return [f"{axis}SL{_position_text(ctx, axis, limits[0])}"]
-    ctx.machine.set_travel_limits(axis, *axis_rules.new_limits(limits, left=_number(cmd)))
+    ctx.machine.set_travel_limits(axis, *axis_rules.new_limits(limits, left=cmd.number()))
     return []
 
 
@@ -154,7 +150,7 @@ def right_limit(ctx: Context, cmd: Command) -> list[str]:
     limits = ctx.machine.travel_limits(axis)
     if cmd.query:
         return [f"{axis}SR{_position_text(ctx, axis, limits[1])}"]
-    ctx.machine.set_travel_limits(axis, *axis_rules.new_limits(limits, right=_number(cmd)))
+    ctx.machine.set_travel_limits(axis, *axis_rules.new_limits(limits, right=cmd.number()))
     return []
 
 
@@ -163,7 +159,7 @@ def set_home(ctx: Context, cmd: Command) -> list[str]:
     axis = _required_axis(cmd)
     if cmd.query:
         return [f"{axis}SH{_position_text(ctx, axis, ctx.machine.home_preset(axis))}"]
-    ctx.machine.set_home_preset(axis, _number(cmd))
+    ctx.machine.set_home_preset(axis, cmd.number())
     return []
 
 
@@ -182,7 +178,7 @@ def define_home(ctx: Context, cmd: Command) -> list[str]:
 def move_absolute(ctx: Context, cmd: Command) -> list[str]:
     """PA: move to an absolute position."""
     axis = _required_axis(cmd)
-    target = _number(cmd)
+    target = cmd.number()
     m = ctx.machine
     axis_rules.check_not_in_trajectory(_in_trajectory(ctx, axis))
     axis_rules.check_move(m.status(axis), m.travel_limits(axis), target)
@@ -194,7 +190,7 @@ def move_relative(ctx: Context, cmd: Command) -> list[str]:
     """PR: move relative to the current destination (DP), so successive PRs add up."""
     axis = _required_axis(cmd)
     m = ctx.machine
-    target = m.target(axis) + _number(cmd)
+    target = m.target(axis) + cmd.number()
     axis_rules.check_not_in_trajectory(_in_trajectory(ctx, axis))
     axis_rules.check_move(m.status(axis), m.travel_limits(axis), target)
     m.move_to(axis, target)

@@ -17,19 +17,7 @@ MIN_TIME_SCALE = 0.01  # EC's time scale, 0.01..1000 (D)
 MAX_TIME_SCALE = 1000.0
 
 
-def _number(cmd: Command) -> float:
-    assert isinstance(cmd.value, float)
-    return cmd.value
 
-
-def _integer(cmd: Command) -> int:
-    assert isinstance(cmd.value, int)
-    return cmd.value
-
-
-def _axis(cmd: Command) -> int:
-    assert cmd.axis is not None
-    return cmd.axis
 
 
 def _position(ctx: Context, axis: int, value: float) -> str:
@@ -44,10 +32,10 @@ def new_timed(ctx: Context, cmd: Command) -> list[str]:
 
 def take_part(ctx: Context, cmd: Command) -> list[str]:
     """DC: axis n takes part in the time-based trajectory (1) or not (0)."""
-    value = _integer(cmd)
+    value = cmd.integer()
     if value not in (0, 1):
         raise MM4005Error(PARAMETER, "DC takes 0 or 1")
-    ctx.machine.timed.take_part(_axis(cmd), value == 1)
+    ctx.machine.timed.take_part(cmd.axis_number(), value == 1)
     return []
 
 
@@ -56,7 +44,7 @@ def accel_time(ctx: Context, cmd: Command) -> list[str]:
     timed = ctx.machine.timed
     if cmd.query:
         return ["UC" + fmt.short(timed.accel_time)]
-    value = _number(cmd)
+    value = cmd.number()
     if not 0.001 <= value <= 100.0:  # (D) so the acceleration VC reports stays finite
         raise MM4005Error(PARAMETER, "UC out of 0.001..100 s")
     timed.accel_time = value
@@ -68,7 +56,7 @@ def element_time(ctx: Context, cmd: Command) -> list[str]:
     """DT: element i's duration, seconds (creates the next element)."""
     if cmd.axis is None:
         raise MM4005Error(PARAMETER, "DT needs an element number")
-    value = _number(cmd)
+    value = cmd.number()
     if value > 1e6:
         raise MM4005Error(PARAMETER, "DT beyond 1e6 s")
     ctx.machine.timed.set_duration(cmd.axis, value)
@@ -77,7 +65,7 @@ def element_time(ctx: Context, cmd: Command) -> list[str]:
 
 def displacement(ctx: Context, cmd: Command) -> list[str]:
     """DX: axis n's displacement in the element the last DT named, controller units."""
-    ctx.machine.timed.set_displacement(_axis(cmd), _number(cmd))
+    ctx.machine.timed.set_displacement(cmd.axis_number(), cmd.number())
     return []
 
 
@@ -86,7 +74,7 @@ def pulse_first(ctx: Context, cmd: Command) -> list[str]:
     timed = ctx.machine.timed
     if cmd.query:
         return ["MB" + str(timed.pulse_start)]
-    timed.set_pulses(start=_integer(cmd))
+    timed.set_pulses(start=cmd.integer())
     return []
 
 
@@ -95,7 +83,7 @@ def pulse_last(ctx: Context, cmd: Command) -> list[str]:
     timed = ctx.machine.timed
     if cmd.query:
         return ["ME" + str(timed.pulse_end)]
-    timed.set_pulses(end=_integer(cmd))
+    timed.set_pulses(end=cmd.integer())
     return []
 
 
@@ -104,7 +92,7 @@ def pulse_number(ctx: Context, cmd: Command) -> list[str]:
     timed = ctx.machine.timed
     if cmd.query:
         return ["MN" + str(timed.pulse_request)]
-    timed.set_pulses(count=_integer(cmd))
+    timed.set_pulses(count=cmd.integer())
     return []
 
 
@@ -118,10 +106,10 @@ def verify_report(ctx: Context, cmd: Command) -> list[str]:
     """RC: what VC found for axis n (1/2 speed change, 3/4 velocity, 5/6 acceleration)."""
     if cmd.value is None:  # 'nRC?' or 'nRC': which figure is missing
         raise MM4005Error(PARAMETER, "RC needs 1..6")
-    which = _integer(cmd)
+    which = cmd.integer()
     if not 1 <= which <= 6:
         raise MM4005Error(PARAMETER, "RC1..RC6")
-    axis = _axis(cmd)
+    axis = cmd.axis_number()
     figures = ctx.machine.timed.figures.get(axis)
     value = 0.0 if figures is None else figures.report(which)
     text = str(int(value)) if which % 2 else fmt.fixed(value, 6)
@@ -130,11 +118,11 @@ def verify_report(ctx: Context, cmd: Command) -> list[str]:
 
 def speed_error_limit(ctx: Context, cmd: Command) -> list[str]:
     """GC: axis n's maximum speed change between elements (0: not checked)."""
-    axis = _axis(cmd)
+    axis = cmd.axis_number()
     limits = ctx.machine.timed.speed_error_limits
     if cmd.query:
         return [f"{axis}GC{fmt.short(limits[axis - 1])}"]
-    value = _number(cmd)
+    value = cmd.number()
     if value < 0.0:
         raise MM4005Error(PARAMETER, "GC must not be negative")
     limits[axis - 1] = value
@@ -151,7 +139,7 @@ def execute_timed(ctx: Context, cmd: Command) -> list[str]:
     """EC: execute the verified time-based trajectory at a time scale (0EC real)."""
     if cmd.axis not in (None, 0):
         raise MM4005Error(PARAMETER, "only 0EC (real execution) is modelled")
-    scale = 1.0 if cmd.value is None else _number(cmd)
+    scale = 1.0 if cmd.value is None else cmd.number()
     if not MIN_TIME_SCALE <= scale <= MAX_TIME_SCALE:
         raise MM4005Error(PARAMETER, f"time scale out of {MIN_TIME_SCALE:g}..{MAX_TIME_SCALE:g}")
     ctx.machine.execute_timed(scale)

@@ -22,14 +22,6 @@ from .spec import Command, Context
 LT_DECIMALS = 4  # D: element coordinates and lengths in LT/XE
 
 
-def _number(cmd: Command) -> float:
-    assert isinstance(cmd.value, float)
-    return cmd.value
-
-
-def _integer(cmd: Command) -> int:
-    assert isinstance(cmd.value, int)
-    return cmd.value
 
 
 def describe(element: Element) -> str:
@@ -56,7 +48,7 @@ def first_tangent(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["FA" + fmt.short(traj.entry_angle)]
-    value = _number(cmd)
+    value = cmd.number()
     if not -360.0 <= value <= 360.0:
         raise MM4005Error(PARAMETER, "FA outside -360..360")
     traj.entry_angle = value
@@ -68,7 +60,7 @@ def max_discontinuity(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["AD" + fmt.short(traj.max_discontinuity)]
-    traj.set_max_discontinuity(_number(cmd))
+    traj.set_max_discontinuity(cmd.number())
     return []
 
 
@@ -95,7 +87,7 @@ def vector_velocity(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["VV" + fmt.short(traj.velocity)]
-    value = _number(cmd)
+    value = cmd.number()
     axis_rules.check_rate(value, "VV")
     traj.velocity = value
     return []
@@ -106,7 +98,7 @@ def vector_acceleration(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["VS" + fmt.short(traj.acceleration)]
-    value = _number(cmd)
+    value = cmd.number()
     axis_rules.check_rate(value, "VS")
     traj.acceleration = value
     return []
@@ -115,13 +107,13 @@ def vector_acceleration(ctx: Context, cmd: Command) -> list[str]:
 # --- elements ----------------------------------------------------------------------------
 def line_x(ctx: Context, cmd: Command) -> list[str]:
     """LX: line along the tangent to X = nn."""
-    ctx.machine.trajectory.line_to_x(_number(cmd))
+    ctx.machine.trajectory.line_to_x(cmd.number())
     return []
 
 
 def line_y(ctx: Context, cmd: Command) -> list[str]:
     """LY: line along the tangent to Y = nn."""
-    ctx.machine.trajectory.line_to_y(_number(cmd))
+    ctx.machine.trajectory.line_to_y(cmd.number())
     return []
 
 
@@ -130,13 +122,13 @@ def line_end_x(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["MX" + fmt.short(traj.line_x_end or 0.0)]
-    traj.set_line_end_x(_number(cmd))
+    traj.set_line_end_x(cmd.number())
     return []
 
 
 def line_end_y(ctx: Context, cmd: Command) -> list[str]:
     """MY: build the line to (MX, nn)."""
-    ctx.machine.trajectory.line_to_point(_number(cmd))
+    ctx.machine.trajectory.line_to_point(cmd.number())
     return []
 
 
@@ -145,13 +137,13 @@ def arc_radius(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["CR" + fmt.short(traj.radius or 0.0)]
-    traj.set_radius(_number(cmd))
+    traj.set_radius(cmd.number())
     return []
 
 
 def arc_sweep(ctx: Context, cmd: Command) -> list[str]:
     """CA: build the arc of radius CR sweeping nn degrees."""
-    ctx.machine.trajectory.arc_by_sweep(_number(cmd))
+    ctx.machine.trajectory.arc_by_sweep(cmd.number())
     return []
 
 
@@ -160,13 +152,13 @@ def arc_end_x(ctx: Context, cmd: Command) -> list[str]:
     traj = ctx.machine.trajectory
     if cmd.query:
         return ["CX" + fmt.short(traj.arc_x or 0.0)]
-    traj.set_arc_end_x(_number(cmd))
+    traj.set_arc_end_x(cmd.number())
     return []
 
 
 def arc_end_y(ctx: Context, cmd: Command) -> list[str]:
     """CY: build the tangent arc ending at (CX, nn)."""
-    ctx.machine.trajectory.arc_to_point(_number(cmd))
+    ctx.machine.trajectory.arc_to_point(cmd.number())
     return []
 
 
@@ -224,7 +216,7 @@ def tell_executing(ctx: Context, cmd: Command) -> list[str]:
 
 # --- synchronized pulses ---------------------------------------------------------------
 def _element_number(cmd: Command, name: str) -> int:
-    value = _integer(cmd)
+    value = cmd.integer()
     if value < 0:
         raise MM4005Error(PARAMETER, f"{name} negative")
     return value
@@ -253,7 +245,7 @@ def pulse_step(ctx: Context, cmd: Command) -> list[str]:
     pulses = ctx.machine.trajectory.pulses
     if cmd.query:
         return ["NI" + fmt.short(pulses.reported_step())]
-    value = _number(cmd)
+    value = cmd.number()
     axis_rules.check_positive(value, "NI")
     pulses.set_step(value)
     return []

@@ -52,6 +52,20 @@ class Command:
     value: float | int | str | None
     query: bool
 
+    # The lexer has already checked the operand against the entry's Operand, so a handler
+    # takes it with its type (one place for what every handler module asserted itself).
+    def number(self) -> float:
+        assert isinstance(self.value, float)
+        return self.value
+
+    def integer(self) -> int:
+        assert isinstance(self.value, int)
+        return self.value
+
+    def axis_number(self) -> int:
+        assert self.axis is not None
+        return self.axis
+
 
 Handler = Callable[[Context, Command], list[str]]
 
