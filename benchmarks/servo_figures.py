@@ -1,9 +1,8 @@
 """The servo figures' yardstick and the contour figure.
 
-`naive_reference` is what the servo figures are read against: 10 PID axes on the same
-discretized motor, stepped tick by tick at 8192 Hz in plain Python floats, with nothing
-clever (no closed form, no events, no compiled code). Its rate is measured in the same
-process as the figures it divides, so a loaded machine moves both alike.
+`naive_reference` is what every speed figure is read against: the shared naive loop (10
+PID axes stepped tick by tick at 8192 Hz in plain Python floats, nothing clever), run in
+the same process as the figures it divides, so a loaded machine moves both alike.
 
 `circle` is MAXk vector contouring on two servo axes: full circles (VC) at a vector
 velocity, where the commanded positions are not polynomials and every tick is stepped.
@@ -11,48 +10,20 @@ velocity, where the commanded positions are not polynomials and every tick is st
 
 from __future__ import annotations
 
-import math
 import time
 
+from benchmarks import naive_servo
 from benchmarks.figure import Figure
 from maxk import MAXk
-from maxk.firmware_model.motor import MotorPlant
-
-NAIVE_AXES = 10
-NAIVE_RATE_HZ = 8192
 
 
-def _naive_run(sim_seconds: float) -> tuple[float, float]:
-    """10 axes, each commanded back and forth at its own speed (a triangle wave of
-    position), PID with integrator clamp and DAC saturation, the motor's 2x2 update."""
-    a11, a12, a21, a22, b1, b2 = MotorPlant().discrete(1.0 / NAIVE_RATE_HZ)
-    kp, kd, ki, cap = 100.0, 400.0, 40.0 / 1024.0, 4.0 * 400.0 / (40.0 / 1024.0)
-    speeds = [(10_000 + 4_000 * k) / NAIVE_RATE_HZ for k in range(NAIVE_AXES)]
-    half = NAIVE_RATE_HZ // 4  # a quarter second each way
-    ticks = round(sim_seconds * NAIVE_RATE_HZ)
-    ends = []
-    start = time.perf_counter()
-    for speed in speeds:  # axis by axis: each loop's state in locals, the fastest plain form
-        p = w = s = q = r = 0.0
-        for tick in range(ticks):
-            r += speed if (tick // half) % 2 == 0 else -speed
-            e = r - p
-            s = max(-cap, min(cap, s + e))
-            u = kp * e + kd * (e - q) + ki * s
-            u = max(-32767.0, min(32767.0, u))
-            q = e
-            p, w = a11 * p + a12 * w + b1 * u, a21 * p + a22 * w + b2 * u
-        ends.append(p)
-    wall = time.perf_counter() - start
-    assert all(math.isfinite(x) and abs(x) < 1e6 for x in ends)  # the loops held
-    return sim_seconds, wall
-
-
-def naive_reference(sim_seconds: float = 3.0) -> Figure:
-    """The yardstick: best of three runs."""
-    best = max(sim / wall for sim, wall in (_naive_run(sim_seconds) for _ in range(3)))
+def naive_reference(sim_seconds: float = 1.0) -> Figure:
+    """The yardstick: the shared naive loop (benchmarks/naive_servo.py), best of three
+    runs of one simulated second, as the shared file's own main measures it."""
+    run, which = naive_servo.loop()
+    best = max(run(sim_seconds) for _ in range(3))
     return Figure("naive_10_pid_axes", best, "simulated s per wall s", None,
-                  "10 PID axes stepped tick by tick in plain Python floats at 8192 Hz")
+                  f"10 PID axes stepped tick by tick at 8192 Hz: {which}")
 
 
 CIRCLE_SETUP = ("AA; PSM,M; LP0,0; KP100,100; KD400,400; KI40,40; KU400,400; KV680,680; "
