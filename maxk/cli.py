@@ -247,7 +247,7 @@ def _run(args: argparse.Namespace) -> int:
     except (ImportError, OSError) as error:
         print(f"maxk run: {error}", file=sys.stderr)
         return 2
-    errors = [line.removeprefix("! ") for line in controller.console().new_errors()]
+    errors = [f"line {line} (tick {tick}): {text}" for line, tick, text in transcript.errors]
     return _report(args, script, transcript, errors)
 
 

@@ -245,6 +245,9 @@ def _parse_expect(line: int, rest: str) -> Step:
     words = rest.split()
     if not words:
         raise ValueError("@expect needs something to check, e.g. 'X position 1000'")
+    if words[0].lower() == "error" or [w.lower() for w in words] == ["no", "error"]:
+        text = rest.strip()[len("error"):].strip() if words[0].lower() == "error" else None
+        return Step(line, "expect-error", rest, (text,))
     m = _EXPECT.match(rest.strip())
     return Step(line, "expect", rest, () if m is None else tuple(m.groupdict().items()))
 
@@ -294,6 +297,8 @@ class Transcript:
     entries: list[tuple[int, int, str, list[str]]] = field(default_factory=list)
     failures: list[Failure] = field(default_factory=list)
     board: Controller | None = None
+    errors: list[tuple[int, int, str]] = field(default_factory=list)  # (line, tick, the
+    # controller's message): every command error the run raised, expected or not
 
     @property
     def replies(self) -> list[str]:
@@ -325,10 +330,32 @@ def run_script(script: Script, *, model: str | None = None,
     last_command, last_line = "", 0
     strict = check and script.checks_replies
     traces: list[tuple[Any, Any]] = []
+    unexpected: list[tuple[int, int, str, str]] = []  # errors no directive has taken yet:
+    # (line, tick, what raised it, the message)
+    expected_replies: list[str] = []  # the `<` lines of the last command line
 
-    def fail(line: int, command: str, expected: str, actual: str) -> None:
+    def fail(line: int, command: str, expected: str, actual: str,
+             tick: int | None = None) -> None:
         transcript.failures.append(
-            Failure(line, command, expected, actual, engine.tick, board_state(controller)))
+            Failure(line, command, expected, actual, engine.tick if tick is None else tick,
+                    board_state(controller)))
+
+    def note_errors(step: Step, what: str, replies: list[str]) -> None:
+        """The controller's command errors since the last look, charged to this step."""
+        for message in console.refused(replies, console.new_errors()):
+            text = message.removeprefix("! ")
+            transcript.errors.append((step.line, engine.tick, text))
+            unexpected.append((step.line, engine.tick, what, text))
+
+    def settle_errors() -> None:
+        """Before the next command line and at the end: in a regression, an error the
+        script did not say it expects (`@expect error`, or its text as a `<` reply)
+        fails, with the line, the tick and the controller's message."""
+        for line, tick, what, text in unexpected:
+            if strict and f"! {text}" not in expected_replies and text not in \
+                    expected_replies:
+                fail(line, what, "(no command error)", text, tick)
+        unexpected.clear()
 
     try:
         for step in script.steps:
@@ -336,6 +363,8 @@ def run_script(script: Script, *, model: str | None = None,
                 fail(last_line, last_command, "(no more replies)", pending[0])
                 pending.clear()
             if step.kind == "send":
+                settle_errors()
+                expected_replies = []
                 try:
                     replies = console.execute(step.text)
                 except Exception as error:  # a fault in the emulator: a failure, not a crash
@@ -343,9 +372,11 @@ def run_script(script: Script, *, model: str | None = None,
                     fail(step.line, step.text, "(the line run)",
                          f"internal error: {type(error).__name__}: {error}")
                 transcript.entries.append((step.line, engine.tick, step.text, replies))
+                note_errors(step, step.text, replies)
                 pending = list(replies)
                 last_command, last_line = step.text, step.line
             elif step.kind == "expect-reply":
+                expected_replies.append(step.text)
                 if not check:
                     continue
                 actual = pending.pop(0) if pending else "(no reply)"
@@ -382,14 +413,23 @@ def run_script(script: Script, *, model: str | None = None,
                 problem = start_trace(controller, step.args, traces)
                 if problem is not None:
                     fail(step.line, f"@trace {step.text}", step.text, problem)
+            elif step.kind == "expect-error":
+                note_errors(step, last_command, [])
+                problem = _take_errors(step, unexpected, view)
+                if problem is not None and check:
+                    fail(step.line, f"@expect {step.text}", step.text, problem)
             elif step.kind == "expect" and check:
                 problem = check_expect(view, step.text, step.args)
                 if problem is not None:
                     fail(step.line, f"@expect {step.text}", step.text, problem)
+            if step.kind not in ("send", "expect-error"):
+                note_errors(step, f"@{step.kind.partition('-')[0]} {step.text}"
+                            if step.kind != "expect-reply" else last_command, [])
             for tracer, _stream in traces:
                 tracer.sample(f"line {step.line}")
             if on_step is not None:
                 on_step(step)
+        settle_errors()
     finally:
         for tracer, stream in traces:
             tracer.detach()
@@ -397,6 +437,31 @@ def run_script(script: Script, *, model: str | None = None,
     if strict and pending:
         fail(last_line, last_command, "(no more replies)", pending[0])
     return transcript
+
+
+def _take_errors(step: Step, unexpected: list[tuple[int, int, str, str]],
+                 view: Any) -> str | None:
+    """`@expect error [TEXT]`: the command lines since the last one raised an error (one
+    whose message holds TEXT, in any case); they are expected now. `@expect no error`:
+    none did. Either also runs the kind's own check of the same words where it has one
+    (the MAXk's command-error flag, doorbell bit 24). A problem, or None."""
+    (text,) = step.args
+    own = view.extra_expect(step.text.split())
+    own_problem = own if isinstance(own, str) else None
+    if text is None:  # @expect no error
+        if unexpected:
+            first = unexpected[0][3]
+            unexpected.clear()  # reported here, once
+            return f"command error: {first}"
+        return own_problem
+    if not unexpected:
+        if own is None:
+            return None  # the kind's own word held (the MAXk's flag still set)
+        return own_problem or "no command error"
+    found = not text or any(text.lower() in message.lower() for *_, message in unexpected)
+    problem = None if found else f"command error: {unexpected[0][3]} (not {text!r})"
+    unexpected.clear()  # expected, or reported here: once either way
+    return problem
 
 
 def load_script(path: str | Path) -> Script:
@@ -412,11 +477,22 @@ def record(script: Script, transcript: Transcript) -> str:
     directives, blank lines) is kept as written. Running the result reproduces it.
     """
     replies_by_line = {line: replies for line, _tick, _text, replies in transcript.entries}
+    errors_by_line: dict[int, list[str]] = {}
+    for line, _tick, text in transcript.errors:
+        errors_by_line.setdefault(line, []).append(text)
     out: list[str] = []
+    retake = False  # after a command line that raised errors, until the next command line
     for number, raw in enumerate(script.lines, start=1):
-        if raw.strip().startswith("<"):
+        stripped = raw.strip()
+        if stripped.startswith("<"):
             continue
+        if number in replies_by_line:
+            retake = number in errors_by_line
+        elif retake and re.match(r"@expect\s+error\b", stripped, re.I):
+            continue  # written anew from what this run raised
         out.append(raw)
-        for reply in replies_by_line.get(number, []):
-            out.append(f"< {reply}")
+        replies = replies_by_line.get(number, [])
+        out.extend(f"< {reply}" for reply in replies)
+        out.extend(f"@expect error {text}" for text in errors_by_line.get(number, [])
+                   if f"! {text}" not in replies and text not in replies)
     return "\n".join(out) + "\n"

@@ -68,6 +68,11 @@ class Console(Protocol):
         """A `! ...` line for each error since the last look (bad commands, power-up)."""
         ...
 
+    def refused(self, replies: list[str], noted: list[str]) -> list[str]:
+        """Which of a line's replies and newly noted errors are commands the controller
+        refused: what fails a regression script unless it says it expects them."""
+        ...
+
     def prompt(self) -> str: ...
     def status_line(self, width: int = 80) -> str: ...  # one line, fits `width` columns
     def status_lines(self) -> list[str]: ...  # the full picture (`:status`)
@@ -96,6 +101,10 @@ class ConsoleBase:
 
     def new_errors(self) -> list[str]:
         return []
+
+    def refused(self, replies: list[str], noted: list[str]) -> list[str]:
+        """By default every error noted (its replies are the controller's own text)."""
+        return noted
 
     def prompt(self) -> str:
         return f"{self.controller.model}> "

@@ -74,6 +74,10 @@ class MaxConsole(ConsoleBase):
         self._errors_seen = total
         return [f"! command error: {record}" for record in new]
 
+    def refused(self, replies: list[str], noted: list[str]) -> list[str]:
+        """Each command error's record (`'MR': MR needs an operand`), as a script names it."""
+        return [line.removeprefix("! command error: ") for line in noted]
+
     def prompt(self) -> str:
         b = self.maxk.board
         mode = f"A{b.model.axis_letters[b.current_axis]}" if b.mode == "single" else b.mode

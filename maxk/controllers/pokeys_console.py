@@ -154,6 +154,11 @@ class PoKeysConsole(IOWords, ConsoleBase):
         out, self._events = self._events, []
         return out
 
+    def refused(self, replies: list[str], noted: list[str]) -> list[str]:
+        """A refused console word or request is a `! ...` reply; what `new_errors` notes
+        are the engine's own stops (a limit, the e-stop), not refused commands."""
+        return [reply for reply in replies if reply.startswith("! ")]
+
     def prompt(self) -> str:
         return f"{self.dev.model}> "
 

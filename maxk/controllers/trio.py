@@ -216,6 +216,11 @@ class TrioConsole(ConsoleBase):
         errors, self._errors = self._errors, []
         return errors
 
+    def refused(self, replies: list[str], noted: list[str]) -> list[str]:
+        """The command line's errors, and a program's runtime error as the controller
+        prints it unasked (`%[Process 3:Line 5] - Divide by zero`)."""
+        return [*noted, *(reply for reply in replies if reply.startswith("%["))]
+
     def prompt(self) -> str:
         return ">>"
 
