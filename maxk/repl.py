@@ -25,6 +25,7 @@ from maxk.controllers.contract import BuildOptions, Console, Controller
 from maxk.controllers.registry import DEFAULT_MODEL, build, default_archive
 from maxk.controllers.world_settings import parse_world
 from maxk.script import parse_duration
+from maxk.session_record import SessionRecord
 
 if TYPE_CHECKING:
     from prompt_toolkit.history import History
@@ -37,6 +38,8 @@ REPL words (everything else goes to the controller):
   :run [10 s]       advance until the controller is idle (timeout, default 60 s)
   :reset            reset the controller (power-up, archived parameters)
   :world            the machine around it   :world X limits 5000 -5000  (docs/io.md)
+  :record FILE      write this session as a regression script (kept up to date; :record
+                    off stops; the script replays on a fresh controller: docs/scripts.md)
   quit / exit / Ctrl-D
 {controller}'s own words:
 """
@@ -63,6 +66,8 @@ class ReplSession:
         self._epoch = clock()
         self._tick_at_epoch = self.controller.engine.tick
         self.finished = False
+        self.record = SessionRecord(self.controller)
+        self.record_path: Path | None = None  # where :record writes the session
 
     # ---- time -----------------------------------------------------------------------
     def sync(self) -> None:
@@ -100,15 +105,31 @@ class ReplSession:
         if word in ("quit", "exit", ":quit", ":exit", ":q"):
             self.finished = True
             return []
+        noted: list[str] = []
         try:
             if word == "help" or word.startswith("help ") or text.startswith(":"):
                 out = self._meta(text)
+                noted = self.console.new_errors()
             else:
+                tick = self.controller.engine.tick
                 out = self.console.execute(line)
+                noted = self.console.new_errors()
+                self.record.command(line, tick, out, self.console.refused(out, noted))
         except Exception as error:  # a fault in the emulator must not end the session
             out = [f"! internal error: {type(error).__name__}: {error} (the line was lost; "
                    "please report it)"]
-        return out + self.console.new_errors()
+        return out + noted + self._save_record()
+
+    def _save_record(self) -> list[str]:
+        """Keep the :record file up to date (a line telling why, when it cannot be)."""
+        if self.record_path is None:
+            return []
+        try:
+            self.record_path.write_text(self.record.script(), encoding="utf-8")
+        except OSError as error:
+            self.record_path = None
+            return [f"record: {error}; recording stopped"]
+        return []
 
     def _meta(self, text: str) -> list[str]:
         body = text[1:] if text.startswith(":") else text
@@ -156,17 +177,38 @@ class ReplSession:
             if not rest:
                 return view.describe()
             try:
-                return [parse_world(rest)(view)]
+                said = parse_world(rest)(view)
             except (KeyError, ValueError, OverflowError) as error:
                 return [f"world: {error.args[0] if error.args else error}"]
+            self.record.world(rest, engine.tick)
+            return [said]
+        if word == "record":
+            return self._record_word(rest)
         if word == "reset":
             self.sync()
             self.controller.reset()  # errors from before stay seen; a power-up one is new
+            self.record.reset()
             return self.console.after_reset()
         out = self.console.repl_word(word, rest)
         if out is not None:
             return out
         return [f"unknown REPL word :{word}; type help"]
+
+    def _record_word(self, rest: str) -> list[str]:
+        """`:record FILE` writes the session so far and keeps it up to date; `:record
+        off` stops; `:record` says where it goes."""
+        if not rest:
+            where = f"recording into {self.record_path}" if self.record_path else \
+                "not recording (:record FILE)"
+            return [f"{where}; {len(self.record.entries)} lines since power-up"]
+        if rest.lower() == "off":
+            path, self.record_path = self.record_path, None
+            return [f"recording stopped; {path} kept" if path else "not recording"]
+        path = Path(rest).expanduser()
+        self.record_path = path
+        problem = self._save_record()
+        return problem or [f"recording into {path}: the session since power-up, "
+                           "then every line (`maxk run` replays it)"]
 
     # ---- display --------------------------------------------------------------------
     def status_lines(self) -> list[str]:
