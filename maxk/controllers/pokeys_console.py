@@ -155,8 +155,7 @@ class PoKeysConsole(IOWords, ConsoleBase):
         return out
 
     def refused(self, replies: list[str], noted: list[str]) -> list[str]:
-        """A refused console word or request is a `! ...` reply; what `new_errors` notes
-        are the engine's own stops (a limit, the e-stop), not refused commands."""
+        """A refusal is a `! ...` reply (`new_errors` notes the engine's own stops)."""
         return [reply for reply in replies if reply.startswith("! ")]
 
     def prompt(self) -> str:
