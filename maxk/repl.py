@@ -21,11 +21,10 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from maxk.console_session import ConsoleSession
 from maxk.controllers.contract import BuildOptions, Console, Controller
 from maxk.controllers.registry import DEFAULT_MODEL, build, default_archive
-from maxk.controllers.world_settings import parse_world
 from maxk.script import parse_duration
-from maxk.session_record import SessionRecord
 
 if TYPE_CHECKING:
     from prompt_toolkit.history import History
@@ -45,10 +44,11 @@ REPL words (everything else goes to the controller):
 """
 
 
-class ReplSession:
+class ReplSession(ConsoleSession):
     """One REPL session on one controller: turns typed lines into output lines. Written
     against the controller contract: the controller's console runs the lines, gives
-    help, completion and the status line; time is its engine's."""
+    help, completion and the status line (`ConsoleSession`, which the front panel's
+    console shares); time is its engine's, moved here with the wall clock or by hand."""
 
     def __init__(self, model: str = DEFAULT_MODEL, rate: int | None = None,
                  manual_time: bool = False, speed: float = 1.0,
@@ -56,17 +56,16 @@ class ReplSession:
                  archive: str | os.PathLike | bool | None = None) -> None:
         if archive is True:
             archive = default_archive(model)
-        self.controller: Controller = build(model, BuildOptions(
+        controller: Controller = build(model, BuildOptions(
             archive=None if archive in (None, False) else str(archive),
             update_rate_hz=rate))
-        self.console: Console = self.controller.console()
+        ConsoleSession.__init__(self, controller, "the maxk REPL")
         self.manual_time = manual_time
         self.speed = speed
         self._clock = clock
         self._epoch = clock()
         self._tick_at_epoch = self.controller.engine.tick
         self.finished = False
-        self.record = SessionRecord(self.controller)
         self.record_path: Path | None = None  # where :record writes the session
 
     # ---- time -----------------------------------------------------------------------
@@ -107,14 +106,11 @@ class ReplSession:
             return []
         noted: list[str] = []
         try:
-            if word == "help" or word.startswith("help ") or text.startswith(":"):
+            if self.is_meta(text):
                 out = self._meta(text)
                 noted = self.console.new_errors()
             else:
-                tick = self.controller.engine.tick
-                out = self.console.execute(line)
-                noted = self.console.new_errors()
-                self.record.command(line, tick, out, self.console.refused(out, noted))
+                out, noted = self.run_line(line)
         except Exception as error:  # a fault in the emulator must not end the session
             out = [f"! internal error: {type(error).__name__}: {error} (the line was lost; "
                    "please report it)"]
@@ -126,7 +122,7 @@ class ReplSession:
             return []
         try:
             self.record_path.write_text(self.record.script(), encoding="utf-8")
-        except OSError as error:
+        except (OSError, ValueError) as error:  # ValueError: a NUL in the name
             self.record_path = None
             return [f"record: {error}; recording stopped"]
         return []
@@ -137,18 +133,16 @@ class ReplSession:
         word = word.lower()
         rest = rest.strip()
         engine = self.controller.engine
-        if word == "help":
-            if not rest:
-                head = META_HELP.format(controller=self.controller.kind)
-                return head.rstrip("\n").splitlines() + self.console.repl_help()
-            lines = self.console.help(rest)
-            return [f"no command {rest!r}; try :commands"] if lines is None else lines
-        if word == "status":
-            return self.console.status_lines()
+        if word == "help" and not rest:
+            head = META_HELP.format(controller=self.controller.kind)
+            return head.rstrip("\n").splitlines() + self.console.repl_help()
         if word == "time":
             mode = "manual" if self.manual_time else f"realtime x{self.speed:g}"
             return [f"tick {engine.tick}, {engine.time:.6f} s virtual ({mode}; "
                     f"{engine.period * 1e6:.2f} us per tick)"]
+        shared = self.shared_word(word, rest)
+        if shared is not None:
+            return shared
         if word == "clock":
             if rest not in ("realtime", "manual"):
                 return ["say :clock realtime or :clock manual"]
@@ -172,16 +166,6 @@ class ReplSession:
             idle = engine.run_until(lambda _e: console.is_idle(), ticks)
             self._tick_at_epoch += engine.tick - start
             return [("idle" if idle else "still busy") + f" at tick {engine.tick}"]
-        if word == "world":
-            view = self.controller.world_view()
-            if not rest:
-                return view.describe()
-            try:
-                said = parse_world(rest)(view)
-            except (KeyError, ValueError, OverflowError) as error:
-                return [f"world: {error.args[0] if error.args else error}"]
-            self.record.world(rest, engine.tick)
-            return [said]
         if word == "record":
             return self._record_word(rest)
         if word == "reset":
@@ -323,6 +307,7 @@ try:
                 if candidate.upper().startswith(key):
                     yield Completion(candidate, start_position=-len(word),
                                      display_meta=self.console.summary(candidate))
+
 
 except ImportError:  # pragma: no cover
     MnemonicCompleter = None  # type: ignore[assignment,misc]
