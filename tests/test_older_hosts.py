@@ -280,3 +280,37 @@ def test_unterminated_lp_runs_over_tcp_with_the_pc68_framing():
         assert host.ask("AX RP") == ["4000"]
     finally:
         hosted.close()
+
+
+# ---- maxk serve --framing ------------------------------------------------------------------
+def test_serve_framing_pc68_frames_a_maxk_and_refuses_ack_with_it():
+    import re
+    import signal
+    import socket
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).parent.parent
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "maxk", "serve", "--model", "MAXk-1000", "--port", "0",
+         "--no-archive", "--framing", "pc68"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=root)
+    try:
+        port = int(re.search(r"tcp 127\.0\.0\.1:(\d+)", proc.stdout.readline())[1])
+        with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+            host = PC68Host(SocketTransport(sock))
+            host.write("AX LP4000")  # no terminator, no reply
+            assert host.ask("AX RP") == ["4000"]
+            assert host.expect_failure("AX EA")
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        _out, err = proc.communicate(timeout=20)
+    assert proc.returncode == 0, err
+    result = subprocess.run(
+        [sys.executable, "-m", "maxk", "serve", "--framing", "pc68", "--ack", "--port", "0",
+         "--seconds", "0.1", "--no-archive"], capture_output=True, text=True, timeout=30,
+        cwd=root)
+    assert result.returncode == 2
+    assert result.stderr.strip() == ("maxk serve: ack is the MAXnet framing's; the pc68 "
+                                     "framing has none")

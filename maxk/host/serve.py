@@ -190,7 +190,11 @@ async def serve(args: argparse.Namespace) -> int:
         elif args.archive_dir:
             archive = str(Path(args.archive_dir) / Path(archive).name)
         line_options = {k: v for k, v in asked.items() if k in kind.line_options}
-        controller = build(model, BuildOptions(number, archive, None, line_options))
+        try:
+            controller = build(model, BuildOptions(number, archive, None, line_options))
+        except ValueError as error:  # line options that do not go together
+            print(f"maxk serve: {error}", file=sys.stderr)
+            return 2
         services.append(Service(number, controller, Pacer(controller, args.speed)))
     server = Server(services)
     memories = []

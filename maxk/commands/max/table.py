@@ -962,3 +962,27 @@ GROUP_TITLES = {
 
 def lookup(mnemonic: str) -> CommandSpec | None:
     return COMMANDS.get(mnemonic.upper())
+
+
+LINE_DISCIPLINE: tuple[tuple[str, str, str, str], ...] = (
+    # (what, behaviour, source, confidence): the byte stream's rules beside the commands
+    ("^X (0x18)", "Clears the command-error flag at once (also while WQ holds the stream); "
+     "nothing else: the axis select, the queues and the done/overtravel/slip flags stay. "
+     "It ends the command before it, as a separator would (`\\x18AX QA RP` runs AX, QA, RP).",
+     "evidence 2.10 (VME8 driver: CMD_CLEAR, 'clears command errors only'); issue 40", "I"),
+    ("other control characters (0x01-0x1F but TAB CR LF, and DEL)",
+     "Each stands on its own: it ends the command before it and is never part of a mnemonic "
+     "(`\\x04WY` runs WY); it does nothing else. ^D's meaning on the older boards was not "
+     "found (no manual page reachable).", "issue 40 (a host sends ^D before WY)", "D"),
+    ("end of a command", "A terminator (space, TAB, CR, LF, `;`, NUL, a control character), "
+     "the next command (`MA1000GO`), or with `framing=pc68` the end of each write: that "
+     "framing's hosts write whole commands with no terminator (`AX LP4000`). The MAXnet "
+     "framing keeps waiting, since a TCP segment may end mid-number (`MA10`, then `00`).",
+     "evidence 1.2 and 3.1 (PC68 driver: no terminator); issue 40", "D"),
+    ("echo (EN/EF)", "Off at power-up. After EN each later write of that host comes back "
+     "byte for byte before the replies it causes; other hosts of the board see none.",
+     "evidence 2.10; issue 40 (the old VME8 driver starts with EN)", "I"),
+    ("VL/VB pair", "Checked when a move uses it, not when either is set (see VL).",
+     "issue 40 (the EPICS motor record sends VL before VB)", "D"),
+)
+"""What the generated reference says about the stream itself (docs/commands.md)."""
