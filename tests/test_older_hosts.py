@@ -314,3 +314,29 @@ def test_serve_framing_pc68_frames_a_maxk_and_refuses_ack_with_it():
     assert result.returncode == 2
     assert result.stderr.strip() == ("maxk serve: ack is the MAXnet framing's; the pc68 "
                                      "framing has none")
+
+
+def test_pyserial_url_takes_the_pc68_framing():
+    import serial
+
+    import maxk  # noqa: F401  (registers maxk://)
+
+    port = serial.serial_for_url("maxk://MAXk-1000?framing=pc68&speed=1000", timeout=2)
+    port.write(b"AX LP4000")  # each write() is whole commands
+    port.write(b"AX RP")
+    assert port.read(8) == b"\n\r4000\n\r"
+    port.write(b"AX EA")
+    assert port.read(1) == b"#"
+    port.close()
+    for bad in ("maxk://?framing=vme9", "maxk://?framing=pc68&ack"):
+        with pytest.raises(serial.SerialException):
+            serial.serial_for_url(bad)
+
+
+def test_a_pc68_host_on_the_maxnet_framing_goes_one_line_off():
+    """Why the framing exists (issue 40): the done notification is read as a poll's reply."""
+    c = _maxk()
+    host = PC68Host(SessionTransport(c.open_session()))
+    host.write("AX MR10 GO ID")
+    c.run_until_idle()
+    assert host.ask("AX RP") == ["%000 00000001"]  # not the position
