@@ -340,3 +340,21 @@ def test_a_pc68_host_on_the_maxnet_framing_goes_one_line_off():
     host.write("AX MR10 GO ID")
     c.run_until_idle()
     assert host.ask("AX RP") == ["%000 00000001"]  # not the position
+
+
+def test_an_archive_saved_with_vb_above_vl_loads_and_its_move_is_refused(tmp_path):
+    from maxk import MAXk
+
+    path = str(tmp_path / "flash.json")
+    board = MAXk("MAXk-1000", archive=path)
+    board.send("AX VL20000 VB5000 VL4000; APP;")  # between the host's VL and its VB
+    assert not board.command_error
+    again = MAXk("MAXk-1000", archive=path)
+    assert again.query("AX RV") == "0"
+    assert (again.board.axes[0].config.velocity,
+            again.board.axes[0].config.base_velocity) == (4000, 5000)
+    again.send("AX MR100 GO;")
+    assert again.last_error.reason == "VB5000 is not below VL4000"
+    again.send("IC; AX VB400 MR100 GO;")
+    again.run_until_idle()
+    assert again.position("X") == 100 and not again.command_error
