@@ -50,15 +50,21 @@ def test_one_bad_slot_refuses_the_whole_list():
     assert board.query("PP") == "5,5,5,0"
 
 
-def test_vb_not_below_vl_is_refused_when_it_executes():
+def test_vb_not_below_vl_is_refused_when_a_move_uses_the_pair():
+    """Issue 40: VL and VB are set alone without a check; the move that uses them is
+    refused (and does not start) while VB is not below VL."""
     board = MAXk()
     board.send("AX; VL1000; VB1000;")
+    assert not board.command_error
+    board.send("MR500; GO;")
     assert board.command_error
     assert "VB1000 is not below VL1000" in board.last_error.reason
-    board.send("IC; VB999; VL999;")
-    assert board.command_error
-    board.send("IC; VL4000; VB100;")
+    board.run_until_idle()
+    assert board.query("AX RP") == "0"
+    board.send("IC; VL4000; MR500; GO;")
     assert not board.command_error
+    board.run_until_idle()
+    assert board.query("AX RP") == "500"
 
 
 def test_relative_move_out_of_the_32_bit_range():

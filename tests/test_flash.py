@@ -250,7 +250,7 @@ def write_archive(path, sets, model="MAXk-4000"):
     {"gains": [1, 2, 3]}, {"gains": "x"}, {"velocity": float("inf")}, {"acceleration": 0},
     {"encoder_ratio": [0, 1]}, {"user_units": float("nan")}, {"gains": {"kp": "nan"}},
     {"velocity": -5}, {"move_direction": 5}, {"limits_enabled": "false"},
-    {"velocity": 100, "base_velocity": 200}, {"user_units": -2}, {"servo_polarity": 0},
+    {"user_units": -2}, {"servo_polarity": 0},  # VB above VL loads (issue 40)
 ])
 def test_values_the_commands_would_refuse_are_a_damaged_archive(tmp_path, bad):
     """A valid checksum over values no command accepts: factory set, bits 12 and 18;

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from maxk.commands.max.session import EOLS
+from maxk.commands.max.session import EOLS, FRAMINGS
 from maxk.controllers import pokeys
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
 from maxk.controllers.maxk import MAXk
@@ -64,7 +64,8 @@ KINDS: list[ControllerKind] = [
                    update_rates_hz=(DEFAULT_UPDATE_RATE_HZ,
                                     *(r for r in UPDATE_RATES_HZ
                                       if r != DEFAULT_UPDATE_RATE_HZ)),
-                   line_options={"eol": tuple(sorted(EOLS)), "ack": ()},
+                   line_options={"eol": tuple(sorted(EOLS)), "ack": (),
+                                 "framing": FRAMINGS},
                    shared_memory=True, reference=_max_reference),
     ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
                    "Newport MM4005 4-axis controller with trajectories and synchronized "

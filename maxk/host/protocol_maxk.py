@@ -7,9 +7,11 @@ Registered the way pyserial documents for protocol handlers: importing maxk appe
 port with `serial_for_url` changes only its port string (and imports maxk once, or runs
 under `python -m maxk.host.pyserial_run script.py`).
 
-URL: `maxk://[MODEL][?speed=K][&eol=lfcr|lf|crlf|cr][&ack]`. The board runs in real time
-(K times faster with speed), with the same framing as the TCP and serial doors: replies
-end with LF CR by default and flag notifications arrive as `%000 SSSSSSSS`.
+URL: `maxk://[MODEL][?speed=K][&eol=lfcr|lf|crlf|cr][&ack][&framing=maxnet|pc68]`. The
+board runs in real time (K times faster with speed), with the same framing as the TCP and
+serial doors: replies end with LF CR by default and flag notifications arrive as
+`%000 SSSSSSSS`; `framing=pc68` frames them as the older boards' hosts read them
+(docs/doors.md), each `write()` being whole commands.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import urllib.parse
 import serial
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
-from maxk.commands.max.session import EOLS
+from maxk.commands.max.session import EOLS, FRAMINGS
 from maxk.controllers.contract import BuildOptions, Controller, Session
 from maxk.controllers.registry import DEFAULT_MODEL, build, canonical_model
 from maxk.host.pacing import Pacer
@@ -83,10 +85,10 @@ class Serial(SerialBase):
         except ValueError as error:
             raise SerialException(str(error)) from None
         options = urllib.parse.parse_qs(parts.query, keep_blank_values=True)
-        unknown = set(options) - {"speed", "eol", "ack"}
+        unknown = set(options) - {"speed", "eol", "ack", "framing"}
         if unknown:
             raise SerialException(f"unknown maxk:// option {sorted(unknown)[0]!r} "
-                                  "(speed, eol, ack)")
+                                  "(speed, eol, ack, framing)")
         try:
             speed = float(options.get("speed", ["1"])[0])
         except ValueError:
@@ -96,7 +98,13 @@ class Serial(SerialBase):
         eol = options.get("eol", ["lfcr"])[0]
         if eol not in EOLS:
             raise SerialException(f"eol is one of {', '.join(sorted(EOLS))}")
-        return model, speed, {"eol": eol, **({"ack": ""} if "ack" in options else {})}
+        framing = options.get("framing", ["maxnet"])[0]
+        if framing not in FRAMINGS:
+            raise SerialException(f"framing is one of {', '.join(FRAMINGS)}")
+        if framing != "maxnet" and "ack" in options:
+            raise SerialException("ack is the MAXnet framing's")
+        return model, speed, {"eol": eol, **({"ack": ""} if "ack" in options else {}),
+                              **({"framing": framing} if framing != "maxnet" else {})}
 
     def close(self) -> None:
         self.is_open = False

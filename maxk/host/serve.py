@@ -58,6 +58,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "MAXnet driver expects; lf for firmware >= 1.33 style)")
     parser.add_argument("--ack", action="store_true", help="a MAXk leads every reply with "
                         "ACK 0x06")
+    parser.add_argument("--framing", choices=line_option_choices("framing"), default=None,
+                        help="a MAXk's stream framing (default maxnet; pc68: the older "
+                        "boards' CR/LF-framed replies with in-band status bytes, "
+                        "docs/doors.md)")
     parser.add_argument("-v", "--verbose", action="count", default=0,
                         help="-v: hosts connecting and leaving; -vv: every host's bytes in "
                         "and replies out, with virtual time stamps (logger maxk.door.*)")
@@ -170,7 +174,8 @@ async def serve(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"maxk serve: {error}", file=sys.stderr)
         return 2
-    asked = {**({"eol": args.eol} if args.eol else {}), **({"ack": ""} if args.ack else {})}
+    asked = {**({"eol": args.eol} if args.eol else {}), **({"ack": ""} if args.ack else {}),
+             **({"framing": args.framing} if args.framing else {})}
     for option in asked:
         if not any(option in kind_of(m).line_options for m in models):
             print(f"maxk serve: --{option} means nothing to the "
@@ -185,7 +190,11 @@ async def serve(args: argparse.Namespace) -> int:
         elif args.archive_dir:
             archive = str(Path(args.archive_dir) / Path(archive).name)
         line_options = {k: v for k, v in asked.items() if k in kind.line_options}
-        controller = build(model, BuildOptions(number, archive, None, line_options))
+        try:
+            controller = build(model, BuildOptions(number, archive, None, line_options))
+        except ValueError as error:  # line options that do not go together
+            print(f"maxk serve: {error}", file=sys.stderr)
+            return 2
         services.append(Service(number, controller, Pacer(controller, args.speed)))
     server = Server(services)
     memories = []

@@ -10,7 +10,13 @@ from collections.abc import Callable
 
 from maxk.commands.max.context import CommandError, Context
 from maxk.commands.max.immediate import IMMEDIATE  # noqa: F401  (binds the behaviours)
-from maxk.commands.max.lexer import Lexer, LexError, ParsedCommand
+from maxk.commands.max.lexer import (
+    CLEAR_ERROR,
+    ControlCharacter,
+    Lexer,
+    LexError,
+    ParsedCommand,
+)
 from maxk.commands.max.queued import SETTING_QUERIES, validate_queued
 from maxk.commands.max.queued_motion import go_together, linear_target
 from maxk.commands.max.table import AA, Operand, Start, Timing, check_bound
@@ -31,21 +37,32 @@ class Interpreter:
         self.board = board
         self.lexer = Lexer()
         # WQ holds this stream: the commands parsed since, and the axes it waits on.
-        self._held: list[ParsedCommand | LexError] = []
+        self._held: list[ParsedCommand | LexError | ControlCharacter] = []
         self._hold_axes: list[Axis] | None = None
         self.late_replies: list[str] = []  # replies of held queries, for the next write
         # A session takes every reply the moment it is made, so a reply and a flag
         # notification raised after it reach the host in that order.
         self.on_reply: Callable[[str], None] | None = None
+        self.echo = False  # EN/EF: this stream's bytes are echoed (the session does it)
 
-    def write(self, data: str | bytes) -> list[str]:
-        """Feed host bytes; return the replies of the queries completed by them."""
+    def write(self, data: str | bytes, *, whole: bool = False) -> list[str]:
+        """Feed host bytes; return the replies of the queries completed by them.
+
+        `whole`: the write is whole commands (a PC68-style host writes `AX LP4000` with
+        no terminator), so its end completes a command still open, as a `;` would."""
         replies: list[str] = []
         if self.late_replies:
             replies, self.late_replies = self.late_replies, []
+        if whole:
+            data = (data.decode("latin-1") if isinstance(data, bytes | bytearray)
+                    else data) + ";"
         items = self.lexer.feed(data)
         if self._hold_axes is not None:
-            self._held.extend(items)
+            # A control character acts on arrival, also while WQ holds the stream (D).
+            for item in items:
+                if type(item) is ControlCharacter:
+                    self._control(item)
+            self._held.extend(i for i in items if type(i) is not ControlCharacter)
         else:
             self._run(items, self.on_reply or replies.append)
         if self.board.parser_waits:  # a flush without a later event may release one
@@ -56,17 +73,30 @@ class Interpreter:
             self.late_replies = []
         return replies
 
-    def _run(self, items: list[ParsedCommand | LexError], emit: Callable[[str], None]) -> None:
+    def _control(self, item: ControlCharacter) -> None:
+        """^X clears the command error (the VME8 driver's CMD_CLEAR, 'clears command errors
+        only'); the other control characters only end the command before them."""
+        if item.char == CLEAR_ERROR:
+            self.board.command_error = False
+
+    def _run(self, items: list[ParsedCommand | LexError | ControlCharacter],
+             emit: Callable[[str], None]) -> None:
         board = self.board
         for k, item in enumerate(items):
             if type(item) is LexError:
                 board.report_error(item.reason, item.text)
+                continue
+            if type(item) is ControlCharacter:
+                self._control(item)
                 continue
             try:
                 reply = _dispatch(board, item)  # type: ignore[arg-type]
             except CommandError as error:
                 board.report_error(str(error), item.text)
                 continue
+            mnemonic = item.spec.mnemonic  # type: ignore[union-attr]
+            if mnemonic == "EN" or mnemonic == "EF":
+                self.echo = mnemonic == "EN"
             if reply is not None:
                 emit(reply)
             if board.parser_hold is not None:  # WQ with work in the queue: hold the rest
@@ -85,10 +115,13 @@ class Interpreter:
         items, self._held = self._held, []
         self._run(items, self.on_reply or self.late_replies.append)
 
-    def execute(self, item: ParsedCommand | LexError) -> str | None:
+    def execute(self, item: ParsedCommand | LexError | ControlCharacter) -> str | None:
         board = self.board
         if isinstance(item, LexError):
             board.report_error(item.reason, item.text)
+            return None
+        if isinstance(item, ControlCharacter):
+            self._control(item)
             return None
         try:
             return _dispatch(board, item)

@@ -18,7 +18,11 @@ from dataclasses import dataclass
 
 from maxk.commands.max.table import COMMANDS, CommandSpec, Operand
 
-SEPARATORS = frozenset(" \t\r\n;\0")
+CONTROL_CHARACTERS = frozenset(chr(c) for c in range(0x20)) - frozenset("\t\r\n\0") | {"\x7f"}
+"""Control characters the older boards' hosts write (^X 0x18 after an error, ^D 0x04): each
+stands on its own, ends whatever command precedes it and is never part of a mnemonic."""
+CLEAR_ERROR = "\x18"  # ^X: clears the command error (VME8 driver's CMD_CLEAR)
+SEPARATORS = frozenset(" \t\r\n;\0") | CONTROL_CHARACTERS
 MAX_OPERAND_LENGTH = 256
 """An operand longer than this is malformed; the lexer stops buffering it."""
 
@@ -30,7 +34,8 @@ _NUMBER_RUN = re.compile(r"[-+0-9.,]*")
 _BLANKS = re.compile(r"[ \t]*")
 _NUMBER_START = frozenset("+-0123456789.,")
 _HOLD = "hold"
-_SPLITS: dict[str, tuple[tuple[ParsedCommand | LexError, ...], str, bool, str | None, int]] = {}
+_SPLITS: dict[str, tuple[tuple[ParsedCommand | LexError | ControlCharacter, ...],
+                         str, bool, str | None, int]] = {}
 """Lines split from a clean start (the items are immutable: shared between lexers)."""
 _CACHED_LINES = 4096
 _CACHED_LENGTH = 512
@@ -80,6 +85,17 @@ class ParsedCommand:
 
 
 @dataclass(frozen=True, slots=True)
+class ControlCharacter:
+    """A control character the host wrote (`^X`); the interpreter acts on it at once."""
+
+    char: str
+
+    @property
+    def text(self) -> str:
+        return f"^{chr(ord(self.char) + 64)}" if self.char != "\x7f" else "DEL"
+
+
+@dataclass(frozen=True, slots=True)
 class LexError:
     """Text that is not a command; the interpreter turns it into a command error."""
 
@@ -109,13 +125,13 @@ class Lexer:
         self._bad = None
         self._bad_count = 0
 
-    def _report_bad(self, out: list[ParsedCommand | LexError]) -> None:
+    def _report_bad(self, out: list[ParsedCommand | LexError | ControlCharacter]) -> None:
         bad = self._bad or ""
         shown = bad if self._bad_count <= len(bad) else bad + "..."
         out.append(LexError(shown, f"unknown command {shown!r}"))
         self._bad = None
 
-    def feed(self, data: str | bytes) -> list[ParsedCommand | LexError]:
+    def feed(self, data: str | bytes) -> list[ParsedCommand | LexError | ControlCharacter]:
         if isinstance(data, bytes | bytearray):
             data = data.decode("latin-1")
         buf = self._buf + data if self._buf else data
@@ -134,9 +150,9 @@ class Lexer:
         items, self._buf, self._skipping, self._bad, self._bad_count = known
         return list(items)
 
-    def _split(self, buf: str) -> list[ParsedCommand | LexError]:
+    def _split(self, buf: str) -> list[ParsedCommand | LexError | ControlCharacter]:
         """The state machine proper, over the held text and what arrived."""
-        out: list[ParsedCommand | LexError] = []
+        out: list[ParsedCommand | LexError | ControlCharacter] = []
         n = len(buf)
         i = 0
         while i < n:
@@ -146,6 +162,8 @@ class Lexer:
                     self._skipping = False
                     if self._bad is not None:
                         self._report_bad(out)
+                    if c in CONTROL_CHARACTERS:
+                        out.append(ControlCharacter(c))
                 elif self._bad is not None:
                     self._bad_count += 1
                     if len(self._bad) < 32:
@@ -155,6 +173,8 @@ class Lexer:
                 i += 1
                 continue
             if c in SEPARATORS:
+                if c in CONTROL_CHARACTERS:
+                    out.append(ControlCharacter(c))
                 i += 1
                 continue
             # ---- mnemonic, greedy: three characters before two ----------------------

@@ -394,6 +394,7 @@ QUEUED: dict[str, QueuedFactory] = {
     "WH": _while_start,
     "WG": _loop_end,
     "EF": _accepted,
+    "EN": _accepted,  # the echo is the stream's: the interpreter sets it
     "DBI": _accepted,
 }
 

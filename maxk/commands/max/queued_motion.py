@@ -30,10 +30,6 @@ def _velocity(raw: object, ctx: Context) -> Action:
         value = in_steps(axis, raw, 1)
         if axis.units_seen and scaled_out_of_range(axis, board, "VL", raw, value):
             return
-        if value <= axis.config.base_velocity:  # type: ignore[operator]
-            board.report_error(f"VL{value} is not above VB{axis.config.base_velocity}",
-                               f"A{axis.letter} VL{value}")
-            return
         axis.config.velocity = value  # type: ignore[assignment]
 
     return action
@@ -43,10 +39,6 @@ def _base_velocity(raw: object, ctx: Context) -> Action:
     def action(axis: Axis, board: Board) -> None:
         value = in_steps(axis, raw)
         if axis.units_seen and scaled_out_of_range(axis, board, "VB", raw, value):
-            return
-        if value >= axis.config.velocity:  # type: ignore[operator]
-            board.report_error(f"VB{value} is not below VL{axis.config.velocity}",
-                               f"A{axis.letter} VB{value}")
             return
         axis.config.base_velocity = value  # type: ignore[assignment]
 

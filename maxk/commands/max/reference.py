@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
-from maxk.commands.max.table import COMMANDS, GROUP_TITLES, CommandSpec, Timing
+from maxk.commands.max.table import (
+    COMMANDS,
+    GROUP_TITLES,
+    LINE_DISCIPLINE,
+    CommandSpec,
+    Timing,
+)
 
 _CONFIDENCE = {
     "C": "certain (manual or host code)",
@@ -55,6 +61,12 @@ def render_markdown() -> str:
         "per axis in the order X Y Z T U V R S W K, an empty slot leaving that axis alone.",
         "",
     ]
+    out += ["## The line discipline", "",
+            "How the byte stream is read, for every host form (issue 40).", "",
+            "| what | behaviour | source | conf. |", "|---|---|---|---|"]
+    for what, behaviour, source, confidence in LINE_DISCIPLINE:
+        out.append(f"| {what} | {behaviour} | {source} | {confidence} |")
+    out.append("")
     for group, title in GROUP_TITLES.items():
         specs = [s for s in COMMANDS.values() if s.group == group]
         if not specs:

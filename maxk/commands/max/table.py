@@ -161,13 +161,18 @@ _SPECS: list[CommandSpec] = [
     _q("VL", "motion", "Peak (slew) velocity, steps/s.", units=2,
        integer=False, operand=Operand.NUMBER,
        value_range=(1.0, float(MAX_VELOCITY)), source="manual 2.14 (factory 200,000); evidence 2.2",
-       notes="Range 1..4,176,000 (Appendix C): VL0 is refused, since VL must stay above VB "
-       "(evidence: 'OMS errors if VB = VL'); VL not above VB is a command error when it "
-       "executes.", user_units=True),
+       notes="Range 1..4,176,000 (Appendix C): VL0 is refused. VL and VB are checked as a "
+       "pair when a move uses them (GO, MA/MR GO, GP, TM, a home search), not when either "
+       "is set (D, issue 40: the EPICS motor record sends `VL4000 VB400` after a move at "
+       "VB5000, and its own check compares with the new VB; nothing in the manual makes "
+       "the firmware refuse VL alone). A move with VB not below VL is a command error "
+       "('VB5000 is not below VL4000') and does not start (evidence: 'OMS errors if "
+       "VB = VL', I).", user_units=True),
     _q("VB", "motion", "Base (start/stop) velocity, steps/s.", units=2,
        integer=False, operand=Operand.NUMBER,
        value_range=_VEL, source="manual 2.14 (factory 0); evidence 2.2",
-       notes="Must stay below VL: VB >= VL is a command error when it executes.", user_units=True),
+       notes="Must be below VL when a move uses the pair (see VL): set alone it is only "
+       "range-checked (D, issue 40).", user_units=True),
     _q("AC", "motion", "Acceleration, steps/s^2; also sets the deceleration.", units=2,
        integer=False, operand=Operand.NUMBER, value_range=_ACC,
        source="manual 2.14 (factory 2,000,000); evidence 2.2",
@@ -874,7 +879,17 @@ _SPECS: list[CommandSpec] = [
        confidence="I", notes="Each jump back takes one update cycle, as LE."),
     _q("EF", "config", "Echo off (older boards' first command at init).",
        source="evidence 2.10 (VME8, VME58, PC68 drivers); facts Table 1 (GVO)",
-       confidence="I", notes="The MAXk never echoes: accepted, nothing to change."),
+       confidence="I", notes="Ends the echo EN began, for the host that sent it; the "
+       "bytes of the write that carries EF are still echoed (they arrived while echo "
+       "was on). Power-up: echo off (D: the MAX hosts never send EF and read no echo)."),
+    _q("EN", "config", "Echo on: the host's bytes come back before the replies they ask for.",
+       source="issue 40 (the old EPICS 3.13 VME8 driver starts with EN and routes replies "
+       "by their echo); evidence 2.10 (EF, its opposite)", confidence="I",
+       notes="Per host stream (D: a second host on the TCP door never sees another's "
+       "bytes). Each later write is echoed byte for byte, as received, ahead of the "
+       "replies and notifications it causes (D: the old boards echoed as characters "
+       "arrived, and a host reads its command back before the reply); the write that "
+       "carries EN is not echoed (its bytes arrived while echo was off)."),
     _q("DBI", "config", "Sent once per axis by a PC68 host at init (GVO); meaning unknown.",
        source="facts Table 1 (GVO)", confidence="D", notes="Accepted without effect."),
     _i("#WC", "report", "Clear the watchdog counter (older drivers).",
@@ -947,3 +962,27 @@ GROUP_TITLES = {
 
 def lookup(mnemonic: str) -> CommandSpec | None:
     return COMMANDS.get(mnemonic.upper())
+
+
+LINE_DISCIPLINE: tuple[tuple[str, str, str, str], ...] = (
+    # (what, behaviour, source, confidence): the byte stream's rules beside the commands
+    ("^X (0x18)", "Clears the command-error flag at once (also while WQ holds the stream); "
+     "nothing else: the axis select, the queues and the done/overtravel/slip flags stay. "
+     "It ends the command before it, as a separator would (`\\x18AX QA RP` runs AX, QA, RP).",
+     "evidence 2.10 (VME8 driver: CMD_CLEAR, 'clears command errors only'); issue 40", "I"),
+    ("other control characters (0x01-0x1F but TAB CR LF, and DEL)",
+     "Each stands on its own: it ends the command before it and is never part of a mnemonic "
+     "(`\\x04WY` runs WY); it does nothing else. ^D's meaning on the older boards was not "
+     "found (no manual page reachable).", "issue 40 (a host sends ^D before WY)", "D"),
+    ("end of a command", "A terminator (space, TAB, CR, LF, `;`, NUL, a control character), "
+     "the next command (`MA1000GO`), or with `framing=pc68` the end of each write: that "
+     "framing's hosts write whole commands with no terminator (`AX LP4000`). The MAXnet "
+     "framing keeps waiting, since a TCP segment may end mid-number (`MA10`, then `00`).",
+     "evidence 1.2 and 3.1 (PC68 driver: no terminator); issue 40", "D"),
+    ("echo (EN/EF)", "Off at power-up. After EN each later write of that host comes back "
+     "byte for byte before the replies it causes; other hosts of the board see none.",
+     "evidence 2.10; issue 40 (the old VME8 driver starts with EN)", "I"),
+    ("VL/VB pair", "Checked when a move uses it, not when either is set (see VL).",
+     "issue 40 (the EPICS motor record sends VL before VB)", "D"),
+)
+"""What the generated reference says about the stream itself (docs/commands.md)."""

@@ -64,6 +64,7 @@ class AxisHost(Protocol):
     def limit_blocks(self, axis: Axis, direction: int) -> bool: ...
     def refuse_into_limit(self, axis: Axis) -> None: ...
     def schedule_switches(self, axis: Axis) -> None: ...
+    def report_error(self, reason: str, command: str = "") -> None: ...
 
 
 @dataclass
@@ -231,10 +232,22 @@ class Axis(MotionAxis):
         self.capture_pending = []
         return self.freeze(board)
 
+    def velocities_refused(self, board: AxisHost, command: str) -> bool:
+        """VL and VB are a pair only when a move uses them: set alone, either may pass the
+        other (the EPICS motor record sends VL before VB); a move that would use VB not
+        below VL is a command error and does not start (D, issue 40; 'OMS errors if VB =
+        VL', evidence 2.2)."""
+        c = self.config
+        if c.base_velocity < c.velocity:
+            return False
+        board.report_error(f"VB{c.base_velocity} is not below VL{c.velocity}",
+                           f"A{self.letter} {command}")
+        return True
+
     def start_move(self, target: int, board: AxisHost) -> bool:
         """GO: a point-to-point move from rest to target. False if nothing to do."""
         distance = target - self.motor_position(board)
-        if distance == 0:
+        if distance == 0 or self.velocities_refused(board, "GO"):
             return False
         return self.start_motion(self.config.plan_move(distance), board)
 

@@ -440,6 +440,8 @@ class Board(Engine):
 
     def start_homing(self, axis: Axis, direction: int, load_value: int | None) -> bool:
         """HM/HR/KM/KR: see homing.py for the search. False when home is already here."""
+        if axis.velocities_refused(self, "HM" if direction > 0 else "HR"):
+            return False
         homing = Homing(direction, load_value)
         here = axis.steps_now(self)
         if home_condition(axis.config, self.world.axes[axis.index], here):
