@@ -14,7 +14,9 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_flow as fl
 from . import handlers_manual as mn
+from . import handlers_program as pg
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
@@ -152,6 +154,8 @@ _DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
 _SCAN = "EPICS MM4005_trajectoryScan.st (reference mm4005-trajectory-scan.md)"
 _LIST = ml.SOURCE
 _NOPAGE = "the MM4005 page was not found; "
+_ESP = "sibling ESP300 manual p. 3-3 (program execution mode)"
+_KIT = "public ESP301 driver (InstrumentKit define_program/run_program)"
 
 _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     # --- the time-based trajectory of the EPICS trajectory scan ---
@@ -337,6 +341,38 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          _NOPAGE + "the counter reads 0 where the axis stands; TL/TR stay (the host sets "
          "them again after ZP, unlike after DH); refused D while moving (D)",
          query=False, summary="ZP: the present position becomes 0"),
+    # --- programming and flow control (ESP300 sibling manual p. 3-3, ESP301 driver) ---
+    _set("EP", pg.enter_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('EP', the lines, 'QP'); "
+         f"{_KIT} ('nXX', 'nEP', 'QP', numbers 1..100)", "I",
+         _NOPAGE + "xx 1..100 (else C, D); the host's next lines are stored as entered, "
+         "not evaluated, up to a line holding QP (what follows QP on it runs, D); the rest "
+         "of the EP line is the first line (D); a program that exists is refused D (erase "
+         "it first with XX, as the driver does, D); 64 kB of program memory (ESP300, I), "
+         "beyond it a line is refused D; refused D inside a program", query=False,
+         summary="EP: enter program xx (its lines are stored up to QP)"),
+    _set("QP", pg.quit_program, _NO, _NONE, f"{_ESP}; {_KIT}", "I",
+         _NOPAGE + "ends program entry and stores the program (kept in the program "
+         "archive: it survives a power cycle, I); outside an entry refused D (D)",
+         query=False, summary="QP: quit program entry"),
+    _set("EX", pg.execute_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('1EX' runs program "
+         f"1); {_KIT} ('nEX')", "I",
+         _NOPAGE + "runs beside the command lines, which stay answered (ESP300, I): its "
+         "lines at once until a wait holds it, its replies to the host that started it "
+         "(D); one program at a time (D, else D); no program xx: C (D); AB ends it (D); a "
+         "refused command or malformed line ends it with its error (D)", query=False,
+         summary="EX: execute program xx"),
+    _set("XX", pg.erase_program, AxisRule.ELEMENT, _NONE, f"{_KIT} ('nXX' before 'nEP', "
+         "error-checked: no error when none is stored)", "I",
+         _NOPAGE + "xx 1..100 (else C, D); the program running refused D (D)", query=False,
+         summary="XX: erase program xx"),
+    _set("WS", fl.wait_motion_stop, _ONE, Operand.OPTIONAL_NUMBER, f"{_ESP} (program "
+         "'1PA+30', '1WS', '2PR-10'); ESP-family hosts ('3MT+' then '3WS'; '1 WS 0' 'wait "
+         "for motion stop')", "I",
+         _NOPAGE + "the line (or program) holds until axis xx has stopped (missing or 0: "
+         "every axis, D), on the tick its motion ends however it ends; the host's later "
+         "lines wait behind it while other hosts are answered (a stop from them ends it); "
+         "nn: a delay in ms after the stop, 0..3600000, whole (D)", query=False,
+         summary="WS: wait for motion stop"),
 )
 
 
