@@ -60,12 +60,12 @@ class LineRun:
         self.wait: Wait | None = None
         self.done = False
         self.failed = False  # a command was refused: the line (and a program) ends
-        self.on_done: Callable[[], None] | None = None
+        self.after: Callable[[LineRun], None] | None = None  # told after each resume
 
     def resume(self) -> None:
         self.interpreter.proceed(self)
-        if self.done and self.on_done is not None:
-            self.on_done()
+        if self.after is not None:
+            self.after(self)
 
     def stop(self) -> None:
         self.done = True
@@ -182,15 +182,15 @@ class MM4005Session(LineSession):
         self._run: LineRun | None = None  # this host's line held by a wait
         self._held: deque[str] = deque()  # the host's lines received meanwhile
         self._entry: tuple[int, list[str]] | None = None  # EP n: (n, lines so far)
-        self._feeding = False
+        self._quiet = False  # feeding or resuming: notify once at the end, not per reply
 
     # ---- the Session contract ------------------------------------------------------------
     def feed(self, data: bytes) -> None:
-        self._feeding = True
+        self._quiet = True
         try:
             super().feed(data)
         finally:
-            self._feeding = False
+            self._quiet = False
         self.machine.tasks.poll()  # a stop from this line may end another host's wait
 
     @property
@@ -253,15 +253,21 @@ class MM4005Session(LineSession):
         self.interpreter.proceed(run)
         if not run.done:
             self._run = run
-            run.on_done = self._line_done
+            run.after = self._resumed
             self.machine.tasks.add(run)
 
-    def _line_done(self) -> None:
-        """The held line ended: the lines received meanwhile run, until one waits."""
-        self._run = None
-        while self._held and self._run is None:
-            self._run_text(self._held.popleft())
-        if self.notify is not None and not self._feeding:
+    def _resumed(self, run: LineRun) -> None:
+        """The held line went on (the machine resumed it): once it has ended, the lines
+        received meanwhile run, until one waits; the door is told once."""
+        if run.done:
+            self._run = None
+            quiet, self._quiet = self._quiet, True
+            try:
+                while self._held and self._run is None:
+                    self._run_text(self._held.popleft())
+            finally:
+                self._quiet = quiet
+        if self.notify is not None and not self._quiet and (self._out or not self.holding):
             self.notify()
 
     # ---- what a line's commands ask of their host -----------------------------------------
@@ -269,8 +275,8 @@ class MM4005Session(LineSession):
         if self.closed:
             return
         self.reply(text.encode("latin-1", "replace") + CR)
-        if self.notify is not None and not self._feeding:
-            self.notify()
+        if self.notify is not None and not self._quiet and self._run is None:
+            self.notify()  # a program's reply (a held line's are told once it goes on)
 
     def begin_entry(self, number: int) -> None:
         """EP n: the next lines go into program n."""
