@@ -281,3 +281,13 @@ def test_help_and_the_command_list_show_the_new_entries() -> None:
         assert lines is not None and lines[1].endswith("(I)"), word
         assert "ESP300" in lines[1] or "ESP301" in lines[1], word
     assert (console.help("WT") or [""])[0].endswith("(not modelled)")
+
+
+def test_maxk_commands_shows_the_program_entries_with_source_and_confidence() -> None:
+    import subprocess
+    import sys
+
+    one = subprocess.run([sys.executable, "-m", "maxk", "commands", "--model", "MM4005", "WS"],
+                         capture_output=True, text=True, check=True).stdout
+    assert one.startswith("WS: wait for motion stop") and "ESP300 manual p. 3-3" in one
+    assert "(I)" in one
