@@ -140,13 +140,14 @@ def test_a_program_with_waits_runs_beside_the_command_line_to_the_tick() -> None
     two = one + round((0.2 + 1.0) * RATE)  # then axis 2 to 2 at VA 2, AC 10: 1.2 s
     back = two + round((0.2 + 1.0) * RATE)  # then axis 1 back to 0: 1.2 s
     mm.machine.advance_to(one + RATE // 2)  # axis 2 started on tick `one`: 0.5 s later
-    host.feed(b"2TP;1TP\r")  # 0.5 s into axis 2's move: 0.2 ramp (0.2) + 0.3 at 2 (0.6)
-    assert host.read() == b"2TP0.8000\r1TP1.0000\r"
+    host.feed(b"2TP;1TP;TX\r")  # 0.5 s into axis 2's move: 0.2 ramp (0.2) + 0.3 at 2 (0.6)
+    assert host.read() == b"2TP0.8000\r1TP1.0000\rTXK\r"  # TX bit 0: a program runs
     mm.machine.advance_to(back - 1)
     assert host.read() == b"" and mm.machine.status(1).moving
     mm.machine.advance_to(back)
     assert host.read() == b"1TP0.0000\r2TP2.0000\r" and set(told) == {back}
     assert mm.machine.tasks.program is None and mm.machine.is_idle()
+    assert mm.send("TX") == ["TXJ"]
 
 
 def test_ab_from_a_second_host_ends_a_program_that_waits() -> None:

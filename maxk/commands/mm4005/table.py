@@ -328,7 +328,7 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
           "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
           "as a public MM4006 StreamDevice host expects"),
     _tell("TX", st.tell_controller_activity, _NO, "manual 3.142 TX 'Returns TXaa'", "C",
-          "bit 0 program running (never: no stored programs), 1 command line executing and "
+          "bit 0 program running (EX: 'TXK' while one runs), 1 command line executing and "
           "3 remote mode (always, as TX itself is answered: 'TXJ', the manual's example), "
           "2 manual jog (never), 4 trajectory executing (XY or time-based: 'TXZ'), 6 "
           "default 1"),
