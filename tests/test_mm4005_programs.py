@@ -166,8 +166,9 @@ def test_ab_from_a_second_host_ends_a_program_that_waits() -> None:
 def test_program_errors() -> None:
     mm = _mm()
     _enter(mm, 2, ["1PA1;1WS"])
-    for bad, code in (("EP", "C"), ("0EP", "C"), ("101EP", "C"), ("2EP", "D"), ("QP", "D"),
-                      ("9EX", "C"), ("101EX", "C"), ("0XX", "C"), ("2EX4", "C"),
+    # program numbers 1..127, else F (manual 3.175 XM's range and error)
+    for bad, code in (("EP", "F"), ("0EP", "F"), ("128EP", "F"), ("2EP", "D"), ("QP", "D"),
+                      ("9EX", "C"), ("128EX", "F"), ("0XX", "F"), ("2EX4", "C"),
                       ("EP?", "C")):
         assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
     assert mm.send("2EX;2EX") == [] and mm.send("TE") == ["TED"]  # one program at a time
@@ -200,7 +201,7 @@ def test_program_replies_go_to_the_host_that_started_it() -> None:
     assert starter.read() == b"1TP1.0000\r" and told == [end] and other.read() == b""
 
 
-def test_program_memory_is_64_kilobytes() -> None:
+def test_program_memory_is_30720_bytes_as_xm_reads_it() -> None:
     mm = _mm()
     line = "1PA1;" * 21 + "1WS"  # 108 characters, 109 with the terminator
     assert mm.send("1EP") == []
@@ -209,6 +210,42 @@ def test_program_memory_is_64_kilobytes() -> None:
     assert mm.errors.peek().char == "@"  # (a TE now would be a program line)
     assert mm.send(line) == [] and mm.errors.peek().char == "D"  # memory full: refused
     assert mm.send("QP") == [] and len(mm.machine.programs.get(1) or []) == MEMORY // 109
+    left = 30720 - (30720 // 109) * 109
+    assert mm.send("XM;0XM;1XM;127XM") == [f"XM{left}", f"XM{left}", f"1XM{30720 - left}",
+                                            "127XM0"]
+
+
+def test_xm_reads_the_memory_and_a_programs_length_as_its_page_says() -> None:
+    mm = _mm()
+    assert mm.send("XM;1XM;100XM") == ["XM30720", "1XM0", "100XM0"]  # none stored yet
+    _enter(mm, 1, ["1PA2", "1WS;1TP"])  # 4 + 1 and 7 + 1 bytes (each line's terminator)
+    assert mm.send("XM;1XM") == [f"XM{30720 - 13}", "1XM13"]
+    assert mm.send("128XM") == [] and mm.send("TE") == ["TEF"]
+
+
+def test_ty_reads_a_variable_and_a_command_takes_one_for_a_value() -> None:
+    mm = _mm()
+    # 3.145: 0 until set; 1..100 integers, 101..120 floats; missing or beyond O, 1.5TY A
+    assert mm.send("17TY;100TY;101TY;120TY") == ["17TY0", "100TY0", "101TY0", "120TY0"]
+    for bad, code in (("TY", "O"), ("0TY", "O"), ("121TY", "O"), ("1.5TY", "A")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    # (YS, which sets one, answers Q: the store is set here as YS would)
+    assert mm.send("1YS5") == [] and mm.send("TE") == ["TEQ"]
+    mm.machine.variables.set(5, 2)
+    mm.machine.variables.set(101, 0.75)
+    assert mm.send("5TY;101TY") == ["5TY2", "101TY0.75"]
+    assert mm.send("1PA$Y101;1WS;1TP;2VA$y5;2VA?") == ["1TP0.7500", "2VA2.0000"]
+    assert mm.send("NB$Y5;NB?") == ["NB2"]  # an integer operand
+    assert mm.send("NB$Y101") == [] and mm.send("TE") == ["TEC"]  # 0.75 is not whole
+    for bad, code in (("1PA$Y0", "O"), ("1PA$Y121", "O"), ("1PA$Y", "O"), ("1PA$S1", "C"),
+                      ("1MO$Y1", "C"), ("1PA$X1", "C")):
+        assert mm.send(bad) == [] and mm.send("TE") == [f"TE{code}"], bad
+    # read when the command runs: a program line sees the value of its moment
+    _enter(mm, 2, ["1PA$Y5;1WS;1TP"])
+    mm.machine.variables.set(5, -1)
+    assert mm.send("2EX") == []
+    mm.run_until_idle()
+    assert mm.send("1TP") == ["1TP-1.0000", "1TP-1.0000"]  # the program's, then ours
 
 
 # ---- the archive ---------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
 from maxk.personalities.mm4005.errors import UNAUTHORIZED, MM4005Error
-from maxk.personalities.mm4005.programs import ProgramStore, Tasks
+from maxk.personalities.mm4005.programs import ProgramStore, Tasks, Variables
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
 
@@ -58,6 +58,7 @@ class FakeMM4005:
     inputs: dict[int, bool] = field(default_factory=dict)  # GPIO input bit -> level (RB)
     programs: ProgramStore = field(default_factory=ProgramStore)  # in memory only
     tasks: Tasks = field(init=False)
+    variables: Variables = field(default_factory=Variables)
 
     def __post_init__(self) -> None:
         self.tasks = Tasks(lambda: self.tick)

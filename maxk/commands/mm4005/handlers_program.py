@@ -1,10 +1,12 @@
-"""Stored programs: EP enters one, QP ends the entry, EX runs it, XX erases it.
+"""Stored programs: EP enters one, QP ends the entry, EX runs it, XX erases it, XM reads
+the memory.
 
-Evidence: the sibling ESP300's manual p. 3-3 (program execution mode: ``EP``, the lines,
-``QP``, then ``1EX``; lines stored, not evaluated; up to 100 programs in non-volatile
-memory; the controller answers the host while a program runs) and a public ESP301
-driver (``nXX`` then ``nEP`` ... ``QP``, ``nEX``, numbers 1..100). The MM4005's own pages
-were not found: I. What neither says is ours (D, on each table entry).
+Evidence: the manual's XM page (3.175: programs 1 to 127, 'Out of range: Error F',
+30720 bytes of non-volatile memory, one byte a character; C); the sibling ESP300's manual
+p. 3-3 (program execution mode: ``EP``, the lines, ``QP``, then ``1EX``; lines stored,
+not evaluated; the controller answers the host while a program runs) and a public ESP301
+driver (``nXX`` then ``nEP`` ... ``QP``, ``nEX``): I. What none says is ours (D, on each
+table entry).
 
 A program runs beside the hosts' command lines (a `Task` of the machine): its lines one
 after another at the tick EX was sent, until a wait (WS) holds it; its replies go to the
@@ -14,17 +16,22 @@ there, with the error in the register (D); `ProgramRun.line` says where it stood
 
 from __future__ import annotations
 
-from maxk.personalities.mm4005.errors import PARAMETER, UNAUTHORIZED, MM4005Error
-from maxk.personalities.mm4005.programs import MAX_PROGRAMS, Wait
+from maxk.personalities.mm4005.errors import (
+    PARAMETER,
+    PROGRAM_NUMBER,
+    UNAUTHORIZED,
+    MM4005Error,
+)
+from maxk.personalities.mm4005.programs import MAX_PROGRAMS, MEMORY, Wait
 
 from .spec import Command, Context, Line, LineOwner, LineRunner
 
 
 def program_number(cmd: Command) -> int:
-    """xx of EP/EX/XX: 1..100 (ESP301 driver, I); missing or beyond answers C (D)."""
+    """xx of EP/EX/XX: 1..127, else F (as XM's, 3.175)."""
     value = cmd.axis
     if value is None or not 1 <= value <= MAX_PROGRAMS:
-        raise MM4005Error(PARAMETER, f"program number 1..{MAX_PROGRAMS}")
+        raise MM4005Error(PROGRAM_NUMBER, f"program number 1..{MAX_PROGRAMS}")
     return value
 
 
@@ -134,3 +141,14 @@ def erase_program(ctx: Context, cmd: Command) -> list[str]:
         raise MM4005Error(UNAUTHORIZED, f"program {number} is running")  # (D)
     machine.programs.erase(number)
     return []
+
+
+def read_memory(ctx: Context, cmd: Command) -> list[str]:
+    """XM: the program memory unused (xx missing or 0) or program xx's length in bytes."""
+    store = ctx.machine.programs
+    number = cmd.axis
+    if number is None:
+        return [f"XM{MEMORY - store.used()}"]
+    if not 1 <= number <= MAX_PROGRAMS:
+        raise MM4005Error(PROGRAM_NUMBER, f"program number 0..{MAX_PROGRAMS}")
+    return [f"{number}XM{store.length(number)}"]

@@ -33,7 +33,7 @@ from maxk.personalities.mm4005.errors import (
 )
 from maxk.personalities.mm4005.programs import MEMORY, Wait
 
-from .lexer import MAX_LINE, parse_command, split_line
+from .lexer import MAX_LINE, parse_command, resolve, split_line
 from .machine import MM4005Machine
 from .spec import Command, CommandSpec, Context, Line, LineOwner
 from .table import COMMANDS
@@ -112,6 +112,7 @@ class Interpreter:
             run.index += 1
             ctx.owner, ctx.wait = run.owner, None
             try:
+                command = resolve(command, self.machine.variables)
                 replies = command.spec.handler(ctx, command)
             except MM4005Error as error:
                 ctx.errors.record(error.code)

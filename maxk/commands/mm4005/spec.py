@@ -86,13 +86,20 @@ class Context:
 
 
 @dataclass(frozen=True, slots=True)
+class VariableRef:
+    """``$Ypp`` in place of a value (manual 3.3.1): read when the command runs."""
+
+    number: int
+
+
+@dataclass(frozen=True, slots=True)
 class Command:
     """One parsed command: ``axis`` is None for 'all axes' or no number; ``value`` is the
     operand (None when absent); ``query`` is a trailing '?'."""
 
     spec: CommandSpec
     axis: int | None
-    value: float | int | str | None
+    value: float | int | str | VariableRef | None
     query: bool
 
     # The lexer has already checked the operand against the entry's Operand, so a handler

@@ -20,6 +20,7 @@ from . import handlers_program as pg
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
+from . import handlers_variables as vr
 from . import manual_list as ml
 from .spec import AxisRule, CommandSpec, Handler, Operand
 
@@ -343,28 +344,44 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          query=False, summary="ZP: the present position becomes 0"),
     # --- programming and flow control (ESP300 sibling manual p. 3-3, ESP301 driver) ---
     _set("EP", pg.enter_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('EP', the lines, 'QP'); "
-         f"{_KIT} ('nXX', 'nEP', 'QP', numbers 1..100)", "I",
-         _NOPAGE + "xx 1..100 (else C, D); the host's next lines are stored as entered, "
+         f"{_KIT} ('nXX', 'nEP', 'QP'); manual 3.175 XM (programs 1..127, 30720 bytes)", "I",
+         _NOPAGE + "xx 1..127 (else F, as XM 3.175); the host's next lines are stored as entered, "
          "not evaluated, up to a line holding QP (what follows QP on it runs, D); the rest "
          "of the EP line is the first line (D); a program that exists is refused D (erase "
-         "it first with XX, as the driver does, D); 64 kB of program memory (ESP300, I), "
-         "beyond it a line is refused D; refused D inside a program", query=False,
+         "it first with XX, as the driver does, D); 30720 bytes of program memory (XM "
+         "3.175, C), beyond it a line is refused D; refused D inside a program", query=False,
          summary="EP: enter program xx (its lines are stored up to QP)"),
     _set("QP", pg.quit_program, _NO, _NONE, f"{_ESP}; {_KIT}", "I",
-         _NOPAGE + "ends program entry and stores the program (kept in the program "
-         "archive: it survives a power cycle, I); outside an entry refused D (D)",
+         _NOPAGE + "ends program entry and stores the program in the non-volatile program "
+         "memory (3.175; the program archive: it survives a power cycle; SM 'save "
+         "program' and MP 'EEPROM to RAM', named on XM's page, were not found, D); "
+         "outside an entry refused D (D)",
          query=False, summary="QP: quit program entry"),
     _set("EX", pg.execute_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('1EX' runs program "
          f"1); {_KIT} ('nEX')", "I",
          _NOPAGE + "runs beside the command lines, which stay answered (ESP300, I): its "
          "lines at once until a wait holds it, its replies to the host that started it "
-         "(D); one program at a time (D, else D); no program xx: C (D); AB ends it (D); a "
+         "(D); one program at a time (D, else D); xx 1..127 else F (3.175); no program xx: "
+         "C (D); AB ends it (D); a "
          "refused command or malformed line ends it with its error (D)", query=False,
          summary="EX: execute program xx"),
     _set("XX", pg.erase_program, AxisRule.ELEMENT, _NONE, f"{_KIT} ('nXX' before 'nEP', "
          "error-checked: no error when none is stored)", "I",
-         _NOPAGE + "xx 1..100 (else C, D); the program running refused D (D)", query=False,
+         _NOPAGE + "xx 1..127 (else F, 3.175); the program running refused D (D)", query=False,
          summary="XX: erase program xx"),
+    _tell("XM", pg.read_memory, AxisRule.ELEMENT, "manual 3.175 XM 'xxXM' -> 'xxXMnn' "
+          "(xx 0 to 127, missing 0, out of range F; 30720 bytes; 'XM' -> 'XM29873', '1XM' -> "
+          "'1XM15', '100XM' -> '100XM0')", "C",
+          "xx missing or 0: the memory unused ('XMnn' for both, D); a program's length "
+          "counts each line and its terminator (D)",
+          summary="XM: read the program memory available, or a program's length"),
+    _tell("TY", vr.read_variable, AxisRule.ELEMENT, "manual 3.145 TY 'xxTY' -> 'xxTYnn' (xx "
+          "1 to 100 integers, 101 to 120 floats; missing or out of range O, a floating "
+          "point xx A; 0 until YS sets it)", "C",
+          "YS and the other setters were not found (Q): every variable reads 0; floats in "
+          "their shortest form (D); '$Ypp' in place of a number (3.3.1) reads it when the "
+          "command runs, '$Saa' there answers C (D)",
+          summary="TY: read a variable"),
     _set("WS", fl.wait_motion_stop, _ONE, Operand.OPTIONAL_NUMBER, f"{_ESP} (program "
          "'1PA+30', '1WS', '2PR-10'); ESP-family hosts ('3MT+' then '3WS'; '1 WS 0' 'wait "
          "for motion stop')", "I",

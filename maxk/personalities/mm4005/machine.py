@@ -29,7 +29,7 @@ from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
-from .programs import ProgramStore, Tasks
+from .programs import ProgramStore, Tasks, Variables
 from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
@@ -67,6 +67,7 @@ class MM4005(Engine):
         self._servo_axes: list[MM4005Axis] = []
         self.following_errors: list[int] = []
         self.programs = ProgramStore()  # the controller gives it its archive
+        self.variables = Variables()  # $Y1..$Y120 (3.3.1, 3.145 TY)
         self.tasks = Tasks(lambda: self.tick)  # waiting command lines, the program
         self.add_source(self.tasks)
 
@@ -571,6 +572,7 @@ class MM4005(Engine):
         place in the world); virtual time goes on. Waiting lines and a running program
         are gone; the stored programs stay (non-volatile, I)."""
         self.tasks.clear()
+        self.variables = Variables()  # 0 again at power-up (D)
         if self.execution is not None:
             self.remove_source(self.execution)
             self.execution = None

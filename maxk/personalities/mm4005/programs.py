@@ -1,10 +1,11 @@
 """Stored programs, and the work that waits, on the MM4005's engine.
 
-Evidence (docs/mm4005.md, "Programs and waits"): the sibling ESP300's manual (p. 3-3,
-"program execution mode") stores up to 100 programs in 64 kB of non-volatile memory,
-entered between EP and QP without being evaluated, and run by ``nEX`` while the
-controller keeps answering the host (I for the MM4005: its own pages were not found);
-a public ESP301 driver erases with ``nXX`` before ``nEP`` and checks numbers 1..100.
+Evidence (docs/mm4005.md, "Programs, waits and variables"): the manual's XM page (3.175: programs
+1 to 127 in 30720 bytes of non-volatile memory, saved as entered, one byte a character,
+C); the sibling ESP300's manual (p. 3-3, "program execution mode": entered between EP and
+QP without being evaluated, run by ``nEX`` while the controller keeps answering the
+host, I); a public ESP301 driver erases with ``nXX`` before ``nEP``. The variables of
+3.3.1 and 3.145 TY: 1 to 100 integers, 101 to 120 floats, 0 until set (C).
 
 Two kinds of work wait here, each a `Task`: a host's command line held by a wait
 command (``1PA5;1WS;1TP``: the TP runs once axis 1 stops) and a running program. Both
@@ -29,8 +30,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Final, Protocol
 
-MAX_PROGRAMS: Final = 100  # ESP300 p. 3-3 'up to 100 programs'; ESP301 driver 1..100 (I)
-MEMORY: Final = 64 * 1024  # ESP300 p. 3-3 '64kB non-volatile memory' (I): characters
+MAX_PROGRAMS: Final = 127  # manual 3.175 XM: program numbers 1 to 127 (C)
+MEMORY: Final = 30720  # manual 3.175 XM: bytes of program memory, one a character (C)
+INTEGER_VARIABLES: Final = range(1, 101)  # manual 3.3.1 / 3.145 TY (C)
+FLOAT_VARIABLES: Final = range(101, 121)
 ARCHIVE_FORMAT: Final = "maxk-mm4005-programs"
 ARCHIVE_LIMIT: Final = 4 * MEMORY  # a file larger than this is not ours (JSON overhead)
 POLL_ROUNDS: Final = 64  # tasks woken one after another at one tick, at most (D)
@@ -156,10 +159,27 @@ class Tasks:
         self.tasks = []
 
 
+class Variables:
+    """The value variables: 1..100 integers, 101..120 floats, 0 until set (3.145 TY)."""
+
+    def __init__(self) -> None:
+        self.values: dict[int, int | float] = {}
+
+    @staticmethod
+    def valid(number: int) -> bool:
+        return number in INTEGER_VARIABLES or number in FLOAT_VARIABLES
+
+    def get(self, number: int) -> int | float:
+        return self.values.get(number, 0 if number in INTEGER_VARIABLES else 0.0)
+
+    def set(self, number: int, value: float) -> None:
+        self.values[number] = int(value) if number in INTEGER_VARIABLES else float(value)
+
+
 class ProgramStore:
-    """Programs 1..100, each a list of command lines as entered, kept in memory and, with
-    an archive file, on disk (they survive a power cycle, as the ESP300's non-volatile
-    program memory does, I)."""
+    """Programs 1..127, each a list of command lines as entered, kept in memory and, with
+    an archive file, on disk (the non-volatile program memory of 3.175: they survive a
+    power cycle)."""
 
     def __init__(self, archive: str | os.PathLike[str] | None = None) -> None:
         self.archive = None if archive is None else Path(archive)
@@ -171,8 +191,12 @@ class ProgramStore:
         return self.programs.get(number)
 
     def used(self) -> int:
-        """Characters of program memory used (each line with its terminator)."""
-        return sum(len(line) + 1 for lines in self.programs.values() for line in lines)
+        """Bytes of program memory used (each line with its terminator, D)."""
+        return sum(self.length(n) for n in self.programs)
+
+    def length(self, number: int) -> int:
+        """XM: program n's bytes (0: no such program)."""
+        return sum(len(line) + 1 for line in self.programs.get(number, ()))
 
     def put(self, number: int, lines: list[str]) -> None:
         self.programs[number] = list(lines)
