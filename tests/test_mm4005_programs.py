@@ -136,6 +136,9 @@ def test_a_program_with_waits_runs_beside_the_command_line_to_the_tick() -> None
     host, told = _host(mm)
     host.feed(b"3EX\r")
     assert host.read() == b"" and not host.holding  # the host is free at once
+    # 5 + 9 + 4 + 17 bytes (each line and its terminator); held at line 2's 1WS
+    assert mm.console().status_lines()[-1] == (
+        "programs stored: 3 (35 of 30720 bytes), program 3 running at line 2")
     one = round((0.2 + 1.0) * RATE)  # axis 1 to 1: 1.2 s
     two = one + round((0.2 + 1.0) * RATE)  # then axis 2 to 2 at VA 2, AC 10: 1.2 s
     back = two + round((0.2 + 1.0) * RATE)  # then axis 1 back to 0: 1.2 s

@@ -37,7 +37,7 @@ from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
 from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
-from maxk.personalities.mm4005.programs import ProgramStore
+from maxk.personalities.mm4005.programs import MEMORY, ProgramStore
 from maxk.personalities.mm4005.timed import TracePoint
 
 from .mm4005_trace import MM4005Recording, PathTrace
@@ -361,6 +361,13 @@ class MM4005Console(ConsoleBase):
         lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
                      + ("" if servos else "profile-only axes)"))
         lines.append(f"error register: {self.controller.errors.peek().char}")
+        store = m.programs
+        running = m.tasks.program
+        where = (f", program {getattr(running, 'number', '?')} running at line "
+                 f"{getattr(running, 'line', '?')}" if running is not None else "")
+        lines.append(f"programs stored: {', '.join(map(str, sorted(store.programs))) or 'none'}"
+                     f" ({store.used()} of {MEMORY} bytes){where}"
+                     + (f"; {store.problem}" if store.problem else ""))
         run = m.timed_run
         if run is not None and not run.finished:
             lines.append(f"time-based run: XC{m.elements_done()}/{len(run.starts) - 1}, "
