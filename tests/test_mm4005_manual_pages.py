@@ -209,7 +209,7 @@ def test_every_command_of_the_manuals_list_is_known_and_the_unmodelled_answer_q(
             assert mm.send("TE") == ["TEQ"], form
     assert mm.send("TP;MS") == before  # nothing moved, nothing changed
     # a refused listed command stops its line there, as every refusal does
-    assert mm.send("1TP;WS;2TP") == ["1TP0.0000"] and mm.send("TE") == ["TEQ"]
+    assert mm.send("1TP;WT;2TP") == ["1TP0.0000"] and mm.send("TE") == ["TEQ"]
     for word in ("AB", "BA", "DV", "FE", "KS", "MS", "NQ", "SS", "TQ", "TX", "XP", "ZP"):
         assert not COMMANDS[word].note.endswith("answers Q"), word
 

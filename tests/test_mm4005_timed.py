@@ -196,7 +196,7 @@ def test_following_error_turns_the_motor_off() -> None:
     mm = MM4005Controller("MM4005-2")
     mm.send("1KP0.1;1KI0.1;1KD0.16;1FE0.005;1UF;1PA1")
     mm.engine.advance(400)
-    assert mm.send("1MS;TB") == ["1MSF", "TBF Following error"]  # off, direction +
+    assert mm.send("1MS;TB") == ["1MSF", "TBT Following error"]  # off, direction +
     assert mm.send("1PA2") == [] and mm.send("TE") == ["TED"]  # refused: power off
     assert mm.send("1MO;1FE1;1UF;1PA0;TE") == ["TE@"]
     mm.run_until_idle()

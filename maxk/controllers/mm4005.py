@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import csv
 import io
+import logging
+import os
 import weakref
 from collections import deque
 from pathlib import Path
@@ -35,13 +37,17 @@ from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
 from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
+from maxk.personalities.mm4005.programs import MEMORY, ProgramStore
 from maxk.personalities.mm4005.timed import TracePoint
 
 from .mm4005_trace import MM4005Recording, PathTrace
 
+log = logging.getLogger("maxk.mm4005")
+
 DEFAULT_MODEL: Final = "MM4005"
 MODELS: Final = (DEFAULT_MODEL, *(f"MM4005-{n}" for n in range(1, MAX_AXES + 1)))
 STATUS_WIDTH: Final = 80
+SEND_WAIT_S: Final = 600.0  # a line sent from Python or typed waits this long at most (D)
 PULSE_CSV_HEADER: Final = ("pulse", "tick", "time_s", "distance", "element", "x_counts",
                            "y_counts", "x", "y")
 
@@ -75,12 +81,19 @@ class MM4005Controller(VirtualTime):
     transports: tuple[Transport, ...] = ("tcp", "pty")
     packet_size = None
 
-    def __init__(self, model: str = DEFAULT_MODEL) -> None:
+    def __init__(self, model: str = DEFAULT_MODEL,
+                 archive: str | os.PathLike[str] | None = None) -> None:
+        """`archive`: the program memory's file (stored programs survive a power cycle
+        and a restart); None keeps them in memory only."""
         self.machine = MM4005(axis_count_of(model))
+        self.machine.programs = ProgramStore(archive)
+        if self.machine.programs.problem:
+            log.error("%s", self.machine.programs.problem)
         self._model = next(m for m in MODELS if m.lower() == model.lower())
         self.interpreter = self._new_interpreter()
         self._sessions: list[MM4005Session] = []
         self._console: MM4005Console | None = None
+        self._own: MM4005Session | None = None  # send()'s session
 
     def _new_interpreter(self) -> Interpreter:
         interpreter = Interpreter(self.machine)
@@ -99,7 +112,7 @@ class MM4005Controller(VirtualTime):
     def open_session(self, notify: Notify | None = None) -> MM4005Session:
         """A host's CR-framed line session; the MM4005 never speaks unasked, so `notify`
         is never called."""
-        session = MM4005Session(self.machine, self.interpreter)
+        session = MM4005Session(self.machine, self.interpreter, notify)
         self._sessions = [s for s in self._sessions if not s.closed] + [session]
         return session
 
@@ -110,18 +123,34 @@ class MM4005Controller(VirtualTime):
 
     def reset(self) -> None:
         """Power-up again: motion stops at once, defaults back, the error register clear;
-        a line half received by any host is lost."""
+        a line half received or held by a wait is lost, as is a running program; the
+        stored programs stay (read again from the archive when there is one)."""
         self.machine.reset()
+        programs = self.machine.programs
+        programs.load()
+        if programs.problem:
+            log.error("%s", programs.problem)
         self.interpreter = self._new_interpreter()
         self._sessions = [s for s in self._sessions if not s.closed]
         for session in self._sessions:
-            session.interpreter = self.interpreter
-            session.discard_partial_line()
+            session.power_up(self.interpreter)
 
     # ---- talking to it ------------------------------------------------------------------
     def send(self, line: str) -> list[str]:
-        """One command line (no CR needed); its replies, without CR."""
-        return self.interpreter.execute_line(line.rstrip("\r"))
+        """One command line (no CR needed); its replies, without CR. A line that waits
+        (WS) runs virtual time until its wait is over (at most `SEND_WAIT_S`: then it is
+        given up, D); a program's replies come with the next line's."""
+        session = self._own
+        if session is None or session.closed:
+            session = self._own = self.open_session()
+        session.feed(line.rstrip("\r").encode("latin-1", "replace") + b"\r")
+        if session.waiting:
+            self.machine.run_until(lambda _m: not session.waiting, self.ticks(SEND_WAIT_S))
+            if session.waiting:
+                session.abandon()
+                log.warning("%r still waiting after %g s: given up", line, SEND_WAIT_S)
+        text = session.read().decode("latin-1")
+        return [reply for reply in text.split("\r") if reply]
 
     def query(self, line: str) -> str:
         """A line that must give exactly one reply."""
@@ -332,6 +361,13 @@ class MM4005Console(ConsoleBase):
         lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
                      + ("" if servos else "profile-only axes)"))
         lines.append(f"error register: {self.controller.errors.peek().char}")
+        store = m.programs
+        running = m.tasks.program
+        where = (f", program {getattr(running, 'number', '?')} running at line "
+                 f"{getattr(running, 'line', '?')}" if running is not None else "")
+        lines.append(f"programs stored: {', '.join(map(str, sorted(store.programs))) or 'none'}"
+                     f" ({store.used()} of {MEMORY} bytes){where}"
+                     + (f"; {store.problem}" if store.problem else ""))
         run = m.timed_run
         if run is not None and not run.finished:
             lines.append(f"time-based run: XC{m.elements_done()}/{len(run.starts) - 1}, "

@@ -32,7 +32,7 @@ def _build_maxk(model: str, options: BuildOptions) -> Controller:
 
 
 def _build_mm4005(model: str, options: BuildOptions) -> Controller:
-    return MM4005Controller(model)  # one servo rate; no flash modelled
+    return MM4005Controller(model, archive=options.archive)  # one servo rate
 
 
 def _build_mc405(model: str, options: BuildOptions) -> Controller:
@@ -52,6 +52,11 @@ def _mc405_programs(model: str, number: int) -> Path:
     return default_archive_dir() / f"{model}-board{number}.programs"
 
 
+def _mm4005_programs(model: str, number: int) -> Path:
+    """The MM4005's stored programs (its non-volatile program memory) per user."""
+    return default_archive_dir() / f"{model}-board{number}.programs.json"
+
+
 def _pokeys_configuration(model: str, number: int) -> Path:
     """A PoKeys's saved configuration (its flash) per user, beside the MAXk archives."""
     return default_archive_dir() / f"{model}-board{number}.pokeys.json"
@@ -69,7 +74,7 @@ KINDS: list[ControllerKind] = [
                    shared_memory=True, reference=_max_reference),
     ControllerKind("MM4005", MM4005_MODELS, _build_mm4005,
                    "Newport MM4005 4-axis controller with trajectories and synchronized "
-                   "pulses (MM4005-n: n axes installed)",
+                   "pulses (MM4005-n: n axes installed)", _mm4005_programs,
                    update_rates_hz=(MM4005_RATE_HZ,)),
     ControllerKind("MC405", ("MC405",), _build_mc405,
                    "Trio MC405 Motion Coordinator: TrioBASIC over telnet, PWM outputs",

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
 from maxk.personalities.mm4005.errors import UNAUTHORIZED, MM4005Error
+from maxk.personalities.mm4005.programs import ProgramStore, Tasks, Variables
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
 
@@ -55,8 +56,12 @@ class FakeMM4005:
     pulse_trace: PulseTrace = field(default_factory=PulseTrace)
     settings: list[AxisSettings] = field(default_factory=list)
     inputs: dict[int, bool] = field(default_factory=dict)  # GPIO input bit -> level (RB)
+    programs: ProgramStore = field(default_factory=ProgramStore)  # in memory only
+    tasks: Tasks = field(init=False)
+    variables: Variables = field(default_factory=Variables)
 
     def __post_init__(self) -> None:
+        self.tasks = Tasks(lambda: self.tick)
         if not self.axes:
             self.axes = [FakeAxis() for _ in range(self.axis_count)]
         self.timed = TimedTrajectory(self.axis_count)
@@ -94,8 +99,10 @@ class FakeMM4005:
 
     # --- time ---------------------------------------------------------------------------
     def advance(self, ticks: int) -> None:
-        """What a door does before feeding bytes: move virtual time on."""
+        """What a door does before feeding bytes: move virtual time on (a held line
+        goes on once its wait is over)."""
         self.tick += ticks
+        self.tasks.poll()
 
     def _elapsed(self, since: int) -> float:
         return (self.tick - since) * self.tick_period

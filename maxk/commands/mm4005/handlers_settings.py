@@ -171,7 +171,8 @@ def tell_controller_activity(ctx: Context, cmd: Command) -> list[str]:
     m = ctx.machine
     timed_running = (m.elements_done() < len(m.timed.elements)
                      and any(m.status(a).moving for a in m.timed.axes))
-    return ["TX" + status.controller_activity(bool(m.trajectory_element()) or timed_running)]
+    return ["TX" + status.controller_activity(bool(m.trajectory_element()) or timed_running,
+                                              m.tasks.program is not None)]
 
 
 def backlash(ctx: Context, cmd: Command) -> list[str]:

@@ -8,6 +8,7 @@ bad axis B, bad operand C) rejects the entire line (our decision: nothing half-d
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Mapping
 from typing import Final
@@ -16,10 +17,12 @@ from maxk.personalities.mm4005.errors import (
     AXIS_NUMBER,
     PARAMETER,
     UNKNOWN_MESSAGE,
+    VARIABLE_NUMBER,
     MM4005Error,
 )
+from maxk.personalities.mm4005.programs import Variables
 
-from .spec import AxisRule, Command, CommandSpec, Operand
+from .spec import AxisRule, Command, CommandSpec, Operand, VariableRef
 
 MAX_OPERAND: Final = 1e9
 """A number operand beyond this (in any unit: a 4-axis stage travels less than a metre)
@@ -62,7 +65,43 @@ def _axis(rule: AxisRule, digits: str, axis_count: int) -> int | None:
     return number
 
 
-def _operand(spec: CommandSpec, text: str) -> tuple[float | int | str | None, bool]:
+_NUMERIC: Final = (Operand.NUMBER, Operand.OPTIONAL_NUMBER, Operand.SIGN, Operand.INTEGER,
+                   Operand.MODE)
+_VARIABLE: Final = re.compile(r"\$([YySs])(\d*)\Z")
+
+
+def _variable(spec: CommandSpec, text: str) -> VariableRef:
+    """``$Ypp`` where a number is taken (3.3.1): pp 1..120 else O (as TY, 3.145); a
+    string variable ``$Saa`` or a value variable where no number is taken answers C (D)."""
+    match = _VARIABLE.match(text)
+    if match is None or match.group(1) in "Ss" or spec.operand not in _NUMERIC:
+        raise MM4005Error(PARAMETER, f"{spec.mnemonic} cannot take {text[:20]!r}")
+    digits = match.group(2)
+    if not digits or len(digits) > 4 or not Variables.valid(int(digits)):
+        raise MM4005Error(VARIABLE_NUMBER, f"variable {digits or 'missing'}")
+    return VariableRef(int(digits))
+
+
+def resolve(command: Command, variables: Variables) -> Command:
+    """The command with a ``$Ypp`` operand replaced by the variable's value now, checked
+    as a written value would be."""
+    ref = command.value
+    if not isinstance(ref, VariableRef):
+        return command
+    value = variables.get(ref.number)
+    text = repr(value) if isinstance(value, float) else str(value)
+    if command.spec.operand in (Operand.INTEGER, Operand.MODE) and isinstance(value, float):
+        if not value.is_integer():
+            raise MM4005Error(PARAMETER, f"$Y{ref.number} = {text} is not whole")
+        text = str(int(value))
+    resolved, _query = _operand(command.spec, text)
+    return dataclasses.replace(command, value=resolved)
+
+
+def _operand(spec: CommandSpec, text: str
+             ) -> tuple[float | int | str | VariableRef | None, bool]:
+    if text[:1] == "$" and spec.operand is not Operand.ANY:
+        return _variable(spec, text), False
     if text == "?":
         if spec.query or spec.replies:
             return None, True

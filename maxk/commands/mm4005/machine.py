@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Protocol
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
+from maxk.personalities.mm4005.programs import ProgramStore, Tasks, Variables
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
 
@@ -163,4 +164,21 @@ class MM4005Machine(Protocol):
 
     def abort(self) -> None:
         """AB: every motion and trajectory stops at once."""
+        ...
+
+    @property
+    def programs(self) -> ProgramStore:
+        """The stored programs (EP ... QP, EX, XX) and their archive."""
+        ...
+
+    @property
+    def tasks(self) -> Tasks:
+        """The command lines held by a wait and the running program: resumed by the
+        machine after each event tick (`Tasks.poll`)."""
+        ...
+
+    @property
+    def variables(self) -> Variables:
+        """The value variables $Y1..$Y120 (TY reads them; a command takes one in place
+        of a value)."""
         ...

@@ -5,8 +5,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Protocol
 
 from maxk.personalities.mm4005 import ErrorRegister
+from maxk.personalities.mm4005.programs import Wait
 
 from .machine import MM4005Machine
 
@@ -34,12 +36,60 @@ class Operand(Enum):
     ANY = "any"  # a listed command not modelled: whatever follows is taken (it answers Q)
 
 
+class LineOwner(Protocol):
+    """Who sent the line a handler runs in: a host's session (EP enters its next lines
+    into a program; a program it starts replies to it) or a running program."""
+
+    def begin_entry(self, number: int) -> None:
+        """EP: this owner's next lines go into program `number`, up to QP."""
+        ...
+
+    def emit(self, text: str) -> None:
+        """A reply that comes later than its line (a program's TP)."""
+        ...
+
+    @property
+    def in_program(self) -> bool:
+        """The line is one of a stored program's."""
+        ...
+
+
+class Line(Protocol):
+    """A command line under way (session.LineRun)."""
+
+    wait: Wait | None
+    done: bool
+    failed: bool
+
+    def stop(self) -> None: ...
+
+
+class LineRunner(Protocol):
+    """What runs lines (session.Interpreter): a program runs its lines through it."""
+
+    def start(self, line: str, owner: LineOwner | None) -> Line | None: ...
+
+    def proceed(self, run: Line) -> None: ...
+
+
 @dataclass(slots=True)
 class Context:
-    """What a handler works on: the machine and the error register."""
+    """What a handler works on: the machine and the error register; while a handler
+    runs, who sent its line (`owner`); a wait command leaves its wait in `wait` and the
+    line holds there."""
 
     machine: MM4005Machine
     errors: ErrorRegister = field(default_factory=ErrorRegister)
+    owner: LineOwner | None = None
+    wait: Wait | None = None
+    runner: LineRunner | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class VariableRef:
+    """``$Ypp`` in place of a value (manual 3.3.1): read when the command runs."""
+
+    number: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,7 +99,7 @@ class Command:
 
     spec: CommandSpec
     axis: int | None
-    value: float | int | str | None
+    value: float | int | str | VariableRef | None
     query: bool
 
     # The lexer has already checked the operand against the entry's Operand, so a handler

@@ -14,10 +14,13 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_flow as fl
 from . import handlers_manual as mn
+from . import handlers_program as pg
 from . import handlers_settings as st
 from . import handlers_timed as tm
 from . import handlers_trajectory as tr
+from . import handlers_variables as vr
 from . import manual_list as ml
 from .spec import AxisRule, CommandSpec, Handler, Operand
 
@@ -152,6 +155,8 @@ _DRIVER_ENTRIES: Final[tuple[CommandSpec, ...]] = (
 _SCAN = "EPICS MM4005_trajectoryScan.st (reference mm4005-trajectory-scan.md)"
 _LIST = ml.SOURCE
 _NOPAGE = "the MM4005 page was not found; "
+_ESP = "sibling ESP300 manual p. 3-3 (program execution mode)"
+_KIT = "public ESP301 driver (InstrumentKit define_program/run_program)"
 
 _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
     # --- the time-based trajectory of the EPICS trajectory scan ---
@@ -324,7 +329,7 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
           "default 0, 6 default 1, 7 IEEE SRQ (never set: RQ is not modelled); idle 'TS@' "
           "as a public MM4006 StreamDevice host expects"),
     _tell("TX", st.tell_controller_activity, _NO, "manual 3.142 TX 'Returns TXaa'", "C",
-          "bit 0 program running (never: no stored programs), 1 command line executing and "
+          "bit 0 program running (EX: 'TXK' while one runs), 1 command line executing and "
           "3 remote mode (always, as TX itself is answered: 'TXJ', the manual's example), "
           "2 manual jog (never), 4 trajectory executing (XY or time-based: 'TXZ'), 6 "
           "default 1"),
@@ -337,6 +342,54 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
          _NOPAGE + "the counter reads 0 where the axis stands; TL/TR stay (the host sets "
          "them again after ZP, unlike after DH); refused D while moving (D)",
          query=False, summary="ZP: the present position becomes 0"),
+    # --- programming and flow control (ESP300 sibling manual p. 3-3, ESP301 driver) ---
+    _set("EP", pg.enter_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('EP', the lines, 'QP'); "
+         f"{_KIT} ('nXX', 'nEP', 'QP'); manual 3.175 XM (programs 1..127, 30720 bytes)", "I",
+         _NOPAGE + "xx 1..127 (else F, as XM 3.175); the host's next lines are stored as entered, "
+         "not evaluated, up to a line holding QP (what follows QP on it runs, D); the rest "
+         "of the EP line is the first line (D); a program that exists is refused D (erase "
+         "it first with XX, as the driver does, D); 30720 bytes of program memory (XM "
+         "3.175, C), beyond it a line is refused D; refused D inside a program", query=False,
+         summary="EP: enter program xx (its lines are stored up to QP)"),
+    _set("QP", pg.quit_program, _NO, _NONE, f"{_ESP}; {_KIT}", "I",
+         _NOPAGE + "ends program entry and stores the program in the non-volatile program "
+         "memory (3.175; the program archive: it survives a power cycle; SM 'save "
+         "program' and MP 'EEPROM to RAM', named on XM's page, were not found, D); "
+         "outside an entry refused D (D)",
+         query=False, summary="QP: quit program entry"),
+    _set("EX", pg.execute_program, AxisRule.ELEMENT, _NONE, f"{_ESP} ('1EX' runs program "
+         f"1); {_KIT} ('nEX')", "I",
+         _NOPAGE + "runs beside the command lines, which stay answered (ESP300, I): its "
+         "lines at once until a wait holds it, its replies to the host that started it "
+         "(D); one program at a time (D, else D); xx 1..127 else F (3.175); no program xx: "
+         "C (D); AB ends it (D); a "
+         "refused command or malformed line ends it with its error (D)", query=False,
+         summary="EX: execute program xx"),
+    _set("XX", pg.erase_program, AxisRule.ELEMENT, _NONE, f"{_KIT} ('nXX' before 'nEP', "
+         "error-checked: no error when none is stored)", "I",
+         _NOPAGE + "xx 1..127 (else F, 3.175); the program running refused D (D)", query=False,
+         summary="XX: erase program xx"),
+    _tell("XM", pg.read_memory, AxisRule.ELEMENT, "manual 3.175 XM 'xxXM' -> 'xxXMnn' "
+          "(xx 0 to 127, missing 0, out of range F; 30720 bytes; 'XM' -> 'XM29873', '1XM' -> "
+          "'1XM15', '100XM' -> '100XM0')", "C",
+          "xx missing or 0: the memory unused ('XMnn' for both, D); a program's length "
+          "counts each line and its terminator (D)",
+          summary="XM: read the program memory available, or a program's length"),
+    _tell("TY", vr.read_variable, AxisRule.ELEMENT, "manual 3.145 TY 'xxTY' -> 'xxTYnn' (xx "
+          "1 to 100 integers, 101 to 120 floats; missing or out of range O, a floating "
+          "point xx A; 0 until YS sets it)", "C",
+          "YS and the other setters were not found (Q): every variable reads 0; floats in "
+          "their shortest form (D); '$Ypp' in place of a number (3.3.1) reads it when the "
+          "command runs, '$Saa' there answers C (D)",
+          summary="TY: read a variable"),
+    _set("WS", fl.wait_motion_stop, _ONE, Operand.OPTIONAL_NUMBER, f"{_ESP} (program "
+         "'1PA+30', '1WS', '2PR-10'); ESP-family hosts ('3MT+' then '3WS'; '1 WS 0' 'wait "
+         "for motion stop')", "I",
+         _NOPAGE + "the line (or program) holds until axis xx has stopped (missing or 0: "
+         "every axis, D), on the tick its motion ends however it ends; the host's later "
+         "lines wait behind it while other hosts are answered (a stop from them ends it); "
+         "nn: a delay in ms after the stop, 0..3600000, whole (D)", query=False,
+         summary="WS: wait for motion stop"),
 )
 
 

@@ -85,9 +85,17 @@ TRAJECTORY_NOT_VERIFIED: Final = _code(
     "letter ours: EC before a VC that passed on the present definition")
 
 FOLLOWING_ERROR: Final = _code(
-    "F", "Following error", "D",
+    "T", "Following error", "D",
     "letter ours: a servo axis (gains applied by UF) lagged its profile by more than FE "
-    "(or its loop tripped): its motor was turned off")
+    "(or its loop tripped): its motor was turned off (it was F until the manual's XM page, "
+    "3.175, showed F is the program-number error)")
+PROGRAM_NUMBER: Final = _code(
+    "F", "Program number out of range", "C",
+    "manual 3.175 XM: program number 0 to 127, 'Out of range: Error F'; the text is ours "
+    "after TY's 'O - Variable number out of range' (I)")
+VARIABLE_NUMBER: Final = _code(
+    "O", "Variable number out of range", "C",
+    "manual 3.145 TY: 'O - Variable number out of range' (missing or out of range)")
 
 ERROR_CODES: Final[dict[str, ErrorCode]] = {
     code.char: code
@@ -95,7 +103,7 @@ ERROR_CODES: Final[dict[str, ErrorCode]] = {
                  TRAJECTORY_EMPTY, TRAJECTORY_ELEMENT, ANGLE_DISCONTINUITY, PULSE_ELEMENTS,
                  PULSE_NUMBER, NOT_AUTHORIZED_FUNCTION, TRAVEL_LIMITS, TIME_OUT,
                  TRAJECTORY_SPEED_CHANGE, TRAJECTORY_VELOCITY, TRAJECTORY_NOT_VERIFIED,
-                 FOLLOWING_ERROR)
+                 FOLLOWING_ERROR, PROGRAM_NUMBER, VARIABLE_NUMBER)
 }
 
 UNKNOWN_ERROR_TEXT: Final = "Unknown error code"  # manual 3.126: TB with an out-of-range code

@@ -29,6 +29,7 @@ from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
+from .programs import ProgramStore, Tasks, Variables
 from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
@@ -65,6 +66,18 @@ class MM4005(Engine):
         self.settings = [AxisSettings() for _ in range(axis_count)]
         self._servo_axes: list[MM4005Axis] = []
         self.following_errors: list[int] = []
+        self.programs = ProgramStore()  # the controller gives it its archive
+        self.variables = Variables()  # $Y1..$Y120 (3.3.1, 3.145 TY)
+        self.tasks = Tasks(lambda: self.tick)  # waiting command lines, the program
+        self.add_source(self.tasks)
+
+    def settle(self) -> None:
+        """Before time moves: a wait already over (a stop from another host) ends now."""
+        self.tasks.poll()
+
+    def after_events(self, now: int) -> None:
+        """Once the tick's sources acted: a WS ends on the tick its motion ended."""
+        self.tasks.poll()
 
     # ---- what the language reads ----------------------------------------------------------
     @property
@@ -226,7 +239,8 @@ class MM4005(Engine):
         run = self.execution
         timed = self.timed_run
         return (all(a.motion is None and a.homing is None for a in self.axes)
-                and (run is None or run.finished) and (timed is None or timed.finished))
+                and (run is None or run.finished) and (timed is None or timed.finished)
+                and not self.tasks.busy)
 
     # ---- the time-based trajectory ----------------------------------------------------------
     def verify_timed(self) -> None:
@@ -287,7 +301,8 @@ class MM4005(Engine):
 
     def abort(self) -> None:
         """AB: every axis and any trajectory stop where they are, at once; power stays
-        on (D)."""
+        on (D); a running program ends (D)."""
+        self.tasks.stop_programs()
         timed = self.timed_run
         if timed is not None:
             timed.abort()
@@ -554,7 +569,10 @@ class MM4005(Engine):
     def reset(self) -> None:
         """Power-up again (D): motion stops at once, settings and the trajectory go back to
         their defaults, each counter reads 0 where its stage stands (the stage keeps its
-        place in the world); virtual time goes on."""
+        place in the world); virtual time goes on. Waiting lines and a running program
+        are gone; the stored programs stay (non-volatile, I)."""
+        self.tasks.clear()
+        self.variables = Variables()  # 0 again at power-up (D)
         if self.execution is not None:
             self.remove_source(self.execution)
             self.execution = None

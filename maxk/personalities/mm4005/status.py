@@ -86,11 +86,14 @@ def controller_status(moving: list[bool], power_off: bool, srq: bool = False) ->
     return chr(value)
 
 
-def controller_activity(trajectory: bool) -> str:
+def controller_activity(trajectory: bool, program: bool = False) -> str:
     """TX's character while TX itself is answered: remote mode and a command line
-    executing are always set ('J', the manual's example); no stored program or manual
-    jog exists here; bit 4 while a trajectory (XY or time-based) runs."""
+    executing are always set ('J', the manual's example); bit 0 while a stored program
+    runs (EX); no manual jog exists here; bit 4 while a trajectory (XY or time-based)
+    runs."""
     value = DEFAULT_ONE | TX_REMOTE | TX_COMMAND_LINE
     if trajectory:
         value |= TX_TRAJECTORY
+    if program:
+        value |= TX_PROGRAM
     return chr(value)
