@@ -132,6 +132,7 @@ class ControlDoor:
         logging.getLogger("maxk").removeHandler(self.errors)
         for board in self.boards.values():
             board.stop_trace()
+            board.clock_word += 1  # a step under way ends at its next slice
         if self._server is not None:
             self._server.close()
             self._server = None
@@ -139,10 +140,7 @@ class ControlDoor:
             server = self._runner.server
             if server is not None:  # every connection (streams too) ends now
                 for handler in list(server.connections):
-                    handler.force_close()
-                    transport = handler.transport
-                    if transport is not None:
-                        transport.abort()
+                    _abort(handler)
             await self._runner.cleanup()
             self._runner = None
 
@@ -432,10 +430,7 @@ class ControlDoor:
         except (ConnectionError, RuntimeError):
             return False
         except TimeoutError:
-            request.protocol.force_close()
-            transport = request.transport
-            if transport is not None:
-                transport.abort()
+            _abort(request.protocol)
             return False
 
     # ---- act -----------------------------------------------------------------------
@@ -660,19 +655,51 @@ def _small_send_buffer(request: web.Request) -> None:
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, STREAM_SNDBUF)
 
 
+def _abort(handler: RequestHandler) -> None:
+    """End a connection now, unsent output dropped (aiohttp's force_close alone waits
+    for a reader that never reads to take it)."""
+    transport = handler.transport
+    if transport is not None:
+        transport.abort()
+    handler.force_close()
+
+
 class _Refused(asyncio.Protocol):
-    """A connection over the door's cap: a 503 and closed at once (its descriptor freed:
-    a flood never takes the server to EMFILE)."""
+    """A connection over the door's cap: a 503, its request read and dropped, and closed
+    after a moment (a close with its request unread would reset the connection before
+    the client read why). More than REFUSING at once are closed at once: a flood never
+    takes the server to EMFILE."""
 
     BODY = b'{"error": "too many connections to the control door", "status": 503}'
+    REFUSING = 32
+    LINGER = 0.2  # seconds a refused connection is given to read its 503
+    refusing = 0
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        if _Refused.refusing >= self.REFUSING:
+            transport.abort()
+            return
+        _Refused.refusing += 1
+        self._counted = True
         with contextlib.suppress(Exception):
             transport.write(b"HTTP/1.1 503 Service Unavailable\r\nConnection: close\r\n"
                             b"Content-Type: application/json\r\n"
                             b"Content-Length: %d\r\n\r\n%s" % (len(self.BODY), self.BODY))
-        transport.close()
+            transport.write_eof()
+        asyncio.get_running_loop().call_later(self.LINGER, transport.abort)
+
+    def data_received(self, data: bytes) -> None:
+        """(Dropped: a refused request is not read.)"""
+
+    def eof_received(self) -> bool:
+        return False  # the client is done too: close
+
+    def connection_lost(self, exc: BaseException | None) -> None:
+        if getattr(self, "_counted", False):
+            self._counted = False
+            _Refused.refusing -= 1
 
 
 class GuardedHandler(RequestHandler):
@@ -728,10 +755,7 @@ class GuardedHandler(RequestHandler):
         if left > 0:
             self._header_timer = asyncio.get_running_loop().call_later(left, self._deadline)
             return
-        transport = self.transport
-        self.force_close()
-        if transport is not None:
-            transport.abort()
+        _abort(self)
 
 
 def _outputs(view: Any) -> dict[str, bool]:
