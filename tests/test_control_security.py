@@ -37,11 +37,12 @@ class Door:
             return await self.door.start(host, 0)
 
         self.port = asyncio.run_coroutine_threadsafe(start(), self.boards.loop).result(10)[1]
-        self.client = Client(f"http://127.0.0.1:{self.port}", self.door.token)
+        self.address = "127.0.0.1" if host in ("0.0.0.0", "127.0.0.1") else host
+        self.client = Client(f"http://{self.address}:{self.port}", self.door.token)
 
     def raw(self, request: bytes) -> tuple[int, bytes]:
         """One HTTP exchange written byte for byte: the status and the body."""
-        with socket.create_connection(("127.0.0.1", self.port), timeout=10) as sock:
+        with socket.create_connection((self.address, self.port), timeout=10) as sock:
             sock.sendall(request)
             data = b""
             while True:
@@ -54,7 +55,7 @@ class Door:
 
     def ask(self, method: str, path: str, body: bytes = b"", **headers: str) -> tuple[int, Any]:
         lines = [f"{method} {path} HTTP/1.1", "Connection: close"]
-        headers.setdefault("Host", f"127.0.0.1:{self.port}")
+        headers.setdefault("Host", f"{self.address}:{self.port}")
         lines += [f"{k.replace('_', '-')}: {v}" for k, v in headers.items()]
         if body:
             lines.append(f"Content-Length: {len(body)}")

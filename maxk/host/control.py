@@ -20,6 +20,7 @@ import json
 import logging
 import secrets
 import socket
+from collections import Counter
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from typing import Any
@@ -84,6 +85,7 @@ class ControlDoor:
         self.any_address = False  # listening on every address: any IP literal names it
         self.open_connections = 0
         self.refused = 0  # connections refused over the cap (for tests and the log)
+        self.refusals: Counter[int] = Counter()  # requests refused by `_guard`, by status
         self._server: asyncio.Server | None = None
         self._streams = 0
         self._panel_cache: tuple[float, bytes] | None = None
@@ -182,6 +184,7 @@ class ControlDoor:
             protocol.request_started()
         refusal = self._refusal(request)
         if refusal is not None:
+            self.refusals[refusal.status] += 1
             return refusal
         try:
             return await handler(request)
