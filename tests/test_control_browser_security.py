@@ -143,7 +143,10 @@ def test_a_page_of_another_origin_can_neither_act_nor_read(browser) -> None:
             browser.get(f"http://127.0.0.1:{port}/")
             body = browser.find_element(By.TAG_NAME, "body")
             _until(browser, lambda _d: body.get_attribute("data-done"), "the page never ran")
-            out = json.loads(body.get_attribute("data-done"))
+            out = json.loads(body.get_attribute("data-done"))  # (its fetches answered)
+            c = d.client
+            assert c.clock()[0]["paused"] is False
+            assert c.board(1)["axes"][0]["switches"]["plus"]["fault"] is None
             _until(browser, lambda _d: d.door.refusals[415] + d.door.refusals[403] >= 7,
                    f"the door never saw the page's requests: {dict(d.door.refusals)}")
         # it could read nothing: a CORS read and the stream fail, an opaque read is empty
@@ -151,7 +154,6 @@ def test_a_page_of_another_origin_can_neither_act_nor_read(browser) -> None:
         assert out["opaque"] == "read ", out
         assert out["json"] == "refused", out  # its preflight is not granted
         # and did nothing: the clock runs, no fault stuck, the board not reset
-        c = d.client
         assert c.clock()[0]["paused"] is False
         assert c.board(1)["axes"][0]["switches"]["plus"]["fault"] is None
         assert host.query("AX; RP") == "500"
