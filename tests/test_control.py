@@ -94,6 +94,8 @@ def test_bad_world_requests_get_a_reason_and_change_nothing(hosted: Hosted, body
 
 def _raw(url: str, method: str = "GET", data: bytes | None = None,
          headers: dict[str, str] | None = None) -> tuple[int, dict]:
+    if headers is None and data is not None:
+        headers = {"Content-Type": "application/json"}  # as a program sends it
     request = urllib.request.Request(url, data=data, method=method, headers=headers or {})
     try:
         with urllib.request.urlopen(request, timeout=10) as answer:
@@ -103,16 +105,19 @@ def _raw(url: str, method: str = "GET", data: bytes | None = None,
             return error.code, json.loads(error.read())
 
 
+JSON = {"Content-Type": "application/json"}
+
+
 def test_malformed_requests_are_4xx_and_the_doors_go_on(hosted: Hosted) -> None:
     url = hosted.url
-    assert _raw(url + "/api/boards/1/world", "POST", b"{not json")[0] == 400
-    assert _raw(url + "/api/boards/1/world", "POST", b"[1, 2]")[1]["error"] == \
+    assert _raw(url + "/api/boards/1/world", "POST", b"{not json", JSON)[0] == 400
+    assert _raw(url + "/api/boards/1/world", "POST", b"[1, 2]", JSON)[1]["error"] == \
         "the body must be a JSON object"
     assert _raw(url + "/api/boards/9")[0] == 404
     assert _raw(url + "/api/boards/x/world")[0] == 404
     assert _raw(url + "/api/nothing")[0] == 404
-    assert _raw(url + "/api/boards/1/world", "PUT", b"{}")[0] == 405
-    assert _raw(url + "/api/boards/1/world", "POST", b"x" * 100_000)[0] == 413
+    assert _raw(url + "/api/boards/1/world", "PUT", b"{}", JSON)[0] == 405
+    assert _raw(url + "/api/boards/1/world", "POST", b"x" * 100_000, JSON)[0] == 413
     assert _raw(url + "/static/../control.py")[0] == 404
     assert _raw(url + "/api/boards/1/axes/Q")[0] == 404
     host = hosted.boards.connect(1)  # the host's door is untouched

@@ -15,14 +15,19 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import ipaddress
 import json
 import logging
 import secrets
+import socket
+from collections import Counter
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from typing import Any
 
 from aiohttp import web
+from aiohttp.web_protocol import RequestHandler
+from yarl import URL
 
 from maxk.controllers.panel import panel_extras
 from maxk.controllers.world_settings import parse_world
@@ -43,9 +48,21 @@ log = logging.getLogger("maxk.door.control")
 MAX_BODY = 64 * 1024  # bytes of one request
 STREAM_HZ = 15.0  # panel updates a second (server-sent events)
 STREAMS = 16  # panels open at once
+CONNECTIONS = 64  # connections open at once to the door; more are refused (503) (D)
+HEADER_SECONDS = 5.0  # a request's headers must arrive within this (slowloris) (D)
+BODY_SECONDS = 5.0  # and its body within this (D)
+KEEPALIVE_SECONDS = 10.0  # an idle kept-alive connection is closed after this (D)
+WRITE_SECONDS = 5.0  # a stream (events, CSV) whose reader takes none of it this long goes (D)
+STREAM_SNDBUF = 64 * 1024  # kernel send buffer of a stream's socket: a reader that stops
+# reading is seen within seconds, not after megabytes (D)
+CSV_CHUNK = 64 * 1024  # characters of trace CSV written at a time
+SIMPLE_ACTING = frozenset({"POST", "PUT", "PATCH"})  # (DELETE is never a browser's "simple"
+# request: a page must ask first, and the door grants no other origin; with a body it too
+# must say JSON)
 TRAFFIC_SHOWN = 8  # entries per host in a panel update
 MAX_STEP_SECONDS = 3600.0  # one clock step at most
 MAX_SPEED = 1000.0
+MIN_SPEED = 1e-3  # slower is no clock a person or a test would wait for (D)
 OUTPUTS = 32  # digital outputs looked at for the panel (those a controller has)
 
 
@@ -53,12 +70,23 @@ class ControlDoor:
     """The HTTP door for every served controller."""
 
     def __init__(self, services: list[Service], token: str | None = None,
-                 stream_hz: float = STREAM_HZ) -> None:
+                 stream_hz: float = STREAM_HZ, *, connections: int = CONNECTIONS,
+                 header_seconds: float = HEADER_SECONDS,
+                 write_seconds: float = WRITE_SECONDS) -> None:
         self.services = services
         self.boards = {s.number: Board(s) for s in services}
         self.token = token
         self.stream_hz = stream_hz
+        self.connections = connections
+        self.header_seconds = header_seconds
+        self.write_seconds = write_seconds
         self.errors = ErrorLog()
+        self.hosts: frozenset[str] = LOOPBACK_NAMES
+        self.any_address = False  # listening on every address: any IP literal names it
+        self.open_connections = 0
+        self.refused = 0  # connections refused over the cap (for tests and the log)
+        self.refusals: Counter[int] = Counter()  # requests refused by `_guard`, by status
+        self._server: asyncio.Server | None = None
         self._streams = 0
         self._panel_cache: tuple[float, bytes] | None = None
         self._panel_building: asyncio.Task[bytes] | None = None
@@ -68,26 +96,53 @@ class ControlDoor:
 
     # ---- life ----------------------------------------------------------------------
     async def start(self, host: str, port: int) -> tuple[str, int]:
-        """Listen; a token is made when the address is not loopback (unless given)."""
+        """Listen; a token is made when the address is not loopback (unless given). The
+        listener is aiohttp's own request handler behind a factory that caps the
+        connections (one over the cap gets a 503 and is closed: never an EMFILE) and
+        times the headers (`GuardedHandler`)."""
         if self.token is None and not is_loopback(host):
             self.token = secrets.token_urlsafe(16)
+        self.hosts = door_names(host)
+        self.any_address = host in ("", "0.0.0.0", "::")
         logging.getLogger("maxk").addHandler(self.errors)
         self._runner = web.AppRunner(self.app, access_log=None, handle_signals=False,
-                                    shutdown_timeout=0.5)
+                                    shutdown_timeout=0.2)
         await self._runner.setup()
-        site = web.TCPSite(self._runner, host, port)
-        await site.start()
-        server = site._server
-        sockets = getattr(server, "sockets", None) or []
+        loop = asyncio.get_running_loop()
+        self._server = await loop.create_server(self._connection, host or None, port,
+                                                backlog=16, reuse_address=True)
+        sockets = list(self._server.sockets)
         address = sockets[0].getsockname()[:2] if sockets else (host, port)
         return str(address[0]), int(address[1])
+
+    def _connection(self) -> asyncio.Protocol:
+        """A connection accepted: served, or refused over the cap."""
+        if self.open_connections >= self.connections:
+            self.refused += 1
+            if self.refused in (1, 10, 100) or self.refused % 1000 == 0:
+                log.warning("control door: more than %d connections at once; %d refused",
+                            self.connections, self.refused)
+            return _Refused()
+        assert self._runner is not None and self._runner.server is not None
+        self.open_connections += 1
+        return GuardedHandler(self, self._runner.server, loop=asyncio.get_running_loop(),
+                              keepalive_timeout=KEEPALIVE_SECONDS, access_log=None,
+                              max_line_size=8190, max_field_size=8190, max_headers=64)
 
     async def close(self) -> None:
         self._closing.set()
         logging.getLogger("maxk").removeHandler(self.errors)
         for board in self.boards.values():
             board.stop_trace()
+            board.clock_word += 1  # a step under way ends at its next slice
+        if self._server is not None:
+            self._server.close()
+            self._server = None
         if self._runner is not None:
+            server = self._runner.server
+            if server is not None:  # every connection (streams too) ends now
+                for handler in list(server.connections):
+                    _abort(handler)
             await self._runner.cleanup()
             self._runner = None
 
@@ -119,13 +174,18 @@ class ControlDoor:
     async def _guard(self, request: web.Request,
                      handler: Callable[[web.Request], Awaitable[web.StreamResponse]]
                      ) -> web.StreamResponse:
-        """The token (when one is set), and every fault as a reasoned 4xx/500 JSON body."""
-        if self.token is not None:
-            given = request.query.get("token") or request.headers.get(
-                "Authorization", "").removeprefix("Bearer ").strip()
-            if not secrets.compare_digest(given.encode(), self.token.encode()):
-                return _error(401, "this control door needs its token (printed at start-up): "
-                              "?token=... or Authorization: Bearer ...")
+        """Who may ask, then every fault as a reasoned 4xx/500 JSON body. In order: the
+        Host must name this door (a DNS-rebinding page names its own), the token when one
+        is set (every route), a browser's request from another origin is refused (its
+        Origin, or Sec-Fetch-Site), and a request that acts must say its body is JSON (a
+        form or text/plain POST is what a page may send anywhere without asking)."""
+        protocol = request.protocol
+        if isinstance(protocol, GuardedHandler):
+            protocol.request_started()
+        refusal = self._refusal(request)
+        if refusal is not None:
+            self.refusals[refusal.status] += 1
+            return refusal
         try:
             return await handler(request)
         except web.HTTPException as error:
@@ -134,6 +194,10 @@ class ControlDoor:
             return _error(error.status, error.reason or "bad request")
         except BadRequest as error:
             return _error(error.status, str(error))
+        except RecursionError:
+            return _error(400, "the body is nested too deeply")
+        except OverflowError as error:
+            return _error(400, f"a number out of range: {error}")
         except KeyError as error:
             return _error(404, reason_of(error))
         except (ValueError, TypeError) as error:
@@ -144,6 +208,49 @@ class ControlDoor:
             log.error("control door: %s %s: %s: %s", request.method, request.path,
                       type(error).__name__, error)
             return _error(500, f"{type(error).__name__}: {error}")
+
+    def _refusal(self, request: web.Request) -> web.Response | None:
+        host = request.headers.get("Host", "")
+        if not self._names_door(host):
+            return _error(421, f"this is a control door; the Host {host!r} does not name it "
+                          "(loopback names or the --host it listens on)")
+        if self.token is not None:
+            given = request.query.get("token") or request.headers.get(
+                "Authorization", "").removeprefix("Bearer ").strip()
+            if not secrets.compare_digest(given.encode(), self.token.encode()):
+                return _error(401, "this control door needs its token (printed at start-up): "
+                              "?token=... or Authorization: Bearer ...")
+        origin = request.headers.get("Origin")
+        if origin is not None and not _same_origin(origin, host):
+            return _error(403, f"a request from the page {origin!r} (another origin) is "
+                          "refused: the control door answers its own panel and programs")
+        site = request.headers.get("Sec-Fetch-Site", "same-origin")
+        navigating = request.headers.get("Sec-Fetch-Mode") == "navigate"
+        if site not in ("same-origin", "none") and not (navigating and request.method == "GET"):
+            return _error(403, f"a request from another site (Sec-Fetch-Site: {site}) is "
+                          "refused")
+        acting = request.method in SIMPLE_ACTING or (
+            request.method == "DELETE" and request.can_read_body)
+        if acting and request.content_type != "application/json":
+            return _error(415, "a request that acts needs Content-Type: application/json "
+                          f"(not {request.content_type!r})")
+        return None
+
+    def _names_door(self, host: str) -> bool:
+        try:
+            name = URL(f"http://{host}").raw_host
+        except ValueError:
+            return False
+        if not name:
+            return False
+        name = name.lower().rstrip(".")
+        if name in self.hosts:
+            return True
+        if self.any_address:
+            with contextlib.suppress(ValueError):
+                ipaddress.ip_address(name.strip("[]"))
+                return True  # an address literal is no DNS name a page could rebind
+        return False
 
     # ---- helpers -------------------------------------------------------------------
     def _board(self, request: web.Request) -> Board:
@@ -162,9 +269,15 @@ class ControlDoor:
         if not request.can_read_body:
             return {}
         try:
-            body = await request.json()
+            raw = await asyncio.wait_for(request.read(), BODY_SECONDS)
+        except TimeoutError:
+            raise BadRequest(f"the body did not arrive within {BODY_SECONDS:g} s", 408) from None
+        try:
+            body = json.loads(raw.decode("utf-8"), parse_constant=_no_constant)
         except (json.JSONDecodeError, UnicodeDecodeError):
             raise BadRequest("the body must be JSON (an object)") from None
+        except RecursionError:
+            raise BadRequest("the body is nested too deeply") from None
         if not isinstance(body, dict):
             raise BadRequest("the body must be a JSON object")
         return body
@@ -297,19 +410,31 @@ class ControlDoor:
         try:
             response = web.StreamResponse(headers={"Content-Type": "text/event-stream",
                                                    "Cache-Control": "no-cache"})
+            _small_send_buffer(request)
             await response.prepare(request)
             period = 1.0 / self.stream_hz
             while not self._closing.is_set():
                 data = await self.panel_json()
-                try:
-                    await response.write(b"data: " + data + b"\n\n")
-                except (ConnectionError, RuntimeError):
+                if not await self._write(request, response, b"data: " + data + b"\n\n"):
                     break
                 with contextlib.suppress(asyncio.TimeoutError):
                     await asyncio.wait_for(self._closing.wait(), period)
             return response
         finally:
             self._streams -= 1
+
+    async def _write(self, request: web.Request, response: web.StreamResponse,
+                     data: bytes) -> bool:
+        """Write to a stream; a reader that took none of it for `write_seconds` (or went
+        away) is let go: its connection is closed and False said."""
+        try:
+            await asyncio.wait_for(response.write(data), self.write_seconds)
+            return True
+        except (ConnectionError, RuntimeError):
+            return False
+        except TimeoutError:
+            _abort(request.protocol)
+            return False
 
     # ---- act -----------------------------------------------------------------------
     async def set_world(self, request: web.Request) -> web.Response:
@@ -364,9 +489,11 @@ class ControlDoor:
         `{"ticks": n}` (stepping pauses first), on every board or `"board": N`."""
         body = await self._body(request)
         if "board" in body:
-            board = self.boards.get(body["board"]) if isinstance(body["board"], int) else None
+            number = body["board"]
+            board = (self.boards.get(number) if isinstance(number, int)
+                     and not isinstance(number, bool) else None)
             if board is None:
-                raise BadRequest(f"no board {body['board']!r}", 404)
+                raise BadRequest(f"no board {number!r} (boards {sorted(self.boards)})", 404)
             boards = [board]
         else:
             boards = list(self.boards.values())
@@ -374,23 +501,29 @@ class ControlDoor:
         if len(actions) != 1:
             raise BadRequest("say one of pause, run, speed, step (seconds) or ticks")
         action = actions[0]
+        if action in ("pause", "run") and body[action] is not True:
+            raise BadRequest(f"{action}: true")
         if action == "speed":
             speed = number_of(body["speed"], "speed")
-            if not 0 < speed <= MAX_SPEED:
-                raise BadRequest(f"speed: above 0, at most {MAX_SPEED:g}")
+            if not MIN_SPEED <= speed <= MAX_SPEED:
+                raise BadRequest(f"speed: from {MIN_SPEED:g} to {MAX_SPEED:g} times real time")
         if action in ("step", "ticks"):
             amount = number_of(body[action], action)
             limit = MAX_STEP_SECONDS
             if amount < 0:
                 raise BadRequest(f"{action}: >= 0")
+            if action == "ticks" and amount != int(amount):
+                raise BadRequest("ticks: a whole number")
             for board in boards:
                 engine = board.controller.engine
                 seconds = amount if action == "step" else amount * engine.period
                 if seconds > limit:
                     raise BadRequest(f"one step is at most {limit:g} virtual seconds")
+        steps = []
         for board in boards:
             pacer = board.service.pacer
             board.service.sync()
+            board.clock_word += 1  # the latest word on a board's clock wins over a step
             if action == "pause" and pacer.speed != 0:
                 board.paused_speed = pacer.speed
                 pacer.set_speed(0.0)
@@ -408,8 +541,11 @@ class ControlDoor:
                 engine = board.controller.engine
                 ticks = (board.controller_ticks(amount) if action == "step" and amount
                          else int(amount) if action == "ticks" else 0)
-                await step_to(board, engine.tick + ticks)
-                pacer.set_speed(0.0)  # the paused clock stands where the step ended
+                steps.append((board, board.clock_word, engine.tick + ticks))
+        for board, word, target in steps:
+            await step_to(board, target)
+            if board.clock_word == word:
+                board.service.pacer.set_speed(0.0)  # the paused clock stands where it ended
         return web.json_response(self._clock_state())
 
     async def trace_state(self, request: web.Request) -> web.Response:
@@ -431,15 +567,42 @@ class ControlDoor:
         board.stop_trace()
         return web.json_response(board.trace_state())
 
-    async def trace_csv(self, request: web.Request) -> web.Response:
+    async def trace_csv(self, request: web.Request) -> web.StreamResponse:
+        """The trace's CSV as it stands now, written CSV_CHUNK characters at a time: a
+        reader holds one chunk of the server's memory (never a copy of the trace), and
+        one that takes none for `write_seconds` is let go."""
         board = self._board(request)
-        if board.trace_text is None:
+        text = board.trace_text
+        if text is None:
             raise BadRequest("no trace: start one with POST .../trace", 404)
-        return web.Response(text=board.trace_text.getvalue(), content_type="text/csv")
+        end = text.tell()
+        response = web.StreamResponse(headers={"Content-Type": "text/csv; charset=utf-8"})
+        _small_send_buffer(request)
+        await response.prepare(request)
+        offset = 0
+        while offset < end and not self._closing.is_set():
+            chunk = text.read_at(offset, min(CSV_CHUNK, end - offset))
+            if not chunk:
+                break
+            offset += len(chunk)
+            if not await self._write(request, response, chunk.encode("utf-8")):
+                return response
+        await response.write_eof()
+        return response
 
     # ---- the page ------------------------------------------------------------------
     async def page(self, request: web.Request) -> web.Response:
-        return _asset("index.html")
+        """The panel's page; off loopback its script and style are linked with the token
+        it was opened with (the script carries it on its own requests and stream)."""
+        if self.token is None:
+            return _asset("index.html")
+        text = _asset_text("index.html")
+        mark = "?token=" + self.token  # token_urlsafe: nothing to quote in it
+        text = text.replace('"static/panel.css"', f'"static/panel.css{mark}"').replace(
+            '"static/panel.js"', f'"static/panel.js{mark}"')
+        return web.Response(text=text, content_type="text/html",
+                            headers={"Cache-Control": "no-store",
+                                     "Referrer-Policy": "no-referrer"})
 
     async def static(self, request: web.Request) -> web.Response:
         return _asset(request.match_info["name"])
@@ -448,13 +611,154 @@ class ControlDoor:
 ASSETS = {"index.html": "text/html", "panel.js": "text/javascript", "panel.css": "text/css"}
 
 
-def _asset(name: str) -> web.Response:
-    """The panel's files, shipped in the package (no build step, nothing from the net)."""
+def _asset_text(name: str) -> str:
     if name not in ASSETS:
         raise BadRequest(f"no file {name!r}", 404)
-    text = resources.files("maxk.host").joinpath("panel", name).read_text(encoding="utf-8")
-    return web.Response(text=text, content_type=ASSETS[name],
-                        headers={"Cache-Control": "no-cache"})
+    return resources.files("maxk.host").joinpath("panel", name).read_text(encoding="utf-8")
+
+
+def _asset(name: str) -> web.Response:
+    """The panel's files, shipped in the package (no build step, nothing from the net)."""
+    return web.Response(text=_asset_text(name), content_type=ASSETS[name],
+                        headers={"Cache-Control": "no-cache", "Referrer-Policy": "no-referrer"})
+
+
+LOOPBACK_NAMES = frozenset({"localhost", "127.0.0.1", "::1", "[::1]"})
+
+
+def door_names(host: str) -> frozenset[str]:
+    """The names a request's Host may give for a door listening on `host`: the loopback
+    names, and the address or name it was told to listen on (with this machine's own
+    names when that is every address)."""
+    names = set(LOOPBACK_NAMES)
+    if host and host not in ("0.0.0.0", "::"):
+        names.add(host.lower())
+        if ":" in host:
+            names.add(f"[{host.lower()}]")
+    else:
+        with contextlib.suppress(OSError):
+            names.update({socket.gethostname().lower(), socket.getfqdn().lower()})
+    return frozenset(names)
+
+
+def _same_origin(origin: str, host: str) -> bool:
+    """A browser's Origin is the door's own when it is http:// and the Host it asked."""
+    return origin.lower() == f"http://{host.lower()}"
+
+
+def _no_constant(name: str) -> Any:
+    raise BadRequest(f"{name}: JSON has no such number; a finite number only")
+
+
+def _small_send_buffer(request: web.Request) -> None:
+    transport = request.transport
+    sock = transport.get_extra_info("socket") if transport is not None else None
+    if sock is not None:
+        with contextlib.suppress(OSError):
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, STREAM_SNDBUF)
+
+
+def _abort(handler: RequestHandler) -> None:
+    """End a connection now, unsent output dropped (aiohttp's force_close alone waits
+    for a reader that never reads to take it)."""
+    transport = handler.transport
+    if transport is not None:
+        transport.abort()
+    handler.force_close()
+
+
+class _Refused(asyncio.Protocol):
+    """A connection over the door's cap: a 503, its request read and dropped, and closed
+    after a moment (a close with its request unread would reset the connection before
+    the client read why). More than REFUSING at once are closed at once: a flood never
+    takes the server to EMFILE."""
+
+    BODY = b'{"error": "too many connections to the control door", "status": 503}'
+    REFUSING = 32
+    LINGER = 0.2  # seconds a refused connection is given to read its 503
+    refusing = 0
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        if _Refused.refusing >= self.REFUSING:
+            transport.abort()
+            return
+        _Refused.refusing += 1
+        self._counted = True
+        with contextlib.suppress(Exception):
+            transport.write(b"HTTP/1.1 503 Service Unavailable\r\nConnection: close\r\n"
+                            b"Content-Type: application/json\r\n"
+                            b"Content-Length: %d\r\n\r\n%s" % (len(self.BODY), self.BODY))
+            transport.write_eof()
+        asyncio.get_running_loop().call_later(self.LINGER, transport.abort)
+
+    def data_received(self, data: bytes) -> None:
+        """(Dropped: a refused request is not read.)"""
+
+    def eof_received(self) -> bool:
+        return False  # the client is done too: close
+
+    def connection_lost(self, exc: BaseException | None) -> None:
+        if getattr(self, "_counted", False):
+            self._counted = False
+            _Refused.refusing -= 1
+
+
+class GuardedHandler(RequestHandler):
+    """aiohttp's own request handler, counted against the door's cap, with a deadline on
+    a request's headers: from the connection's start (or from its first byte after a
+    finished request) to the request reaching the door, `header_seconds`; a connection
+    that sends its headers slower (slowloris) is closed."""
+
+    def __init__(self, door: ControlDoor, manager: web.Server, **kwargs: Any) -> None:
+        super().__init__(manager, **kwargs)
+        self._door = door
+        self._header_since: float | None = None
+        self._header_timer: asyncio.TimerHandle | None = None
+        self._counted = True
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        super().connection_made(transport)
+        self._headers_from_now()
+
+    def connection_lost(self, exc: BaseException | None) -> None:
+        if self._counted:
+            self._counted = False
+            self._door.open_connections -= 1
+        if self._header_timer is not None:
+            self._header_timer.cancel()
+            self._header_timer = None
+        super().connection_lost(exc)
+
+    def data_received(self, data: bytes) -> None:
+        if self._header_since is None and self._current_request is None and data:
+            self._headers_from_now()
+        super().data_received(data)
+
+    def request_started(self) -> None:
+        """The request's headers are in (the door's middleware says so)."""
+        self._header_since = None
+        if self._header_timer is not None:
+            self._header_timer.cancel()
+            self._header_timer = None
+
+    def _headers_from_now(self) -> None:
+        loop = asyncio.get_running_loop()
+        self._header_since = loop.time()
+        if self._header_timer is None:
+            self._header_timer = loop.call_later(self._door.header_seconds, self._deadline)
+
+    def _deadline(self) -> None:
+        self._header_timer = None
+        since = self._header_since
+        if since is None or self._current_request is not None:
+            return
+        left = since + self._door.header_seconds - asyncio.get_running_loop().time()
+        if left > 0:
+            self._header_timer = asyncio.get_running_loop().call_later(left, self._deadline)
+            return
+        _abort(self)
 
 
 def _outputs(view: Any) -> dict[str, bool]:

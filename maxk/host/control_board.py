@@ -25,6 +25,7 @@ TRACE_LIMIT = 4 * 1024 * 1024  # characters of CSV one trace keeps (then it stop
 TRIGGERS = 64  # armed triggers per controller
 ERRORS = 200  # error log entries kept
 STEP_SLICE_SECONDS = 0.05  # virtual time advanced between two looks at the other doors
+HORIZON_SECONDS = 1e7  # a trigger is armed at most this far ahead (about 116 days) (D)
 
 class BadRequest(Exception):
     """A 4xx with a reason (status 400 unless told)."""
@@ -54,12 +55,24 @@ class BoundedText(io.StringIO):
         super().__init__()
         self.limit = limit
         self.full = False
+        self.lines = 0
 
     def write(self, text: str) -> int:
         if self.full or self.tell() + len(text) > self.limit:
             self.full = True
             return 0
+        self.lines += text.count("\n")
         return super().write(text)
+
+    def read_at(self, offset: int, size: int) -> str:
+        """Up to `size` characters from `offset`, the write position kept (a reader of
+        the CSV takes it a chunk at a time while the trace may still be writing)."""
+        end = self.tell()
+        try:
+            self.seek(offset)
+            return self.read(max(0, min(size, end - offset)))
+        finally:
+            self.seek(end)
 
 
 @dataclass
@@ -93,6 +106,7 @@ class Board:
         self.trace_every: int | None = None
         self._ids = count(1)
         self.paused_speed: float | None = None  # the speed to go back to after a pause
+        self.clock_word = 0  # counts the clock requests: a step ends when a later one came
 
     @property
     def controller(self) -> Any:
@@ -141,6 +155,9 @@ class Board:
                                  "{\"axis\": NAME, \"passes\": position}")
             if tick <= engine.tick:
                 raise BadRequest(f"tick {tick} is not in the future (now {engine.tick})")
+            if (tick - engine.tick) * engine.period > HORIZON_SECONDS:
+                raise BadRequest(f"a trigger is armed at most {HORIZON_SECONDS:g} virtual "
+                                 "seconds ahead")
 
             def due(_engine: Any) -> None:
                 self._fire(trigger)
@@ -155,6 +172,8 @@ class Board:
         engine = self.controller.engine
         if seconds < 0:
             raise BadRequest("after: seconds >= 0")
+        if seconds > HORIZON_SECONDS:
+            raise BadRequest(f"at most {HORIZON_SECONDS:g} virtual seconds ahead")
         return max(1, round(seconds / engine.period))
 
     def _fire(self, trigger: Trigger) -> None:
@@ -203,7 +222,7 @@ class Board:
     def trace_state(self) -> dict[str, Any]:
         text = self.trace_text
         return {"running": self.trace is not None,
-                "rows": 0 if text is None else text.getvalue().count("\n") - 1,
+                "rows": 0 if text is None else max(0, text.lines - 1),
                 "chars": 0 if text is None else text.tell(),
                 "full": bool(text is not None and text.full),
                 "limit": TRACE_LIMIT if text is None else text.limit,
@@ -215,7 +234,8 @@ async def step_to(board: Board, target: int) -> None:
     long step with a tick-by-tick trace or trigger must not stall the hosts)."""
     engine = board.controller.engine
     piece = max(1, round(STEP_SLICE_SECONDS / engine.period))
-    while engine.tick < target:
+    word = board.clock_word
+    while engine.tick < target and board.clock_word == word:
         try:
             engine.advance(min(piece, target - engine.tick))
         except Exception as error:  # the controller's fault, told as the pacer tells it

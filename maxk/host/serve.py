@@ -23,7 +23,7 @@ from maxk.controllers.registry import (
     line_option_choices,
 )
 from maxk.host.pacing import Pacer
-from maxk.host.server import Server, Service
+from maxk.host.server import HOSTS_PER_DOOR, Server, Service
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -152,6 +152,31 @@ async def _open(opener: Any, service: Service, args: argparse.Namespace,
     return await opener(service, args.host, 0)
 
 
+RESERVED_FILES = 128
+"""Descriptors kept out of the doors' connection caps: the listeners, ptys, the map,
+logs, and a burst of connections accepted before they are refused (D)."""
+
+
+def connection_caps(doors: int, door_cap: int) -> int:
+    """Each door's cap on connections so that all of them together stay inside the
+    process's descriptors (raised to the hard limit first): a flood on one door then
+    meets that door's cap, never EMFILE, and the other doors' hosts still connect."""
+    try:
+        import resource
+
+        soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+        if hard == resource.RLIM_INFINITY or hard > soft:
+            wanted = 65536 if hard == resource.RLIM_INFINITY else hard
+            with contextlib.suppress(ValueError, OSError):
+                resource.setrlimit(resource.RLIMIT_NOFILE, (min(wanted, 65536), hard))
+        soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    except ImportError:  # (no resource module: not Unix)
+        return door_cap
+    if soft == resource.RLIM_INFINITY:
+        return door_cap
+    return max(4, min(door_cap, (soft - RESERVED_FILES) // max(1, doors)))
+
+
 def _numbered(path: str, number: int, count: int) -> str:
     return path if count == 1 or number == 1 else f"{path}{number}"
 
@@ -196,7 +221,10 @@ async def serve(args: argparse.Namespace) -> int:
             print(f"maxk serve: {error}", file=sys.stderr)
             return 2
         services.append(Service(number, controller, Pacer(controller, args.speed)))
-    server = Server(services)
+    control_wanted = bool(args.control or args.control_port)
+    doors = sum(1 for s in services if "tcp" in s.controller.transports) * (not args.no_tcp)
+    cap = connection_caps(doors + control_wanted, HOSTS_PER_DOOR)
+    server = Server(services, hosts_per_door=cap)
     memories = []
     try:
         for service in services:
@@ -238,9 +266,10 @@ async def serve(args: argparse.Namespace) -> int:
         return 1
     control = None
     if args.control or args.control_port:
+        from maxk.host.control import CONNECTIONS as CONTROL_CONNECTIONS
         from maxk.host.control import ControlDoor
 
-        control = ControlDoor(services)
+        control = ControlDoor(services, connections=min(cap, CONTROL_CONNECTIONS))
         try:
             host, bound = await control.start(args.host, args.control_port)
         except OSError as error:

@@ -40,10 +40,42 @@ from maxk.host.traffic import Traffic
 log = logging.getLogger("maxk.door.serve")
 
 
+HOSTS_PER_DOOR = 64  # hosts connected at once to one TCP door; more are hung up on (D)
+
+
+class _Listener:
+    """One TCP door's count of its connected hosts, against its cap."""
+
+    def __init__(self, service: Service, cap: int) -> None:
+        self.service = service
+        self.cap = cap
+        self.open = 0
+        self.refused = 0
+
+    def __call__(self) -> asyncio.Protocol:
+        if self.open >= self.cap:
+            self.refused += 1
+            if self.refused in (1, 10, 100) or self.refused % 1000 == 0:
+                log.warning("board %d: more than %d hosts at once on one door; %d refused",
+                            self.service.number, self.cap, self.refused)
+            return _HungUp()
+        self.open += 1
+        return TcpClient(self.service, self)
+
+
+class _HungUp(asyncio.Protocol):
+    """A connection over a door's cap: closed at once, its descriptor freed (a flood of
+    connections never takes the server to EMFILE, nor a door's hosts from it)."""
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        transport.close()
+
+
 class TcpClient(asyncio.Protocol, Client):
-    def __init__(self, service: Service) -> None:
+    def __init__(self, service: Service, listener: _Listener | None = None) -> None:
         self.service = service
         self.transport: asyncio.Transport | None = None
+        self._listener = listener
         self._client_init()
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
@@ -57,6 +89,9 @@ class TcpClient(asyncio.Protocol, Client):
 
     def connection_lost(self, exc: Exception | None) -> None:
         self.transport = None
+        if self._listener is not None:
+            self._listener.open -= 1
+            self._listener = None
         self._hang_up()
 
     def data_received(self, data: bytes) -> None:
@@ -306,9 +341,12 @@ PACE_BUDGET = 0.003  # seconds of one controller's engine work per pacing turn (
 class Server:
     """Every controller, its doors and the pacer, on one event loop."""
 
-    def __init__(self, services: list[Service], pace_interval: float = 0.001) -> None:
+    def __init__(self, services: list[Service], pace_interval: float = 0.001,
+                 hosts_per_door: int = HOSTS_PER_DOOR) -> None:
         self.services = services
         self.pace_interval = pace_interval
+        self.hosts_per_door = hosts_per_door
+        self.listeners: list[_Listener] = []
         self._servers: list[asyncio.base_events.Server] = []
         self._udp: list[UdpDoor] = []
         self._ptys: list[PtyClient] = []
@@ -317,7 +355,9 @@ class Server:
 
     async def open_tcp(self, service: Service, host: str, port: int) -> tuple[str, int]:
         loop = asyncio.get_running_loop()
-        server = await loop.create_server(lambda: TcpClient(service), host, port)
+        listener = _Listener(service, self.hosts_per_door)
+        server = await loop.create_server(listener, host, port, backlog=32)
+        self.listeners.append(listener)
         self._servers.append(server)
         address = server.sockets[0].getsockname()[:2]
         service.ports.append(address)
