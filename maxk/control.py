@@ -153,3 +153,19 @@ class Client:
 
     def trace_csv(self, board: int) -> str:
         return self.request("GET", f"{self._board(board)}/trace.csv")  # type: ignore
+
+    # ---- the console ---------------------------------------------------------------
+    def console(self, board: int, line: str) -> dict[str, Any]:
+        """Type a line in the board's console: `{lines, errors, prompt, status, tick}`."""
+        return self.request("POST", f"{self._board(board)}/console",  # type: ignore
+                            {"line": line})
+
+    def console_words(self, board: int, prefix: str) -> list[dict[str, str]]:
+        """What Tab completes for `prefix`: `[{word, summary}]`."""
+        answer = self.request("GET", f"{self._board(board)}/console/words?prefix="
+                              + urllib.parse.quote(prefix))
+        return answer["words"]  # type: ignore[no-any-return]
+
+    def console_script(self, board: int) -> str:
+        """The console's session as a regression script."""
+        return self.request("GET", f"{self._board(board)}/console/script")  # type: ignore

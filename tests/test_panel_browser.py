@@ -163,3 +163,93 @@ def test_an_input_click_sets_the_world_input(maxk_served, browser) -> None:
     assert served.client.board(1)["inputs"]["3"] is True
     with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
         assert int(_max(host, "BX\n"), 16) & 0x8  # the host reads input 3 high
+
+
+def _type(browser: object, board: int, line: str) -> None:
+    """A line typed in the board's console and Enter; waits for its answer."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+
+    box = browser.find_element(By.ID, f"console-{board}")  # type: ignore[attr-defined]
+    before = int(box.get_attribute("data-lines") or 0)
+    field = browser.find_element(By.ID, f"console-in-{board}")  # type: ignore[attr-defined]
+    field.send_keys(line, Keys.ENTER)
+    _until(browser, lambda d: int(box.get_attribute("data-lines") or 0) > before,
+           f"no answer to {line!r}")
+
+
+def _console_lines(browser: object, board: int) -> list[tuple[str, str]]:
+    from selenium.webdriver.common.by import By
+
+    out = browser.find_element(By.ID, f"console-out-{board}")  # type: ignore[attr-defined]
+    return [(e.get_attribute("class"), e.text) for e in out.find_elements(By.TAG_NAME, "div")]
+
+
+def test_the_console_types_the_controllers_language(maxk_served, browser) -> None:
+    """A MAXk board's console: the move typed runs (X reaches 1000 on the page), AX RP
+    answers 1000, Tab completes VL with its summary, a refused command is marked; the
+    same console on an MM4005 and an MC405 in their own languages."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+
+    served = maxk_served("MAXk-8000", "MM4005", "MC405")
+    browser.get(served.url + "/")
+    _until(browser, lambda d: d.find_element(By.ID, "console-in-1"), "no console")
+    _type(browser, 1, "AX; VL5000; AC50000; MR1000; GO;")
+    cell = browser.find_element(By.CSS_SELECTOR, "#axis-1-X .position")
+    _until(browser, lambda d: cell.text == "1000", "X never reached 1000 on the page")
+    _type(browser, 1, "AX RP")
+    assert _console_lines(browser, 1)[-1] == ("console-reply", "1000")
+    field = browser.find_element(By.ID, "console-in-1")
+    field.send_keys("AX; V")
+    field.send_keys(Keys.TAB)
+    hint = browser.find_element(By.ID, "console-hint-1")
+    _until(browser, lambda d: "VL" in hint.text, "Tab offered no VL")
+    summary = served.client.console_words(1, "VL")[0]["summary"]
+    assert f"VL  {summary}" in hint.text.splitlines()
+    field.send_keys("L")
+    field.send_keys(Keys.TAB)
+    _until(browser, lambda d: field.get_attribute("value") == "AX; VL", "VL not completed")
+    field.clear()
+    _type(browser, 1, "MR")
+    assert _console_lines(browser, 1)[-1] == (
+        "console-err", "! command error: 'MR': MR needs an operand")
+    field.send_keys(Keys.ARROW_UP)  # the history
+    assert field.get_attribute("value") == "MR"
+    field.clear()
+    _type(browser, 2, "1PA5")
+    _until(browser, lambda d: d.find_element(By.CSS_SELECTOR, "#axis-2-1 .position").text
+           not in ("", "0", "0.0000"), "the MM4005's axis never moved on the page")
+    _type(browser, 2, "1PA99999999")
+    assert _console_lines(browser, 2)[-1] == ("console-err", "! C Parameter out of limits")
+    _type(browser, 3, "?1+1")
+    assert _console_lines(browser, 3)[-1] == ("console-reply", "2")
+    _type(browser, 3, "MOVEE(10)")
+    assert _console_lines(browser, 3)[-1] == ("console-err", "! Variable not defined")
+    traffic = [h for h in served.client.traffic(1) if h["transport"] == "console"]
+    assert traffic and traffic[0]["entries"][0]["text"] == "AX; VL5000; AC50000; MR1000; GO;\r"
+
+
+def test_the_console_works_off_loopback_with_the_token(browser) -> None:
+    """Off loopback every request needs the token: the console's lines, its completions
+    and its saved script carry the one the page was opened with."""
+    import urllib.request
+
+    from selenium.webdriver.common.by import By
+
+    from tests.test_control_browser_security import Door, _outside_address
+
+    outside = _outside_address()
+    d = Door(("MAXk-8000",), host=outside or "0.0.0.0")
+    try:
+        base = f"http://{outside or '127.0.0.1'}:{d.port}"
+        browser.get(f"{base}/?token={d.door.token}")
+        _until(browser, lambda b: b.find_elements(By.ID, "console-in-1"), "no console")
+        _type(browser, 1, "AX RP")
+        assert _console_lines(browser, 1)[-1] == ("console-reply", "0")
+        link = browser.find_element(By.ID, "console-save-1").get_attribute("href")
+        assert f"token={d.door.token}" in link
+        with urllib.request.urlopen(link, timeout=10) as answer:
+            assert answer.read().decode().endswith("AX RP\n< 0\n")
+    finally:
+        d.close()

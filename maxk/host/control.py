@@ -42,6 +42,7 @@ from maxk.host.control_board import (
     step_to,
     world_words,
 )
+from maxk.host.control_console import PanelConsole
 
 log = logging.getLogger("maxk.door.control")
 
@@ -92,6 +93,7 @@ class ControlDoor:
         self._panel_building: asyncio.Task[bytes] | None = None
         self._closing = asyncio.Event()
         self._runner: web.AppRunner | None = None
+        self.consoles: dict[int, PanelConsole] = {}  # a board's, from its first line
         self.app = self._make_app()
 
     # ---- life ----------------------------------------------------------------------
@@ -167,6 +169,9 @@ class ControlDoor:
             post("/api/boards/{n}/trace", self.start_trace),
             delete("/api/boards/{n}/trace", self.stop_trace),
             get("/api/boards/{n}/trace.csv", self.trace_csv),
+            post("/api/boards/{n}/console", self.console_line),
+            get("/api/boards/{n}/console/words", self.console_words),
+            get("/api/boards/{n}/console/script", self.console_script),
         ])
         return app
 
@@ -442,6 +447,9 @@ class ControlDoor:
         words = world_words(await self._body(request))
         setting = parse_world(words)
         did = setting(board.controller)
+        console = self.consoles.get(board.service.number)
+        if console is not None:  # a click is part of the session a person records
+            console.record.world(words, board.controller.engine.tick)
         return web.json_response({"did": did, "world": board.controller.world_view().describe()})
 
     async def triggers(self, request: web.Request) -> web.Response:
@@ -472,6 +480,9 @@ class ControlDoor:
         the world around it and virtual time stay."""
         board = self._board(request)
         board.controller.reset()
+        console = self.consoles.get(board.service.number)
+        if console is not None:  # a script starts from power-up: so does its record
+            console.record.reset()
         log.info("board %d reset through the control door", board.service.number)
         return web.json_response(self._describe(board))
 
@@ -589,6 +600,34 @@ class ControlDoor:
                 return response
         await response.write_eof()
         return response
+
+    # ---- the console ---------------------------------------------------------------
+    def _console(self, board: Board) -> PanelConsole:
+        number = board.service.number
+        console = self.consoles.get(number)
+        if console is None or console.controller is not board.controller:
+            console = self.consoles[number] = PanelConsole(board.service)
+        return console
+
+    async def console_line(self, request: web.Request) -> web.Response:
+        """`{"line": "AX; MR1000; GO;"}`: the line run on the board's console."""
+        board = self._board(request)
+        line = (await self._body(request)).get("line")
+        return web.json_response(self._console(board).handle(line))
+
+    async def console_words(self, request: web.Request) -> web.Response:
+        """`?prefix=V`: the controller's words starting so, with their summaries."""
+        board = self._board(request)
+        return web.json_response(self._console(board).words(request.query.get("prefix", "")))
+
+    async def console_script(self, request: web.Request) -> web.Response:
+        """The console's session as a regression script, to save (`maxk run` passes it)."""
+        board = self._board(request)
+        number = board.service.number
+        return web.Response(
+            text=self._console(board).record.script(), content_type="text/plain",
+            headers={"Content-Disposition": f'attachment; filename="board{number}.maxk"',
+                     "Cache-Control": "no-store"})
 
     # ---- the page ------------------------------------------------------------------
     async def page(self, request: web.Request) -> web.Response:

@@ -75,6 +75,7 @@ function buildBoard(b) {
   box.appendChild(extras);
   const hosts = el("div", "hosts");
   box.appendChild(hosts);
+  buildConsole(box, b.number);
   document.getElementById("boards").appendChild(box);
   built[b.number] = {box, time, rows, chart, inputs, outputs, analog, extras, hosts, bits: {}, xy: null};
   return built[b.number];
@@ -221,6 +222,75 @@ function update(state) {
   const errors = document.getElementById("errors");
   errors.textContent = state.errors.map(e => e.level + " " + e.message).join("\n");
   if (state.boards.length) document.getElementById("clock").textContent = "t = " + state.boards[0].time.toFixed(2) + " s";
+}
+
+// ---- the console: the controller's own language, run by the server's console (the
+// REPL's): this page only shows lines, keeps the history and asks for completions.
+function buildConsole(box, number) {
+  const wrap = el("div", "console");
+  wrap.id = "console-" + number;
+  const out = el("pre", "console-out");
+  out.id = "console-out-" + number;
+  const status = el("div", "console-status");
+  status.id = "console-status-" + number;
+  const row = el("div", "console-row");
+  const prompt = el("span", "console-prompt", ">");
+  const input = el("input", "console-in");
+  input.id = "console-in-" + number;
+  input.autocomplete = "off"; input.spellcheck = false;
+  input.placeholder = "type a command (help, Tab completes)";
+  const save = el("a", "console-save", "save as script");
+  save.id = "console-save-" + number;
+  save.href = "/api/boards/" + number + "/console/script" + (token ? "?token=" + encodeURIComponent(token) : "");
+  save.download = "board" + number + ".maxk";
+  const hint = el("div", "console-hint");
+  hint.id = "console-hint-" + number;
+  row.appendChild(prompt); row.appendChild(input); row.appendChild(save);
+  wrap.appendChild(out); wrap.appendChild(row); wrap.appendChild(hint); wrap.appendChild(status);
+  box.appendChild(wrap);
+  const past = [];
+  let at = 0;
+  const show = (text, cls) => {
+    const line = el("div", cls, text);
+    out.appendChild(line);
+    while (out.childNodes.length > 500) out.removeChild(out.firstChild);
+    out.scrollTop = out.scrollHeight;
+  };
+  input.addEventListener("keydown", ev => {
+    if (ev.key === "Enter") {
+      const line = input.value;
+      input.value = ""; hint.textContent = "";
+      if (line.trim() && past[past.length - 1] !== line) past.push(line);
+      if (past.length > 200) past.shift();
+      at = past.length;
+      show(prompt.textContent + " " + line, "console-typed");
+      api("/api/boards/" + number + "/console", {line: line}).then(r => {
+        if (r.error) { show("! " + r.error, "console-err"); return; }
+        for (const t of r.lines) show(t, "console-reply");
+        for (const t of r.errors) show(t, "console-err");
+        prompt.textContent = r.prompt.trim();
+        status.textContent = r.status;
+        wrap.dataset.lines = (+wrap.dataset.lines || 0) + 1;
+      });
+    } else if (ev.key === "ArrowUp" || ev.key === "ArrowDown") {
+      ev.preventDefault();
+      at = Math.max(0, Math.min(past.length, at + (ev.key === "ArrowUp" ? -1 : 1)));
+      input.value = past[at] || "";
+    } else if (ev.key === "Tab") {
+      ev.preventDefault();
+      const m = /[A-Za-z#?_]*$/.exec(input.value.slice(0, input.selectionStart));
+      const word = m ? m[0] : "";
+      if (!word) return;
+      api("/api/boards/" + number + "/console/words?prefix=" + encodeURIComponent(word)).then(r => {
+        const found = r.words || [];
+        hint.textContent = found.map(w => w.word + "  " + w.summary).join("\n") + (r.more ? "\n(" + r.more + " more)" : "");
+        if (found.length === 1) {
+          const cut = input.selectionStart - word.length;
+          input.value = input.value.slice(0, cut) + found[0].word + input.value.slice(input.selectionStart);
+        }
+      });
+    }
+  });
 }
 
 function connect() {
