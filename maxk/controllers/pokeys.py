@@ -64,6 +64,7 @@ class PoKeys(PoKeysIOApi):
         self.device = PoKeysDevice.create(model, None if world is None else SharedWorld(world),
                                           serial)
         self._session = PoKeysSession(self.device)
+        self.last_refused = False  # the last request() got the device's refusal
         self._request_id = 0
         self._console: PoKeysConsole | None = None
 
@@ -122,8 +123,10 @@ class PoKeys(PoKeysIOApi):
                 payload: bytes = b"") -> bytes | None:
         """One request frame with the next ID; the 64-byte reply, or None (silence)."""
         self._request_id = (self._request_id + 1) & 0xFF
+        refused = self._session.refused
         self._session.feed(make_request(command, p1, p2, p3, p4, self._request_id, payload))
         reply = self._session.read()
+        self.last_refused = self._session.refused != refused
         return reply or None
 
     def _ask(self, what: str, command: int, p1: int = 0, p2: int = 0, p3: int = 0,
@@ -131,6 +134,8 @@ class PoKeys(PoKeysIOApi):
         reply = self.request(command, p1, p2, p3, p4, payload)
         if reply is None:
             raise PoKeysError(f"no reply to {what} (the device ignores it)")
+        if self.last_refused:
+            raise PoKeysError(f"{what} refused (status {reply[2]} in the reply)")
         return reply
 
     def _pev2(self, what: str, sub: int, p2: int = 0, p3: int = 0, p4: int = 0,
@@ -318,10 +323,13 @@ class PoKeys(PoKeysIOApi):
             part = i | (0x08 if i == 0 else 0x10 if i == 7 else 0)
             frames += make_request(0xB0, part, 0xFE if wide else 0xFF, len(rows), width,
                                    self._request_id, data[i * 56:(i + 1) * 56])
+        refused = self._session.refused
         self._session.feed(bytes(frames))
         reply = self._session.read()
         if not reply:
             raise PoKeysError("no reply to PEv2_BufferFillLarge")
+        if self._session.refused != refused:
+            raise PoKeysError("PEv2_BufferFillLarge refused (0 accepted)")
         return reply[2]
 
     def clear_buffer(self) -> None:

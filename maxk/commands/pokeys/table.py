@@ -5,8 +5,10 @@ behaviour comes from and how sure we are:
 - ``I`` inferred: deduced from how the library uses the command;
 - ``D`` decided: neither settles it; our choice, explained in ``note``.
 
-A request whose (command, sub) is not here gets no reply (silence), as does any request
-a handler refuses: the host's retry logic copes with silence, never with a wrong reply.
+A well-formed request is always answered: a request whose (command, sub) is not here
+gets the refusal with status UNKNOWN in [2], one a handler refuses (it returns None) the
+refusal with status REFUSED (packet.py; D). Only a frame the device cannot take as a
+request (wrong length, header or checksum) gets no reply (session.py).
 """
 
 from __future__ import annotations
@@ -19,10 +21,11 @@ from ...personalities.pokeys.device import PoKeysDevice
 from ..tables import unique_table
 from . import device_commands as dev
 from . import io_commands as io
+from . import legacy_commands as old
 from . import peripheral_commands as per
 from . import pev1_commands as v1
 from . import pev2_commands as v2
-from .packet import Reply, Request
+from .packet import REFUSED, UNKNOWN, Reply, Request
 
 Handler = Callable[[PoKeysDevice, Request], Reply | None]
 
@@ -55,7 +58,8 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(0x03, ANY, "PK_DeviceDataGet (user ID, lock)", dev.read_user_id, "reference 4", "C",
        "User ID 0, unlocked (D)."),
     _e(0x04, ANY, "PK_DeviceDataGet (build date, old ID)", dev.read_build_date,
-       "reference 4", "C", "Parts 0, 1, 2 give 4 + 4 + 3 date characters; part > 2 silent (D)."),
+       "reference 4", "C", "Parts 0, 1, 2 give 4 + 4 + 3 date characters; part > 2 refused "
+       "([2]=1, D)."),
     _e(0x06, ANY, "PK_DeviceDataGet / PK_DeviceNameSet", dev.device_name, "reference 4", "C",
        "Short name [8..17] equals the long name's first 10 bytes, so the long one is used."),
     _e(0xE0, ANY, "PK_DeviceDataGet (network) / PK_NetworkConfigurationSet",
@@ -85,7 +89,8 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(PEV2, 0x06, "PK_PEv2_AdditionalParametersGet/Set", v2.additional_params,
        "reference 6", "I", "E-stop pin [8] stored and read back."),
     _e(PEV2, 0x10, "PK_PEv2_AxisConfigurationGet", v2.axis_config_get, "reference 6", "C",
-       "Axis >= 8 is silent (the library refuses it locally). Bytes [8..52] come back as set."),
+       "Axis >= 8 refused ([2]=1; the library refuses it locally). Bytes [8..52] come "
+       "back as set."),
     _e(PEV2, 0x11, "PK_PEv2_AxisConfigurationSet", v2.axis_config_set, "reference 6", "C",
        "Max speed pulses/ms, acceleration pulses/ms^2 (reference 8); speeds above 125 "
        "pulses/ms are capped (D)."),
@@ -100,32 +105,33 @@ ENTRIES: Final[list[CommandEntry]] = [
        "seed's 'half', D); constant speeds without ramps (D). Counter set to the axis's home "
        "offset (0 = the seed's reset) (D)."),
     _e(PEV2, 0x22, "PK_PEv2_HomingFinish", v2.homing_finish, "reference 6, 9", "C",
-       "Engine goes to state [3]; a state that cannot be set is silent (D)."),
+       "Engine goes to state [3]; a state that cannot be set is refused ([2]=1, D)."),
     _e(PEV2, 0x23, "PK_PEv2_ProbingStart", v2.probing_start, "reference 6; seed v2", "C",
        "Speed f32 = fraction of max speed (library comment), constant (D); the probe "
        "triggers when its level equals polarity [45] (D); reaching the max position without "
-       "a trigger is PROBE_ERROR (I). Hybrid probing ([4]=1) is not modelled: silent."),
+       "a trigger is PROBE_ERROR (I). Hybrid probing ([4]=1) is not modelled: refused ([2]=1)."),
     _e(PEV2, 0x24, "PK_PEv2_ProbingFinish(Simple)", v2.probing_finish, "reference 6", "C",
        "Status [40]: 0 none, 1 probed, 2 max position reached (D); back to the state before "
        "probing (D)."),
     _e(PEV2, 0xF0, "PK_PEv2_BufferClear", v2.buffer_clear, "reference 6", "C",
        "Clears the slot buffer only: internal controllers use their own (seed v2)."),
     _e(PEV2, 0xFF, "PK_PEv2_BufferFill", v2.buffer_fill_8, "reference 6, 8", "C",
-       "Accepted = min(N, free slots), [2]; N*AX > 56 or AX outside 1..8 is silent (D). "
+       "Accepted = min(N, free slots), [2]; N*AX > 56 or AX outside 1..8 is refused "
+       "as 0 accepted, [2]=0, with the status block (D: a fill's only result). "
        "Pulses above 125 per slot are clipped when the slot runs (D)."),
     _e(PEV2, 0xFE, "PK_PEv2_BufferFill_16", v2.buffer_fill_16, "reference 6, 8", "C",
        "u16 little-endian, bit 15 direction."),
     _e(MULTIPART, ANY, "PK_PEv2_BufferFillLarge[_16]", v2.buffer_fill_large,
        "reference 8", "C",
-       "8 frames, one reply with the last frame's ID; a bad or missing frame silences the "
-       "whole group (D)."),
+       "8 frames, one reply with the last frame's ID; a group that arrives incomplete or out "
+       "of order is refused at its last frame as 0 accepted (D)."),
     # ---- pulse engine v1 -----------------------------------------------------------------
     _e(PEV1, 0x00, "PK_PEStatusGet", v1.status, "reference 10", "C",
        "Position counters are 32-bit and wrap past 2^31 pulses (D)."),
     _e(PEV1, 0x01, "PK_PECurrentPositionSet", v1.set_position, "reference 10", "C",
        "Sets all three counters; a moving axis stops (D)."),
     _e(PEV1, 0x02, "PK_PEStateSet", v1.set_state, "reference 10; seed v1", "C",
-       "STOPPED, INTERNAL, BUFFER, JOGGING; others silent (D). Leaving INTERNAL/JOGGING "
+       "STOPPED, INTERNAL, BUFFER, JOGGING; others refused ([2]=1, D). Leaving INTERNAL/JOGGING "
        "leaves up to 10 slots of the move in the buffer (seed's 10 ms rule, I); entering "
        "them clears the buffer, which the internal controller then owns (D)."),
     _e(PEV1, 0x03, "PK_PEMPGJogConfigurationGet/Set", v1.mpg_config, "reference 10", "C",
@@ -148,11 +154,27 @@ ENTRIES: Final[list[CommandEntry]] = [
        "Axes without an enabled home switch go to ERROR (D); the engine ends in HOME (I)."),
     _e(PEV1, 0x30, "PK_PEInfoGet", v1.info, "reference 10; seed v1", "C", "3 / 25 / 128 / 1."),
     _e(PEV1, 0x35, "PK_PEBufferFill", v1.fill, "reference 10; seed v1", "C",
-       "Up to 18 slots per frame (55 bytes); more is silent (D). Nothing accepted while the "
-       "internal controller owns the buffer (D). Pulses above 25 clipped at run time (D)."),
+       "Up to 18 slots per frame (55 bytes); more is refused ([2]=1, D). Nothing "
+       "accepted while the internal controller owns the buffer (D). Pulses above 25 "
+       "clipped at run time (D)."),
     _e(PEV1, 0x36, "PK_PEBufferFlush", v1.flush, "reference 10; seed v1", "C"),
     _e(PEV1, 0x37, "PK_PEBufferFreeSizeGet", v1.free_slots, "reference 10; seed v1", "C",
        "In INTERNAL/JOGGING the controller's look-ahead (<= 10 slots) is not free (I)."),
+    # ---- the older single-pin requests (protocol specification; hosts of their own) ----
+    _e(0x10, ANY, "Set pin function (protocol specification)", old.set_pin_function,
+       "protocol specification; home-automation host", "I",
+       "Pin [2] 0-based, PinFunction byte [3] as in 0xC0; [2]=0 done, [2]=1 refused "
+       "(pin out of range or without the capability), nothing changed (D for the status)."),
+    _e(0x15, ANY, "Get pin function (protocol specification)", old.get_pin_function,
+       "protocol specification; home-automation host", "I",
+       "Function byte in [3] (the host reads 2 input, 4 output there); [2]=1 for no pin."),
+    _e(0x35, ANY, "Read analog input (protocol specification)", old.analog_input,
+       "protocol specification", "D",
+       "Pin [2] 40..46; 12-bit code, high byte [3], low [4] (D); another pin: [2]=1."),
+    _e(0xE6, ANY, "PoLED (protocol specification)", old.poled,
+       "protocol specification (command list); home-automation host", "D",
+       "[2]=0x20 set channel [3] to state [4], [2]=0x10 read it back into [4] (D); other "
+       "sub-commands: [2]=0xFF. States kept, no LED module drawn."),
     # ---- pins and I/O (PoKeysLibIO.c) ----------------------------------------------------
     _e(0xC0, ANY, "PK_PinConfigurationGet/Set", io.pin_configuration, "PoKeysLibIO.c", "C",
        "[2]=0 [3]=0 get, [2]=1 set functions; [3]=1/2 counter options get/set. Each "
@@ -297,19 +319,34 @@ ENTRIES: Final[list[CommandEntry]] = [
 _BY_KEY: Final = unique_table(ENTRIES, lambda e: (e.command, e.sub), "PoKeys table")
 
 NOT_MODELLED: Final = (
-    "Hybrid probing: silent. "
+    "Hybrid probing: refused. "
     "Threading, PoIL programs, WS2812 and matrix LED displays, the UART line: answered, "
     "not modelled.")
+
+
+ENGINE_OF: Final = {PEV1: 1, PEV2: 2, MULTIPART: 2}
+"""Each engine's requests: a device answers the other engine's as unknown commands (D)."""
+FILLS: Final = (0xFF, 0xFE, MULTIPART)
 
 
 def lookup(command: int, sub: int) -> CommandEntry | None:
     return _BY_KEY.get((command, sub)) or _BY_KEY.get((command, ANY))
 
 
-def dispatch(device: PoKeysDevice, request: Request) -> bytes | None:
-    """The reply frame for a valid request, or None (silence)."""
+def answer(device: PoKeysDevice, request: Request) -> tuple[bytes, bool]:
+    """The reply frame for a valid request and whether it is the device's refusal."""
     entry = lookup(request.command, request.sub)
-    if entry is None:
-        return None
+    engine = device.identity.engine_version
+    if entry is None or ENGINE_OF.get(request.command, engine) != engine:
+        if request.command in FILLS or (request.command == PEV2 and request.sub in FILLS):
+            return Reply(request).refuse(0).finish(), True  # a fill's refusal: 0 accepted
+        return Reply(request).refuse(UNKNOWN).finish(), True
     reply = entry.handler(device, request)
-    return None if reply is None else reply.finish()
+    if reply is None:
+        return Reply(request).refuse(REFUSED).finish(), True
+    return reply.finish(), reply.refused
+
+
+def dispatch(device: PoKeysDevice, request: Request) -> bytes:
+    """The reply frame for a valid request: the handler's, or the device's refusal."""
+    return answer(device, request)[0]
