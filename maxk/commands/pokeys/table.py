@@ -25,6 +25,7 @@ from . import legacy_commands as old
 from . import peripheral_commands as per
 from . import pev1_commands as v1
 from . import pev2_commands as v2
+from . import sensor_commands as sensors
 from .packet import REFUSED, UNKNOWN, Reply, Request
 
 Handler = Callable[[PoKeysDevice, Request], Reply | None]
@@ -303,9 +304,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(0xBB, ANY, "PK_GetDebugValues", per.taken, "PoKeysLibDeviceData.c", "I",
        "13 x i32 at [8] per part: zeros (D)."),
-    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", per.easy_sensors_setup,
+    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", sensors.easy_sensors_setup,
        "PoKeysLibEasySensors.c", "C", "100 sensors' set-ups stored (D)."),
-    _e(0x77, ANY, "PK_EasySensorsValueGetAll", per.easy_sensors_values,
+    _e(0x77, ANY, "PK_EasySensorsValueGetAll", sensors.easy_sensors_values,
        "PoKeysLibEasySensors.c", "C", "Nothing attached: values 0, OK bits 0 (D)."),
     _e(0xDB, ANY, "PK_I2C*", per.i2c, "PoKeysLibI2C.c", "C",
        "Nothing on the bus: transfers end in error, a scan finds no address (D)."),
