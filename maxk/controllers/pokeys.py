@@ -23,6 +23,8 @@ import struct
 from collections.abc import Mapping, Sequence
 
 from maxk.commands.pokeys import PoKeysSession, make_request
+from maxk.commands.pokeys.device_commands import discovery_reply
+from maxk.commands.pokeys.session import DISCOVERY_HOST_IP, is_discovery
 from maxk.controllers.contract import BuildOptions, Notify, Transport
 from maxk.controllers.pokeys_console import PoKeysConsole
 from maxk.controllers.pokeys_io import PoKeysIOApi
@@ -85,6 +87,19 @@ class PoKeys(PoKeysIOApi):
     def open_datagram_session(self) -> PoKeysSession:
         """A UDP peer's session: each feed is one datagram (odd sizes ignored whole)."""
         return PoKeysSession(self.device, datagrams=True)
+
+    def is_discovery(self, datagram: bytes) -> bool:
+        """Whether a datagram asks who is there (empty, or the text "Discovery request"):
+        the UDP door then lets every served device that answers discovery answer, as
+        every PoKeys on a network answers a broadcast."""
+        return is_discovery(datagram)
+
+    def discovery_answer(self, datagram: bytes, peer: object) -> bytes | None:
+        """This device's answer to a discovery datagram from `peer` (an (ip, port)
+        pair): the 19-byte form (14 on the 56E) naming the peer as the host."""
+        if not is_discovery(datagram):
+            return None
+        return discovery_reply(self.device, _ipv4(peer))
 
     def console(self) -> PoKeysConsole:
         """A person's view (the REPL, command scripts): a small command language. One
@@ -436,3 +451,14 @@ def build(model: str, options: BuildOptions | None = None) -> PoKeys:
 
 __all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
            "pokeys_world"]
+
+
+def _ipv4(peer: object) -> tuple[int, int, int, int]:
+    """The host's IPv4 address as four numbers (127.0.0.1 when it is not one, D)."""
+    try:
+        parts = tuple(int(x) for x in str(peer[0]).split("."))  # type: ignore[index]
+    except (TypeError, ValueError, IndexError):
+        return DISCOVERY_HOST_IP
+    if len(parts) != 4 or not all(0 <= x <= 255 for x in parts):
+        return DISCOVERY_HOST_IP
+    return (parts[0], parts[1], parts[2], parts[3])
