@@ -112,7 +112,8 @@ def analog_get(device: PoKeysDevice, req: Request) -> Reply:
 
 
 def analog_filter(device: PoKeysDevice, req: Request) -> Reply:
-    """0x38 get / 0x39 set: the RC filter constant, u32 at [2..5] (stored, D)."""
+    """0x38 get / 0x39 set: the RC filter's time constant, u32 at [2..5] (ms, D); the
+    analog inputs read through it (world.py `analog_filtered`)."""
     if req.command == 0x39:
         device.io.analog_filter = struct.unpack_from("<I", req.raw, 2)[0]
     r = Reply(req)

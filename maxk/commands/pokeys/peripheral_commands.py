@@ -208,7 +208,7 @@ def ponet(device: PoKeysDevice, req: Request) -> Reply | None:
 # ---- failsafe, configuration -------------------------------------------------------------------
 def failsafe(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x81: [2]=0 get, 1 set: [3] enabled, [4] peripherals, [8..14] I/O, [15..24]
-    PoExtBus, [25..30] PWM (stored; the failsafe timeout itself is not modelled, D)."""
+    PoExtBus, [25..30] PWM; the device's FailsafeWatch acts on them (failsafe.py)."""
     io = device.io
     if req.param(1) == 1:
         io.failsafe = bytes(req.raw[3:5]) + bytes(req.raw[8:31])

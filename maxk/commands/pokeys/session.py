@@ -105,6 +105,7 @@ class PoKeysSession:
             self._parts.clear()
             self.silenced += 1  # the device cannot take it as a request: no reply
             return
+        self.device.failsafe.contact()  # a host spoke: the failsafe timeout starts again
         if request.command == MULTIPART:
             whole = self._multipart(request)
             if whole is None:

@@ -201,12 +201,13 @@ ENTRIES: Final[list[CommandEntry]] = [
        "Pins 41..47, 12-bit big-endian; 0..3.3 V full scale (D); 0 on a pin not "
        "configured as analog input (D)."),
     _e(0x38, ANY, "PK_AnalogRCFilterGet", io.analog_filter, "PoKeysLibIO.c", "C",
-       "u32 at [2..5]; stored, the filter is not applied (D)."),
+       "u32 at [2..5]: the analog inputs' first-order low-pass, time constant in ms "
+       "(0 off; D for the unit), sampled once a slot."),
     _e(0x39, ANY, "PK_AnalogRCFilterSet", io.analog_filter, "PoKeysLibIO.c", "C"),
     _e(0xD8, ANY, "PK_DigitalCounterGet", io.counters_get, "PoKeysLibIO.c", "C",
-       "Rising edges of the world's input on a pin configured as counter, an input that "
-       "follows time or an axis sampled every slot (D: options stored only); a pin "
-       "without a counter reads 0."),
+       "Edges of the world's input on a pin configured as counter, an input that "
+       "follows time or an axis sampled every slot; counter options (0xC0 [3]=2): 0/1 "
+       "rising, 2 falling, 3 both edges, bit 2 down (D); a pin without a counter reads 0."),
     _e(0x1D, ANY, "PK_DigitalCounterClear", io.counters_clear, "PoKeysLibIO.c", "C"),
     _e(0xCB, ANY, "PK_PWMConfigurationGet/Set, PK_PWMUpdate", io.pwm, "PoKeysLibIO.c", "C",
        "Channel n on pin 22-n, period and duty in 25 MHz clocks; update ([3]=1) sets the "
@@ -215,7 +216,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "10 bytes; the set is echoed (the library compares)."),
     # ---- encoders (PoKeysLibEncoders.c) ------------------------------------------------
     _e(0xC4, ANY, "PK_EncoderConfigurationGet/Set (options)", io.encoder_options,
-       "PoKeysLibEncoders.c", "C", "Bit 0 enables counting (I)."),
+       "PoKeysLibEncoders.c", "C", "Bit 0 enables counting; bit 1 4x, bit 2 2x sampling "
+       "(the library's names): a stage pulse is one quadrature cycle (D), counted 1, 2 "
+       "or 4 times."),
     _e(0xC5, ANY, "PK_EncoderConfigurationGet/Set (channel pins)", io.encoder_options,
        "PoKeysLibEncoders.c", "C", "A pins [8+i], B pins [33+i]; stored (the world gives "
        "the counts)."),
@@ -253,7 +256,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPoNET.c", "C",
        "One kbd48CNC on module 0 (type/address 0x10, D) whose 48 keys the world presses."),
     _e(0x81, ANY, "PK_FailsafeSettingsGet/Set", per.failsafe, "PoKeysLibFailsafe.c", "C",
-       "Stored; the failsafe timeout is not modelled (D)."),
+       "After [3] x 100 ms with no valid request, the peripherals of [4] (I/O, PoExtBus, "
+       "PWM in % of the period (D), pulse engine stopped and its buffer cleared) take "
+       "their safe values, once until a host speaks (failsafe.py)."),
     _e(0x50, ANY, "PK_SaveConfiguration", per.save_configuration, "PoKeysLibDeviceData.c",
        "C", "Pins, counters' options, PWM, encoders, RC filter, matrix keyboard, LCD and "
        "failsafe set-ups survive a reset, and the run with an archive file (D)."),

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from ...firmware_model.world import World
+from .failsafe import FailsafeWatch
 from .io import DeviceIO
 from .machine import SlotEngine
 from .pev1 import PulseEngineV1
@@ -62,6 +63,7 @@ class PoKeysDevice:
     machine: SlotEngine = field(init=False)
     io: DeviceIO = field(init=False)
     pins: PoKeysIOWorld = field(init=False)
+    failsafe: FailsafeWatch = field(init=False)
 
     def __post_init__(self) -> None:
         self.machine = SlotEngine(self.engine)
@@ -70,6 +72,8 @@ class PoKeysDevice:
         self.pins = PoKeysIOWorld(self.io, world, self._stage, lambda: self.machine,
                                   self.machine.world_changed)
         self.machine.add_source(CounterSampler(self.pins, lambda: self.machine.tick))
+        self.failsafe = FailsafeWatch(self)
+        self.machine.add_source(self.failsafe)
 
     def pwm_output(self, channel: int) -> float:
         """PWM channel's duty as a fraction of its period, as the pin puts it out: a
