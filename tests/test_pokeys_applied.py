@@ -123,3 +123,40 @@ def test_the_failsafe_acts_when_the_host_is_silent_for_its_timeout() -> None:
     assert watch.trips == 1
     dev.advance(slots=1)
     assert watch.trips == 2
+
+
+# ---- synced fast outputs ---------------------------------------------------------------------
+def test_synced_fast_outputs_follow_the_buffer_slot_by_slot() -> None:
+    """Axis Y (1) carries output bits: bit 0 -> pin 8, bit 1 -> pin 12, bit 7 -> pin 13
+    (all digital outputs of the 57CNC). Each slot of an 8-bit fill sets them, as sent
+    (0x80 and 0xFF included, which as pulses would mean -0 and a clipped -127); X moves
+    its 5 pulses a slot and Y does not move."""
+    dev = PoKeys("PoKeys57CNC")
+    functions = dev.pin_functions()
+    for pin in (8, 12, 13):
+        functions[pin - 1] = OUTPUT
+    dev.request(0xC0, 1, payload=bytes(functions))
+    dev.setup(2)
+    dev.configure_axis(0, max_speed=10)
+    dev.configure_axis(1, max_speed=10)
+    mapping = bytes([8, 12, 0, 0, 0, 0, 0, 13])
+    assert dev.request(0x85, 0x0B, 1, 1, payload=mapping)[2] == 0x0B
+    dev.set_state("running")
+    slots = [0x01, 0x03, 0x02, 0x80, 0xFF, 0x00]
+    payload = b"".join(bytes([5, v]) for v in slots)
+    assert dev.request(0x85, 0xFF, len(slots), 2, payload=payload)[2] == len(slots)
+
+    def pins() -> tuple[int, int, int]:
+        bits = int.from_bytes(dev.request(0xCC)[8:15], "little")
+        return bits >> 7 & 1, bits >> 11 & 1, bits >> 12 & 1
+
+    seen = []
+    for _ in slots:
+        dev.advance(slots=1)
+        seen.append(pins())
+    assert seen == [(1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1), (0, 0, 0)]
+    assert dev.status().positions[:2] == (5 * len(slots), 0)
+    dev.request(0x85, 0x0B, 0, 0)  # off: Y's entries are pulses again
+    dev.fill([[0, 3]] * 4)
+    dev.advance(slots=4)
+    assert dev.status().positions[:2] == (5 * len(slots), 12) and pins() == (0, 0, 0)

@@ -270,12 +270,14 @@ def synced_pwm(device: PoKeysDevice, req: Request) -> Reply | None:
 
 
 def sync_outputs(device: PoKeysDevice, req: Request) -> Reply | None:
-    """0x85 0x0B: fast outputs synced to axis [4] (when [3]), mapping [8..15] (stored)."""
+    """0x85 0x0B: fast outputs synced to axis [4] (when [3]), mapping [8..15]: the axis's
+    buffer entries then drive the mapped outputs slot by slot (device.sync_outputs)."""
     if not _pev2(device):
         return None
     if req.param(2) and req.param(3) >= len(device.engine.axes):
         return None
     device.io.sync_outputs = bytes(req.raw[3:5]) + bytes(req.raw[8:16])
+    device.apply_sync_outputs()
     return Reply(req)
 
 

@@ -243,6 +243,12 @@ def _fill(device: PoKeysDevice, req: Request, wide: bool, count: int, axes: int
     if e is None:
         return r.refuse(0)
     entries = decode_entries(req.payload, count, axes, wide) if 1 <= axes <= e.spec.axes else None
+    sync = e.sync_outputs_axis
+    if entries is not None and sync is not None and sync < axes:
+        # the synced-outputs axis carries output bits: its bytes as sent (16-bit: the low)
+        raw = np.frombuffer(req.payload[:count * axes * (2 if wide else 1)],
+                            dtype="<u2" if wide else np.uint8).reshape(count, axes)
+        entries[:, sync] = raw[:, sync] & 0xFF
     accepted = 0 if entries is None else e.fill(entries)  # a refused fill: 0 accepted
     r.refused = entries is None
     status_block(e, r)

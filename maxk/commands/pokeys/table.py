@@ -267,7 +267,9 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(PEV2, 0x0A, "PK_PEv2_SyncedPWMSetup", per.synced_pwm, "PoKeysLibPulseEngine_v2.c", "I",
        "The channel's output duty follows the axis's speed / max speed (D)."),
     _e(PEV2, 0x0B, "PK_PEv2_SyncOutputsSetup", per.sync_outputs, "PoKeysLibPulseEngine_v2.c",
-       "I", "Stored, not acted on (D)."),
+       "I", "Axis [4]'s buffer entries are output bits while the buffer runs: bit i drives "
+       "pin mapping[8 + i] (1..55, 0 none, D), slot by slot, bytes as sent (16-bit: the "
+       "low byte, D); the axis does not move."),
     *[_e(PEV2, sub, name, per.threading_request, "PoKeysLibPulseEngine_v2.c", "D",
          "Answered with zeros; threading is not modelled (nothing prepared or active).")
       for sub, name in ((0x30, "PK_PEv2_ThreadingPrepareForTrigger"),

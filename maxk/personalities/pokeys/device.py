@@ -91,6 +91,21 @@ class PoKeysDevice:
         t = (self.engine.slot - found.start) / 1000.0
         return min(1.0, abs(found.plan.velocity(t)) / max_speed)
 
+    def apply_sync_outputs(self) -> None:
+        """Synced fast outputs (0x85 0x0B, stored as [3] enabled, [4] axis, 8 mapping
+        bytes): while the pulse engine consumes its buffer, the chosen axis's entry of
+        each slot is 8 output bits, bit i driving pin mapping[i] (a pin number 1..55, 0
+        none; D) when that pin is a digital output; the axis itself does not move."""
+        enabled, axis = self.io.sync_outputs[0], self.io.sync_outputs[1]
+        self.engine.sync_outputs_axis = axis if enabled else None
+        self.engine.on_sync_outputs = self._sync_outputs
+
+    def _sync_outputs(self, bits: int) -> None:
+        io = self.io
+        for i, pin in enumerate(io.sync_outputs[2:10]):
+            if 1 <= pin <= len(io.outputs) and io.is_output(pin):
+                io.outputs[pin - 1] = bool(bits >> i & 1)
+
     def _stage(self, axis: int) -> int:
         axes = self.engine.axes
         return axes[axis].stage if 0 <= axis < len(axes) else 0

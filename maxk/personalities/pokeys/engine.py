@@ -68,6 +68,9 @@ class PulseEngine:
         self.state_before_probe = EngineState.STOPPED
         self.trace: Callable[[SlotRecord], None] | None = None
         self.listeners: list[Listener] = []
+        # synced fast outputs (v2 0x85 0x0B): this axis's buffer column drives outputs
+        self.sync_outputs_axis: int | None = None
+        self.on_sync_outputs: Callable[[int], None] | None = None
 
     # ---- what the two engines answer differently ------------------------------------
     def active(self, axis: Axis) -> bool:
@@ -116,12 +119,16 @@ class PulseEngine:
         """The axis's motion from now as a `MotionPlan` (None: it stands still): the
         buffered slots as a step function, or its internal controller's profiles."""
         a = self.axes[index]
-        if self.state not in GENERATING or not self.active(a):
+        if self.state not in GENERATING or not self.active(a) or self.syncs_outputs(a):
             return None
         if self.consumes_buffer() and self.buffered(a):
             rows = self.buffer.peek(self.buffer.count)
             return pulse_plan(self.slot, a.position, rows[:, index])
         return None if a.motion is None else segment_plan(a.motion)
+
+    def syncs_outputs(self, a: Axis) -> bool:
+        """Is this axis's buffer column output bits (synced fast outputs), not pulses?"""
+        return a.index == self.sync_outputs_axis and self.buffered(a)
 
     def notify(self, event: str, axis: int = -1, slot: int | None = None) -> None:
         for listener in self.listeners:
@@ -294,6 +301,8 @@ class PulseEngine:
         for a in self.axes:
             if not self.active(a):
                 continue
+            if consuming and self.syncs_outputs(a):
+                continue  # output bits: no switch is ever reached
             if consuming and self.buffered(a):
                 fed.append(a)
             elif a.motion is not None:
@@ -396,6 +405,10 @@ class PulseEngine:
                 continue
             p0 = a.position
             step = 0
+            if consuming and self.syncs_outputs(a):
+                if rows is not None and self.on_sync_outputs is not None:
+                    self.on_sync_outputs(int(rows[-1, a.index]))  # the span's last slot
+                continue
             if consuming and self.buffered(a):
                 if rows is None:
                     continue
