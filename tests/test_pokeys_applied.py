@@ -160,3 +160,64 @@ def test_synced_fast_outputs_follow_the_buffer_slot_by_slot() -> None:
     dev.fill([[0, 3]] * 4)
     dev.advance(slots=4)
     assert dev.status().positions[:2] == (5 * len(slots), 12) and pins() == (0, 0, 0)
+
+
+# ---- backlash compensation -------------------------------------------------------------------
+def backlash_payload(width: int, accel: int = 0) -> bytes:
+    """Axis 0's u16 width at [8] and acceleration at [10]; other axes 0."""
+    return struct.pack("<HBB", width, accel, 0) + bytes(28)
+
+
+def encoder_0(dev: PoKeys) -> int:
+    return struct.unpack_from("<i", dev.request(0xCD, 0), 8)[0]
+
+
+def test_backlash_compensation_takes_up_the_play_on_a_reversal_in_buffered_slots() -> None:
+    """Width 3 (half the play), 2 pulses a slot. Four slots of +5 then four of -5: the
+    register goes 0 -> 2 -> 3 -> 3 -> 3, then on the reversal 3 -> 1 -> -1 -> -3 -> -3.
+    The counter ends at 0, the motor (the stage an encoder reads) at -3."""
+    dev = PoKeys("PoKeys57CNC")
+    dev.pins.attach_encoder(0, 0)
+    opts = bytearray(25)
+    opts[0] = 0x01
+    dev.request(0xC4, 1, payload=bytes(opts))
+    dev.setup(1)
+    dev.configure_axis(0, max_speed=10)
+    dev.request(0x85, 0x41, 1, 2, payload=backlash_payload(3))
+    dev.set_state("running")
+    assert dev.fill([[5]] * 4 + [[-5]] * 4) == 8
+    registers, stages = [], []
+    for _ in range(8):
+        dev.advance(slots=1)
+        registers.append(struct.unpack_from("<h", dev.request(0x85, 0x40), 40)[0])
+        stages.append(encoder_0(dev))
+    assert registers == [2, 3, 3, 3, 1, -1, -3, -3]
+    counters = [5, 10, 15, 20, 15, 10, 5, 0]
+    assert stages == [c + r for c, r in zip(counters, registers, strict=True)]
+    assert dev.status().positions[0] == 0
+
+
+def test_backlash_compensation_on_internal_moves_and_switched_off() -> None:
+    """Width 10 at once (speed 0): a move to +1000 leaves the motor at 1010, back to 0
+    at -10; switched off, the motor stays where it is and moves with the counter."""
+    dev = PoKeys("PoKeys57CNC")
+    dev.pins.attach_encoder(0, 0)
+    opts = bytearray(25)
+    opts[0] = 0x01
+    dev.request(0xC4, 1, payload=bytes(opts))
+    dev.setup(1)
+    dev.configure_axis(0, internal=True, max_speed=10, accel=0.05, decel=0.05)
+    dev.request(0x85, 0x41, 1, 0, payload=backlash_payload(10))
+    dev.set_state("running")
+    dev.move({0: 1000})
+    assert dev.run_until_idle(5.0)
+    assert (dev.status().positions[0], encoder_0(dev)) == (1000, 1010)
+    dev.move({0: 0})
+    assert dev.run_until_idle(5.0)
+    assert (dev.status().positions[0], encoder_0(dev)) == (0, -10)
+    dev.request(0x85, 0x41, 0, 0, payload=backlash_payload(10))  # off
+    assert struct.unpack_from("<h", dev.request(0x85, 0x40), 40)[0] == 0
+    assert encoder_0(dev) == -10
+    dev.move({0: 500})
+    assert dev.run_until_idle(5.0)
+    assert (dev.status().positions[0], encoder_0(dev)) == (500, 490)

@@ -242,17 +242,18 @@ def _pev2(device: PoKeysDevice) -> bool:
 # ---- pulse engine extras -----------------------------------------------------------------------
 def backlash(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x40 get / 0x41 set: [3] enabled, [4] max speed, per axis u16 width [8 + 4i]
-    and acceleration [10 + 4i]; registers i16 [40 + 2i] (0: compensation is stored, not
-    applied, D)."""
+    and acceleration [10 + 4i]; the registers i16 [40 + 2i] (device.apply_backlash)."""
     if not _pev2(device):
         return None
     io = device.io
     if req.sub == 0x41:
         io.backlash = bytes(req.raw[3:5]) + bytes(req.raw[8:40])
+        device.apply_backlash()
     r = Reply(req)
     r[3], r[4] = io.backlash[0], io.backlash[1]
     r.put(8, io.backlash[2:34])
-    r.put(40, bytes(16))
+    for a in device.engine.axes[:8]:
+        r.put(40 + 2 * a.index, struct.pack("<h", a.backlash_register))
     return r
 
 

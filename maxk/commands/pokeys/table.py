@@ -279,7 +279,9 @@ ENTRIES: Final[list[CommandEntry]] = [
                         (0x35, "PK_PEv2_ThreadingStatusGet"),
                         (0x36, "PK_PEv2_ThreadingSetup"))],
     _e(PEV2, 0x40, "PK_PEv2_BacklashCompensationSettings_Get", per.backlash,
-       "PoKeysLibPulseEngine_v2.c", "C", "Stored; registers 0 (not applied, D)."),
+       "PoKeysLibPulseEngine_v2.c", "C", "On a reversal the register takes up the width "
+       "(half the play) at [4] pulses a slot (0 at once; the acceleration is kept, D): "
+       "the stage gets the register's pulses, the counter not. Registers at [40 + 2i]."),
     _e(PEV2, 0x41, "PK_PEv2_BacklashCompensationSettings_Set", per.backlash,
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(PEV2, 0x50, "PK_PoStep_ConfigurationGet/Set", per.postep,

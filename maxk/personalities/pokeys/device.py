@@ -100,6 +100,24 @@ class PoKeysDevice:
         self.engine.sync_outputs_axis = axis if enabled else None
         self.engine.on_sync_outputs = self._sync_outputs
 
+    def apply_backlash(self) -> None:
+        """Backlash compensation (0x85 0x41, stored as [3] enabled, [4] max speed, then per
+        axis u16 width and u8 acceleration in 4 bytes): each axis takes up its width (half
+        the play) on a reversal at the max speed in pulses a slot (0: at once; D: the
+        acceleration is kept, the register moves at constant speed). Switched off, the
+        register's pulses stay in the stage (the motor does not step back)."""
+        raw = self.io.backlash
+        enabled, rate = raw[0], raw[1]
+        for a in self.engine.axes:
+            at = 2 + 4 * a.index
+            width = raw[at] | raw[at + 1] << 8 if enabled and at + 1 < len(raw) else 0
+            if not width and a.backlash_register:
+                a.counter_offset -= a.backlash_register
+                a.backlash_register = 0
+            a.backlash_width, a.backlash_rate = width, rate
+            a.backlash_register = max(-width, min(width, a.backlash_register)) if width \
+                else 0
+
     def _sync_outputs(self, bits: int) -> None:
         io = self.io
         for i, pin in enumerate(io.sync_outputs[2:10]):

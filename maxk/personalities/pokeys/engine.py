@@ -314,7 +314,31 @@ class PulseEngine:
                     return 1
         if fed and self.buffer.count:
             n = self._buffered_span(fed, min(n, self.buffer.count))
+            n = self._backlash_buffered_span(fed, n)
         return max(n, 1)
+
+    def _backlash_buffered_span(self, fed: list[Axis], n: int) -> int:
+        """With backlash compensation, the register moves only while the direction holds:
+        a stretch ends before the first slot against the settled direction, and a slot
+        whose register is still on its way runs alone (the stage moves by more than the
+        counter then)."""
+        compensated = [a for a in fed if a.backlash_width]
+        if not compensated:
+            return n
+        rows = self.buffer.peek(n)
+        for a in compensated:
+            column = rows[:, a.index]
+            moving = np.nonzero(column)[0]
+            if not len(moving):
+                continue
+            first = int(moving[0])
+            d = 1 if column[first] > 0 else -1
+            if not a.backlash_settled(d):
+                return max(first, 1)  # up to the first pulse, then slot by slot
+            against = np.nonzero(column * d < 0)[0]
+            if len(against):
+                n = min(n, max(int(against[0]), 1))
+        return n
 
     def _buffered_span(self, fed: list[Axis], n: int) -> int:
         """Slots of the buffer that run before a buffered axis crosses a switch edge at a
@@ -372,6 +396,8 @@ class PulseEngine:
         if not dirs:
             return n
         d = dirs.pop()
+        if not a.backlash_settled(d):
+            return 1  # the register is taking up the play: slot by slot
         edge = self.world.next_switch_edge(a.index, a.stage, d) if self._switches_act(a) \
             else None
         if edge is not None:
@@ -428,6 +454,8 @@ class PulseEngine:
                 self._direction(a, step or new - p0)
                 a.position = new
                 pulses[a.index] = new - p0
+                moved = new - p0 or step
+                a.take_up_backlash(1 if moved > 0 else -1, n)
         self.slot = s + n
         ended: list[tuple[int, int, int]] = []
         for a in self.axes:
