@@ -107,3 +107,18 @@ def test_csv_trace() -> None:
     assert out.getvalue().splitlines() == [
         "slot,engine_state,pulses0,dir0,state0,pulses1,dir1,state1",
         "0,3,3,0,2,-2,1,2", "1,3,1,0,1,0,1,1", "2,3,0,0,1,0,1,1"]
+
+
+def test_the_docs_request_table_is_the_command_table() -> None:
+    """docs/pokeys.md lists every request of the table, generated from it, and what every
+    other request gets; regenerate with `python3 -m maxk.commands.pokeys.table_doc`."""
+    from pathlib import Path
+
+    from maxk.commands.pokeys.table_doc import table
+
+    page = (Path(__file__).parent.parent / "docs" / "pokeys.md").read_text()
+    assert table() in page
+    for entry in ENTRIES:
+        sub = "" if entry.sub < 0 else f" 0x{entry.sub:02X}"
+        assert f"| `0x{entry.command:02X}{sub}` |" in page
+    assert "(any other command or sub-command)" in page

@@ -56,8 +56,11 @@ ENTRIES: Final[list[CommandEntry]] = [
     # ---- connect sequence ----------------------------------------------------------------
     _e(0x00, ANY, "PK_DeviceDataGet (serial, firmware)", dev.read_serial_firmware,
        "reference 4", "C", "PoKeys57: 'PKEx' layout; PoKeys56E: old layout, serial [2..3]."),
+    _e(0x02, ANY, "Set user ID (protocol specification)", dev.set_user_id,
+       "protocol specification (command list)", "I",
+       "[2] = the new user ID; read back by 0x03 and named in the discovery answer [0]."),
     _e(0x03, ANY, "PK_DeviceDataGet (user ID, lock)", dev.read_user_id, "reference 4", "C",
-       "User ID 0, unlocked (D)."),
+       "User ID 0 at power-up (D), unlocked."),
     _e(0x04, ANY, "PK_DeviceDataGet (build date, old ID)", dev.read_build_date,
        "reference 4", "C", "Parts 0, 1, 2 give 4 + 4 + 3 date characters; part > 2 refused "
        "([2]=1, D)."),
