@@ -139,13 +139,15 @@ def _answers(sock: socket.socket, count: int) -> dict[int, tuple[int, bytes]]:
 
 @pytest.mark.parametrize("how", ["unicast", "broadcast"])
 def test_on_all_interfaces_discovery_finds_every_served_pokeys(how: str) -> None:
-    """Two PoKeys and a MAXk served on 0.0.0.0: a discovery sent to the first PoKeys's
-    port (unicast to 127.0.0.1, or the loopback broadcast 127.255.255.255) is answered by
-    both PoKeys, each from its own door, and by nothing else."""
+    """Two PoKeys and a MAXk served on 0.0.0.0: a discovery sent from 127.0.0.2 to the
+    first PoKeys's port (unicast to 127.0.0.1, or the loopback broadcast 127.255.255.255)
+    is answered by both PoKeys, each from its own door naming the asking host, and by
+    nothing else."""
     hosted = HostedBoards(models=("PoKeys57CNC", "MAXk-8000", "PoKeys57E"), host="0.0.0.0")
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
     sock.settimeout(10)
+    sock.bind(("127.0.0.2", 0))  # a host at another loopback address: the answers name it
     try:
         target = "127.0.0.1" if how == "unicast" else "127.255.255.255"
         sock.sendto(DISCOVERY_TEXT, (target, hosted.udp_ports[0]))
@@ -154,6 +156,8 @@ def test_on_all_interfaces_discovery_finds_every_served_pokeys(how: str) -> None
         assert found[SERIAL_57CNC][0] == hosted.udp_ports[0]
         assert found[SERIAL_57E][0] == hosted.udp_ports[1]  # the 57E's own door
         assert found[SERIAL_57E][1][18] == 31 and len(found[SERIAL_57E][1]) == 19
+        for _, answer in found.values():
+            assert tuple(answer[10:14]) == (127, 0, 0, 2)  # the host that asked
         # nothing more: the next datagram back is the answer to a request sent now
         sock.sendto(frame(0x00, rid=77), ("127.0.0.1", hosted.udp_ports[0]))
         assert check(sock.recv(4096), 0x00, 77)[18] == 32

@@ -118,14 +118,19 @@ class UdpDoor(asyncio.DatagramProtocol):
         self.sessions[addr] = session  # most recent last
         traffic = self.traffic[addr]
         traffic.incoming(data)
-        out = self.service.handle(session, data)
+        finds = getattr(self.service.controller, "is_discovery", None)
+        discovery = finds is not None and finds(data)
+        answer = getattr(self.service.controller, "discovery_answer", None)
+        if discovery and answer is not None:
+            out = answer(data, addr) or b""  # naming the asking host, as the others do
+        else:
+            out = self.service.handle(session, data)
         traffic.outgoing(out)
         size = self.service.controller.packet_size or len(out) or 1
         if self.transport is not None:
             for i in range(0, len(out), size):
                 self.transport.sendto(out[i:i + size], addr)
-        finds = getattr(self.service.controller, "is_discovery", None)
-        if finds is not None and finds(data):
+        if discovery:
             # who is there: every other served controller that answers discovery answers
             # from its own door, as every device on a network answers a broadcast
             for door in self.neighbours:
