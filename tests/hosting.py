@@ -25,7 +25,7 @@ class ManualClock:
 
 class HostedBoards:
     def __init__(self, models=("MAXk-8000",), eol="lfcr", ack=False, pty=False,
-                 shm_paths=None, real_time_speed=None):
+                 shm_paths=None, real_time_speed=None, host="127.0.0.1"):
         """real_time_speed: run on the wall clock, that many times faster (for tests of
         separate host processes, which cannot be told when virtual time moves)."""
         import time
@@ -55,10 +55,10 @@ class HostedBoards:
                 for service in self.services:
                     if "tcp" in service.controller.transports:
                         self.ports.append(
-                            (await self.server.open_tcp(service, "127.0.0.1", 0))[1])
+                            (await self.server.open_tcp(service, host, 0))[1])
                     if "udp" in service.controller.transports:
                         self.udp_ports.append(
-                            (await self.server.open_udp(service, "127.0.0.1", 0))[1])
+                            (await self.server.open_udp(service, host, 0))[1])
                     if pty:
                         self.ptys.append(self.server.open_pty(service))
                     if shm_paths:

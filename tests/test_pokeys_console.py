@@ -83,7 +83,10 @@ def test_console_lines_and_replies() -> None:
     assert dev.run_until_idle(1.0) and run(con, "pos") == ["X 750 Y 640"]
     reply = run(con, "request 85 00 33")[0].split()  # [3]: the soft-limit bits now
     assert reply[:6] == ["aa", "85", "00", "00", "00", "00"] and reply[63] == "8d"
-    assert run(con, "request f7") == ["no reply"]
+    # an unknown command: the device's refusal, status 0xFF in [2], the ID echoed (0x13)
+    head = [0xAA, 0xF7, 0xFF, 0, 0, 0, 0x13]
+    assert run(con, "request f7") == [bytes(head + [sum(head) & 0xFF] + [0] * 56).hex(" ")
+                                      + "  (refused: status 255)"]
 
 
 def test_console_errors_say_what_to_type() -> None:

@@ -170,11 +170,12 @@ def test_bad_requests_get_silence_and_the_next_is_answered(hosted: HostedBoards,
         wrong_header[0], wrong_header[6] = 0xBC, 0x71
         wrong_header[7] = header_sum(wrong_header)
         expect_silence(host, bytes(wrong_header))
-        for cmd, p1, p2 in ((0xF7, 0, 0), (0x85, 0x10, 8), (0x85, 0x02, 21)):
-            unknown = bytearray(64)  # unknown command, axis 8, HOMING by StateSet
-            unknown[0:7] = bytes([0xBB, cmd, p1, p2, 0, 0, 0x72])
-            unknown[7] = header_sum(unknown)
-            expect_silence(host, bytes(unknown))
+        for cmd, p1, p2, code in ((0xF7, 0, 0, 0xFF), (0x85, 0x10, 8, 1),
+                                  (0x85, 0x02, 21, 1)):
+            # unknown command, axis 8, HOMING by StateSet: refused, answered at once
+            reply = host.send(host.create(cmd, p1, p2))
+            assert reply is not None and reply[1] == cmd and reply[2] == code
+            assert reply[6] == host.request_id and reply[8:] == bytes(56)
         assert status(host)["state"] == 0
     finally:
         session.close()

@@ -47,17 +47,15 @@ def advance(lib: LibHost, seconds: float) -> None:
 
 
 def refused(lib: LibHost, cmd: int, p1: int = 0, p2: int = 0, p3: int = 0, p4: int = 0,
-            payload: bytes = b"") -> bool:
-    """The device stays silent on this frame: a good request sent after it gets the first
-    reply back (streams and localhost datagrams keep order, so a reply owed to the refused
-    frame would come first and fail the ID check)."""
+            payload: bytes = b"", status: int = 1) -> bool:
+    """The device refuses this frame the way it answers a refusal: one reply, at once,
+    with this request's ID, the error status in [2] (1: a parameter or a capability
+    refused) and a zero payload. What it leaves unchanged the caller checks."""
     h = lib.host
-    frame = h.create(cmd, p1, p2, p3, p4, payload)
-    h.request_id = (h.request_id + 1) & 0xFF
-    frame[0], frame[6] = 0xBB, h.request_id
-    frame[7] = sum(frame[0:7]) & 0xFF
-    h.session.send_raw(bytes(frame))  # type: ignore[attr-defined]
-    return h.send(h.create(0x00)) is not None
+    sent = h.request_id
+    reply = h.send(h.create(cmd, p1, p2, p3, p4, payload))
+    return (reply is not None and h.request_id == (sent + 1) & 0xFF and reply[1] == cmd
+            and reply[2] == status and reply[8:] == bytes(56))
 
 
 # ---- pins ----------------------------------------------------------------

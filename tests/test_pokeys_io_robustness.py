@@ -161,7 +161,8 @@ def test_each_models_pins_take_what_the_librarys_device_tables_say(model, pin, f
     functions = [0] * 55
     functions[pin - 1] = function
     reply = dev.request(0xC0, 1, payload=bytes(functions))
-    assert (reply is not None) == taken
+    assert reply is not None and dev.last_refused == (not taken)
+    assert (reply[8:] == bytes(56)) == (not taken)  # a refusal's payload is zero
     assert dev.pin_functions()[pin - 1] == (function if taken else 0)
 
 
@@ -186,7 +187,8 @@ def test_a_pokeys56e_has_the_io_but_no_pulse_engine_v2_extras():
     dev.set_output(1, True)
     assert dev.digital_inputs()[0] is True
     for sub in (0x37, 0x0A, 0x0B, 0x40, 0x41, 0x50, 0x51, 0x52, 0x53):
-        assert dev.request(0x85, sub) is None
+        reply = dev.request(0x85, sub)  # no such command on a v1 device
+        assert reply is not None and reply[2] == 0xFF and dev.last_refused
 
 
 LIBRARY_REQUESTS = [

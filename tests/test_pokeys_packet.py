@@ -89,7 +89,8 @@ def test_every_command_entry_says_where_it_comes_from() -> None:
         assert entry.source and entry.confidence in ("C", "I", "D")
         assert (entry.command, entry.sub) not in keys
         keys.add((entry.command, entry.sub))
-        assert entry.name.startswith("PK_")
+        # PoKeysLib's function, or the specification's name for a request it never sends
+        assert entry.name.startswith("PK_") or "protocol specification" in entry.source
 
 
 def test_csv_trace() -> None:
@@ -106,3 +107,18 @@ def test_csv_trace() -> None:
     assert out.getvalue().splitlines() == [
         "slot,engine_state,pulses0,dir0,state0,pulses1,dir1,state1",
         "0,3,3,0,2,-2,1,2", "1,3,1,0,1,0,1,1", "2,3,0,0,1,0,1,1"]
+
+
+def test_the_docs_request_table_is_the_command_table() -> None:
+    """docs/pokeys.md lists every request of the table, generated from it, and what every
+    other request gets; regenerate with `python3 -m maxk.commands.pokeys.table_doc`."""
+    from pathlib import Path
+
+    from maxk.commands.pokeys.table_doc import table
+
+    page = (Path(__file__).parent.parent / "docs" / "pokeys.md").read_text()
+    assert table() in page
+    for entry in ENTRIES:
+        sub = "" if entry.sub < 0 else f" 0x{entry.sub:02X}"
+        assert f"| `0x{entry.command:02X}{sub}` |" in page
+    assert "(any other command or sub-command)" in page

@@ -191,7 +191,8 @@ def test_v1_fill_over_the_wire() -> None:
     reply = ask(session, 0x35, 18, slots)
     assert reply[8] == 18 and reply[24] == EngineState.BUFFER
     assert list(reply[25:28]) == [AxisState.RUNNING] * 3
-    assert ask(session, 0x35, 19, bytes(55)) == b""  # 19 slots do not fit in 55 bytes
+    refusal = ask(session, 0x35, 19, bytes(55))  # 19 slots do not fit in 55 bytes
+    assert refusal[2] == 1 and refusal[8:] == bytes(56)  # refused, nothing taken
     assert ask(session, 0x37)[8] == 110
     device.run_to(18)
     status = ask(session, 0x00)
@@ -204,7 +205,7 @@ def test_v1_fill_over_the_wire() -> None:
     assert list(ask(session, 0x30)[8:12]) == [3, 25, 128, 1]
 
 
-def test_v1_bad_state_is_silent() -> None:
+def test_v1_bad_state_is_refused() -> None:
     device, session = _v1_session()
-    assert ask(session, 0x02, payload=bytes([3])) == b""  # RUNNING is a v2 state
+    assert ask(session, 0x02, payload=bytes([3]))[2] == 1  # RUNNING is a v2 state
     assert device.engine.state == EngineState.STOPPED

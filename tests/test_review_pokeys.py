@@ -30,6 +30,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from maxk.commands.pokeys.packet import make_request
+from maxk.commands.pokeys.session import is_discovery
 from maxk.controllers.pokeys import PoKeys
 from tests.hosting import HostedBoards
 
@@ -387,25 +388,42 @@ def test_fixed_a_reversal_runs_its_whole_stop_slot_by_slot() -> None:
     make_request(PEV2, 0x00, 0x10, request_id=9) + b"\0",  # long
     b"\xbc" + make_request(PEV2, 0x00, 0x10, request_id=9)[1:],  # header
     make_request(PEV2, 0x00, 0x10, request_id=9)[:7] + b"\0" + bytes(56),  # checksum
-    make_request(0x42, request_id=9),  # a command the device does not know
-    make_request(PEV2, 0x77, request_id=9),  # an unknown pulse-engine sub-command
-    make_request(PEV2, 0x10, 8, request_id=9),  # axis 8
-    make_request(PEV2, 0x01, request_id=9, payload=bytes([9])),  # 9 axes
-    make_request(PEV2, 0x02, 20, request_id=9),  # HOME cannot be set
-    make_request(PEV2, 0xFF, 57, 1, request_id=9),  # 57 entries do not fit 56 bytes
-    make_request(PEV2, 0xFF, 1, 0, request_id=9),  # AX 0
-    make_request(PEV2, 0xFF, 1, 9, request_id=9),  # AX 9
-    make_request(PEV2, 0xFE, 29, 1, request_id=9),  # 58 bytes
     make_request(LARGE, 0x0F, 0xFF, 1, 1, request_id=9),  # a lone multi-part frame
 ])
 def test_holds_malformed_datagrams_get_silence_and_change_nothing(bad: bytes) -> None:
-    """Every malformed or refused datagram is silent (reference 3: never an old ID) and
-    leaves the engine as it was; the next good request is answered with its ID."""
+    """Every malformed datagram is silent (reference 3: never an old ID), as is a
+    multi-part frame whose group has not ended, and leaves the engine as it was."""
     pk = PoKeys("PoKeys57CNC")
     session = pk.open_datagram_session()
     before = (pk.pulse_engine.state, pk.pulse_engine.enabled_axes, pk.pulse_engine.buffer.count)
     session.feed(bad)
     assert session.read() == b""
+    assert (pk.pulse_engine.state, pk.pulse_engine.enabled_axes,
+            pk.pulse_engine.buffer.count) == before
+
+
+@pytest.mark.parametrize("bad,status", [
+    (make_request(0x42, request_id=9), 0xFF),  # a command the device does not know
+    (make_request(PEV2, 0x77, request_id=9), 0xFF),  # an unknown pulse-engine sub
+    (make_request(PEV2, 0x10, 8, request_id=9), 1),  # axis 8
+    (make_request(PEV2, 0x01, request_id=9, payload=bytes([9])), 1),  # 9 axes
+    (make_request(PEV2, 0x02, 20, request_id=9), 1),  # HOME cannot be set
+    (make_request(PEV2, 0xFF, 57, 1, request_id=9), 0),  # 57 entries: 0 accepted
+    (make_request(PEV2, 0xFF, 1, 0, request_id=9), 0),  # AX 0
+    (make_request(PEV2, 0xFF, 1, 9, request_id=9), 0),  # AX 9
+    (make_request(PEV2, 0xFE, 29, 1, request_id=9), 0),  # 58 bytes
+])
+def test_holds_refused_datagrams_are_answered_and_change_nothing(bad: bytes,
+                                                                 status: int) -> None:
+    """Every refused request is answered at once with its own ID and the error status in
+    [2] (a fill: 0 accepted), and leaves the engine as it was."""
+    pk = PoKeys("PoKeys57CNC")
+    session = pk.open_datagram_session()
+    before = (pk.pulse_engine.state, pk.pulse_engine.enabled_axes, pk.pulse_engine.buffer.count)
+    session.feed(bad)
+    reply = session.read()
+    assert len(reply) == 64 and reply[0] == 0xAA and reply[6] == 9 and reply[2] == status
+    assert reply[7] == sum(reply[:7]) & 0xFF and session.refused == 1
     assert (pk.pulse_engine.state, pk.pulse_engine.enabled_axes,
             pk.pulse_engine.buffer.count) == before
     session.feed(status_frame(10))
@@ -462,15 +480,18 @@ def _parts(n: int, ax: int, first_id: int, order: list[int], flags: dict[int, in
     ([0, 1, 2, 3, 5, 6, 7], {0: 0x08, 7: 0x10}),  # one missing
     ([0, 1, 1, 2, 3, 4, 5, 6, 7], {0: 0x08, 7: 0x10}),  # one twice
 ])
-def test_holds_broken_multipart_groups_are_silent_whole(order: list[int],
+def test_holds_broken_multipart_groups_are_refused_whole(order: list[int],
                                                         flags: dict[int, int]) -> None:
-    """A 0xB0 group that is not 8 frames in order with first/last flags is silent and
-    fills nothing (D); a good group right after is answered once, with its last ID."""
+    """A 0xB0 group that is not 8 frames in order with first/last flags fills nothing and
+    is refused at its last frame (D); a good group right after is answered once, with its
+    last ID."""
     pk = PoKeys("PoKeys57CNC")
     pk.setup(1)
     session = pk.open_session()
     session.feed(_parts(100, 1, 1, order, flags))
-    assert session.read() == b"" and pk.pulse_engine.buffer.count == 0
+    refusal = session.read()  # refused at its last frame (0 accepted); no last: nothing
+    assert pk.pulse_engine.buffer.count == 0
+    assert refusal == b"" if 7 not in flags else (len(refusal) == 64 and refusal[2] == 0)
     session.feed(_parts(100, 1, 20, list(range(8)), {0: 0x08, 7: 0x10}))
     reply = session.read()
     assert valid_reply(reply, 27) and reply[2] == 100
@@ -614,7 +635,7 @@ def test_holds_any_datagram_bytes_get_a_valid_reply_or_silence(datagrams: list[b
     for data in datagrams:
         session.feed(data)
         out = session.read()
-        if not data:
+        if is_discovery(data):  # empty, or the text form "Discovery request"
             assert len(out) == 19
             continue
         ids = {data[i + 6] for i in range(0, len(data) - 63, 64)}

@@ -23,6 +23,8 @@ import struct
 from collections.abc import Mapping, Sequence
 
 from maxk.commands.pokeys import PoKeysSession, make_request
+from maxk.commands.pokeys.device_commands import discovery_reply
+from maxk.commands.pokeys.session import DISCOVERY_HOST_IP, is_discovery
 from maxk.controllers.contract import BuildOptions, Notify, Transport
 from maxk.controllers.pokeys_console import PoKeysConsole
 from maxk.controllers.pokeys_io import PoKeysIOApi
@@ -64,6 +66,7 @@ class PoKeys(PoKeysIOApi):
         self.device = PoKeysDevice.create(model, None if world is None else SharedWorld(world),
                                           serial)
         self._session = PoKeysSession(self.device)
+        self.last_refused = False  # the last request() got the device's refusal
         self._request_id = 0
         self._console: PoKeysConsole | None = None
 
@@ -84,6 +87,19 @@ class PoKeys(PoKeysIOApi):
     def open_datagram_session(self) -> PoKeysSession:
         """A UDP peer's session: each feed is one datagram (odd sizes ignored whole)."""
         return PoKeysSession(self.device, datagrams=True)
+
+    def is_discovery(self, datagram: bytes) -> bool:
+        """Whether a datagram asks who is there (empty, or the text "Discovery request"):
+        the UDP door then lets every served device that answers discovery answer, as
+        every PoKeys on a network answers a broadcast."""
+        return is_discovery(datagram)
+
+    def discovery_answer(self, datagram: bytes, peer: object) -> bytes | None:
+        """This device's answer to a discovery datagram from `peer` (an (ip, port)
+        pair): the 19-byte form (14 on the 56E) naming the peer as the host."""
+        if not is_discovery(datagram):
+            return None
+        return discovery_reply(self.device, _ipv4(peer))
 
     def console(self) -> PoKeysConsole:
         """A person's view (the REPL, command scripts): a small command language. One
@@ -122,8 +138,10 @@ class PoKeys(PoKeysIOApi):
                 payload: bytes = b"") -> bytes | None:
         """One request frame with the next ID; the 64-byte reply, or None (silence)."""
         self._request_id = (self._request_id + 1) & 0xFF
+        refused = self._session.refused
         self._session.feed(make_request(command, p1, p2, p3, p4, self._request_id, payload))
         reply = self._session.read()
+        self.last_refused = self._session.refused != refused
         return reply or None
 
     def _ask(self, what: str, command: int, p1: int = 0, p2: int = 0, p3: int = 0,
@@ -131,6 +149,8 @@ class PoKeys(PoKeysIOApi):
         reply = self.request(command, p1, p2, p3, p4, payload)
         if reply is None:
             raise PoKeysError(f"no reply to {what} (the device ignores it)")
+        if self.last_refused:
+            raise PoKeysError(f"{what} refused (status {reply[2]} in the reply)")
         return reply
 
     def _pev2(self, what: str, sub: int, p2: int = 0, p3: int = 0, p4: int = 0,
@@ -318,10 +338,13 @@ class PoKeys(PoKeysIOApi):
             part = i | (0x08 if i == 0 else 0x10 if i == 7 else 0)
             frames += make_request(0xB0, part, 0xFE if wide else 0xFF, len(rows), width,
                                    self._request_id, data[i * 56:(i + 1) * 56])
+        refused = self._session.refused
         self._session.feed(bytes(frames))
         reply = self._session.read()
         if not reply:
             raise PoKeysError("no reply to PEv2_BufferFillLarge")
+        if self._session.refused != refused:
+            raise PoKeysError("PEv2_BufferFillLarge refused (0 accepted)")
         return reply[2]
 
     def clear_buffer(self) -> None:
@@ -428,3 +451,14 @@ def build(model: str, options: BuildOptions | None = None) -> PoKeys:
 
 __all__ = ["MODELS", "EngineStatus", "PoKeys", "PoKeysError", "axis_index", "build",
            "pokeys_world"]
+
+
+def _ipv4(peer: object) -> tuple[int, int, int, int]:
+    """The host's IPv4 address as four numbers (127.0.0.1 when it is not one, D)."""
+    try:
+        parts = tuple(int(x) for x in str(peer[0]).split("."))  # type: ignore[index]
+    except (TypeError, ValueError, IndexError):
+        return DISCOVERY_HOST_IP
+    if len(parts) != 4 or not all(0 <= x <= 255 for x in parts):
+        return DISCOVERY_HOST_IP
+    return (parts[0], parts[1], parts[2], parts[3])

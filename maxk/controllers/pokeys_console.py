@@ -63,7 +63,7 @@ WORDS: dict[str, tuple[str, str]] = {
     "input": ("input N on|off | input N when Z <= -1234",
               "a world digital input (probe input N), constant or by an axis's position"),
     "request": ("request CMD [P1 P2 P3 P4] [: PAYLOAD HEX]",
-                "send one raw request frame; the reply in hex, or no reply"),
+                "send one raw request frame; the reply in hex (and whether the device refused it)"),
     "reboot": ("reboot", "v2: PulseEngineReboot"),
     **IO_WORDS,
     "requests": ("requests", "every request the device answers, with source and confidence"),
@@ -447,7 +447,10 @@ class PoKeysConsole(IOWords, ConsoleBase):
         payload = bytes.fromhex(tail)
         c, p1, p2, p3, p4 = fields + [0] * (5 - len(fields))
         reply = self.dev.request(c, p1, p2, p3, p4, payload=payload)
-        return ["no reply"] if reply is None else [reply.hex(" ")]
+        if reply is None:
+            return ["no reply"]
+        return [reply.hex(" ") + (f"  (refused: status {reply[2]})" if self.dev.last_refused
+                                  else "")]
 
     # ---- helpers -----------------------------------------------------------------------
     def _axis(self, name: str) -> int:

@@ -132,6 +132,7 @@ class UdpDoor(asyncio.DatagramProtocol):
         self.transport: asyncio.DatagramTransport | None = None
         self.sessions: dict[object, Session] = {}
         self.traffic: dict[object, Traffic] = {}  # per host address, as the sessions
+        self.neighbours: list[UdpDoor] = []  # the server's UDP doors (discovery)
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         self.transport = transport  # type: ignore[assignment]
@@ -152,12 +153,35 @@ class UdpDoor(asyncio.DatagramProtocol):
         self.sessions[addr] = session  # most recent last
         traffic = self.traffic[addr]
         traffic.incoming(data)
-        out = self.service.handle(session, data)
+        finds = getattr(self.service.controller, "is_discovery", None)
+        discovery = finds is not None and finds(data)
+        answer = getattr(self.service.controller, "discovery_answer", None)
+        if discovery and answer is not None:
+            out = answer(data, addr) or b""  # naming the asking host, as the others do
+        else:
+            out = self.service.handle(session, data)
         traffic.outgoing(out)
         size = self.service.controller.packet_size or len(out) or 1
         if self.transport is not None:
             for i in range(0, len(out), size):
                 self.transport.sendto(out[i:i + size], addr)
+        if discovery:
+            # who is there: every other served controller that answers discovery answers
+            # from its own door, as every device on a network answers a broadcast
+            for door in self.neighbours:
+                if door is not self:
+                    door.answer_discovery(data, addr)
+
+    def answer_discovery(self, data: bytes, addr: tuple[str, int]) -> None:
+        """Another door's host asked who is there: this controller's answer, if it has one."""
+        answer = getattr(self.service.controller, "discovery_answer", None)
+        reply = None if answer is None else answer(data, addr)
+        if reply and self.transport is not None:
+            traffic = self.traffic.get(addr)
+            if traffic is not None:
+                traffic.incoming(data)
+                traffic.outgoing(reply)
+            self.transport.sendto(reply, addr)
 
     def close(self) -> None:
         for session in self.sessions.values():
@@ -368,6 +392,7 @@ class Server:
         transport, door = await loop.create_datagram_endpoint(
             lambda: UdpDoor(service), local_addr=(host, port))
         self._udp.append(door)
+        door.neighbours = self._udp
         address = transport.get_extra_info("sockname")[:2]
         service.udp_ports.append(address)
         return address

@@ -25,6 +25,15 @@ def read_serial_firmware(device: PoKeysDevice, req: Request) -> Reply:
     return r
 
 
+def set_user_id(device: PoKeysDevice, req: Request) -> Reply:
+    """0x02: the user ID becomes [2] (the reply and 0x03 report it at [2]); the user ID
+    is what tells devices apart on a discovery (byte 0 of its answer)."""
+    device.user_id = req.param(1)
+    r = Reply(req)
+    r[2] = device.user_id
+    return r
+
+
 def read_user_id(device: PoKeysDevice, req: Request) -> Reply:
     """0x03: user ID [2], device lock status [3]."""
     r = Reply(req)

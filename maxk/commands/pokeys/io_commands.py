@@ -101,10 +101,9 @@ def digital_set_single(device: PoKeysDevice, req: Request) -> Reply:
     return r
 
 
-def analog_get(device: PoKeysDevice, req: Request) -> Reply | None:
-    """0x3A 01: pins 41..47 as 12-bit codes, big-endian at [8 + 2i]."""
-    if req.param(1) != 1:
-        return None
+def analog_get(device: PoKeysDevice, req: Request) -> Reply:
+    """0x3A: pins 41..47 as 12-bit codes, big-endian at [8 + 2i]. PoKeysLib sends
+    [2]=1, hosts of their own a zeroed header: the device reads no parameter (I)."""
     r = Reply(req)
     for i, pin in enumerate(ANALOG_PINS):
         code = device.pins.analog_code(pin)
@@ -113,7 +112,8 @@ def analog_get(device: PoKeysDevice, req: Request) -> Reply | None:
 
 
 def analog_filter(device: PoKeysDevice, req: Request) -> Reply:
-    """0x38 get / 0x39 set: the RC filter constant, u32 at [2..5] (stored, D)."""
+    """0x38 get / 0x39 set: the RC filter's time constant, u32 at [2..5] (ms, D); the
+    analog inputs read through it (world.py `analog_filtered`)."""
     if req.command == 0x39:
         device.io.analog_filter = struct.unpack_from("<I", req.raw, 2)[0]
     r = Reply(req)

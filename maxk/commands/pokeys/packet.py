@@ -84,6 +84,13 @@ def wrap32(value: int) -> int:
     return (value + 0x8000_0000) % 0x1_0000_0000 - 0x8000_0000
 
 
+REFUSED: Final = 0x01
+"""[2] of a refusal: a parameter out of range or a pin without that capability (D: the
+status byte and value the single-pin requests 0x10/0x15/0x30/0x35/0x40 use)."""
+UNKNOWN: Final = 0xFF
+"""[2] of a refusal: no such command or sub-command on this device (D)."""
+
+
 class Reply:
     """A reply under construction: [1..5] start as the request's, payload zeroed."""
 
@@ -91,6 +98,7 @@ class Reply:
         self.frame = bytearray(FRAME)
         self.frame[1:6] = request.raw[1:6]
         self.request_id = request.request_id
+        self.refused = False  # refuse() made it the device's refusal
 
     def __setitem__(self, offset: int, value: int) -> None:
         self.frame[offset] = value & 0xFF
@@ -108,6 +116,13 @@ class Reply:
 
     def f32(self, offset: int, value: float) -> None:
         struct.pack_into("<f", self.frame, offset, value)
+
+    def refuse(self, status: int) -> Reply:
+        """Make this the device's refusal: the error status in [2], the payload zero."""
+        self.frame[8:] = bytes(FRAME - 8)
+        self.frame[2] = status & 0xFF
+        self.refused = True
+        return self
 
     def finish(self) -> bytes:
         self.frame[0] = REPLY_HEADER

@@ -208,7 +208,7 @@ def ponet(device: PoKeysDevice, req: Request) -> Reply | None:
 # ---- failsafe, configuration -------------------------------------------------------------------
 def failsafe(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x81: [2]=0 get, 1 set: [3] enabled, [4] peripherals, [8..14] I/O, [15..24]
-    PoExtBus, [25..30] PWM (stored; the failsafe timeout itself is not modelled, D)."""
+    PoExtBus, [25..30] PWM; the device's FailsafeWatch acts on them (failsafe.py)."""
     io = device.io
     if req.param(1) == 1:
         io.failsafe = bytes(req.raw[3:5]) + bytes(req.raw[8:31])
@@ -242,17 +242,18 @@ def _pev2(device: PoKeysDevice) -> bool:
 # ---- pulse engine extras -----------------------------------------------------------------------
 def backlash(device: PoKeysDevice, req: Request) -> Reply | None:
     """0x85 0x40 get / 0x41 set: [3] enabled, [4] max speed, per axis u16 width [8 + 4i]
-    and acceleration [10 + 4i]; registers i16 [40 + 2i] (0: compensation is stored, not
-    applied, D)."""
+    and acceleration [10 + 4i]; the registers i16 [40 + 2i] (device.apply_backlash)."""
     if not _pev2(device):
         return None
     io = device.io
     if req.sub == 0x41:
         io.backlash = bytes(req.raw[3:5]) + bytes(req.raw[8:40])
+        device.apply_backlash()
     r = Reply(req)
     r[3], r[4] = io.backlash[0], io.backlash[1]
     r.put(8, io.backlash[2:34])
-    r.put(40, bytes(16))
+    for a in device.engine.axes[:8]:
+        r.put(40 + 2 * a.index, struct.pack("<h", a.backlash_register))
     return r
 
 
@@ -270,12 +271,14 @@ def synced_pwm(device: PoKeysDevice, req: Request) -> Reply | None:
 
 
 def sync_outputs(device: PoKeysDevice, req: Request) -> Reply | None:
-    """0x85 0x0B: fast outputs synced to axis [4] (when [3]), mapping [8..15] (stored)."""
+    """0x85 0x0B: fast outputs synced to axis [4] (when [3]), mapping [8..15]: the axis's
+    buffer entries then drive the mapped outputs slot by slot (device.sync_outputs)."""
     if not _pev2(device):
         return None
     if req.param(2) and req.param(3) >= len(device.engine.axes):
         return None
     device.io.sync_outputs = bytes(req.raw[3:5]) + bytes(req.raw[8:16])
+    device.apply_sync_outputs()
     return Reply(req)
 
 
@@ -474,31 +477,6 @@ def fast_usb(device: PoKeysDevice, req: Request) -> Reply:
     r = Reply(req)
     r[2] = 0
     return r
-
-
-EASY_SENSORS = 100  # info.iEasySensors of the 57 series
-
-
-def easy_sensors_setup(device: PoKeysDevice, req: Request) -> Reply | None:
-    """0x76 sensor [2] (0..99), [3]=1, [4]=0 get / 1 set: type [8], reading [9], refresh
-    [10], failsafe [11], ID [12..19]; stored (nothing is attached to read, D)."""
-    index, part, setting = req.param(1), req.param(2), req.param(3)
-    if index >= EASY_SENSORS or part != 1 or setting > 1:
-        return None
-    sensors = device.io.easy_sensors
-    if setting:
-        sensors[index] = bytes(req.raw[8:20])
-    r = Reply(req)
-    r.put(8, sensors.get(index, bytes(12)))
-    return r
-
-
-def easy_sensors_values(device: PoKeysDevice, req: Request) -> Reply | None:
-    """0x77 first [2], count [3] (<= 13): values i32 at [8 + 4t], OK bits at [4..5]. No
-    sensor answers: values 0, not OK (D)."""
-    if req.param(1) >= EASY_SENSORS or req.param(2) > 13:
-        return None
-    return Reply(req)
 
 
 def internal_drivers(device: PoKeysDevice, req: Request) -> Reply | None:

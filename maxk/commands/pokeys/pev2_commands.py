@@ -239,13 +239,18 @@ def decode_entries(data: bytes, count: int, axes: int, wide: bool) -> np.ndarray
 def _fill(device: PoKeysDevice, req: Request, wide: bool, count: int, axes: int
           ) -> Reply | None:
     e = _engine(device)
-    if e is None or not 1 <= axes <= e.spec.axes:
-        return None
-    entries = decode_entries(req.payload, count, axes, wide)
-    if entries is None:
-        return None
-    accepted = e.fill(entries)
     r = Reply(req)
+    if e is None:
+        return r.refuse(0)
+    entries = decode_entries(req.payload, count, axes, wide) if 1 <= axes <= e.spec.axes else None
+    sync = e.sync_outputs_axis
+    if entries is not None and sync is not None and sync < axes:
+        # the synced-outputs axis carries output bits: its bytes as sent (16-bit: the low)
+        raw = np.frombuffer(req.payload[:count * axes * (2 if wide else 1)],
+                            dtype="<u2" if wide else np.uint8).reshape(count, axes)
+        entries[:, sync] = raw[:, sync] & 0xFF
+    accepted = 0 if entries is None else e.fill(entries)  # a refused fill: 0 accepted
+    r.refused = entries is None
     status_block(e, r)
     r[2] = accepted
     return r
@@ -265,5 +270,5 @@ def buffer_fill_large(device: PoKeysDevice, req: Request) -> Reply | None:
     """0xB0 (8 frames, 448 data bytes): [3] 0xFF or 0xFE, N [4], AX [5]."""
     kind = req.param(2)
     if kind not in (0xFF, 0xFE) or req.data is None:
-        return None
+        return Reply(req).refuse(0)  # 0 accepted
     return _fill(device, req, kind == 0xFE, req.param(3), req.param(4))

@@ -5,8 +5,10 @@ behaviour comes from and how sure we are:
 - ``I`` inferred: deduced from how the library uses the command;
 - ``D`` decided: neither settles it; our choice, explained in ``note``.
 
-A request whose (command, sub) is not here gets no reply (silence), as does any request
-a handler refuses: the host's retry logic copes with silence, never with a wrong reply.
+A well-formed request is always answered: a request whose (command, sub) is not here
+gets the refusal with status UNKNOWN in [2], one a handler refuses (it returns None) the
+refusal with status REFUSED (packet.py; D). Only a frame the device cannot take as a
+request (wrong length, header or checksum) gets no reply (session.py).
 """
 
 from __future__ import annotations
@@ -19,10 +21,12 @@ from ...personalities.pokeys.device import PoKeysDevice
 from ..tables import unique_table
 from . import device_commands as dev
 from . import io_commands as io
+from . import legacy_commands as old
 from . import peripheral_commands as per
 from . import pev1_commands as v1
 from . import pev2_commands as v2
-from .packet import Reply, Request
+from . import sensor_commands as sensors
+from .packet import REFUSED, UNKNOWN, Reply, Request
 
 Handler = Callable[[PoKeysDevice, Request], Reply | None]
 
@@ -52,10 +56,14 @@ ENTRIES: Final[list[CommandEntry]] = [
     # ---- connect sequence ----------------------------------------------------------------
     _e(0x00, ANY, "PK_DeviceDataGet (serial, firmware)", dev.read_serial_firmware,
        "reference 4", "C", "PoKeys57: 'PKEx' layout; PoKeys56E: old layout, serial [2..3]."),
+    _e(0x02, ANY, "Set user ID (protocol specification)", dev.set_user_id,
+       "protocol specification (command list)", "I",
+       "[2] = the new user ID; read back by 0x03 and named in the discovery answer [0]."),
     _e(0x03, ANY, "PK_DeviceDataGet (user ID, lock)", dev.read_user_id, "reference 4", "C",
-       "User ID 0, unlocked (D)."),
+       "User ID 0 at power-up (D), unlocked."),
     _e(0x04, ANY, "PK_DeviceDataGet (build date, old ID)", dev.read_build_date,
-       "reference 4", "C", "Parts 0, 1, 2 give 4 + 4 + 3 date characters; part > 2 silent (D)."),
+       "reference 4", "C", "Parts 0, 1, 2 give 4 + 4 + 3 date characters; part > 2 refused "
+       "([2]=1, D)."),
     _e(0x06, ANY, "PK_DeviceDataGet / PK_DeviceNameSet", dev.device_name, "reference 4", "C",
        "Short name [8..17] equals the long name's first 10 bytes, so the long one is used."),
     _e(0xE0, ANY, "PK_DeviceDataGet (network) / PK_NetworkConfigurationSet",
@@ -85,7 +93,8 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(PEV2, 0x06, "PK_PEv2_AdditionalParametersGet/Set", v2.additional_params,
        "reference 6", "I", "E-stop pin [8] stored and read back."),
     _e(PEV2, 0x10, "PK_PEv2_AxisConfigurationGet", v2.axis_config_get, "reference 6", "C",
-       "Axis >= 8 is silent (the library refuses it locally). Bytes [8..52] come back as set."),
+       "Axis >= 8 refused ([2]=1; the library refuses it locally). Bytes [8..52] come "
+       "back as set."),
     _e(PEV2, 0x11, "PK_PEv2_AxisConfigurationSet", v2.axis_config_set, "reference 6", "C",
        "Max speed pulses/ms, acceleration pulses/ms^2 (reference 8); speeds above 125 "
        "pulses/ms are capped (D)."),
@@ -100,32 +109,33 @@ ENTRIES: Final[list[CommandEntry]] = [
        "seed's 'half', D); constant speeds without ramps (D). Counter set to the axis's home "
        "offset (0 = the seed's reset) (D)."),
     _e(PEV2, 0x22, "PK_PEv2_HomingFinish", v2.homing_finish, "reference 6, 9", "C",
-       "Engine goes to state [3]; a state that cannot be set is silent (D)."),
+       "Engine goes to state [3]; a state that cannot be set is refused ([2]=1, D)."),
     _e(PEV2, 0x23, "PK_PEv2_ProbingStart", v2.probing_start, "reference 6; seed v2", "C",
        "Speed f32 = fraction of max speed (library comment), constant (D); the probe "
        "triggers when its level equals polarity [45] (D); reaching the max position without "
-       "a trigger is PROBE_ERROR (I). Hybrid probing ([4]=1) is not modelled: silent."),
+       "a trigger is PROBE_ERROR (I). Hybrid probing ([4]=1) is not modelled: refused ([2]=1)."),
     _e(PEV2, 0x24, "PK_PEv2_ProbingFinish(Simple)", v2.probing_finish, "reference 6", "C",
        "Status [40]: 0 none, 1 probed, 2 max position reached (D); back to the state before "
        "probing (D)."),
     _e(PEV2, 0xF0, "PK_PEv2_BufferClear", v2.buffer_clear, "reference 6", "C",
        "Clears the slot buffer only: internal controllers use their own (seed v2)."),
     _e(PEV2, 0xFF, "PK_PEv2_BufferFill", v2.buffer_fill_8, "reference 6, 8", "C",
-       "Accepted = min(N, free slots), [2]; N*AX > 56 or AX outside 1..8 is silent (D). "
+       "Accepted = min(N, free slots), [2]; N*AX > 56 or AX outside 1..8 is refused "
+       "as 0 accepted, [2]=0, with the status block (D: a fill's only result). "
        "Pulses above 125 per slot are clipped when the slot runs (D)."),
     _e(PEV2, 0xFE, "PK_PEv2_BufferFill_16", v2.buffer_fill_16, "reference 6, 8", "C",
        "u16 little-endian, bit 15 direction."),
     _e(MULTIPART, ANY, "PK_PEv2_BufferFillLarge[_16]", v2.buffer_fill_large,
        "reference 8", "C",
-       "8 frames, one reply with the last frame's ID; a bad or missing frame silences the "
-       "whole group (D)."),
+       "8 frames, one reply with the last frame's ID; a group that arrives incomplete or out "
+       "of order is refused at its last frame as 0 accepted (D)."),
     # ---- pulse engine v1 -----------------------------------------------------------------
     _e(PEV1, 0x00, "PK_PEStatusGet", v1.status, "reference 10", "C",
        "Position counters are 32-bit and wrap past 2^31 pulses (D)."),
     _e(PEV1, 0x01, "PK_PECurrentPositionSet", v1.set_position, "reference 10", "C",
        "Sets all three counters; a moving axis stops (D)."),
     _e(PEV1, 0x02, "PK_PEStateSet", v1.set_state, "reference 10; seed v1", "C",
-       "STOPPED, INTERNAL, BUFFER, JOGGING; others silent (D). Leaving INTERNAL/JOGGING "
+       "STOPPED, INTERNAL, BUFFER, JOGGING; others refused ([2]=1, D). Leaving INTERNAL/JOGGING "
        "leaves up to 10 slots of the move in the buffer (seed's 10 ms rule, I); entering "
        "them clears the buffer, which the internal controller then owns (D)."),
     _e(PEV1, 0x03, "PK_PEMPGJogConfigurationGet/Set", v1.mpg_config, "reference 10", "C",
@@ -148,11 +158,27 @@ ENTRIES: Final[list[CommandEntry]] = [
        "Axes without an enabled home switch go to ERROR (D); the engine ends in HOME (I)."),
     _e(PEV1, 0x30, "PK_PEInfoGet", v1.info, "reference 10; seed v1", "C", "3 / 25 / 128 / 1."),
     _e(PEV1, 0x35, "PK_PEBufferFill", v1.fill, "reference 10; seed v1", "C",
-       "Up to 18 slots per frame (55 bytes); more is silent (D). Nothing accepted while the "
-       "internal controller owns the buffer (D). Pulses above 25 clipped at run time (D)."),
+       "Up to 18 slots per frame (55 bytes); more is refused ([2]=1, D). Nothing "
+       "accepted while the internal controller owns the buffer (D). Pulses above 25 "
+       "clipped at run time (D)."),
     _e(PEV1, 0x36, "PK_PEBufferFlush", v1.flush, "reference 10; seed v1", "C"),
     _e(PEV1, 0x37, "PK_PEBufferFreeSizeGet", v1.free_slots, "reference 10; seed v1", "C",
        "In INTERNAL/JOGGING the controller's look-ahead (<= 10 slots) is not free (I)."),
+    # ---- the older single-pin requests (protocol specification; hosts of their own) ----
+    _e(0x10, ANY, "Set pin function (protocol specification)", old.set_pin_function,
+       "protocol specification; home-automation host", "I",
+       "Pin [2] 0-based, PinFunction byte [3] as in 0xC0; [2]=0 done, [2]=1 refused "
+       "(pin out of range or without the capability), nothing changed (D for the status)."),
+    _e(0x15, ANY, "Get pin function (protocol specification)", old.get_pin_function,
+       "protocol specification; home-automation host", "I",
+       "Function byte in [3] (the host reads 2 input, 4 output there); [2]=1 for no pin."),
+    _e(0x35, ANY, "Read analog input (protocol specification)", old.analog_input,
+       "protocol specification", "D",
+       "Pin [2] 40..46; 12-bit code, high byte [3], low [4] (D); another pin: [2]=1."),
+    _e(0xE6, ANY, "PoLED (protocol specification)", old.poled,
+       "protocol specification (command list); home-automation host", "D",
+       "[2]=0x20 set channel [3] to state [4], [2]=0x10 read it back into [4] (D); other "
+       "sub-commands: [2]=0xFF. States kept, no LED module drawn."),
     # ---- pins and I/O (PoKeysLibIO.c) ----------------------------------------------------
     _e(0xC0, ANY, "PK_PinConfigurationGet/Set", io.pin_configuration, "PoKeysLibIO.c", "C",
        "[2]=0 [3]=0 get, [2]=1 set functions; [3]=1/2 counter options get/set. Each "
@@ -178,12 +204,13 @@ ENTRIES: Final[list[CommandEntry]] = [
        "Pins 41..47, 12-bit big-endian; 0..3.3 V full scale (D); 0 on a pin not "
        "configured as analog input (D)."),
     _e(0x38, ANY, "PK_AnalogRCFilterGet", io.analog_filter, "PoKeysLibIO.c", "C",
-       "u32 at [2..5]; stored, the filter is not applied (D)."),
+       "u32 at [2..5]: the analog inputs' first-order low-pass, time constant in ms "
+       "(0 off; D for the unit), sampled once a slot."),
     _e(0x39, ANY, "PK_AnalogRCFilterSet", io.analog_filter, "PoKeysLibIO.c", "C"),
     _e(0xD8, ANY, "PK_DigitalCounterGet", io.counters_get, "PoKeysLibIO.c", "C",
-       "Rising edges of the world's input on a pin configured as counter, an input that "
-       "follows time or an axis sampled every slot (D: options stored only); a pin "
-       "without a counter reads 0."),
+       "Edges of the world's input on a pin configured as counter, an input that "
+       "follows time or an axis sampled every slot; counter options (0xC0 [3]=2): 0/1 "
+       "rising, 2 falling, 3 both edges, bit 2 down (D); a pin without a counter reads 0."),
     _e(0x1D, ANY, "PK_DigitalCounterClear", io.counters_clear, "PoKeysLibIO.c", "C"),
     _e(0xCB, ANY, "PK_PWMConfigurationGet/Set, PK_PWMUpdate", io.pwm, "PoKeysLibIO.c", "C",
        "Channel n on pin 22-n, period and duty in 25 MHz clocks; update ([3]=1) sets the "
@@ -192,7 +219,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "10 bytes; the set is echoed (the library compares)."),
     # ---- encoders (PoKeysLibEncoders.c) ------------------------------------------------
     _e(0xC4, ANY, "PK_EncoderConfigurationGet/Set (options)", io.encoder_options,
-       "PoKeysLibEncoders.c", "C", "Bit 0 enables counting (I)."),
+       "PoKeysLibEncoders.c", "C", "Bit 0 enables counting; bit 1 4x, bit 2 2x sampling "
+       "(the library's names): a stage pulse is one quadrature cycle (D), counted 1, 2 "
+       "or 4 times."),
     _e(0xC5, ANY, "PK_EncoderConfigurationGet/Set (channel pins)", io.encoder_options,
        "PoKeysLibEncoders.c", "C", "A pins [8+i], B pins [33+i]; stored (the world gives "
        "the counts)."),
@@ -230,7 +259,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPoNET.c", "C",
        "One kbd48CNC on module 0 (type/address 0x10, D) whose 48 keys the world presses."),
     _e(0x81, ANY, "PK_FailsafeSettingsGet/Set", per.failsafe, "PoKeysLibFailsafe.c", "C",
-       "Stored; the failsafe timeout is not modelled (D)."),
+       "After [3] x 100 ms with no valid request, the peripherals of [4] (I/O, PoExtBus, "
+       "PWM in % of the period (D), pulse engine stopped and its buffer cleared) take "
+       "their safe values, once until a host speaks (failsafe.py)."),
     _e(0x50, ANY, "PK_SaveConfiguration", per.save_configuration, "PoKeysLibDeviceData.c",
        "C", "Pins, counters' options, PWM, encoders, RC filter, matrix keyboard, LCD and "
        "failsafe set-ups survive a reset, and the run with an archive file (D)."),
@@ -239,7 +270,9 @@ ENTRIES: Final[list[CommandEntry]] = [
     _e(PEV2, 0x0A, "PK_PEv2_SyncedPWMSetup", per.synced_pwm, "PoKeysLibPulseEngine_v2.c", "I",
        "The channel's output duty follows the axis's speed / max speed (D)."),
     _e(PEV2, 0x0B, "PK_PEv2_SyncOutputsSetup", per.sync_outputs, "PoKeysLibPulseEngine_v2.c",
-       "I", "Stored, not acted on (D)."),
+       "I", "Axis [4]'s buffer entries are output bits while the buffer runs: bit i drives "
+       "pin mapping[8 + i] (1..55, 0 none, D), slot by slot, bytes as sent (16-bit: the "
+       "low byte, D); the axis does not move."),
     *[_e(PEV2, sub, name, per.threading_request, "PoKeysLibPulseEngine_v2.c", "D",
          "Answered with zeros; threading is not modelled (nothing prepared or active).")
       for sub, name in ((0x30, "PK_PEv2_ThreadingPrepareForTrigger"),
@@ -249,7 +282,9 @@ ENTRIES: Final[list[CommandEntry]] = [
                         (0x35, "PK_PEv2_ThreadingStatusGet"),
                         (0x36, "PK_PEv2_ThreadingSetup"))],
     _e(PEV2, 0x40, "PK_PEv2_BacklashCompensationSettings_Get", per.backlash,
-       "PoKeysLibPulseEngine_v2.c", "C", "Stored; registers 0 (not applied, D)."),
+       "PoKeysLibPulseEngine_v2.c", "C", "On a reversal the register takes up the width "
+       "(half the play) at [4] pulses a slot (0 at once; the acceleration is kept, D): "
+       "the stage gets the register's pulses, the counter not. Registers at [40 + 2i]."),
     _e(PEV2, 0x41, "PK_PEv2_BacklashCompensationSettings_Set", per.backlash,
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(PEV2, 0x50, "PK_PoStep_ConfigurationGet/Set", per.postep,
@@ -281,9 +316,9 @@ ENTRIES: Final[list[CommandEntry]] = [
        "PoKeysLibPulseEngine_v2.c", "C"),
     _e(0xBB, ANY, "PK_GetDebugValues", per.taken, "PoKeysLibDeviceData.c", "I",
        "13 x i32 at [8] per part: zeros (D)."),
-    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", per.easy_sensors_setup,
+    _e(0x76, ANY, "PK_EasySensorsSetupGet/Set", sensors.easy_sensors_setup,
        "PoKeysLibEasySensors.c", "C", "100 sensors' set-ups stored (D)."),
-    _e(0x77, ANY, "PK_EasySensorsValueGetAll", per.easy_sensors_values,
+    _e(0x77, ANY, "PK_EasySensorsValueGetAll", sensors.easy_sensors_values,
        "PoKeysLibEasySensors.c", "C", "Nothing attached: values 0, OK bits 0 (D)."),
     _e(0xDB, ANY, "PK_I2C*", per.i2c, "PoKeysLibI2C.c", "C",
        "Nothing on the bus: transfers end in error, a scan finds no address (D)."),
@@ -297,19 +332,34 @@ ENTRIES: Final[list[CommandEntry]] = [
 _BY_KEY: Final = unique_table(ENTRIES, lambda e: (e.command, e.sub), "PoKeys table")
 
 NOT_MODELLED: Final = (
-    "Hybrid probing: silent. "
+    "Hybrid probing: refused. "
     "Threading, PoIL programs, WS2812 and matrix LED displays, the UART line: answered, "
     "not modelled.")
+
+
+ENGINE_OF: Final = {PEV1: 1, PEV2: 2, MULTIPART: 2}
+"""Each engine's requests: a device answers the other engine's as unknown commands (D)."""
+FILLS: Final = (0xFF, 0xFE, MULTIPART)
 
 
 def lookup(command: int, sub: int) -> CommandEntry | None:
     return _BY_KEY.get((command, sub)) or _BY_KEY.get((command, ANY))
 
 
-def dispatch(device: PoKeysDevice, request: Request) -> bytes | None:
-    """The reply frame for a valid request, or None (silence)."""
+def answer(device: PoKeysDevice, request: Request) -> tuple[bytes, bool]:
+    """The reply frame for a valid request and whether it is the device's refusal."""
     entry = lookup(request.command, request.sub)
-    if entry is None:
-        return None
+    engine = device.identity.engine_version
+    if entry is None or ENGINE_OF.get(request.command, engine) != engine:
+        if request.command in FILLS or (request.command == PEV2 and request.sub in FILLS):
+            return Reply(request).refuse(0).finish(), True  # a fill's refusal: 0 accepted
+        return Reply(request).refuse(UNKNOWN).finish(), True
     reply = entry.handler(device, request)
-    return None if reply is None else reply.finish()
+    if reply is None:
+        return Reply(request).refuse(REFUSED).finish(), True
+    return reply.finish(), reply.refused
+
+
+def dispatch(device: PoKeysDevice, request: Request) -> bytes:
+    """The reply frame for a valid request: the handler's, or the device's refusal."""
+    return answer(device, request)[0]

@@ -86,12 +86,34 @@ class Axis:
     mpg_last: int | None = None
     mpg_pending: int = 0
     direction_out: bool = False  # the direction pin, held between pulses
+    # backlash compensation (v2 0x85 0x41): half the play, pulses a slot, the register
+    backlash_width: int = 0
+    backlash_rate: int = 0  # pulses per slot the register moves (0: at once, D)
+    backlash_register: int = 0  # extra pulses out: the stage is the counter's plus these
 
     @property
     def stage(self) -> int:
         """Physical position: the pulses emitted since power-up, where the switches are
-        (setting the counter does not move the stage)."""
-        return self.position - self.counter_offset
+        (setting the counter does not move the stage; backlash compensation pulses do)."""
+        return self.position - self.counter_offset + self.backlash_register
+
+    def take_up_backlash(self, direction: int, slots: int) -> None:
+        """The axis moved `direction` for `slots` slots: the register heads for
+        direction * width at its rate, so the motor takes up the play on a reversal
+        while the counter counts only the commanded pulses."""
+        if not self.backlash_width or not direction:
+            return
+        target = self.backlash_width if direction > 0 else -self.backlash_width
+        gap = target - self.backlash_register
+        if self.backlash_rate > 0:
+            reach = self.backlash_rate * slots
+            gap = max(-reach, min(reach, gap))
+        self.backlash_register += gap
+
+    def backlash_settled(self, direction: int) -> bool:
+        """Is the play already taken up for motion this way?"""
+        target = self.backlash_width if direction > 0 else -self.backlash_width
+        return not self.backlash_width or not direction or self.backlash_register == target
 
     def set_counter(self, value: int) -> None:
         """Load the position counter; the stage stays where it is."""

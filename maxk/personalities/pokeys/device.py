@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from ...firmware_model.world import World
+from .failsafe import FailsafeWatch
 from .io import DeviceIO
 from .machine import SlotEngine
 from .pev1 import PulseEngineV1
@@ -62,6 +63,7 @@ class PoKeysDevice:
     machine: SlotEngine = field(init=False)
     io: DeviceIO = field(init=False)
     pins: PoKeysIOWorld = field(init=False)
+    failsafe: FailsafeWatch = field(init=False)
 
     def __post_init__(self) -> None:
         self.machine = SlotEngine(self.engine)
@@ -70,6 +72,8 @@ class PoKeysDevice:
         self.pins = PoKeysIOWorld(self.io, world, self._stage, lambda: self.machine,
                                   self.machine.world_changed)
         self.machine.add_source(CounterSampler(self.pins, lambda: self.machine.tick))
+        self.failsafe = FailsafeWatch(self)
+        self.machine.add_source(self.failsafe)
 
     def pwm_output(self, channel: int) -> float:
         """PWM channel's duty as a fraction of its period, as the pin puts it out: a
@@ -86,6 +90,39 @@ class PoKeysDevice:
             return 0.0
         t = (self.engine.slot - found.start) / 1000.0
         return min(1.0, abs(found.plan.velocity(t)) / max_speed)
+
+    def apply_sync_outputs(self) -> None:
+        """Synced fast outputs (0x85 0x0B, stored as [3] enabled, [4] axis, 8 mapping
+        bytes): while the pulse engine consumes its buffer, the chosen axis's entry of
+        each slot is 8 output bits, bit i driving pin mapping[i] (a pin number 1..55, 0
+        none; D) when that pin is a digital output; the axis itself does not move."""
+        enabled, axis = self.io.sync_outputs[0], self.io.sync_outputs[1]
+        self.engine.sync_outputs_axis = axis if enabled else None
+        self.engine.on_sync_outputs = self._sync_outputs
+
+    def apply_backlash(self) -> None:
+        """Backlash compensation (0x85 0x41, stored as [3] enabled, [4] max speed, then per
+        axis u16 width and u8 acceleration in 4 bytes): each axis takes up its width (half
+        the play) on a reversal at the max speed in pulses a slot (0: at once; D: the
+        acceleration is kept, the register moves at constant speed). Switched off, the
+        register's pulses stay in the stage (the motor does not step back)."""
+        raw = self.io.backlash
+        enabled, rate = raw[0], raw[1]
+        for a in self.engine.axes:
+            at = 2 + 4 * a.index
+            width = raw[at] | raw[at + 1] << 8 if enabled and at + 1 < len(raw) else 0
+            if not width and a.backlash_register:
+                a.counter_offset -= a.backlash_register
+                a.backlash_register = 0
+            a.backlash_width, a.backlash_rate = width, rate
+            a.backlash_register = max(-width, min(width, a.backlash_register)) if width \
+                else 0
+
+    def _sync_outputs(self, bits: int) -> None:
+        io = self.io
+        for i, pin in enumerate(io.sync_outputs[2:10]):
+            if 1 <= pin <= len(io.outputs) and io.is_output(pin):
+                io.outputs[pin - 1] = bool(bits >> i & 1)
 
     def _stage(self, axis: int) -> int:
         axes = self.engine.axes

@@ -68,6 +68,9 @@ class PulseEngine:
         self.state_before_probe = EngineState.STOPPED
         self.trace: Callable[[SlotRecord], None] | None = None
         self.listeners: list[Listener] = []
+        # synced fast outputs (v2 0x85 0x0B): this axis's buffer column drives outputs
+        self.sync_outputs_axis: int | None = None
+        self.on_sync_outputs: Callable[[int], None] | None = None
 
     # ---- what the two engines answer differently ------------------------------------
     def active(self, axis: Axis) -> bool:
@@ -116,12 +119,16 @@ class PulseEngine:
         """The axis's motion from now as a `MotionPlan` (None: it stands still): the
         buffered slots as a step function, or its internal controller's profiles."""
         a = self.axes[index]
-        if self.state not in GENERATING or not self.active(a):
+        if self.state not in GENERATING or not self.active(a) or self.syncs_outputs(a):
             return None
         if self.consumes_buffer() and self.buffered(a):
             rows = self.buffer.peek(self.buffer.count)
             return pulse_plan(self.slot, a.position, rows[:, index])
         return None if a.motion is None else segment_plan(a.motion)
+
+    def syncs_outputs(self, a: Axis) -> bool:
+        """Is this axis's buffer column output bits (synced fast outputs), not pulses?"""
+        return a.index == self.sync_outputs_axis and self.buffered(a)
 
     def notify(self, event: str, axis: int = -1, slot: int | None = None) -> None:
         for listener in self.listeners:
@@ -294,6 +301,8 @@ class PulseEngine:
         for a in self.axes:
             if not self.active(a):
                 continue
+            if consuming and self.syncs_outputs(a):
+                continue  # output bits: no switch is ever reached
             if consuming and self.buffered(a):
                 fed.append(a)
             elif a.motion is not None:
@@ -305,7 +314,31 @@ class PulseEngine:
                     return 1
         if fed and self.buffer.count:
             n = self._buffered_span(fed, min(n, self.buffer.count))
+            n = self._backlash_buffered_span(fed, n)
         return max(n, 1)
+
+    def _backlash_buffered_span(self, fed: list[Axis], n: int) -> int:
+        """With backlash compensation, the register moves only while the direction holds:
+        a stretch ends before the first slot against the settled direction, and a slot
+        whose register is still on its way runs alone (the stage moves by more than the
+        counter then)."""
+        compensated = [a for a in fed if a.backlash_width]
+        if not compensated:
+            return n
+        rows = self.buffer.peek(n)
+        for a in compensated:
+            column = rows[:, a.index]
+            moving = np.nonzero(column)[0]
+            if not len(moving):
+                continue
+            first = int(moving[0])
+            d = 1 if column[first] > 0 else -1
+            if not a.backlash_settled(d):
+                return max(first, 1)  # up to the first pulse, then slot by slot
+            against = np.nonzero(column * d < 0)[0]
+            if len(against):
+                n = min(n, max(int(against[0]), 1))
+        return n
 
     def _buffered_span(self, fed: list[Axis], n: int) -> int:
         """Slots of the buffer that run before a buffered axis crosses a switch edge at a
@@ -363,6 +396,8 @@ class PulseEngine:
         if not dirs:
             return n
         d = dirs.pop()
+        if not a.backlash_settled(d):
+            return 1  # the register is taking up the play: slot by slot
         edge = self.world.next_switch_edge(a.index, a.stage, d) if self._switches_act(a) \
             else None
         if edge is not None:
@@ -396,6 +431,10 @@ class PulseEngine:
                 continue
             p0 = a.position
             step = 0
+            if consuming and self.syncs_outputs(a):
+                if rows is not None and self.on_sync_outputs is not None:
+                    self.on_sync_outputs(int(rows[-1, a.index]))  # the span's last slot
+                continue
             if consuming and self.buffered(a):
                 if rows is None:
                     continue
@@ -415,6 +454,8 @@ class PulseEngine:
                 self._direction(a, step or new - p0)
                 a.position = new
                 pulses[a.index] = new - p0
+                moved = new - p0 or step
+                a.take_up_backlash(1 if moved > 0 else -1, n)
         self.slot = s + n
         ended: list[tuple[int, int, int]] = []
         for a in self.axes:

@@ -219,6 +219,7 @@ class DeviceIO:
     matrix_led: bytes = bytes(3)
     internal_drivers: bytes = bytes(8)
     matrix_led_data: dict[int, bytes] = field(default_factory=dict)
+    poled: dict[int, int] = field(default_factory=dict)  # 0xE6 channel -> state
     i2c_active: int = 0
     onewire_active: int = 0
     saved: dict[str, Any] | None = None

@@ -135,8 +135,9 @@ class PulseEngineV2(PulseEngine):
             a.target = values[a.index]
 
     def fill(self, entries: np.ndarray) -> int:
-        """Buffer fill: rows of signed pulses for axes 0..AX-1; returns slots accepted."""
-        return self.buffer.accept(entries)
+        """Buffer fill: rows of signed pulses for axes 0..AX-1 (the synced-outputs axis:
+        its raw output bits); returns slots accepted."""
+        return self.buffer.accept(entries, self.sync_outputs_axis)
 
     def clear_buffer(self) -> None:
         self.buffer.clear()

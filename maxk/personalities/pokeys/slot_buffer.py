@@ -26,10 +26,11 @@ class SlotBuffer:
     def free(self) -> int:
         return self.depth - self.count
 
-    def accept(self, entries: np.ndarray) -> int:
+    def accept(self, entries: np.ndarray, raw_column: int | None = None) -> int:
         """Append as many leading entries (rows of up to `axes` columns) as fit; return
         how many were taken. Columns beyond the entries' width are zero. A slot never
-        carries more than max_pulses: the excess is dropped here and counted."""
+        carries more than max_pulses: the excess is dropped here and counted. A raw
+        column (synced output bits, not pulses) is kept as it is."""
         take = min(len(entries), self.free)
         if take <= 0:
             return 0
@@ -39,6 +40,8 @@ class SlotBuffer:
         clipped = taken
         if np.abs(taken).max() > m:
             clipped = np.clip(taken, -m, m)
+            if raw_column is not None and raw_column < width:
+                clipped[:, raw_column] = taken[:, raw_column]
             self.clipped[:width] += np.abs(taken - clipped).sum(axis=0)
         idx = (self._head + self.count + np.arange(take)) % self.depth
         self._rows[idx] = 0

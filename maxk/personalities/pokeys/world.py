@@ -212,8 +212,8 @@ class PoKeysIOWorld:
     device drives (outputs, PWM), read through one object.
 
     World digital input p is pin p's level (input 0 is the dedicated e-stop, not a pin);
-    world analog channel p is pin p's voltage. Counters count the rising edges the world
-    makes on a pin configured as a counter (D: the counter options are stored, not used);
+    world analog channel p is pin p's voltage. Counters count the edges the world makes
+    on a pin configured as a counter, as its counter options say (`counter_step`, D);
     an input that is a function is sampled every slot by `CounterSampler` (D)."""
 
     def __init__(self, io: Any, world: World, stage: Callable[[int], int],
@@ -225,6 +225,11 @@ class PoKeysIOWorld:
         self.board = board
         self.changed = changed
         self._levels: dict[int, bool] = {}
+        self._filtered: dict[int, tuple[int, float]] = {}  # pin -> (slot, filtered volts)
+
+    def now(self) -> int:
+        """The device's slot (the board's tick), for the analog filter."""
+        return int(getattr(self.board(), "tick", 0))
 
     # ---- inputs the world drives -----------------------------------------------------
     def set_input(self, pin: int, level: object) -> None:
@@ -275,12 +280,14 @@ class PoKeysIOWorld:
         return self.world.digital_level(pin, self.board())
 
     def sample(self, pin: int) -> bool:
-        """The pin's level now; a rising edge since the last sample counts (counter pins)."""
+        """The pin's level now; an edge since the last sample counts on a counter pin as
+        its counter options say (`counter_step`)."""
         level = self.input_level(pin)
         before = self._levels.get(pin, False)
         self._levels[pin] = level
-        if level and not before and 1 <= pin <= 55 and self.io.counts(pin):
-            self.io.counters[pin - 1] = (self.io.counters[pin - 1] + 1) & 0xFFFFFFFF
+        if level != before and 1 <= pin <= 55 and self.io.counts(pin):
+            step = counter_step(self.io.counter_options[pin - 1], level)
+            self.io.counters[pin - 1] = (self.io.counters[pin - 1] + step) & 0xFFFFFFFF
         return level
 
     def timed_counters(self) -> list[int]:
@@ -314,11 +321,29 @@ class PoKeysIOWorld:
         return bits
 
     def analog_code(self, pin: int) -> int:
-        """12-bit code of an analog input pin (0 unless configured as one)."""
+        """12-bit code of an analog input pin (0 unless configured as one), through the
+        RC filter when one is set (`analog_filtered`)."""
         if not self.io.functions[pin - 1] & ANALOG_INPUT:
+            self._filtered.pop(pin, None)
             return 0
-        volts = self.world.analog_volts(pin, self.board())
+        volts = self.analog_filtered(pin, self.world.analog_volts(pin, self.board()))
         return max(0, min(4095, round(volts / ANALOG_FULL_SCALE * 4095)))
+
+    def analog_filtered(self, pin: int, volts: float) -> float:
+        """The analog RC filter (0x39): a first-order low-pass with a time constant of
+        `analog_filter` slots (ms; 0 = off), sampled once a slot (D for the unit). The
+        input is taken as it reads now since the last read (exact for a constant input):
+        y = x + (y0 - x) * exp(-slots / tau)."""
+        tau = self.io.analog_filter
+        now = self.now()
+        last = self._filtered.get(pin)
+        if tau <= 0 or last is None:
+            self._filtered[pin] = (now, volts)
+            return volts
+        slot, held = last
+        filtered = volts + (held - volts) * math.exp(-max(0, now - slot) / tau)
+        self._filtered[pin] = (now, filtered)
+        return filtered
 
     def encoder_counting(self, encoder: int) -> bool:
         if encoder == 25:
@@ -328,10 +353,14 @@ class PoKeysIOWorld:
         return bool(self.io.encoders[encoder].options & 1)
 
     def encoder_value(self, encoder: int) -> int:
+        """The count: the attached stage's pulses are quadrature cycles, counted once at
+        1x sampling, twice with option bit 2 (2x), four times with bit 1 (4x; 4x wins
+        when both are set) (D: the library names the bits, not the stage's unit)."""
         e = self.io.encoders[encoder]
         if e.axis is None or not self.encoder_counting(encoder):
             return int(e.base)
-        return int(e.base + e.direction * (self.stage(e.axis) - e.axis_from))
+        per_cycle = 4 if e.options & 0x02 else 2 if e.options & 0x04 else 1
+        return int(e.base + e.direction * per_cycle * (self.stage(e.axis) - e.axis_from))
 
     def load_encoder(self, encoder: int, value: int) -> None:
         e = self.io.encoders[encoder]
@@ -350,6 +379,21 @@ class PoKeysIOWorld:
     def output_levels(self) -> dict[int, bool]:
         """Every digital output pin's level."""
         return {p: self.io.output_level(p) for p in range(1, 56) if self.io.is_output(p)}
+
+
+COUNT_FALLING = 0x02  # counter options: bit 0 rising, bit 1 falling edges (D)
+COUNT_DOWN = 0x04  # counter options: the count goes down (D)
+
+
+def counter_step(options: int, level: bool) -> int:
+    """What an edge to `level` adds to a counter with these options (D: the library
+    stores the byte without naming its bits): edges 0 or 1 rising (power-up: rising),
+    2 falling, 3 both; bit 2 counts down."""
+    edges = options & 0x03
+    counted = (level and edges != COUNT_FALLING) or (not level and edges >= COUNT_FALLING)
+    if not counted:
+        return 0
+    return -1 if options & COUNT_DOWN else 1
 
 
 class CounterSampler:
