@@ -11,8 +11,10 @@ from __future__ import annotations
 from typing import Protocol
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
+from maxk.personalities.mm4005.io import GpioPort
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
+from maxk.personalities.mm4005.trace_mode import GlobalTrace
 
 
 class MM4005Machine(Protocol):
@@ -139,6 +141,16 @@ class MM4005Machine(Protocol):
 
     def input_level(self, bit: int) -> bool:
         """RB: the level of GPIO input bit 1..8, as the world around the controller sets it."""
+        ...
+
+    @property
+    def gpio(self) -> GpioPort:
+        """SB, RA: the outputs and analog inputs, on the world (personalities/mm4005/io.py)."""
+        ...
+
+    @property
+    def global_trace(self) -> GlobalTrace:
+        """GQ/SQ: the global trace acquisition into the buffer NQ/TQ read."""
         ...
 
     def execute_timed(self, scale: float) -> None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Final
 
 from . import handlers_axis as ax
+from . import handlers_io as io
 from . import handlers_manual as mn
 from . import handlers_settings as st
 from . import handlers_timed as tm
@@ -340,6 +341,63 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
 )
 
 
+# --- inputs and outputs, trace mode, display, special motion (issue 36) ---
+_TQ_PAGE = ("manual 3.137 TQ 'Read global trace data': 'the global trace mode is enabled by "
+            "GQ command and defined by SQ and GQ commands', samples 1 to 'the number of "
+            "samples set by GQ'; Rel. Commands 'GQ - Set global trace mode', 'SQ - Set "
+            "global sample rate'")
+_SEARCHED = ("its page was searched for in the MM4005 manual's mirrored pages, the MM4006's "
+             "and the ESP300's and not found: its syntax and reply are unknown, so it is not "
+             "modelled and answers Q")
+
+
+def _not_found(mnemonic: str, known: str = "") -> CommandSpec:
+    """One of this group's commands whose page was found nowhere: Q, saying so."""
+    group = ml.GROUP[mnemonic]
+    return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
+                 replies=False, source=f"{_LIST}: {group}", confidence="I",
+                 note=(known + "; " if known else "") + _SEARCHED,
+                 summary=f"{mnemonic}: one of the {group} commands (page not found: Q)")
+
+
+_IO_ENTRIES: Final[tuple[CommandSpec, ...]] = (
+    _set("SB", io.output_port, _NO, Operand.INTEGER, "sibling ESP300 3-126 'SB set/get DIO "
+         "port bits', 'SBnn or SB?' (the MM4005 page was not found)", "I",
+         "drives the 8 GPIO outputs at once: bit 1 = 1 (least significant, as RB's byte, "
+         "manual 3.103) ... bit 8 = 128; nn decimal 0..255 (the ESP300 writes hex, the "
+         "MM4005's RB answers decimal: D), else C; 'SB?' -> 'SBnn' the outputs driven. "
+         "The levels are the world's outputs (`:world`, the trace, the panel, `@expect "
+         "output 3 high`); all low at power-up (D). The MM4005 also lists CB and SO, whose "
+         "pages were not found: whether its SB sets only the bits of a mask is not known",
+         summary="SB: set the GPIO output bits (the whole port byte)"),
+    _tell("RA", io.read_analog, AxisRule.ELEMENT, "manual 3.137 TQ: 'analog values of "
+          "inputs 1, 2, 3 and 4', returned as '1RAnn, 2RAnn, 3RAnn, 4RAnn'", "I",
+          "RA's own page was not found: 'xxRA' (xx 1..4) -> 'xxRAv' the world's analog input "
+          "xx (`@world analog 2 1.5`) in volts, 4 decimals (D); without xx every input "
+          "'1RAv,2RAv,3RAv,4RAv' (D); xx beyond 4 answers E (as RB)",
+          summary="RA: read an analog input (volts)"),
+    _set("GQ", io.global_trace, _NO, Operand.INTEGER, _TQ_PAGE, "I",
+         "GQ's own page was not found: 'GQnn' (1..20000) starts an acquisition of nn "
+         "samples into the trace buffer, the first on the tick GQ runs, then one every SQ "
+         "servo cycles, each every axis's TH and TP (TQ reads sample i as 'iTQ,1THa,1TPb,...', "
+         "NQ the count); 'GQ0' ends it early; 'GQ?' -> 'GQnn' (D). A trajectory run started "
+         "meanwhile takes the buffer over and ends the acquisition (D)",
+         summary="GQ: set the global trace mode (acquire nn samples)"),
+    _set("SQ", io.sample_rate, _NO, Operand.INTEGER, _TQ_PAGE, "I",
+         "SQ's own page was not found: 'SQnn' nn servo cycles (0.5 ms, manual 7.1.1) between "
+         "two samples, 1..10000, default 1 (D); 'SQ?' -> 'SQnn'; refused D while an "
+         "acquisition runs (D)",
+         summary="SQ: set the global trace sample period (servo cycles)"),
+    # found nowhere: Q, each saying so
+    *(_not_found(name) for name in ("AM", "CB", "FT", "RO", "SO", "TG", "YO", "YP", "YR")),
+    *(_not_found(name, "not the global trace mode of manual 3.137 (GQ/SQ/NQ/TQ)")
+      for name in ("AQ", "SP", "TM", "TT", "XN", "XQ", "XS")),
+    *(_not_found(name, "no page found defines the front panel display's text")
+      for name in ("DS", "DY", "FB", "FC", "FD", "NP", "RD", "RE")),
+    *(_not_found(name) for name in ("DM", "DO", "MH", "PB", "PE", "PI", "PS", "SE", "OA",
+                                    "VB", "SC", "SF", "PW", "WI", "WN")),
+)
+
 
 def _listed(mnemonic: str) -> CommandSpec:
     """A command of the manual's list the emulator does not carry out: answers Q."""
@@ -350,6 +408,7 @@ def _listed(mnemonic: str) -> CommandSpec:
                  "answers Q", summary=f"{mnemonic}: one of the {group} commands (not modelled)")
 
 
-_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES}
-COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES} | {
+_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES + _IO_ENTRIES}
+COMMANDS: Final[dict[str, CommandSpec]] = {
+    spec.mnemonic: spec for spec in _ENTRIES + _IO_ENTRIES} | {
     name: _listed(name) for name in sorted(ml.GROUP) if name not in _MODELLED}

@@ -29,10 +29,12 @@ from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
+from .io import GpioPort
 from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
 from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
+from .trace_mode import GlobalTrace
 from .trajectory import Trajectory, TrajectoryRun
 
 UPDATE_RATE_HZ: Final = 2000  # manual 7.1.1: servo update cycle 0.0005 s (C)
@@ -65,6 +67,10 @@ class MM4005(Engine):
         self.settings = [AxisSettings() for _ in range(axis_count)]
         self._servo_axes: list[MM4005Axis] = []
         self.following_errors: list[int] = []
+        self.gpio = GpioPort(self.world, self)  # SB/RA on the world's I/O (io.py)
+        self.global_trace = GlobalTrace(self, self.pulse_trace, self._positions,
+                                        self.trajectory_element)  # GQ/SQ (trace_mode.py)
+        self.add_source(self.global_trace)
 
     # ---- what the language reads ----------------------------------------------------------
     @property
@@ -563,6 +569,9 @@ class MM4005(Engine):
             self.timed_run = None
         self.timed = TimedTrajectory(len(self.axes))
         self.pulse_trace.begin()
+        self.global_trace.stop()
+        self.global_trace.requested, self.global_trace.period = 0, 1
+        self.gpio.clear()  # every output low at power-up (D)
         self.settings = [AxisSettings() for _ in self.axes]
         self._servo_axes = []
         self.following_errors = []
