@@ -332,11 +332,12 @@ class MM4005Console(ConsoleBase):
         servos = [str(n) for n in range(1, m.axis_count + 1) if m.settings[n - 1].servo_on]
         lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
                      + ("" if servos else "profile-only axes)"))
-        gpio, trace = m.gpio, m.global_trace
+        gpio, acquisition = m.gpio, m.global_trace
         lines.append(f"I/O: outputs SB{gpio.output_port()}, inputs RB"
                      f"{sum(1 << (b - 1) for b in range(1, 9) if m.input_level(b))}; "
-                     f"global trace GQ{trace.requested} SQ{trace.period}, "
-                     f"{trace.taken} taken{' (acquiring)' if trace.acquiring else ''}")
+                     f"global trace GQ{acquisition.requested} SQ{acquisition.period}, "
+                     f"{acquisition.taken} taken"
+                     f"{' (acquiring)' if acquisition.acquiring else ''}")
         lines.append(f"error register: {self.controller.errors.peek().char}")
         run = m.timed_run
         if run is not None and not run.finished:
