@@ -44,10 +44,19 @@ class GlobalTrace:
         self.taken = 0
         self.next_tick: int | None = None  # None: not acquiring
         self.first_tick: int | None = None
+        self._last: TracePoint | None = None  # the newest sample this acquisition added
 
     @property
     def acquiring(self) -> bool:
+        """Still sampling: not ended, and the buffer still ends with its own sample (a
+        trajectory run that began the buffer anew has ended it)."""
+        if self.next_tick is not None and not self._owns_buffer():
+            self.stop()
         return self.next_tick is not None
+
+    def _owns_buffer(self) -> bool:
+        records = self.trace.records
+        return bool(records) and records[-1] is self._last
 
     def start(self, count: int) -> None:
         """GQnn: a fresh buffer, the first sample on this tick."""
@@ -56,8 +65,9 @@ class GlobalTrace:
         self.requested = count
         self.trace.begin()
         self.taken = 0
+        self._last = None
         self.first_tick = self.next_tick = self.engine.tick
-        self.on_event(self.engine.tick)  # the sample of this tick, taken now
+        self._sample()  # the sample of this tick, taken now
 
     def stop(self) -> None:
         """GQ0, a power-up or another run taking the buffer: no more samples."""
@@ -71,18 +81,21 @@ class GlobalTrace:
 
     # ---- event source ----------------------------------------------------------------
     def next_event(self) -> int | None:
-        return self.next_tick
+        return self.next_tick if self.acquiring else None
 
     def on_event(self, now: int) -> None:
-        while self.next_tick is not None and self.next_tick <= now:
-            if self.trace.total != self.taken:  # a trajectory run began the buffer anew
-                self.stop()
-                return
-            theoretical, actual = self.positions()
-            self.taken += 1
-            self.trace.add(TracePoint(self.taken, self.next_tick, self.element(),
-                                      theoretical, actual))
-            if self.taken >= self.requested:
-                self.stop()
-            else:
-                self.next_tick += self.period
+        while self.acquiring and self.next_tick is not None and self.next_tick <= now:
+            self._sample()
+
+    def _sample(self) -> None:
+        """Every axis's TH and TP on this tick (the engine stands on ``next_tick``)."""
+        assert self.next_tick is not None
+        theoretical, actual = self.positions()
+        self.taken += 1
+        self._last = TracePoint(self.taken, self.next_tick, self.element(), theoretical,
+                                actual)
+        self.trace.add(self._last)
+        if self.taken >= self.requested:
+            self.stop()
+        else:
+            self.next_tick += self.period

@@ -1,0 +1,203 @@
+"""The MM4005's outputs (SB), analog inputs (RA) and global trace mode (GQ, SQ read back
+with NQ and TQ, manual 3.137), and the I/O, trace, display and special-motion commands
+whose pages were found nowhere (Q). Expected values are worked out here from the
+manual's numbers and the move's own arithmetic, not read from the code."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+
+from maxk.commands.mm4005 import COMMANDS
+from maxk.controllers.mm4005 import MM4005Controller
+from maxk.trace import TraceWriter
+
+PERIOD = 0.0005  # manual 7.1.1: the servo cycle, one tick
+
+
+def _mm(model: str = "MM4005-2") -> MM4005Controller:
+    return MM4005Controller(model)
+
+
+def _error(mm: MM4005Controller, line: str) -> str:
+    assert mm.send(line) == [], line
+    return mm.query("TE")
+
+
+# ---- SB: the outputs on the shared world -----------------------------------------------
+def test_sb_drives_the_worlds_outputs_and_reads_them_back() -> None:
+    mm = _mm()
+    view = mm.world_view()
+    assert mm.send("SB?") == ["SB0"]  # all low at power-up
+    assert mm.send("SB5;SB?") == ["SB5"]
+    # bit 1 is the least significant (as RB's byte): 5 = bits 1 and 3
+    assert [view.output_level(bit) for bit in range(1, 9)] == [
+        True, False, True, False, False, False, False, False]
+    assert view.output_level(0) is None and view.output_level(9) is None
+    assert mm.machine.world.outputs[3] is True  # the world holds the level itself
+    assert view.describe()[-1] == ("outputs 1 high 2 low 3 high 4 low 5 low 6 low 7 low "
+                                   "8 low")
+    assert mm.send("SB128;SB?") == ["SB128"]
+    assert view.output_level(8) and not view.output_level(1)
+    assert mm.send("SB255;SB?") == ["SB255"]
+    mm.reset()  # power-up: every output low again
+    assert mm.send("SB?") == ["SB0"] and not view.output_level(8)
+
+
+@pytest.mark.parametrize(("line", "code"), [
+    ("SB256", "C"), ("SB-1", "C"), ("SB1.5", "C"), ("SB", "C"), ("1SB5", "B"),
+])
+def test_sb_refuses_what_is_no_port_byte_and_changes_nothing(line: str, code: str) -> None:
+    mm = _mm()
+    mm.send("SB6")
+    assert _error(mm, line) == f"TE{code}"
+    assert mm.send("SB?") == ["SB6"]
+
+
+def test_outputs_show_in_the_trace_and_the_control_doors_view() -> None:
+    from maxk.host.control import _outputs
+
+    mm = _mm()
+    view = mm.world_view()
+    stream = io.StringIO()
+    writer = TraceWriter(stream, mm)
+    writer.attach()
+    mm.send("SB9")
+    writer.sample("after SB9")
+    writer.detach()
+    header, first, second = stream.getvalue().splitlines()
+    column = header.split(",").index("outputs")
+    assert first.split(",")[column] == "0" and second.split(",")[column] == "9"
+    assert _outputs(view) == {str(b): b in (1, 4) for b in range(1, 9)}
+
+
+# ---- RA: analog inputs 1..4 ----------------------------------------------------------------
+def test_ra_reads_the_worlds_analog_inputs_in_volts() -> None:
+    mm = _mm()
+    view = mm.world_view()
+    view.set_analog(2, 1.25)
+    view.set_analog(4, -7.5)
+    assert mm.send("2RA;4RA;1RA") == ["2RA1.2500", "4RA-7.5000", "1RA0.0000"]
+    assert mm.send("RA") == ["1RA0.0000,2RA1.2500,3RA0.0000,4RA-7.5000"]
+    assert _error(mm, "5RA") == "TEE"  # no analog input 5 (E, as RB's bit 9)
+    with pytest.raises(ValueError):
+        view.set_analog(5, 1.0)
+    with pytest.raises(ValueError):
+        view.set_analog(1, 10.5)  # beyond the +/-10 V the world allows
+
+
+# ---- GQ / SQ: the global trace mode ------------------------------------------------------------
+def _profile(t: float, velocity: float = 1.0, accel: float = 5.0) -> float:
+    """A trapezoid from rest: where the profile is at t seconds (before deceleration)."""
+    ramp = velocity / accel
+    if t <= ramp:
+        return 0.5 * accel * t * t
+    return 0.5 * accel * ramp * ramp + velocity * (t - ramp)
+
+
+def test_gq_samples_every_sq_cycles_from_its_own_tick_exactly() -> None:
+    mm = _mm()
+    mm.send("1VA1;1AC5")
+    mm.machine.advance(37)  # start off tick 0
+    start = mm.machine.tick
+    assert mm.send("SQ130;1PA2;GQ6") == []
+    assert mm.send("NQ") == ["NQ1"]  # the first sample on GQ's own tick
+    mm.machine.advance(129)
+    assert mm.send("NQ") == ["NQ1"]
+    mm.machine.advance(1)
+    assert mm.send("NQ") == ["NQ2"]  # 130 cycles later, on that very tick
+    mm.machine.advance(5 * 130)
+    assert mm.send("NQ;GQ?;SQ?") == ["NQ6", "GQ6", "SQ130"]  # then it stops
+    points = mm.trace_points
+    assert [p.tick for p in points] == [start + 130 * k for k in range(6)]
+    for k in range(1, 7):
+        t = (k - 1) * 130 * PERIOD
+        th = _profile(t)
+        counts = int(th / 0.001 + 1e-9)  # the encoder's whole counts (TU 0.001)
+        assert mm.send(f"{k}TQ") == [f"{k}TQ,1TH{th:.4f},1TP{counts * 0.001:.4f},"
+                                     "2TH0.0000,2TP0.0000"], k
+    assert _error(mm, "7TQ") == "TEC"
+
+
+def test_the_trace_follows_a_servo_axis_too() -> None:
+    mm = _mm()
+    mm.send("1KP0.1;1KI0.1;1KD0.16;1UF;1VA1;1AC5;SQ100;1PA0.5;GQ3")
+    mm.run_until_idle()
+    points = mm.trace_points
+    assert len(points) == 3
+    assert [round(p.theoretical[0], 6) for p in points] == [
+        round(_profile(k * 100 * PERIOD), 6) for k in range(3)]
+    assert points[0].actual[0] == 0.0 and 0.0 < points[2].actual[0] < 0.2
+
+
+def test_gq0_ends_early_and_sq_waits_for_the_end() -> None:
+    mm = _mm()
+    mm.send("SQ10;GQ100")
+    mm.machine.advance(25)
+    assert _error(mm, "SQ5") == "TED"  # not while acquiring
+    assert mm.send("GQ0;NQ;SQ?") == ["NQ3", "SQ10"]  # samples at 0, 10, 20 kept
+    mm.machine.advance(100)
+    assert mm.send("NQ;GQ?") == ["NQ3", "GQ100"]
+    assert mm.send("SQ5;SQ?") == ["SQ5"]
+
+
+@pytest.mark.parametrize(("line", "code"), [
+    ("GQ20001", "C"), ("GQ-1", "C"), ("GQ", "C"), ("1GQ5", "B"), ("SQ0", "C"),
+    ("SQ10001", "C"), ("SQ2.5", "C"), ("2SQ5", "B"),
+])
+def test_gq_and_sq_refuse_out_of_range(line: str, code: str) -> None:
+    mm = _mm()
+    assert _error(mm, line) == f"TE{code}"
+    assert mm.send("GQ?;SQ?;NQ") == ["GQ0", "SQ1", "NQ0"]
+
+
+def test_a_new_gq_starts_the_buffer_afresh_and_power_up_clears_it() -> None:
+    mm = _mm()
+    mm.send("SQ2;GQ5")
+    mm.machine.advance(20)
+    mm.send("1PA0.1;GQ2")
+    mm.machine.advance(20)
+    assert mm.send("NQ") == ["NQ2"]
+    mm.reset()
+    assert mm.send("NQ;GQ?;SQ?") == ["NQ0", "GQ0", "SQ1"]
+    mm.machine.advance(100)
+    assert mm.send("NQ") == ["NQ0"]
+
+
+def test_a_trajectory_run_takes_the_buffer_over() -> None:
+    mm = _mm()
+    mm.send("SQ1000;GQ10")
+    mm.machine.advance(1500)  # two samples, at 0 and 1000 cycles
+    assert mm.send("NQ") == ["NQ2"]
+    mm.send("NC;1DC1;UC0.1;1DT0.5;1DX0.25;MB1;ME1;MN2;VC")
+    assert mm.send("TE") == ["TE@"]
+    mm.send("0EC1")
+    mm.run_until_idle()
+    assert not mm.machine.global_trace.acquiring
+    assert mm.send("NQ") == ["NQ1"]  # the run's own pulse, not the acquisition's samples
+
+
+# ---- the commands found nowhere ----------------------------------------------------------
+MINE_Q = ("AM CB FT RO SO TG YO YP YR AQ SP TM TT XN XQ XS DS DY FB FC FD NP RD RE "
+          "DM DO MH PB PE PI PS SE OA VB SC SF PW WI WN").split()
+
+
+def test_the_pages_found_nowhere_answer_q_and_say_so() -> None:
+    mm = _mm()
+    for word in MINE_Q:
+        spec = COMMANDS[word]
+        assert "searched for" in spec.note and spec.note.endswith("answers Q"), word
+        assert "page not found" in spec.summary, word
+        assert _error(mm, f"1{word}") == "TEQ", word
+    for word in ("SB", "RA", "GQ", "SQ"):
+        assert COMMANDS[word].confidence == "I" and "answers Q" not in COMMANDS[word].note
+
+
+def test_help_shows_the_source_of_the_new_entries() -> None:
+    console = mm_console = _mm().console()
+    lines = console.help("SB")
+    assert lines is not None and lines[0].startswith("SB: set the GPIO output bits")
+    assert "ESP300" in lines[1] and lines[1].endswith("(I)")
+    gq = mm_console.help("gq")
+    assert gq is not None and "3.137 TQ" in gq[1]
