@@ -179,8 +179,11 @@ def test_a_trajectory_run_takes_the_buffer_over() -> None:
 
 
 # ---- the commands found nowhere ----------------------------------------------------------
-MINE_Q = ("AM CB FT RO SO TG YO YP YR AQ SP TM TT XN XQ XS DS DY FB FC FD NP RD RE "
-          "DM DO MH PB PE PI PS SE OA VB SC SF PW WI WN").split()
+MINE_Q = ["AM", "CB", "FT", "RO", "SO", "TG", "YO", "YP", "YR",  # inputs and outputs
+          "AQ", "SP", "TM", "TT", "XN", "XQ", "XS",  # trace mode
+          "DS", "DY", "FB", "FC", "FD", "NP", "RD", "RE",  # display
+          "DM", "DO", "MH", "PB", "PE", "PI", "PS", "SE", "OA", "VB", "SC", "SF", "PW",
+          "WI", "WN"]  # special motion parameters, trajectory execution
 
 
 def test_the_pages_found_nowhere_answer_q_and_say_so() -> None:
