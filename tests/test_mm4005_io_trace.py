@@ -178,9 +178,50 @@ def test_a_trajectory_run_takes_the_buffer_over() -> None:
     assert mm.send("NQ") == ["NQ1"]  # the run's own pulse, not the acquisition's samples
 
 
+# ---- TM / SP / TT / XN: the trace mode (manual 3.140 TT) ------------------------------------
+def test_the_tt_pages_example_sp_tm_pr_then_tt() -> None:
+    """The page's own sequence, our numbers: SP0.002, 2TM500, a 0.1 move on axis 2."""
+    mm = _mm()
+    mm.send("2VA1;2AC10")
+    assert mm.send("SP0.002;SP?") == ["SP0.002"]
+    start = mm.machine.tick
+    assert mm.send("2TM500;2PR0.1;XN;2TM?;1TM?") == ["XN1", "2TM500", "1TM0"]
+    mm.run_until_idle()  # the move takes 0.2 s: 100 samples of the 500
+    assert mm.send("XN") == ["XN101"]
+    mm.machine.advance(2 * 4 * 500)
+    assert mm.send("XN") == ["XN500"]
+    # sample n at t = (n - 1) * 2 ms: 0.5*10*t^2 up to 0.1 s, then decelerating to 0.1
+    for n, th in ((1, 0.0), (9, 0.5 * 10 * 0.016 ** 2), (26, 0.5 * 10 * 0.05 ** 2),
+                  (76, 0.1 - 0.5 * 10 * 0.05 ** 2), (500, 0.1)):
+        counts = int(th / 0.001 + 1e-9)
+        assert mm.send(f"{n}TT") == [f"{n}TT,TH{th:.4f},TP{counts * 0.001:.4f}"], n
+    assert mm.machine.axis_trace.samples[8][0] == start + 8 * 4  # on its own tick
+    every = mm.send("TT")
+    assert len(every) == 500 and every[0] == "1TT,TH0.0000,TP0.0000"
+    assert mm.send("0TT") == every
+    assert _error(mm, "501TT") == "TEC"
+
+
+def test_tt_waits_for_its_samples_and_tm_refuses_what_it_should() -> None:
+    mm = _mm()
+    mm.send("SP0.01;1TM10")
+    assert mm.send("2TT") == [] and mm.send("TE") == ["TED"]  # not taken yet
+    mm.machine.advance(20)
+    assert mm.send("2TT;XN") == ["2TT,TH0.0000,TP0.0000", "XN2"]
+    assert _error(mm, "SP0.002") == "TED"  # not while acquiring
+    assert mm.send("1TM0;XN") == ["XN2"]  # ended early: the samples at 0 and 10 ms kept
+    mm.machine.advance(100)
+    assert mm.send("XN") == ["XN2"]
+    for line, code in (("TM5", "B"), ("5TM5", "B"), ("1TM20001", "C"), ("1TM", "C"),
+                       ("SP0.0001", "C"), ("SP6", "C"), ("1SP0.1", "B")):
+        assert _error(mm, line) == f"TE{code}", line
+    mm.reset()
+    assert mm.send("XN;SP?;1TM?") == ["XN0", "SP0.0005", "1TM0"]
+
+
 # ---- the commands found nowhere ----------------------------------------------------------
 MINE_Q = ["AM", "CB", "FT", "RO", "SO", "TG", "YO", "YP", "YR",  # inputs and outputs
-          "AQ", "SP", "TM", "TT", "XN", "XQ", "XS",  # trace mode
+          "AQ", "XQ", "XS",  # trace mode
           "DS", "DY", "FB", "FC", "FD", "NP", "RD", "RE",  # display
           "DM", "DO", "MH", "PB", "PE", "PI", "PS", "SE", "OA", "VB", "SC", "SF", "PW",
           "WI", "WN"]  # special motion parameters, trajectory execution
@@ -193,8 +234,9 @@ def test_the_pages_found_nowhere_answer_q_and_say_so() -> None:
         assert "searched for" in spec.note and spec.note.endswith("answers Q"), word
         assert "page not found" in spec.summary, word
         assert _error(mm, f"1{word}") == "TEQ", word
-    for word in ("SB", "RA", "GQ", "SQ"):
-        assert COMMANDS[word].confidence == "I" and "answers Q" not in COMMANDS[word].note
+    for word in ("SB", "RA", "GQ", "SQ", "TM", "SP", "XN", "TT"):
+        assert COMMANDS[word].confidence == ("C" if word == "TT" else "I"), word
+        assert "answers Q" not in COMMANDS[word].note, word
 
 
 def test_help_shows_the_source_of_the_new_entries() -> None:

@@ -65,3 +65,65 @@ def sample_rate(ctx: Context, cmd: Command) -> list[str]:
         raise MM4005Error(UNAUTHORIZED, "SQ while a global trace acquires")
     trace.period = period
     return []
+
+
+# ---- the trace mode: TM, SP, TT, XN (manual 3.140 TT) --------------------------------------
+MIN_TRACE_PERIOD = 0.0005  # one servo cycle (manual 7.1.1)
+MAX_TRACE_PERIOD = MAX_PERIOD * MIN_TRACE_PERIOD  # 5 s (D)
+
+
+def trace_mode(ctx: Context, cmd: Command) -> list[str]:
+    """TM: trace axis xx's TH and TP for nn samples, one every SP (xxTM0 ends it)."""
+    trace = ctx.machine.axis_trace
+    axis = cmd.axis_number()
+    if cmd.query:
+        return [f"{axis}TM{trace.requested if trace.axis == axis else 0}"]
+    count = cmd.integer()
+    if not 0 <= count <= MAX_SAMPLES:
+        raise MM4005Error(PARAMETER, f"TM takes 0..{MAX_SAMPLES} samples")
+    if count == 0:
+        if trace.axis == axis:
+            trace.stop()
+        return []
+    trace.start_axis(axis, count)
+    return []
+
+
+def trace_period(ctx: Context, cmd: Command) -> list[str]:
+    """SP: the trace mode's sample period in seconds (whole servo cycles)."""
+    trace = ctx.machine.axis_trace
+    tick = ctx.machine.tick_period
+    if cmd.query:
+        return [f"SP{fmt.short(round(trace.period * tick, 6))}"]
+    seconds = cmd.number()
+    cycles = round(seconds / tick)
+    if not MIN_TRACE_PERIOD - 1e-12 <= seconds <= MAX_TRACE_PERIOD or cycles < 1:
+        raise MM4005Error(PARAMETER, f"SP takes {MIN_TRACE_PERIOD:g}..{MAX_TRACE_PERIOD:g} s")
+    if trace.acquiring:
+        raise MM4005Error(UNAUTHORIZED, "SP while the trace mode acquires")
+    trace.period = cycles
+    return []
+
+
+def read_trace(ctx: Context, cmd: Command) -> list[str]:
+    """TT: trace sample xx as 'xxTT,THa,TPb' (xx 0 or missing: every sample, a line each)."""
+    trace = ctx.machine.axis_trace
+    decimals = fmt.position_decimals(ctx.machine.resolution(trace.axis))
+
+    def line(number: int) -> str:
+        _tick, th, tp = trace.samples[number - 1]
+        return f"{number}TT,TH{fmt.fixed(th, decimals)},TP{fmt.fixed(tp, decimals)}"
+
+    number = cmd.axis or 0
+    if number == 0:
+        return [line(n) for n in range(1, len(trace.samples) + 1)]
+    if number > trace.requested:
+        raise MM4005Error(PARAMETER, f"TT: {trace.requested} samples set by TM")
+    if number > len(trace.samples):
+        raise MM4005Error(UNAUTHORIZED, f"TT: sample {number} not taken yet")
+    return [line(number)]
+
+
+def trace_count(ctx: Context, cmd: Command) -> list[str]:
+    """XN: how many samples the trace mode has taken."""
+    return [f"XN{len(ctx.machine.axis_trace.samples)}"]

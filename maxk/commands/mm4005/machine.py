@@ -14,7 +14,7 @@ from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
 from maxk.personalities.mm4005.io import GpioPort
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
-from maxk.personalities.mm4005.trace_mode import GlobalTrace
+from maxk.personalities.mm4005.trace_mode import AxisTrace, GlobalTrace
 
 
 class MM4005Machine(Protocol):
@@ -151,6 +151,11 @@ class MM4005Machine(Protocol):
     @property
     def global_trace(self) -> GlobalTrace:
         """GQ/SQ: the global trace acquisition into the buffer NQ/TQ read."""
+        ...
+
+    @property
+    def axis_trace(self) -> AxisTrace:
+        """TM/SP: one axis's trace into the memory TT and XN read."""
         ...
 
     def execute_timed(self, scale: float) -> None:

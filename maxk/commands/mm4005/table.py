@@ -346,6 +346,7 @@ _TQ_PAGE = ("manual 3.137 TQ 'Read global trace data': 'the global trace mode is
             "GQ command and defined by SQ and GQ commands', samples 1 to 'the number of "
             "samples set by GQ'; Rel. Commands 'GQ - Set global trace mode', 'SQ - Set "
             "global sample rate'")
+_TT_PAGE = "manual 3.140 TT (Rel. Commands and example):"
 _SEARCHED = ("its page was searched for in the MM4005 manual's mirrored pages, the MM4006's "
              "and the ESP300's and not found: its syntax and reply are unknown, so it is not "
              "modelled and answers Q")
@@ -388,10 +389,33 @@ _IO_ENTRIES: Final[tuple[CommandSpec, ...]] = (
          "two samples, 1..10000, default 1 (D); 'SQ?' -> 'SQnn'; refused D while an "
          "acquisition runs (D)",
          summary="SQ: set the global trace sample period (servo cycles)"),
+    _set("TM", io.trace_mode, _REQ, Operand.INTEGER, f"{_TT_PAGE} '2TM500 | Set trace mode "
+         "for axis #2 and 500 data points'", "I",
+         "TM's own page was not found: 'xxTMnn' axis xx (1..axis count, else B), nn 1..20000 "
+         "samples (C beyond, D), the first on the tick TM runs, then one every SP (D); a new "
+         "TM starts the memory afresh; 'xxTM0' ends it early, keeping the samples (D); "
+         "'xxTM?' -> 'xxTMnn' (0 for an axis not traced, D)",
+         summary="TM: set the trace mode (axis xx, nn samples)"),
+    _set("SP", io.trace_period, _NO, _NUM, f"{_TT_PAGE} 'SP0.002 | Set trace period to 2 "
+         "ms'", "I",
+         "SP's own page was not found: seconds, 0.0005 (one servo cycle) to 5 s, rounded to "
+         "whole servo cycles, default 0.0005 (D); 'SP?' -> 'SPnn' (D); refused D while the "
+         "trace mode acquires (D)",
+         summary="SP: set the trace sample period (seconds)"),
+    _tell("TT", io.read_trace, AxisRule.ELEMENT, "manual 3.140 TT 'Read trace data' 'xxTT' -> "
+          "'xxTT, THnn, TPnn' (example '9TT, TH1.002, TP1.001'), xx 0 to the samples set by "
+          "TM, missing 0: every sample, one a line; out of range C", "C",
+          "written without the blanks of the manual's typesetting ('9TT,TH1.0020,TP1.0010', "
+          "as TQ's replies, D), positions with TP's decimals (D); a sample within TM's count "
+          "but not taken yet answers D (D)",
+          summary="TT: read the trace mode's data"),
+    _tell("XN", io.trace_count, _NO, f"{_TT_PAGE} 'XN - Read number of acquisitions'", "I",
+          "XN's own page was not found: 'XNnn' the samples the trace mode has taken (D)",
+          summary="XN: read the number of trace samples taken"),
     # found nowhere: Q, each saying so
     *(_not_found(name) for name in ("AM", "CB", "FT", "RO", "SO", "TG", "YO", "YP", "YR")),
-    *(_not_found(name, "not the global trace mode of manual 3.137 (GQ/SQ/NQ/TQ)")
-      for name in ("AQ", "SP", "TM", "TT", "XN", "XQ", "XS")),
+    *(_not_found(name, "not named by the trace pages found (3.137 TQ, 3.140 TT)")
+      for name in ("AQ", "XQ", "XS")),
     *(_not_found(name, "no page found defines the front panel display's text")
       for name in ("DS", "DY", "FB", "FC", "FD", "NP", "RD", "RE")),
     *(_not_found(name) for name in ("DM", "DO", "MH", "PB", "PE", "PI", "PS", "SE", "OA",

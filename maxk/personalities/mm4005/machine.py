@@ -34,7 +34,7 @@ from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
 from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
-from .trace_mode import GlobalTrace
+from .trace_mode import AxisTrace, GlobalTrace
 from .trajectory import Trajectory, TrajectoryRun
 
 UPDATE_RATE_HZ: Final = 2000  # manual 7.1.1: servo update cycle 0.0005 s (C)
@@ -71,6 +71,8 @@ class MM4005(Engine):
         self.global_trace = GlobalTrace(self, self.pulse_trace, self._positions,
                                         self.trajectory_element)  # GQ/SQ (trace_mode.py)
         self.add_source(self.global_trace)
+        self.axis_trace = AxisTrace(self, self._positions)  # TM/SP (trace_mode.py)
+        self.add_source(self.axis_trace)
 
     # ---- what the language reads ----------------------------------------------------------
     @property
@@ -569,8 +571,8 @@ class MM4005(Engine):
             self.timed_run = None
         self.timed = TimedTrajectory(len(self.axes))
         self.pulse_trace.begin()
-        self.global_trace.stop()
-        self.global_trace.requested, self.global_trace.period = 0, 1
+        self.global_trace.reset()
+        self.axis_trace.reset()
         self.gpio.clear()  # every output low at power-up (D)
         self.settings = [AxisSettings() for _ in self.axes]
         self._servo_axes = []
