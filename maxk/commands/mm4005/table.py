@@ -371,8 +371,9 @@ _IO_ENTRIES: Final[tuple[CommandSpec, ...]] = (
          "output 3 high`); all low at power-up (D). The MM4005 also lists CB and SO, whose "
          "pages were not found: whether its SB sets only the bits of a mask is not known",
          summary="SB: set the GPIO output bits (the whole port byte)"),
-    _tell("RA", io.read_analog, AxisRule.ELEMENT, "manual 3.137 TQ: 'analog values of "
-          "inputs 1, 2, 3 and 4', returned as '1RAnn, 2RAnn, 3RAnn, 4RAnn'", "I",
+    _tell("RA", io.read_analog, AxisRule.ELEMENT, "manual 3.103 RB 'Rel. Commands: RA - Read "
+          "analog input'; manual 3.137 TQ: 'analog values of inputs 1, 2, 3 and 4', returned "
+          "as '1RAnn, 2RAnn, 3RAnn, 4RAnn'", "I",
           "RA's own page was not found: 'xxRA' (xx 1..4) -> 'xxRAv' the world's analog input "
           "xx (`@world analog 2 1.5`) in volts, 4 decimals (D); without xx every input "
           "'1RAv,2RAv,3RAv,4RAv' (D); xx beyond 4 answers E (as RB)",
