@@ -246,3 +246,26 @@ def test_help_shows_the_source_of_the_new_entries() -> None:
     assert "ESP300" in lines[1] and lines[1].endswith("(I)")
     gq = mm_console.help("gq")
     assert gq is not None and "3.137 TQ" in gq[1]
+
+
+# ---- through the doors: a host on TCP, the control door's view -------------------------------
+def test_outputs_and_analog_through_tcp_and_the_control_door(maxk_served) -> None:
+    import socket
+
+    served = maxk_served("MM4005-2")
+    host, port = served.doors[0].tcp
+    served.client.world(1, "analog 2 1.5")
+    with socket.create_connection((host, port), timeout=10) as sock:
+        def ask(line: bytes, replies: int) -> bytes:
+            sock.sendall(line)
+            data = b""
+            while data.count(b"\r") < replies:
+                chunk = sock.recv(4096)
+                assert chunk, "closed"
+                data += chunk
+            return data
+
+        assert ask(b"SB129;SB?;2RA\r", 2) == b"SB129\r2RA1.5000\r"
+    outputs = served.client.board(1)["outputs"]
+    assert outputs == {str(b): b in (1, 8) for b in range(1, 9)}
+    assert "outputs 1 high 2 low 3 low 4 low 5 low 6 low 7 low 8 high" in served.client.world(1)
