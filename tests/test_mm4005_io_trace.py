@@ -268,4 +268,5 @@ def test_outputs_and_analog_through_tcp_and_the_control_door(maxk_served) -> Non
         assert ask(b"SB129;SB?;2RA\r", 2) == b"SB129\r2RA1.5000\r"
     outputs = served.client.board(1)["outputs"]
     assert outputs == {str(b): b in (1, 8) for b in range(1, 9)}
-    assert "outputs 1 high 2 low 3 low 4 low 5 low 6 low 7 low 8 high" in served.client.world(1)
+    assert ("outputs 1 high 2 low 3 low 4 low 5 low 6 low 7 low 8 high"
+            in served.client.board(1)["world"])
