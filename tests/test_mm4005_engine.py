@@ -307,7 +307,8 @@ def test_console() -> None:
     lines = console.status_lines()  # the contract's axis table, then the MM4005's own
     assert lines[1] == "axis  position   encoder  velocity  state"
     assert lines[2].split() == ["1", "375", "375", "1000", "moving"]
-    assert len(lines) == 1 + 5 + 4 + 6  # + XY, time-based, pulses, servo, errors, programs
+    assert len(lines) == 1 + 5 + 4 + 7  # + XY, time-based, pulses, servo, I/O, errors, programs
+    assert "I/O: outputs SB0, inputs RB0; global trace GQ0 SQ1, 0 taken" in lines
     mm.run_until_idle()
     assert console.is_idle()
     mm.reset()

@@ -202,7 +202,7 @@ def test_every_command_of_the_manuals_list_is_known_and_the_unmodelled_answer_q(
     mm = MM4005Controller("MM4005-2")
     before = mm.send("TP;MS")
     unmodelled = [word for word in GROUP if COMMANDS[word].note.endswith("answers Q")]
-    assert len(unmodelled) > 90
+    assert len(unmodelled) >= 40  # the loop below checks each one (86 after issue 36)
     for word in unmodelled:
         for form in (word, f"1{word}", f"{word}?", f"2{word}3.5", f"1{word}+"):
             assert mm.send(form) == [], form

@@ -348,6 +348,6 @@ def test_a_tcl_gpib_driver_reads_its_commands_with_a_cmd_regexp() -> None:
     set_and_check("1PA1,2PA2")  # its XY move: two commands, one line
     scan.mm.run_until_idle()
     assert [get("1TP"), get("2TP")] == ["1.0000", "2.0000"]
-    for bad in ("WT", "YA", "SB1"):  # listed, not modelled: the driver sees 'Q'
+    for bad in ("WT", "YA", "CB1"):  # listed, not modelled: the driver sees 'Q'
         scan.write_only(bad)
         assert scan.write_read("TE") == "TEQ", bad

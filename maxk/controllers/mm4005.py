@@ -36,6 +36,7 @@ from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import AxisWorld
 from maxk.personalities.mm4005 import ErrorCode, ErrorRegister
 from maxk.personalities.mm4005.execution import PulseRecord
+from maxk.personalities.mm4005.io import ANALOG_INPUTS, IO_BITS
 from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
 from maxk.personalities.mm4005.programs import MEMORY, ProgramStore
 from maxk.personalities.mm4005.timed import TracePoint
@@ -360,6 +361,12 @@ class MM4005Console(ConsoleBase):
         servos = [str(n) for n in range(1, m.axis_count + 1) if m.settings[n - 1].servo_on]
         lines.append(f"servo loop on axes {','.join(servos) or 'none (factory gains: exact '}"
                      + ("" if servos else "profile-only axes)"))
+        gpio, acquisition = m.gpio, m.global_trace
+        lines.append(f"I/O: outputs SB{gpio.output_port()}, inputs RB"
+                     f"{sum(1 << (b - 1) for b in range(1, 9) if m.input_level(b))}; "
+                     f"global trace GQ{acquisition.requested} SQ{acquisition.period}, "
+                     f"{acquisition.taken} taken"
+                     f"{' (acquiring)' if acquisition.acquiring else ''}")
         lines.append(f"error register: {self.controller.errors.peek().char}")
         store = m.programs
         running = m.tasks.program
@@ -446,13 +453,31 @@ def _shorten(part: str) -> str:
 class MM4005WorldView(WorldView):
     """The MM4005's world behind the contract: axes named 1..n as its commands number
     them (`1PA10`), positions in encoder counts since power-up; the GPIO inputs 1..8
-    that RB reads (manual 3.103); no analog inputs (RA's page was not found)."""
+    that RB reads (manual 3.103), the outputs 1..8 that SB drives (the world's outputs),
+    the analog inputs 1..4 that RA reads (manual 3.137)."""
 
     def __init__(self, machine: MM4005) -> None:
         super().__init__(machine.world, [str(n) for n in range(1, len(machine.axes) + 1)],
-                         inputs=tuple(range(1, 9)), analog=(), changed=machine.world_changed,
-                         source_owner=machine)
+                         inputs=tuple(IO_BITS), analog=tuple(ANALOG_INPUTS),
+                         changed=machine.world_changed, source_owner=machine)
         self.machine = machine
+
+    def output_level(self, number: int) -> bool | None:
+        """An output bit as SB drove it (None: the MM4005 has no output `number`)."""
+        return self.machine.gpio.output_level(number) if number in IO_BITS else None
+
+    def describe(self) -> list[str]:
+        """`:world`: the stages and inputs, then the 8 outputs SB drives."""
+        levels = " ".join(f"{bit} {'high' if self.machine.gpio.output_level(bit) else 'low'}"
+                          for bit in IO_BITS)
+        return [*super().describe(), f"outputs {levels}"]
+
+    def trace_columns(self) -> list[str]:
+        """The output port as SB? reads it (bit 1 least significant)."""
+        return ["outputs"]
+
+    def trace_values(self) -> list[object]:
+        return [self.machine.gpio.output_port()]
 
     def reading(self, name: str) -> AxisReading:
         number = self.index(name) + 1

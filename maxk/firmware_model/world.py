@@ -142,6 +142,9 @@ class World:
     axes: list[AxisWorld]
     digital: dict[int, bool | InputSource] = field(default_factory=dict)  # bit -> level/source
     analog: dict[int, float | InputSource] = field(default_factory=dict)  # channel -> volts/src
+    # the controller's digital outputs, as it last drove them (bit -> level): written by a
+    # personality that keeps its outputs in the world (the MM4005's SB), read by every door
+    outputs: dict[int, bool] = field(default_factory=dict)
 
     @classmethod
     def default(cls, axis_count: int) -> World:

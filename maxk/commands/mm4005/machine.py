@@ -11,9 +11,11 @@ from __future__ import annotations
 from typing import Protocol
 
 from maxk.personalities.mm4005 import AxisStatus, Trajectory, TrajectoryRun
+from maxk.personalities.mm4005.io import GpioPort
 from maxk.personalities.mm4005.programs import ProgramStore, Tasks, Variables
 from maxk.personalities.mm4005.settings import AxisSettings
 from maxk.personalities.mm4005.timed import PulseTrace, TimedTrajectory
+from maxk.personalities.mm4005.trace_mode import AxisTrace, GlobalTrace
 
 
 class MM4005Machine(Protocol):
@@ -140,6 +142,21 @@ class MM4005Machine(Protocol):
 
     def input_level(self, bit: int) -> bool:
         """RB: the level of GPIO input bit 1..8, as the world around the controller sets it."""
+        ...
+
+    @property
+    def gpio(self) -> GpioPort:
+        """SB, RA: the outputs and analog inputs, on the world (personalities/mm4005/io.py)."""
+        ...
+
+    @property
+    def global_trace(self) -> GlobalTrace:
+        """GQ/SQ: the global trace acquisition into the buffer NQ/TQ read."""
+        ...
+
+    @property
+    def axis_trace(self) -> AxisTrace:
+        """TM/SP: one axis's trace into the memory TT and XN read."""
         ...
 
     def execute_timed(self, scale: float) -> None:

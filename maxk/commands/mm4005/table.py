@@ -15,6 +15,7 @@ from typing import Final
 
 from . import handlers_axis as ax
 from . import handlers_flow as fl
+from . import handlers_io as io
 from . import handlers_manual as mn
 from . import handlers_program as pg
 from . import handlers_settings as st
@@ -393,6 +394,88 @@ _ENTRIES: Final[tuple[CommandSpec, ...]] = _DRIVER_ENTRIES + (
 )
 
 
+# --- inputs and outputs, trace mode, display, special motion (issue 36) ---
+_TQ_PAGE = ("manual 3.137 TQ 'Read global trace data': 'the global trace mode is enabled by "
+            "GQ command and defined by SQ and GQ commands', samples 1 to 'the number of "
+            "samples set by GQ'; Rel. Commands 'GQ - Set global trace mode', 'SQ - Set "
+            "global sample rate'")
+_TT_PAGE = "manual 3.140 TT (Rel. Commands and example):"
+_SEARCHED = ("its page was searched for in the MM4005 manual's mirrored pages, the MM4006's "
+             "and the ESP300's and not found: its syntax and reply are unknown, so it is not "
+             "modelled and answers Q")
+
+
+def _not_found(mnemonic: str, known: str = "") -> CommandSpec:
+    """One of this group's commands whose page was found nowhere: Q, saying so."""
+    group = ml.GROUP[mnemonic]
+    return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
+                 replies=False, source=f"{_LIST}: {group}", confidence="I",
+                 note=(known + "; " if known else "") + _SEARCHED,
+                 summary=f"{mnemonic}: one of the {group} commands (page not found: Q)")
+
+
+_IO_ENTRIES: Final[tuple[CommandSpec, ...]] = (
+    _set("SB", io.output_port, _NO, Operand.INTEGER, "sibling ESP300 3-126 'SB set/get DIO "
+         "port bits', 'SBnn or SB?' (the MM4005 page was not found)", "I",
+         "drives the 8 GPIO outputs at once: bit 1 = 1 (least significant, as RB's byte, "
+         "manual 3.103) ... bit 8 = 128; nn decimal 0..255 (the ESP300 writes hex, the "
+         "MM4005's RB answers decimal: D), else C; 'SB?' -> 'SBnn' the outputs driven. "
+         "The levels are the world's outputs (`:world`, the trace, the panel, `@expect "
+         "output 3 high`); all low at power-up (D). The MM4005 also lists CB and SO, whose "
+         "pages were not found: whether its SB sets only the bits of a mask is not known",
+         summary="SB: set the GPIO output bits (the whole port byte)"),
+    _tell("RA", io.read_analog, AxisRule.ELEMENT, "manual 3.103 RB 'Rel. Commands: RA - Read "
+          "analog input'; manual 3.137 TQ: 'analog values of inputs 1, 2, 3 and 4', returned "
+          "as '1RAnn, 2RAnn, 3RAnn, 4RAnn'", "I",
+          "RA's own page was not found: 'xxRA' (xx 1..4) -> 'xxRAv' the world's analog input "
+          "xx (`@world analog 2 1.5`) in volts, 4 decimals (D); without xx every input "
+          "'1RAv,2RAv,3RAv,4RAv' (D); xx beyond 4 answers E (as RB)",
+          summary="RA: read an analog input (volts)"),
+    _set("GQ", io.global_trace, _NO, Operand.INTEGER, _TQ_PAGE, "I",
+         "GQ's own page was not found: 'GQnn' (1..20000) starts an acquisition of nn "
+         "samples into the trace buffer, the first on the tick GQ runs, then one every SQ "
+         "servo cycles, each every axis's TH and TP (TQ reads sample i as 'iTQ,1THa,1TPb,...', "
+         "NQ the count); 'GQ0' ends it early; 'GQ?' -> 'GQnn' (D). A trajectory run started "
+         "meanwhile takes the buffer over and ends the acquisition (D)",
+         summary="GQ: set the global trace mode (acquire nn samples)"),
+    _set("SQ", io.sample_rate, _NO, Operand.INTEGER, _TQ_PAGE, "I",
+         "SQ's own page was not found: 'SQnn' nn servo cycles (0.5 ms, manual 7.1.1) between "
+         "two samples, 1..10000, default 1 (D); 'SQ?' -> 'SQnn'; refused D while an "
+         "acquisition runs (D)",
+         summary="SQ: set the global trace sample period (servo cycles)"),
+    _set("TM", io.trace_mode, _REQ, Operand.INTEGER, f"{_TT_PAGE} '2TM500 | Set trace mode "
+         "for axis #2 and 500 data points'", "I",
+         "TM's own page was not found: 'xxTMnn' axis xx (1..axis count, else B), nn 1..20000 "
+         "samples (C beyond, D), the first on the tick TM runs, then one every SP (D); a new "
+         "TM starts the memory afresh; 'xxTM0' ends it early, keeping the samples (D); "
+         "'xxTM?' -> 'xxTMnn' (0 for an axis not traced, D)",
+         summary="TM: set the trace mode (axis xx, nn samples)"),
+    _set("SP", io.trace_period, _NO, _NUM, f"{_TT_PAGE} 'SP0.002 | Set trace period to 2 "
+         "ms'", "I",
+         "SP's own page was not found: seconds, 0.0005 (one servo cycle) to 5 s, rounded to "
+         "whole servo cycles, default 0.0005 (D); 'SP?' -> 'SPnn' (D); refused D while the "
+         "trace mode acquires (D)",
+         summary="SP: set the trace sample period (seconds)"),
+    _tell("TT", io.read_trace, AxisRule.ELEMENT, "manual 3.140 TT 'Read trace data' 'xxTT' -> "
+          "'xxTT, THnn, TPnn' (example '9TT, TH1.002, TP1.001'), xx 0 to the samples set by "
+          "TM, missing 0: every sample, one a line; out of range C", "C",
+          "written without the blanks of the manual's typesetting ('9TT,TH1.0020,TP1.0010', "
+          "as TQ's replies, D), positions with TP's decimals (D); a sample within TM's count "
+          "but not taken yet answers D (D)",
+          summary="TT: read the trace mode's data"),
+    _tell("XN", io.trace_count, _NO, f"{_TT_PAGE} 'XN - Read number of acquisitions'", "I",
+          "XN's own page was not found: 'XNnn' the samples the trace mode has taken (D)",
+          summary="XN: read the number of trace samples taken"),
+    # found nowhere: Q, each saying so
+    *(_not_found(name) for name in ("AM", "CB", "FT", "RO", "SO", "TG", "YO", "YP", "YR")),
+    *(_not_found(name, "not named by the trace pages found (3.137 TQ, 3.140 TT)")
+      for name in ("AQ", "XQ", "XS")),
+    *(_not_found(name, "no page found defines the front panel display's text")
+      for name in ("DS", "DY", "FB", "FC", "FD", "NP", "RD", "RE")),
+    *(_not_found(name) for name in ("DM", "DO", "MH", "PB", "PE", "PI", "PS", "SE", "OA",
+                                    "VB", "SC", "SF", "PW", "WI", "WN")),
+)
+
 
 def _listed(mnemonic: str) -> CommandSpec:
     """A command of the manual's list the emulator does not carry out: answers Q."""
@@ -403,6 +486,7 @@ def _listed(mnemonic: str) -> CommandSpec:
                  "answers Q", summary=f"{mnemonic}: one of the {group} commands (not modelled)")
 
 
-_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES}
-COMMANDS: Final[dict[str, CommandSpec]] = {spec.mnemonic: spec for spec in _ENTRIES} | {
+_MODELLED: Final = {spec.mnemonic for spec in _ENTRIES + _IO_ENTRIES}
+COMMANDS: Final[dict[str, CommandSpec]] = {
+    spec.mnemonic: spec for spec in _ENTRIES + _IO_ENTRIES} | {
     name: _listed(name) for name in sorted(ml.GROUP) if name not in _MODELLED}

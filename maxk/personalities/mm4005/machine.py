@@ -29,11 +29,13 @@ from maxk.firmware_model.world import STUCK_ACTIVE, Switch, World
 
 from .errors import TRAJECTORY_VELOCITY, TRAVEL_LIMITS, UNAUTHORIZED, MM4005Error
 from .execution import PulseRecord, TrajectoryExecution
+from .io import GpioPort
 from .programs import ProgramStore, Tasks, Variables
 from .settings import FULL_SCALE, AxisSettings
 from .stage import HomeSearch, HomeStage, MM4005Axis, ServoConfig
 from .status import AxisStatus
 from .timed import PulseTrace, TimedExecution, TimedTrajectory, TracePoint
+from .trace_mode import AxisTrace, GlobalTrace
 from .trajectory import Trajectory, TrajectoryRun
 
 UPDATE_RATE_HZ: Final = 2000  # manual 7.1.1: servo update cycle 0.0005 s (C)
@@ -70,6 +72,12 @@ class MM4005(Engine):
         self.variables = Variables()  # $Y1..$Y120 (3.3.1, 3.145 TY)
         self.tasks = Tasks(lambda: self.tick)  # waiting command lines, the program
         self.add_source(self.tasks)
+        self.gpio = GpioPort(self.world, self)  # SB/RA on the world's I/O (io.py)
+        self.global_trace = GlobalTrace(self, self.pulse_trace, self._positions,
+                                        self.trajectory_element)  # GQ/SQ (trace_mode.py)
+        self.add_source(self.global_trace)
+        self.axis_trace = AxisTrace(self, self._positions)  # TM/SP (trace_mode.py)
+        self.add_source(self.axis_trace)
 
     def settle(self) -> None:
         """Before time moves: a wait already over (a stop from another host) ends now."""
@@ -581,6 +589,9 @@ class MM4005(Engine):
             self.timed_run = None
         self.timed = TimedTrajectory(len(self.axes))
         self.pulse_trace.begin()
+        self.global_trace.reset()
+        self.axis_trace.reset()
+        self.gpio.clear()  # every output low at power-up (D)
         self.settings = [AxisSettings() for _ in self.axes]
         self._servo_axes = []
         self.following_errors = []
