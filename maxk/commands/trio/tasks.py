@@ -311,6 +311,7 @@ class Task:
                           if isinstance(s.stmt, FunctionDef)}
         self.depth = 0
         self.budget = FUNCTION_STATEMENTS
+        self.frames: list[ProcessContext] = []  # the FUNCTION calls running (their memory)
         ctx.functions = self.call_function
 
     def call_function(self, name: str, args: list[Argument]) -> Value:
@@ -343,6 +344,7 @@ class Task:
         if self.depth == 0:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.depth += 1
+        self.frames.append(ctx)
         try:
             pc = start + 1
             while True:
@@ -364,6 +366,7 @@ class Task:
                 pc = ctx.pc
         finally:
             self.depth -= 1
+            self.frames.pop()
             outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
 
     def step(self) -> Wake | None:
