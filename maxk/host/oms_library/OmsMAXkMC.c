@@ -983,6 +983,8 @@ static long board_ready(oms_board *b)
     oms_mutex_lock(&b->lock);                                                            \
     CHECK(board_ready(b));
 #define END                                                                              \
+    if (rc == SUCCESS && b->map_lost) /* what was read of a map cut short is no answer */ \
+        rc = COMMAND_TIME_OUT;                                                           \
     oms_mutex_unlock(&b->lock);                                                          \
     return rc;
 #define CHECK(call)                                                                      \
@@ -1698,11 +1700,21 @@ static long read_positions(oms_board *b, long axes, int kind, long values[OMS_AX
     int i;
 #ifdef OMS_HAVE_MAP
     if (b->transport == OMS_MAP) {
+        /* one read of the registers (the first 0xC0 bytes hold every motor and encoder
+         * position, X..S and W K; the absolute positions are a block of their own) */
+        unsigned char block[0xC0];
+        unsigned base = kind == POS_ABSOLUTE ? MAP_ABSOLUTE_ENCODERS : 0u;
+        if (!map_read(b, block, kind == POS_ABSOLUTE ? 4u * OMS_AXES : sizeof block, base))
+            return COMMAND_TIME_OUT;
         for (i = 0; i < OMS_AXES; i++)
-            if (axes & (1L << i))
-                values[i] = kind == POS_MOTOR     ? map_signed(b, motor_offset(i))
-                            : kind == POS_ENCODER ? map_signed(b, encoder_offset(i))
-                                                  : map_signed(b, MAP_ABSOLUTE_ENCODERS + 4u * (unsigned)i);
+            if (axes & (1L << i)) {
+                unsigned at = (kind == POS_MOTOR     ? motor_offset(i)
+                               : kind == POS_ENCODER ? encoder_offset(i)
+                                                     : base + 4u * (unsigned)i) - base;
+                values[i] = (long)(int32_t)((uint32_t)block[at] << 24 |
+                                            (uint32_t)block[at + 1] << 16 |
+                                            (uint32_t)block[at + 2] << 8 | block[at + 3]);
+            }
         return SUCCESS;
     }
 #endif
