@@ -133,3 +133,19 @@ WA(100000)"""
     assert _in_use(rig) == 2 * (4000 * 1024 + 1024)
     assert held - before > 8_000_000  # the strings are really there
     assert peak - before < 2 * PROGRAM_MEMORY
+
+
+def test_variables_not_dimmed_hold_their_strings_length() -> None:
+    rig = Rig()
+    assert _ran(rig, "A", "DIM a(8191) AS STRING(1024)\nWA(1000)\n") == ""
+    assert PROGRAM_MEMORY - _in_use(rig) == 1024  # one STRING(1024) element left
+    assert "%[COMMAND" not in rig.send('s = "x"').decode()
+    for _ in range(10):
+        assert "%[COMMAND" not in rig.send("s = s + s").decode()
+    assert rig.send("?LEN(s)").decode().split("\r\n")[1] == "1024"
+    assert _in_use(rig) == PROGRAM_MEMORY  # to the byte
+    assert f"%[COMMAND LINE] - {ERROR}" in rig.send("t = 1").decode()
+    assert "t" not in rig.session.context.variables  # nothing changed
+    assert "%[COMMAND" not in rig.send('s = ""').decode()  # gives its 1024 back
+    assert "%[COMMAND" not in rig.send("t = 1").decode()
+    assert _in_use(rig) == PROGRAM_MEMORY - 1024 + 8

@@ -88,9 +88,10 @@ FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an 
 # The controller's one memory for its programs' DIMmed variables, arrays and strings, every
 # process, FUNCTION call and command line together (D, issue 34: the real MC405 has a fixed
 # memory; its size for variables is not published, this is far beyond what programs DIM).
-# A DIM holds 8 bytes a number and n a STRING(n) element from the DIM on; one that would
-# pass the budget is "Not enough memory" (D: the text the store gives when its memory is
-# full; no TrioBASIC error list was found to say otherwise) and nothing is declared.
+# A DIM holds 8 bytes a number and n a STRING(n) element from the DIM on, a variable not
+# DIMmed 8 bytes or its string's length; a DIM or an assignment that would pass the budget
+# is "Not enough memory" (D: the text the store gives when its memory is full; no
+# TrioBASIC error list was found to say otherwise) and nothing changes.
 PROGRAM_MEMORY = 8 * 1024 * 1024
 NUMBER_BYTES = 8
 
@@ -131,7 +132,8 @@ class ProcessContext:
     ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
     stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
     functions: Callable[[str, list[Argument]], Value] | None = None  # FUNCTIONs it calls
-    memory: dict[str, int] = field(default_factory=dict)  # bytes each DIMmed name holds
+    memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
+    held: int = 0  # their sum (PROGRAM_MEMORY)
 
 
 class SystemHook(Protocol):
@@ -704,6 +706,7 @@ class Interpreter:
         freed = sum(ctx.memory.get(name, 0) for name in stmt.names)  # a DIM again replaces
         if self.hook.memory_in_use(ctx) - freed + cost * len(stmt.names) > PROGRAM_MEMORY:
             raise TrioError("Not enough memory")
+        ctx.held += cost * len(stmt.names) - freed
         for name in stmt.names:
             ctx.types[name] = kind
         if stmt.value is not None:
@@ -752,6 +755,14 @@ class Interpreter:
             return _truth(number != 0)
         return number
 
+    def _hold(self, ctx: ProcessContext, name: str, cost: int) -> None:
+        """A variable not DIMmed now holds `cost` bytes of the controller's memory."""
+        old = ctx.memory.get(name, 0)
+        if cost > old and self.hook.memory_in_use(ctx) - old + cost > PROGRAM_MEMORY:
+            raise TrioError("Not enough memory")
+        ctx.memory[name] = cost
+        ctx.held += cost - old
+
     def assign(self, stmt: Assign, ctx: ProcessContext) -> None:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
@@ -765,7 +776,11 @@ class Interpreter:
             else:
                 if len(ctx.variables) >= 4096 and name not in ctx.variables:
                     raise TrioError("Parameter out of range")  # (D) bounded
-                ctx.variables[name] = self._typed(name, raw, ctx)
+                value = self._typed(name, raw, ctx)
+                if name not in ctx.types:  # a DIMmed name holds what its DIM took
+                    self._hold(ctx, name, len(value) if isinstance(value, str)
+                               else NUMBER_BYTES)
+                ctx.variables[name] = value
             return
         if isinstance(target, Call) and target.name == "AOUT":
             channel = self._point(self.number(target.args[0], ctx), 8)

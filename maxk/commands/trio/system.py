@@ -52,7 +52,7 @@ class ProgramCommands:
                 live[id(ctx)] = ctx
         for ctx in self.command_lines:
             live[id(ctx)] = ctx
-        return sum(sum(ctx.memory.values()) for ctx in live.values())
+        return sum(ctx.held for ctx in live.values())
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
