@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -84,8 +85,14 @@ static int read_reply(char *out, size_t size, double timeout) {
 int main(int argc, char **argv) {
     const char *path = argc > 1 ? argv[1] : "/dev/shm/maxk";
     const char *move = argc > 2 ? argv[2] : "AX;VL5000;AC50000;MR1000;GO;ID;";
+    struct stat st;
     int fd = open(path, O_RDWR);
     if (fd < 0) { perror(path); return 1; }
+    /* a file shorter than the map would fault (SIGBUS) where the mapping passes its end */
+    if (fstat(fd, &st) != 0 || st.st_size < (off_t)MAP_SIZE) {
+        fprintf(stderr, "%s: not a whole map\n", path);
+        return 1;
+    }
     mem = mmap(NULL, MAP_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     close(fd);
     if (mem == MAP_FAILED) { perror("mmap"); return 1; }

@@ -292,7 +292,9 @@ class MaxWorldView(WorldView):
             try:
                 rising, falling = int(args[1], 0), int(args[2], 0)
             except ValueError:
-                raise ValueError(f"not bit masks: {args[1]!r} {args[2]!r}") from None
+                raise ValueError(f"not bit masks: {args[1][:12]!r} {args[2][:12]!r}") from None
+            if not (0 <= rising <= 0xFFFF and 0 <= falling <= 0xFFFF):
+                raise ValueError("the input masks are 16-bit: 0 to 0xFFFF")
             self.maxk.capture(letter, inputs_rising=rising, inputs_falling=falling)
         else:
             raise ValueError("capture home rising|falling|both|off, capture index on|off, "

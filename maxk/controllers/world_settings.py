@@ -21,12 +21,19 @@ MC405, X..C or 1..8 on a PoKeys). A controller may know more words (the MAXk's
 
 from __future__ import annotations
 
+import math
 from dataclasses import fields
 from typing import Any
 
 from maxk.controllers.world_view import Setting, WorldView
 from maxk.firmware_model.motor import MotorPlant
-from maxk.firmware_model.world import SWITCHES
+from maxk.firmware_model.world import (
+    BOUNCE_LIMIT,
+    COUNT_LIMIT,
+    POSITION_LIMIT,
+    SWITCHES,
+    checked_position,
+)
 
 __all__ = ["Setting", "parse_world", "view_of"]
 
@@ -37,19 +44,33 @@ def view_of(target: Any) -> WorldView:
 
 
 def _position(text: str) -> float | None:
+    """Whole steps within the world's range (firmware_model/world.py), or none."""
     if text.lower() == "none":
         return None
     try:
-        return float(int(text))
+        steps = int(text)
     except ValueError:
-        raise ValueError(f"not a position in steps: {text!r} (or none)") from None
+        raise ValueError(f"not a position in steps: {_shown(text)} (or none)") from None
+    if abs(steps) > POSITION_LIMIT:
+        raise ValueError(f"a position must be within +/-{POSITION_LIMIT} steps (2^53), "
+                         f"not {_shown(text)}")
+    return checked_position(steps)
 
 
-def _int(text: str, what: str) -> int:
+def _int(text: str, what: str, low: int = -COUNT_LIMIT, high: int = COUNT_LIMIT) -> int:
+    """A whole number in a range: words never reach the world as a huge or a float."""
     try:
-        return int(text, 0)
+        number = int(text, 0)
     except ValueError:
-        raise ValueError(f"not {what}: {text!r}") from None
+        raise ValueError(f"{what}: not a whole number: {_shown(text)}") from None
+    if not low <= number <= high:
+        raise ValueError(f"{what} must be from {low} to {high}, not {_shown(text)}")
+    return number
+
+
+def _shown(text: str) -> str:
+    """A word as an error message quotes it: a 400-digit one is cut."""
+    return repr(text if len(text) <= 40 else text[:20] + "..." + text[-8:])
 
 
 def _setting(apply: Any, said: str) -> Setting:
@@ -71,18 +92,20 @@ def parse_world(text: str) -> Setting:
     if head == "input":
         if len(words) != 3 or words[2].lower() not in ("high", "low", "1", "0"):
             raise ValueError("input NUMBER high|low")
-        number = _int(words[1], "an input number")
+        number = _int(words[1], "input number", 0, COUNT_LIMIT)
         level = words[2].lower() in ("high", "1")
         return _setting(lambda v: v.set_input(number, level),
                         f"input {number} {'high' if level else 'low'}")
     if head == "analog":
         if len(words) != 3:
             raise ValueError("analog CHANNEL VOLTS")
-        channel = _int(words[1], "a channel")
+        channel = _int(words[1], "channel", 0, COUNT_LIMIT)
         try:
             volts = float(words[2])
         except ValueError:
-            raise ValueError(f"not volts: {words[2]!r}") from None
+            raise ValueError(f"not volts: {_shown(words[2])}") from None
+        if not math.isfinite(volts):
+            raise ValueError(f"volts must be a finite number, not {_shown(words[2])}")
         return _setting(lambda v: v.set_analog(channel, volts), f"analog {channel} {volts:g} V")
     if len(words) < 2:
         raise ValueError(f"cannot read {text!r}: start with an axis name, 'input' or "
@@ -105,9 +128,9 @@ def parse_world(text: str) -> Setting:
             raise ValueError(f"the home switch runs from low to high: {low:g} > {high:g}")
         return _setting(lambda v: v.set_home(name, low, high), said)
     if what == "index" and len(args) == 3:
-        period, width, offset = (_int(a, "a count") for a in args)
-        if period < 0 or width < 0:
-            raise ValueError("index period and width are counts >= 0")
+        period = _int(args[0], "the index period", 0)
+        width = _int(args[1], "the index width", 0)
+        offset = _int(args[2], "the index offset", -POSITION_LIMIT, POSITION_LIMIT)
         return _setting(lambda v: v.set_index(name, period, width, offset),
                         f"{name} index {period} {width} {offset}")
     if what == "fault" and len(args) == 2 and args[0].lower() in SWITCHES:
@@ -118,16 +141,14 @@ def parse_world(text: str) -> Setting:
         return _setting(lambda v: v.fault(name, switch, state),
                         f"{name} fault {switch} {state}")
     if what == "bounce" and len(args) == 2 and args[0].lower() in SWITCHES:
-        steps = _int(args[1], "a number of steps")
+        steps = _int(args[1], "bounce (steps)", 0, BOUNCE_LIMIT)
         switch = args[0].lower()
         return _setting(lambda v: v.bounce(name, switch, steps), said)
     if what == "miss" and len(args) == 1:
-        missed = _int(args[0], "a number of steps")
+        missed = _int(args[0], "missed steps")
         return _setting(lambda v: v.miss_steps(name, missed), said)
     if what == "backlash" and len(args) == 1:
-        play = _int(args[0], "a number of steps")
-        if play < 0:
-            raise ValueError("backlash is a number of steps >= 0")
+        play = _int(args[0], "backlash (steps)", 0)
         return _setting(lambda v: v.set_backlash(name, play), said)
     if what == "motor" and args:
         parameters = _motor(args)
@@ -161,11 +182,15 @@ def _motor(args: list[str]) -> dict[str, object]:
         try:
             parameters[key.replace("-", "_")] = value if key == "amplifier" else float(value)
         except ValueError:
-            raise ValueError(f"motor {key}: not a number: {value!r}") from None
+            raise ValueError(f"motor {key}: not a number: {_shown(value)}") from None
     if "encoder_lines" in parameters:
-        parameters["encoder_lines"] = int(parameters["encoder_lines"])  # type: ignore
+        lines = parameters["encoder_lines"]
+        assert isinstance(lines, float)
+        if not (math.isfinite(lines) and lines.is_integer()):
+            raise ValueError(f"encoder_lines must be a whole number, not {lines}")
+        parameters["encoder_lines"] = int(lines)
     try:
-        MotorPlant(**parameters)  # type: ignore[arg-type]
+        MotorPlant(**parameters)  # type: ignore[arg-type]  # ValueError: out of range
     except TypeError:
         names = ", ".join(f.name for f in fields(MotorPlant))
         raise ValueError(f"motor parameters are {names}") from None

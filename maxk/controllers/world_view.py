@@ -21,7 +21,17 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
-from maxk.firmware_model.world import FAULTS, SWITCHES, AxisWorld, InputSource, World
+from maxk.firmware_model.world import (
+    BOUNCE_LIMIT,
+    COUNT_LIMIT,
+    FAULTS,
+    POSITION_LIMIT,
+    SWITCHES,
+    AxisWorld,
+    InputSource,
+    World,
+    checked_count,
+)
 
 Setting = Callable[["WorldView"], str]
 """A checked world setting, applied to a controller's view later; returns what it did."""
@@ -125,8 +135,9 @@ class WorldView:
         self.changed()
 
     def set_index(self, name: str, period: int, width: int = 4, offset: int = 0) -> None:
-        if period < 0 or width < 0:
-            raise ValueError("index period and width are counts >= 0")
+        period = checked_count(period, "the index period")
+        width = checked_count(width, "the index width")
+        offset = checked_count(offset, "the index offset", -POSITION_LIMIT, POSITION_LIMIT)
         stage = self.stage(name)
         stage.index_period, stage.index_width, stage.index_offset = period, width, offset
         self.changed()
@@ -138,17 +149,22 @@ class WorldView:
         self.changed()
 
     def bounce(self, name: str, switch: str, steps: int) -> None:
-        getattr(self.stage(name), _switch(switch)).bounce = max(0, int(steps))
+        steps = checked_count(steps, "bounce (steps)", 0, BOUNCE_LIMIT)
+        getattr(self.stage(name), _switch(switch)).bounce = steps
         self.changed()
 
     def miss_steps(self, name: str, steps: int) -> None:
-        self.stage(name).lost_steps += int(steps)
+        steps = checked_count(steps, "missed steps", -COUNT_LIMIT, COUNT_LIMIT)
+        stage = self.stage(name)
+        lost = stage.lost_steps + steps
+        if abs(lost) > POSITION_LIMIT:
+            raise ValueError(f"the stage would have missed {lost} steps in all: beyond "
+                             f"+/-{POSITION_LIMIT} (2^53)")
+        stage.lost_steps = lost
         self.changed()
 
     def set_backlash(self, name: str, steps: int) -> None:
-        if steps < 0:
-            raise ValueError(f"backlash is a number of steps >= 0, not {steps}")
-        self.stage(name).backlash = int(steps)
+        self.stage(name).backlash = checked_count(steps, "backlash (steps)")
         self.changed()
 
     def set_motor(self, name: str, **parameters: object) -> None:

@@ -14,6 +14,8 @@ import numpy as np
 
 VOLTS_PER_COUNT = 10.0 / 32767.0  # a 16-bit DAC: +/-32767 counts = +/-10 V
 PlantMatrices = tuple[float, float, float, float, float, float]  # a11 a12 a21 a22 b1 b2
+PARAMETER_SMALLEST, PARAMETER_LARGEST = 1e-12, 1e12  # a motor parameter's range (D)
+ENCODER_LINES_LIMIT = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -37,13 +39,25 @@ class MotorPlant:
     encoder_lines: int = 2000  # x4 quadrature
 
     def __post_init__(self) -> None:
+        """Every parameter a finite number in a range (D, issue 34: NaN or infinity made
+        the servo's arithmetic NaN): positive ones from 1e-12 to 1e12, frictions from 0
+        to 1e12, the encoder's lines a whole number from 1 to 10,000,000."""
         if self.amplifier not in ("current", "voltage"):
             raise ValueError("amplifier is 'current' or 'voltage'")
-        for name in ("inertia", "torque_constant", "amplifier_gain", "resistance"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"{name} must be positive")
-        if self.encoder_lines < 1 or self.viscous_friction < 0 or self.coulomb_friction < 0:
-            raise ValueError("encoder lines >= 1 and frictions >= 0")
+        for name in ("inertia", "torque_constant", "amplifier_gain", "resistance",
+                     "viscous_friction", "coulomb_friction"):
+            value = getattr(self, name)
+            positive = not name.endswith("friction")
+            low = PARAMETER_SMALLEST if positive else 0.0
+            if (isinstance(value, bool) or not isinstance(value, int | float)
+                    or not low <= value <= PARAMETER_LARGEST):  # NaN fails both
+                raise ValueError(f"{name} must be a number from {low:g} to "
+                                 f"{PARAMETER_LARGEST:g}, not {value!r}")
+        lines = self.encoder_lines
+        if (isinstance(lines, bool) or not isinstance(lines, int | float)
+                or not 1 <= lines <= ENCODER_LINES_LIMIT or lines != int(lines)):
+            raise ValueError(f"encoder_lines must be a whole number from 1 to "
+                             f"{ENCODER_LINES_LIMIT:,}, not {lines!r}")
 
     @property
     def counts_per_rev(self) -> int:

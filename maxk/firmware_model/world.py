@@ -33,13 +33,45 @@ SWITCHES = {"plus": "plus_limit", "minus": "minus_limit", "home": "home"}
 """Switch names used by the API, scripts and the REPL -> AxisWorld attributes."""
 
 
-def _checked(position: float | None) -> float | None:
+DEFAULT_HOME = (1234, 1333)
+
+# The ranges every world setting is checked against, wherever it comes from (a script's
+# @world, the REPL, the control door, the Python API): a value outside is a ValueError
+# naming the range, and nothing changes (decisions D, issue 34).
+POSITION_LIMIT = 2 ** 53  # |steps| of a switch or index position: whole steps a float holds
+COUNT_LIMIT = 2 ** 31 - 1  # steps of play, steps missed at once, index period and width:
+# a 32-bit counter's range, far beyond any stage
+BOUNCE_LIMIT = 1000  # steps of contact bounce at a switch's edge (a real one chatters a few)
+
+
+def checked_position(position: float | None, what: str = "a switch position"
+                     ) -> float | None:
+    """A position in steps (None: no switch there): finite and within POSITION_LIMIT."""
     if position is None:
         return None
-    if not math.isfinite(position):
-        raise ValueError(f"a switch position must be a finite number of steps, not {position}")
-    return float(position)
-DEFAULT_HOME = (1234, 1333)
+    try:
+        value = float(position)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{what} must be a number of steps, not {position!r}") from None
+    if not math.isfinite(value) or abs(value) > POSITION_LIMIT:
+        raise ValueError(f"{what} must be a finite number of steps within "
+                         f"+/-{POSITION_LIMIT} (2^53), not {position}")
+    return value
+
+
+def checked_count(value: object, what: str, low: int = 0, high: int = COUNT_LIMIT) -> int:
+    """A whole number of steps or counts from `low` to `high`."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ValueError(f"{what} must be a whole number, not {value!r}")
+    if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
+        raise ValueError(f"{what} must be a whole number, not {value}")
+    number = int(value)
+    if not low <= number <= high:
+        raise ValueError(f"{what} must be from {low} to {high}, not {value}")
+    return number
+
+
+_checked = checked_position
 
 
 @dataclass

@@ -12,9 +12,10 @@ Replies in the response ring end with LF, as MAXv replies do from firmware 1.30
 (evidence 3.2). Layout and every choice the manual leaves open: memory_map.py and
 docs/shared-memory.md.
 
-The map file (decisions D, issue 18): a new file is created exclusively; an existing
-path is taken over only when it is a regular file holding a map of this board number
-(the layout tag and board number a killed server left), and then cleared. A symbolic
+The map file (decisions D, issue 18): a new file is created exclusively, mode 0600; an
+existing path is taken over only when it is a regular file holding a map of this board
+number (the layout tag and board number a killed server left), and then cleared in
+place, never truncated (a host may still have it mapped: issue 34). A symbolic
 link is never followed, anything else is refused untouched. The server holds an
 exclusive flock on its map for as long as it runs, so a second server on the same path
 refuses. On exit the file is deleted only while the path still names the file we used.
@@ -49,6 +50,8 @@ WATCH_SECONDS = 0.0002  # how often the watcher reads the command ring's insert 
 _U32 = struct.Struct(">I")
 _I32 = struct.Struct(">i")
 MAX_PENDING_REPLIES = 64 * 1024  # bytes held while the host does not read the ring
+LOCK_PATIENCE = 0.2  # seconds a reused map's lock is waited for (a host's probe is brief)
+MAP_MODE = 0o600  # the map, as every file the server writes for its user (issue 34)
 
 # Regions only the board writes, copied from the door's image to the file after a pass
 # when they changed (one pwrite each); the host-written words between them are never
@@ -83,8 +86,13 @@ class SharedMemoryDoor:
         self.fd = _open_map(path, service.number)
         self.stopped: str | None = None  # why the door stopped (the map was broken)
         try:
-            os.ftruncate(self.fd, 0)  # ours now: nothing of an earlier run stays
-            os.ftruncate(self.fd, M.SIZE)
+            # Ours now: nothing of an earlier run stays. Cleared in place, never truncated:
+            # a host of the killed server may still have the file mapped, and a mapping
+            # touched past a shrunken end is SIGBUS for that host (issue 34). The file is
+            # new (size 0) or a map of exactly M.SIZE bytes (_open_map checked).
+            if os.fstat(self.fd).st_size < M.SIZE:
+                os.ftruncate(self.fd, M.SIZE)  # only ever grows
+            os.pwrite(self.fd, bytes(M.SIZE), 0)
             self._identity = _identity(os.fstat(self.fd))
             self._image = bytearray(M.SIZE)  # the board's regions as it sees them now
             self._flushed = bytearray(M.SIZE)  # ... and as last written to the file
@@ -355,12 +363,27 @@ def _identity(st: os.stat_result) -> tuple[int, int]:
     return st.st_dev, st.st_ino
 
 
+def _lock_briefly(fd: int) -> bool:
+    """The exclusive lock, waiting a moment for it: a host's library takes a shared lock
+    for a few microseconds to see whether anyone serves the map (docs/oms-library.md);
+    a second server holds it for good."""
+    deadline = time.monotonic() + LOCK_PATIENCE
+    while True:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return True
+        except BlockingIOError:
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.001)
+
+
 def _open_map(path: str, board_number: int) -> int:
     """The map file, open and exclusively locked: created new, or a map a killed server
     of this board left. Refuses (OSError) a symlink, a second server and anything else."""
     flags = os.O_RDWR | os.O_NOFOLLOW | os.O_NOCTTY | os.O_CLOEXEC
     try:
-        fd = os.open(path, flags | os.O_CREAT | os.O_EXCL, 0o666)
+        fd = os.open(path, flags | os.O_CREAT | os.O_EXCL, MAP_MODE)
     except FileExistsError:
         pass
     else:
@@ -385,10 +408,8 @@ def _open_map(path: str, board_number: int) -> int:
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
             raise OSError(f"--shm {path} exists and is not a regular file: not touched")
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise OSError(f"--shm {path} is in use by another maxk serve") from None
+        if not _lock_briefly(fd):
+            raise OSError(f"--shm {path} is in use by another maxk serve")
         if (st.st_size != M.SIZE or os.pread(fd, 4, M.LAYOUT) != M.LAYOUT_MAGIC
                 or _U32.unpack(os.pread(fd, 4, M.BOARD_NUMBER))[0] != board_number):
             raise OSError(f"--shm {path} exists and is not a maxk map of board "

@@ -6,6 +6,12 @@ Python. It touches only the mapped file: the rings, the indices, the doorbell.
     host.wait_doorbell(0x1)            # done X
     host.clear_doorbell(0x1)           # write-one-to-clear
     print(host.query("AX RP"))         # through the command and response rings
+
+A mapping touched past the end of a file that shrank is SIGBUS for the whole process, so
+every access first checks the file's size (`MapTruncated` instead of the signal). The
+server never shrinks its map (it clears a reused one in place); this guards against any
+other process that does. The check and the access are two steps: a file cut between
+them still faults, which only a reader with pread (libOmsMAXkMC) is safe from.
 """
 
 from __future__ import annotations
@@ -21,19 +27,32 @@ _U32 = struct.Struct(">I")
 _I32 = struct.Struct(">i")
 
 
+class MapTruncated(ConnectionError):
+    """The map file is shorter than the map: touching it would be SIGBUS."""
+
+
 class SharedMemoryHost:
     def __init__(self, path: str) -> None:
-        fd = os.open(path, os.O_RDWR)
+        self._fd = os.open(path, os.O_RDWR | os.O_CLOEXEC)
         try:
-            self.mem = mmap.mmap(fd, M.SIZE)
-        finally:
-            os.close(fd)
+            self._check()
+            self.mem = mmap.mmap(self._fd, M.SIZE)
+        except BaseException:
+            os.close(self._fd)
+            raise
         self._text = b""
 
+    def _check(self) -> None:
+        size = os.fstat(self._fd).st_size
+        if size < M.SIZE:
+            raise MapTruncated(f"the map file holds {size} bytes, not {M.SIZE}")
+
     def _get(self, offset: int) -> int:
+        self._check()
         return _U32.unpack_from(self.mem, offset)[0]
 
     def _put(self, offset: int, value: int) -> None:
+        self._check()
         _U32.pack_into(self.mem, offset, value & 0xFFFF_FFFF)
 
     # ---- text ------------------------------------------------------------------------
@@ -48,6 +67,7 @@ class SharedMemoryHost:
                 time.sleep(0.0002)
                 continue
             chunk, data = data[:free], data[free:]
+            self._check()
             for i, byte in enumerate(chunk):
                 self.mem[M.CMD_RING + (insert + i) % M.RING_SIZE] = byte
             self._put(M.CMD_INSERT, (insert + len(chunk)) % M.RING_SIZE)
@@ -60,6 +80,7 @@ class SharedMemoryHost:
             process = self._get(M.RESP_PROCESS) % M.RING_SIZE
             if insert != process:
                 n = (insert - process) % M.RING_SIZE
+                self._check()
                 self._text += bytes(self.mem[M.RESP_RING + (process + i) % M.RING_SIZE]
                                     for i in range(n))
                 self._put(M.RESP_PROCESS, insert)
@@ -103,9 +124,11 @@ class SharedMemoryHost:
         return self._get(M.FIRMWARE_FLAGS)
 
     def motor_position(self, axis: int) -> int:
+        self._check()
         return _I32.unpack_from(self.mem, M.motor_offset(axis))[0]
 
     def encoder_position(self, axis: int) -> int:
+        self._check()
         return _I32.unpack_from(self.mem, M.encoder_offset(axis))[0]
 
     def snapshot(self, axes: int, timeout: float = 5.0) -> list[tuple[int, int]]:
@@ -116,6 +139,7 @@ class SharedMemoryHost:
             if time.monotonic() > deadline:
                 raise TimeoutError("no snapshot")
             time.sleep(0.0002)
+        self._check()
         return [(_I32.unpack_from(self.mem, M.snapshot_motor_offset(a))[0],
                  _I32.unpack_from(self.mem, M.snapshot_encoder_offset(a))[0])
                 for a in range(axes)]
@@ -131,3 +155,4 @@ class SharedMemoryHost:
 
     def close(self) -> None:
         self.mem.close()
+        os.close(self._fd)

@@ -85,6 +85,15 @@ def format_number(value: float) -> str:
 MAX_STRING = 1024  # characters in one string value (D: bounds memory)
 MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
 FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
+# The controller's one memory for its programs' DIMmed variables, arrays and strings, every
+# process, FUNCTION call and command line together (D, issue 34: the real MC405 has a fixed
+# memory; its size for variables is not published, this is far beyond what programs DIM).
+# A DIM holds 8 bytes a number and n a STRING(n) element from the DIM on, a variable not
+# DIMmed 8 bytes or its string's length; a DIM or an assignment that would pass the budget
+# is "Not enough memory" (D: the text the store gives when its memory is full; no
+# TrioBASIC error list was found to say otherwise) and nothing changes.
+PROGRAM_MEMORY = 8 * 1024 * 1024
+NUMBER_BYTES = 8
 
 # RUN_ERROR codes (D: the numbering is ours, one per error text the emulator gives; 0 none)
 ERROR_CODES = {text: n for n, text in enumerate((
@@ -93,7 +102,8 @@ ERROR_CODES = {text: n for n, text in enumerate((
     "Stack overflow", "RETURN without GOSUB", "Array index out of range",
     "Variable not defined", "Type mismatch", "String too long", "Program not found",
     "Program is running", "Invalid program name", "VR index out of range",
-    "TABLE index out of range", "Cannot assign to a constant"), start=1)}
+    "TABLE index out of range", "Cannot assign to a constant", "Not enough memory"),
+    start=1)}
 
 
 def error_code(message: str) -> float:
@@ -122,6 +132,8 @@ class ProcessContext:
     ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
     stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
     functions: Callable[[str, list[Argument]], Value] | None = None  # FUNCTIONs it calls
+    memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
+    held: int = 0  # their sum (PROGRAM_MEMORY)
 
 
 class SystemHook(Protocol):
@@ -135,6 +147,10 @@ class SystemHook(Protocol):
     def system_parameter(self, name: str) -> float | None: ...
 
     def context_of(self, process: int) -> ProcessContext | None: ...
+
+    def memory_in_use(self, asking: ProcessContext) -> int:
+        """Bytes the DIMs of every live context of the controller hold (PROGRAM_MEMORY)."""
+        ...
 
     constants: dict[str, Value]
     globals: dict[str, int]
@@ -686,11 +702,17 @@ class Interpreter:
         if count > MAX_ARRAY or sum(len(a) for a in ctx.arrays.values()) \
                 + count * len(stmt.names) > 4 * MAX_ARRAY:
             raise TrioError("Parameter out of range")  # (D) a process's array memory
+        cost = max(count, 1) * (stmt.length if stmt.type == "STRING" else NUMBER_BYTES)
+        freed = sum(ctx.memory.get(name, 0) for name in stmt.names)  # a DIM again replaces
+        if self.hook.memory_in_use(ctx) - freed + cost * len(stmt.names) > PROGRAM_MEMORY:
+            raise TrioError("Not enough memory")
+        ctx.held += cost * len(stmt.names) - freed
         for name in stmt.names:
             ctx.types[name] = kind
         if stmt.value is not None:
             empty = self._typed(stmt.names[0], self.evaluate(stmt.value, ctx), ctx)
         for name in stmt.names:
+            ctx.memory[name] = cost
             if shape:
                 ctx.arrays[name] = [empty] * count
                 ctx.shapes[name] = shape
@@ -733,6 +755,14 @@ class Interpreter:
             return _truth(number != 0)
         return number
 
+    def _hold(self, ctx: ProcessContext, name: str, cost: int) -> None:
+        """A variable not DIMmed now holds `cost` bytes of the controller's memory."""
+        old = ctx.memory.get(name, 0)
+        if cost > old and self.hook.memory_in_use(ctx) - old + cost > PROGRAM_MEMORY:
+            raise TrioError("Not enough memory")
+        ctx.memory[name] = cost
+        ctx.held += cost - old
+
     def assign(self, stmt: Assign, ctx: ProcessContext) -> None:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
@@ -746,7 +776,11 @@ class Interpreter:
             else:
                 if len(ctx.variables) >= 4096 and name not in ctx.variables:
                     raise TrioError("Parameter out of range")  # (D) bounded
-                ctx.variables[name] = self._typed(name, raw, ctx)
+                value = self._typed(name, raw, ctx)
+                if name not in ctx.types:  # a DIMmed name holds what its DIM took
+                    self._hold(ctx, name, len(value) if isinstance(value, str)
+                               else NUMBER_BYTES)
+                ctx.variables[name] = value
             return
         if isinstance(target, Call) and target.name == "AOUT":
             channel = self._point(self.number(target.args[0], ctx), 8)

@@ -75,6 +75,7 @@ class TrioCommandLine(LineSession):
             self.interpreter = Interpreter(machine, runtime, self._print)
         self.system = runtime
         self.context = ProcessContext(process=-1)
+        runtime.command_lines.append(self.context)  # its DIMs count in the controller's memory
         self.restart_requested = False
         self._input = bytearray()
         self._consumed = 0  # bytes of _input handled by the running pump
@@ -101,6 +102,8 @@ class TrioCommandLine(LineSession):
         the session still lets its host read what came before (see `resume`)."""
         self.closed = True
         self._input.clear()
+        self.system.command_lines[:] = [  # its DIMs go with it
+            ctx for ctx in self.system.command_lines if ctx is not self.context]
 
     def servo_cycle(self) -> None:
         """One servo cycle of the processes, then of a waiting command-line statement."""

@@ -40,6 +40,19 @@ class ProgramCommands:
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
+        self.command_lines: list[ProcessContext] = []  # each open session's own context
+
+    def memory_in_use(self, asking: ProcessContext) -> int:
+        """What the DIMs of the controller's live contexts hold: its processes, the
+        FUNCTION calls running in them, its command lines (and the one asking). A process
+        that ended, a call that returned, a session that closed holds nothing."""
+        live = {id(asking): asking}
+        for task in self.tasks.values():
+            for ctx in (task.ctx, *task.frames):
+                live[id(ctx)] = ctx
+        for ctx in self.command_lines:
+            live[id(ctx)] = ctx
+        return sum(ctx.held for ctx in live.values())
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)

@@ -309,7 +309,7 @@ class Task:
         self.seen = -1  # scheduler: the machine revision its last step saw (-1: fresh)
         self.functions = {s.stmt.name: i for i, s in enumerate(steps)
                           if isinstance(s.stmt, FunctionDef)}
-        self.depth = 0
+        self.frames: list[ProcessContext] = []  # FUNCTION calls running: depth, memory
         self.budget = FUNCTION_STATEMENTS
         ctx.functions = self.call_function
 
@@ -330,7 +330,7 @@ class Task:
         assert isinstance(define, FunctionDef)
         if len(args) != len(define.params):
             raise TrioError("Syntax error")
-        if self.depth >= GOSUB_DEPTH:
+        if len(self.frames) >= GOSUB_DEPTH:
             raise TrioError("Stack overflow")
         outer = self.ctx
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
@@ -340,9 +340,9 @@ class Task:
                 ctx.arrays[param] = arg
             else:
                 ctx.variables[param] = arg
-        if self.depth == 0:
+        if not self.frames:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
-        self.depth += 1
+        self.frames.append(ctx)
         try:
             pc = start + 1
             while True:
@@ -363,7 +363,7 @@ class Task:
                         raise TrioError("Function cannot wait")
                 pc = ctx.pc
         finally:
-            self.depth -= 1
+            self.frames.pop()
             outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
 
     def step(self) -> Wake | None:

@@ -125,10 +125,14 @@ typedef struct oms_board {
     int transport;
     int refs; /* handles open on this board in this process */
     oms_mutex lock; /* one caller at a time per board: commands and replies stay paired */
-    volatile unsigned char *map;
+    int map_fd; /* the map file, read and written with pread/pwrite (never mapped) */
+    int map_lost; /* a read of the map came up short: it was truncated under us */
+    char map_path[1024];
     oms_socket sock;
     char inbox[OMS_LINE_MAX]; /* received reply text not yet taken */
     size_t inbox_len;
+    int skipping; /* inside a line too long for the inbox: dropped up to its line end */
+    unsigned long dropped_lines; /* such lines dropped (MaxkOmsDroppedLines) */
     unsigned long notified; /* TCP: flag bits the board has notified, not yet cleared */
     eOMSBuffMode buffer_mode;
     long command_ms, response_ms;
@@ -201,19 +205,76 @@ static long env_ms(const char *name, long fallback)
     return (*end || value <= 0) ? fallback : value;
 }
 
+/* ---- the inbox ------------------------------------------------------------------------ */
+/* Room for more reply text. An inbox full without a line end holds the start of a line
+ * longer than any reply of a MAX board: that line is dropped, counted, up to its line end
+ * (inbox_add), so later replies get through (issue 34: it used to fill the inbox for good
+ * and every later query timed out). */
+static size_t inbox_room(oms_board *b)
+{
+    if (b->inbox_len == sizeof b->inbox && !memchr(b->inbox, '\n', b->inbox_len) &&
+        !memchr(b->inbox, '\r', b->inbox_len)) {
+        b->inbox_len = 0;
+        b->skipping = 1;
+        b->dropped_lines++;
+    }
+    return sizeof b->inbox - b->inbox_len;
+}
+
+/* Append received text (at most inbox_room bytes), skipping the rest of a dropped line. */
+static void inbox_add(oms_board *b, const char *data, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        if (b->skipping) {
+            if (data[i] == '\n' || data[i] == '\r')
+                b->skipping = 0;
+            continue;
+        }
+        if (b->inbox_len < sizeof b->inbox)
+            b->inbox[b->inbox_len++] = data[i];
+    }
+}
+
 /* ---- map access (big-endian words) ----------------------------------------------------- */
+/* The library never maps the file: it reads and writes it with pread/pwrite, which share
+ * the page cache with every mapping of it. A map truncated under a mapping kills the
+ * process that touches it (SIGBUS); a short pread is only a short read: the call then
+ * returns COMMAND_TIME_OUT and the next call looks for a map served at the path again
+ * (map_ready). */
 #ifdef OMS_HAVE_MAP
+static int map_read(oms_board *b, void *data, size_t n, unsigned offset)
+{
+    if (b->map_lost || offset + n > MAP_SIZE ||
+        pread(b->map_fd, data, n, (off_t)offset) != (ssize_t)n) {
+        b->map_lost = 1;
+        return 0;
+    }
+    return 1;
+}
+
+static void map_write(oms_board *b, const void *data, size_t n, unsigned offset)
+{
+    if (b->map_lost || offset + n > MAP_SIZE ||
+        pwrite(b->map_fd, data, n, (off_t)offset) != (ssize_t)n)
+        b->map_lost = 1;
+}
+
 static uint32_t map_get(oms_board *b, unsigned offset)
 {
-    uint32_t raw;
-    __atomic_load(( uint32_t *)(b->map + offset), &raw, __ATOMIC_ACQUIRE);
-    return ntohl(raw);
+    unsigned char raw[4] = {0, 0, 0, 0};
+    map_read(b, raw, 4, offset);
+    return (uint32_t)raw[0] << 24 | (uint32_t)raw[1] << 16 | (uint32_t)raw[2] << 8 | raw[3];
 }
 
 static void map_put(oms_board *b, unsigned offset, uint32_t value)
 {
-    uint32_t raw = htonl(value);
-    __atomic_store((uint32_t *)(b->map + offset), &raw, __ATOMIC_RELEASE);
+    unsigned char raw[4];
+    raw[0] = (unsigned char)(value >> 24);
+    raw[1] = (unsigned char)(value >> 16);
+    raw[2] = (unsigned char)(value >> 8);
+    raw[3] = (unsigned char)value;
+    map_write(b, raw, 4, offset);
 }
 
 static long map_signed(oms_board *b, unsigned offset) { return (long)(int32_t)map_get(b, offset); }
@@ -243,6 +304,8 @@ static long map_mailbox_wait(oms_board *b, unsigned offset, uint32_t busy_value,
     double deadline = now_ms() + (double)ms;
     for (;;) {
         uint32_t v = map_get(b, offset);
+        if (b->map_lost)
+            return COMMAND_TIME_OUT;
         if (busy_value ? v != busy_value : v == 0)
             return SUCCESS;
         if (now_ms() > deadline)
@@ -258,7 +321,7 @@ static long map_settle(oms_board *b, long ms)
     double deadline = now_ms() + (double)ms;
     uint32_t tick = map_get(b, MAP_TICK);
     while (map_get(b, MAP_TICK) == tick) {
-        if (now_ms() > deadline)
+        if (b->map_lost || now_ms() > deadline)
             return COMMAND_TIME_OUT;
         pause_us(100);
     }
@@ -271,7 +334,7 @@ static long map_sync(oms_board *b, long ms)
     double deadline = now_ms() + (double)ms;
     uint32_t target = map_get(b, MAP_CMD_INSERT);
     while (map_get(b, MAP_CMD_PROCESS) != target) {
-        if (now_ms() > deadline)
+        if (b->map_lost || now_ms() > deadline)
             return COMMAND_TIME_OUT;
         pause_us(100);
     }
@@ -285,7 +348,9 @@ static long map_write_text(oms_board *b, const char *text, size_t n)
         uint32_t insert = map_get(b, MAP_CMD_INSERT) % MAP_RING_SIZE;
         uint32_t process = map_get(b, MAP_CMD_PROCESS) % MAP_RING_SIZE;
         uint32_t room = (process + MAP_RING_SIZE - insert - 1u) % MAP_RING_SIZE;
-        size_t i, chunk;
+        size_t chunk, first;
+        if (b->map_lost)
+            return COMMAND_TIME_OUT;
         if (!room) {
             if (now_ms() > deadline)
                 return COMMAND_TIME_OUT;
@@ -293,9 +358,10 @@ static long map_write_text(oms_board *b, const char *text, size_t n)
             continue;
         }
         chunk = n < room ? n : room;
-        for (i = 0; i < chunk; i++)
-            b->map[MAP_CMD_RING + (insert + i) % MAP_RING_SIZE] = (unsigned char)text[i];
-        __atomic_thread_fence(__ATOMIC_RELEASE);
+        first = chunk < MAP_RING_SIZE - insert ? chunk : MAP_RING_SIZE - insert;
+        map_write(b, text, first, MAP_CMD_RING + insert); /* up to the ring's end, then wrap */
+        if (chunk > first)
+            map_write(b, text + first, chunk - first, MAP_CMD_RING);
         map_put(b, MAP_CMD_INSERT, (uint32_t)((insert + chunk) % MAP_RING_SIZE));
         text += chunk;
         n -= chunk;
@@ -303,22 +369,27 @@ static long map_write_text(oms_board *b, const char *text, size_t n)
     return SUCCESS;
 }
 
-/* Move whatever the response ring holds into the inbox; 1 if anything came. */
+/* Move what the response ring holds into the inbox, as much as it has room for (the
+ * rest stays in the ring); 1 if anything came. */
 static int map_pull(oms_board *b)
 {
+    char text[MAP_RING_SIZE];
     uint32_t insert = map_get(b, MAP_RESP_INSERT) % MAP_RING_SIZE;
     uint32_t process = map_get(b, MAP_RESP_PROCESS) % MAP_RING_SIZE;
-    uint32_t n = (insert + MAP_RING_SIZE - process) % MAP_RING_SIZE, i;
-    if (!n)
+    uint32_t n = (insert + MAP_RING_SIZE - process) % MAP_RING_SIZE, first;
+    size_t room = inbox_room(b);
+    if (!n || !room || b->map_lost)
         return 0;
-    __atomic_thread_fence(__ATOMIC_ACQUIRE);
-    for (i = 0; i < n; i++) {
-        unsigned char c = b->map[MAP_RESP_RING + (process + i) % MAP_RING_SIZE];
-        if (b->inbox_len < sizeof b->inbox)
-            b->inbox[b->inbox_len++] = (char)c;
-    }
-    map_put(b, MAP_RESP_PROCESS, insert);
-    map_put(b, MAP_OMR0, 0);
+    if (n > room)
+        n = (uint32_t)room;
+    first = n < MAP_RING_SIZE - process ? n : MAP_RING_SIZE - process;
+    if (!map_read(b, text, first, MAP_RESP_RING + process) ||
+        (n > first && !map_read(b, text + first, n - first, MAP_RESP_RING)))
+        return 0;
+    inbox_add(b, text, n);
+    map_put(b, MAP_RESP_PROCESS, (process + n) % MAP_RING_SIZE);
+    if ((process + n) % MAP_RING_SIZE == insert)
+        map_put(b, MAP_OMR0, 0);
     return 1;
 }
 #endif /* OMS_HAVE_MAP */
@@ -359,27 +430,34 @@ static int tcp_pull(oms_board *b, long ms)
 {
     char buffer[1024];
     long got;
+    size_t room = inbox_room(b);
 #if defined(_WIN32)
     fd_set readable;
     struct timeval tv = {ms / 1000, (ms % 1000) * 1000};
     FD_ZERO(&readable);
     FD_SET(b->sock, &readable);
+    if (!room) /* complete lines fill it: they are taken first */
+        return 0;
+    if (room > sizeof buffer)
+        room = sizeof buffer;
     if (select(0, &readable, NULL, NULL, &tv) <= 0)
         return 0;
-    got = recv(b->sock, buffer, sizeof buffer, 0);
+    got = recv(b->sock, buffer, (int)room, 0);
 #else
     struct pollfd p = {b->sock, POLLIN, 0};
-    int ready = poll(&p, 1, (int)ms);
+    int ready;
+    if (!room) /* complete lines fill it: they are taken first */
+        return 0;
+    if (room > sizeof buffer)
+        room = sizeof buffer;
+    ready = poll(&p, 1, (int)ms);
     if (ready <= 0)
         return 0;
-    got = (long)recv(b->sock, buffer, sizeof buffer, 0);
+    got = (long)recv(b->sock, buffer, room, 0);
 #endif
     if (got <= 0)
         return -1;
-    if (b->inbox_len + (size_t)got > sizeof b->inbox)
-        got = (long)(sizeof b->inbox - b->inbox_len);
-    memcpy(b->inbox + b->inbox_len, buffer, (size_t)got);
-    b->inbox_len += (size_t)got;
+    inbox_add(b, buffer, (size_t)got); /* never more than the room asked for */
     return 1;
 }
 
@@ -465,14 +543,14 @@ static long read_line(oms_board *b, char *line, size_t size)
 
 /* TCP: take in whatever is waiting, without blocking, and fold the notifications among
  * it into b->notified; reply lines stay in the inbox, in order, for their caller. */
-static void tcp_drain(oms_board *b)
+static int tcp_drain(oms_board *b)
 {
     size_t at = 0;
-    int guard = 64;
+    int guard = 64, pulled = 0;
     if (b->transport != OMS_TCP)
-        return;
-    while (guard-- > 0 && b->inbox_len < sizeof b->inbox && tcp_pull(b, 0) > 0) {
-    }
+        return 0;
+    while (guard-- > 0 && tcp_pull(b, 0) > 0)
+        pulled++;
     while (at < b->inbox_len) {
         char *end = memchr(b->inbox + at, '\n', b->inbox_len - at);
         size_t start = at, len;
@@ -492,6 +570,7 @@ static void tcp_drain(oms_board *b)
             at = (size_t)(end - b->inbox) + 1;
         }
     }
+    return pulled;
 }
 
 /* Before a query: replies nobody waits for any more (a call that timed out, a command
@@ -500,11 +579,17 @@ static void tcp_drain(oms_board *b)
 static void discard_replies(oms_board *b)
 {
     char scratch[OMS_LINE_MAX];
+    int guard = 64; /* the ring and the socket hold a bounded amount: a few passes */
+    do {
+        while (take_line(b, scratch, sizeof scratch)) {
+        }
 #ifdef OMS_HAVE_MAP
-    if (b->transport == OMS_MAP)
-        map_pull(b);
+        if (b->transport == OMS_MAP && !map_pull(b))
+            break;
 #endif
-    tcp_drain(b);
+        if (b->transport == OMS_TCP && !tcp_drain(b))
+            break;
+    } while (--guard > 0);
     while (take_line(b, scratch, sizeof scratch)) {
     }
 }
@@ -577,6 +662,17 @@ static int config_line(const char *path, int number, char *where, size_t size)
         return 0;
     while (!found && fgets(line, sizeof line, f)) {
         char *p = line, *eq, *name_end, *value, *value_end;
+        if (!strchr(line, '\n')) {
+            /* no line end in the buffer: the line fits exactly, the file ends, or the line
+             * is longer than any setting (1,023 characters). That one is skipped whole:
+             * its tail is never read as a line of its own (issue 34). */
+            int c = fgetc(f);
+            if (c != EOF && c != '\n') {
+                while (c != EOF && c != '\n')
+                    c = fgetc(f);
+                continue;
+            }
+        }
         while (isspace((unsigned char)*p))
             p++;
         if (*p == '#' || *p == ';' || !*p)
@@ -619,6 +715,8 @@ static int locate(int number, char *where, size_t size)
     snprintf(name, sizeof name, "MAXK_OMSMAXK%d", number);
     env = getenv(name);
     if (env && *env) {
+        if (strlen(env) >= size)
+            return 0; /* cut short it would name another place: no board */
         snprintf(where, size, "%s", env);
         return 1;
     }
@@ -645,36 +743,55 @@ static int locate(int number, char *where, size_t size)
 }
 
 #ifdef OMS_HAVE_MAP
-/* A map is served while its server holds the lock on the file (docs/shared-memory.md). */
+/* Whether a map file is served now: its server holds an exclusive lock on it for as long
+ * as it runs (docs/shared-memory.md); a shared lock we can take means nobody does. */
+static int map_served(int fd)
+{
+    if (flock(fd, LOCK_SH | LOCK_NB) == 0) {
+        flock(fd, LOCK_UN);
+        return 0;
+    }
+    return 1;
+}
+
+/* Open the map at `path` if it is a whole map that a server serves; the handle's earlier
+ * map (if any) is let go. The file's size is checked before anything is read. */
 static int open_map(oms_board *b, const char *path)
 {
     struct stat st;
-    int fd = open(path, O_RDWR | O_NOFOLLOW);
-    void *mem;
+    char tag[4];
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0)
         return 0;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || (size_t)st.st_size < MAP_SIZE) {
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || (size_t)st.st_size < MAP_SIZE ||
+        !map_served(fd) || pread(fd, tag, 4, MAP_LAYOUT) != 4 || memcmp(tag, "MXK1", 4) != 0) {
         close(fd);
         return 0;
     }
-    if (flock(fd, LOCK_SH | LOCK_NB) == 0) { /* nobody serves it: a map left behind */
-        flock(fd, LOCK_UN);
-        close(fd);
-        return 0;
-    }
-    mem = mmap(NULL, MAP_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    close(fd);
-    if (mem == MAP_FAILED)
-        return 0;
-    b->map = (volatile unsigned char *)mem;
-    if (memcmp((const void *)(b->map + MAP_LAYOUT), "MXK1", 4) != 0) {
-        munmap(mem, MAP_SIZE);
-        b->map = NULL;
-        return 0;
-    }
-    /* replies left in the ring by an earlier host are not ours */
+    if (b->map_fd >= 0)
+        close(b->map_fd);
+    b->map_fd = fd;
+    b->map_lost = 0;
+    if (path != b->map_path)
+        snprintf(b->map_path, sizeof b->map_path, "%s", path);
+    /* replies left in the ring by an earlier host, or half a line of a server that went
+     * away, are not ours */
+    b->inbox_len = 0;
+    b->skipping = 0;
     map_put(b, MAP_RESP_PROCESS, map_get(b, MAP_RESP_INSERT));
-    return 1;
+    return !b->map_lost;
+}
+
+/* Before every call through the map: the map is whole and served, else the path is
+ * looked at again (a server restarted on it: issue 34). COMMAND_TIME_OUT while no
+ * server serves a whole map there; the host gets a return code, never a signal. */
+static long map_ready(oms_board *b)
+{
+    struct stat st;
+    if (!b->map_lost && fstat(b->map_fd, &st) == 0 && (size_t)st.st_size >= MAP_SIZE &&
+        map_served(b->map_fd))
+        return SUCCESS;
+    return open_map(b, b->map_path) ? SUCCESS : COMMAND_TIME_OUT;
 }
 #endif
 
@@ -755,6 +872,7 @@ static oms_board *open_board(int number)
         return NULL;
     b->number = number;
     b->sock = OMS_BAD_SOCKET;
+    b->map_fd = -1;
     b->buffer_mode = OMS_NORMAL_CMD_BUFFER_MODE;
     b->command_ms = env_ms("MAXK_OMS_COMMAND_TIMEOUT_MS", 2000);
     b->response_ms = env_ms("MAXK_OMS_RESPONSE_TIMEOUT_MS", 2000);
@@ -771,7 +889,8 @@ static oms_board *open_board(int number)
         }
     }
 #ifdef OMS_HAVE_MAP
-    else if (open_map(b, strncmp(where, "shm:", 4) == 0 ? where + 4 : where)) {
+    else if (strlen(where) < sizeof b->map_path &&
+             open_map(b, strncmp(where, "shm:", 4) == 0 ? where + 4 : where)) {
         b->transport = OMS_MAP;
     }
 #endif
@@ -835,13 +954,24 @@ void _stdcall CloseOmsHandle(HANDLE h)
     oms_mutex_lock(&b->lock); /* a call still running on another thread ends first */
     oms_mutex_unlock(&b->lock);
 #ifdef OMS_HAVE_MAP
-    if (b->map)
-        munmap((void *)b->map, MAP_SIZE);
+    if (b->map_fd >= 0)
+        close(b->map_fd);
 #endif
     if (b->sock != OMS_BAD_SOCKET)
         oms_close_socket(b->sock);
     oms_mutex_destroy(&b->lock);
     free(b);
+}
+
+/* The board's connection is usable (the map: whole and served; TCP: as it is). */
+static long board_ready(oms_board *b)
+{
+#ifdef OMS_HAVE_MAP
+    if (b->transport == OMS_MAP)
+        return map_ready(b);
+#endif
+    (void)b;
+    return SUCCESS;
 }
 
 /* Every call takes the board for its whole exchange. */
@@ -850,8 +980,11 @@ void _stdcall CloseOmsHandle(HANDLE h)
     long rc = SUCCESS;                                                                   \
     if (!b)                                                                              \
         return COMMAND_TIME_OUT;                                                         \
-    oms_mutex_lock(&b->lock);
+    oms_mutex_lock(&b->lock);                                                            \
+    CHECK(board_ready(b));
 #define END                                                                              \
+    if (rc == SUCCESS && b->map_lost) /* what was read of a map cut short is no answer */ \
+        rc = COMMAND_TIME_OUT;                                                           \
     oms_mutex_unlock(&b->lock);                                                          \
     return rc;
 #define CHECK(call)                                                                      \
@@ -959,7 +1092,9 @@ long _stdcall GetCmdBufferFree(HANDLE h)
         return 0;
     oms_mutex_lock(&b->lock);
 #ifdef OMS_HAVE_MAP
-    if (b->transport == OMS_MAP) {
+    if (b->transport == OMS_MAP && map_ready(b) != SUCCESS) {
+        free_bytes = 0; /* nothing serves the map: no room */
+    } else if (b->transport == OMS_MAP) {
         uint32_t insert = map_get(b, MAP_CMD_INSERT) % MAP_RING_SIZE;
         uint32_t process = map_get(b, MAP_CMD_PROCESS) % MAP_RING_SIZE;
         free_bytes = (long)((process + MAP_RING_SIZE - insert - 1u) % MAP_RING_SIZE);
@@ -1565,11 +1700,21 @@ static long read_positions(oms_board *b, long axes, int kind, long values[OMS_AX
     int i;
 #ifdef OMS_HAVE_MAP
     if (b->transport == OMS_MAP) {
+        /* one read of the registers (the first 0xC0 bytes hold every motor and encoder
+         * position, X..S and W K; the absolute positions are a block of their own) */
+        unsigned char block[0xC0];
+        unsigned base = kind == POS_ABSOLUTE ? MAP_ABSOLUTE_ENCODERS : 0u;
+        if (!map_read(b, block, kind == POS_ABSOLUTE ? 4u * OMS_AXES : sizeof block, base))
+            return COMMAND_TIME_OUT;
         for (i = 0; i < OMS_AXES; i++)
-            if (axes & (1L << i))
-                values[i] = kind == POS_MOTOR     ? map_signed(b, motor_offset(i))
-                            : kind == POS_ENCODER ? map_signed(b, encoder_offset(i))
-                                                  : map_signed(b, MAP_ABSOLUTE_ENCODERS + 4u * (unsigned)i);
+            if (axes & (1L << i)) {
+                unsigned at = (kind == POS_MOTOR     ? motor_offset(i)
+                               : kind == POS_ENCODER ? encoder_offset(i)
+                                                     : base + 4u * (unsigned)i) - base;
+                values[i] = (long)(int32_t)((uint32_t)block[at] << 24 |
+                                            (uint32_t)block[at + 1] << 16 |
+                                            (uint32_t)block[at + 2] << 8 | block[at + 3]);
+            }
         return SUCCESS;
     }
 #endif
@@ -1996,6 +2141,21 @@ long _stdcall SetSelectedOmsAuxOutBits(HANDLE h, long axes, long state)
             n += (size_t)snprintf(text + n, sizeof text - n, ";A%c%s", AXIS_LETTERS[i], state ? "AN" : "AF");
     snprintf(text + n, sizeof text - n, ";");
     return simple(h, text + 3); /* one A?AN/AF per axis: AM's AN would switch them all */
+}
+
+/* ---- not in the vendor's library ------------------------------------------------------------ */
+/* How many reply lines too long for the library's inbox (4 KiB) were dropped on this
+ * handle's board; 0 for a handle that is not open. */
+unsigned long _stdcall MaxkOmsDroppedLines(HANDLE h)
+{
+    oms_board *b = board_of(h);
+    unsigned long n;
+    if (!b)
+        return 0;
+    oms_mutex_lock(&b->lock);
+    n = b->dropped_lines;
+    oms_mutex_unlock(&b->lock);
+    return n;
 }
 
 /* ---- the big command buffer ---------------------------------------------------------------- */

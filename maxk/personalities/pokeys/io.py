@@ -11,9 +11,11 @@ the trace. Every setter validates first and changes nothing when it refuses (`IO
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
+import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Final
@@ -351,11 +353,20 @@ class DeviceIO:
         file, written whole by rename so a crash leaves the old one)."""
         self.saved = self.configuration()
         if self.archive:
-            os.makedirs(os.path.dirname(self.archive) or ".", exist_ok=True)
-            tmp = f"{self.archive}.tmp"
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(self.saved, f)
-            os.replace(tmp, self.archive)
+            directory = os.path.dirname(self.archive) or "."
+            os.makedirs(directory, exist_ok=True)
+            # mode 0600, as every file the server writes for its user (issue 34: this one
+            # was 0644 beside the MAXk's 0600 archive)
+            fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(self.archive)}.",
+                                       suffix=".tmp", dir=directory)
+            try:
+                with os.fdopen(fd, "w", encoding="utf-8") as f:
+                    json.dump(self.saved, f)
+                os.replace(tmp, self.archive)
+            except BaseException:
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp)
+                raise
 
     def load_archive(self) -> None:
         if not self.archive or not os.path.exists(self.archive):

@@ -291,6 +291,11 @@ DLLIMPORT long _stdcall OMS_BigBufferSendBlock(HANDLE h, LPSTR block, long size,
 DLLIMPORT long _stdcall OMS_GetBigBufferFreeSpace(HANDLE h, long *free_space);
 DLLIMPORT long _stdcall OMS_FlushBigBuffer(HANDLE h);
 
+/* ---- maxk's own, not in the vendor's library ------------------------------------------- */
+/* Reply lines longer than the library's 4 KiB inbox that were dropped (a MAX board never
+ * sends one; the library drops such a line instead of stalling: docs/oms-library.md). */
+DLLIMPORT unsigned long _stdcall MaxkOmsDroppedLines(HANDLE h);
+
 #if defined(__cplusplus) && !defined(OMSMAXKMC_BUILD)
 /* C++ code passes string literals where the API says LPSTR (MSVC lets it); these
  * overloads take them without a warning and call the functions above. */
