@@ -314,9 +314,13 @@ _ENTRIES: list[Keyword] = [
     # ---- program handling ------------------------------------------------------------------
     _command("DIR", "List the programs.", (0, 1), source=REF,
              note="Header ending in dashes, one line per program, then OK (ref 5)."),
-    _command("SELECT", "Select (and create) a program: SELECT \"N\",type.", (1, 2),
-             source=REF, string_arg=True,
-             note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. Creates it when missing."),
+    _command("SELECT", "Select (and create) a program: SELECT \"N\"[,type] or SELECT N.",
+             (1, 2), source=f"{REF}; {MAN}; public uploader", string_arg=True,
+             confidence="I",
+             note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. A missing program is "
+             "created (manual), of type 0, or 9 for MC_CONFIG (D). The name may be unquoted "
+             "(a vendor-style uploader sends SELECT MC_CONFIG; I), as for every command "
+             "taking a program: a name that is no keyword, alone or before a comma."),
     _command("DEL", "Delete a program.", (0, 2), source=REF, string_arg=True),
     _command("LIST", "List a program's lines.", (0, 1), source=REF, string_arg=True),
     _command("NEW", "Clear the lines of a program.", (0, 1), source=TOK, string_arg=True,

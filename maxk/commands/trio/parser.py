@@ -815,7 +815,12 @@ class _Parser:
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
-        if self.at_op("("):
+        if keyword.string_arg and self.bare_program_name():
+            args.append(Str(self.advance().text))  # SELECT MC_CONFIG: a name unquoted
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
+        elif self.at_op("("):
             self.advance()
             if not self.at_op(")"):
                 args.append(self.expression())
@@ -833,6 +838,18 @@ class _Parser:
         if not low <= len(args) <= high:
             raise TrioError("Syntax error")
         return Command(keyword, tuple(args), axis)
+
+    def bare_program_name(self) -> bool:
+        """A program named without quotes, as a command line takes it (``SELECT
+        MC_CONFIG``, a vendor uploader's form; I): a name that is no keyword, alone or
+        before a comma. A variable holding a number is never a program, so nothing that
+        parsed before changes meaning."""
+        tok = self.tok
+        if tok.kind is not Tok.NAME:
+            return False
+        after = self.tokens[self.pos + 1]
+        return lookup(tok.text) is None and (
+            after.kind is Tok.END or after.kind is Tok.OP and after.text in (",", ":"))
 
     def axis_modifier(self) -> Expr | None:
         if not self.at_name("AXIS"):

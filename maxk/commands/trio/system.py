@@ -100,8 +100,10 @@ class ProgramCommands:
         if len(args) == 2:
             program_type = _integer(args[1])
             info = self.programs.create(name, program_type)
-        else:
+        elif self.programs.exists(name):
             info = self.programs.get(name)
+        else:  # SELECT of a missing program creates it (manual): MC_CONFIG as its type
+            info = self.programs.create(name, 9 if name == "MC_CONFIG" else 0)
         self.selected = info.name
 
     def cmd_del(self, args: list[Value]) -> None:
@@ -131,6 +133,15 @@ class ProgramCommands:
         self.programs.edit(program, number, action, text)
         self.compiled.pop(program, None)
         self.broken.discard(program)
+
+    def edit_count(self, name: str) -> int:
+        """``!NAME,N``: how many lines the program has."""
+        return len(self.programs.lines[self.programs.get(name).name])
+
+    def edit_lines(self, name: str, first: int, last: int) -> list[str]:
+        """``!NAME,a,bL``: lines a to b (from 0, b included, D), those that exist."""
+        lines = self.programs.lines[self.programs.get(name).name]
+        return lines[first:last + 1]
 
     def edit_control(self, name: str, action: str) -> None:
         """``!NAME,M`` / ``!NAME,Z``: end of a download; the store is already written (D)."""
