@@ -736,6 +736,13 @@ class Interpreter:
     def assign(self, stmt: Assign, ctx: ProcessContext) -> None:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
+        if isinstance(target, Bit):  # x.n = v: bit n of x's integer part set (v <> 0)
+            mask = 1 << target.bit
+            word = int(self.number(target.operand, ctx))
+            word = word | mask if self.number_value(raw) != 0 else word & ~mask
+            assert isinstance(target.operand, (Var, Param, Call))
+            self.assign(Assign(target.operand, Num(float(word))), ctx)
+            return
         if isinstance(target, Var):
             name = target.name
             if name not in ctx.variables and name in self.hook.globals:

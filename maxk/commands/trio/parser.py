@@ -15,6 +15,7 @@ Long module: one recursive-descent parser for every statement form of the langua
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeVar
 
 from .keywords import Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
@@ -215,9 +216,12 @@ class WaitLoaded:
     axis: Expr | None
 
 
+_Target = TypeVar("_Target", "Var", "Param", "Call")
+
+
 @dataclass(frozen=True)
 class Assign:
-    target: Var | Param | Call  # Call: VR(i) or a user array element
+    target: Var | Param | Call | Bit  # Call: VR(i) or a user array element; Bit: x.n
     value: Expr
 
 
@@ -443,15 +447,16 @@ class _Parser:
         if name in _PARAM_COMMANDS and self.at_op("("):
             return self.command(keyword)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
-            target = self.parameter(keyword)
+            target = self.bit_target(self.parameter(keyword))
             self.expect_op("=")
             return Assign(target, self.expression())
         if name == "VR":
             self.expect_op("(")
             index = self.expression()
             self.expect_op(")")
+            vr = self.bit_target(Call("VR", (index,)))
             self.expect_op("=")
-            return Assign(Call("VR", (index,)), self.expression())
+            return Assign(vr, self.expression())
         if keyword.kind is Kind.FUNCTION:  # a function called for its effect: POKE(...)
             return Perform(Call(name, self.call_args(keyword)))
         raise TrioError("Syntax error")
@@ -464,14 +469,20 @@ class _Parser:
             return Label(name)
         if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
             args = self.user_args()
+            element = self.bit_target(Call(name, args))
             if not self.at_op("="):
+                if isinstance(element, Bit):
+                    raise TrioError("Syntax error")
                 return Perform(Call(name, args))
             self.advance()
             if not args:
                 raise TrioError("Syntax error")
-            return Assign(Call(name, args), self.expression())
+            return Assign(element, self.expression())
+        variable = self.bit_target(Var(name))
         self.expect_op("=")
         value = self.expression()
+        if isinstance(variable, Bit):
+            return Assign(variable, value)
         if not self.at_op(","):
             return Assign(Var(name), value)
         values = [value]
@@ -956,7 +967,7 @@ class _Parser:
     def operand(self) -> Expr:
         tok = self.advance()
         if tok.kind is Tok.NUMBER:
-            return Num(tok.value)
+            return Num(self.dotted_address(tok))
         if tok.kind is Tok.STRING:
             return Str(tok.text)
         if tok.kind is Tok.OP and tok.text == "(":
@@ -983,6 +994,42 @@ class _Parser:
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
         raise TrioError("Syntax error")
+
+    def dotted_address(self, tok: Token) -> float:
+        """``192.168.0.250``: four dotted fields written together are one network
+        address, the 32-bit number a*2^24 + b*2^16 + c*2^8 + d (D: the manual sets
+        IP_ADDRESS this way; the number it stands for is ours). Anything else is the
+        number itself."""
+        first = tok.text.split(".")
+        rest = self.tokens[self.pos:self.pos + 2]
+        if len(first) != 2 or not all(f.isdigit() for f in first) or len(rest) < 2 or \
+                not all(t.kind is Tok.NUMBER and t.text[:1] == "." and t.text[1:].isdigit()
+                        for t in rest) or \
+                rest[0].column != tok.column + len(tok.text) or \
+                rest[1].column != rest[0].column + len(rest[0].text):
+            return tok.value
+        self.advance()
+        self.advance()
+        fields = [int(f) for f in first] + [int(t.text[1:]) for t in rest]
+        if any(f > 255 for f in fields):
+            raise TrioError("Parameter out of range")
+        return float((fields[0] << 24) | (fields[1] << 16) | (fields[2] << 8) | fields[3])
+
+    def bit_target(self, target: _Target) -> _Target | Bit:
+        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
+        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+        tok = self.tok
+        if tok.kind is not Tok.NUMBER or tok.text[:1] != "." or not tok.text[1:].isdigit():
+            return target
+        self.advance()
+        bit = int(tok.text[1:])
+        if bit > 52:
+            raise TrioError("Parameter out of range")
+        if isinstance(target, Param) and target.axis is None and \
+                target.keyword.axis_modifier and self.at_name("AXIS"):
+            return Bit(Param(target.keyword, self.axis_modifier(), target.process,
+                             target.slot, target.index), bit)
+        return Bit(target, bit)
 
     def call_args(self, keyword: Keyword) -> tuple[Expr, ...]:
         if keyword.string_arg and self.tok.kind is Tok.STRING:
