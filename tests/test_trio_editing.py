@@ -35,9 +35,13 @@ def test_select_creates_a_missing_program_quoted_or_not() -> None:
     rig.command("SELECT spare")
     assert rig.command('?PROG_TYPE "FRESH"') == b"0"
     assert rig.command('?PROG_TYPE "SPARE"') == b"0"
-    rig.command("SELECT MC_CONFIG")  # the start-up program is created as its own type
-    assert rig.command('?PROG_TYPE "MC_CONFIG"') == b"9"
+    rig.command("SELECT MC_CONFIG")  # no type given: a BASIC program (help page)
+    assert rig.command('?PROG_TYPE "MC_CONFIG"') == b"0"
     assert rig.session.system.selected == "MC_CONFIG"
+    rig.command('SELECT "LIB",12')
+    rig.command("SELECT FRESH")  # an existing program keeps its type
+    rig.command("SELECT LIB")
+    assert rig.command('?PROG_TYPE "LIB"') == b"12"
 
 
 def test_select_of_a_keyword_is_still_a_syntax_error() -> None:
@@ -111,7 +115,8 @@ def test_an_uploader_stores_mc_config_over_tcp(tmp_path) -> None:
         match = re.match(r"board 1: MC405 tcp 127\.0\.0\.1:(\d+)$", proc.stdout.readline().strip())
         assert match
         up = Uploader(int(match[1]))
-        assert up.send("SELECT MC_CONFIG") == ""
+        assert up.send('SELECT "MC_CONFIG",9') == ""  # as Motion Perfect made it
+        assert up.send("SELECT MC_CONFIG") == ""  # the uploader's own start
         assert up.send("!MC_CONFIG,N") == "0\r\n"
         wanted = ["ATYPE AXIS(0) = 76", "UNITS AXIS(0) = -400", "VR(20) = 5"]
         up.send("!MC_CONFIG,0I,old line")

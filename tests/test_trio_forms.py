@@ -73,3 +73,85 @@ def test_spaced_dots_stay_a_bit_read() -> None:
     rig = Rig()
     assert ask(rig, "192.168") == "192.1680"
     assert ask(rig, "5.1") == "5.1000"
+
+
+# ---- string functions, from their help pages' examples (own strings and numbers) --------
+def test_asc_offset_counts_from_zero() -> None:
+    rig = Rig()
+    assert ask(rig, 'ASC("XYZ")') == "88"
+    assert ask(rig, 'ASC("XYZ", 0)') == "88"
+    assert ask(rig, 'ASC("XYZ", 2)') == "90"
+    assert ask(rig, 'ASC("XYZ", 3)') == "0"  # outside the string
+    assert ask(rig, 'ASC("")') == "0"
+
+
+def test_asc_finds_a_decimal_point_as_the_page_does() -> None:
+    rig = Rig()
+    rig.load("DP", 'DIM s AS STRING(20)\ns = "4071.5"\nFOR i = 0 TO LEN(s) - 1\n'
+             "  IF ASC(s, i) = $2E THEN VR(3) = i\nNEXT i")
+    rig.command('RUN "DP"')
+    rig.cycles(40)
+    assert ask(rig, "VR(3)") == "4"
+
+
+def test_vrstring_reads_characters_to_the_first_zero() -> None:
+    rig = Rig()
+    for n, code in enumerate([72, 105, 33, 0, 88]):  # "Hi!", then the end
+        rig.command(f"VR({100 + n}) = {code}")
+    assert ask(rig, "VRSTRING(100)") == "Hi!"
+    rig.command("VR(101) = 7")  # a bell is not printable: left out
+    assert ask(rig, "VRSTRING(100)") == "H!"
+
+
+def test_a_string_packed_into_vrs_with_mid_comes_back() -> None:
+    """The MID page's second example, with our own text: each character into a VR,
+    a 0 after them, VRSTRING reading them back."""
+    rig = Rig()
+    rig.load("PACK", 'DIM t AS STRING(16)\nt = "axis 3 homed"\nFOR i = 0 TO LEN(t) - 1\n'
+             "  VR(40 + i) = ASC(MID(t, i, 1))\nNEXT i\nVR(40 + LEN(t)) = 0")
+    rig.command('RUN "PACK"')
+    rig.cycles(60)
+    assert ask(rig, "VRSTRING(40)") == "axis 3 homed"
+
+
+def test_mid_left_right_from_the_pages() -> None:
+    rig = Rig()
+    rig.command('t = 0')
+    assert ask(rig, 'MID("GANTRY ROBOT CELL", 7, 5)') == "ROBOT"
+    assert ask(rig, 'MID("GANTRY ROBOT CELL", 13)') == "CELL"
+    assert ask(rig, 'LEFT("GANTRY ROBOT CELL", 6)') == "GANTRY"
+    assert ask(rig, 'RIGHT("GANTRY ROBOT CELL", 4)') == "CELL"
+
+
+def test_instr_is_zero_based_with_offset_and_wildcards() -> None:
+    rig = Rig()
+    text = '"PICK AND PLACE"'
+    assert ask(rig, f'INSTR({text}, "AND")') == "5"
+    assert ask(rig, f'INSTR(6, {text}, "AND")') == "-1"
+    assert ask(rig, f'INSTR(3, {text}, "K")') == "3"
+    assert ask(rig, f'INSTR({text}, "PL?CE", "?")') == "9"
+    assert ask(rig, f'INSTR({text}, "A*D", 42)') == "5"  # 42 is '*'
+    assert ask(rig, f'INSTR({text}, "XYZ")') == "-1"
+
+
+def test_str_precision_and_width() -> None:
+    rig = Rig()
+    assert ask(rig, "STR(7, 0)") == "7"
+    assert ask(rig, "STR(2.5)") == "2.50000"  # 5 decimals by default
+    assert ask(rig, "STR(3.14159, 2, 7)") == "   3.14"
+    assert ask(rig, '"Axis " + STR(4, 0) + " ready"') == "Axis 4 ready"
+
+
+def test_chr_of_a_code_and_of_a_unicode_point() -> None:
+    rig = Rig()
+    assert ask(rig, "CHR(77)") == "M"
+    assert rig.command("?CHR(176, 1)") == "°".encode()  # UTF-8 on the wire
+    assert b"Parameter out of range" in rig.send("?CHR(300)")
+
+
+def test_hex_and_val_from_their_pages() -> None:
+    rig = Rig()
+    assert ask(rig, "HEX(16)") == "10"
+    assert ask(rig, 'VAL("-48.25") * 2') == "-96.5000"
+    assert ask(rig, 'INT(VAL("41")) + 1') == "42"
+    assert ask(rig, 'VAL("none")') == "0"

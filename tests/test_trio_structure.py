@@ -122,17 +122,18 @@ def test_print_channels_and_formats() -> None:
 @pytest.mark.parametrize(("expr", "printed"), [
     ('CHR(65) + CHR(66)', "AB"), ("HEX(255)", "FF"), ('ASC("A")', "65"),
     ('LEN("abc")', "3"), ('LEFT("motion", 3)', "mot"), ('RIGHT("motion", 2)', "on"),
-    ('MID("motion", 2, 3)', "oti"), ('UCASE("ab") + LCASE("CD")', "ABcd"),
-    ('VAL("12.5") * 2', "25"), ('INSTR("pick place", "place")', "6"),
+    ('MID("motion", 2, 3)', "tio"), ('UCASE("ab") + LCASE("CD")', "ABcd"),
+    ('VAL("12.5") * 2', "25"), ('INSTR("pick place", "place")', "5"),
     ('"n=" + 5', "n=5"), ('"a" < "b"', "-1")])
 def test_string_functions(expr: str, printed: str) -> None:
     assert run(f"PRINT {expr}") == printed + "\r\n"
 
 
-@given(st.text(alphabet="abcXYZ019 ", max_size=20), st.integers(1, 25), st.integers(0, 25))
-def test_mid_is_python_slicing_from_one(text: str, start: int, count: int) -> None:
+@given(st.text(alphabet="abcXYZ019 ", max_size=20), st.integers(0, 25), st.integers(0, 25))
+def test_mid_is_python_slicing_from_zero(text: str, start: int, count: int) -> None:
+    """MID's start counts from 0 (the help page's examples)."""
     assert run(f'PRINT MID("{text}", {start}, {count}); "|"') == \
-        text[start - 1:start - 1 + count] + "|\r\n"
+        text[start:start + count] + "|\r\n"
 
 
 def test_on_basicerror_sets_run_error_and_error_line() -> None:

@@ -17,6 +17,7 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from ...personalities.trio.memory import VR_COUNT
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -205,10 +206,15 @@ def _str_arg(value: Value) -> str:
 
 
 def _chr(args: list[Value]) -> Value:
+    """CHR(n[, format]): format 0 a character 0..255, 1 the UTF-8 bytes of code point n
+    (each byte one character of the string, so the wire carries UTF-8: D)."""
     code = _int_arg(args[0])
-    if not 0 <= code <= 255:
-        raise TrioError("Parameter out of range")
-    return chr(code)
+    form = _int_arg(args[1]) if len(args) > 1 else 0
+    if form == 0 and 0 <= code <= 255:
+        return chr(code)
+    if form == 1 and 0 <= code <= 0x10FFFF and not 0xD800 <= code <= 0xDFFF:
+        return chr(code).encode("utf-8").decode("latin-1")
+    raise TrioError("Parameter out of range")
 
 
 def _hex(args: list[Value]) -> Value:
@@ -216,12 +222,32 @@ def _hex(args: list[Value]) -> Value:
     return f"{number & 0xFFFFFFFFFFFF if number < 0 else number:X}"
 
 
+def _asc(args: list[Value]) -> Value:
+    """ASC(s[, offset]): the code of the character at offset (from 0); 0 when the
+    string is empty or the offset is outside it (help page)."""
+    text = _str_arg(args[0])
+    offset = _int_arg(args[1]) if len(args) > 1 else 0
+    return float(ord(text[offset])) if 0 <= offset < len(text) else 0.0
+
+
+def _str(args: list[Value]) -> Value:
+    """STR(v[, precision[, width]]): v with precision decimals (default 5), right
+    aligned in width characters (0: as long as it takes) (help page)."""
+    value = Interpreter.number_value(args[0])
+    precision = _int_arg(args[1]) if len(args) > 1 else 5
+    width = _int_arg(args[2]) if len(args) > 2 else 0
+    if not 0 <= precision <= 20 or not 0 <= width <= MAX_STRING:
+        raise TrioError("Parameter out of range")
+    return _checked(f"{value:{width}.{precision}f}")
+
+
 def _mid(args: list[Value]) -> Value:
+    """MID(s, start[, length]): from index start (from 0, help page example)."""
     text, start = _str_arg(args[0]), _int_arg(args[1])
     count = _int_arg(args[2]) if len(args) > 2 else len(text)
-    if start < 1 or count < 0:
+    if start < 0 or count < 0:
         raise TrioError("Parameter out of range")
-    return text[start - 1:start - 1 + count]
+    return text[start:start + count]
 
 
 def _val(args: list[Value]) -> Value:
@@ -235,12 +261,28 @@ def _val(args: list[Value]) -> Value:
 
 
 def _instr(args: list[Value]) -> Value:
-    """INSTR([start,] text, find): 1-based position, 0 when absent."""
-    start = _int_arg(args[0]) if len(args) == 3 else 1
-    text, find = _str_arg(args[-2]), _str_arg(args[-1])
-    if start < 1:
+    """INSTR([offset,] text, find[, wildcard]): the index (from 0) of the first find at
+    or after offset, -1 when absent; wildcard, a one-character string or its code,
+    matches any character in find (help page)."""
+    offset = 0
+    if not isinstance(args[0], str):
+        offset, args = _int_arg(args[0]), args[1:]
+    if len(args) not in (2, 3):
+        raise TrioError("Syntax error")
+    text, find = _str_arg(args[0]), _str_arg(args[1])
+    wild: str | None = None
+    if len(args) == 3:
+        wild = args[2] if isinstance(args[2], str) else chr(_int_arg(args[2]) & 0x10FFFF)
+        if len(wild) != 1:
+            raise TrioError("Parameter out of range")
+    if offset < 0:
         raise TrioError("Parameter out of range")
-    return float(text.find(find, start - 1) + 1)
+    if wild is None:
+        return float(text.find(find, offset))
+    for place in range(offset, len(text) - len(find) + 1):
+        if all(f in (wild, c) for f, c in zip(find, text[place:place + len(find)], strict=True)):
+            return float(place)
+    return -1.0
 
 
 def _arity(low: int, high: int,
@@ -253,11 +295,9 @@ def _arity(low: int, high: int,
 
 
 _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
-    "CHR": _arity(1, 1, _chr),
+    "CHR": _arity(1, 2, _chr),
     "HEX": _arity(1, 1, _hex),
-    "ASC": _arity(1, 2, lambda a: float(ord(_str_arg(a[0])[_int_arg(a[1]) - 1
-                                                             if len(a) > 1 else 0]))
-                  if _str_arg(a[0]) else 0.0),
+    "ASC": _arity(1, 2, _asc),
     "LEN": _arity(1, 1, lambda a: float(len(_str_arg(a[0])))),
     "LEFT": _arity(2, 2, lambda a: _str_arg(a[0])[:max(0, _int_arg(a[1]))]),
     "RIGHT": _arity(2, 2, lambda a: _str_arg(a[0])[len(_str_arg(a[0])) - max(
@@ -265,9 +305,9 @@ _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
     "MID": _arity(2, 3, _mid),
     "UCASE": _arity(1, 1, lambda a: _str_arg(a[0]).upper()),
     "LCASE": _arity(1, 1, lambda a: _str_arg(a[0]).lower()),
-    "STR": _arity(1, 3, lambda a: _text(Interpreter.number_value(a[0]))),
+    "STR": _arity(1, 3, _str),
     "VAL": _arity(1, 1, _val),
-    "INSTR": _arity(2, 3, _instr),
+    "INSTR": _arity(2, 4, _instr),
 }
 
 
@@ -383,6 +423,10 @@ class Interpreter:
             return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
             return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
+        if name == "VRSTRING":
+            if len(expr.args) != 1:
+                raise TrioError("Syntax error")
+            return self.vr_string(self._index(self.number(expr.args[0], ctx)))
         if name == "BASE":
             if expr.args:
                 raise TrioError("Syntax error")
@@ -419,6 +463,18 @@ class Interpreter:
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
         return float(result)
+
+    def vr_string(self, first: int) -> str:
+        """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
+        printable characters are kept (help page: codes 32..126 and 160..255, I)."""
+        out: list[str] = []
+        for index in range(first, min(first + MAX_STRING, VR_COUNT)):
+            code = int(self.machine.vr_read(index))
+            if code == 0:
+                break
+            if 32 <= code <= 126 or 160 <= code <= 255:
+                out.append(chr(code))
+        return "".join(out)
 
     def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
         """A FUNCTION's argument: a DIM array named alone goes by reference (the

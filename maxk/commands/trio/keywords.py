@@ -10,7 +10,9 @@ sure we are (C certain, I inferred, D our decision, explained in ``note``). Sour
   ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
   argument counts and whether a parameter is writable;
 - ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions);
-- ``public programs``: how public TrioBASIC programs for real controllers use a word.
+- ``public programs``: how public TrioBASIC programs for real controllers use a word;
+- ``help``: the TrioBASIC help, one page per keyword (syntax, parameters, examples), as
+  Motion Perfect ships it for the MC4xx/MC5xx controllers.
 
 Long module: a declarative table, one entry per keyword with its source and notes.
 """
@@ -67,6 +69,7 @@ TOK = "tokentable"
 REF = "ref"
 MAN = "manual"
 _BIG = 1e15
+HELP = "help"
 
 
 def _axis(name: str, summary: str, *, default: float = 0.0, writable: bool = True,
@@ -315,10 +318,14 @@ _ENTRIES: list[Keyword] = [
     _command("DIR", "List the programs.", (0, 1), source=REF,
              note="Header ending in dashes, one line per program, then OK (ref 5)."),
     _command("SELECT", "Select (and create) a program: SELECT \"N\"[,type] or SELECT N.",
-             (1, 2), source=f"{REF}; {MAN}; public uploader", string_arg=True,
+             (1, 2), source=f"{REF}; {HELP}; public uploader", string_arg=True,
              confidence="I",
              note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. A missing program is "
-             "created (manual), of type 0, or 9 for MC_CONFIG (D). The name may be unquoted "
+             "created, a BASIC program (type 0) when no type is given (help page), even "
+             "named MC_CONFIG. An existing program is selected whatever its type; a type "
+             "given that differs is 'Program type mismatch' (page: the type of an existing "
+             "program cannot change). The previously selected program is not compiled "
+             "here (D: it compiles when run). The name may be unquoted "
              "(a vendor-style uploader sends SELECT MC_CONFIG; I), as for every command "
              "taking a program: a name that is no keyword, alone or before a comma."),
     _command("DEL", "Delete a program.", (0, 2), source=REF, string_arg=True),
@@ -524,21 +531,40 @@ _ENTRIES: list[Keyword] = [
     _system("PROCNUMBER", "The number of the process reading it.", writable=False),
     _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
     # ---- strings --------------------------------------------------------------------------
-    _function("CHR", "CHR(n): the one-character string of code n (0..255).", (1, 2)),
+    _function("CHR", "CHR(n[, format]): the character of code n: format 0 (default) "
+              "0..255, 1 a Unicode code point UTF-8 encoded.", (1, 2), source=f"{HELP}; {TOK}",
+              note="Format 1 gives the code point's UTF-8 bytes, one string character "
+              "each, so the wire carries UTF-8 (D)."),
     _function("HEX", "HEX(n): n in hexadecimal, upper case; negatives as 48-bit two's "
-              "complement (D).", (1, 1)),
-    _function("ASC", "ASC(s[, i]): the code of character i (1-based) of s.", (1, 2)),
-    _function("LEN", "LEN(s): characters in s.", (1, 1)),
-    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2)),
-    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2)),
-    _function("MID", "MID(s, start[, n]): n characters from start (1-based).", (2, 3)),
-    _function("UCASE", "UCASE(s): upper case.", (1, 1)),
-    _function("LCASE", "LCASE(s): lower case.", (1, 1)),
-    _function("STR", "STR(x): x as PRINT shows it.", (1, 3),
-              note="Width and decimals arguments are accepted and not applied (D)."),
-    _function("VAL", "VAL(s): the number s spells (0 when it spells none, I).", (1, 1)),
-    _function("INSTR", "INSTR([start,] s, find): the 1-based place of find in s, 0 if "
-              "absent.", (2, 4)),
+              "complement (D).", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("ASC", "ASC(s[, offset]): the code of the character at offset (from 0, "
+              "default 0); 0 for an empty string or an offset outside it.", (1, 2),
+              source=f"{HELP}; {TOK}"),
+    _function("LEN", "LEN(s): characters in s.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2), source=f"{HELP}; {TOK}"),
+    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2),
+              source=f"{HELP}; {TOK}"),
+    _function("MID", "MID(s, start[, n]): n characters (default the rest) from index start "
+              "(from 0: the page's example takes MOTION at 5 of 'TRIO MOTION ...').", (2, 3),
+              source=f"{HELP}; {TOK}", note="A negative start or length is 'Parameter out "
+              "of range' (D)."),
+    _function("UCASE", "UCASE(s): upper case.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LCASE", "LCASE(s): lower case.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("STR", "STR(x[, precision[, width]]): x with precision decimals (default 5), "
+              "right aligned in width characters (default 0: unlimited).", (1, 3),
+              source=f"{HELP}; {TOK}", confidence="I",
+              note="Rounded as Python's fixed-point format rounds (I); precision above 20 "
+              "is 'Parameter out of range' (D)."),
+    _function("VAL", "VAL(s): the number s spells (0 when it spells none).", (1, 1),
+              source=f"{HELP}; {TOK}"),
+    _function("INSTR", "INSTR([offset,] s, find[, wildcard]): the index (from 0) of the "
+              "first find in s at or after offset, -1 if absent; wildcard (a one-character "
+              "string or its code) in find matches any character.", (2, 4),
+              source=f"{HELP}; {TOK}"),
+    _function("VRSTRING", "VRSTRING(n): the characters held one a VR from VR(n) up to the "
+              "first VR holding 0.", (1, 1), source=f"{HELP}; {TOK}", confidence="I",
+              note="Only printable characters are kept (page); printable is codes 32..126 "
+              "and 160..255 (I). At most 1024 characters (D)."),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
     _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "

@@ -102,8 +102,8 @@ class ProgramCommands:
             info = self.programs.create(name, program_type)
         elif self.programs.exists(name):
             info = self.programs.get(name)
-        else:  # SELECT of a missing program creates it (manual): MC_CONFIG as its type
-            info = self.programs.create(name, 9 if name == "MC_CONFIG" else 0)
+        else:  # SELECT of a missing program creates it, a BASIC program (help page)
+            info = self.programs.create(name, 0)
         self.selected = info.name
 
     def cmd_del(self, args: list[Value]) -> None:
