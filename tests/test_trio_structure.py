@@ -194,7 +194,7 @@ def test_io_inputs_outputs_and_analog() -> None:
 
 def test_limit_inputs_show_in_axisstatus() -> None:
     rig = Rig()
-    rig.machine.inputs[6] = True
+    rig.machine.inputs[6] = False  # the limit inputs are active low
     rig.command("FWD_IN AXIS(1)=6")
     rig.command("FS_LIMIT AXIS(2)=-1")
     assert rig.command("?AXISSTATUS AXIS(1), AXISSTATUS AXIS(2), AXISSTATUS.4 AXIS(1)") == \
@@ -291,7 +291,7 @@ def test_datum_homes_on_the_worlds_home_switch_with_creep() -> None:
         ["DATUM_IN AXIS(0)=5", "SPEED=2000", "ACCEL=20000", "DECEL=20000", "CREEP=100",
          "DATUM(3)", 'PRINT "homed "; DPOS; " "; SPEED', "MOVEABS(-34)", "WAIT IDLE",
          "PRINT IN(5)"], 3.0)
-    assert out == "homed 0 2000\r\n0\r\n"
+    assert out == "homed 0 2000\r\n1\r\n"  # off the normally closed switch: 1
     # the world's home window starts at 1234 counts: the zero is its lower edge
     assert controller.world_view().reading("0").position == 1234 - 34  # type: ignore[attr-defined]
 

@@ -155,7 +155,8 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
-_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
+_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
+                           "INVERT_IN"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
 # modules), off unless set (D: real cells use numbers above 100 for their alarms)
@@ -923,6 +924,14 @@ class Interpreter:
         FLAG(n[, state]) / FLAGS([value]): the 24 user flags (I: manual; every argument
         checked before anything changes)."""
         m = self.machine
+        if name == "INVERT_IN":  # INVERT_IN(n) reads ON/OFF; INVERT_IN(n, state) sets
+            if len(args) not in (1, 2):
+                raise TrioError("Syntax error")
+            point = self._point(args[0], IO_SPACE)
+            if len(args) == 1:
+                return 1.0 if m.input_inverted(point) else 0.0
+            self._act(lambda: m.invert_input(point, args[1] != 0))
+            return -1.0  # the two-argument form as a function: TRUE (help page)
         if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
             if len(args) != 2:
                 raise TrioError("Syntax error")
@@ -1007,18 +1016,19 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         switch = int(wired)
         direction = 1 if mode in (3, 5) else -1
-        if not m.digital_input(switch):
+        on = m.input_function  # the datum input is active low (DATUM_IN's page)
+        if not on(switch):
             yield from self._forever(axis, direction)
-            while not m.digital_input(switch):
+            while not on(switch):
                 yield None  # the input is watched every servo cycle
             yield from self._stop_and_settle(axis)
         speed = m.axis_parameter("SPEED", axis)
         self._act(lambda: m.set_axis_parameter("SPEED", axis, m.axis_parameter("CREEP", axis)))
         try:
             yield from self._forever(axis, -direction)
-            while not m.digital_input(switch):
+            while not on(switch):
                 yield None  # back into the switch, when the fast search ran past it
-            while m.digital_input(switch):
+            while on(switch):
                 yield None
             yield from self._stop_and_settle(axis)
         finally:

@@ -389,9 +389,13 @@ _ENTRIES: list[Keyword] = [
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
     # ---- drives, limits and I/O (personalities/trio/drive.py) ----------------------------
     *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
-            value_range=(-1, 31), source=f"{TOK}; {MAN}", confidence="I",
-            note=f"IN(n) of that input reads the world's {switch} switch of this axis at its "
-            "position (unless the world drives input n itself)." + stop)
+            value_range=(-1, 31), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
+            note="The input is active low (its help page, C): the function is on while "
+            "IN(n) reads 0. IN(n) of that input reads the world's "
+            f"{switch} switch of this axis at its position, wired normally closed: 1 away "
+            "from it, 0 on it (D: as the pages' examples wire their sensors), unless the "
+            "world drives input n itself (then its level); INVERT_IN inverts both what IN "
+            "reads and the function." + stop)
       for name, what, switch, stop in (
           ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4)),
           ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5)),
@@ -619,6 +623,16 @@ _ENTRIES: list[Keyword] = [
              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
     _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
               confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("INVERT_IN", "INVERT_IN(n, state) inverts input n in software (ON) or not "
+             "(OFF); INVERT_IN(n) reads its state, ON (1) or OFF (0).", (1, 2),
+             source=f"{HELP}; {TOK}", confidence="I",
+             note="IN(n) reads the inverted level, and so do the functions the input drives "
+             "(FWD_IN, REV_IN, DATUM_IN: active low, so an inverted input wired to a "
+             "normally open sensor makes them active high, as the pages' examples do). "
+             "The two-argument form as a function returns TRUE (page). Not saved: none is "
+             "inverted at power up (D). An inverted limit input wired to a world switch is "
+             "on everywhere but at the switch: a move into it is cancelled as it starts, "
+             "and it is looked at on every event, not found to the tick (D)."),
     _command("FLAG", "FLAG(n, state) sets user flag n (0..23); FLAG(n) reads it.", (1, 2),
              confidence="I", source=f"{TOK}; {MAN}",
              note="Reads TRUE (-1) or FALSE; the flags start clear and are shared by every "

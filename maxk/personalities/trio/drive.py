@@ -62,6 +62,7 @@ class DriveHost(Protocol):
     tick: int
     period: float
     revision: int  # counts every change (a parameter, the world, a motion event)
+    inverted_inputs: set[int]  # INVERT_IN
 
     @property
     def axis_count(self) -> int: ...
@@ -70,6 +71,7 @@ class DriveHost(Protocol):
     def dpos(self, axis: int) -> float: ...
     def demand(self, axis: int) -> float: ...
     def digital_input(self, number: int) -> bool: ...
+    def input_function(self, number: int) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
     def changed(self) -> None: ...
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
@@ -142,7 +144,7 @@ class Drive:
         bits = self.latched[axis]
         for name, bit in (("FWD_IN", FWD_LIMIT), ("REV_IN", REV_LIMIT)):
             wired = params[name]
-            if 0 <= wired < INPUTS and m.digital_input(int(wired)):
+            if 0 <= wired < INPUTS and m.input_function(int(wired)):
                 bits |= bit
         dpos = m.dpos(axis)
         if dpos > params["FS_LIMIT"]:
@@ -210,7 +212,7 @@ class Drive:
         a = m.axes[axis]
         params = a.params
         wired = params["FWD_IN" if direction > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and m.digital_input(int(wired)):
+        if 0 <= wired < INPUTS and m.input_function(int(wired)):
             return True
         dpos = (a.steps + a.datum) / a.units
         if direction > 0:
@@ -270,7 +272,8 @@ class Drive:
         params = a.params
         found: list[float] = []
         wired = params["FWD_IN" if side > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and int(wired) not in m.world.digital:
+        if 0 <= wired < INPUTS and int(wired) not in m.world.digital and \
+                int(wired) not in m.inverted_inputs:  # inverted: on away from the switch
             stage = m.world.axes[axis.index]
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
@@ -296,7 +299,7 @@ class Drive:
         return (p["FWD_IN"], p["REV_IN"], p["FS_LIMIT"], p["RS_LIMIT"], a.units, a.datum,
                 stage.plus_limit, stage.plus_limit.fault, stage.minus_limit,
                 stage.minus_limit.fault, stage.lost_steps, bool(queue and queue[0].stopping),
-                frozenset(m.world.digital))
+                frozenset(m.world.digital), frozenset(m.inverted_inputs))
 
     def on_limit(self, axis: MotionAxis, side: int, tick: int) -> None:
         """A motion reached a limit: cancel the run there (a single axis ramps down at
@@ -377,8 +380,9 @@ class Drive:
             return False
         stage = m.world.axes[axis]
         switch = stage.plus_limit if direction > 0 else stage.minus_limit
-        if int(wired) in m.world.digital or switch.fault == STUCK_ACTIVE:
-            return m.digital_input(int(wired))
+        if int(wired) in m.world.digital or switch.fault == STUCK_ACTIVE or \
+                int(wired) in m.inverted_inputs:
+            return m.input_function(int(wired))
         return False
 
     def _masked(self, axis: int) -> int:

@@ -101,6 +101,7 @@ class MC405Machine(Kinematics, Engine):
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
+        self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
         if hasattr(self, "links"):
             self.links.reset()
         else:
@@ -257,20 +258,46 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- I/O on the shared world --------------------------------------------------------
     def digital_input(self, number: int) -> bool:
-        """IN(n): a level the world sets for input n; else the switch of an axis wired to
-        it by FWD_IN/REV_IN/DATUM_IN, at the axis's position (D: the world's per-axis
-        switches reach the controller through the inputs the program names)."""
+        """IN(n): the input's level, inverted when INVERT_IN(n, ON) says so. The level is
+        one the world sets for input n; else, for an input FWD_IN/REV_IN/DATUM_IN of an
+        axis names, that axis's world switch wired normally closed: 1 away from it, 0
+        on it (the help pages: the inputs of those functions are active low, and the
+        DATUM_IN page homes on a normally closed sensor; D: the world's switches are
+        wired as those pages expect); an input nothing drives reads 0."""
+        return self.raw_input(number) != (number in self.inverted_inputs)
+
+    def raw_input(self, number: int) -> bool:
+        """The input's level before INVERT_IN (see `digital_input`)."""
         if number in self.world.digital:
             return self.world.digital_level(number, self)  # type: ignore[arg-type]
+        wired = False
         for i, axis in enumerate(self.axes):
             params = axis.params
             for name, switch in (("FWD_IN", "plus_limit"), ("REV_IN", "minus_limit"),
                                  ("DATUM_IN", "home")):
                 if params.get(name, -1) == number:
+                    wired = True
                     stage = self.world.axes[i]
                     if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
-                        return True
-        return False
+                        return False  # the normally closed switch has opened
+        return wired
+
+    def input_function(self, number: int) -> bool:
+        """Is the function an input drives (FWD_IN, REV_IN, DATUM_IN, FHOLD_IN ...) on?
+        Those inputs are active low (help pages): on while IN(n) reads 0."""
+        return not self.digital_input(number)
+
+    def input_inverted(self, number: int) -> bool:
+        return number in self.inverted_inputs
+
+    def invert_input(self, number: int, on: bool) -> None:
+        """INVERT_IN(n, state)."""
+        if on:
+            self.inverted_inputs.add(number)
+        else:
+            self.inverted_inputs.discard(number)
+        self.changed()
+        self.drive.look(self.tick)
 
     def analog_input(self, channel: int) -> float:
         return self.world.analog_volts(channel, self)  # type: ignore[arg-type]

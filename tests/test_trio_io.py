@@ -1,0 +1,103 @@
+"""The MC405's inputs as wired, from the help pages: the inputs FWD_IN, REV_IN and
+DATUM_IN name are active low (their function is on while IN reads 0), the world's
+switches are wired normally closed, and INVERT_IN inverts an input in software for
+what IN reads and for the functions it drives.
+
+Figures as in test_trio_drive: SPEED 1000 counts/s reached at ACCEL 100000 in 10 servo
+cycles (5 counts), so a move from rest passes count p (p >= 5) on tick 5 + p."""
+
+from __future__ import annotations
+
+from maxk.controllers.trio import MC405
+from tests.test_trio_drive import FAST, at, dpos, mc405
+
+
+def ask(trio: MC405, query: str) -> str:
+    return trio.query(query)
+
+
+def test_a_limit_input_reads_1_away_and_0_at_the_limit() -> None:
+    """FWD_IN's page: the input is active low; AXISSTATUS bit 4 while it is active."""
+    trio = mc405(FAST, "FWD_IN=19")
+    trio.world_view().set_limits("0", plus=300)
+    assert (ask(trio, "?IN(19)"), ask(trio, "?AXISSTATUS")) == ("1", "0")
+    trio.send("MOVE(1000)")
+    at(trio, 304)
+    assert (ask(trio, "?IN(19)"), ask(trio, "?AXISSTATUS")) == ("1", "0")  # count 299
+    at(trio, 305)  # count 300: the switch opens, the input goes low, the move is cancelled
+    assert (dpos(trio), ask(trio, "?IN(19)"), ask(trio, "?AXISSTATUS")) == (300.0, "0", "16")
+
+
+def test_an_input_nothing_is_wired_to_reads_0() -> None:
+    trio = mc405()
+    assert ask(trio, "?IN(12)") == "0"
+    trio.send("REV_IN=12")  # now the reverse limit switch (far away, closed) drives it
+    assert ask(trio, "?IN(12)") == "1"
+
+
+def test_invert_in_reads_and_sets_the_inversion() -> None:
+    """INVERT_IN's page: one argument reads ON/OFF; the two-argument form sets it (and
+    as a function returns TRUE)."""
+    trio = mc405("REV_IN=6")
+    assert (ask(trio, "?INVERT_IN(6)"), ask(trio, "?IN(6)")) == ("0", "1")
+    trio.send("INVERT_IN(6, ON)")
+    assert (ask(trio, "?INVERT_IN(6)"), ask(trio, "?IN(6)")) == ("1", "0")
+    assert ask(trio, "?INVERT_IN(6, OFF)") == "-1"
+    assert (ask(trio, "?INVERT_IN(6)"), ask(trio, "?IN(6)")) == ("0", "1")
+    trio.send("INVERT_IN(30, ON)")  # an input nothing drives reads 1 inverted
+    assert ask(trio, "?IN(30)") == "1"
+
+
+def test_an_inverted_limit_input_is_active_away_from_its_switch() -> None:
+    """A normally closed switch on an inverted input: the limit is on where the switch
+    is closed, so a move towards it is cancelled as it starts (no step)."""
+    trio = mc405(FAST, "FWD_IN=3", "INVERT_IN(3, ON)")
+    trio.world_view().set_limits("0", plus=300)
+    assert ask(trio, "?AXISSTATUS") == "16"
+    trio.send("MOVE(100)")
+    assert trio.run_until_idle()
+    assert dpos(trio) == 0.0
+    trio.send("INVERT_IN(3, OFF)")
+    assert ask(trio, "?AXISSTATUS") == "0"
+    trio.send("MOVE(100)")
+    assert trio.run_until_idle() and dpos(trio) == 100.0
+
+
+def test_a_world_level_on_a_limit_input_acts_when_it_goes_low() -> None:
+    trio = mc405(FAST, "FWD_IN=7")
+    trio.world_view().set_input(7, True)  # the sensor holds the input high: no limit
+    trio.send("FORWARD")
+    at(trio, 1000)
+    assert ask(trio, "?AXISSTATUS") == "0"
+    trio.world_view().set_input(7, False)
+    assert ask(trio, "?AXISSTATUS") == "16"
+    assert trio.run_until_idle()
+    assert trio.machine.tick == 1100  # looked at on its tick, ramped down over 100 cycles
+
+
+def test_datum_homes_on_a_normally_open_sensor_through_an_inverted_input() -> None:
+    """DATUM_IN's second example, with our own numbers: a normally open proximity sensor
+    (the world drives input 5 high while the axis is on it, counts 600..700) needs its
+    input inverted; DATUM(3) then homes exactly as on a normally closed switch."""
+    def sensor(board: object) -> bool:
+        steps = trio.machine.demand(0)
+        return 600 <= steps <= 700
+
+    trio = mc405("SPEED=2000", "ACCEL=20000", "DECEL=20000", "CREEP=100")
+    trio.world_view().set_input(5, sensor)
+    trio.send("INVERT_IN(5, 1)")
+    trio.send("DATUM_IN = 5")
+    assert ask(trio, "?IN(5)") == "1"  # off the sensor: inverted low reads 1
+    trio.send("DATUM(3)")
+    assert trio.run_until_idle(5)
+    # forward onto the sensor, back off it at CREEP: zero where it lets go, ending on its
+    # edge count 600 (inside 600..700: the sensor is on, the inverted input reads 0)
+    assert (trio.world_view().reading("0").position, dpos(trio), ask(trio, "?IN(5)")) == \
+        (600, 0.0, "0")
+    # the same as the world's own home switch on the same counts, wired normally closed
+    closed = mc405("SPEED=2000", "ACCEL=20000", "DECEL=20000", "CREEP=100", "DATUM_IN = 5")
+    closed.world_view().set_home("0", 600, 700)
+    closed.send("DATUM(3)")
+    assert closed.run_until_idle(5)
+    assert (closed.machine.tick, closed.world_view().reading("0").position,
+            ask(closed, "?IN(5)")) == (trio.machine.tick, 600, "0")
