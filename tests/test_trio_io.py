@@ -101,3 +101,71 @@ def test_datum_homes_on_a_normally_open_sensor_through_an_inverted_input() -> No
     assert closed.run_until_idle(5)
     assert (closed.machine.tick, closed.world_view().reading("0").position,
             ask(closed, "?IN(5)")) == (trio.machine.tick, 600, "0")
+
+
+# ---- encoder axes and negative UNITS ------------------------------------------------
+ONE_REV = 200 * 32 * 16  # a 200-step motor at 1/32 microstepping, x16 in the controller
+ENCODER_REV = 2500 * 4  # a 2500-line encoder in quadrature
+
+
+def stage_with_shaft_encoder() -> MC405:
+    """A stepper on axis 4 with an encoder on its shaft wired to axis 0's encoder input
+    (ATYPE 76), counting the other way: the encoder axis's UNITS is negative so that it
+    reads in the stepper's direction, microsteps on both axes."""
+    trio = mc405("ATYPE AXIS(0) = 76", "ATYPE AXIS(4) = 43", "UNITS AXIS(4) = 16",
+                 "SPEED AXIS(4) = 6400", "ACCEL AXIS(4) = 64000", "DECEL AXIS(4) = 64000",
+                 "UNITS AXIS(0) = -1.5625")
+    trio.world_view().set_shaft_encoder("0", "4", -ENCODER_REV / ONE_REV)
+    return trio
+
+
+def test_an_encoder_axis_reads_the_encoder_on_another_axiss_motor() -> None:
+    trio = stage_with_shaft_encoder()
+    assert ask(trio, "?MPOS AXIS(0)") == "0"
+    trio.send("MOVE(6400) AXIS(4)")  # one revolution of the motor
+    assert trio.run_until_idle()
+    # the encoder turned one revolution backwards: -10000 counts / -1.5625 = 6400
+    assert (ask(trio, "?MPOS AXIS(0)"), ask(trio, "?DPOS AXIS(0)"), ask(trio, "?FE AXIS(0)"),
+            ask(trio, "?DPOS AXIS(4)")) == ("6400", "6400", "0", "6400")
+
+
+def test_defpos_on_the_encoder_axis_zeroes_its_encoder_reading() -> None:
+    trio = stage_with_shaft_encoder()
+    trio.send("MOVE(1000) AXIS(4)")
+    assert trio.run_until_idle()
+    trio.send("DEFPOS(0) AXIS(0)")
+    assert ask(trio, "?MPOS AXIS(0)") == "0"
+    trio.send("MOVE(-3200) AXIS(4)")
+    assert trio.run_until_idle()
+    assert ask(trio, "?MPOS AXIS(0)") == "-3200"
+
+
+def test_the_shaft_encoder_sees_the_steps_a_stalled_motor_missed() -> None:
+    """What a stall detector compares: the stepper's demand ran on, its shaft (and the
+    encoder on it) did not."""
+    trio = stage_with_shaft_encoder()
+    trio.send("MOVE(640) AXIS(4)")  # 10240 counts
+    assert trio.run_until_idle()
+    trio.world_view().miss_steps("4", 1024)  # the motor slipped 64 microsteps
+    # 10240 - 1024 counts turned: 9216 * -10000/102400 = -900 encoder counts -> 576
+    assert (ask(trio, "?DPOS AXIS(4)"), ask(trio, "?MPOS AXIS(0)")) == ("640", "576")
+
+
+def test_an_axis_of_another_type_keeps_its_own_position() -> None:
+    trio = stage_with_shaft_encoder()
+    trio.send("ATYPE AXIS(0) = 43")
+    trio.send("MOVE(100) AXIS(4)")
+    assert trio.run_until_idle()
+    assert ask(trio, "?MPOS AXIS(0)") == "0"
+
+
+def test_negative_units_refuse_rates_and_zero_units_is_refused() -> None:
+    trio = stage_with_shaft_encoder()
+    for rate in ("SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC"):
+        assert trio.send(f"{rate} AXIS(0) = 10") != [], rate
+    trio.send("SPEED AXIS(0) = 0")  # 0 is no rate in either direction
+    assert trio.send("UNITS AXIS(0) = 0") != []
+    assert ask(trio, "?UNITS AXIS(0)") == "-1.5625"
+    assert trio.send("MOVE(5) AXIS(0)") != []  # (D: no planner for a negative UNITS)
+    trio.send("UNITS AXIS(0) = 1.5625")
+    assert trio.send("SPEED AXIS(0) = 10") == []

@@ -155,6 +155,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
+_RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
@@ -849,6 +850,9 @@ class Interpreter:
             return
         axis = self.axis_of(target.axis, ctx)
         keyword.check(value)
+        if keyword.name == "UNITS" and value == 0 or keyword.name in _RATES and value > 0 \
+                and self.machine.axis_parameter("UNITS", axis) < 0:
+            raise TrioError("Parameter out of range")  # (see UNITS's table entry)
         if keyword.name == "OFFPOS":  # shifts the axis's positions, then reads 0 (I)
             dpos = self.machine.axis_parameter("DPOS", axis)
             self._act(lambda: self.machine.defpos([axis], [dpos + value]))

@@ -121,10 +121,20 @@ _ENTRIES: list[Keyword] = [
     _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
           "output on the Z channel.", default=43, value_range=(0, 255), source=f"{SEED}; {TOK}",
           confidence="I", note="Power-up 43, the seed's 'recommended default' (I). Any "
-          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35)."),
+          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35). "
+          "The encoder input types (76, 79, 86, 87, 88, 93, 104, 105: the help page) read "
+          "the world's encoder mounted on the axis's input as MPOS (I)."),
     _axis("UNITS", "Counts per user unit: positions, speeds and gate positions are scaled "
-          "by it.", default=1, value_range=(1e-9, _BIG), source=f"{MAN}; {TOK}",
-          note="0 and negatives are refused (D)."),
+          "by it.", default=1, value_range=(-_BIG, _BIG), source=f"{HELP}; {MAN}; {TOK}; "
+          "public programs", confidence="I",
+          note="0 is refused (D). A negative UNITS is taken (I: a calibration cell's "
+          "encoder axes run with UNITS -1.5625 to flip their sign): positions read with "
+          "the sign flipped, and while it is negative SPEED, ACCEL, DECEL, CREEP, FASTDEC "
+          "and JOGSPEED above 0 are 'Parameter out of range' (I: that cell's notes; the "
+          "controller keeps rates in counts). A move on such an axis is 'Parameter out "
+          "of range' (D: the planner takes no negative rate). An axis of an encoder input "
+          "type (ATYPE 76 ...) reads the world's encoder mounted on its input as MPOS "
+          "(see docs/trio.md, Encoder axes)."),
     _axis("SPEED", "Programmed speed of moves, user units/s.", default=1000,
           value_range=(0, _BIG), source=f"{MAN}; {TOK}", confidence="I",
           note="Power-up value 1000 is our decision (D)."),

@@ -66,6 +66,11 @@ DEFPOS moves only the frame DPOS reads; a 64-bit counter's range)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
+# Axis types that are an encoder input and nothing else (the ATYPE help page: 76
+# incremental encoder with Z input, 79 pulse and direction feedback, 86/87/88/93 absolute
+# encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
+# the encoder the world mounts on their input.
+ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
 
 
@@ -183,6 +188,9 @@ class MC405Machine(Kinematics, Engine):
         return round(self.period * 1e6)
 
     def axis_parameter(self, name: str, axis: int) -> float:
+        if name in ("MPOS", "DPOS", "FE") and (counts := self.encoder_counts(axis)) is not None:
+            a = self.axes[axis]
+            return 0.0 if name == "FE" else (counts + a.datum) / a.units
         if name in _PWM_PARAMETERS:
             output = self.pwm[axis]
             if name == "PWM_CYCLE":
@@ -287,6 +295,16 @@ class MC405Machine(Kinematics, Engine):
         Those inputs are active low (help pages): on while IN(n) reads 0."""
         return not self.digital_input(number)
 
+    def encoder_counts(self, axis: int) -> float | None:
+        """The counts of the encoder the world mounts on this axis's encoder input, when
+        the axis is an encoder input (ENCODER_ATYPES); None otherwise."""
+        mount = self.world.encoders.get(axis)
+        if mount is None or int(self.axes[axis].params["ATYPE"]) not in ENCODER_ATYPES:
+            return None
+        if not 0 <= mount.motor < self.axis_count:
+            return None
+        return mount.counts(self.demand(mount.motor) - self.world.axes[mount.motor].lost_steps)
+
     def input_inverted(self, number: int) -> bool:
         return number in self.inverted_inputs
 
@@ -320,7 +338,8 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")  # every axis checked, none changed
         for a, p in zip(axes, positions, strict=True):
             axis = self.axes[a]
-            axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
+            counts = self.encoder_counts(a)  # an encoder input: its encoder reads p from now
+            axis.datum = p * axis.units - (self.demand(a) if counts is None else counts)
         self.changed()
         self.drive.look(self.tick)
 
