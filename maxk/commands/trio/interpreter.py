@@ -12,7 +12,9 @@ rules (every argument checked before the machine acts), kept in one place.
 
 from __future__ import annotations
 
+import datetime
 import math
+import random
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -123,6 +125,7 @@ class ProcessContext:
     ticks: tuple[float, int] = (0.0, 0)  # TICKS: the value set and the servo tick then
     stopped: bool = False  # STOP or HALT reached this process: it ends before its next step
     functions: Callable[[str, list[Argument]], Value] | None = None  # FUNCTIONs it calls
+    rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
 
 
 class SystemHook(Protocol):
@@ -142,6 +145,7 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
 
     def file_text(self, name: str) -> str: ...
 
@@ -151,6 +155,9 @@ _MATH: dict[str, Callable[[float], float]] = {
     "SGN": lambda x: float((x > 0) - (x < 0)), "SQR": math.sqrt, "SIN": math.sin,
     "COS": math.cos, "TAN": math.tan, "ATAN": math.atan, "EXP": math.exp, "LN": math.log,
 }
+_EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
+_DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")
+_CLOCK = frozenset({"TIME", "DATE", "DAY"})
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
@@ -421,6 +428,10 @@ class Interpreter:
                 if expr.args else 0.0
         if name in ("DATE$", "TIME$", "DAY$"):
             return self.clock_text(name)
+        if name in _CLOCK:
+            return self.clock_value(name, [self.number(a, ctx) for a in expr.args])
+        if name in ("RND", "RNDF"):
+            return self.random_value(name, [self.number(a, ctx) for a in expr.args], ctx)
         if name in _BIT_COMMANDS:
             return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
@@ -485,17 +496,73 @@ class Interpreter:
             return ctx.arrays[expr.name]
         return self.evaluate(expr, ctx)
 
+    def clock(self) -> datetime.datetime:
+        """The real time clock: power up is 00:00:00 on Saturday 01/01/2000 (D: the
+        emulator has no calendar of its own), then virtual time, plus what TIME = and
+        DATE = set it ahead by."""
+        seconds = self.machine.servo_tick() * self.machine.servo_period_us() / 1e6
+        return _EPOCH + datetime.timedelta(seconds=math.floor(seconds + self.hook.clock_offset))
+
     def clock_text(self, name: str) -> str:
-        """DATE$/TIME$/DAY$ from the virtual clock: power-up is 00:00:00 on Saturday
-        01/01/2000 (D: the emulator has no calendar of its own)."""
-        seconds = int(self.machine.servo_tick() * self.machine.servo_period_us() / 1e6)
-        days, rest = divmod(seconds, 86400)
+        """DATE$ (DD/MM/YYYY), TIME$ (HH:MM:SS), DAY$ from the real time clock."""
+        now = self.clock()
         if name == "TIME$":
-            return f"{rest // 3600:02d}:{rest % 3600 // 60:02d}:{rest % 60:02d}"
+            return now.strftime("%H:%M:%S")
         if name == "DAY$":
-            return ("Saturday", "Sunday", "Monday", "Tuesday", "Wednesday", "Thursday",
-                    "Friday")[days % 7]
-        return f"{1 + days % 28:02d}/01/2000"
+            return _DAYS[(now.weekday() + 1) % 7]
+        return now.strftime("%d/%m/%Y")
+
+    def clock_value(self, name: str, args: list[float]) -> float:
+        """TIME: seconds since midnight; DATE: days since 01/01/2000, DATE(0|1|2) the day,
+        month, year; DAY: 0..6, Sunday 0 (their help pages)."""
+        now = self.clock()
+        if name == "TIME" and not args:
+            return float(now.hour * 3600 + now.minute * 60 + now.second)
+        if name == "DAY" and not args:
+            return float((now.weekday() + 1) % 7)
+        if name == "DATE" and not args:
+            return float((now.date() - _EPOCH.date()).days)
+        if name == "DATE" and len(args) == 1 and args[0] in (0, 1, 2):
+            return float((now.day, now.month, now.year)[int(args[0])])
+        raise TrioError("Parameter out of range" if args else "Syntax error")
+
+    def set_clock(self, name: str, fields: list[float]) -> None:
+        """TIME = hh:mm:ss / DATE = dd:mm:yy (yy 00..99 or 2000..2099): the clock is set
+        ahead (or back) by the difference; nothing changes on a value out of range."""
+        if not all(f == int(f) for f in fields):
+            raise TrioError("Parameter out of range")
+        a, b, c = (int(f) for f in fields)
+        now = self.clock()
+        try:
+            if name == "TIME":
+                wanted = now.replace(hour=a, minute=b, second=c)
+            else:
+                year = 2000 + c if 0 <= c <= 99 else c
+                if not 2000 <= year <= 2099:
+                    raise ValueError
+                wanted = now.replace(year=year, month=b, day=a)
+        except ValueError:
+            raise TrioError("Parameter out of range") from None
+        self.hook.clock_offset += (wanted - now).total_seconds()
+
+    def random_value(self, name: str, args: list[float], ctx: ProcessContext) -> float:
+        """RND: an unsigned 32-bit integer, RND(n) 0..n-1, RND(a, b) a..b-1; RNDF: 0 <= x
+        < 1, RNDF(n) 0..n, RNDF(a, b) a..b (their help pages). Each process has its own
+        generator (RANDOMIZE's page); its seed is the process number and the servo tick
+        of its first draw (D: repeatable runs, yet each run of a program differs)."""
+        if ctx.rng is None:
+            ctx.rng = random.Random(ctx.process * 1_000_003 + self.machine.servo_tick())
+        if len(args) > 2:
+            raise TrioError("Syntax error")
+        low, high = (0.0, args[0]) if len(args) == 1 else (args[0], args[1]) if args else \
+            (0.0, 2.0 ** 32 if name == "RND" else 1.0)
+        if name == "RNDF":
+            if not low < high:
+                raise TrioError("Parameter out of range")
+            return low + ctx.rng.random() * (high - low)
+        if low != int(low) or high != int(high) or not low < high:
+            raise TrioError("Parameter out of range")
+        return float(ctx.rng.randrange(int(low), int(high)))
 
     def _channel(self, args: Sequence[Expr], ctx: ProcessContext) -> int:
         number = self.number(args[0], ctx)
@@ -872,6 +939,14 @@ class Interpreter:
 
     def command(self, stmt: Command, ctx: ProcessContext) -> Wait:
         name = stmt.keyword.name
+        if name in ("TIME", "DATE") and len(stmt.args) == 3:
+            self.set_clock(name, [self.number(a, ctx) for a in stmt.args])
+            return
+        if name == "RANDOMIZE":  # a seed given: a known sequence; none: a fresh one (D)
+            seed = [self.number(a, ctx) for a in stmt.args]
+            ctx.rng = random.Random(int(seed[0]) if seed else
+                                    ctx.process * 1_000_003 + self.machine.servo_tick() + 1)
+            return
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
             return

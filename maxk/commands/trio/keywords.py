@@ -633,6 +633,34 @@ _ENTRIES: list[Keyword] = [
              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
     _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
               confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("TIME", "TIME reads the real time clock's seconds since midnight; TIME = "
+             "hh:mm:ss sets it.", (0, 0), source=f"{HELP}; {TOK}", confidence="I",
+             note="The clock is virtual time from 00:00:00 on Saturday 01/01/2000 at power "
+             "up (D), set ahead or back by TIME = and DATE =; the three fields may be "
+             "expressions (page example 3). Shared by every process (I)."),
+    _command("DATE", "DATE reads the days since 01/01/2000 (0 that day), DATE(0|1|2) the "
+             "day, month, year; DATE = dd:mm:yy (or yyyy) sets it.", (0, 1),
+             source=f"{HELP}; {TOK}", confidence="I",
+             note="As TIME for the clock; years 2000..2099 only (page); a day the month "
+             "lacks is 'Parameter out of range' (D)."),
+    _command("DAY", "DAY: the day of the week, 0..6, Sunday 0.", (0, 0),
+             source=f"{HELP}; {TOK}", confidence="I", note="As TIME for the clock."),
+    _function("RND", "RND: a pseudo-random unsigned 32-bit integer; RND(n) 0..n-1; "
+              "RND(a, b) a..b-1.", (0, 2), source=f"{HELP}; {TOK}", confidence="I",
+              note="Each process has its own generator, seeded with its number and the "
+              "servo tick of its first draw (D: the page's 'varies with each execution', "
+              "yet an emulator run repeats); limits must be whole with a < b (D)."),
+    _function("RNDF", "RNDF: a pseudo-random number 0 <= x < 1; RNDF(n) 0..n; RNDF(a, b) "
+              "a..b (upper limit excluded).", (0, 2), source=HELP, confidence="I",
+              note="As RND."),
+    _command("RANDOMIZE", "RANDOMIZE(seed): this process's RND/RNDF sequence starts again "
+             "from seed; RANDOMIZE alone: from a fresh seed.", (0, 1), source=HELP,
+             confidence="I", note="The same seed gives the same sequence (page); the "
+             "generator is Python's (the values differ from a controller's: D)."),
+    _system("INPUTS0", "IN(0)..IN(15) as one number.", writable=False,
+            source=f"{HELP}; {TOK}", note="Read as IN reads each input."),
+    _system("INPUTS1", "IN(16)..IN(31) as one number.", writable=False,
+            source=f"{HELP}; {TOK}", note="As INPUTS0."),
     _command("INVERT_IN", "INVERT_IN(n, state) inverts input n in software (ON) or not "
              "(OFF); INVERT_IN(n) reads its state, ON (1) or OFF (0).", (1, 2),
              source=f"{HELP}; {TOK}", confidence="I",

@@ -434,6 +434,13 @@ class _Parser:
             self.advance()
             return self.on_jump()
         self.advance()
+        if name in ("TIME", "DATE") and self.at_op("="):  # TIME = hh:mm:ss, DATE = dd:mm:yy
+            self.advance()
+            fields = [self.expression()]
+            for _ in range(2):
+                self.expect_op(":")
+                fields.append(self.expression())
+            return Command(keyword, tuple(fields), None)
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
         if name in _CHANNEL_STATEMENTS:

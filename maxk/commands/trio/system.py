@@ -40,6 +40,7 @@ class ProgramCommands:
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
+        self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
@@ -49,6 +50,10 @@ class ProgramCommands:
     def system_parameter(self, name: str) -> float | None:
         if name in ("MPE", "FLASH_STATUS"):
             return 0.0
+        if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
+            first = 0 if name == "INPUTS0" else 16
+            return float(sum(1 << k for k in range(16)
+                             if self.machine.digital_input(first + k)))
         if name == "CHECKSUM":
             crc = 0
             for program in self.programs.names():

@@ -1,0 +1,85 @@
+"""TIME, DATE, DAY, RND, RNDF, RANDOMIZE and INPUTS0/1 from their help pages (own
+figures, derived by hand): the real time clock starts at 00:00:00 on Saturday
+01/01/2000 at power up and runs with virtual time."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.trio_helpers import Rig
+
+
+def ask(rig: Rig, expr: str) -> str:
+    return rig.command("?" + expr).decode()
+
+
+def test_the_clock_at_power_up_and_after_virtual_time() -> None:
+    rig = Rig()
+    assert (ask(rig, "TIME"), ask(rig, "DATE"), ask(rig, "DAY"), ask(rig, "DAY$")) == \
+        ("0", "0", "6", "Saturday")  # 01/01/2000 was a Saturday
+    rig.cycles(2500)  # 2.5 s at the fake's 1 ms servo cycle
+    assert ask(rig, "TIME") == "2"
+
+
+def test_time_is_set_in_24_hour_form_and_read_in_seconds() -> None:
+    rig = Rig()
+    rig.command("TIME = 7:45:10")
+    assert ask(rig, "TIME") == str(7 * 3600 + 45 * 60 + 10)
+    assert ask(rig, "TIME$") == "07:45:10"
+    assert b"Parameter out of range" in rig.send("TIME = 24:00:00")
+    assert ask(rig, "TIME$") == "07:45:10"  # nothing set
+
+
+def test_time_set_from_variables_in_a_program() -> None:
+    rig = Rig()
+    rig.load("CLK", "hh = 21\nmm = 5\nss = 59\nTIME = hh:mm:ss\nVR(1) = TIME")
+    rig.command('RUN "CLK"')
+    rig.cycles(10)
+    assert ask(rig, "VR(1)") == str(21 * 3600 + 5 * 60 + 59)
+
+
+def test_date_set_two_and_four_digit_years_and_read_back() -> None:
+    rig = Rig()
+    rig.command("DATE = 03:02:2001")
+    # 2000 had 366 days, then 31 of January and 2 more: 399 days after 01/01/2000
+    assert (ask(rig, "DATE"), ask(rig, "DATE$")) == ("399", "03/02/2001")
+    assert (ask(rig, "DATE(0)"), ask(rig, "DATE(1)"), ask(rig, "DATE(2)")) == \
+        ("3", "2", "2001")
+    assert ask(rig, "DAY") == "6"  # 03/02/2001 was a Saturday too: 399 = 57 weeks
+    rig.command("DATE = 04:02:01")
+    assert (ask(rig, "DATE"), ask(rig, "DAY"), ask(rig, "DAY$")) == ("400", "0", "Sunday")
+    for bad in ("DATE = 30:02:2001", "DATE = 01:01:2100", "DATE = 01:13:01"):
+        assert b"Parameter out of range" in rig.send(bad), bad
+    assert ask(rig, "DATE") == "400"
+
+
+def test_rnd_ranges() -> None:
+    rig = Rig()
+    draws = [float(ask(rig, "RND(1 << 8)")) for _ in range(200)]
+    assert all(0 <= d < 256 and d == int(d) for d in draws) and len(set(draws)) > 50
+    signed = [float(ask(rig, "RND(-100, 100)")) for _ in range(200)]
+    assert min(signed) < 0 <= max(signed) < 100 and min(signed) >= -100
+    whole = float(ask(rig, "RND"))
+    assert 0 <= whole < 2 ** 32
+    fractions = [float(ask(rig, "RNDF(2.5, 3)")) for _ in range(50)]
+    assert all(2.5 <= f < 3 for f in fractions)
+    assert b"Parameter out of range" in rig.send("?RND(5, 5)")
+
+
+def test_randomize_with_a_seed_repeats_the_sequence() -> None:
+    rig = Rig()
+    rig.command("RANDOMIZE(0)")
+    first = [ask(rig, "RND(1000)") for _ in range(5)]
+    rig.command("RANDOMIZE(0)")
+    assert [ask(rig, "RND(1000)") for _ in range(5)] == first
+    rig.command("RANDOMIZE(1)")
+    assert [ask(rig, "RND(1000)") for _ in range(5)] != first
+
+
+@pytest.mark.parametrize(("high", "expected"), [((), "0\t0"), ((3,), "8\t0"),
+                                                 ((3, 18), "8\t4")])
+def test_inputs0_and_inputs1_sum_the_inputs(high: tuple[int, ...], expected: str) -> None:
+    rig = Rig()
+    for n in high:
+        rig.machine.inputs[n] = True
+    assert ask(rig, "INPUTS0, INPUTS1") == expected
