@@ -83,3 +83,45 @@ def test_inputs0_and_inputs1_sum_the_inputs(high: tuple[int, ...], expected: str
     for n in high:
         rig.machine.inputs[n] = True
     assert ask(rig, "INPUTS0, INPUTS1") == expected
+
+
+# ---- TIMER and CONTROL ----------------------------------------------------------------
+def test_timer_turns_an_output_on_for_its_time() -> None:
+    """TIMER's first example with our numbers: output 9 on for 30 ms (30 servo cycles
+    of 1 ms), then off on its own."""
+    rig = Rig()
+    rig.command("TIMER(0, 9, 1, 30)")
+    assert ask(rig, "READ_OP(9)") == "1"
+    rig.cycles(29)
+    assert ask(rig, "READ_OP(9)") == "1"
+    rig.cycles(1)
+    assert ask(rig, "READ_OP(9)") == "0"
+
+
+def test_timer_pattern_and_option_1_turn_a_group_off_then_on() -> None:
+    """TIMER's second example: pattern 13 (1101) from output 10 is outputs 10, 12, 13;
+    option 1 turns them off for the time, output 11 is left alone."""
+    rig = Rig()
+    for n in (10, 11, 12, 13):
+        rig.command(f"OP({n}, ON)")
+    rig.command("TIMER(5, 10, 13, 70, 1)")
+    assert ask(rig, "READ_OP(10, 13)") == str(0b0010)
+    rig.cycles(70)
+    assert ask(rig, "READ_OP(10, 13)") == str(0b1111)
+    assert b"Parameter out of range" in rig.send("TIMER(128, 1, 1, 10)")
+
+
+def test_a_timer_ends_on_its_tick_on_the_mc405_engine() -> None:
+    from tests.test_trio_drive import at, mc405
+
+    trio = mc405()
+    trio.send("TIMER(1, 4, 1, 250)")
+    start = trio.machine.tick
+    at(trio, start + 249)
+    assert trio.query("?READ_OP(4)") == "1"
+    at(trio, start + 250)
+    assert trio.query("?READ_OP(4)") == "0"
+
+
+def test_control_is_the_mc405s_id() -> None:
+    assert ask(Rig(), "CONTROL") == "405"

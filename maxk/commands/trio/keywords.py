@@ -661,6 +661,15 @@ _ENTRIES: list[Keyword] = [
             source=f"{HELP}; {TOK}", note="Read as IN reads each input."),
     _system("INPUTS1", "IN(16)..IN(31) as one number.", writable=False,
             source=f"{HELP}; {TOK}", note="As INPUTS0."),
+    _command("TIMER", "TIMER(slot, output, pattern, time[, option]): outputs on (option 0, "
+             "default) or off (1) for time ms, then back.", (4, 5), source=f"{HELP}; {TOK}",
+             confidence="I",
+             note="Pattern 1: the output alone; another number: a bit array of outputs from "
+             "output up (page). The end falls on the servo cycle time ms is rounded up to "
+             "(D, as WA); a slot set again while it runs starts over (D). OP can change the "
+             "outputs meanwhile; the end sets them anyway (D)."),
+    _system("CONTROL", "The controller's ID: 405 for the MC405.", writable=False,
+            source=f"{HELP}; {TOK}", note="Never locked (1000 would be added, page): D."),
     _command("INVERT_IN", "INVERT_IN(n, state) inverts input n in software (ON) or not "
              "(OFF); INVERT_IN(n) reads its state, ON (1) or OFF (0).", (1, 2),
              source=f"{HELP}; {TOK}", confidence="I",

@@ -41,6 +41,8 @@ class ProgramCommands:
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
+        self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
+        # it ends, its outputs and the level they take then
 
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
@@ -50,6 +52,8 @@ class ProgramCommands:
     def system_parameter(self, name: str) -> float | None:
         if name in ("MPE", "FLASH_STATUS"):
             return 0.0
+        if name == "CONTROL":
+            return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
             first = 0 if name == "INPUTS0" else 16
             return float(sum(1 << k for k in range(16)
@@ -293,8 +297,45 @@ class ProgramCommands:
         if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:
             self.output("0\r\n")  # no EtherCAT network: state 0 (D)
 
+    def cmd_timer(self, args: list[Value]) -> None:
+        """TIMER(slot, output, pattern, time[, option]): outputs on (option 0) or off
+        (option 1) now, back after `time` ms (TIMER's page); pattern 1 is the output
+        alone, another number a bit array of outputs from `output` up. The time is
+        rounded up to whole servo cycles (D, as WA); a slot set again while it runs
+        starts over (D)."""
+        slot, first, pattern, ms = (_number(a) for a in args[:4])
+        option = _number(args[4]) if len(args) > 4 else 0.0
+        period = self.machine.servo_period_us()
+        if not (0 <= slot <= 127 and 0 <= first <= 255 and 0 <= pattern <= 65535
+                and 0 <= ms <= 1e9 and option in (0, 1)) or \
+                any(v != int(v) for v in (slot, first, pattern)):
+            raise TrioError("Parameter out of range")
+        outputs = [int(first) + k for k in range(16) if int(pattern) >> k & 1]
+        if any(n > 255 for n in outputs):
+            raise TrioError("Parameter out of range")
+        start_level = option == 0
+        for n in outputs:
+            self.machine.set_output(n, start_level)
+        ticks = -(-int(ms * 1000) // period)
+        self.timers[int(slot)] = (self.machine.servo_tick() + ticks, outputs, not start_level)
+        self.run_timers()
+
+    def next_timer(self) -> int | None:
+        """The tick the next TIMER ends (None: none runs)."""
+        return min((end for end, _o, _l in self.timers.values()), default=None)
+
+    def run_timers(self) -> None:
+        """End the TIMERs due by now: their outputs take their end level."""
+        now = self.machine.servo_tick()
+        for slot, (end, outputs, level) in sorted(self.timers.items()):
+            if end <= now:
+                del self.timers[slot]
+                for n in outputs:
+                    self.machine.set_output(n, level)
+
     def run_processes(self) -> None:
         """One servo cycle of every process, lowest number first."""
+        self.run_timers()
         for process in sorted(self.tasks):
             task = self.tasks.get(process)
             if task is None:
