@@ -125,3 +125,26 @@ def test_a_timer_ends_on_its_tick_on_the_mc405_engine() -> None:
 
 def test_control_is_the_mc405s_id() -> None:
     assert ask(Rig(), "CONTROL") == "405"
+
+
+# ---- small functions and parameters from their pages --------------------------------
+def test_acos_and_asin() -> None:
+    rig = Rig()
+    assert ask(rig, "ACOS(-1)") == "3.1416"  # the page's example: PI
+    assert ask(rig, "ASIN(0.5) * 6") == "3.1416"  # asin(1/2) = PI/6
+    assert b"Parameter out of range" in rig.send("?ACOS(1.5)")
+
+
+def test_is_nan_and_is_inf_of_held_values() -> None:
+    rig = Rig()
+    rig.command("VR(7) = 1e300")
+    assert ask(rig, "IS_NAN(VR(7)), IS_INF(VR(7))") == "0\t0"
+
+
+def test_analog_channels_as_parameters() -> None:
+    rig = Rig()
+    rig.machine.analog[1] = 5.0  # half of 10 V: 2047 / 2, rounded
+    assert ask(rig, "AIN1, AINBI1, AIN(1)") == "1024\t1024\t1024"
+    rig.command("AOUT2 = 300")
+    assert ask(rig, "AOUT(2), AOUT2") == "300\t300"
+    assert ask(rig, "NIN, NOP") == "32\t32"

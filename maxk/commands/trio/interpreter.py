@@ -154,6 +154,8 @@ _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
     "SGN": lambda x: float((x > 0) - (x < 0)), "SQR": math.sqrt, "SIN": math.sin,
     "COS": math.cos, "TAN": math.tan, "ATAN": math.atan, "EXP": math.exp, "LN": math.log,
+    "ACOS": math.acos, "ASIN": math.asin,  # outside -1..1: 'Parameter out of range' (D)
+    "IS_NAN": lambda x: 0.0, "IS_INF": lambda x: 0.0,  # every value here is finite
 }
 _EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
 _DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")
@@ -456,7 +458,8 @@ class Interpreter:
             raise TrioError("Syntax error")
         try:
             if name in _MATH and len(numbers) == 1:
-                if name in ("SQR", "LN") and numbers[0] < (0 if name == "SQR" else 1e-308):
+                if name in ("SQR", "LN") and numbers[0] < (0 if name == "SQR" else 1e-308) \
+                        or name in ("ACOS", "ASIN") and abs(numbers[0]) > 1:
                     raise TrioError("Parameter out of range")
                 result = _MATH[name](numbers[0])
             elif name == "ATAN2" and len(numbers) == 2:
@@ -910,6 +913,9 @@ class Interpreter:
             if key not in self.hook.indexed and len(self.hook.indexed) >= MAX_INDEXED:
                 raise TrioError("Parameter out of range")  # (D) bounded
             self.hook.indexed[key] = value
+            return
+        if keyword.name in ("AOUT0", "AOUT1", "AOUT2", "AOUT3"):  # AOUT(n) = v (page)
+            self.assign(Assign(Call("AOUT", (Num(float(keyword.name[-1])),)), Num(value)), ctx)
             return
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             keyword.check(value)

@@ -670,6 +670,24 @@ _ENTRIES: list[Keyword] = [
              "outputs meanwhile; the end sets them anyway (D)."),
     _system("CONTROL", "The controller's ID: 405 for the MC405.", writable=False,
             source=f"{HELP}; {TOK}", note="Never locked (1000 would be added, page): D."),
+    *[_function(name, f"{name}(x): the arc-{what} in radians.", (1, 1), source=HELP,
+                note="Outside -1..1: 'Parameter out of range' (D).")
+      for name, what in (("ACOS", "cosine, 0..PI"), ("ASIN", "sine, -PI/2..PI/2"))],
+    *[_function(name, f"{name}(x): TRUE when x is {what}.", (1, 1), source=HELP,
+                confidence="I", note="Every value the emulator holds is finite (its "
+                "arithmetic refuses the rest), so it reads FALSE (I).")
+      for name, what in (("IS_NAN", "not a number"), ("IS_INF", "infinite"))],
+    *[_system(f"{kind}{n}", f"{kind}{n}: {what}({n}) as a parameter.", writable=kind == "AOUT",
+              source=f"{HELP}; {TOK}", confidence="I", note="As the function reads it "
+              "(page: for SCOPE, which stores parameters); AINBI reads the same counts as "
+              "AIN (D: the world's inputs are signed volts)." if kind != "AOUT" else
+              "AOUTn = v is AOUT(n) = v.")
+      for kind, what in (("AIN", "AIN"), ("AINBI", "AIN"), ("AOUT", "AOUT"))
+      for n in range(4)],
+    *[_system(name, f"{name}: the number of {what} (the highest + 1).", writable=False,
+              source=f"{HELP}; {TOK}", confidence="D",
+              note="32: the I/O points the emulator's IN and OP address (D).")
+      for name, what in (("NIN", "inputs"), ("NOP", "outputs"))],
     _command("INVERT_IN", "INVERT_IN(n, state) inverts input n in software (ON) or not "
              "(OFF); INVERT_IN(n) reads its state, ON (1) or OFF (0).", (1, 2),
              source=f"{HELP}; {TOK}", confidence="I",

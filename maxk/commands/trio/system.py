@@ -52,6 +52,13 @@ class ProgramCommands:
     def system_parameter(self, name: str) -> float | None:
         if name in ("MPE", "FLASH_STATUS"):
             return 0.0
+        if name[:-1] in ("AIN", "AINBI", "AOUT") and name[-1] in "0123":
+            channel = int(name[-1])  # AIN(n), AOUT(n) as parameters (their page)
+            if name.startswith("AOUT"):
+                return self.analog_outputs.get(channel, 0.0)
+            return float(round(self.machine.analog_input(channel) / 10.0 * 2047))
+        if name in ("NIN", "NOP"):
+            return 32.0  # the I/O points IN and OP address here (D: as IN and OP take)
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
