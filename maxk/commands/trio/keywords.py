@@ -749,6 +749,30 @@ _STATEMENT_NOTE = ("Handled by the parser and the process runner; the form is fr
                    "token table and public programs (I).")
 
 
+_FIELDBUS = ("ETHERCAT", "ECAT_", "AUTO_ETHERCAT", "CAN", "CO_", "SERCOS", "RTEX", "DEVICENET",
+             "ANYBUS", "MODBUS", "ETHERNET", "IP_", "HLM_", "HLS_", "NW_", "NODE_", "DRIVE_",
+             "REMOTE", "GET_EIP", "SET_EIP", "PROTOCOL", "COMMS", "PLC_", "DLINK", "SLOT")
+_FIRMWARE = ("FLASH", "EPROM", "FPGA_", "BOOT_LOADER", "LOADSYSTEM", "LOAD_PROJECT", "STICK_",
+             "SD_", "ZIP_READ", "TEXT_FILE_LOADER", "BREAK_", "TRON", "TROFF", "STEPINTO",
+             "STEPLINE", "DUMP", "CPU_", "FPU_", "SERIAL_NUMBER", "FEATURE_ENABLE", "LOCK",
+             "UNLOCK", "IS_ENCRYPTION", "SET_ENCRYPTION", "VALIDATE_ENCRYPTION", "PROJECT_",
+             "HMI_", "LCDSTR", "DISPLAY", "UNIT_", "PEEK", "POKE", "FREE", "SYSTEM_LOAD",
+             "TRIOPCTEST", "PENDANT", "USER_PID", "CUSTOM_FUNC", "FUNCTION_LIST", "EXEC")
+
+
+def _why_not(name: str) -> str:
+    """Why a token-table word is only accepted: a fieldbus or network word, or one of
+    firmware, files, memory and debugging, has no effect an emulated machine shows; any
+    other word is simply not modelled yet."""
+    if name.startswith(_FIELDBUS):
+        return ("a fieldbus, network or drive-bus word: the emulator has no bus or remote "
+                "drive, so nothing it shows depends on it (D)")
+    if name.startswith(_FIRMWARE):
+        return ("firmware, files, memory, debugging or display: no effect an emulated "
+                "machine shows (D)")
+    return "not modelled yet: the machine does not act on it (D)"
+
+
 def _from_token_table() -> list[Keyword]:
     """Every token-table word without a hand-written entry: its kind and arity from the
     table, its effect "not modelled" (D) unless named above."""
@@ -765,8 +789,8 @@ def _from_token_table() -> list[Keyword]:
             out.append(_statement(name, _STATEMENTS[name], note=_STATEMENT_NOTE, confidence="I"))
         elif tag == "V":
             scope, access = int(fields[2]), fields[3]
-            note = ("Not modelled: stored and read back, no effect on the machine (D)."
-                    if access == "w" else "Not modelled: reads 0 (D).")
+            note = ("Not modelled: stored and read back, no effect on the machine; "
+                    if access == "w" else "Not modelled: reads 0; ") + _why_not(name) + "."
             make = _axis if scope == 1 else _system
             out.append(make(name, f"Token-table {'axis' if scope == 1 else 'system'} "
                             f"parameter.", writable=access == "w", confidence="D", note=note))
@@ -774,17 +798,20 @@ def _from_token_table() -> list[Keyword]:
             kind, low, high, modifier = fields[2], int(fields[3]), int(fields[4]), fields[5]
             if kind == "f":
                 out.append(_function(name, "Token-table function.", (low, high),
-                                     confidence="D", note="Not modelled: returns 0 (D)."))
+                                     confidence="D",
+                                     note=f"Not modelled: returns 0; {_why_not(name)}."))
             elif kind == "o":
                 out.append(Keyword(name, Kind.OPERATOR, "Operator.", TOK))
             else:
                 out.append(_command(name, "Token-table command.", (low, high),
                                     axis=modifier == "1", confidence="D",
-                                    note="Not modelled: accepted, no effect on the machine "
-                                    "(D); as a function it returns 0."))
+                                    note="Not modelled: accepted, no effect on the machine, "
+                                    f"as a function it returns 0; {_why_not(name)}."))
         elif tag == "M":
             out.append(Keyword(name, Kind.MODIFIER, f"{name}(n) modifier.", TOK, "C",
-                               "Not modelled beyond AXIS(n): accepted, ignored (D).",
+                               "Not modelled: SLOT(n) and PORT(n) keep a parameter's "
+                               "value per number; the emulator has no module slots or "
+                               "ports to act on (D).",
                                args=(1, 1)))
         elif tag == "T":
             out.append(_constant(name, float(fields[2])))
