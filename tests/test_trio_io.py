@@ -169,3 +169,21 @@ def test_negative_units_refuse_rates_and_zero_units_is_refused() -> None:
     assert trio.send("MOVE(5) AXIS(0)") != []  # (D: no planner for a negative UNITS)
     trio.send("UNITS AXIS(0) = 1.5625")
     assert trio.send("SPEED AXIS(0) = 10") == []
+
+
+def test_the_shaft_encoder_world_setting() -> None:
+    from maxk.controllers.world_settings import parse_world
+
+    trio = mc405("ATYPE AXIS(1) = 76")
+    assert parse_world("1 shaft-encoder 3 -0.5")(trio) == "1 shaft-encoder 3 -0.5"
+    trio.send("MOVE(1000) AXIS(3)")
+    assert trio.run_until_idle()
+    assert ask(trio, "?MPOS AXIS(1)") == "-500"
+    assert parse_world("1 shaft-encoder none")(trio) == "1 shaft-encoder none"
+    assert ask(trio, "?MPOS AXIS(1)") == "0"
+    for bad in ("1 shaft-encoder 3 0", "1 shaft-encoder 3 x", "1 shaft-encoder 99"):
+        try:
+            parse_world(bad)(trio)
+        except (ValueError, KeyError):
+            continue
+        raise AssertionError(bad)
