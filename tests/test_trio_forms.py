@@ -155,3 +155,32 @@ def test_hex_and_val_from_their_pages() -> None:
     assert ask(rig, 'VAL("-48.25") * 2') == "-96.5000"
     assert ask(rig, 'INT(VAL("41")) + 1') == "42"
     assert ask(rig, 'VAL("none")') == "0"
+
+
+# ---- forms from the DIM, OPEN and FILE pages -----------------------------------------
+def test_dim_string_arrays_with_their_sizes_in_the_type() -> None:
+    """DIM's page: STRING(size, length) and STRING(size1, size2, length)."""
+    rig = Rig()
+    rig.load("SA", 'DIM tags AS STRING(3, 8)\ntags(0) = "feed"\ntags(2) = "cut"\n'
+             'DIM grid AS STRING(2, 3, 4)\ngrid(1, 2) = "ok"\n'
+             "VR(1) = LEN(tags(0)) * 10 + LEN(tags(2))\nVR(2) = LEN(grid(1, 2))")
+    rig.command('RUN "SA"')
+    rig.cycles(10)
+    assert (ask(rig, "VR(1)"), ask(rig, "VR(2)")) == ("43", "2")
+
+
+def test_open_takes_its_mode_arguments() -> None:
+    rig = Rig()
+    rig.command('OPEN #40 AS "LOG" FOR OUTPUT(1)')
+    rig.command("CLOSE #40")
+    rig.command('OPEN #41 AS "Q" FOR FIFO_WRITE(512)')
+
+
+def test_file_without_an_sd_card_reads_false() -> None:
+    """FILE's page: a function returns TRUE on success; the emulator has no SD card."""
+    rig = Rig()
+    assert ask(rig, 'FILE "DETECT"') == "0"
+    rig.command('ok = FILE "CRC16" "PROG"')
+    rig.command('nxt = FILE "FIND_NEXT", 20')
+    assert ask(rig, "ok, nxt") == "0\t0"
+    assert rig.command('IF FILE "DETECT" THEN PRINT "card" ELSE PRINT "none"') == b"none"

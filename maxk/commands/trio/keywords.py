@@ -661,6 +661,12 @@ _ENTRIES: list[Keyword] = [
             source=f"{HELP}; {TOK}", note="Read as IN reads each input."),
     _system("INPUTS1", "IN(16)..IN(31) as one number.", writable=False,
             source=f"{HELP}; {TOK}", note="As INPUTS0."),
+    _command("FILE", "FILE \"function\" [parameters]: the SD card's files (DETECT, DIR, "
+             "LOAD_PROGRAM ...); as a function TRUE when it succeeded.", (0, 0),
+             source=f"{HELP}; {TOK}", confidence="D",
+             note="The emulator has no SD card: FILE \"DETECT\" and every other function "
+             "read FALSE (0), as a card that is not there fails them; as a statement it does "
+             "nothing (D: the controller's terminal would report the error)."),
     _command("TIMER", "TIMER(slot, output, pattern, time[, option]): outputs on (option 0, "
              "default) or off (1) for time ms, then back.", (4, 5), source=f"{HELP}; {TOK}",
              confidence="I",

@@ -445,6 +445,8 @@ class _Parser:
             return self.block_or_statement(name)
         if name in _CHANNEL_STATEMENTS:
             return self.channel_statement(name)
+        if name == "FILE":  # FILE "function" [parameters] (FILE's page)
+            return Command(keyword, self.file_args(), None)
         if keyword.kind is Kind.COMMAND:
             command = self.command(keyword)
             if self.at_op("=") and command.args:  # AOUT(n) = value
@@ -554,7 +556,10 @@ class _Parser:
             self.advance()
             if not self.at_name(*CHANNEL_MODES):
                 raise TrioError("Syntax error")
-            return Channel("OPEN", channel, file_name, self.advance().text)
+            mode = self.advance().text
+            if self.at_op("("):  # OUTPUT(mode), FIFO_WRITE(size[, mode[, end]]): OPEN's
+                self.user_args()  # page; the emulator's files need none of them (D)
+            return Channel("OPEN", channel, file_name, mode)
         if name == "CLOSE":
             return Channel("CLOSE", channel)
         if channel is not None:
@@ -759,14 +764,19 @@ class _Parser:
             if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
             kind = self.advance().text
-            if kind == "STRING":
+            if kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
                 self.expect_op("(")
-                number = self.advance()
-                if number.kind is not Tok.NUMBER or not 0 < number.value <= 1024 \
-                        or number.value != int(number.value):
+                fields = [self.expression()]
+                while self.at_op(","):
+                    self.advance()
+                    fields.append(self.expression())
+                self.expect_op(")")
+                number = fields[-1]
+                if not isinstance(number, Num) or not 0 < number.value <= 1024 \
+                        or number.value != int(number.value) or len(fields) > 1 and sizes:
                     raise TrioError("Syntax error")
                 length = int(number.value)
-                self.expect_op(")")
+                sizes = sizes or tuple(fields[:-1])
             if self.at_op("("):  # DIM a AS INTEGER(8): the size after the type
                 if sizes:
                     raise TrioError("Syntax error")
@@ -856,6 +866,18 @@ class _Parser:
         if not low <= len(args) <= high:
             raise TrioError("Syntax error")
         return Command(keyword, tuple(args), axis)
+
+    def file_args(self) -> tuple[Expr, ...]:
+        """FILE's function name and its parameters, commas between them optional (the
+        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index)."""
+        if self.tok.kind is not Tok.STRING:
+            raise TrioError("Syntax error")
+        args = [Str(self.advance().text)]
+        while self.at_op(",") or self.tok.kind is Tok.STRING:
+            if self.at_op(","):
+                self.advance()
+            args.append(self.expression())
+        return tuple(args)
 
     def bare_program_name(self) -> bool:
         """A program named without quotes, as a command line takes it (``SELECT
@@ -994,6 +1016,8 @@ class _Parser:
             return self.parameter(keyword)
         if tok.text in _BARE_READS and not self.at_op("("):  # OP alone: outputs 0..31
             return Call(tok.text, ())
+        if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
+            return Call("FILE", self.file_args())
         if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
             self.advance()
             return Call("KEY", (self.unary(),))
