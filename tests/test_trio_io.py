@@ -187,3 +187,39 @@ def test_the_shaft_encoder_world_setting() -> None:
         except (ValueError, KeyError):
             continue
         raise AssertionError(bad)
+
+
+# ---- SCOPE and TRIGGER --------------------------------------------------------------
+def test_scope_samples_parameters_into_their_table_blocks_after_trigger() -> None:
+    """SCOPE's first example with our numbers: two parameters over TABLE 0..200 have 100
+    values each (0..99 and 100..199), a sample every 10 servo cycles from TRIGGER."""
+    trio = mc405(FAST, "SCOPE(ON, 10, 0, 200, DPOS, VP_SPEED)")
+    trio.send("TRIGGER")
+    start = trio.machine.tick
+    trio.send("MOVE(5000)")
+    at(trio, start + 100)
+    # sample k is taken on tick start + 10k; the move passes count p on tick 5 + p
+    dpos_samples = [float(trio.query(f"?TABLE({k})")) for k in range(11)]
+    assert dpos_samples == [0.0] + [10.0 * k - 5 for k in range(1, 11)]
+    assert [float(trio.query(f"?TABLE({100 + k})")) for k in (0, 1, 10)] == [0, 1000, 1000]
+    assert trio.query("?SCOPE_POS") == "11"
+
+
+def test_scope_fills_its_blocks_once_then_stops() -> None:
+    trio = mc405("SCOPE(ON, 1, 50, 53, TICKS)", "TABLE(53, 7)")
+    trio.send("TRIGGER")
+    trio.advance(ticks=20)
+    assert trio.query("?SCOPE_POS") == "53"
+    assert trio.query("?TABLE(53)") == "7"  # past table_stop: untouched
+
+
+def test_scope_off_prevents_trigger_and_a_new_period_applies() -> None:
+    trio = mc405("SCOPE(ON, 5, 0, 10, DPOS)", "SCOPE(OFF)", "TABLE(1, -1)")
+    trio.send("TRIGGER")
+    trio.advance(ticks=20)
+    assert trio.query("?TABLE(1)") == "-1"  # nothing captured
+    trio.send("SCOPE(ON, 5, 0, 10, MPOS)")
+    trio.send("SCOPE(ON, 2)")  # the period changed before the capture
+    trio.send("TRIGGER")
+    trio.advance(ticks=9)
+    assert trio.query("?SCOPE_POS") == "5"  # samples on ticks 0, 2, 4, 6, 8 of the scan

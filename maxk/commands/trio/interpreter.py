@@ -149,6 +149,10 @@ class SystemHook(Protocol):
 
     def file_text(self, name: str) -> str: ...
 
+    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None: ...
+
+    def trigger(self, repeat: bool) -> None: ...
+
 
 _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
@@ -947,6 +951,13 @@ class Interpreter:
         name = stmt.keyword.name
         if name in ("TIME", "DATE") and len(stmt.args) == 3:
             self.set_clock(name, [self.number(a, ctx) for a in stmt.args])
+            return
+        if name == "SCOPE":  # the parameters are sampled later: kept, not evaluated
+            head = [self.number(a, ctx) for a in stmt.args[:4]]
+            self.hook.set_scope(head, list(stmt.args[4:]), ctx)
+            return
+        if name == "TRIGGER":
+            self.hook.trigger(bool(stmt.args) and self.number(stmt.args[0], ctx) != 0)
             return
         if name == "RANDOMIZE":  # a seed given: a known sequence; none: a fresh one (D)
             seed = [self.number(a, ctx) for a in stmt.args]

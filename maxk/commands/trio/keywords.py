@@ -661,6 +661,23 @@ _ENTRIES: list[Keyword] = [
             source=f"{HELP}; {TOK}", note="Read as IN reads each input."),
     _system("INPUTS1", "IN(16)..IN(31) as one number.", writable=False,
             source=f"{HELP}; {TOK}", note="As INPUTS0."),
+    _command("SCOPE", "SCOPE(ON, period, table_start, table_stop, p0[, ... p7]) arms a "
+             "capture of up to 8 parameters into TABLE; SCOPE(ON, period) changes the "
+             "period; SCOPE(OFF) disables it.", (1, 13), source=f"{HELP}; {TOK}",
+             confidence="I",
+             note="Each parameter has its own block of (stop - start) / n values, filled "
+             "one sample every period servo cycles from TRIGGER until full (page example "
+             "1). The parameters are expressions read at each sample with the BASE of the "
+             "process that set SCOPE (I). The FIFO form, SCOPE_DELAY and "
+             "SCOPE_CYCLE_COUNT are not modelled (D)."),
+    _command("TRIGGER", "TRIGGER[(auto)]: start the armed SCOPE; auto not 0: it starts "
+             "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
+             confidence="I", note="The first sample is taken on TRIGGER's own servo "
+             "cycle (D); after SCOPE(OFF) it starts nothing (page)."),
+    _system("SCOPE_POS", "The TABLE index the SCOPE stores its next sample at.",
+            writable=False, source=f"{HELP}; {TOK}", confidence="D",
+            note="In the first parameter's block (D). The token table has it writable; "
+            "writing is refused here (D)."),
     _command("FILE", "FILE \"function\" [parameters]: the SD card's files (DETECT, DIR, "
              "LOAD_PROGRAM ...); as a function TRUE when it succeeded.", (0, 0),
              source=f"{HELP}; {TOK}", confidence="D",

@@ -872,7 +872,7 @@ class _Parser:
         page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index)."""
         if self.tok.kind is not Tok.STRING:
             raise TrioError("Syntax error")
-        args = [Str(self.advance().text)]
+        args: list[Expr] = [Str(self.advance().text)]
         while self.at_op(",") or self.tok.kind is Tok.STRING:
             if self.at_op(","):
                 self.advance()

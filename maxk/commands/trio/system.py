@@ -8,17 +8,35 @@ processes, one task each, stepped once per servo cycle in process order.
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
+from dataclasses import dataclass
 
+from ...personalities.trio.memory import TABLE_SIZE
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
-from .parser import FunctionDef
+from .parser import Expr, FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
 
 PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 10)
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
+
+
+@dataclass
+class Scope:
+    """SCOPE(ON, period, table_start, table_stop, p0 ...): what it samples, where to.
+    Each parameter has its own block of (stop - start) / n TABLE values (the page's
+    example: two parameters over 0..1000 fill 0..499 and 500..999)."""
+
+    period: int  # servo cycles between samples
+    start: int
+    block: int  # samples each parameter has room for
+    params: list[Expr]
+    ctx: ProcessContext  # the axes BASE names when SCOPE was set
+    next_tick: int | None = None  # the next sample (None: not triggered, or done)
+    taken: int = 0  # samples stored since TRIGGER
+    repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
 
 
 class ProgramCommands:
@@ -41,6 +59,7 @@ class ProgramCommands:
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
+        self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
         # it ends, its outputs and the level they take then
 
@@ -59,6 +78,8 @@ class ProgramCommands:
             return float(round(self.machine.analog_input(channel) / 10.0 * 2047))
         if name in ("NIN", "NOP"):
             return 32.0  # the I/O points IN and OP address here (D: as IN and OP take)
+        if name == "SCOPE_POS":
+            return self.scope_position()
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
@@ -327,13 +348,77 @@ class ProgramCommands:
         self.timers[int(slot)] = (self.machine.servo_tick() + ticks, outputs, not start_level)
         self.run_timers()
 
+    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None:
+        """SCOPE(OFF); SCOPE(ON, period): a new period; SCOPE(ON, period, start, stop,
+        p0[, ... p7]): arm a capture of up to 8 parameters (SCOPE's page)."""
+        if args[0] == 0:
+            self.scope = None
+            return
+        period = args[1] if len(args) > 1 else 1.0
+        if period != int(period) or not 1 <= period <= 1e6:
+            raise TrioError("Parameter out of range")
+        if len(args) == 2:
+            if self.scope is None:
+                raise TrioError("Parameter out of range")
+            self.scope.period = int(period)
+            return
+        if len(args) != 4 or not 1 <= len(params) <= 8:
+            raise TrioError("Syntax error")
+        start, stop = args[2], args[3]
+        if start != int(start) or stop != int(stop) or not 0 <= start < stop <= TABLE_SIZE:
+            raise TrioError("Parameter out of range")
+        block = int(stop - start) // len(params)
+        if block < 1:
+            raise TrioError("Parameter out of range")
+        self.scope = Scope(int(period), int(start), block, params,
+                           ProcessContext(process=ctx.process, base=list(ctx.base)))
+
+    def trigger(self, repeat: bool) -> None:
+        """TRIGGER[(auto)]: the armed SCOPE samples from this servo cycle on (D: the
+        first sample is taken on the trigger's own cycle)."""
+        scope = self.scope
+        if scope is None:
+            return  # (disabled: TRIGGER starts nothing, the page's example 2)
+        scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
+        self.run_timers()
+
+    def scope_position(self) -> float:
+        """SCOPE_POS: the TABLE index the capture stores its next sample at (D: in the
+        first parameter's block)."""
+        scope = self.scope
+        return float(scope.start + scope.taken) if scope is not None else 0.0
+
     def next_timer(self) -> int | None:
-        """The tick the next TIMER ends (None: none runs)."""
-        return min((end for end, _o, _l in self.timers.values()), default=None)
+        """The tick the next TIMER ends or the SCOPE samples (None: neither)."""
+        ticks = [end for end, _o, _l in self.timers.values()]
+        if self.scope is not None and self.scope.next_tick is not None:
+            ticks.append(self.scope.next_tick)
+        return min(ticks, default=None)
+
+    def _sample(self, now: int) -> None:
+        scope = self.scope
+        if scope is None or scope.next_tick is None or scope.next_tick > now:
+            return
+        assert self.interpreter is not None
+        values = [self.interpreter.number(p, scope.ctx) for p in scope.params]
+        for i, value in enumerate(values):
+            self.machine.table_write(scope.start + i * scope.block + scope.taken, [value])
+        scope.taken += 1
+        if scope.taken < scope.block:
+            scope.next_tick = now + scope.period
+        elif scope.repeat:
+            scope.taken, scope.next_tick = 0, now + scope.period
+        else:
+            scope.next_tick = None
 
     def run_timers(self) -> None:
-        """End the TIMERs due by now: their outputs take their end level."""
+        """End the TIMERs due by now (their outputs take their end level); take the
+        SCOPE's sample due now."""
         now = self.machine.servo_tick()
+        try:
+            self._sample(now)
+        except TrioError:
+            self.scope = None  # a parameter it cannot read ends the capture (D)
         for slot, (end, outputs, level) in sorted(self.timers.items()):
             if end <= now:
                 del self.timers[slot]
