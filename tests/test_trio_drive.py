@@ -45,7 +45,7 @@ def test_forward_limit_switch_stops_the_move_on_its_tick_at_decel() -> None:
     assert (dpos(trio), trio.query("?VP_SPEED"), trio.query("?AXISSTATUS")) == (4999.0, "1000",
                                                                                "0")
     at(trio, 5005)  # the switch is reached: the ramp down starts here
-    assert (dpos(trio), trio.query("?AXISSTATUS"), trio.query("?IN(3)")) == (5000.0, "16", "1")
+    assert (dpos(trio), trio.query("?AXISSTATUS"), trio.query("?IN(3)")) == (5000.0, "16", "0")
     at(trio, 5006)
     assert trio.machine.vp_speed(0) == 990.0
     assert trio.run_until_idle()
@@ -100,7 +100,7 @@ def test_a_limit_switch_the_world_turns_on_as_a_level_stops_at_once_looked_at() 
     trio = mc405(FAST, "FWD_IN=7")
     trio.send("FORWARD")
     at(trio, 2000)
-    trio.world_view().set_input(7, True)  # the input itself, not a switch position
+    trio.world_view().set_input(7, False)  # the input itself goes low: active low
     assert trio.run_until_idle()
     assert (trio.machine.tick, dpos(trio)) == (2100, 1995.0 + 50.0)
 

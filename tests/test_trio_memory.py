@@ -113,7 +113,7 @@ FOR k = 1 TO 10
   seed = seed + seed
 NEXT k
 FOR i = 0 TO 3999
-  a(i) = LEFT(seed, 1016) + STR(i)
+  a(i) = LEFT(seed, 1016) + STR(i, 0)
 NEXT i
 PRINT "filled "; LEN(a(3999))
 WA(100000)"""

@@ -122,17 +122,18 @@ def test_print_channels_and_formats() -> None:
 @pytest.mark.parametrize(("expr", "printed"), [
     ('CHR(65) + CHR(66)', "AB"), ("HEX(255)", "FF"), ('ASC("A")', "65"),
     ('LEN("abc")', "3"), ('LEFT("motion", 3)', "mot"), ('RIGHT("motion", 2)', "on"),
-    ('MID("motion", 2, 3)', "oti"), ('UCASE("ab") + LCASE("CD")', "ABcd"),
-    ('VAL("12.5") * 2', "25"), ('INSTR("pick place", "place")', "6"),
+    ('MID("motion", 2, 3)', "tio"), ('UCASE("ab") + LCASE("CD")', "ABcd"),
+    ('VAL("12.5") * 2', "25"), ('INSTR("pick place", "place")', "5"),
     ('"n=" + 5', "n=5"), ('"a" < "b"', "-1")])
 def test_string_functions(expr: str, printed: str) -> None:
     assert run(f"PRINT {expr}") == printed + "\r\n"
 
 
-@given(st.text(alphabet="abcXYZ019 ", max_size=20), st.integers(1, 25), st.integers(0, 25))
-def test_mid_is_python_slicing_from_one(text: str, start: int, count: int) -> None:
+@given(st.text(alphabet="abcXYZ019 ", max_size=20), st.integers(0, 25), st.integers(0, 25))
+def test_mid_is_python_slicing_from_zero(text: str, start: int, count: int) -> None:
+    """MID's start counts from 0 (the help page's examples)."""
     assert run(f'PRINT MID("{text}", {start}, {count}); "|"') == \
-        text[start - 1:start - 1 + count] + "|\r\n"
+        text[start:start + count] + "|\r\n"
 
 
 def test_on_basicerror_sets_run_error_and_error_line() -> None:
@@ -193,7 +194,7 @@ def test_io_inputs_outputs_and_analog() -> None:
 
 def test_limit_inputs_show_in_axisstatus() -> None:
     rig = Rig()
-    rig.machine.inputs[6] = True
+    rig.machine.inputs[6] = False  # the limit inputs are active low
     rig.command("FWD_IN AXIS(1)=6")
     rig.command("FS_LIMIT AXIS(2)=-1")
     assert rig.command("?AXISSTATUS AXIS(1), AXISSTATUS AXIS(2), AXISSTATUS.4 AXIS(1)") == \
@@ -290,7 +291,7 @@ def test_datum_homes_on_the_worlds_home_switch_with_creep() -> None:
         ["DATUM_IN AXIS(0)=5", "SPEED=2000", "ACCEL=20000", "DECEL=20000", "CREEP=100",
          "DATUM(3)", 'PRINT "homed "; DPOS; " "; SPEED', "MOVEABS(-34)", "WAIT IDLE",
          "PRINT IN(5)"], 3.0)
-    assert out == "homed 0 2000\r\n0\r\n"
+    assert out == "homed 0 2000\r\n1\r\n"  # off the normally closed switch: 1
     # the world's home window starts at 1234 counts: the zero is its lower edge
     assert controller.world_view().reading("0").position == 1234 - 34  # type: ignore[attr-defined]
 

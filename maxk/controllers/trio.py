@@ -33,6 +33,7 @@ from maxk.commands.trio.session import TrioCommandLine
 from maxk.commands.trio.system import ProgramCommands
 from maxk.controllers.contract import ConsoleBase, Notify, Transport, VirtualTime
 from maxk.controllers.world_view import AxisReading, WorldView
+from maxk.firmware_model.world import EncoderMount
 from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
@@ -404,6 +405,37 @@ class MC405WorldView(WorldView):
 
     def input_level(self, number: int) -> bool:
         return self.machine.digital_input(number)  # as IN(n) reads it
+
+    def set_shaft_encoder(self, name: str, motor: str | None,
+                          counts_per_step: float = 1.0) -> None:
+        """The encoder input of axis `name` reads an encoder on axis `motor`'s motor
+        (a stepper with a shaft encoder wired to a second axis); None: no such encoder."""
+        axis = self.index(name)
+        if motor is None:
+            self.world.encoders.pop(axis, None)
+        else:
+            if not math.isfinite(counts_per_step) or counts_per_step == 0:
+                raise ValueError("counts per step is a number other than 0")
+            self.world.encoders[axis] = EncoderMount(self.index(motor), counts_per_step)
+        self.changed()
+
+    def extra_setting(self, name: str | None, words: list[str]) -> str | None:
+        """`@world N shaft-encoder M [COUNTS_PER_STEP]`: axis N's encoder input reads an
+        encoder on axis M's motor (`none`: it reads none)."""
+        if name is None or not words or words[0].lower() != "shaft-encoder":
+            return None
+        args = words[1:]
+        if len(args) == 1 and args[0].lower() == "none":
+            self.set_shaft_encoder(name, None)
+            return f"{name} shaft-encoder none"
+        if len(args) not in (1, 2):
+            raise ValueError("shaft-encoder MOTOR_AXIS [COUNTS_PER_STEP] or shaft-encoder none")
+        try:
+            ratio = float(args[1]) if len(args) == 2 else 1.0
+        except ValueError:
+            raise ValueError(f"counts per step: {args[1][:12]!r} is no number") from None
+        self.set_shaft_encoder(name, args[0], ratio)
+        return f"{name} shaft-encoder {' '.join(args)}"
 
     def output_level(self, number: int) -> bool | None:
         return self.machine.output(number) if number in MC405_INPUTS else None

@@ -163,6 +163,20 @@ class AxisWorld:
         return (steps - self.index_offset) % self.index_period < self.index_width
 
 
+@dataclass(frozen=True)
+class EncoderMount:
+    """An encoder on the shaft of another axis's motor (a stepper with an encoder
+    feeding the controller's encoder input on a second axis). It reads the motor's
+    physical steps (the steps a missed-steps fault lost are not turned) times
+    `counts_per_step`, negative when it counts the other way."""
+
+    motor: int  # the axis whose motor the encoder turns with
+    counts_per_step: float = 1.0
+
+    def counts(self, motor_steps: float) -> float:
+        return motor_steps * self.counts_per_step
+
+
 InputSource = Callable[["Board"], float]
 """A digital or analog source: called with the board, returns a level (bool-ish or volts)."""
 
@@ -177,6 +191,8 @@ class World:
     # the controller's digital outputs, as it last drove them (bit -> level): written by a
     # personality that keeps its outputs in the world (the MM4005's SB), read by every door
     outputs: dict[int, bool] = field(default_factory=dict)
+    encoders: dict[int, EncoderMount] = field(default_factory=dict)  # encoder input (axis)
+    # -> the motor it is mounted on (none: an axis's encoder is its own, as before)
 
     @classmethod
     def default(cls, axis_count: int) -> World:

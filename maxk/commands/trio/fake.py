@@ -67,6 +67,7 @@ class FakeTrioMachine:
         self._counts = [0] * axis_count  # PWM encoder baseline, counts
         self.queues: list[deque[_Move]] = [deque() for _ in range(axis_count)]
         self.inputs: dict[int, bool] = {}  # IN(n) levels a test sets
+        self.inverted: set[int] = set()  # INVERT_IN(n, ON)
         self.analog: dict[int, float] = {}  # AIN(n) volts a test sets
         self.outputs: dict[int, bool] = {}
         self.connpaths: dict[int, tuple[int, float]] = {}
@@ -106,7 +107,7 @@ class FakeTrioMachine:
         params = self.axis_params[axis]
         bits = 0
         for name, bit in (("FWD_IN", 16), ("REV_IN", 32)):
-            if 0 <= params[name] < 32 and self.digital_input(int(params[name])):
+            if 0 <= params[name] < 32 and self.input_function(int(params[name])):
                 bits |= bit
         if self.dpos[axis] > params["FS_LIMIT"]:
             bits |= 512
@@ -271,7 +272,27 @@ class FakeTrioMachine:
             del self.cams[axis]
 
     def digital_input(self, number: int) -> bool:
-        return self.inputs.get(number, False)
+        """A level a test sets; else an input FWD_IN/REV_IN/DATUM_IN names reads 1 (its
+        normally closed switch, never reached: the fake has no stage), any other 0;
+        inverted by INVERT_IN."""
+        if number in self.inputs:
+            level = self.inputs[number]
+        else:
+            level = any(params[name] == number for params in self.axis_params
+                        for name in ("FWD_IN", "REV_IN", "DATUM_IN"))
+        return level != (number in self.inverted)
+
+    def input_function(self, number: int) -> bool:
+        return not self.digital_input(number)
+
+    def invert_input(self, number: int, on: bool) -> None:
+        if on:
+            self.inverted.add(number)
+        else:
+            self.inverted.discard(number)
+
+    def input_inverted(self, number: int) -> bool:
+        return number in self.inverted
 
     def analog_input(self, channel: int) -> float:
         return self.analog.get(channel, 0.0)

@@ -12,11 +12,14 @@ rules (every argument checked before the machine acts), kept in one place.
 
 from __future__ import annotations
 
+import datetime
 import math
+import random
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from ...personalities.trio.memory import VR_COUNT
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -134,6 +137,7 @@ class ProcessContext:
     functions: Callable[[str, list[Argument]], Value] | None = None  # FUNCTIONs it calls
     memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
     held: int = 0  # their sum (PROGRAM_MEMORY)
+    rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
 
 
 class SystemHook(Protocol):
@@ -157,20 +161,32 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
 
     def file_text(self, name: str) -> str: ...
+
+    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None: ...
+
+    def trigger(self, repeat: bool) -> None: ...
 
 
 _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
     "SGN": lambda x: float((x > 0) - (x < 0)), "SQR": math.sqrt, "SIN": math.sin,
     "COS": math.cos, "TAN": math.tan, "ATAN": math.atan, "EXP": math.exp, "LN": math.log,
+    "ACOS": math.acos, "ASIN": math.asin,  # outside -1..1: 'Parameter out of range' (D)
+    "IS_NAN": lambda x: 0.0, "IS_INF": lambda x: 0.0,  # every value here is finite
 }
+_EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
+_DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")
+_CLOCK = frozenset({"TIME", "DATE", "DAY"})
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
-_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
+_RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
+_BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
+                           "INVERT_IN"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
 # modules), off unless set (D: real cells use numbers above 100 for their alarms)
@@ -221,10 +237,15 @@ def _str_arg(value: Value) -> str:
 
 
 def _chr(args: list[Value]) -> Value:
+    """CHR(n[, format]): format 0 a character 0..255, 1 the UTF-8 bytes of code point n
+    (each byte one character of the string, so the wire carries UTF-8: D)."""
     code = _int_arg(args[0])
-    if not 0 <= code <= 255:
-        raise TrioError("Parameter out of range")
-    return chr(code)
+    form = _int_arg(args[1]) if len(args) > 1 else 0
+    if form == 0 and 0 <= code <= 255:
+        return chr(code)
+    if form == 1 and 0 <= code <= 0x10FFFF and not 0xD800 <= code <= 0xDFFF:
+        return chr(code).encode("utf-8").decode("latin-1")
+    raise TrioError("Parameter out of range")
 
 
 def _hex(args: list[Value]) -> Value:
@@ -232,12 +253,32 @@ def _hex(args: list[Value]) -> Value:
     return f"{number & 0xFFFFFFFFFFFF if number < 0 else number:X}"
 
 
+def _asc(args: list[Value]) -> Value:
+    """ASC(s[, offset]): the code of the character at offset (from 0); 0 when the
+    string is empty or the offset is outside it (help page)."""
+    text = _str_arg(args[0])
+    offset = _int_arg(args[1]) if len(args) > 1 else 0
+    return float(ord(text[offset])) if 0 <= offset < len(text) else 0.0
+
+
+def _str(args: list[Value]) -> Value:
+    """STR(v[, precision[, width]]): v with precision decimals (default 5), right
+    aligned in width characters (0: as long as it takes) (help page)."""
+    value = Interpreter.number_value(args[0])
+    precision = _int_arg(args[1]) if len(args) > 1 else 5
+    width = _int_arg(args[2]) if len(args) > 2 else 0
+    if not 0 <= precision <= 20 or not 0 <= width <= MAX_STRING:
+        raise TrioError("Parameter out of range")
+    return _checked(f"{value:{width}.{precision}f}")
+
+
 def _mid(args: list[Value]) -> Value:
+    """MID(s, start[, length]): from index start (from 0, help page example)."""
     text, start = _str_arg(args[0]), _int_arg(args[1])
     count = _int_arg(args[2]) if len(args) > 2 else len(text)
-    if start < 1 or count < 0:
+    if start < 0 or count < 0:
         raise TrioError("Parameter out of range")
-    return text[start - 1:start - 1 + count]
+    return text[start:start + count]
 
 
 def _val(args: list[Value]) -> Value:
@@ -251,12 +292,28 @@ def _val(args: list[Value]) -> Value:
 
 
 def _instr(args: list[Value]) -> Value:
-    """INSTR([start,] text, find): 1-based position, 0 when absent."""
-    start = _int_arg(args[0]) if len(args) == 3 else 1
-    text, find = _str_arg(args[-2]), _str_arg(args[-1])
-    if start < 1:
+    """INSTR([offset,] text, find[, wildcard]): the index (from 0) of the first find at
+    or after offset, -1 when absent; wildcard, a one-character string or its code,
+    matches any character in find (help page)."""
+    offset = 0
+    if not isinstance(args[0], str):
+        offset, args = _int_arg(args[0]), args[1:]
+    if len(args) not in (2, 3):
+        raise TrioError("Syntax error")
+    text, find = _str_arg(args[0]), _str_arg(args[1])
+    wild: str | None = None
+    if len(args) == 3:
+        wild = args[2] if isinstance(args[2], str) else chr(_int_arg(args[2]) & 0x10FFFF)
+        if len(wild) != 1:
+            raise TrioError("Parameter out of range")
+    if offset < 0:
         raise TrioError("Parameter out of range")
-    return float(text.find(find, start - 1) + 1)
+    if wild is None:
+        return float(text.find(find, offset))
+    for place in range(offset, len(text) - len(find) + 1):
+        if all(f in (wild, c) for f, c in zip(find, text[place:place + len(find)], strict=True)):
+            return float(place)
+    return -1.0
 
 
 def _arity(low: int, high: int,
@@ -269,11 +326,9 @@ def _arity(low: int, high: int,
 
 
 _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
-    "CHR": _arity(1, 1, _chr),
+    "CHR": _arity(1, 2, _chr),
     "HEX": _arity(1, 1, _hex),
-    "ASC": _arity(1, 2, lambda a: float(ord(_str_arg(a[0])[_int_arg(a[1]) - 1
-                                                             if len(a) > 1 else 0]))
-                  if _str_arg(a[0]) else 0.0),
+    "ASC": _arity(1, 2, _asc),
     "LEN": _arity(1, 1, lambda a: float(len(_str_arg(a[0])))),
     "LEFT": _arity(2, 2, lambda a: _str_arg(a[0])[:max(0, _int_arg(a[1]))]),
     "RIGHT": _arity(2, 2, lambda a: _str_arg(a[0])[len(_str_arg(a[0])) - max(
@@ -281,9 +336,9 @@ _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
     "MID": _arity(2, 3, _mid),
     "UCASE": _arity(1, 1, lambda a: _str_arg(a[0]).upper()),
     "LCASE": _arity(1, 1, lambda a: _str_arg(a[0]).lower()),
-    "STR": _arity(1, 3, lambda a: _text(Interpreter.number_value(a[0]))),
+    "STR": _arity(1, 3, _str),
     "VAL": _arity(1, 1, _val),
-    "INSTR": _arity(2, 3, _instr),
+    "INSTR": _arity(2, 4, _instr),
 }
 
 
@@ -395,10 +450,18 @@ class Interpreter:
                 if expr.args else 0.0
         if name in ("DATE$", "TIME$", "DAY$"):
             return self.clock_text(name)
+        if name in _CLOCK:
+            return self.clock_value(name, [self.number(a, ctx) for a in expr.args])
+        if name in ("RND", "RNDF"):
+            return self.random_value(name, [self.number(a, ctx) for a in expr.args], ctx)
         if name in _BIT_COMMANDS:
             return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
             return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
+        if name == "VRSTRING":
+            if len(expr.args) != 1:
+                raise TrioError("Syntax error")
+            return self.vr_string(self._index(self.number(expr.args[0], ctx)))
         if name == "BASE":
             if expr.args:
                 raise TrioError("Syntax error")
@@ -415,7 +478,8 @@ class Interpreter:
             raise TrioError("Syntax error")
         try:
             if name in _MATH and len(numbers) == 1:
-                if name in ("SQR", "LN") and numbers[0] < (0 if name == "SQR" else 1e-308):
+                if name in ("SQR", "LN") and numbers[0] < (0 if name == "SQR" else 1e-308) \
+                        or name in ("ACOS", "ASIN") and abs(numbers[0]) > 1:
                     raise TrioError("Parameter out of range")
                 result = _MATH[name](numbers[0])
             elif name == "ATAN2" and len(numbers) == 2:
@@ -436,6 +500,18 @@ class Interpreter:
             raise TrioError("Arithmetic error")
         return float(result)
 
+    def vr_string(self, first: int) -> str:
+        """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
+        printable characters are kept (help page: codes 32..126 and 160..255, I)."""
+        out: list[str] = []
+        for index in range(first, min(first + MAX_STRING, VR_COUNT)):
+            code = int(self.machine.vr_read(index))
+            if code == 0:
+                break
+            if 32 <= code <= 126 or 160 <= code <= 255:
+                out.append(chr(code))
+        return "".join(out)
+
     def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
         """A FUNCTION's argument: a DIM array named alone goes by reference (the
         function's ``AS INTEGER()`` parameter), anything else by value."""
@@ -443,17 +519,73 @@ class Interpreter:
             return ctx.arrays[expr.name]
         return self.evaluate(expr, ctx)
 
+    def clock(self) -> datetime.datetime:
+        """The real time clock: power up is 00:00:00 on Saturday 01/01/2000 (D: the
+        emulator has no calendar of its own), then virtual time, plus what TIME = and
+        DATE = set it ahead by."""
+        seconds = self.machine.servo_tick() * self.machine.servo_period_us() / 1e6
+        return _EPOCH + datetime.timedelta(seconds=math.floor(seconds + self.hook.clock_offset))
+
     def clock_text(self, name: str) -> str:
-        """DATE$/TIME$/DAY$ from the virtual clock: power-up is 00:00:00 on Saturday
-        01/01/2000 (D: the emulator has no calendar of its own)."""
-        seconds = int(self.machine.servo_tick() * self.machine.servo_period_us() / 1e6)
-        days, rest = divmod(seconds, 86400)
+        """DATE$ (DD/MM/YYYY), TIME$ (HH:MM:SS), DAY$ from the real time clock."""
+        now = self.clock()
         if name == "TIME$":
-            return f"{rest // 3600:02d}:{rest % 3600 // 60:02d}:{rest % 60:02d}"
+            return now.strftime("%H:%M:%S")
         if name == "DAY$":
-            return ("Saturday", "Sunday", "Monday", "Tuesday", "Wednesday", "Thursday",
-                    "Friday")[days % 7]
-        return f"{1 + days % 28:02d}/01/2000"
+            return _DAYS[(now.weekday() + 1) % 7]
+        return now.strftime("%d/%m/%Y")
+
+    def clock_value(self, name: str, args: list[float]) -> float:
+        """TIME: seconds since midnight; DATE: days since 01/01/2000, DATE(0|1|2) the day,
+        month, year; DAY: 0..6, Sunday 0 (their help pages)."""
+        now = self.clock()
+        if name == "TIME" and not args:
+            return float(now.hour * 3600 + now.minute * 60 + now.second)
+        if name == "DAY" and not args:
+            return float((now.weekday() + 1) % 7)
+        if name == "DATE" and not args:
+            return float((now.date() - _EPOCH.date()).days)
+        if name == "DATE" and len(args) == 1 and args[0] in (0, 1, 2):
+            return float((now.day, now.month, now.year)[int(args[0])])
+        raise TrioError("Parameter out of range" if args else "Syntax error")
+
+    def set_clock(self, name: str, fields: list[float]) -> None:
+        """TIME = hh:mm:ss / DATE = dd:mm:yy (yy 00..99 or 2000..2099): the clock is set
+        ahead (or back) by the difference; nothing changes on a value out of range."""
+        if not all(f == int(f) for f in fields):
+            raise TrioError("Parameter out of range")
+        a, b, c = (int(f) for f in fields)
+        now = self.clock()
+        try:
+            if name == "TIME":
+                wanted = now.replace(hour=a, minute=b, second=c)
+            else:
+                year = 2000 + c if 0 <= c <= 99 else c
+                if not 2000 <= year <= 2099:
+                    raise ValueError
+                wanted = now.replace(year=year, month=b, day=a)
+        except ValueError:
+            raise TrioError("Parameter out of range") from None
+        self.hook.clock_offset += (wanted - now).total_seconds()
+
+    def random_value(self, name: str, args: list[float], ctx: ProcessContext) -> float:
+        """RND: an unsigned 32-bit integer, RND(n) 0..n-1, RND(a, b) a..b-1; RNDF: 0 <= x
+        < 1, RNDF(n) 0..n, RNDF(a, b) a..b (their help pages). Each process has its own
+        generator (RANDOMIZE's page); its seed is the process number and the servo tick
+        of its first draw (D: repeatable runs, yet each run of a program differs)."""
+        if ctx.rng is None:
+            ctx.rng = random.Random(ctx.process * 1_000_003 + self.machine.servo_tick())
+        if len(args) > 2:
+            raise TrioError("Syntax error")
+        low, high = (0.0, args[0]) if len(args) == 1 else (args[0], args[1]) if args else \
+            (0.0, 2.0 ** 32 if name == "RND" else 1.0)
+        if name == "RNDF":
+            if not low < high:
+                raise TrioError("Parameter out of range")
+            return low + ctx.rng.random() * (high - low)
+        if low != int(low) or high != int(high) or not low < high:
+            raise TrioError("Parameter out of range")
+        return float(ctx.rng.randrange(int(low), int(high)))
 
     def _channel(self, args: Sequence[Expr], ctx: ProcessContext) -> int:
         number = self.number(args[0], ctx)
@@ -766,6 +898,13 @@ class Interpreter:
     def assign(self, stmt: Assign, ctx: ProcessContext) -> None:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
+        if isinstance(target, Bit):  # x.n = v: bit n of x's integer part set (v <> 0)
+            mask = 1 << target.bit
+            word = int(self.number(target.operand, ctx))
+            word = word | mask if self.number_value(raw) != 0 else word & ~mask
+            assert isinstance(target.operand, (Var, Param, Call))
+            self.assign(Assign(target.operand, Num(float(word))), ctx)
+            return
         if isinstance(target, Var):
             name = target.name
             if name not in ctx.variables and name in self.hook.globals:
@@ -813,12 +952,18 @@ class Interpreter:
                 raise TrioError("Parameter out of range")  # (D) bounded
             self.hook.indexed[key] = value
             return
+        if keyword.name in ("AOUT0", "AOUT1", "AOUT2", "AOUT3"):  # AOUT(n) = v (page)
+            self.assign(Assign(Call("AOUT", (Num(float(keyword.name[-1])),)), Num(value)), ctx)
+            return
         if keyword.kind is Kind.SYSTEM_PARAMETER:
             keyword.check(value)
             self._act(lambda: self.machine.set_system_parameter(keyword.name, value))
             return
         axis = self.axis_of(target.axis, ctx)
         keyword.check(value)
+        if keyword.name == "UNITS" and value == 0 or keyword.name in _RATES and value > 0 \
+                and self.machine.axis_parameter("UNITS", axis) < 0:
+            raise TrioError("Parameter out of range")  # (see UNITS's table entry)
         if keyword.name == "OFFPOS":  # shifts the axis's positions, then reads 0 (I)
             dpos = self.machine.axis_parameter("DPOS", axis)
             self._act(lambda: self.machine.defpos([axis], [dpos + value]))
@@ -838,6 +983,21 @@ class Interpreter:
 
     def command(self, stmt: Command, ctx: ProcessContext) -> Wait:
         name = stmt.keyword.name
+        if name in ("TIME", "DATE") and len(stmt.args) == 3:
+            self.set_clock(name, [self.number(a, ctx) for a in stmt.args])
+            return
+        if name == "SCOPE":  # the parameters are sampled later: kept, not evaluated
+            head = [self.number(a, ctx) for a in stmt.args[:4]]
+            self.hook.set_scope(head, list(stmt.args[4:]), ctx)
+            return
+        if name == "TRIGGER":
+            self.hook.trigger(bool(stmt.args) and self.number(stmt.args[0], ctx) != 0)
+            return
+        if name == "RANDOMIZE":  # a seed given: a known sequence; none: a fresh one (D)
+            seed = [self.number(a, ctx) for a in stmt.args]
+            ctx.rng = random.Random(int(seed[0]) if seed else
+                                    ctx.process * 1_000_003 + self.machine.servo_tick() + 1)
+            return
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
             return
@@ -894,6 +1054,14 @@ class Interpreter:
         FLAG(n[, state]) / FLAGS([value]): the 24 user flags (I: manual; every argument
         checked before anything changes)."""
         m = self.machine
+        if name == "INVERT_IN":  # INVERT_IN(n) reads ON/OFF; INVERT_IN(n, state) sets
+            if len(args) not in (1, 2):
+                raise TrioError("Syntax error")
+            point = self._point(args[0], IO_SPACE)
+            if len(args) == 1:
+                return 1.0 if m.input_inverted(point) else 0.0
+            self._act(lambda: m.invert_input(point, args[1] != 0))
+            return -1.0  # the two-argument form as a function: TRUE (help page)
         if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
             if len(args) != 2:
                 raise TrioError("Syntax error")
@@ -978,18 +1146,19 @@ class Interpreter:
             raise TrioError("Parameter out of range")
         switch = int(wired)
         direction = 1 if mode in (3, 5) else -1
-        if not m.digital_input(switch):
+        on = m.input_function  # the datum input is active low (DATUM_IN's page)
+        if not on(switch):
             yield from self._forever(axis, direction)
-            while not m.digital_input(switch):
+            while not on(switch):
                 yield None  # the input is watched every servo cycle
             yield from self._stop_and_settle(axis)
         speed = m.axis_parameter("SPEED", axis)
         self._act(lambda: m.set_axis_parameter("SPEED", axis, m.axis_parameter("CREEP", axis)))
         try:
             yield from self._forever(axis, -direction)
-            while not m.digital_input(switch):
+            while not on(switch):
                 yield None  # back into the switch, when the fast search ran past it
-            while m.digital_input(switch):
+            while on(switch):
                 yield None
             yield from self._stop_and_settle(axis)
         finally:

@@ -10,7 +10,9 @@ sure we are (C certain, I inferred, D our decision, explained in ``note``). Sour
   ``atrio/tokentable``): each keyword's kind (axis/system parameter, command, function),
   argument counts and whether a parameter is writable;
 - ``manual``: the Trio Motion Coordinator technical reference manual (MC2xx editions);
-- ``public programs``: how public TrioBASIC programs for real controllers use a word.
+- ``public programs``: how public TrioBASIC programs for real controllers use a word;
+- ``help``: the TrioBASIC help, one page per keyword (syntax, parameters, examples), as
+  Motion Perfect ships it for the MC4xx/MC5xx controllers.
 
 Long module: a declarative table, one entry per keyword with its source and notes.
 """
@@ -67,6 +69,7 @@ TOK = "tokentable"
 REF = "ref"
 MAN = "manual"
 _BIG = 1e15
+HELP = "help"
 
 
 def _axis(name: str, summary: str, *, default: float = 0.0, writable: bool = True,
@@ -118,10 +121,20 @@ _ENTRIES: list[Keyword] = [
     _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
           "output on the Z channel.", default=43, value_range=(0, 255), source=f"{SEED}; {TOK}",
           confidence="I", note="Power-up 43, the seed's 'recommended default' (I). Any "
-          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35)."),
+          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35). "
+          "The encoder input types (76, 79, 86, 87, 88, 93, 104, 105: the help page) read "
+          "the world's encoder mounted on the axis's input as MPOS (I)."),
     _axis("UNITS", "Counts per user unit: positions, speeds and gate positions are scaled "
-          "by it.", default=1, value_range=(1e-9, _BIG), source=f"{MAN}; {TOK}",
-          note="0 and negatives are refused (D)."),
+          "by it.", default=1, value_range=(-_BIG, _BIG), source=f"{HELP}; {MAN}; {TOK}; "
+          "public programs", confidence="I",
+          note="0 is refused (D). A negative UNITS is taken (I: a calibration cell's "
+          "encoder axes run with UNITS -1.5625 to flip their sign): positions read with "
+          "the sign flipped, and while it is negative SPEED, ACCEL, DECEL, CREEP, FASTDEC "
+          "and JOGSPEED above 0 are 'Parameter out of range' (I: that cell's notes; the "
+          "controller keeps rates in counts). A move on such an axis is 'Parameter out "
+          "of range' (D: the planner takes no negative rate). An axis of an encoder input "
+          "type (ATYPE 76 ...) reads the world's encoder mounted on its input as MPOS "
+          "(see docs/trio.md, Encoder axes)."),
     _axis("SPEED", "Programmed speed of moves, user units/s.", default=1000,
           value_range=(0, _BIG), source=f"{MAN}; {TOK}", confidence="I",
           note="Power-up value 1000 is our decision (D)."),
@@ -314,9 +327,17 @@ _ENTRIES: list[Keyword] = [
     # ---- program handling ------------------------------------------------------------------
     _command("DIR", "List the programs.", (0, 1), source=REF,
              note="Header ending in dashes, one line per program, then OK (ref 5)."),
-    _command("SELECT", "Select (and create) a program: SELECT \"N\",type.", (1, 2),
-             source=REF, string_arg=True,
-             note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. Creates it when missing."),
+    _command("SELECT", "Select (and create) a program: SELECT \"N\"[,type] or SELECT N.",
+             (1, 2), source=f"{REF}; {HELP}; public uploader", string_arg=True,
+             confidence="I",
+             note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. A missing program is "
+             "created, a BASIC program (type 0) when no type is given (help page), even "
+             "named MC_CONFIG. An existing program is selected whatever its type; a type "
+             "given that differs is 'Program type mismatch' (page: the type of an existing "
+             "program cannot change). The previously selected program is not compiled "
+             "here (D: it compiles when run). The name may be unquoted "
+             "(a vendor-style uploader sends SELECT MC_CONFIG; I), as for every command "
+             "taking a program: a name that is no keyword, alone or before a comma."),
     _command("DEL", "Delete a program.", (0, 2), source=REF, string_arg=True),
     _command("LIST", "List a program's lines.", (0, 1), source=REF, string_arg=True),
     _command("NEW", "Clear the lines of a program.", (0, 1), source=TOK, string_arg=True,
@@ -378,9 +399,13 @@ _ENTRIES: list[Keyword] = [
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
     # ---- drives, limits and I/O (personalities/trio/drive.py) ----------------------------
     *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
-            value_range=(-1, 31), source=f"{TOK}; {MAN}", confidence="I",
-            note=f"IN(n) of that input reads the world's {switch} switch of this axis at its "
-            "position (unless the world drives input n itself)." + stop)
+            value_range=(-1, 31), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
+            note="The input is active low (its help page, C): the function is on while "
+            "IN(n) reads 0. IN(n) of that input reads the world's "
+            f"{switch} switch of this axis at its position, wired normally closed: 1 away "
+            "from it, 0 on it (D: as the pages' examples wire their sensors), unless the "
+            "world drives input n itself (then its level); INVERT_IN inverts both what IN "
+            "reads and the function." + stop)
       for name, what, switch, stop in (
           ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4)),
           ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5)),
@@ -520,21 +545,40 @@ _ENTRIES: list[Keyword] = [
     _system("PROCNUMBER", "The number of the process reading it.", writable=False),
     _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
     # ---- strings --------------------------------------------------------------------------
-    _function("CHR", "CHR(n): the one-character string of code n (0..255).", (1, 2)),
+    _function("CHR", "CHR(n[, format]): the character of code n: format 0 (default) "
+              "0..255, 1 a Unicode code point UTF-8 encoded.", (1, 2), source=f"{HELP}; {TOK}",
+              note="Format 1 gives the code point's UTF-8 bytes, one string character "
+              "each, so the wire carries UTF-8 (D)."),
     _function("HEX", "HEX(n): n in hexadecimal, upper case; negatives as 48-bit two's "
-              "complement (D).", (1, 1)),
-    _function("ASC", "ASC(s[, i]): the code of character i (1-based) of s.", (1, 2)),
-    _function("LEN", "LEN(s): characters in s.", (1, 1)),
-    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2)),
-    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2)),
-    _function("MID", "MID(s, start[, n]): n characters from start (1-based).", (2, 3)),
-    _function("UCASE", "UCASE(s): upper case.", (1, 1)),
-    _function("LCASE", "LCASE(s): lower case.", (1, 1)),
-    _function("STR", "STR(x): x as PRINT shows it.", (1, 3),
-              note="Width and decimals arguments are accepted and not applied (D)."),
-    _function("VAL", "VAL(s): the number s spells (0 when it spells none, I).", (1, 1)),
-    _function("INSTR", "INSTR([start,] s, find): the 1-based place of find in s, 0 if "
-              "absent.", (2, 4)),
+              "complement (D).", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("ASC", "ASC(s[, offset]): the code of the character at offset (from 0, "
+              "default 0); 0 for an empty string or an offset outside it.", (1, 2),
+              source=f"{HELP}; {TOK}"),
+    _function("LEN", "LEN(s): characters in s.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2), source=f"{HELP}; {TOK}"),
+    _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2),
+              source=f"{HELP}; {TOK}"),
+    _function("MID", "MID(s, start[, n]): n characters (default the rest) from index start "
+              "(from 0: the page's example takes MOTION at 5 of 'TRIO MOTION ...').", (2, 3),
+              source=f"{HELP}; {TOK}", note="A negative start or length is 'Parameter out "
+              "of range' (D)."),
+    _function("UCASE", "UCASE(s): upper case.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LCASE", "LCASE(s): lower case.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("STR", "STR(x[, precision[, width]]): x with precision decimals (default 5), "
+              "right aligned in width characters (default 0: unlimited).", (1, 3),
+              source=f"{HELP}; {TOK}", confidence="I",
+              note="Rounded as Python's fixed-point format rounds (I); precision above 20 "
+              "is 'Parameter out of range' (D)."),
+    _function("VAL", "VAL(s): the number s spells (0 when it spells none).", (1, 1),
+              source=f"{HELP}; {TOK}"),
+    _function("INSTR", "INSTR([offset,] s, find[, wildcard]): the index (from 0) of the "
+              "first find in s at or after offset, -1 if absent; wildcard (a one-character "
+              "string or its code) in find matches any character.", (2, 4),
+              source=f"{HELP}; {TOK}"),
+    _function("VRSTRING", "VRSTRING(n): the characters held one a VR from VR(n) up to the "
+              "first VR holding 0.", (1, 1), source=f"{HELP}; {TOK}", confidence="I",
+              note="Only printable characters are kept (page); printable is codes 32..126 "
+              "and 160..255 (I). At most 1024 characters (D)."),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
     _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "
@@ -589,6 +633,94 @@ _ENTRIES: list[Keyword] = [
              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
     _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
               confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("TIME", "TIME reads the real time clock's seconds since midnight; TIME = "
+             "hh:mm:ss sets it.", (0, 0), source=f"{HELP}; {TOK}", confidence="I",
+             note="The clock is virtual time from 00:00:00 on Saturday 01/01/2000 at power "
+             "up (D), set ahead or back by TIME = and DATE =; the three fields may be "
+             "expressions (page example 3). Shared by every process (I)."),
+    _command("DATE", "DATE reads the days since 01/01/2000 (0 that day), DATE(0|1|2) the "
+             "day, month, year; DATE = dd:mm:yy (or yyyy) sets it.", (0, 1),
+             source=f"{HELP}; {TOK}", confidence="I",
+             note="As TIME for the clock; years 2000..2099 only (page); a day the month "
+             "lacks is 'Parameter out of range' (D)."),
+    _command("DAY", "DAY: the day of the week, 0..6, Sunday 0.", (0, 0),
+             source=f"{HELP}; {TOK}", confidence="I", note="As TIME for the clock."),
+    _function("RND", "RND: a pseudo-random unsigned 32-bit integer; RND(n) 0..n-1; "
+              "RND(a, b) a..b-1.", (0, 2), source=f"{HELP}; {TOK}", confidence="I",
+              note="Each process has its own generator, seeded with its number and the "
+              "servo tick of its first draw (D: the page's 'varies with each execution', "
+              "yet an emulator run repeats); limits must be whole with a < b (D)."),
+    _function("RNDF", "RNDF: a pseudo-random number 0 <= x < 1; RNDF(n) 0..n; RNDF(a, b) "
+              "a..b (upper limit excluded).", (0, 2), source=HELP, confidence="I",
+              note="As RND."),
+    _command("RANDOMIZE", "RANDOMIZE(seed): this process's RND/RNDF sequence starts again "
+             "from seed; RANDOMIZE alone: from a fresh seed.", (0, 1), source=HELP,
+             confidence="I", note="The same seed gives the same sequence (page); the "
+             "generator is Python's (the values differ from a controller's: D)."),
+    _system("INPUTS0", "IN(0)..IN(15) as one number.", writable=False,
+            source=f"{HELP}; {TOK}", note="Read as IN reads each input."),
+    _system("INPUTS1", "IN(16)..IN(31) as one number.", writable=False,
+            source=f"{HELP}; {TOK}", note="As INPUTS0."),
+    _command("SCOPE", "SCOPE(ON, period, table_start, table_stop, p0[, ... p7]) arms a "
+             "capture of up to 8 parameters into TABLE; SCOPE(ON, period) changes the "
+             "period; SCOPE(OFF) disables it.", (1, 13), source=f"{HELP}; {TOK}",
+             confidence="I",
+             note="Each parameter has its own block of (stop - start) / n values, filled "
+             "one sample every period servo cycles from TRIGGER until full (page example "
+             "1). The parameters are expressions read at each sample with the BASE of the "
+             "process that set SCOPE (I). The FIFO form, SCOPE_DELAY and "
+             "SCOPE_CYCLE_COUNT are not modelled (D)."),
+    _command("TRIGGER", "TRIGGER[(auto)]: start the armed SCOPE; auto not 0: it starts "
+             "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
+             confidence="I", note="The first sample is taken on TRIGGER's own servo "
+             "cycle (D); after SCOPE(OFF) it starts nothing (page)."),
+    _system("SCOPE_POS", "The TABLE index the SCOPE stores its next sample at.",
+            writable=False, source=f"{HELP}; {TOK}", confidence="D",
+            note="In the first parameter's block (D). The token table has it writable; "
+            "writing is refused here (D)."),
+    _command("FILE", "FILE \"function\" [parameters]: the SD card's files (DETECT, DIR, "
+             "LOAD_PROGRAM ...); as a function TRUE when it succeeded.", (0, 0),
+             source=f"{HELP}; {TOK}", confidence="D",
+             note="The emulator has no SD card: FILE \"DETECT\" and every other function "
+             "read FALSE (0), as a card that is not there fails them; as a statement it does "
+             "nothing (D: the controller's terminal would report the error)."),
+    _command("TIMER", "TIMER(slot, output, pattern, time[, option]): outputs on (option 0, "
+             "default) or off (1) for time ms, then back.", (4, 5), source=f"{HELP}; {TOK}",
+             confidence="I",
+             note="Pattern 1: the output alone; another number: a bit array of outputs from "
+             "output up (page). The end falls on the servo cycle time ms is rounded up to "
+             "(D, as WA); a slot set again while it runs starts over (D). OP can change the "
+             "outputs meanwhile; the end sets them anyway (D)."),
+    _system("CONTROL", "The controller's ID: 405 for the MC405.", writable=False,
+            source=f"{HELP}; {TOK}", note="Never locked (1000 would be added, page): D."),
+    *[_function(name, f"{name}(x): the arc-{what} in radians.", (1, 1), source=HELP,
+                note="Outside -1..1: 'Parameter out of range' (D).")
+      for name, what in (("ACOS", "cosine, 0..PI"), ("ASIN", "sine, -PI/2..PI/2"))],
+    *[_function(name, f"{name}(x): TRUE when x is {what}.", (1, 1), source=HELP,
+                confidence="I", note="Every value the emulator holds is finite (its "
+                "arithmetic refuses the rest), so it reads FALSE (I).")
+      for name, what in (("IS_NAN", "not a number"), ("IS_INF", "infinite"))],
+    *[_system(f"{kind}{n}", f"{kind}{n}: {what}({n}) as a parameter.", writable=kind == "AOUT",
+              source=f"{HELP}; {TOK}", confidence="I", note="As the function reads it "
+              "(page: for SCOPE, which stores parameters); AINBI reads the same counts as "
+              "AIN (D: the world's inputs are signed volts)." if kind != "AOUT" else
+              "AOUTn = v is AOUT(n) = v.")
+      for kind, what in (("AIN", "AIN"), ("AINBI", "AIN"), ("AOUT", "AOUT"))
+      for n in range(4)],
+    *[_system(name, f"{name}: the number of {what} (the highest + 1).", writable=False,
+              source=f"{HELP}; {TOK}", confidence="D",
+              note="32: the I/O points the emulator's IN and OP address (D).")
+      for name, what in (("NIN", "inputs"), ("NOP", "outputs"))],
+    _command("INVERT_IN", "INVERT_IN(n, state) inverts input n in software (ON) or not "
+             "(OFF); INVERT_IN(n) reads its state, ON (1) or OFF (0).", (1, 2),
+             source=f"{HELP}; {TOK}", confidence="I",
+             note="IN(n) reads the inverted level, and so do the functions the input drives "
+             "(FWD_IN, REV_IN, DATUM_IN: active low, so an inverted input wired to a "
+             "normally open sensor makes them active high, as the pages' examples do). "
+             "The two-argument form as a function returns TRUE (page). Not saved: none is "
+             "inverted at power up (D). An inverted limit input wired to a world switch is "
+             "on everywhere but at the switch: a move into it is cancelled as it starts, "
+             "and it is looked at on every event, not found to the tick (D)."),
     _command("FLAG", "FLAG(n, state) sets user flag n (0..23); FLAG(n) reads it.", (1, 2),
              confidence="I", source=f"{TOK}; {MAN}",
              note="Reads TRUE (-1) or FALSE; the flags start clear and are shared by every "
@@ -640,6 +772,30 @@ _STATEMENT_NOTE = ("Handled by the parser and the process runner; the form is fr
                    "token table and public programs (I).")
 
 
+_FIELDBUS = ("ETHERCAT", "ECAT_", "AUTO_ETHERCAT", "CAN", "CO_", "SERCOS", "RTEX", "DEVICENET",
+             "ANYBUS", "MODBUS", "ETHERNET", "IP_", "HLM_", "HLS_", "NW_", "NODE_", "DRIVE_",
+             "REMOTE", "GET_EIP", "SET_EIP", "PROTOCOL", "COMMS", "PLC_", "DLINK", "SLOT")
+_FIRMWARE = ("FLASH", "EPROM", "FPGA_", "BOOT_LOADER", "LOADSYSTEM", "LOAD_PROJECT", "STICK_",
+             "SD_", "ZIP_READ", "TEXT_FILE_LOADER", "BREAK_", "TRON", "TROFF", "STEPINTO",
+             "STEPLINE", "DUMP", "CPU_", "FPU_", "SERIAL_NUMBER", "FEATURE_ENABLE", "LOCK",
+             "UNLOCK", "IS_ENCRYPTION", "SET_ENCRYPTION", "VALIDATE_ENCRYPTION", "PROJECT_",
+             "HMI_", "LCDSTR", "DISPLAY", "UNIT_", "PEEK", "POKE", "FREE", "SYSTEM_LOAD",
+             "TRIOPCTEST", "PENDANT", "USER_PID", "CUSTOM_FUNC", "FUNCTION_LIST", "EXEC")
+
+
+def _why_not(name: str) -> str:
+    """Why a token-table word is only accepted: a fieldbus or network word, or one of
+    firmware, files, memory and debugging, has no effect an emulated machine shows; any
+    other word is simply not modelled yet."""
+    if name.startswith(_FIELDBUS):
+        return ("a fieldbus, network or drive-bus word: the emulator has no bus or remote "
+                "drive, so nothing it shows depends on it (D)")
+    if name.startswith(_FIRMWARE):
+        return ("firmware, files, memory, debugging or display: no effect an emulated "
+                "machine shows (D)")
+    return "not modelled yet: the machine does not act on it (D)"
+
+
 def _from_token_table() -> list[Keyword]:
     """Every token-table word without a hand-written entry: its kind and arity from the
     table, its effect "not modelled" (D) unless named above."""
@@ -656,8 +812,8 @@ def _from_token_table() -> list[Keyword]:
             out.append(_statement(name, _STATEMENTS[name], note=_STATEMENT_NOTE, confidence="I"))
         elif tag == "V":
             scope, access = int(fields[2]), fields[3]
-            note = ("Not modelled: stored and read back, no effect on the machine (D)."
-                    if access == "w" else "Not modelled: reads 0 (D).")
+            note = ("Not modelled: stored and read back, no effect on the machine; "
+                    if access == "w" else "Not modelled: reads 0; ") + _why_not(name) + "."
             make = _axis if scope == 1 else _system
             out.append(make(name, f"Token-table {'axis' if scope == 1 else 'system'} "
                             f"parameter.", writable=access == "w", confidence="D", note=note))
@@ -665,17 +821,20 @@ def _from_token_table() -> list[Keyword]:
             kind, low, high, modifier = fields[2], int(fields[3]), int(fields[4]), fields[5]
             if kind == "f":
                 out.append(_function(name, "Token-table function.", (low, high),
-                                     confidence="D", note="Not modelled: returns 0 (D)."))
+                                     confidence="D",
+                                     note=f"Not modelled: returns 0; {_why_not(name)}."))
             elif kind == "o":
                 out.append(Keyword(name, Kind.OPERATOR, "Operator.", TOK))
             else:
                 out.append(_command(name, "Token-table command.", (low, high),
                                     axis=modifier == "1", confidence="D",
-                                    note="Not modelled: accepted, no effect on the machine "
-                                    "(D); as a function it returns 0."))
+                                    note="Not modelled: accepted, no effect on the machine, "
+                                    f"as a function it returns 0; {_why_not(name)}."))
         elif tag == "M":
             out.append(Keyword(name, Kind.MODIFIER, f"{name}(n) modifier.", TOK, "C",
-                               "Not modelled beyond AXIS(n): accepted, ignored (D).",
+                               "Not modelled: SLOT(n) and PORT(n) keep a parameter's "
+                               "value per number; the emulator has no module slots or "
+                               "ports to act on (D).",
                                args=(1, 1)))
         elif tag == "T":
             out.append(_constant(name, float(fields[2])))

@@ -139,7 +139,21 @@ class TrioMachine(Protocol):
     # ---- I/O ------------------------------------------------------------------------
     def digital_input(self, number: int) -> bool:
         """IN(n): the input's level (the world's input, or the limit/home switch of an
-        axis whose FWD_IN/REV_IN/DATUM_IN names it)."""
+        axis whose FWD_IN/REV_IN/DATUM_IN names it, normally closed), inverted when
+        INVERT_IN says so."""
+        ...
+
+    def input_function(self, number: int) -> bool:
+        """The function an input drives (a limit, the datum, feed hold) is on: those
+        inputs are active low, on while IN(n) reads 0."""
+        ...
+
+    def invert_input(self, number: int, on: bool) -> None:
+        """INVERT_IN(n, state)."""
+        ...
+
+    def input_inverted(self, number: int) -> bool:
+        """INVERT_IN(n): is input n inverted?"""
         ...
 
     def analog_input(self, channel: int) -> float:

@@ -15,6 +15,7 @@ Long module: one recursive-descent parser for every statement form of the langua
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeVar
 
 from .keywords import Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
@@ -215,9 +216,12 @@ class WaitLoaded:
     axis: Expr | None
 
 
+_Target = TypeVar("_Target", "Var", "Param", "Call")
+
+
 @dataclass(frozen=True)
 class Assign:
-    target: Var | Param | Call  # Call: VR(i) or a user array element
+    target: Var | Param | Call | Bit  # Call: VR(i) or a user array element; Bit: x.n
     value: Expr
 
 
@@ -430,10 +434,19 @@ class _Parser:
             self.advance()
             return self.on_jump()
         self.advance()
+        if name in ("TIME", "DATE") and self.at_op("="):  # TIME = hh:mm:ss, DATE = dd:mm:yy
+            self.advance()
+            fields = [self.expression()]
+            for _ in range(2):
+                self.expect_op(":")
+                fields.append(self.expression())
+            return Command(keyword, tuple(fields), None)
         if keyword.kind is Kind.STATEMENT:
             return self.block_or_statement(name)
         if name in _CHANNEL_STATEMENTS:
             return self.channel_statement(name)
+        if name == "FILE":  # FILE "function" [parameters] (FILE's page)
+            return Command(keyword, self.file_args(), None)
         if keyword.kind is Kind.COMMAND:
             command = self.command(keyword)
             if self.at_op("=") and command.args:  # AOUT(n) = value
@@ -443,15 +456,16 @@ class _Parser:
         if name in _PARAM_COMMANDS and self.at_op("("):
             return self.command(keyword)
         if keyword.kind in (Kind.AXIS_PARAMETER, Kind.SYSTEM_PARAMETER):
-            target = self.parameter(keyword)
+            target = self.bit_target(self.parameter(keyword))
             self.expect_op("=")
             return Assign(target, self.expression())
         if name == "VR":
             self.expect_op("(")
             index = self.expression()
             self.expect_op(")")
+            vr = self.bit_target(Call("VR", (index,)))
             self.expect_op("=")
-            return Assign(Call("VR", (index,)), self.expression())
+            return Assign(vr, self.expression())
         if keyword.kind is Kind.FUNCTION:  # a function called for its effect: POKE(...)
             return Perform(Call(name, self.call_args(keyword)))
         raise TrioError("Syntax error")
@@ -464,14 +478,20 @@ class _Parser:
             return Label(name)
         if self.at_op("("):  # an element of a DIM array, or a FUNCTION called
             args = self.user_args()
+            element = self.bit_target(Call(name, args))
             if not self.at_op("="):
+                if isinstance(element, Bit):
+                    raise TrioError("Syntax error")
                 return Perform(Call(name, args))
             self.advance()
             if not args:
                 raise TrioError("Syntax error")
-            return Assign(Call(name, args), self.expression())
+            return Assign(element, self.expression())
+        variable = self.bit_target(Var(name))
         self.expect_op("=")
         value = self.expression()
+        if isinstance(variable, Bit):
+            return Assign(variable, value)
         if not self.at_op(","):
             return Assign(Var(name), value)
         values = [value]
@@ -536,7 +556,10 @@ class _Parser:
             self.advance()
             if not self.at_name(*CHANNEL_MODES):
                 raise TrioError("Syntax error")
-            return Channel("OPEN", channel, file_name, self.advance().text)
+            mode = self.advance().text
+            if self.at_op("("):  # OUTPUT(mode), FIFO_WRITE(size[, mode[, end]]): OPEN's
+                self.user_args()  # page; the emulator's files need none of them (D)
+            return Channel("OPEN", channel, file_name, mode)
         if name == "CLOSE":
             return Channel("CLOSE", channel)
         if channel is not None:
@@ -741,14 +764,19 @@ class _Parser:
             if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
             kind = self.advance().text
-            if kind == "STRING":
+            if kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
                 self.expect_op("(")
-                number = self.advance()
-                if number.kind is not Tok.NUMBER or not 0 < number.value <= 1024 \
-                        or number.value != int(number.value):
+                fields = [self.expression()]
+                while self.at_op(","):
+                    self.advance()
+                    fields.append(self.expression())
+                self.expect_op(")")
+                number = fields[-1]
+                if not isinstance(number, Num) or not 0 < number.value <= 1024 \
+                        or number.value != int(number.value) or len(fields) > 1 and sizes:
                     raise TrioError("Syntax error")
                 length = int(number.value)
-                self.expect_op(")")
+                sizes = sizes or tuple(fields[:-1])
             if self.at_op("("):  # DIM a AS INTEGER(8): the size after the type
                 if sizes:
                     raise TrioError("Syntax error")
@@ -815,7 +843,12 @@ class _Parser:
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
-        if self.at_op("("):
+        if keyword.string_arg and self.bare_program_name():
+            args.append(Str(self.advance().text))  # SELECT MC_CONFIG: a name unquoted
+            while self.at_op(","):
+                self.advance()
+                args.append(self.expression())
+        elif self.at_op("("):
             self.advance()
             if not self.at_op(")"):
                 args.append(self.expression())
@@ -833,6 +866,30 @@ class _Parser:
         if not low <= len(args) <= high:
             raise TrioError("Syntax error")
         return Command(keyword, tuple(args), axis)
+
+    def file_args(self) -> tuple[Expr, ...]:
+        """FILE's function name and its parameters, commas between them optional (the
+        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index)."""
+        if self.tok.kind is not Tok.STRING:
+            raise TrioError("Syntax error")
+        args: list[Expr] = [Str(self.advance().text)]
+        while self.at_op(",") or self.tok.kind is Tok.STRING:
+            if self.at_op(","):
+                self.advance()
+            args.append(self.expression())
+        return tuple(args)
+
+    def bare_program_name(self) -> bool:
+        """A program named without quotes, as a command line takes it (``SELECT
+        MC_CONFIG``, a vendor uploader's form; I): a name that is no keyword, alone or
+        before a comma. A variable holding a number is never a program, so nothing that
+        parsed before changes meaning."""
+        tok = self.tok
+        if tok.kind is not Tok.NAME:
+            return False
+        after = self.tokens[self.pos + 1]
+        return lookup(tok.text) is None and (
+            after.kind is Tok.END or after.kind is Tok.OP and after.text in (",", ":"))
 
     def axis_modifier(self) -> Expr | None:
         if not self.at_name("AXIS"):
@@ -939,7 +996,7 @@ class _Parser:
     def operand(self) -> Expr:
         tok = self.advance()
         if tok.kind is Tok.NUMBER:
-            return Num(tok.value)
+            return Num(self.dotted_address(tok))
         if tok.kind is Tok.STRING:
             return Str(tok.text)
         if tok.kind is Tok.OP and tok.text == "(":
@@ -959,6 +1016,8 @@ class _Parser:
             return self.parameter(keyword)
         if tok.text in _BARE_READS and not self.at_op("("):  # OP alone: outputs 0..31
             return Call(tok.text, ())
+        if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
+            return Call("FILE", self.file_args())
         if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
             self.advance()
             return Call("KEY", (self.unary(),))
@@ -966,6 +1025,42 @@ class _Parser:
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
         raise TrioError("Syntax error")
+
+    def dotted_address(self, tok: Token) -> float:
+        """``192.168.0.250``: four dotted fields written together are one network
+        address, the 32-bit number a*2^24 + b*2^16 + c*2^8 + d (D: the manual sets
+        IP_ADDRESS this way; the number it stands for is ours). Anything else is the
+        number itself."""
+        first = tok.text.split(".")
+        rest = self.tokens[self.pos:self.pos + 2]
+        if len(first) != 2 or not all(f.isdigit() for f in first) or len(rest) < 2 or \
+                not all(t.kind is Tok.NUMBER and t.text[:1] == "." and t.text[1:].isdigit()
+                        for t in rest) or \
+                rest[0].column != tok.column + len(tok.text) or \
+                rest[1].column != rest[0].column + len(rest[0].text):
+            return tok.value
+        self.advance()
+        self.advance()
+        fields = [int(f) for f in first] + [int(t.text[1:]) for t in rest]
+        if any(f > 255 for f in fields):
+            raise TrioError("Parameter out of range")
+        return float((fields[0] << 24) | (fields[1] << 16) | (fields[2] << 8) | fields[3])
+
+    def bit_target(self, target: _Target) -> _Target | Bit:
+        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
+        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+        tok = self.tok
+        if tok.kind is not Tok.NUMBER or tok.text[:1] != "." or not tok.text[1:].isdigit():
+            return target
+        self.advance()
+        bit = int(tok.text[1:])
+        if bit > 52:
+            raise TrioError("Parameter out of range")
+        if isinstance(target, Param) and target.axis is None and \
+                target.keyword.axis_modifier and self.at_name("AXIS"):
+            return Bit(Param(target.keyword, self.axis_modifier(), target.process,
+                             target.slot, target.index), bit)
+        return Bit(target, bit)
 
     def call_args(self, keyword: Keyword) -> tuple[Expr, ...]:
         if keyword.string_arg and self.tok.kind is Tok.STRING:

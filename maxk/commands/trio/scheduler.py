@@ -67,12 +67,14 @@ class ProcessScheduler:
         ticks = [self._when(t.due, t.seen, now) for t in self.runtime.tasks.values()]
         ticks += [self._when(s.busy_due, s.busy_seen, now) for s in self.sessions if s.waiting]
         ticks += [now + 1 for s in self.sessions if s.backlog and not s.waiting]
+        ticks.append(self.runtime.next_timer())  # a TIMER's outputs change on its tick
         found = [t for t in ticks if t is not None]
         return min(found) if found else None
 
     def on_event(self, now: int) -> None:
         self.sessions = [s for s in self.sessions if not s.closed]
         runtime = self.runtime
+        runtime.run_timers()
         for process, task in sorted(runtime.tasks.items()):
             if runtime.tasks.get(process) is not task:
                 continue  # stopped by a process before it this cycle

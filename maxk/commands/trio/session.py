@@ -41,8 +41,9 @@ LINE_LIMIT = 1024  # characters in one command line (D)
 RESUME_SLICE = 2048  # held input handled a servo cycle once a wait has ended, to a line end (D)
 HEAR_LIMIT = 1 << 20  # unread output past which program PRINTs are not kept for a host (D)
 _IAC, _SB, _SE = 0xFF, 0xFA, 0xF0
-_EDIT = re.compile(r"!([A-Za-z0-9_]+),(\d+)([RID])(.*)", re.DOTALL)
-_EDIT_CONTROL = re.compile(r"!([A-Za-z0-9_]+),([A-Z])")
+_EDIT = re.compile(r"!([A-Za-z0-9_]+),(\d+) *([RID]),?(.*)", re.DOTALL)
+_EDIT_LIST = re.compile(r"!([A-Za-z0-9_]+),(\d+),(\d+) *L *")
+_EDIT_CONTROL = re.compile(r"!([A-Za-z0-9_]+), *([A-Z]) *")
 _EX = re.compile(r"\s*EX\s*(\(\s*\d*\s*\))?\s*", re.IGNORECASE)
 
 
@@ -274,13 +275,28 @@ class TrioCommandLine(LineSession):
         self._out += PROMPT
 
     def _edit(self, line: str) -> None:
-        """atrio's program download: ``!NAME,nR<text>`` per line, ``!NAME,M``, ``!NAME,Z``."""
+        """The line editor's forms (program download and inspection):
+        ``!NAME,n R text`` replaces line n (appends at the end), ``!NAME,n I text``
+        inserts before line n, ``!NAME,n D`` deletes line n, ``!NAME,N`` prints the line
+        count, ``!NAME,a,b L`` lists lines a to b, ``!NAME,M`` / ``!NAME,Z`` end a
+        download. atrio sends ``!N,3RPRINT 1``; a vendor uploader sends ``!N,3I,PRINT 1``
+        and ``!N,0,10L``: spaces before the letter and one comma after it separate, they
+        are not the line's text (I: a BASIC line never starts with a comma)."""
         match = _EDIT.fullmatch(line)
         if match:
             name, number, action, text = match.groups()
             self.system.edit(name, int(number), action, text)
             return
+        listing = _EDIT_LIST.fullmatch(line)
+        if listing:
+            name, first, last = listing.groups()
+            for text in self.system.edit_lines(name, int(first), int(last)):
+                self._print(text + "\r\n")
+            return
         control = _EDIT_CONTROL.fullmatch(line)
-        if control is None or control.group(2) not in ("M", "Z"):
+        if control is None or control.group(2) not in ("M", "Z", "N"):
             raise TrioError("Syntax error")
+        if control.group(2) == "N":
+            self._print(f"{self.system.edit_count(control.group(1))}\r\n")
+            return
         self.system.edit_control(control.group(1), control.group(2))

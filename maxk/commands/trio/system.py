@@ -8,17 +8,35 @@ processes, one task each, stepped once per servo cycle in process order.
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
+from dataclasses import dataclass
 
+from ...personalities.trio.memory import TABLE_SIZE
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
-from .parser import FunctionDef
+from .parser import Expr, FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
 
 PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 10)
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
+
+
+@dataclass
+class Scope:
+    """SCOPE(ON, period, table_start, table_stop, p0 ...): what it samples, where to.
+    Each parameter has its own block of (stop - start) / n TABLE values (the page's
+    example: two parameters over 0..1000 fill 0..499 and 500..999)."""
+
+    period: int  # servo cycles between samples
+    start: int
+    block: int  # samples each parameter has room for
+    params: list[Expr]
+    ctx: ProcessContext  # the axes BASE names when SCOPE was set
+    next_tick: int | None = None  # the next sample (None: not triggered, or done)
+    taken: int = 0  # samples stored since TRIGGER
+    repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
 
 
 class ProgramCommands:
@@ -41,6 +59,10 @@ class ProgramCommands:
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.command_lines: list[ProcessContext] = []  # each open session's own context
+        self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
+        self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
+        self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
+        # it ends, its outputs and the level they take then
 
     def memory_in_use(self, asking: ProcessContext) -> int:
         """What the DIMs of the controller's live contexts hold: its processes, the
@@ -62,6 +84,21 @@ class ProgramCommands:
     def system_parameter(self, name: str) -> float | None:
         if name in ("MPE", "FLASH_STATUS"):
             return 0.0
+        if name[:-1] in ("AIN", "AINBI", "AOUT") and name[-1] in "0123":
+            channel = int(name[-1])  # AIN(n), AOUT(n) as parameters (their page)
+            if name.startswith("AOUT"):
+                return self.analog_outputs.get(channel, 0.0)
+            return float(round(self.machine.analog_input(channel) / 10.0 * 2047))
+        if name in ("NIN", "NOP"):
+            return 32.0  # the I/O points IN and OP address here (D: as IN and OP take)
+        if name == "SCOPE_POS":
+            return self.scope_position()
+        if name == "CONTROL":
+            return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
+        if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
+            first = 0 if name == "INPUTS0" else 16
+            return float(sum(1 << k for k in range(16)
+                             if self.machine.digital_input(first + k)))
         if name == "CHECKSUM":
             crc = 0
             for program in self.programs.names():
@@ -113,8 +150,10 @@ class ProgramCommands:
         if len(args) == 2:
             program_type = _integer(args[1])
             info = self.programs.create(name, program_type)
-        else:
+        elif self.programs.exists(name):
             info = self.programs.get(name)
+        else:  # SELECT of a missing program creates it, a BASIC program (help page)
+            info = self.programs.create(name, 0)
         self.selected = info.name
 
     def cmd_del(self, args: list[Value]) -> None:
@@ -144,6 +183,15 @@ class ProgramCommands:
         self.programs.edit(program, number, action, text)
         self.compiled.pop(program, None)
         self.broken.discard(program)
+
+    def edit_count(self, name: str) -> int:
+        """``!NAME,N``: how many lines the program has."""
+        return len(self.programs.lines[self.programs.get(name).name])
+
+    def edit_lines(self, name: str, first: int, last: int) -> list[str]:
+        """``!NAME,a,bL``: lines a to b (from 0, b included, D), those that exist."""
+        lines = self.programs.lines[self.programs.get(name).name]
+        return lines[first:last + 1]
 
     def edit_control(self, name: str, action: str) -> None:
         """``!NAME,M`` / ``!NAME,Z``: end of a download; the store is already written (D)."""
@@ -290,8 +338,109 @@ class ProgramCommands:
         if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:
             self.output("0\r\n")  # no EtherCAT network: state 0 (D)
 
+    def cmd_timer(self, args: list[Value]) -> None:
+        """TIMER(slot, output, pattern, time[, option]): outputs on (option 0) or off
+        (option 1) now, back after `time` ms (TIMER's page); pattern 1 is the output
+        alone, another number a bit array of outputs from `output` up. The time is
+        rounded up to whole servo cycles (D, as WA); a slot set again while it runs
+        starts over (D)."""
+        slot, first, pattern, ms = (_number(a) for a in args[:4])
+        option = _number(args[4]) if len(args) > 4 else 0.0
+        period = self.machine.servo_period_us()
+        if not (0 <= slot <= 127 and 0 <= first <= 255 and 0 <= pattern <= 65535
+                and 0 <= ms <= 1e9 and option in (0, 1)) or \
+                any(v != int(v) for v in (slot, first, pattern)):
+            raise TrioError("Parameter out of range")
+        outputs = [int(first) + k for k in range(16) if int(pattern) >> k & 1]
+        if any(n > 255 for n in outputs):
+            raise TrioError("Parameter out of range")
+        start_level = option == 0
+        for n in outputs:
+            self.machine.set_output(n, start_level)
+        ticks = -(-int(ms * 1000) // period)
+        self.timers[int(slot)] = (self.machine.servo_tick() + ticks, outputs, not start_level)
+        self.run_timers()
+
+    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None:
+        """SCOPE(OFF); SCOPE(ON, period): a new period; SCOPE(ON, period, start, stop,
+        p0[, ... p7]): arm a capture of up to 8 parameters (SCOPE's page)."""
+        if args[0] == 0:
+            self.scope = None
+            return
+        period = args[1] if len(args) > 1 else 1.0
+        if period != int(period) or not 1 <= period <= 1e6:
+            raise TrioError("Parameter out of range")
+        if len(args) == 2:
+            if self.scope is None:
+                raise TrioError("Parameter out of range")
+            self.scope.period = int(period)
+            return
+        if len(args) != 4 or not 1 <= len(params) <= 8:
+            raise TrioError("Syntax error")
+        start, stop = args[2], args[3]
+        if start != int(start) or stop != int(stop) or not 0 <= start < stop <= TABLE_SIZE:
+            raise TrioError("Parameter out of range")
+        block = int(stop - start) // len(params)
+        if block < 1:
+            raise TrioError("Parameter out of range")
+        self.scope = Scope(int(period), int(start), block, params,
+                           ProcessContext(process=ctx.process, base=list(ctx.base)))
+
+    def trigger(self, repeat: bool) -> None:
+        """TRIGGER[(auto)]: the armed SCOPE samples from this servo cycle on (D: the
+        first sample is taken on the trigger's own cycle)."""
+        scope = self.scope
+        if scope is None:
+            return  # (disabled: TRIGGER starts nothing, the page's example 2)
+        scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
+        self.run_timers()
+
+    def scope_position(self) -> float:
+        """SCOPE_POS: the TABLE index the capture stores its next sample at (D: in the
+        first parameter's block)."""
+        scope = self.scope
+        return float(scope.start + scope.taken) if scope is not None else 0.0
+
+    def next_timer(self) -> int | None:
+        """The tick the next TIMER ends or the SCOPE samples (None: neither)."""
+        ticks = [end for end, _o, _l in self.timers.values()]
+        if self.scope is not None and self.scope.next_tick is not None:
+            ticks.append(self.scope.next_tick)
+        return min(ticks, default=None)
+
+    def _sample(self, now: int) -> None:
+        scope = self.scope
+        if scope is None or scope.next_tick is None or scope.next_tick > now:
+            return
+        assert self.interpreter is not None
+        values = [self.interpreter.number(p, scope.ctx) for p in scope.params]
+        for i, value in enumerate(values):
+            self.machine.table_write(scope.start + i * scope.block + scope.taken, [value])
+        scope.taken += 1
+        if scope.taken < scope.block:
+            scope.next_tick = now + scope.period
+        elif scope.repeat:
+            scope.taken, scope.next_tick = 0, now + scope.period
+        else:
+            scope.next_tick = None
+
+    def run_timers(self) -> None:
+        """End the TIMERs due by now (their outputs take their end level); take the
+        SCOPE's sample due now."""
+        now = self.machine.servo_tick()
+        try:
+            self._sample(now)
+        except TrioError:
+            self.scope = None  # a parameter it cannot read ends the capture (D)
+        for slot, (end, outputs, level) in sorted(self.timers.items()):
+            if end <= now:
+                del self.timers[slot]
+                for n in outputs:
+                    self.machine.set_output(n, level)
+
     def run_processes(self) -> None:
         """One servo cycle of every process, lowest number first."""
+        self.run_timers()
         for process in sorted(self.tasks):
             task = self.tasks.get(process)
             if task is None:

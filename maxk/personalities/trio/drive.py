@@ -3,9 +3,9 @@ errors, the drive enable and the Z-mark datum searches.
 
 What a Trio controller does, as docs/trio.md records it (source and confidence there):
 
-- **Limits**: an axis's forward limit is the input FWD_IN names (the world's plus-limit
-  switch of the axis, read through that input) and its forward software limit FS_LIMIT
-  (DPOS, user units); the reverse ones REV_IN and RS_LIMIT. A motion reaching one is found
+- **Limits**: the forward limit is on while FWD_IN's input reads 0 (active low, INVERT_IN
+  applied: the machine's `digital_input`) or DPOS is beyond FS_LIMIT (user units); the
+  reverse ones REV_IN and RS_LIMIT. A motion reaching one is found
   exactly to the servo tick by the shared machine (`MotionEnds`: a bisection over the
   motion's phases) and cancelled there: the axis ramps down at FASTDEC, or DECEL when
   FASTDEC is 0 (a path along itself at its ACCEL), so it stops a ramp's distance past the
@@ -62,6 +62,7 @@ class DriveHost(Protocol):
     tick: int
     period: float
     revision: int  # counts every change (a parameter, the world, a motion event)
+    inverted_inputs: set[int]  # INVERT_IN
 
     @property
     def axis_count(self) -> int: ...
@@ -142,7 +143,7 @@ class Drive:
         bits = self.latched[axis]
         for name, bit in (("FWD_IN", FWD_LIMIT), ("REV_IN", REV_LIMIT)):
             wired = params[name]
-            if 0 <= wired < INPUTS and m.digital_input(int(wired)):
+            if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
                 bits |= bit
         dpos = m.dpos(axis)
         if dpos > params["FS_LIMIT"]:
@@ -210,7 +211,7 @@ class Drive:
         a = m.axes[axis]
         params = a.params
         wired = params["FWD_IN" if direction > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and m.digital_input(int(wired)):
+        if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
             return True
         dpos = (a.steps + a.datum) / a.units
         if direction > 0:
@@ -270,7 +271,7 @@ class Drive:
         params = a.params
         found: list[float] = []
         wired = params["FWD_IN" if side > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and int(wired) not in m.world.digital:
+        if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
             stage = m.world.axes[axis.index]
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
@@ -296,7 +297,7 @@ class Drive:
         return (p["FWD_IN"], p["REV_IN"], p["FS_LIMIT"], p["RS_LIMIT"], a.units, a.datum,
                 stage.plus_limit, stage.plus_limit.fault, stage.minus_limit,
                 stage.minus_limit.fault, stage.lost_steps, bool(queue and queue[0].stopping),
-                frozenset(m.world.digital))
+                frozenset(m.world.digital), frozenset(m.inverted_inputs))
 
     def on_limit(self, axis: MotionAxis, side: int, tick: int) -> None:
         """A motion reached a limit: cancel the run there (a single axis ramps down at
@@ -377,8 +378,8 @@ class Drive:
             return False
         stage = m.world.axes[axis]
         switch = stage.plus_limit if direction > 0 else stage.minus_limit
-        if int(wired) in m.world.digital or switch.fault == STUCK_ACTIVE:
-            return m.digital_input(int(wired))
+        if int(wired) in (*m.world.digital, *m.inverted_inputs) or switch.fault == STUCK_ACTIVE:
+            return not m.digital_input(int(wired))
         return False
 
     def _masked(self, axis: int) -> int:

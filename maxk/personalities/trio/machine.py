@@ -66,6 +66,11 @@ DEFPOS moves only the frame DPOS reads; a 64-bit counter's range)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
+# Axis types that are an encoder input and nothing else (the ATYPE help page: 76
+# incremental encoder with Z input, 79 pulse and direction feedback, 86/87/88/93 absolute
+# encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
+# the encoder the world mounts on their input.
+ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
 
 
@@ -101,6 +106,7 @@ class MC405Machine(Kinematics, Engine):
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
+        self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
         if hasattr(self, "links"):
             self.links.reset()
         else:
@@ -182,6 +188,9 @@ class MC405Machine(Kinematics, Engine):
         return round(self.period * 1e6)
 
     def axis_parameter(self, name: str, axis: int) -> float:
+        if name in ("MPOS", "DPOS", "FE") and (counts := self.encoder_counts(axis)) is not None:
+            a = self.axes[axis]
+            return 0.0 if name == "FE" else (counts + a.datum) / a.units
         if name in _PWM_PARAMETERS:
             output = self.pwm[axis]
             if name == "PWM_CYCLE":
@@ -257,20 +266,56 @@ class MC405Machine(Kinematics, Engine):
 
     # ---- I/O on the shared world --------------------------------------------------------
     def digital_input(self, number: int) -> bool:
-        """IN(n): a level the world sets for input n; else the switch of an axis wired to
-        it by FWD_IN/REV_IN/DATUM_IN, at the axis's position (D: the world's per-axis
-        switches reach the controller through the inputs the program names)."""
+        """IN(n): the input's level, inverted when INVERT_IN(n, ON) says so. The level is
+        one the world sets for input n; else, for an input FWD_IN/REV_IN/DATUM_IN of an
+        axis names, that axis's world switch wired normally closed: 1 away from it, 0
+        on it (the help pages: the inputs of those functions are active low, and the
+        DATUM_IN page homes on a normally closed sensor; D: the world's switches are
+        wired as those pages expect); an input nothing drives reads 0."""
+        return self.raw_input(number) != (number in self.inverted_inputs)
+
+    def raw_input(self, number: int) -> bool:
+        """The input's level before INVERT_IN (see `digital_input`)."""
         if number in self.world.digital:
             return self.world.digital_level(number, self)  # type: ignore[arg-type]
+        wired = False
         for i, axis in enumerate(self.axes):
             params = axis.params
             for name, switch in (("FWD_IN", "plus_limit"), ("REV_IN", "minus_limit"),
                                  ("DATUM_IN", "home")):
                 if params.get(name, -1) == number:
+                    wired = True
                     stage = self.world.axes[i]
                     if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
-                        return True
-        return False
+                        return False  # the normally closed switch has opened
+        return wired
+
+    def input_function(self, number: int) -> bool:
+        """Is the function an input drives (FWD_IN, REV_IN, DATUM_IN, FHOLD_IN ...) on?
+        Those inputs are active low (help pages): on while IN(n) reads 0."""
+        return not self.digital_input(number)
+
+    def encoder_counts(self, axis: int) -> float | None:
+        """The counts of the encoder the world mounts on this axis's encoder input, when
+        the axis is an encoder input (ENCODER_ATYPES); None otherwise."""
+        mount = self.world.encoders.get(axis)
+        if mount is None or int(self.axes[axis].params["ATYPE"]) not in ENCODER_ATYPES:
+            return None
+        if not 0 <= mount.motor < self.axis_count:
+            return None
+        return mount.counts(self.demand(mount.motor) - self.world.axes[mount.motor].lost_steps)
+
+    def input_inverted(self, number: int) -> bool:
+        return number in self.inverted_inputs
+
+    def invert_input(self, number: int, on: bool) -> None:
+        """INVERT_IN(n, state)."""
+        if on:
+            self.inverted_inputs.add(number)
+        else:
+            self.inverted_inputs.discard(number)
+        self.changed()
+        self.drive.look(self.tick)
 
     def analog_input(self, channel: int) -> float:
         return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
@@ -293,7 +338,8 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")  # every axis checked, none changed
         for a, p in zip(axes, positions, strict=True):
             axis = self.axes[a]
-            axis.datum = p * axis.units - self.demand(a)  # DPOS reads p from now
+            counts = self.encoder_counts(a)  # an encoder input: its encoder reads p from now
+            axis.datum = p * axis.units - (self.demand(a) if counts is None else counts)
         self.changed()
         self.drive.look(self.tick)
 
