@@ -191,6 +191,12 @@ class FakeTrioMachine:
         self.cams[axis] = _Cam(int(start), int(end), multiplier, distance, int(link),
                                self.dpos[int(link)], self.dpos[axis])
 
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no multi-axis form)
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no registration)
+
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.pwm[axis].control(args, self.table, self.axis_params[axis]["UNITS"],
                                self._axis_count)

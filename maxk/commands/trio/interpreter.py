@@ -153,7 +153,8 @@ _MATH: dict[str, Callable[[float], float]] = {
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
-                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
+                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
+                               "REGIST"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
@@ -910,6 +911,16 @@ class Interpreter:
             self._act(lambda: m.movemodify(axis, args))
         elif name == "ADDAX":
             self._act(lambda: m.addax(axis, args))
+        elif name == "REGIST":  # arms a capture: never waits
+            self._act(lambda: m.regist(axis, args))
+        elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form
+            axes = base_array([axis], m.axis_count)[:int(args[1])] \
+                if args[1] == int(args[1]) and 1 <= args[1] <= m.axis_count else []
+            if not axes:
+                raise TrioError("Parameter out of range")
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.cambox_group(axes, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE

@@ -219,12 +219,25 @@ _ENTRIES: list[Keyword] = [
              "(D). The axis moves by ratio x the path distance (base user units) until "
              "CANCEL (D)."),
     _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
-             "end, multiplier, link distance, link axis[, options[, link position]]).",
-             (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}", confidence="I",
-             note="TABLE values are counts x multiplier, interpolated linearly over the "
-             "link distance; ends when the link axis has travelled it. Options other than "
-             "0 are refused (D), and so is a link axis that itself follows this axis "
-             "through CAMBOX links (D: a loop of links has no position)."),
+             "end, multiplier, link distance, link axis[, link options[, link pos[, offset "
+             "start]]]); CAMBOX(table start, axis count) loads several axes at once.",
+             (2, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}; help (CAMBOX page)",
+             confidence="C",
+             note="TABLE values offset by the first, times the multiplier (counts), "
+             "interpolated linearly over the link distance; ends on the servo tick the link "
+             "axis has travelled it (C). Link options (C: help page): 1/256 start on the "
+             "link axis's MARK/MARKB at REG_POS exactly (one captured before counts, D); 2 "
+             "at the absolute link position (already past: from where it is, D); 4 repeats "
+             "both ways, each cycle from where the last ended, until REP_OPTION bit 1; 8 "
+             "pattern mode (third argument the 7-value control block, stepped at each "
+             "shape's end with the link moving forward; backward patterns not modelled, "
+             "D); 128 starts offset start into the profile, the axis taken as there (no "
+             "jump, D); 8192 DPOS (the model follows DPOS always, D). 5/14 (forward-only "
+             "links), 512 (R_MARK) and reserved bits are 'Parameter out of range' (D). "
+             "Before a registration/absolute start the axis holds; a repeating CAMBOX "
+             "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
+             "an axis, on the base axis and the axes after it (I), all checked first (C). "
+             "A link axis that follows this axis is refused (D: no position)."),
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
@@ -243,16 +256,20 @@ _ENTRIES: list[Keyword] = [
     _command("MOVELINK", "MOVELINK(distance, link dist, link acc, link dec, link axis[, "
              "options[, link pos]]): move distance while the link axis travels link dist, "
              "ramping over its first link acc and last link dec.", (5, 13), axis=True,
-             source=f"{TOK}; {MAN}", confidence="I",
-             note="The axis's speed share of the link ramps linearly with the link's travel "
-             "(a parabola in position), constant between (I); link acc + link dec above "
-             "link dist are both shortened in proportion (I). It follows the link axis's "
-             "DEMAND position (D: the manual's link is the measured one) and ends on the "
+             source=f"{TOK}; {MAN}; help (MOVELINK page)", confidence="I",
+             note="The axis's speed share of the link ramps with the link's travel, "
+             "constant between (C); link acc + link dec above link dist are both shortened "
+             "in proportion (C). It follows the link axis's DEMAND position (D: the "
+             "manual's link is the measured one; bit 8192 asks for DPOS) and ends on the "
              "first servo tick the link has travelled link dist; the next MOVELINK "
              "buffered on the same link axis takes over at that exact link position (no "
-             "drift: I). Options: 2 starts when the link axis reaches link pos (already "
-             "past: from where it is, D), 4 repeats both ways until CANCEL; 1 (registration) "
-             "and others are refused (D). Buffered like a move (NTYPE 22). MTYPE 22."),
+             "drift: I). Options (C: help page): 1/256 start at the link axis's MARK/"
+             "MARKB REG_POS; 2 at the absolute link position link pos (already past: from "
+             "where it is, D); 4 repeats both ways until REP_OPTION bit 1; 16 curved "
+             "ramps, bits 10..12 the curve: 0 sine, 1/2/3 power 9/7/5 polynomial speed "
+             "(smoothstep polynomials, I), 4 linear. 32/16384 (forward-only), 512 "
+             "(R_MARK), base_dist and reserved bits: 'Parameter out of range' (D). "
+             "Buffered like a move (NTYPE 22). MTYPE 22."),
     _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
              "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
@@ -604,6 +621,33 @@ _ENTRIES: list[Keyword] = [
             "(D).", (-1, 1023)),
     Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
             args=(1, 1)),
+    # ---- registration (personalities/trio/registration.py) -------------------------------
+    _command("REGIST", "REGIST(mode) AXIS(n): arm one capture of the axis's position on a "
+             "registration edge.", (1, 7), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Modes (I: the MC2xx manual's table as recalled): 1/2 "
+             "Z mark rising/falling, 3/4 R input rising/falling into MARK/REG_POS; 5..8 "
+             "R (A) with the Z mark on MARKB/REG_POSB; 9 R rising (A) and falling (B). The "
+             "Z mark is the world's index marks of the axis, found to the servo tick on "
+             "the axis's own motion; REG_POS is the mark's exact count (the latch). The R "
+             "input of axis n is world digital input n (D), latched on the tick it "
+             "changes. The newer forms (20.., windows) are refused (D)."),
+    _axis("MARK", "TRUE once the capture REGIST armed has happened.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="C", note="FALSE from REGIST until the "
+          "edge; TRUE from the servo tick of the edge (registration.py)."),
+    _axis("MARKB", "TRUE once the capture of REGIST's second channel has happened.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As MARK, channel "
+          "B (REGIST modes 5..9)."),
+    _axis("REG_POS", "The position captured by the last registration (user units).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="C", note="The mark's exact "
+          "position, DEFPOS applied, in the axis's UNITS."),
+    _axis("REG_POSB", "The position captured by the second registration channel.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As REG_POS."),
+    _axis("REP_OPTION", "Repeat options: bit 1 set ends the repeating CAMBOX/MOVELINK at "
+          "the end of its cycle, and clears.", value_range=(0, 255),
+          source=f"{TOK}; help (CAMBOX, MOVELINK pages)", confidence="I",
+          note="Bit 1 acts on the repeating links running on the axis or linked to it "
+          "(D: the CAMBOX page's example sets it on the link axis) and reads 0 again (C). "
+          "Bit 0 (REP_DIST wrapping) is stored, not modelled (D)."),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),

@@ -116,7 +116,16 @@ class TrioMachine(Protocol):
         ...
 
     def cambox(self, axis: int, args: Sequence[float]) -> None:
-        """CAMBOX(start, end, multiplier, link distance, link axis[, options[, pos]])."""
+        """CAMBOX(start, end, multiplier, link distance, link axis[, options[, pos[,
+        offset]]])."""
+        ...
+
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """CAMBOX(table start, axis count) on these axes (the multi-axis loading form)."""
+        ...
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        """REGIST(mode) AXIS(n): arm a registration capture."""
         ...
 
     # ---- PWM and memory ---------------------------------------------------------------

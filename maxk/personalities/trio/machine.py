@@ -34,12 +34,14 @@ from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from . import moves
+from .cams import cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
+from .registration import Registration
 from .runs import (
     SHAPE,
     Cambox,
@@ -67,6 +69,7 @@ SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
 
 
 class MC405Machine(Kinematics, Engine):
@@ -90,6 +93,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
         self.add_source(self.links)  # MOVELINKs ending (links.py)
+        self.add_source(self.registration)  # Z-mark captures (registration.py)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -105,6 +109,10 @@ class MC405Machine(Kinematics, Engine):
             self.links.reset()
         else:
             self.links = LinkedMoves(self, MOVE_BUFFER)
+        if hasattr(self, "registration"):
+            self.registration.reset()
+        else:
+            self.registration: Registration = Registration(self)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         if hasattr(self, "drive"):
@@ -126,6 +134,7 @@ class MC405Machine(Kinematics, Engine):
     def world_changed(self) -> None:
         """The world moved a switch or an input: a limit it turns on acts now."""
         self.changed()
+        self.registration.world_changed()
         self.drive.look(self.tick)
 
     @property
@@ -198,6 +207,8 @@ class MC405Machine(Kinematics, Engine):
             return self.vp_speed(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
+        if name in _REGISTRATION_READS:
+            return self.registration.read(name, axis)
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
@@ -209,6 +220,9 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
+        elif name == "REP_OPTION" and int(value) & 2:
+            self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
+            self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)
         else:
             self.axes[axis].params[name] = value
         self.changed()
@@ -336,18 +350,40 @@ class MC405Machine(Kinematics, Engine):
         self._link(axis, link)
 
     def cambox(self, axis: int, args: Sequence[float]) -> None:
-        start, end, multiplier, distance, link_axis = args[:5]
-        if len(args) > 5 and args[5] != 0:
-            raise ValueError("CAMBOX options are not supported")
+        """CAMBOX on the axis, or its multi-axis loading form CAMBOX(table start, axis
+        count) (`cambox_group`): every option of the help page but bits 5 and 14."""
+        if len(args) < 5:
+            raise ValueError("Syntax error")
+        self._load_camboxes([(axis, self._cambox(axis, args))])
+
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """CAMBOX(table start, axis count): the axes' CAMBOXes from consecutive TABLE
+        values, 8 per axis; all checked before any is loaded (C: CAMBOX page)."""
+        start = args[0]
+        if start != int(start) or start < 0:
+            raise ValueError("Parameter out of range")
+        rows = multi_axis(int(start), len(axes), self.table.read)
+        self._load_camboxes([(a, self._cambox(a, row)) for a, row in zip(axes, rows,
+                                                                          strict=True)])
+
+    def _cambox(self, axis: int, args: Sequence[float]) -> Cambox:
+        link_axis = args[4]
         if link_axis != int(link_axis) or not 0 <= link_axis < self._axis_count \
                 or int(link_axis) == axis:
             raise ValueError("Invalid axis number")
-        if distance <= 0 or start != int(start) or end != int(end) or end <= start:
-            raise ValueError("Parameter out of range")
         if self.links.depends(int(link_axis), axis):
             raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
-        values = np.array(self.table.read_run(int(start), int(end)))
-        self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
+        return cambox_from(args, self.table.read, self.table.read_run)
+
+    def _load_camboxes(self, cams: list[tuple[int, Cambox]]) -> None:
+        if not all(self.can_load([a]) for a, _cam in cams):
+            raise ValueError("Parameter out of range")  # (a group waits for none: D)
+        for axis, cam in cams:
+            self._link(axis, cam)
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
+        self.registration.regist(axis, list(args))
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
@@ -546,8 +582,41 @@ class MC405Machine(Kinematics, Engine):
         if isinstance(link, Connpath):
             link.distance0 = float(self.path_distance(link.base, self._now())[0])
         else:
-            link.link_origin = self.dpos(link.link)
+            assert isinstance(link, Cambox)
+            self._start_cambox(link)
         self.axes[axis].link = link
+
+    def _start_cambox(self, cam: Cambox) -> None:
+        """A CAMBOX takes effect: from here, from its absolute link position (already
+        past it: from where the link is, D), or on its registration event (one already
+        captured on the link axis counts, D)."""
+        here = cam.origin
+        link_now = self.dpos(cam.link)
+        if cam.wait in ("MARK", "MARKB"):
+            reg = self.registration.axes[cam.link]
+            if reg.mark if cam.wait == "MARK" else reg.markb:
+                cam.start_at(reg.reg_pos if cam.wait == "MARK" else reg.reg_posb, here)
+                cam.held, cam.wait = True, None
+            return
+        if cam.wait is not None:
+            return  # R_MARK: no channel modelled reaches it (D)
+        if cam.start_pos is not None:
+            cam.start_at(max(cam.start_pos, link_now), here)
+            cam.held = True
+            return
+        cam.start_at(link_now, here)
+
+    def _cambox_done(self, axis: int) -> None:
+        """A CAMBOX reached its end: a pattern-mode one takes its next shape, else it
+        ends and what is buffered behind it starts."""
+        link = self.axes[axis].link
+        if isinstance(link, Cambox) and link.pattern is not None and next_pattern(
+                link, self.table.read, lambda i, v: self.table.write(i, [v])):
+            self.changed()
+            return
+        self._unlink(axis)
+        self.links.cancelled(axis)
+        self.changed()
 
     def _unlink(self, axis: int) -> None:
         a = self.axes[axis]
@@ -563,9 +632,7 @@ class MC405Machine(Kinematics, Engine):
         for a, axis in enumerate(self.axes):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
-                self._unlink(a)
-                self.links.cancelled(a)  # a linked move buffered behind it starts
-                self.changed()
+                self._cambox_done(a)  # a linked move buffered behind it starts
 
 
 class _MotionEvents:

@@ -180,30 +180,95 @@ class Connpath:
 
 @dataclass
 class Cambox:
-    """CAMBOX(start, end, multiplier, link distance, link axis) AXIS(n): while the link
-    axis travels `distance` user units from where it was, n follows the TABLE values
-    start..end (counts, times the multiplier), interpolated linearly."""
+    """CAMBOX(start, end, multiplier, link distance, link axis[, options[, link pos[,
+    offset start]]]) AXIS(n): while the link axis travels `distance` user units from
+    `link_origin`, n follows the TABLE values start..end, offset by the first value
+    (counts, times the multiplier), interpolated linearly.
+
+    Options (the CAMBOX help page): `repeat` (bit 2) runs the profile again and again,
+    both ways, each cycle going on from where the last ended; `wait` names the start
+    event a MARK (bit 0), MARKB (bit 8) or R_MARK (bit 9) start waits for, and until it
+    comes `link_origin` is None and the axis holds; `held` (bit 1 or a registration
+    start) keeps the axis at its start while the link is short of the start point;
+    `pattern` (bit 3) is the TABLE index of the control block whose pattern values
+    scale each cycle in turn (runs `pattern_cycle` and the machine's events)."""
 
     values: np.ndarray  # TABLE(start..end)
     multiplier: float
     distance: float  # link axis user units
     link: int
-    link_origin: float  # the link axis's DPOS when the CAMBOX started
-    origin: float  # n's demand position (counts) when it started
+    link_origin: float | None  # the link axis's DPOS where the profile's 0 is
+    origin: float  # n's demand position (counts) at the profile's 0
+    repeat: bool = False
+    wait: str | None = None  # "MARK", "MARKB", "R_MARK": the start event not yet come
+    held: bool = False  # holds at its start until the link reaches it
+    offset: float = 0.0  # bit 7: where in the link distance the profile starts
+    pattern: int | None = None  # bit 3: the control block's TABLE index
+    channel: int = 0  # bit 9: the R_MARK channel
+    start_pos: float | None = None  # bit 1: the link DPOS it starts at
 
-    def counts(self, travelled: np.ndarray) -> np.ndarray:
+    def __post_init__(self) -> None:
+        self.values = np.asarray(self.values, dtype=float) - float(self.values[0])
+
+    @property
+    def span(self) -> float:
+        """Counts moved over one whole profile."""
+        return self.multiplier * float(self.values[-1])
+
+    def shape(self, u: np.ndarray) -> np.ndarray:
+        """Counts after u (0..distance) of link travel, from the profile's start."""
         n = len(self.values)
-        x = np.clip(travelled / self.distance, 0.0, 1.0) * (n - 1)
-        return self.origin + self.multiplier * np.interp(x, np.arange(n), self.values)
+        x = np.clip(u / self.distance, 0.0, 1.0) * (n - 1)
+        return self.multiplier * np.interp(x, np.arange(n), self.values)
 
-    def slope(self, travelled: np.ndarray) -> np.ndarray:
+    def counts(self, link_dpos: np.ndarray) -> np.ndarray:
+        if self.link_origin is None:
+            return np.full(np.shape(link_dpos), self.origin)
+        u = link_dpos - self.link_origin
+        if self.repeat:
+            cycles = np.floor(u / self.distance)
+            out = self.origin + cycles * self.span + self.shape(u - cycles * self.distance)
+            if self.held:
+                out = np.where(u < 0, self.origin, out)
+            return out
+        return self.origin + self.shape(u)
+
+    def slope(self, link_dpos: np.ndarray) -> np.ndarray:
         """d(counts)/d(link travel) of the profile."""
+        if self.link_origin is None:
+            return np.zeros(np.shape(link_dpos))
+        u = link_dpos - self.link_origin
+        if self.repeat:
+            u = u - np.floor(u / self.distance) * self.distance
         n = len(self.values)
-        x = np.clip(travelled / self.distance, 0.0, 1.0) * (n - 1)
+        x = np.clip(u / self.distance, 0.0, 1.0) * (n - 1)
         j = np.minimum(x.astype(int), n - 2)
         step = self.values[j + 1] - self.values[j]
-        inside = (travelled >= 0) & (travelled < self.distance)
+        inside = (u >= 0) & (u < self.distance)
         return np.where(inside, self.multiplier * step * (n - 1) / self.distance, 0.0)
+
+    def start_at(self, link_dpos: float, here: float) -> None:
+        """The profile starts now with the link at `link_dpos` and the axis at `here`;
+        with an offset start (bit 7) the axis is taken as being `offset` into it."""
+        self.link_origin = link_dpos - self.offset
+        self.origin = here - float(self.shape(np.array([self.offset]))[0])
+
+    def end_position(self) -> float | None:
+        """The link axis DPOS the profile ends at (None: repeating or not started)."""
+        if self.link_origin is None or self.repeat:
+            return None
+        return self.link_origin + self.distance
+
+    def stop_repeating(self, link_dpos: float) -> None:
+        """REP_OPTION bit 1: the cycle running now is the last."""
+        if not self.repeat or self.link_origin is None:
+            return
+        cycles = math.floor((link_dpos - self.link_origin) / self.distance)
+        if self.held:
+            cycles = max(cycles, 0)
+        self.origin += cycles * self.span
+        self.link_origin += cycles * self.distance
+        self.repeat = False
 
 
 @dataclass
@@ -231,8 +296,27 @@ class Movelink:
     link: int
     repeat: bool = False  # option 4: runs again and again (both ways) until CANCEL
     start_at: float | None = None  # option 2: the link position (counts) it starts at
+    wait: str | None = None  # options 1/256: the registration event not yet come
+    curve: int | None = None  # option 16: the ramps' curve (bits 10..12), None linear
     origin: float = 0.0
     link_origin: float = 0.0
+
+    def ramp(self, z: np.ndarray) -> np.ndarray:
+        """The distance share of a ramp after the fraction z of it (the integral of its
+        speed curve, 1/2 at the end for every curve: so the peak ratio is the trapezoid's).
+        Curves (MOVELINK page, bits 10..12): 0 sine, 1 power 9, 2 power 7, 3 power 5
+        polynomial speed (the smoothstep polynomials: peak accelerations 1.57, 2.46,
+        2.19, 1.88 times the linear ramp's, the page's 1.55, 2.42, 2.16, 1.86: I)."""
+        c = self.curve
+        if c is None:
+            return z * z / 2.0
+        if c == 0:
+            return z / 2.0 - np.sin(np.pi * z) / (2.0 * np.pi)
+        if c == 3:
+            return z ** 4 * (2.5 - 3.0 * z + z * z)
+        if c == 2:
+            return z ** 5 * (7.0 - 14.0 * z + 10.0 * z * z - 2.5 * z ** 3)
+        return z ** 6 * (21.0 - 60.0 * z + 67.5 * z * z - 35.0 * z ** 3 + 7.0 * z ** 4)
 
     def profile(self, u: np.ndarray) -> np.ndarray:
         """Counts moved after `u` counts of link travel, 0 <= u <= span: distance x a
@@ -243,13 +327,16 @@ class Movelink:
         shape = peak * (x - a / 2.0)
         with np.errstate(over="ignore"):  # (a tiny ramp's branch where it is not taken)
             if a > 0:
-                shape = np.where(x < a, peak * x * x / (2.0 * a), shape)
+                shape = np.where(x < a, peak * a * self.ramp(np.clip(x / a, 0.0, 1.0)),
+                                 shape)
             if d > 0:
-                rest = 1.0 - x
-                shape = np.where(x > 1.0 - d, 1.0 - peak * rest * rest / (2.0 * d), shape)
+                rest = np.clip((1.0 - x) / d, 0.0, 1.0)
+                shape = np.where(x > 1.0 - d, 1.0 - peak * d * self.ramp(rest), shape)
         return self.distance * shape
 
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
+        if self.wait is not None:
+            return np.full(np.shape(link_counts), self.origin)
         u = link_counts - self.link_origin
         if self.repeat:
             cycles = np.floor(u / self.span)

@@ -1,0 +1,220 @@
+"""CAMBOX's link options, pattern mode and multi-axis form, MOVELINK's option bits and
+registration (REGIST, MARK, REG_POS, REP_OPTION), from their TrioBASIC help pages.
+
+The link axis (axis 1) runs FORWARD at 100 units/s with ACCEL 1e6 (UNITS 1), so at
+servo tick k (1 ms) it stands at 0.1 k - 0.005 (the ramp's 0.1 ms loses v^2 / 2a);
+every expected position is that arithmetic and the page's description of the option.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from maxk.controllers.trio import MC405
+
+SPEED, ACCEL = 100.0, 1e6
+LOSS = SPEED * SPEED / (2 * ACCEL)  # 0.005
+SHAPE = [0.0, 100.0, 300.0, 400.0]  # a 3-segment profile over a link distance of 10
+
+
+def link(tick: int) -> float:
+    """The FORWARD link axis's DPOS at a tick."""
+    t = tick / 1000
+    return SPEED * t - LOSS if t >= SPEED / ACCEL else 0.5 * ACCEL * t * t
+
+
+def first_tick(position: float) -> int:
+    """The first tick the link axis has reached a position."""
+    k = int((position + LOSS) / SPEED * 1000)
+    while link(k) < position:
+        k += 1
+    return k
+
+
+def profile(u: float, shape: list[float] = SHAPE, span: float = 10.0) -> float:
+    u = min(max(u, 0.0), span)
+    return float(np.interp(u / span * (len(shape) - 1), range(len(shape)), shape))
+
+
+def machine() -> MC405:
+    trio = MC405()
+    assert trio.send("TABLE(0, 0, 100, 300, 400)") == []
+    assert trio.send(f"BASE(1): SPEED={SPEED:g}: ACCEL={ACCEL:g}: DECEL={ACCEL:g}") == []
+    return trio
+
+
+def at(trio: MC405, tick: int) -> None:
+    trio.advance(ticks=tick - trio.tick)
+
+
+def read(trio: MC405, what: str) -> float:
+    if what.startswith("DPOS AXIS("):  # exact, not as PRINT rounds it
+        return trio.machine.dpos(int(what[10:-1]))
+    return float(trio.query(f"?{what}"))
+
+
+def test_absolute_start_holds_until_the_link_position_then_follows_and_ends() -> None:
+    trio = machine()
+    assert trio.send("CAMBOX(0, 3, 1, 10, 1, 2, 20) AXIS(0)") == []
+    assert trio.send("FORWARD AXIS(1)") == []
+    end = first_tick(30.0)
+    for tick in (100, 199, first_tick(20.0), 250, 275, end - 1):
+        at(trio, tick)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(profile(link(tick) - 20), abs=1e-6)
+        assert read(trio, "MTYPE AXIS(0)") == 20
+    at(trio, end)
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (400.0, 0)
+
+
+def test_table_values_are_offset_by_the_first_value() -> None:
+    trio = machine()
+    assert trio.send("TABLE(10, 50, 150)") == []
+    assert trio.send("CAMBOX(10, 11, 2, 10, 1) AXIS(0): FORWARD AXIS(1)") == []
+    at(trio, 51)  # the link at 5.095: half way, (150 - 50) x 2 x 0.5095
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(200 * link(51) / 10, abs=1e-6)
+
+
+def test_repeat_runs_cycle_after_cycle_until_rep_option_bit_1() -> None:
+    trio = machine()
+    assert trio.send("CAMBOX(0, 3, 1, 10, 1, 4) AXIS(0): FORWARD AXIS(1)") == []
+    for tick in (50, 150, 333, 777):
+        at(trio, tick)
+        p = link(tick)
+        cycles = int(p // 10)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(400 * cycles + profile(p - 10 * cycles),
+                                                         abs=1e-6)
+    assert trio.send("REP_OPTION AXIS(1) = 2") == []  # (set on the link axis, as the page)
+    assert read(trio, "REP_OPTION AXIS(1)") == 0  # the firmware clears it
+    end = first_tick(80.0)  # the cycle 70..80 running at 77.7 is the last
+    at(trio, end - 1)
+    assert read(trio, "MTYPE AXIS(0)") == 20
+    at(trio, end)
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (3200.0, 0)
+
+
+def test_a_cambox_starts_exactly_at_the_links_registration_mark_and_repeats() -> None:
+    trio = machine()
+    stage = trio.machine.world.axes[1]
+    stage.index_offset, stage.index_period, stage.index_width = 2500, 100000, 4
+    assert trio.send("UNITS AXIS(1) = 100") == []  # marks in counts, DPOS in units
+    assert trio.send("REGIST(1) AXIS(1)") == []
+    assert read(trio, "MARK AXIS(1)") == 0
+    assert trio.send("CAMBOX(0, 3, 1, 10, 1, 5) AXIS(0): FORWARD AXIS(1)") == []
+    mark = first_tick(25.0)  # 25 units = the 2500th count
+    at(trio, mark - 1)
+    assert (read(trio, "MARK AXIS(1)"), read(trio, "DPOS AXIS(0)")) == (0, 0)
+    at(trio, mark)
+    assert (read(trio, "MARK AXIS(1)"), read(trio, "REG_POS AXIS(1)")) == (-1, 25.0)
+    for tick in (mark, 300, 420, 999):
+        at(trio, tick)
+        u = link(tick) - 25
+        cycles = int(u // 10)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(400 * cycles + profile(u - 10 * cycles),
+                                                         abs=1e-6)
+
+
+def test_regist_falling_z_edge_and_the_r_input() -> None:
+    trio = machine()
+    stage = trio.machine.world.axes[1]
+    stage.index_offset, stage.index_period, stage.index_width = 1000, 4000, 4
+    assert trio.send("REGIST(2) AXIS(1): FORWARD AXIS(1)") == []
+    at(trio, 10500)  # the mark is counts 1000..1003: it falls at 1004 (tick 10041)
+    assert read(trio, "REG_POS AXIS(1)") == 1004.0
+    trio.send("REGIST(3) AXIS(1)")
+    at(trio, 12000)
+    view = trio.world_view()
+    view.set_input(1, True)  # the R input of axis 1 rises now
+    assert (read(trio, "MARK AXIS(1)"), read(trio, "REG_POS AXIS(1)")) == (
+        -1, pytest.approx(link(12000), abs=1e-9))
+    assert trio.send("REGIST(42) AXIS(1)")[0].endswith("Parameter out of range")
+
+
+def test_offset_start_takes_the_axis_as_that_far_into_the_profile() -> None:
+    trio = machine()
+    assert trio.send("CAMBOX(0, 3, 1, 10, 1, 128, 0, 5) AXIS(0): FORWARD AXIS(1)") == []
+    at(trio, 30)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(profile(5 + link(30)) - profile(5),
+                                                      abs=1e-6)
+    at(trio, first_tick(5.0))
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (200.0, 0)
+
+
+def test_pattern_mode_scales_each_shape_and_counts_its_repeats() -> None:
+    trio = machine()
+    # shape 0..1 (a straight line), control block at 100, pattern 10, 20 at TABLE(200)
+    assert trio.send("TABLE(0, 0, 1): TABLE(200, 10, 20)") == []
+    assert trio.send("TABLE(100, 200, -1, 200, 201, 0, 2, -1)") == []
+    assert trio.send("CAMBOX(0, 1, 100, 10, 1, 12) AXIS(0): FORWARD AXIS(1)") == []
+    # shapes: 10, 20, 10, 20 (two repeats of the pattern), then it ends at 60
+    starts = [0.0, 10.0, 30.0, 40.0]
+    for tick in (50, 150, 250, 350):
+        at(trio, tick)
+        p = link(tick)
+        k = int(p // 10)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(
+            starts[k] + (10, 20)[k % 2] * (p - 10 * k) / 10, abs=1e-6)
+    at(trio, first_tick(40.0))
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (60.0, 0)
+    assert read(trio, "TABLE(104)") == 2  # REPEAT POSITION counted both
+
+
+def test_the_multi_axis_form_loads_every_axis_from_the_table() -> None:
+    trio = machine()
+    assert trio.send("TABLE(50, 0, 30): TABLE(60, 0, 50, 80)") == []
+    assert trio.send("TABLE(1000, 50, 51, 1, 10, 1, 0, 0, 0)") == []
+    assert trio.send("TABLE(1008, 60, 62, 2, 20, 1, 2, 5, 0)") == []
+    assert trio.send("BASE(2): CAMBOX(1000, 2): FORWARD AXIS(1)") == []
+    at(trio, 80)
+    p = link(80)
+    assert read(trio, "DPOS AXIS(2)") == pytest.approx(30 * p / 10, abs=1e-6)
+    assert read(trio, "DPOS AXIS(3)") == pytest.approx(
+        2 * profile(p - 5, [0, 50, 80], 20), abs=1e-6)
+    # a bad row refuses the whole group: nothing is loaded
+    assert trio.send("TABLE(1016, 50, 51, 1, -1, 1, 0, 0, 0)") == []
+    reply = trio.send("BASE(4): CAMBOX(1008, 2)")
+    assert reply and "Parameter out of range" in reply[0]
+    assert read(trio, "MTYPE AXIS(4)") == 0
+
+
+def smoothstep_share(z: float, derivative) -> float:  # type: ignore[no-untyped-def]
+    """The integral of a ramp's speed curve, numerically (not the model's closed form)."""
+    xs = np.linspace(0.0, z, 20001)
+    speed = np.array([derivative(x) for x in xs])
+    return float(np.trapezoid(speed, xs))
+
+
+def test_movelink_1040_ramps_on_the_power_9_polynomial() -> None:
+    """1040 = bit 4 (curved ramps) + bit 10 (curve 1, power 9 polynomial speed)."""
+    trio = machine()
+    assert trio.send("MOVELINK(100, 100, 40, 40, 1, 1040) AXIS(0): FORWARD AXIS(1)") == []
+
+    def speed9(x: float) -> float:  # power 9 smoothstep: 0 to 1, flat ends
+        return 126 * x**5 - 420 * x**6 + 540 * x**7 - 315 * x**8 + 70 * x**9
+
+    peak = 100 / (100 - 40)  # the ramps still average half the peak ratio
+    for tick in (100, 200, 399):
+        at(trio, tick)
+        u = link(tick)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(
+            peak * 40 * smoothstep_share(u / 40, speed9), abs=1e-6)
+    at(trio, 500)  # between the ramps: the peak ratio, after the first ramp's half
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(peak * (link(500) - 20), abs=1e-6)
+    at(trio, 900)
+    rest = 100 - link(900)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(
+        100 - peak * 40 * smoothstep_share(rest / 40, speed9), abs=1e-6)
+
+
+def test_movelink_starts_on_the_mark() -> None:
+    trio = machine()
+    stage = trio.machine.world.axes[1]
+    stage.index_offset, stage.index_period, stage.index_width = 15, 1000, 1
+    assert trio.send("REGIST(1) AXIS(1): MOVELINK(10, 20, 0, 0, 1, 1) AXIS(0)") == []
+    assert trio.send("FORWARD AXIS(1)") == []
+    at(trio, 140)
+    assert read(trio, "DPOS AXIS(0)") == 0
+    at(trio, 250)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx((link(250) - 15) / 2, abs=1e-6)
+    at(trio, first_tick(35.0))
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (10.0, 0)
