@@ -218,3 +218,55 @@ def test_movelink_starts_on_the_mark() -> None:
     assert read(trio, "DPOS AXIS(0)") == pytest.approx((link(250) - 15) / 2, abs=1e-6)
     at(trio, first_tick(35.0))
     assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (10.0, 0)
+
+
+def moving(tick: int, speed: float, accel: float) -> float:
+    """A FORWARD axis's DPOS at a tick, from rest at tick 0."""
+    t = tick / 1000
+    ramp = speed / accel
+    return speed * t - speed * ramp / 2 if t >= ramp else 0.5 * accel * t * t
+
+
+def test_flexlink_waits_then_runs_a_sine_excitation_over_the_rest_of_the_cycle() -> None:
+    """The page's example 1: no base move, 10000 over the last 40% of a 20000 link
+    cycle, half accel, half decel (sine ramps: the default curve)."""
+    trio = MC405()
+    assert trio.send("BASE(1): SPEED=10000: ACCEL=1e8: DECEL=1e8") == []
+    assert trio.send("FLEXLINK(0, 10000, 20000, 60, 0, 50, 50, 1) AXIS(0)") == []
+    assert trio.send("FORWARD AXIS(1)") == []
+
+    def sine(z: float) -> float:  # the ramp's speed share
+        return (1 - np.cos(np.pi * z)) / 2
+
+    peak = 2 * 10000 / 8000  # counts per link count at the window's middle
+    for tick in (500, 1200, 1400, 1600, 1800, 1999):
+        at(trio, tick)
+        u = moving(tick, 10000, 1e8) - 12000
+        if u <= 0:
+            want = 0.0
+        elif u <= 4000:
+            want = peak * 4000 * smoothstep_share(u / 4000, sine)
+        else:
+            want = 10000 - peak * 4000 * smoothstep_share((8000 - u) / 4000, sine)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(want, abs=1e-6), tick
+    at(trio, 2001)
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (10000.0, 0)
+
+
+def test_flexlink_adds_an_advance_to_a_one_to_one_base_and_repeats() -> None:
+    """The page's example 2, repeating (option 4): 1:1 plus 500 between 80% and 95%."""
+    trio = MC405()
+    assert trio.send("BASE(1): SPEED=10000: ACCEL=1e8: DECEL=1e8") == []
+    assert trio.send("FLEXLINK(10000, 500, 10000, 80, 5, 50, 50, 1, 4) AXIS(0)") == []
+    assert trio.send("FORWARD AXIS(1)") == []
+    for tick in (500, 799, 1500, 2500):
+        at(trio, tick)
+        u = moving(tick, 10000, 1e8)
+        cycles = u // 10000
+        rest = u - 10000 * cycles
+        extra = 0.0 if rest <= 8000 else 500.0 if rest >= 9500 else None
+        if extra is not None:
+            assert read(trio, "DPOS AXIS(0)") == pytest.approx(
+                10500 * cycles + rest + extra, abs=1e-6), tick
+    reply = trio.send("FLEXLINK(0, 1, 100, 70, 40, 50, 50, 1) AXIS(2)")
+    assert reply and "Parameter out of range" in reply[0]  # 70% + 40% of the base

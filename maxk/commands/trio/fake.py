@@ -194,6 +194,9 @@ class FakeTrioMachine:
     def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no multi-axis form)
 
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no FLEXLINK)
+
     def regist(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no registration)
 

@@ -154,7 +154,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
-                               "REGIST"})
+                               "REGIST", "FLEXLINK"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
@@ -903,10 +903,12 @@ class Interpreter:
             yield from self._forever(axis, 1 if name == "FORWARD" else -1)
         elif name == "DATUM":
             yield from self.datum(axis, args[0])
-        elif name in ("MOVELINK", "CONNECT"):  # linked moves queue behind links too
+        elif name in ("MOVELINK", "CONNECT", "FLEXLINK"):  # queued behind links too
             while not m.can_link(axis):
                 yield ON_CHANGE
-            self._act(lambda: (m.movelink if name == "MOVELINK" else m.connect)(axis, args))
+            action = {"MOVELINK": m.movelink, "CONNECT": m.connect,
+                      "FLEXLINK": m.flexlink}[name]
+            self._act(lambda: action(axis, args))
         elif name == "MOVEMODIFY":  # acts on the running move: never waits (D)
             self._act(lambda: m.movemodify(axis, args))
         elif name == "ADDAX":

@@ -270,6 +270,19 @@ _ENTRIES: list[Keyword] = [
              "(smoothstep polynomials, I), 4 linear. 32/16384 (forward-only), 512 "
              "(R_MARK), base_dist and reserved bits: 'Parameter out of range' (D). "
              "Buffered like a move (NTYPE 22). MTYPE 22."),
+    _command("FLEXLINK", "FLEXLINK(base dist, excite dist, link dist, base in, base out, "
+             "excite acc, excite dec, link axis[, options[, start pos]]): a constant-ratio "
+             "base move plus a ramped excitation move, linked to another axis.", (8, 10),
+             axis=True, source=f"{TOK}; help (FLEXLINK page)", confidence="I",
+             note="The base moves base dist in proportion to the link's travel over link "
+             "dist; the excitation moves excite dist between base in % and 100 - base out % "
+             "of it, ramping over excite acc % and excite dec % of that window on the "
+             "curve bits 10..12 give (0 sine by default, 1/2/3 power 9/7/5 polynomial "
+             "speed, 4 linear: C, page). Options 1/256 (MARK/MARKB start), 2 (absolute "
+             "start), 4 (repeat), 8192 as MOVELINK's; 32/16384 and 512 refused (D). "
+             "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
+             "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
+             "in the pages found)."),
     _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
              "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",

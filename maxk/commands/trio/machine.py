@@ -80,6 +80,11 @@ class TrioMachine(Protocol):
         """MOVELINK(distance, link dist, link acc, link dec, link axis[, options[, pos]])."""
         ...
 
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        """FLEXLINK(base, excite, link dist, base in, base out, acc, dec, link axis[,
+        options[, start pos]])."""
+        ...
+
     def connect(self, axis: int, args: Sequence[float]) -> None:
         """CONNECT(ratio, link axis): electronic gearing until CANCEL."""
         ...

@@ -39,7 +39,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .runs import Cambox, Connect, Link, Movelink, Run, TrioAxis
+from .runs import Cambox, Connect, Flexlink, Link, Movelink, Run, TrioAxis
 
 
 class Host(Protocol):
@@ -114,6 +114,44 @@ def movelink_from(args: list[float], units: float, link_units: float) -> Movelin
     return Movelink(distance * units, counts[0], counts[1], counts[2], int(link),
                     repeat=bool(bits & 4), start_at=start, wait=wait,
                     curve=None if curve == 4 else curve)
+
+
+FLEXLINK_MODELLED = 1 | 2 | 4 | 256 | 7 << 10 | 8192
+"""FLEXLINK link option bits modelled (the FLEXLINK help page): as MOVELINK's, with the
+curve bits 10..12 acting without bit 4 (0, sine, by default)."""
+
+
+def flexlink_from(args: list[float], units: float, link_units: float) -> Flexlink:
+    """FLEXLINK(base dist, excite dist, link dist, base in %, base out %, excite acc %,
+    excite dec %, link axis[, options[, start pos]]): refusals as MOVELINK's, and
+    percentages outside 0..100 or base in + base out, excite acc + excite dec above 100
+    (D)."""
+    base, excite, span, base_in, base_out, acc, dec, link = args[:8]
+    options = args[8] if len(args) > 8 else 0.0
+    if options != int(options) or not 0 <= options < 1 << 15 \
+            or int(options) & ~FLEXLINK_MODELLED or not span > 0:
+        raise ValueError("Parameter out of range")
+    shares = (base_in, base_out, acc, dec)
+    if not all(0 <= v <= 100 for v in shares) or base_in + base_out > 100 \
+            or acc + dec > 100:
+        raise ValueError("Parameter out of range")
+    bits = int(options)
+    curve = (bits >> 10) & 7
+    if curve > 4 or (bits & 1 and bits & 256) or (bits & 2 and bits & (1 | 256)):
+        raise ValueError("Parameter out of range")
+    counts = span * link_units
+    if not counts >= MIN_SPAN or not all(
+            math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (counts, (base + excite) * units)):
+        raise ValueError("Parameter out of range")
+    w0, w1 = counts * base_in / 100, counts * (1 - base_out / 100)
+    start = args[9] * link_units if bits & 2 and len(args) > 9 else None
+    if bits & 2 and start is None:
+        raise ValueError("Parameter out of range")
+    wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
+    return Flexlink((base + excite) * units, counts, (w1 - w0) * acc / 100,
+                    (w1 - w0) * dec / 100, int(link), repeat=bool(bits & 4), start_at=start,
+                    wait=wait, curve=None if curve == 4 else curve, base=base * units,
+                    window=(w0, w1))
 
 
 @dataclass
@@ -193,6 +231,13 @@ class LinkedMoves:
         link = self.check_axis(args[4], axis)
         m = self.machine
         self.load(axis, movelink_from(args, m.axes[axis].units, m.axes[link].units))
+
+    def flexlink(self, axis: int, args: list[float]) -> None:
+        if len(args) < 8:
+            raise ValueError("Syntax error")
+        link = self.check_axis(args[7], axis)
+        m = self.machine
+        self.load(axis, flexlink_from(args, m.axes[axis].units, m.axes[link].units))
 
     def set_addax(self, axis: int, value: float) -> None:
         """ADDAX(n): superimpose axis n's demand from now; ADDAX(-1): stop adding."""
@@ -405,4 +450,4 @@ class LinkedMoves:
             m._attach(axis, self.chains[axis].popleft(), link)
 
 
-__all__ = ["Addax", "Host", "LinkedMoves", "movelink_from"]
+__all__ = ["Addax", "Host", "LinkedMoves", "flexlink_from", "movelink_from"]

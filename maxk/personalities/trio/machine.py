@@ -450,6 +450,9 @@ class MC405Machine(Kinematics, Engine):
     def movelink(self, axis: int, args: Sequence[float]) -> None:
         self.links.movelink(axis, list(args))
 
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        self.links.flexlink(axis, list(args))
+
     def addax(self, axis: int, args: Sequence[float]) -> None:
         self.links.set_addax(axis, args[0])
 

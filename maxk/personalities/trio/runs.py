@@ -318,21 +318,25 @@ class Movelink:
             return z ** 5 * (7.0 - 14.0 * z + 10.0 * z * z - 2.5 * z ** 3)
         return z ** 6 * (21.0 - 60.0 * z + 67.5 * z * z - 35.0 * z ** 3 + 7.0 * z ** 4)
 
-    def profile(self, u: np.ndarray) -> np.ndarray:
-        """Counts moved after `u` counts of link travel, 0 <= u <= span: distance x a
-        shape of u / span (at most twice the mean ratio: no overflow for any span)."""
-        x = u / self.span
-        a, d = self.accel / self.span, self.decel / self.span
+    def ramped(self, x: np.ndarray, a: float, d: float) -> np.ndarray:
+        """The share (0..1) of a ramped move after the fraction x of its link travel,
+        ramping up over the first fraction a and down over the last d (at most twice
+        the mean ratio: no overflow for any span)."""
         peak = 1.0 / (1.0 - (a + d) / 2.0)  # the share of the link's speed between ramps
         shape = peak * (x - a / 2.0)
-        with np.errstate(over="ignore"):  # (a tiny ramp's branch where it is not taken)
+        with np.errstate(over="ignore", invalid="ignore"):  # (branches not taken)
             if a > 0:
                 shape = np.where(x < a, peak * a * self.ramp(np.clip(x / a, 0.0, 1.0)),
                                  shape)
             if d > 0:
                 rest = np.clip((1.0 - x) / d, 0.0, 1.0)
                 shape = np.where(x > 1.0 - d, 1.0 - peak * d * self.ramp(rest), shape)
-        return self.distance * shape
+        return shape
+
+    def profile(self, u: np.ndarray) -> np.ndarray:
+        """Counts moved after `u` counts of link travel, 0 <= u <= span."""
+        return self.distance * self.ramped(u / self.span, self.accel / self.span,
+                                           self.decel / self.span)
 
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
         if self.wait is not None:
@@ -346,6 +350,27 @@ class Movelink:
     @property
     def link_end(self) -> float:
         return self.link_origin + self.span
+
+
+@dataclass
+class Flexlink(Movelink):
+    """FLEXLINK: `base` counts at a constant ratio over the whole link span, plus
+    `distance - base` counts of an excitation move over the window from `window[0]` to
+    `window[1]` (counts of link travel), ramping over its first `accel` and last `decel`
+    counts on the option's curve (sine unless bits 10..12 say otherwise)."""
+
+    base: float = 0.0
+    window: tuple[float, float] = (0.0, 0.0)
+
+    def profile(self, u: np.ndarray) -> np.ndarray:
+        w0, w1 = self.window
+        width = w1 - w0
+        excite = self.distance - self.base
+        moved = self.base * u / self.span
+        if width <= 0:
+            return moved + np.where(u >= w0, excite, 0.0)
+        x = np.clip((u - w0) / width, 0.0, 1.0)
+        return moved + excite * self.ramped(x, self.accel / width, self.decel / width)
 
 
 Link = Connpath | Cambox | Connect | Movelink
