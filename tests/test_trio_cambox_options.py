@@ -270,3 +270,63 @@ def test_flexlink_adds_an_advance_to_a_one_to_one_base_and_repeats() -> None:
                 10500 * cycles + rest + extra, abs=1e-6), tick
     reply = trio.send("FLEXLINK(0, 1, 100, 70, 40, 50, 50, 1) AXIS(2)")
     assert reply and "Parameter out of range" in reply[0]  # 70% + 40% of the base
+
+
+def test_a_repeating_axis_reads_folded_positions_and_moves_within_its_fold() -> None:
+    trio = machine()
+    assert read(trio, "REP_DIST AXIS(1)") == 200000  # power-up
+    assert trio.send("REP_DIST AXIS(1) = 100: FORWARD AXIS(1)") == []
+    at(trio, 1500)  # unfolded 149.995: -100..100 folds it to -50.005
+    assert float(trio.query("?DPOS AXIS(1)")) == pytest.approx(link(1500) - 200, abs=1e-4)
+    assert trio.send("REP_OPTION AXIS(1) = 1") == []  # 0..100: 49.995
+    assert float(trio.query("?DPOS AXIS(1)")) == pytest.approx(link(1500) - 100, abs=1e-4)
+    assert float(trio.query("?MPOS AXIS(1)")) == pytest.approx(link(1500) - 100, abs=1e-4)
+    trio.send("CANCEL AXIS(1)")
+    trio.advance(0.1)
+    here = trio.machine.dpos(1)  # unfolded, at rest
+    assert trio.send("MOVEABS(90) AXIS(1)") == []  # within the fold it reads now
+    trio.advance(2.0)
+    assert trio.machine.dpos(1) == pytest.approx(here - (here - 100) + 90, abs=1e-9)
+    assert float(trio.query("?DPOS AXIS(1)")) == 90
+
+
+@pytest.mark.parametrize(("mode", "window", "captured"), [
+    (257, (33, 47), 35.0),  # inside the window: the marks at 5, 15, 25 pass by
+    (769, (0, 20), 25.0),  # outside it
+])
+def test_a_registration_window_passes_over_the_marks_it_rejects(
+        mode: int, window: tuple[float, float], captured: float) -> None:
+    trio = machine()
+    stage = trio.machine.world.axes[1]
+    stage.index_offset, stage.index_period, stage.index_width = 500, 1000, 1
+    trio.send("UNITS AXIS(1) = 100")
+    trio.send(f"OPEN_WIN AXIS(1) = {window[0]}: CLOSE_WIN AXIS(1) = {window[1]}")
+    assert trio.send(f"REGIST({mode}) AXIS(1): FORWARD AXIS(1)") == []
+    tick = first_tick(captured)
+    at(trio, tick - 1)
+    assert read(trio, "MARK AXIS(1)") == 0
+    at(trio, tick)
+    assert (read(trio, "MARK AXIS(1)"), read(trio, "REG_POS AXIS(1)")) == (-1, captured)
+
+
+def test_sramp_makes_the_ramp_last_speed_over_accel_plus_the_sramp_time() -> None:
+    """SPEED 100, ACCEL 1000, SRAMP 40 ms: the acceleration rises over 0.04 s (jerk
+    1000 / 0.04), holds 0.06 s, falls over 0.04 s: the ramp lasts 0.14 s and covers
+    100 x 0.14 / 2 = 7 units; a 100-unit move then ends at 2 x 0.14 + (100 - 14) / 100."""
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=100: ACCEL=1000: DECEL=1000: SRAMP=40") == []
+    assert trio.send("MOVE(100)") == []
+    jerk = 1000 / 0.04
+    at(trio, 40)  # end of the rise: jerk t^3 / 6
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(jerk * 0.04 ** 3 / 6, abs=1e-9)
+    at(trio, 70)  # 0.03 s into the hold: v(0.04) = 20, a = 1000
+    p40 = jerk * 0.04 ** 3 / 6
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(p40 + 20 * 0.03 + 500 * 0.03 ** 2,
+                                                     abs=1e-9)
+    at(trio, 140)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(7.0, abs=1e-9)
+    end = round((2 * 0.14 + 86 / 100) * 1000)
+    at(trio, end - 1)
+    assert read(trio, "DPOS AXIS(0)") < 100
+    at(trio, end)
+    assert read(trio, "DPOS AXIS(0)") == 100

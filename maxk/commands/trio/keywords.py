@@ -643,7 +643,21 @@ _ENTRIES: list[Keyword] = [
              "Z mark is the world's index marks of the axis, found to the servo tick on "
              "the axis's own motion; REG_POS is the mark's exact count (the latch). The R "
              "input of axis n is world digital input n (D), latched on the tick it "
-             "changes. The newer forms (20.., windows) are refused (D)."),
+             "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
+             "newer forms (20..) are refused (D)."),
+    _axis("SRAMP", "S-ramp time, ms: a single-axis move's acceleration rises to ACCEL "
+          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 250),
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="Range 0..250 ms (I, as recalled). Taken when the move loads. A ramp to "
+          "SPEED then lasts SPEED/ACCEL + SRAMP (the shared S-curve profile); a move "
+          "too short to reach SPEED keeps the shares SPEED gives (D). Interpolated and "
+          "merged paths, CANCEL's ramp down and links stay linear (D)."),
+    _axis("OPEN_WIN", "Where the registration window opens (user units).",
+          source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "
+          "edges between OPEN_WIN and CLOSE_WIN (as DPOS reads, REP_DIST folded), + 768 "
+          "only edges outside (I); a rejected edge leaves the capture armed."),
+    _axis("CLOSE_WIN", "Where the registration window closes (user units).",
+          source=f"{TOK}; {MAN}", confidence="I", note="As OPEN_WIN."),
     _axis("MARK", "TRUE once the capture REGIST armed has happened.", writable=False,
           source=f"{TOK}; {MAN}", confidence="C", note="FALSE from REGIST until the "
           "edge; TRUE from the servo tick of the edge (registration.py)."),
@@ -655,12 +669,19 @@ _ENTRIES: list[Keyword] = [
           "position, DEFPOS applied, in the axis's UNITS."),
     _axis("REG_POSB", "The position captured by the second registration channel.",
           writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As REG_POS."),
+    _axis("REP_DIST", "The repeat distance: DPOS, MPOS and REG_POS read folded into "
+          "-REP_DIST..REP_DIST (0..REP_DIST with REP_OPTION bit 0).", default=200000,
+          value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Power-up 200000 (I, as recalled). The machine keeps the unfolded position "
+          "(motion and links are never disturbed, D); MOVEABS and a CAMBOX's absolute "
+          "start position are taken in the fold the axis reads now (D). 0 does not fold "
+          "(D)."),
     _axis("REP_OPTION", "Repeat options: bit 1 set ends the repeating CAMBOX/MOVELINK at "
           "the end of its cycle, and clears.", value_range=(0, 255),
           source=f"{TOK}; help (CAMBOX, MOVELINK pages)", confidence="I",
           note="Bit 1 acts on the repeating links running on the axis or linked to it "
           "(D: the CAMBOX page's example sets it on the link axis) and reads 0 again (C). "
-          "Bit 0 (REP_DIST wrapping) is stored, not modelled (D)."),
+          "Bit 0 folds positions into 0..REP_DIST instead of -REP_DIST..REP_DIST (I)."),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),

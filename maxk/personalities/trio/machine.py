@@ -200,15 +200,17 @@ class MC405Machine(Kinematics, Engine):
             self.outputs.sync_encoder(axis)
             return output.encoder
         if name in AXIS_READS:
-            return self.drive.axis_parameter(name, axis)
+            value = self.drive.axis_parameter(name, axis)
+            return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":
-            return self.dpos(axis)
+            return self.wrapped(axis, self.dpos(axis))
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
         if name in _REGISTRATION_READS:
-            return self.registration.read(name, axis)
+            value = self.registration.read(name, axis)
+            return self.wrapped(axis, value) if name.startswith("REG_POS") else value
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
@@ -259,9 +261,29 @@ class MC405Machine(Kinematics, Engine):
         deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
         self._load(tuple(axes), deltas, kind=moves.move_kind(tuple(axes), deltas, False))
 
+    def wrapped(self, axis: int, position: float) -> float:
+        """A position as a repeating axis reads it: REP_DIST > 0 folds it into -REP_DIST
+        ..REP_DIST, or 0..REP_DIST with REP_OPTION bit 0 (I: REP_DIST page as recalled;
+        the machine keeps the unfolded position, so motion is never disturbed, D)."""
+        params = self.axes[axis].params
+        rep = params.get("REP_DIST", 0.0)
+        if not rep > 0:
+            return position
+        if int(params.get("REP_OPTION", 0.0)) & 1:
+            return position - rep * math.floor(position / rep)
+        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
+
+    def unwrapped(self, axis: int, position: float, here: float) -> float:
+        """A position in the fold the axis reads now (`here` unfolded) as an unfolded
+        one: MOVEABS and absolute link positions act within the current fold (D)."""
+        return position + here - self.wrapped(axis, here)
+
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
+            axis = self.axes[a]
+            end = (self._end_counts(a) + axis.datum + self.links.shift[a]) / axis.units
+            p = self.unwrapped(a, p, end)
             target = moves.own_target(self, a, p)  # physical counts
             delta = target - self._end_counts(a)
             if not abs(delta) < MAX_COUNTS:
@@ -486,7 +508,8 @@ class MC405Machine(Kinematics, Engine):
             self.changed()
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
-                  single=len(axes) == 1 and not merge)
+                  single=len(axes) == 1 and not merge,
+                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0)
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
@@ -516,7 +539,7 @@ class MC405Machine(Kinematics, Engine):
         if run.single:
             axis = self.axes[run.base]
             run.profile = single_profile(run.deltas[0][0], run.speeds[0], run.accels[0],
-                                         run.decel)
+                                         run.decel, run.sramp)
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return
@@ -604,7 +627,8 @@ class MC405Machine(Kinematics, Engine):
         if cam.wait is not None:
             return  # R_MARK: no channel modelled reaches it (D)
         if cam.start_pos is not None:
-            cam.start_at(max(cam.start_pos, link_now), here)
+            start = self.unwrapped(cam.link, cam.start_pos, link_now)
+            cam.start_at(max(start, link_now), here)
             cam.held = True
             return
         cam.start_at(link_now, here)

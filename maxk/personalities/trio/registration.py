@@ -12,6 +12,10 @@ position of the mark, and MARK turns TRUE on the servo tick the axis reaches it:
   built-in inputs; the axis number picks one), captured on the tick the world changes it,
   at the position the axis has then.
 
+Adding 256 to a mode takes only edges whose position (as DPOS reads it, folded by
+REP_DIST) lies inside OPEN_WIN..CLOSE_WIN, 768 only those outside it (I: the manual's
+window modes as recalled); an edge the window rejects leaves the capture armed.
+
 Modes 5..9 put the Z mark on channel B (MARKB/REG_POSB) with the R input on A (I: the
 MC206 manual's table, from memory); modes outside 1..9 are refused (D). A capture arms
 only once (REGIST again to re-arm, C). Links that start on a registration event (CAMBOX
@@ -33,6 +37,7 @@ class Capture:
     source: str  # "Z" (index marks) or "R" (the registration input)
     rising: bool
     level: bool = False  # the R input's level when armed (its edges are changes)
+    window: int = 0  # 0 none, 1 inside OPEN_WIN..CLOSE_WIN, -1 outside it
 
 
 @dataclass
@@ -43,6 +48,9 @@ class AxisRegistration:
     reg_pos: float = 0.0  # user units (DEFPOS applied), as MPOS reads
     reg_posb: float = 0.0
 
+
+WINDOW_SEARCH = 10000
+"""Index marks looked at, each way, for the next one a window takes (D: a bound)."""
 
 MODES: dict[int, list[tuple[str, str, bool]]] = {
     1: [("A", "Z", True)], 2: [("A", "Z", False)],
@@ -67,12 +75,16 @@ class Registration:
     # ---- the program's side ------------------------------------------------------------
     def regist(self, axis: int, args: list[float]) -> None:
         mode = args[0] if args else -1
+        window = 0
+        if mode == int(mode) and int(mode) & 768 in (256, 768):
+            window = 1 if int(mode) & 768 == 256 else -1
+            mode = int(mode) & 255
         if mode != int(mode) or int(mode) not in MODES or len(args) > 1:
             raise ValueError("Parameter out of range")
         reg = self.axes[axis]
         reg.armed.clear()
         for channel, source, rising in MODES[int(mode)]:
-            reg.armed[channel] = Capture(source, rising, self._input(axis))
+            reg.armed[channel] = Capture(source, rising, self._input(axis), window)
             if channel == "A":
                 reg.mark = False
             else:
@@ -99,10 +111,22 @@ class Registration:
                 if cap.source != "R":
                     continue
                 level = self._input(axis)
-                if level != cap.level and level == cap.rising:
-                    self._capture(axis, channel, self.m.demand(axis))
+                here = self.m.demand(axis)
+                if level != cap.level and level == cap.rising and self._in_window(
+                        axis, cap, here):
+                    self._capture(axis, channel, here)
                 else:
                     cap.level = level
+
+    def _in_window(self, axis: int, cap: Capture, counts: float) -> bool:
+        """Does an edge at `counts` pass the capture's window?"""
+        if cap.window == 0:
+            return True
+        m = self.m
+        a = m.axes[axis]
+        position = m.wrapped(axis, (counts + a.datum) / a.units)
+        inside = a.params["OPEN_WIN"] <= position <= a.params["CLOSE_WIN"]
+        return inside if cap.window == 1 else not inside
 
     def _z_ticks(self) -> list[tuple[int, str, float]]:
         """(tick, channel, position in counts) of each armed Z capture's next edge."""
@@ -128,6 +152,12 @@ class Registration:
                     down = next_periodic_marks(here, stage.index_offset - 1,
                                                stage.index_period, 1)[1]
                 for position, direction in ((up, 1), (down, -1)):
+                    for _ in range(WINDOW_SEARCH):  # the next mark the window takes
+                        if self._in_window(axis, cap, position):
+                            break
+                        position += direction * stage.index_period
+                    else:
+                        continue
                     tick = a.tick_reaching(position, direction, m)
                     if tick is not None:
                         out.append((tick, f"{axis}:{channel}", float(position)))

@@ -52,6 +52,7 @@ class Run:
     decel: float  # the base axis's DECEL (single-axis profiles), counts/s^2
     units: float  # the base axis's UNITS when loaded: VP_SPEED is in its user units
     single: bool  # one axis, MERGE OFF: a closed-form profile, nothing merges into it
+    sramp: float = 0.0  # SRAMP when loaded, seconds: the acceleration's rise (S-ramps)
     started: bool = False
     stopping: bool = False  # CANCEL/RAPIDSTOP: ramping down, takes no more moves
     start_tick: int = 0
@@ -161,9 +162,18 @@ class Run:
         return ContourMotion(plan, k, float(origin))
 
 
-def single_profile(distance: int, speed: float, accel: float, decel: float) -> Motion:
-    """A single-axis move from rest: trapezoid (or triangle) at ACCEL/DECEL, linear ramps."""
-    return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+def single_profile(distance: int, speed: float, accel: float, decel: float,
+                   sramp: float = 0.0) -> Motion:
+    """A single-axis move from rest: trapezoid (or triangle) at ACCEL/DECEL, linear ramps;
+    with SRAMP (seconds) each ramp's acceleration rises linearly over `sramp`, holds at
+    ACCEL/DECEL and falls over `sramp` (the shared S-curve whose jerk share p gives a
+    rise of p/2 of the ramp: a ramp to SPEED lasts SPEED/ACCEL + sramp, so p = 2 sramp /
+    (SPEED/ACCEL + sramp), at most 1: I)."""
+    if sramp <= 0:
+        return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+    up = min(1.0, 2 * sramp / (speed / accel + sramp))
+    down = min(1.0, 2 * sramp / (speed / decel + sramp))
+    return plan_move(distance, 0.0, speed, accel, decel, RampShape.SCURVE, up, down)
 
 
 # ---- linked axes ----------------------------------------------------------------------------
