@@ -330,3 +330,119 @@ def test_sramp_makes_the_ramp_last_speed_over_accel_plus_the_sramp_time() -> Non
     assert read(trio, "DPOS AXIS(0)") < 100
     at(trio, end)
     assert read(trio, "DPOS AXIS(0)") == 100
+
+
+def test_a_forward_only_cambox_ignores_the_links_backward_travel() -> None:
+    """Link option 32: the link goes to 6, back to 2, then to 12: the cam has seen
+    6 + (12 - 2) = 16 of forward travel, so it ended (10) on the way; with 16384 only
+    travel past the highest point counts: 6, then from 6 to 12: it ends at 10 too, but
+    at 8 on the way out it has seen 8, not 6 + 6."""
+    for option, seen_at_8 in ((32, 6 + 6), (16384, 8)):
+        trio = MC405()
+        assert trio.send("TABLE(0, 0, 1000): BASE(1): SPEED=10: ACCEL=1e6: DECEL=1e6") == []
+        assert trio.send(f"CAMBOX(0, 1, 1, 20, 1, {option}) AXIS(0)") == []
+        trio.send("MOVEABS(6): MOVEABS(2)")
+        trio.advance(2.0)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(1000 * 6 / 20, abs=1e-6)
+        trio.send("MOVEABS(12)")
+        trio.advance(ticks=600)  # 6 of 10 units of the way out: at 8
+        assert read(trio, "DPOS AXIS(1)") == pytest.approx(8, abs=0.01)
+        here = trio.machine.dpos(1)
+        seen = (6 + here - 2) if option == 32 else here
+        assert seen_at_8 == pytest.approx(seen, abs=0.01)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(1000 * seen / 20, abs=1e-6)
+
+
+def test_a_forward_only_movelink_ends_when_its_forward_travel_is_done() -> None:
+    """MOVELINK option 32 over 10 of link: out to 6, back to 2, out again: it ends where
+    the link has gone 4 more forward, at 6, on the first tick it gets there."""
+    trio = MC405()
+    assert trio.send("BASE(1): SPEED=10: ACCEL=1e6: DECEL=1e6") == []
+    assert trio.send("MOVELINK(100, 10, 0, 0, 1, 32) AXIS(0)") == []
+    trio.send("MOVEABS(6): MOVEABS(2)")
+    trio.advance(2.0)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(60, abs=1e-6)
+    start = trio.tick
+    trio.send("MOVEABS(8)")
+    # from rest at 2: 10 units/s after a 10 us ramp (5e-5 lost): at 6 after 0.400005 s
+    end = start + 401
+    at(trio, end - 1)
+    assert read(trio, "MTYPE AXIS(0)") == 22
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(60 + 10 * (trio.machine.dpos(1) - 2),
+                                                     abs=1e-6)
+    at(trio, end)
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (100, 0)
+
+
+def test_movesp_runs_at_force_speed_and_move_at_speed() -> None:
+    """SPEED 10, FORCE_SPEED 40, ACCEL 1e6: MOVESP(20) takes 0.5 s (+ the 40 us ramp),
+    MOVE(20) after it 2 s."""
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=10: FORCE_SPEED=40: ACCEL=1e6: DECEL=1e6") == []
+    assert trio.send("MOVESP(20): MOVE(20)") == []
+    at(trio, 250)  # 40 x 0.25 - 40 x 40 / 2e6
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(40 * 0.25 - 40 * 40 / 2e6, abs=1e-9)
+    at(trio, 501)
+    assert read(trio, "DPOS AXIS(0)") == 20
+    at(trio, 1501)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(20 + 10 * 1.0 - 10 * 10 / 2e6, abs=1e-9)
+    trio.send("MOVEABSSP(0)")
+    trio.advance(3.0)
+    assert read(trio, "DPOS AXIS(0)") == 0
+
+
+def test_a_jog_input_jogs_at_jogspeed_while_it_is_low() -> None:
+    """FWD_JOG on input 7, active low (the manual): held high, nothing; low at tick 100,
+    the axis jogs at JOGSPEED 20 (ACCEL 1e6: 2e-4 lost); high at tick 600, it ramps
+    down at DECEL 1e6 and stands (2e-4 more)."""
+    trio = MC405()
+    view = trio.world_view()
+    view.set_input(7, True)
+    assert trio.send("BASE(0): JOGSPEED=20: SPEED=50: ACCEL=1e6: DECEL=1e6") == []
+    assert trio.send("FWD_JOG=7") == []
+    at(trio, 100)
+    assert read(trio, "MTYPE AXIS(0)") == 0
+    view.set_input(7, False)
+    assert read(trio, "MTYPE AXIS(0)") == 14
+    at(trio, 600)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(20 * 0.5 - 20 * 20 / 2e6, abs=1e-9)
+    view.set_input(7, True)
+    trio.advance(0.1)
+    assert read(trio, "MTYPE AXIS(0)") == 0
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(20 * 0.5, abs=1e-9)
+    assert trio.send("FAST_JOG=6: REV_JOG=5") == []  # input 6 low: fast; 5 low: reverse
+    view.set_input(7, True)
+    trio.advance(ticks=200)
+    assert read(trio, "DPOS AXIS(0)") == pytest.approx(10 - 50 * 0.2 + 50 * 50 / 2e6,
+                                                     abs=1e-9)
+
+
+def test_cam_follows_the_table_in_time_at_speed() -> None:
+    """CAM(0, 3, 2, 30) with SPEED 10: the profile 0, 100, 300, 400 (x 2) over 3 s, one
+    TABLE interval a second."""
+    trio = MC405()
+    assert trio.send("TABLE(0, 0, 100, 300, 400): BASE(0): SPEED=10") == []
+    assert trio.send("CAM(0, 3, 2, 30): MOVE(5)") == []
+    assert read(trio, "MTYPE AXIS(0)") == 13
+    for tick in (250, 1000, 1500, 2999):
+        at(trio, tick)
+        assert read(trio, "DPOS AXIS(0)") == pytest.approx(
+            2 * profile(tick / 1000, SHAPE, 3.0), abs=1e-9)
+    at(trio, 3000)
+    assert read(trio, "DPOS AXIS(0)") == 800
+    assert read(trio, "MTYPE AXIS(0)") == 1  # the MOVE behind it
+
+
+def test_movecircsp_runs_the_arc_at_force_speed() -> None:
+    """A quarter circle of radius 100 (157.08 long) at FORCE_SPEED 100 with ACCEL 1e6:
+    done on the first tick at or after 1.5708 s + 100 / 1e6 s; at SPEED 10 it would take
+    ten times as long."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): SPEED=10: FORCE_SPEED=100: ACCEL=1e6: DECEL=1e6") == []
+    assert trio.send("MOVECIRCSP(100, 100, 100, 0, 1)") == []
+    end = int(np.ceil((np.pi * 50 / 100 + 100 / 1e6) * 1000 - 1e-9))
+    at(trio, end - 1)
+    assert read(trio, "MTYPE AXIS(0)") == 4
+    at(trio, end)
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "DPOS AXIS(1)")) == (100, 100)
+    assert read(trio, "MTYPE AXIS(0)") == 0

@@ -144,6 +144,12 @@ class FakeTrioMachine:
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         self._load(_Move(list(axes), list(positions), absolute=True))
 
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        (self.mhelical if helical else self.movecirc)(axes, args)
+
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        (self.move_abs if absolute else self.move)(axes, values)  # (no FORCE_SPEED here)
+
     def _load(self, move: _Move) -> None:
         for a in move.axes:
             self.queues[a].append(move)
@@ -196,6 +202,9 @@ class FakeTrioMachine:
 
     def flexlink(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no FLEXLINK)
+
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no CAM)
 
     def regist(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no registration)

@@ -154,7 +154,8 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
-                               "REGIST", "FLEXLINK"})
+                               "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
+                               "MOVECIRCSP", "MHELICALSP"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS"})
 IO_POINTS = 32  # digital inputs and outputs 0..31 (D, as the world contract's MC405 inputs)
 IO_SPACE = 1024  # I/O numbers a program may name: 32 and up are expansion I/O (CAN, EtherCAT
@@ -822,11 +823,21 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
+        elif name in ("MOVESP", "MOVEABSSP"):
+            axes = self.group(stmt.axis, ctx, len(args))
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.move_sp(axes, args, name == "MOVEABSSP"))
         elif name in ("MOVECIRC", "MHELICAL"):
             axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRC" else 3)
             while not m.can_load(axes):
                 yield ON_CHANGE
             self._act(lambda: (m.movecirc if name == "MOVECIRC" else m.mhelical)(axes, args))
+        elif name in ("MOVECIRCSP", "MHELICALSP"):
+            axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRCSP" else 3)
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.arc_sp(axes, args, name == "MHELICALSP"))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -913,6 +924,10 @@ class Interpreter:
             self._act(lambda: m.movemodify(axis, args))
         elif name == "ADDAX":
             self._act(lambda: m.addax(axis, args))
+        elif name == "CAM":
+            while not m.can_load([axis]):
+                yield ON_CHANGE
+            self._act(lambda: m.cam(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
         elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form

@@ -232,8 +232,10 @@ _ENTRIES: list[Keyword] = [
              "pattern mode (third argument the 7-value control block, stepped at each "
              "shape's end with the link moving forward; backward patterns not modelled, "
              "D); 128 starts offset start into the profile, the axis taken as there (no "
-             "jump, D); 8192 DPOS (the model follows DPOS always, D). 5/14 (forward-only "
-             "links), 512 (R_MARK) and reserved bits are 'Parameter out of range' (D). "
+             "jump, D); 8192 DPOS (the model follows DPOS always, D); 32 follows only the "
+             "link's forward travel, 16384 only forward travel past its highest point "
+             "(taken in at every engine event, between which the link's motion is "
+             "monotonic, D). 512 (R_MARK) and reserved bits: 'Parameter out of range' (D). "
              "Before a registration/absolute start the axis holds; a repeating CAMBOX "
              "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
              "an axis, on the base axis and the axes after it (I), all checked first (C). "
@@ -267,8 +269,9 @@ _ENTRIES: list[Keyword] = [
              "MARKB REG_POS; 2 at the absolute link position link pos (already past: from "
              "where it is, D); 4 repeats both ways until REP_OPTION bit 1; 16 curved "
              "ramps, bits 10..12 the curve: 0 sine, 1/2/3 power 9/7/5 polynomial speed "
-             "(smoothstep polynomials, I), 4 linear. 32/16384 (forward-only), 512 "
-             "(R_MARK), base_dist and reserved bits: 'Parameter out of range' (D). "
+             "(smoothstep polynomials, I), 4 linear; 32 forward travel only, 16384 forward "
+             "past the highest point (as CAMBOX's). 512 (R_MARK), base_dist and reserved "
+             "bits: 'Parameter out of range' (D). "
              "Buffered like a move (NTYPE 22). MTYPE 22."),
     _command("FLEXLINK", "FLEXLINK(base dist, excite dist, link dist, base in, base out, "
              "excite acc, excite dec, link axis[, options[, start pos]]): a constant-ratio "
@@ -279,7 +282,8 @@ _ENTRIES: list[Keyword] = [
              "of it, ramping over excite acc % and excite dec % of that window on the "
              "curve bits 10..12 give (0 sine by default, 1/2/3 power 9/7/5 polynomial "
              "speed, 4 linear: C, page). Options 1/256 (MARK/MARKB start), 2 (absolute "
-             "start), 4 (repeat), 8192 as MOVELINK's; 32/16384 and 512 refused (D). "
+             "start), 4 (repeat), 32/16384 (forward only), 8192 as MOVELINK's; 512 refused "
+             "(D). "
              "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
              "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
              "in the pages found)."),
@@ -298,8 +302,9 @@ _ENTRIES: list[Keyword] = [
              "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
              "aims its own moves, without the live ADDAX part (D)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
-          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 20 CAMBOX, 21 CONNECT, 22 "
-          "MOVELINK, 23 CONNPATH.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
+          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I",
           note="The codes as recalled from the manual's MTYPE table (the table's text was "
           "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
           "MOVE of exactly 2^50 counts reads as FORWARD/REVERSE (D)."),
@@ -645,6 +650,39 @@ _ENTRIES: list[Keyword] = [
              "input of axis n is world digital input n (D), latched on the tick it "
              "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
              "newer forms (20..) are refused (D)."),
+    _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
+             "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="TABLE values offset by the first, times the multiplier (counts), "
+             "interpolated linearly in time: distance in the axis's user units at the "
+             "SPEED it has when the CAM loads (I, the CAM page as recalled). Buffered like "
+             "a move, never merged (D); ends on the profile's last value rounded to a "
+             "whole count (D). MTYPE 13 (I)."),
+    _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
+             "FORCE_SPEED taken when it loads (C). ENDMOVE_SPEED and STARTMOVE_SPEED are "
+             "not applied: the planner joins merged moves at the next move's speed (D)."),
+    _command("MOVEABSSP", "MOVEABSSP(p1[, p2...]): MOVEABS at the base axis's FORCE_SPEED.",
+             (1, 128), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVEABS (MTYPE 2: D), at FORCE_SPEED (as MOVESP)."),
+    _axis("FORCE_SPEED", "The vector speed of MOVESP and MOVEABSSP, user units/s.",
+          default=0.0, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Read when a MOVESP/MOVEABSSP loads; 0 refuses them like a SPEED of 0 (D)."),
+    _axis("FWD_JOG", "The input that jogs the axis forward while it is low; -1 none.",
+          default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
+          note="Active low (C: MC206 manual, JOGSPEED page); read as IN(n) reads it. The "
+          "jog starts on the tick the input goes low with the axis idle (D: a jog does not "
+          "interrupt a move) and ramps down at DECEL when it goes high; MTYPE 14 (I). "
+          "Both jog inputs low: no jog (D). Power-up -1 (D)."),
+    _axis("REV_JOG", "The input that jogs the axis in reverse while it is low; -1 none.",
+          default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
+          note="As FWD_JOG; MTYPE 15 (I)."),
+    _axis("FAST_JOG", "The input that, while low, makes a jog run at SPEED instead of "
+          "JOGSPEED; -1 none.", default=-1, value_range=(-1, 1023),
+          source=f"{TOK}; {MAN}", confidence="I", note="Read when the jog starts (D)."),
+    _axis("JOGSPEED", "The slow jog speed, user units/s.", value_range=(0, _BIG),
+          source=f"{TOK}; {MAN}", confidence="C", note="A jog at 0 does not start (D)."),
     _axis("SRAMP", "S-ramp time, ms: a single-axis move's acceleration rises to ACCEL "
           "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 250),
           source=f"{TOK}; {MAN}", confidence="I",
@@ -682,6 +720,82 @@ _ENTRIES: list[Keyword] = [
           note="Bit 1 acts on the repeating links running on the axis or linked to it "
           "(D: the CAMBOX page's example sets it on the link axis) and reads 0 again (C). "
           "Bit 0 folds positions into 0..REP_DIST instead of -REP_DIST..REP_DIST (I)."),
+    _command("MOVECIRCSP", "MOVECIRCSP(...): MOVECIRC at the base axis's FORCE_SPEED.",
+             (5, 7), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVECIRC, its path speed FORCE_SPEED (as MOVESP)."),
+    _command("MHELICALSP", "MHELICALSP(...): MHELICAL at the base axis's FORCE_SPEED.",
+             (6, 9), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MHELICAL, its path speed FORCE_SPEED (as MOVESP)."),
+    # ---- motion words stored but not acted on, each with why (issue 35) ----------------
+    *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
+      for name, summary, why in (
+          ("JERK", "Jerk limit of the axis's moves.",
+           "the page giving its units and how it combines with SRAMP was not found; "
+           "SRAMP shapes the S-ramps (stored, D)."),
+          ("STARTMOVE_SPEED", "Speed a speed-profiled move starts at.",
+           "the shared path planner joins merged moves at the next move's speed and has "
+           "no per-move start speed yet (stored, D)."),
+          ("ENDMOVE_SPEED", "Speed a speed-profiled move ends at.",
+           "as STARTMOVE_SPEED: no per-move end speed in the shared planner yet (stored, D)."),
+          ("CORNER_MODE", "How merged moves slow at corners (bits).",
+           "corners run at the planner's own speeds (MERGE); the corner rules "
+           "(DECEL_ANGLE, STOP_ANGLE, RAISE_ANGLE, FULL_SP_RADIUS) are not applied "
+           "(stored, D)."),
+          ("DECEL_ANGLE", "Corner angle where CORNER_MODE starts slowing.",
+           "see CORNER_MODE (stored, D)."),
+          ("STOP_ANGLE", "Corner angle where CORNER_MODE stops.", "see CORNER_MODE "
+           "(stored, D)."),
+          ("RAISE_ANGLE", "Corner angle where CORNER_MODE raises the tool.",
+           "see CORNER_MODE (stored, D)."),
+          ("FULL_SP_RADIUS", "Arc radius above which CORNER_MODE keeps full speed.",
+           "see CORNER_MODE (stored, D)."),
+          ("FHOLD_IN", "Feed-hold input: while it is active moves run at FHSPEED.",
+           "changing the speed of moves already planned is not in the shared planner "
+           "yet (stored, D)."),
+          ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
+          ("OV_GAIN", "Output velocity gain of the servo loop.",
+           "the shared servo filter has no measured-velocity term (stored, D)."),
+          ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",
+           "its scaling to the shared filter's acceleration term is not published "
+           "(stored, D)."),
+          ("DAC", "The servo's output (written: the open-loop output).",
+           "open-loop output of a servo with SERVO OFF is not modelled; the closed loop's "
+           "output is not read here (stored, D)."),
+          ("DRIVE_FE_LIMIT", "Following-error limit inside a digital drive.",
+           "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
+           "(stored, D)."),
+          ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
+           "the robot system is not modelled (stored, D)."),
+          ("FRAME", "The robot (kinematic) frame of the axes.",
+           "the robot system's transforms (FRAME, MOVEL, MOVEJ, TOOL_OFFSET, USER_FRAME) "
+           "are not modelled: the pages found do not give each frame's equations exactly "
+           "enough to be exact to the tick (stored, D)."),
+      )],
+    *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
+      for name, summary, arity, axis, why in (
+          ("B_SPLINE", "B_SPLINE(...): expand TABLE data into a B-spline curve.", (5, 9),
+           False, "its spline's exact construction (knots, end conditions) was not found "
+           "in the pages (accepted, no effect, D)."),
+          ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
+           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+          ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
+           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+          ("FRAME_TRANS", "FRAME_TRANS(...): a robot frame's transform.", (4, 5), False,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("TOOL_OFFSET", "TOOL_OFFSET(...): the robot's tool offset.", (0, 8), True,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("R_MARK", "R_MARK(channel): the newer registration channels' mark.", (1, 1), True,
+           "the newer REGIST(20..) channels are not modelled (REGIST modes 1..9 are: "
+           "MARK, MARKB); reads 0 (D)."),
+          ("TRIGGER", "TRIGGER: start the scope capture.", (0, 1), False,
+           "no oscilloscope function: maxk's trace (--trace, --plot) records every servo "
+           "cycle instead (accepted, no effect, D)."),
+          ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
+           (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
+           "drive it (accepted, returns 0, D)."),
+      )],
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),

@@ -55,6 +55,14 @@ class TrioMachine(Protocol):
         """MOVE: load a relative interpolated move; axes[0] is the path's base axis."""
         ...
 
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        """MOVESP / MOVEABSSP: MOVE / MOVEABS at FORCE_SPEED."""
+        ...
+
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        """MOVECIRCSP / MHELICALSP: MOVECIRC / MHELICAL at FORCE_SPEED."""
+        ...
+
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         """MOVEABS: load an absolute interpolated move."""
         ...
@@ -127,6 +135,10 @@ class TrioMachine(Protocol):
 
     def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
         """CAMBOX(table start, axis count) on these axes (the multi-axis loading form)."""
+        ...
+
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        """CAM(start, end, multiplier, distance): the TABLE profile in time."""
         ...
 
     def regist(self, axis: int, args: Sequence[float]) -> None:

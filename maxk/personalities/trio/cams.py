@@ -10,8 +10,9 @@ the channel); bit 1 starts at the absolute link position `link pos`; bit 2 repea
 ways until REP_OPTION bit 1 is set; bit 3 is pattern mode (the third argument is then the
 control block); bit 7 starts the profile `offset start` into the link distance; bit 13
 follows the link axis's DPOS (the model always follows the demand: an MC405 stepper's
-MPOS is its DPOS). Bits 5 and 14 (link active only while the link moves forward) and
-the reserved bits are refused (D: not modelled).
+MPOS is its DPOS); bit 5 follows only the link's forward movement, bit 14 only its
+forward movement past the highest position it reached (`runs.Follow`). The reserved
+bits are refused (D).
 """
 
 from __future__ import annotations
@@ -20,12 +21,15 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .runs import Cambox
+from maxk.firmware_model.profiles import Motion, Phase, RampShape
+
+from .runs import Cambox, Follow
 
 MARK_START, ABSOLUTE, REPEAT, PATTERN = 1, 2, 4, 8
 OFFSET_START, MARKB_START, R_MARK_START, FOLLOW_DPOS = 128, 256, 512, 8192
+FORWARD_ONLY, THRESHOLD = 32, 16384
 MODELLED = MARK_START | ABSOLUTE | REPEAT | PATTERN | OFFSET_START | MARKB_START \
-    | R_MARK_START | FOLLOW_DPOS
+    | R_MARK_START | FOLLOW_DPOS | FORWARD_ONLY | THRESHOLD
 MULTI_AXIS_FIELDS = 8  # TABLE values per axis in the multi-axis loading form
 CONTROL_BLOCK = 7  # TABLE values of a pattern-mode control block
 
@@ -55,9 +59,14 @@ def cambox_from(args: Sequence[float], read_table: Callable[[int], float],
         pattern = _index(multiplier)
         block = [read_table(pattern + k) for k in range(CONTROL_BLOCK)]
         multiplier = read_table(_index(block[0]))
+    if bits & FORWARD_ONLY and bits & THRESHOLD:
+        raise ValueError("Parameter out of range")  # (D)
+    follow = Follow("forward") if bits & FORWARD_ONLY else \
+        Follow("threshold") if bits & THRESHOLD else None
     cam = Cambox(values, multiplier, distance, int(link_axis), None, 0.0,
                  repeat=bool(bits & REPEAT) and pattern is None,
-                 offset=offset if bits & OFFSET_START else 0.0, pattern=pattern)
+                 offset=offset if bits & OFFSET_START else 0.0, pattern=pattern,
+                 follow=follow)
     if bits & MARK_START:
         cam.wait = "MARK"
     elif bits & MARKB_START:
@@ -116,4 +125,34 @@ def multi_axis(table_start: int, count: int, read: Callable[[int], float]
             for k in range(int(count))]
 
 
-__all__ = ["cambox_from", "multi_axis", "next_pattern"]
+def cam_motion(args: Sequence[float], read_run: Callable[[int, int], Sequence[float]],
+               speed: float, units: float) -> Motion:
+    """CAM(start, end, multiplier, distance): the TABLE values start..end (offset by the
+    first, times the multiplier, counts) followed in time, the whole profile taking
+    distance / SPEED seconds (distance in the axis's user units, SPEED when it loads: I,
+    the MC206 manual's CAM page as recalled): one constant-speed phase per TABLE
+    interval, so every tick's position is the linear interpolation. It ends on the
+    profile's last value rounded to a whole count (D)."""
+    if len(args) != 4:
+        raise ValueError("Syntax error")
+    start, end, multiplier, distance = args
+    if start != int(start) or end != int(end) or end <= start or not distance > 0 \
+            or not speed > 0:
+        raise ValueError("Parameter out of range")
+    values = np.array(read_run(int(start), int(end)), dtype=float)
+    counts = multiplier * (values - values[0])
+    duration = distance * units / speed
+    if not (np.all(np.isfinite(counts)) and np.max(np.abs(counts)) < 2.0 ** 53
+            and np.isfinite(duration)):
+        raise ValueError("Parameter out of range")
+    step = duration / (len(counts) - 1)
+    phases = []
+    for i in range(len(counts) - 1):
+        delta = float(counts[i + 1] - counts[i])
+        phases.append(Phase(i * step, step, float(counts[i]), abs(delta) / step,
+                            abs(delta) / step, 1 if delta >= 0 else -1, RampShape.LINEAR))
+    final = round(float(counts[-1]))
+    return Motion(phases, duration, final, duration, 1 if final >= 0 else -1)
+
+
+__all__ = ["cam_motion", "cambox_from", "multi_axis", "next_pattern"]

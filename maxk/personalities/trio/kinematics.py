@@ -139,7 +139,13 @@ class Kinematics:
         target = link.end_position()  # link axis DPOS, user units
         if target is None or self.links.ends_here(link):
             return None  # on a linked (or ADDAX) link axis: links.py finds its end
-        if self.dpos(link.link) >= target - 1e-9:
+        here = self.dpos(link.link)
+        if link.follow is not None:  # forward-only links: where the link itself must be
+            here = float(link.follow.effective(np.array([here]))[0])
+            if here >= target - 1e-9:
+                return self.tick
+            target = link.follow.raw(target)
+        if here >= target - 1e-9:
             return self.tick
         la = self.axes[link.link]
         position = target * la.units - la.datum  # link axis demand, counts

@@ -39,7 +39,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .runs import Cambox, Connect, Flexlink, Link, Movelink, Run, TrioAxis
+from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
 
 
 class Host(Protocol):
@@ -74,7 +74,7 @@ distance (D: float rounding of a position computed exactly on a whole count)."""
 MIN_SPAN = 1e-6
 """The shortest link distance, counts (D: shorter, a repeating MOVELINK's cycle count
 would overflow a double)."""
-MOVELINK_MODELLED = 1 | 2 | 4 | 16 | 256 | 7 << 10 | 8192
+MOVELINK_MODELLED = 1 | 2 | 4 | 16 | 32 | 256 | 7 << 10 | 8192 | 16384
 """MOVELINK link option bits modelled (the MOVELINK help page): 1 and 256 start on the
 link axis's MARK / MARKB, 2 at an absolute link position, 4 repeats, 16 shapes the ramps
 as the curve bits 10..12 name, 8192 follows DPOS (what the model follows anyway); 32 and
@@ -113,10 +113,20 @@ def movelink_from(args: list[float], units: float, link_units: float) -> Movelin
     wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
     return Movelink(distance * units, counts[0], counts[1], counts[2], int(link),
                     repeat=bool(bits & 4), start_at=start, wait=wait,
-                    curve=None if curve == 4 else curve)
+                    curve=None if curve == 4 else curve, follow=follow_of(bits))
 
 
-FLEXLINK_MODELLED = 1 | 2 | 4 | 256 | 7 << 10 | 8192
+def follow_of(bits: int) -> Follow | None:
+    """Link option bits 5 (forward movement only) and 14 (forward past the highest
+    position reached); both at once is refused (D)."""
+    if bits & 32 and bits & 16384:
+        raise ValueError("Parameter out of range")
+    if bits & 32:
+        return Follow("forward")
+    return Follow("threshold") if bits & 16384 else None
+
+
+FLEXLINK_MODELLED = 1 | 2 | 4 | 32 | 256 | 7 << 10 | 8192 | 16384
 """FLEXLINK link option bits modelled (the FLEXLINK help page): as MOVELINK's, with the
 curve bits 10..12 acting without bit 4 (0, sine, by default)."""
 
@@ -151,7 +161,7 @@ def flexlink_from(args: list[float], units: float, link_units: float) -> Flexlin
     return Flexlink((base + excite) * units, counts, (w1 - w0) * acc / 100,
                     (w1 - w0) * dec / 100, int(link), repeat=bool(bits & 4), start_at=start,
                     wait=wait, curve=None if curve == 4 else curve, base=base * units,
-                    window=(w0, w1))
+                    window=(w0, w1), follow=follow_of(bits))
 
 
 @dataclass
@@ -305,6 +315,8 @@ class LinkedMoves:
                 pos = reg.reg_pos if link.wait == "MARK" else reg.reg_posb
                 link.link_origin = pos * m.axes[link.link].units - m.axes[link.link].datum
                 link.wait = None
+        if isinstance(link, Movelink) and link.follow is not None:
+            link.follow.rebase(float(m.demand_counts(link.link, now)[0]))
         if isinstance(link, Movelink) and link.start_at is not None:
             # option 2: from the absolute link position (its DPOS), once the link gets
             # there; already past it: from where it is (D)
@@ -333,8 +345,12 @@ class LinkedMoves:
             link = a.link
             if isinstance(link, Movelink) and link.link == axis and link.wait == event:
                 link.link_origin, link.wait = counts, None
+                if link.follow is not None:
+                    link.follow.rebase(m.demand(axis))
             elif isinstance(link, Cambox) and link.link == axis and link.wait == event:
                 la = m.axes[axis]
+                if link.follow is not None:
+                    link.follow.rebase(m.dpos(axis))
                 link.start_at((counts + la.datum) / la.units, link.origin)
                 link.held, link.wait = True, None
         m.changed()
@@ -357,6 +373,20 @@ class LinkedMoves:
                 link.link_origin += cycles * link.span
                 link.repeat = False
         m.changed()
+
+    def rebase(self) -> None:
+        """Forward-only links take in their link's travel up to now (every event)."""
+        m = self.machine
+        for a in m.axes:
+            link = a.link
+            follow = getattr(link, "follow", None)
+            if follow is None or follow.anchor is None:
+                continue
+            assert isinstance(link, Cambox | Movelink)
+            if isinstance(link, Cambox):
+                follow.rebase(m.dpos(link.link))
+            else:
+                follow.rebase(m.demand(link.link))
 
     def clear(self) -> None:
         """RAPIDSTOP: every buffered linked move goes."""
@@ -382,13 +412,17 @@ class LinkedMoves:
         if isinstance(link, Movelink):
             if link.wait is not None:
                 return False
-            position = float(m.demand_counts(link.link, np.array([tick]))[0])
-            return position >= link.link_end - REACHED
+            position = m.demand_counts(link.link, np.array([tick]))
+            if link.follow is not None:
+                position = link.follow.effective(position)
+            return float(position[0]) >= link.link_end - REACHED
         assert isinstance(link, Cambox)
         la = m.axes[link.link]
-        position = float(m.demand_counts(link.link, np.array([tick]))[0])
+        dpos = (m.demand_counts(link.link, np.array([tick])) + la.datum) / la.units
+        if link.follow is not None:
+            dpos = link.follow.effective(dpos)
         end = link.end_position()
-        return end is not None and (position + la.datum) / la.units >= end - 1e-9
+        return end is not None and float(dpos[0]) >= end - 1e-9
 
     def end_tick(self, link: Link, horizon: int | None) -> int | None:
         """The first servo tick the link axis has travelled the link distance, up to the

@@ -29,13 +29,15 @@ import numpy as np
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.path import PathPlan
+from maxk.firmware_model.profiles import Motion
 from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from . import moves
-from .cams import cambox_from, multi_axis, next_pattern
+from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
+from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
@@ -69,11 +71,14 @@ SERVO_PERIODS = (250, 500, 1000, 2000)
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
 
 
 class MC405Machine(Kinematics, Engine):
     """The MC405's firmware on the shared engine (one tick = one servo cycle)."""
+
+    _speed_name = "SPEED"  # the parameter a move loaded now runs at (MOVESP, jogs)
 
     def __init__(self, axis_defaults: Mapping[str, float], system_defaults: Mapping[str, float],
                  axis_count: int = AXIS_COUNT) -> None:
@@ -94,6 +99,8 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.outputs)
         self.add_source(self.links)  # MOVELINKs ending (links.py)
         self.add_source(self.registration)  # Z-mark captures (registration.py)
+        self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
+        self.add_source(self.jogs)  # jog inputs, looked at every event
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -109,6 +116,10 @@ class MC405Machine(Kinematics, Engine):
             self.links.reset()
         else:
             self.links = LinkedMoves(self, MOVE_BUFFER)
+        if hasattr(self, "jogs"):
+            self.jogs.reset()
+        else:
+            self.jogs: Jogs = Jogs(self)
         if hasattr(self, "registration"):
             self.registration.reset()
         else:
@@ -136,6 +147,7 @@ class MC405Machine(Kinematics, Engine):
         self.changed()
         self.registration.world_changed()
         self.drive.look(self.tick)
+        self.jogs.look()
 
     @property
     def pwm(self) -> PwmBank:
@@ -229,6 +241,8 @@ class MC405Machine(Kinematics, Engine):
             self.axes[axis].params[name] = value
         self.changed()
         self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
+        if name in _JOG_PARAMETERS:
+            self.jogs.look()
 
     def system_parameter(self, name: str) -> float:
         if name in SYSTEM_READS:
@@ -277,6 +291,23 @@ class MC405Machine(Kinematics, Engine):
         """A position in the fold the axis reads now (`here` unfolded) as an unfolded
         one: MOVEABS and absolute link positions act within the current fold (D)."""
         return position + here - self.wrapped(axis, here)
+
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        """MOVESP / MOVEABSSP: MOVE / MOVEABS at the base axis's FORCE_SPEED instead of
+        SPEED (C: the speed-profiled moves' pages)."""
+        self._speed_name = "FORCE_SPEED"
+        try:
+            (self.move_abs if absolute else self.move)(axes, values)
+        finally:
+            self._speed_name = "SPEED"
+
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        """MOVECIRCSP / MHELICALSP: MOVECIRC / MHELICAL at FORCE_SPEED (as MOVESP)."""
+        self._speed_name = "FORCE_SPEED"
+        try:
+            (self.mhelical if helical else self.movecirc)(axes, args)
+        finally:
+            self._speed_name = "SPEED"
 
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
@@ -478,11 +509,19 @@ class MC405Machine(Kinematics, Engine):
     def addax(self, axis: int, args: Sequence[float]) -> None:
         self.links.set_addax(axis, args[0])
 
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        """CAM(start, end, multiplier, distance): the TABLE profile in time (cams.py)."""
+        a = self.axes[axis]
+        motion = cam_motion(args, self.table.read_run, a.params["SPEED"] * a.units,
+                            a.units)
+        self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
+
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE) -> None:
+              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE,
+              preset: Motion | None = None) -> None:
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
-        speed = base.params["SPEED"] * base.units
+        speed = base.params[self._speed_name] * base.units
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
         if not min(speed, accel, decel) >= MIN_RATE:
@@ -492,7 +531,7 @@ class MC405Machine(Kinematics, Engine):
             if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
-        merge = base.params["MERGE"] != 0
+        merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
@@ -509,7 +548,7 @@ class MC405Machine(Kinematics, Engine):
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
-                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0)
+                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0, preset=preset)
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
@@ -538,8 +577,8 @@ class MC405Machine(Kinematics, Engine):
             axis.steps, axis.fraction = round(axis.steps + axis.fraction), 0.0
         if run.single:
             axis = self.axes[run.base]
-            run.profile = single_profile(run.deltas[0][0], run.speeds[0], run.accels[0],
-                                         run.decel, run.sramp)
+            run.profile = run.preset if run.preset is not None else single_profile(
+                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp)
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return
@@ -618,6 +657,8 @@ class MC405Machine(Kinematics, Engine):
         captured on the link axis counts, D)."""
         here = cam.origin
         link_now = self.dpos(cam.link)
+        if cam.follow is not None:
+            cam.follow.rebase(link_now)
         if cam.wait in ("MARK", "MARKB"):
             reg = self.registration.axes[cam.link]
             if reg.mark if cam.wait == "MARK" else reg.markb:
@@ -660,6 +701,23 @@ class MC405Machine(Kinematics, Engine):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
                 self._cambox_done(a)  # a linked move buffered behind it starts
+
+
+class _FollowWatch:
+    """At every event tick, the forward-only links (link option bits 5 and 14) take in
+    their link's travel so far: between events each link's motion is one closed form,
+    monotonic (D), so the effective travel stays exact."""
+
+    every_event = True
+
+    def __init__(self, machine: MC405Machine) -> None:
+        self.machine = machine
+
+    def next_event(self) -> int | None:
+        return None
+
+    def on_event(self, now: int) -> None:
+        self.machine.links.rebase()
 
 
 class _MotionEvents:

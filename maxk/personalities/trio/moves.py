@@ -44,6 +44,7 @@ class Host(LinkHost, Protocol):
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
 FORWARD, REVERSE = 10, 11
+CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",

@@ -53,6 +53,7 @@ class Run:
     units: float  # the base axis's UNITS when loaded: VP_SPEED is in its user units
     single: bool  # one axis, MERGE OFF: a closed-form profile, nothing merges into it
     sramp: float = 0.0  # SRAMP when loaded, seconds: the acceleration's rise (S-ramps)
+    preset: Motion | None = None  # a CAM's own profile (in time), made when loaded
     started: bool = False
     stopping: bool = False  # CANCEL/RAPIDSTOP: ramping down, takes no more moves
     start_tick: int = 0
@@ -189,6 +190,43 @@ class Connpath:
 
 
 @dataclass
+class Follow:
+    """Which of the link's movement a link follows (link option bits 5 and 14): only
+    its forward movement ("forward": each stretch of forward travel adds, backward
+    travel is ignored), or only forward movement past the highest position it reached
+    ("threshold"). `effective` maps the link's position to the position the link acts
+    on; `rebase` takes in the link's travel up to a point (the machine calls it at every
+    event and change, between which the link's motion is one monotonic closed form, D)."""
+
+    mode: str  # "forward" or "threshold"
+    acc: float = 0.0  # the effective position at `anchor` (threshold: the high water)
+    anchor: float | None = None  # the link position `acc` was taken at
+
+    def effective(self, link: np.ndarray) -> np.ndarray:
+        if self.anchor is None:
+            return link
+        if self.mode == "threshold":
+            return np.maximum(link, self.acc)
+        return self.acc + np.maximum(link - self.anchor, 0.0)
+
+    def rebase(self, link: float) -> None:
+        if self.anchor is None:
+            self.acc = self.anchor = link
+            return
+        self.acc = float(self.effective(np.array([link]))[0])
+        self.anchor = link
+
+    def raw(self, effective: float) -> float:
+        """The link position at which, moving forward from here, the effective position
+        reaches `effective`."""
+        if self.anchor is None:
+            return effective
+        if self.mode == "threshold":
+            return effective
+        return self.anchor + (effective - self.acc)
+
+
+@dataclass
 class Cambox:
     """CAMBOX(start, end, multiplier, link distance, link axis[, options[, link pos[,
     offset start]]]) AXIS(n): while the link axis travels `distance` user units from
@@ -216,6 +254,7 @@ class Cambox:
     pattern: int | None = None  # bit 3: the control block's TABLE index
     channel: int = 0  # bit 9: the R_MARK channel
     start_pos: float | None = None  # bit 1: the link DPOS it starts at
+    follow: Follow | None = None  # bits 5/14: only the link's forward movement counts
 
     def __post_init__(self) -> None:
         self.values = np.asarray(self.values, dtype=float) - float(self.values[0])
@@ -234,6 +273,8 @@ class Cambox:
     def counts(self, link_dpos: np.ndarray) -> np.ndarray:
         if self.link_origin is None:
             return np.full(np.shape(link_dpos), self.origin)
+        if self.follow is not None:
+            link_dpos = self.follow.effective(link_dpos)
         u = link_dpos - self.link_origin
         if self.repeat:
             cycles = np.floor(u / self.distance)
@@ -247,6 +288,8 @@ class Cambox:
         """d(counts)/d(link travel) of the profile."""
         if self.link_origin is None:
             return np.zeros(np.shape(link_dpos))
+        if self.follow is not None:
+            link_dpos = self.follow.effective(link_dpos)
         u = link_dpos - self.link_origin
         if self.repeat:
             u = u - np.floor(u / self.distance) * self.distance
@@ -308,6 +351,7 @@ class Movelink:
     start_at: float | None = None  # option 2: the link position (counts) it starts at
     wait: str | None = None  # options 1/256: the registration event not yet come
     curve: int | None = None  # option 16: the ramps' curve (bits 10..12), None linear
+    follow: Follow | None = None  # bits 5/14: only the link's forward movement counts
     origin: float = 0.0
     link_origin: float = 0.0
 
@@ -351,6 +395,8 @@ class Movelink:
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
         if self.wait is not None:
             return np.full(np.shape(link_counts), self.origin)
+        if self.follow is not None:
+            link_counts = self.follow.effective(link_counts)
         u = link_counts - self.link_origin
         if self.repeat:
             cycles = np.floor(u / self.span)
