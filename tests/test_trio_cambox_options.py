@@ -446,3 +446,32 @@ def test_movecircsp_runs_the_arc_at_force_speed() -> None:
     at(trio, end)
     assert (read(trio, "DPOS AXIS(0)"), read(trio, "DPOS AXIS(1)")) == (100, 100)
     assert read(trio, "MTYPE AXIS(0)") == 0
+
+
+def test_a_pattern_pointing_outside_table_ends_the_cambox_and_time_goes_on() -> None:
+    trio = machine()
+    assert trio.send("TABLE(0, 0, 1): TABLE(200, 10, 20)") == []
+    assert trio.send("TABLE(100, 200, -1, 200, 201, 0, 1, 999999999)") == []
+    assert trio.send("CAMBOX(0, 1, 100, 10, 1, 12) AXIS(0): FORWARD AXIS(1)") == []
+    trio.advance(1.0)  # after two shapes the next block is outside TABLE: it ends at 30
+    assert (read(trio, "DPOS AXIS(0)"), read(trio, "MTYPE AXIS(0)")) == (30, 0)
+    assert trio.send("?1") == ["1"]
+
+
+@pytest.mark.parametrize("line", [
+    "CAMBOX(0, 3, 1, 1e-300, 1, 4) AXIS(0)",  # a link distance no cycle count holds
+    "CAMBOX(0, 3, 1, 10, 1, 64) AXIS(0)",  # a reserved bit
+    "CAMBOX(0, 3, 1, 10, 1, 3, 5) AXIS(0)",  # two start events
+    "CAMBOX(0, 3, 1, 10, 1, 128, 0, 10) AXIS(0)",  # an offset past the link distance
+    "CAM(0, 3, 1, -10) AXIS(0)",  # a distance that is not positive
+    "CAM(3, 0, 1, 10) AXIS(0)",
+    "REGIST(10) AXIS(0)",
+    "MOVELINK(1, 10, 0, 0, 1, 16 + 5 * 1024) AXIS(0)",  # curve 5: unused
+    "FLEXLINK(1, 1, 10, 0, 0, 50, 50, 1, 32 + 16384) AXIS(0)",
+])
+def test_bad_options_are_refused_and_load_nothing(line: str) -> None:
+    trio = machine()
+    reply = trio.send(line)
+    assert reply and "Parameter out of range" in reply[0], reply
+    assert read(trio, "MTYPE AXIS(0)") == 0 and read(trio, "NTYPE AXIS(0)") == 0
+    assert trio.send("?1") == ["1"]

@@ -146,6 +146,8 @@ def cam_motion(args: Sequence[float], read_run: Callable[[int, int], Sequence[fl
             and np.isfinite(duration)):
         raise ValueError("Parameter out of range")
     step = duration / (len(counts) - 1)
+    if not (step > 0 and np.isfinite(np.max(np.abs(np.diff(counts))) / step)):
+        raise ValueError("Parameter out of range")  # (D: a speed no double holds)
     phases = []
     for i in range(len(counts) - 1):
         delta = float(counts[i + 1] - counts[i])

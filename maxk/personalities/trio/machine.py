@@ -68,6 +68,9 @@ MAX_PHYSICAL = 2.0 ** 62
 """The farthest the stage itself may be taken, in counts from where it powered up (D:
 DEFPOS moves only the frame DPOS reads; a 64-bit counter's range)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
+MIN_LINK_COUNTS = 1e-6
+"""The shortest CAMBOX link distance, in counts of the link axis (D: shorter, a repeating
+cam's cycle count would overflow a double)."""
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
@@ -426,6 +429,8 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Invalid axis number")
         if self.links.depends(int(link_axis), axis):
             raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
+        if not args[3] * self.axes[int(link_axis)].units >= MIN_LINK_COUNTS:
+            raise ValueError("Parameter out of range")  # (D: cycles no double counts)
         return cambox_from(args, self.table.read, self.table.read_run)
 
     def _load_camboxes(self, cams: list[tuple[int, Cambox]]) -> None:
@@ -678,10 +683,15 @@ class MC405Machine(Kinematics, Engine):
         """A CAMBOX reached its end: a pattern-mode one takes its next shape, else it
         ends and what is buffered behind it starts."""
         link = self.axes[axis].link
-        if isinstance(link, Cambox) and link.pattern is not None and next_pattern(
-                link, self.table.read, lambda i, v: self.table.write(i, [v])):
-            self.changed()
-            return
+        if isinstance(link, Cambox) and link.pattern is not None:
+            try:
+                going_on = next_pattern(link, self.table.read,
+                                        lambda i, v: self.table.write(i, [v]))
+            except (ValueError, IndexError):  # a control block pointing outside TABLE
+                going_on = False  # the CAMBOX ends there (D: the program is not stopped)
+            if going_on:
+                self.changed()
+                return
         self._unlink(axis)
         self.links.cancelled(axis)
         self.changed()
