@@ -475,3 +475,12 @@ def test_bad_options_are_refused_and_load_nothing(line: str) -> None:
     assert reply and "Parameter out of range" in reply[0], reply
     assert read(trio, "MTYPE AXIS(0)") == 0 and read(trio, "NTYPE AXIS(0)") == 0
     assert trio.send("?1") == ["1"]
+
+
+def test_demand_speed_is_the_demands_change_over_the_last_servo_cycle() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=10: SPEED=25: ACCEL=1e6: DECEL=1e6: MOVE(100)") == []
+    at(trio, 500)  # cruising at 25 units/s (the move lasts 4 s)
+    assert float(trio.query("?DEMAND_SPEED")) == pytest.approx(25, abs=1e-9)
+    trio.advance(5.0)
+    assert float(trio.query("?DEMAND_SPEED")) == 0

@@ -328,6 +328,10 @@ _ENTRIES: list[Keyword] = [
           writable=False, source=f"{TOK}; {MAN}", confidence="D",
           note="The demand's change over the servo cycle before now (D: the measured "
           "position is not modelled apart from the demand here)."),
+    _axis("DEMAND_SPEED", "The speed of the axis's demand position, user units/s (signed).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The demand's change over the servo cycle before now, per second (as "
+          "MSPEED, which reads the same in this model: D)."),
     _axis("LINK_AXIS", "The axis a linked move follows (CONNECT, MOVELINK, CAMBOX link "
           "axis, CONNPATH base); -1 none.", writable=False, source=f"{TOK}; {MAN}",
           confidence="I", note="-1 for none is our reading of the manual (I)."),
