@@ -484,3 +484,17 @@ def test_demand_speed_is_the_demands_change_over_the_last_servo_cycle() -> None:
     assert float(trio.query("?DEMAND_SPEED")) == pytest.approx(25, abs=1e-9)
     trio.advance(5.0)
     assert float(trio.query("?DEMAND_SPEED")) == 0
+
+
+def test_a_linked_axis_captures_its_z_mark_to_the_tick() -> None:
+    """Axis 2 CONNECTed at 3 counts per count to the FORWARD link axis: its mark at
+    count 600 is met when the link is at 200 (tick 2001 at 0.1 t - 0.005)."""
+    trio = machine()
+    stage = trio.machine.world.axes[2]
+    stage.index_offset, stage.index_period, stage.index_width = 600, 100000, 1
+    assert trio.send("CONNECT(3, 1) AXIS(2): REGIST(1) AXIS(2): FORWARD AXIS(1)") == []
+    tick = first_tick(200.0)
+    at(trio, tick - 1)
+    assert read(trio, "MARK AXIS(2)") == 0
+    at(trio, tick)
+    assert (read(trio, "MARK AXIS(2)"), read(trio, "REG_POS AXIS(2)")) == (-1, 600)

@@ -650,7 +650,8 @@ _ENTRIES: list[Keyword] = [
              "Z mark rising/falling, 3/4 R input rising/falling into MARK/REG_POS; 5..8 "
              "R (A) with the Z mark on MARKB/REG_POSB; 9 R rising (A) and falling (B). The "
              "Z mark is the world's index marks of the axis, found to the servo tick on "
-             "the axis's own motion; REG_POS is the mark's exact count (the latch). The R "
+             "the axis's own motion (on a linked axis by bisecting its demand up to the "
+             "next motion event, D); REG_POS is the mark's exact count (the latch). The R "
              "input of axis n is world digital input n (D), latched on the tick it "
              "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
              "newer forms (20..) are refused (D)."),

@@ -6,7 +6,9 @@ position of the mark, and MARK turns TRUE on the servo tick the axis reaches it:
 
 - modes 1 and 2: the rising / falling edge of the encoder's Z mark, the world's index
   marks of the axis (every `index_period` counts from `index_offset`, `index_width`
-  wide), found on the axis's own motion by the shared bisection (`tick_reaching`);
+  wide), found on the axis's own motion by the shared bisection (`tick_reaching`), on a
+  linked axis (CONNECT, CAMBOX, ADDAX ...) by a bisection of its demand up to the next
+  motion event;
 - modes 3 and 4: the rising / falling edge of the axis's registration input R, which is
   digital input n of the world (D: the MC405 wires its registration inputs to the
   built-in inputs; the axis number picks one), captured on the tick the world changes it,
@@ -24,8 +26,11 @@ and MOVELINK link options 1 and 256) start from the captured position (`links.py
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
+
+import numpy as np
 
 from maxk.firmware_model.outputs import next_periodic_marks
 
@@ -132,14 +137,20 @@ class Registration:
         """(tick, channel, position in counts) of each armed Z capture's next edge."""
         m = self.m
         out = []
+        horizon: int | None = -1  # (looked up once, for linked axes)
         for axis, reg in enumerate(self.axes):
+            if not any(cap.source == "Z" for cap in reg.armed.values()):
+                continue
             a = m.axes[axis]
-            if a.motion is None or a.link is not None:
+            own = a.motion is not None and a.link is None and axis not in m.links.addax
+            if not own and horizon == -1:
+                horizon = m.motion_horizon()
+            if not own and (horizon is None or horizon <= m.tick):
                 continue
             stage = m.world.axes[axis]
             if stage.index_period <= 0:
                 continue
-            here = a.steps_now(m)
+            here = a.steps_now(m) if own else math.floor(m.demand(axis))
             for channel, cap in reg.armed.items():
                 if cap.source != "Z":
                     continue
@@ -158,10 +169,37 @@ class Registration:
                         position += direction * stage.index_period
                     else:
                         continue
-                    tick = a.tick_reaching(position, direction, m)
+                    tick = a.tick_reaching(position, direction, m) if own else \
+                        self._linked_tick(axis, position, direction, horizon)
                     if tick is not None:
                         out.append((tick, f"{axis}:{channel}", float(position)))
         return out
+
+    def _linked_tick(self, axis: int, position: float, direction: int,
+                     horizon: int | None) -> int | None:
+        """The first tick a linked axis's demand reaches `position` travelling
+        `direction`, up to the horizon (the next tick the motion changes by itself:
+        until then its demand is one closed form, taken as monotonic, D)."""
+        m = self.m
+        if horizon is None:
+            return None
+
+        def reached(tick: int) -> bool:
+            here = float(m.demand_counts(axis, np.array([tick]))[0])
+            return direction * (here - position) >= 0
+
+        if not reached(horizon):
+            return None
+        lo, hi = m.tick, horizon
+        if reached(lo):
+            return lo + 1
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if reached(mid):
+                hi = mid
+            else:
+                lo = mid
+        return hi
 
     def next_event(self) -> int | None:
         m = self.m
