@@ -239,7 +239,7 @@ def test_cancel_ends_the_running_link_and_the_buffered_one_starts() -> None:
 @pytest.mark.parametrize(("line", "error"), [
     ("MOVELINK(10, 0, 0, 0, 0) AXIS(1)", "Parameter out of range"),
     ("MOVELINK(10, 100, -1, 0, 0) AXIS(1)", "Parameter out of range"),
-    ("MOVELINK(10, 100, 0, 0, 0, 1) AXIS(1)", "Parameter out of range"),  # registration
+    ("MOVELINK(10, 100, 0, 0, 0, 512) AXIS(1)", "Parameter out of range"),  # R_MARK
     ("MOVELINK(10, 100, 0, 0, 0, 2) AXIS(1)", "Parameter out of range"),  # no position
     ("MOVELINK(10, 100, 0, 0, 1) AXIS(1)", "Invalid axis number"),
     ("MOVELINK(10, 100, 0, 0, 99) AXIS(1)", "Invalid axis number"),

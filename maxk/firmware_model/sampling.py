@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from .path import PathPlan
-from .profiles import Motion
+from .profiles import Motion, RampShape
 
 
 class PlanArrays:
@@ -65,10 +65,17 @@ class PlanArrays:
 
 
 def profile_offset_speed(motion: Motion, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A linear-ramp profile's signed offset and speed (unsigned) at many times."""
+    """A profile's signed offset and speed (unsigned) at many times: linear ramps as
+    arrays; any other ramp shape one time at a time through the profile's own exact
+    evaluation (S-ramps, parabolic ramps: their pieces are not array formulas here)."""
     phases = motion.phases
     if not phases:
         return np.full(t.shape, float(motion.final_offset)), np.zeros(t.shape)
+    if any(p.shape is not RampShape.LINEAR and p.v1 != p.v2 for p in phases):
+        flat = np.ravel(t)
+        offset = np.array([motion.offset(float(x)) for x in flat]).reshape(t.shape)
+        speed = np.array([abs(motion.velocity(float(x))) for x in flat]).reshape(t.shape)
+        return offset, speed
     t0 = np.array([p.t0 for p in phases])
     i = np.maximum(np.searchsorted(t0, t, side="right") - 1, 0)
     dur = np.array([p.duration for p in phases])[i]

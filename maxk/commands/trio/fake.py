@@ -145,6 +145,12 @@ class FakeTrioMachine:
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         self._load(_Move(list(axes), list(positions), absolute=True))
 
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        (self.mhelical if helical else self.movecirc)(axes, args)
+
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        (self.move_abs if absolute else self.move)(axes, values)  # (no FORCE_SPEED here)
+
     def _load(self, move: _Move) -> None:
         for a in move.axes:
             self.queues[a].append(move)
@@ -191,6 +197,18 @@ class FakeTrioMachine:
         self.table.read_run(int(start), int(end))  # refuses a run outside TABLE
         self.cams[axis] = _Cam(int(start), int(end), multiplier, distance, int(link),
                                self.dpos[int(link)], self.dpos[axis])
+
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no multi-axis form)
+
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no FLEXLINK)
+
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no CAM)
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no registration)
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.pwm[axis].control(args, self.table, self.axis_params[axis]["UNITS"],

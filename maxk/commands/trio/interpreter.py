@@ -183,7 +183,9 @@ _CLOCK = frozenset({"TIME", "DATE", "DAY"})
 _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RAPIDSTOP",
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
-                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX"})
+                               "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
+                               "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
+                               "MOVECIRCSP", "MHELICALSP"})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1015,11 +1017,21 @@ class Interpreter:
                 yield ON_CHANGE
             move = m.move if name == "MOVE" else m.move_abs
             self._act(lambda: move(axes, args))
+        elif name in ("MOVESP", "MOVEABSSP"):
+            axes = self.group(stmt.axis, ctx, len(args))
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.move_sp(axes, args, name == "MOVEABSSP"))
         elif name in ("MOVECIRC", "MHELICAL"):
             axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRC" else 3)
             while not m.can_load(axes):
                 yield ON_CHANGE
             self._act(lambda: (m.movecirc if name == "MOVECIRC" else m.mhelical)(axes, args))
+        elif name in ("MOVECIRCSP", "MHELICALSP"):
+            axes = self.group(stmt.axis, ctx, 2 if name == "MOVECIRCSP" else 3)
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.arc_sp(axes, args, name == "MHELICALSP"))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -1104,14 +1116,30 @@ class Interpreter:
             yield from self._forever(axis, 1 if name == "FORWARD" else -1)
         elif name == "DATUM":
             yield from self.datum(axis, args[0])
-        elif name in ("MOVELINK", "CONNECT"):  # linked moves queue behind links too
+        elif name in ("MOVELINK", "CONNECT", "FLEXLINK"):  # queued behind links too
             while not m.can_link(axis):
                 yield ON_CHANGE
-            self._act(lambda: (m.movelink if name == "MOVELINK" else m.connect)(axis, args))
+            action = {"MOVELINK": m.movelink, "CONNECT": m.connect,
+                      "FLEXLINK": m.flexlink}[name]
+            self._act(lambda: action(axis, args))
         elif name == "MOVEMODIFY":  # acts on the running move: never waits (D)
             self._act(lambda: m.movemodify(axis, args))
         elif name == "ADDAX":
             self._act(lambda: m.addax(axis, args))
+        elif name == "CAM":
+            while not m.can_load([axis]):
+                yield ON_CHANGE
+            self._act(lambda: m.cam(axis, args))
+        elif name == "REGIST":  # arms a capture: never waits
+            self._act(lambda: m.regist(axis, args))
+        elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form
+            axes = base_array([axis], m.axis_count)[:int(args[1])] \
+                if args[1] == int(args[1]) and 1 <= args[1] <= m.axis_count else []
+            if not axes:
+                raise TrioError("Parameter out of range")
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.cambox_group(axes, args))
         elif name in ("CONNPATH", "CAMBOX"):
             while not m.can_load([axis]):
                 yield ON_CHANGE

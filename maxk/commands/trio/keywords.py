@@ -232,12 +232,27 @@ _ENTRIES: list[Keyword] = [
              "(D). The axis moves by ratio x the path distance (base user units) until "
              "CANCEL (D)."),
     _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
-             "end, multiplier, link distance, link axis[, options[, link position]]).",
-             (5, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}", confidence="I",
-             note="TABLE values are counts x multiplier, interpolated linearly over the "
-             "link distance; ends when the link axis has travelled it. Options other than "
-             "0 are refused (D), and so is a link axis that itself follows this axis "
-             "through CAMBOX links (D: a loop of links has no position)."),
+             "end, multiplier, link distance, link axis[, link options[, link pos[, offset "
+             "start]]]); CAMBOX(table start, axis count) loads several axes at once.",
+             (2, 8), axis=True, source=f"{SEED}; {TOK}; {MAN}; help (CAMBOX page)",
+             confidence="C",
+             note="TABLE values offset by the first, times the multiplier (counts), "
+             "interpolated linearly over the link distance; ends on the servo tick the link "
+             "axis has travelled it (C). Link options (C: help page): 1/256 start on the "
+             "link axis's MARK/MARKB at REG_POS exactly (one captured before counts, D); 2 "
+             "at the absolute link position (already past: from where it is, D); 4 repeats "
+             "both ways, each cycle from where the last ended, until REP_OPTION bit 1; 8 "
+             "pattern mode (third argument the 7-value control block, stepped at each "
+             "shape's end with the link moving forward; backward patterns not modelled, "
+             "D); 128 starts offset start into the profile, the axis taken as there (no "
+             "jump, D); 8192 DPOS (the model follows DPOS always, D); 32 follows only the "
+             "link's forward travel, 16384 only forward travel past its highest point "
+             "(taken in at every engine event, between which the link's motion is "
+             "monotonic, D). 512 (R_MARK) and reserved bits: 'Parameter out of range' (D). "
+             "Before a registration/absolute start the axis holds; a repeating CAMBOX "
+             "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
+             "an axis, on the base axis and the axes after it (I), all checked first (C). "
+             "A link axis that follows this axis is refused (D: no position)."),
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
@@ -256,16 +271,35 @@ _ENTRIES: list[Keyword] = [
     _command("MOVELINK", "MOVELINK(distance, link dist, link acc, link dec, link axis[, "
              "options[, link pos]]): move distance while the link axis travels link dist, "
              "ramping over its first link acc and last link dec.", (5, 13), axis=True,
-             source=f"{TOK}; {MAN}", confidence="I",
-             note="The axis's speed share of the link ramps linearly with the link's travel "
-             "(a parabola in position), constant between (I); link acc + link dec above "
-             "link dist are both shortened in proportion (I). It follows the link axis's "
-             "DEMAND position (D: the manual's link is the measured one) and ends on the "
+             source=f"{TOK}; {MAN}; help (MOVELINK page)", confidence="I",
+             note="The axis's speed share of the link ramps with the link's travel, "
+             "constant between (C); link acc + link dec above link dist are both shortened "
+             "in proportion (C). It follows the link axis's DEMAND position (D: the "
+             "manual's link is the measured one; bit 8192 asks for DPOS) and ends on the "
              "first servo tick the link has travelled link dist; the next MOVELINK "
              "buffered on the same link axis takes over at that exact link position (no "
-             "drift: I). Options: 2 starts when the link axis reaches link pos (already "
-             "past: from where it is, D), 4 repeats both ways until CANCEL; 1 (registration) "
-             "and others are refused (D). Buffered like a move (NTYPE 22). MTYPE 22."),
+             "drift: I). Options (C: help page): 1/256 start at the link axis's MARK/"
+             "MARKB REG_POS; 2 at the absolute link position link pos (already past: from "
+             "where it is, D); 4 repeats both ways until REP_OPTION bit 1; 16 curved "
+             "ramps, bits 10..12 the curve: 0 sine, 1/2/3 power 9/7/5 polynomial speed "
+             "(smoothstep polynomials, I), 4 linear; 32 forward travel only, 16384 forward "
+             "past the highest point (as CAMBOX's). 512 (R_MARK), base_dist and reserved "
+             "bits: 'Parameter out of range' (D). "
+             "Buffered like a move (NTYPE 22). MTYPE 22."),
+    _command("FLEXLINK", "FLEXLINK(base dist, excite dist, link dist, base in, base out, "
+             "excite acc, excite dec, link axis[, options[, start pos]]): a constant-ratio "
+             "base move plus a ramped excitation move, linked to another axis.", (8, 10),
+             axis=True, source=f"{TOK}; help (FLEXLINK page)", confidence="I",
+             note="The base moves base dist in proportion to the link's travel over link "
+             "dist; the excitation moves excite dist between base in % and 100 - base out % "
+             "of it, ramping over excite acc % and excite dec % of that window on the "
+             "curve bits 10..12 give (0 sine by default, 1/2/3 power 9/7/5 polynomial "
+             "speed, 4 linear: C, page). Options 1/256 (MARK/MARKB start), 2 (absolute "
+             "start), 4 (repeat), 32/16384 (forward only), 8192 as MOVELINK's; 512 refused "
+             "(D). "
+             "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
+             "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
+             "in the pages found)."),
     _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
              "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
@@ -281,8 +315,9 @@ _ENTRIES: list[Keyword] = [
              "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
              "aims its own moves, without the live ADDAX part (D)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
-          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 20 CAMBOX, 21 CONNECT, 22 "
-          "MOVELINK, 23 CONNPATH.", writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
+          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="I",
           note="The codes as recalled from the manual's MTYPE table (the table's text was "
           "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
           "MOVE of exactly 2^50 counts reads as FORWARD/REVERSE (D)."),
@@ -306,6 +341,10 @@ _ENTRIES: list[Keyword] = [
           writable=False, source=f"{TOK}; {MAN}", confidence="D",
           note="The demand's change over the servo cycle before now (D: the measured "
           "position is not modelled apart from the demand here)."),
+    _axis("DEMAND_SPEED", "The speed of the axis's demand position, user units/s (signed).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I",
+          note="The demand's change over the servo cycle before now, per second (as "
+          "MSPEED, which reads the same in this model: D)."),
     _axis("LINK_AXIS", "The axis a linked move follows (CONNECT, MOVELINK, CAMBOX link "
           "axis, CONNPATH base); -1 none.", writable=False, source=f"{TOK}; {MAN}",
           confidence="I", note="-1 for none is our reading of the manual (I)."),
@@ -736,6 +775,161 @@ _ENTRIES: list[Keyword] = [
             "(D).", (-1, 1023)),
     Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
             args=(1, 1)),
+    # ---- registration (personalities/trio/registration.py) -------------------------------
+    _command("REGIST", "REGIST(mode) AXIS(n): arm one capture of the axis's position on a "
+             "registration edge.", (1, 7), axis=True, source=f"{TOK}; {MAN}",
+             confidence="I", note="Modes (I: the MC2xx manual's table as recalled): 1/2 "
+             "Z mark rising/falling, 3/4 R input rising/falling into MARK/REG_POS; 5..8 "
+             "R (A) with the Z mark on MARKB/REG_POSB; 9 R rising (A) and falling (B). The "
+             "Z mark is the world's index marks of the axis, found to the servo tick on "
+             "the axis's own motion (on a linked axis by bisecting its demand up to the "
+             "next motion event, D); REG_POS is the mark's exact count (the latch). The R "
+             "input of axis n is world digital input n (D), latched on the tick it "
+             "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
+             "newer forms (20..) are refused (D)."),
+    _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
+             "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
+             source=f"{TOK}; {MAN}", confidence="I",
+             note="TABLE values offset by the first, times the multiplier (counts), "
+             "interpolated linearly in time: distance in the axis's user units at the "
+             "SPEED it has when the CAM loads (I, the CAM page as recalled). Buffered like "
+             "a move, never merged (D); ends on the profile's last value rounded to a "
+             "whole count (D). MTYPE 13 (I)."),
+    _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
+             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
+             "FORCE_SPEED taken when it loads (C). ENDMOVE_SPEED and STARTMOVE_SPEED are "
+             "not applied: the planner joins merged moves at the next move's speed (D)."),
+    _command("MOVEABSSP", "MOVEABSSP(p1[, p2...]): MOVEABS at the base axis's FORCE_SPEED.",
+             (1, 128), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVEABS (MTYPE 2: D), at FORCE_SPEED (as MOVESP)."),
+    _axis("FORCE_SPEED", "The vector speed of MOVESP and MOVEABSSP, user units/s.",
+          default=0.0, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Read when a MOVESP/MOVEABSSP loads; 0 refuses them like a SPEED of 0 (D)."),
+    _axis("FWD_JOG", "The input that jogs the axis forward while it is low; -1 none.",
+          default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
+          note="Active low (C: MC206 manual, JOGSPEED page); read as IN(n) reads it. The "
+          "jog starts on the tick the input goes low with the axis idle (D: a jog does not "
+          "interrupt a move) and ramps down at DECEL when it goes high; MTYPE 14 (I). "
+          "Both jog inputs low: no jog (D). Power-up -1 (D)."),
+    _axis("REV_JOG", "The input that jogs the axis in reverse while it is low; -1 none.",
+          default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
+          note="As FWD_JOG; MTYPE 15 (I)."),
+    _axis("FAST_JOG", "The input that, while low, makes a jog run at SPEED instead of "
+          "JOGSPEED; -1 none.", default=-1, value_range=(-1, 1023),
+          source=f"{TOK}; {MAN}", confidence="I", note="Read when the jog starts (D)."),
+    _axis("JOGSPEED", "The slow jog speed, user units/s.", value_range=(0, _BIG),
+          source=f"{TOK}; {MAN}", confidence="C", note="A jog at 0 does not start (D)."),
+    _axis("SRAMP", "S-ramp time, ms: a single-axis move's acceleration rises to ACCEL "
+          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 250),
+          source=f"{TOK}; {MAN}", confidence="I",
+          note="Range 0..250 ms (I, as recalled). Taken when the move loads. A ramp to "
+          "SPEED then lasts SPEED/ACCEL + SRAMP (the shared S-curve profile); a move "
+          "too short to reach SPEED keeps the shares SPEED gives (D). Interpolated and "
+          "merged paths, CANCEL's ramp down and links stay linear (D)."),
+    _axis("OPEN_WIN", "Where the registration window opens (user units).",
+          source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "
+          "edges between OPEN_WIN and CLOSE_WIN (as DPOS reads, REP_DIST folded), + 768 "
+          "only edges outside (I); a rejected edge leaves the capture armed."),
+    _axis("CLOSE_WIN", "Where the registration window closes (user units).",
+          source=f"{TOK}; {MAN}", confidence="I", note="As OPEN_WIN."),
+    _axis("MARK", "TRUE once the capture REGIST armed has happened.", writable=False,
+          source=f"{TOK}; {MAN}", confidence="C", note="FALSE from REGIST until the "
+          "edge; TRUE from the servo tick of the edge (registration.py)."),
+    _axis("MARKB", "TRUE once the capture of REGIST's second channel has happened.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As MARK, channel "
+          "B (REGIST modes 5..9)."),
+    _axis("REG_POS", "The position captured by the last registration (user units).",
+          writable=False, source=f"{TOK}; {MAN}", confidence="C", note="The mark's exact "
+          "position, DEFPOS applied, in the axis's UNITS."),
+    _axis("REG_POSB", "The position captured by the second registration channel.",
+          writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As REG_POS."),
+    _axis("REP_DIST", "The repeat distance: DPOS, MPOS and REG_POS read folded into "
+          "-REP_DIST..REP_DIST (0..REP_DIST with REP_OPTION bit 0).", default=200000,
+          value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
+          note="Power-up 200000 (I, as recalled). The machine keeps the unfolded position "
+          "(motion and links are never disturbed, D); MOVEABS and a CAMBOX's absolute "
+          "start position are taken in the fold the axis reads now (D). 0 does not fold "
+          "(D)."),
+    _axis("REP_OPTION", "Repeat options: bit 1 set ends the repeating CAMBOX/MOVELINK at "
+          "the end of its cycle, and clears.", value_range=(0, 255),
+          source=f"{TOK}; help (CAMBOX, MOVELINK pages)", confidence="I",
+          note="Bit 1 acts on the repeating links running on the axis or linked to it "
+          "(D: the CAMBOX page's example sets it on the link axis) and reads 0 again (C). "
+          "Bit 0 folds positions into 0..REP_DIST instead of -REP_DIST..REP_DIST (I)."),
+    _command("MOVECIRCSP", "MOVECIRCSP(...): MOVECIRC at the base axis's FORCE_SPEED.",
+             (5, 7), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MOVECIRC, its path speed FORCE_SPEED (as MOVESP)."),
+    _command("MHELICALSP", "MHELICALSP(...): MHELICAL at the base axis's FORCE_SPEED.",
+             (6, 9), axis=True, source=f"{TOK}; {MAN}", confidence="I",
+             note="As MHELICAL, its path speed FORCE_SPEED (as MOVESP)."),
+    # ---- motion words stored but not acted on, each with why (issue 35) ----------------
+    *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
+      for name, summary, why in (
+          ("JERK", "Jerk limit of the axis's moves.",
+           "the page giving its units and how it combines with SRAMP was not found; "
+           "SRAMP shapes the S-ramps (stored, D)."),
+          ("STARTMOVE_SPEED", "Speed a speed-profiled move starts at.",
+           "the shared path planner joins merged moves at the next move's speed and has "
+           "no per-move start speed yet (stored, D)."),
+          ("ENDMOVE_SPEED", "Speed a speed-profiled move ends at.",
+           "as STARTMOVE_SPEED: no per-move end speed in the shared planner yet (stored, D)."),
+          ("CORNER_MODE", "How merged moves slow at corners (bits).",
+           "corners run at the planner's own speeds (MERGE); the corner rules "
+           "(DECEL_ANGLE, STOP_ANGLE, RAISE_ANGLE, FULL_SP_RADIUS) are not applied "
+           "(stored, D)."),
+          ("DECEL_ANGLE", "Corner angle where CORNER_MODE starts slowing.",
+           "see CORNER_MODE (stored, D)."),
+          ("STOP_ANGLE", "Corner angle where CORNER_MODE stops.", "see CORNER_MODE "
+           "(stored, D)."),
+          ("RAISE_ANGLE", "Corner angle where CORNER_MODE raises the tool.",
+           "see CORNER_MODE (stored, D)."),
+          ("FULL_SP_RADIUS", "Arc radius above which CORNER_MODE keeps full speed.",
+           "see CORNER_MODE (stored, D)."),
+          ("FHOLD_IN", "Feed-hold input: while it is active moves run at FHSPEED.",
+           "changing the speed of moves already planned is not in the shared planner "
+           "yet (stored, D)."),
+          ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
+          ("OV_GAIN", "Output velocity gain of the servo loop.",
+           "the shared servo filter has no measured-velocity term (stored, D)."),
+          ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",
+           "its scaling to the shared filter's acceleration term is not published "
+           "(stored, D)."),
+          ("DAC", "The servo's output (written: the open-loop output).",
+           "open-loop output of a servo with SERVO OFF is not modelled; the closed loop's "
+           "output is not read here (stored, D)."),
+          ("DRIVE_FE_LIMIT", "Following-error limit inside a digital drive.",
+           "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
+           "(stored, D)."),
+          ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
+           "the robot system is not modelled (stored, D)."),
+          ("FRAME", "The robot (kinematic) frame of the axes.",
+           "the robot system's transforms (FRAME, MOVEL, MOVEJ, TOOL_OFFSET, USER_FRAME) "
+           "are not modelled: the pages found do not give each frame's equations exactly "
+           "enough to be exact to the tick (stored, D)."),
+      )],
+    *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
+      for name, summary, arity, axis, why in (
+          ("B_SPLINE", "B_SPLINE(...): expand TABLE data into a B-spline curve.", (5, 9),
+           False, "its spline's exact construction (knots, end conditions) was not found "
+           "in the pages (accepted, no effect, D)."),
+          ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
+           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+          ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
+           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+          ("FRAME_TRANS", "FRAME_TRANS(...): a robot frame's transform.", (4, 5), False,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("TOOL_OFFSET", "TOOL_OFFSET(...): the robot's tool offset.", (0, 8), True,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
+           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+          ("R_MARK", "R_MARK(channel): the newer registration channels' mark.", (1, 1), True,
+           "the newer REGIST(20..) channels are not modelled (REGIST modes 1..9 are: "
+           "MARK, MARKB); reads 0 (D)."),
+          ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
+           (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
+           "drive it (accepted, returns 0, D)."),
+      )],
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),

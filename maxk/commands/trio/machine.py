@@ -55,6 +55,14 @@ class TrioMachine(Protocol):
         """MOVE: load a relative interpolated move; axes[0] is the path's base axis."""
         ...
 
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        """MOVESP / MOVEABSSP: MOVE / MOVEABS at FORCE_SPEED."""
+        ...
+
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        """MOVECIRCSP / MHELICALSP: MOVECIRC / MHELICAL at FORCE_SPEED."""
+        ...
+
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         """MOVEABS: load an absolute interpolated move."""
         ...
@@ -78,6 +86,11 @@ class TrioMachine(Protocol):
 
     def movelink(self, axis: int, args: Sequence[float]) -> None:
         """MOVELINK(distance, link dist, link acc, link dec, link axis[, options[, pos]])."""
+        ...
+
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        """FLEXLINK(base, excite, link dist, base in, base out, acc, dec, link axis[,
+        options[, start pos]])."""
         ...
 
     def connect(self, axis: int, args: Sequence[float]) -> None:
@@ -116,7 +129,20 @@ class TrioMachine(Protocol):
         ...
 
     def cambox(self, axis: int, args: Sequence[float]) -> None:
-        """CAMBOX(start, end, multiplier, link distance, link axis[, options[, pos]])."""
+        """CAMBOX(start, end, multiplier, link distance, link axis[, options[, pos[,
+        offset]]])."""
+        ...
+
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """CAMBOX(table start, axis count) on these axes (the multi-axis loading form)."""
+        ...
+
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        """CAM(start, end, multiplier, distance): the TABLE profile in time."""
+        ...
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        """REGIST(mode) AXIS(n): arm a registration capture."""
         ...
 
     # ---- PWM and memory ---------------------------------------------------------------

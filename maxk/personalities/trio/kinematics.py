@@ -48,7 +48,7 @@ class Kinematics:
             travelled = self.path_distance(link.base, ticks) - link.distance0
             return link.origin + link.ratio * travelled * a.units
         if isinstance(link, Cambox):
-            return link.counts(self.dpos_at(link.link, ticks) - link.link_origin)
+            return link.counts(self.dpos_at(link.link, ticks))
         m = a.motion
         if m is None:
             return np.full(ticks.shape, a.steps + a.fraction)
@@ -97,8 +97,8 @@ class Kinematics:
         if isinstance(link, Connpath):
             return abs(link.ratio) * self.path_speed(link.base, ticks)
         if isinstance(link, Cambox):
-            travelled = self.dpos_at(link.link, ticks) - link.link_origin
-            return np.abs(link.slope(travelled)) * self.vp_speed_at(link.link, ticks) / a.units
+            slope = link.slope(self.dpos_at(link.link, ticks))
+            return np.abs(slope) * self.vp_speed_at(link.link, ticks) / a.units
         queue = self.queues[axis]
         run = queue[0] if queue else None
         if run is None or not run.started:
@@ -136,11 +136,17 @@ class Kinematics:
         """The tick the link axis has travelled the CAMBOX's link distance."""
         link = self.axes[axis].link
         assert isinstance(link, Cambox)
-        if self.links.ends_here(link):
+        target = link.end_position()  # link axis DPOS, user units
+        if target is None or self.links.ends_here(link):
             return None  # on a linked (or ADDAX) link axis: links.py finds its end
-        if self.dpos(link.link) - link.link_origin >= link.distance - 1e-9:
+        here = self.dpos(link.link)
+        if link.follow is not None:  # forward-only links: where the link itself must be
+            here = float(link.follow.effective(np.array([here]))[0])
+            if here >= target - 1e-9:
+                return self.tick
+            target = link.follow.raw(target)
+        if here >= target - 1e-9:
             return self.tick
-        target = link.link_origin + link.distance  # link axis DPOS, user units
         la = self.axes[link.link]
         position = target * la.units - la.datum  # link axis demand, counts
         inner = la.link

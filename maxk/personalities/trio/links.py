@@ -39,7 +39,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from .runs import Cambox, Connect, Link, Movelink, Run, TrioAxis
+from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
 
 
 class Host(Protocol):
@@ -51,6 +51,7 @@ class Host(Protocol):
     tick: int
     period: float
     outputs: Any  # its sync_all(): the PWM encoders see the motion before it changes
+    registration: Any  # registration.Registration: MARK/REG_POS per axis
 
     @property
     def axis_count(self) -> int: ...
@@ -60,6 +61,8 @@ class Host(Protocol):
     def _buffered(self, axis: int) -> int: ...
     def _attach(self, axis: int, link: Link, handover: Link | None = None) -> None: ...
     def _unlink(self, axis: int) -> None: ...
+    def _cambox_done(self, axis: int) -> None: ...
+    def dpos(self, axis: int) -> float: ...
     def demand(self, axis: int) -> float: ...
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
     def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
@@ -71,34 +74,94 @@ distance (D: float rounding of a position computed exactly on a whole count)."""
 MIN_SPAN = 1e-6
 """The shortest link distance, counts (D: shorter, a repeating MOVELINK's cycle count
 would overflow a double)."""
-LINK_OPTIONS = (0, 2, 4, 6)
-"""MOVELINK link options modelled: 2 starts at an absolute link position, 4 repeats
-(D: 1, starting on a registration event, and the newer bits are refused)."""
+MOVELINK_MODELLED = 1 | 2 | 4 | 16 | 32 | 256 | 7 << 10 | 8192 | 16384
+"""MOVELINK link option bits modelled (the MOVELINK help page): 1 and 256 start on the
+link axis's MARK / MARKB, 2 at an absolute link position, 4 repeats, 16 shapes the ramps
+as the curve bits 10..12 name, 8192 follows DPOS (what the model follows anyway); 32 and
+16384 (active only while the link moves forward), 512 (R_MARK) and the reserved bits
+are refused (D: not modelled)."""
 
 
 def movelink_from(args: list[float], units: float, link_units: float) -> Movelink:
     """A MOVELINK from its arguments (user units; counts from here on). Refusals:
     'Parameter out of range' for a link distance that is not positive, negative ramps,
-    options not modelled (see LINK_OPTIONS)."""
+    options not modelled (see MOVELINK_MODELLED)."""
     distance, span, accel, decel, link = args[:5]
     options = args[5] if len(args) > 5 else 0.0
-    if any(a != 0 for a in args[7:]):
-        raise ValueError("Parameter out of range")  # the newer arguments: not modelled (D)
-    if not (span > 0 and accel >= 0 and decel >= 0) or options not in LINK_OPTIONS:
+    if any(a != 0 for a in args[8:]) or (len(args) > 7 and args[7] != 0):
+        raise ValueError("Parameter out of range")  # base_dist: not modelled (D)
+    if not (span > 0 and accel >= 0 and decel >= 0) or options != int(options) \
+            or not 0 <= options < 1 << 15 or int(options) & ~MOVELINK_MODELLED:
         raise ValueError("Parameter out of range")
-    if accel + decel > span:  # both shortened in proportion to fit (I: manual)
+    bits = int(options)
+    curve = (bits >> 10) & 7 if bits & 16 else None
+    if curve is not None and curve > 4:
+        raise ValueError("Parameter out of range")  # 5..7 unused (C)
+    if bits & 1 and bits & 256 or (bits & 2 and bits & (1 | 256)):
+        raise ValueError("Parameter out of range")  # one start event (D)
+    if accel + decel > span:  # both shortened in proportion to fit (C: MOVELINK page)
         scale = span / (accel + decel)
         accel, decel = accel * scale, decel * scale
     counts = [v * link_units for v in (span, accel, decel)]
     if not counts[0] >= MIN_SPAN:
         raise ValueError("Parameter out of range")
-    start = args[6] * link_units if int(options) & 2 and len(args) > 6 else None
-    if int(options) & 2 and start is None:
+    start = args[6] * link_units if bits & 2 and len(args) > 6 else None
+    if bits & 2 and start is None:
         raise ValueError("Parameter out of range")  # option 2 needs its link position
     if not all(math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (*counts, distance * units)):
         raise ValueError("Parameter out of range")
+    wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
     return Movelink(distance * units, counts[0], counts[1], counts[2], int(link),
-                    repeat=bool(int(options) & 4), start_at=start)
+                    repeat=bool(bits & 4), start_at=start, wait=wait,
+                    curve=None if curve == 4 else curve, follow=follow_of(bits))
+
+
+def follow_of(bits: int) -> Follow | None:
+    """Link option bits 5 (forward movement only) and 14 (forward past the highest
+    position reached); both at once is refused (D)."""
+    if bits & 32 and bits & 16384:
+        raise ValueError("Parameter out of range")
+    if bits & 32:
+        return Follow("forward")
+    return Follow("threshold") if bits & 16384 else None
+
+
+FLEXLINK_MODELLED = 1 | 2 | 4 | 32 | 256 | 7 << 10 | 8192 | 16384
+"""FLEXLINK link option bits modelled (the FLEXLINK help page): as MOVELINK's, with the
+curve bits 10..12 acting without bit 4 (0, sine, by default)."""
+
+
+def flexlink_from(args: list[float], units: float, link_units: float) -> Flexlink:
+    """FLEXLINK(base dist, excite dist, link dist, base in %, base out %, excite acc %,
+    excite dec %, link axis[, options[, start pos]]): refusals as MOVELINK's, and
+    percentages outside 0..100 or base in + base out, excite acc + excite dec above 100
+    (D)."""
+    base, excite, span, base_in, base_out, acc, dec, link = args[:8]
+    options = args[8] if len(args) > 8 else 0.0
+    if options != int(options) or not 0 <= options < 1 << 15 \
+            or int(options) & ~FLEXLINK_MODELLED or not span > 0:
+        raise ValueError("Parameter out of range")
+    shares = (base_in, base_out, acc, dec)
+    if not all(0 <= v <= 100 for v in shares) or base_in + base_out > 100 \
+            or acc + dec > 100:
+        raise ValueError("Parameter out of range")
+    bits = int(options)
+    curve = (bits >> 10) & 7
+    if curve > 4 or (bits & 1 and bits & 256) or (bits & 2 and bits & (1 | 256)):
+        raise ValueError("Parameter out of range")
+    counts = span * link_units
+    if not counts >= MIN_SPAN or not all(
+            math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (counts, (base + excite) * units)):
+        raise ValueError("Parameter out of range")
+    w0, w1 = counts * base_in / 100, counts * (1 - base_out / 100)
+    start = args[9] * link_units if bits & 2 and len(args) > 9 else None
+    if bits & 2 and start is None:
+        raise ValueError("Parameter out of range")
+    wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
+    return Flexlink((base + excite) * units, counts, (w1 - w0) * acc / 100,
+                    (w1 - w0) * dec / 100, int(link), repeat=bool(bits & 4), start_at=start,
+                    wait=wait, curve=None if curve == 4 else curve, base=base * units,
+                    window=(w0, w1), follow=follow_of(bits))
 
 
 @dataclass
@@ -179,6 +242,13 @@ class LinkedMoves:
         m = self.machine
         self.load(axis, movelink_from(args, m.axes[axis].units, m.axes[link].units))
 
+    def flexlink(self, axis: int, args: list[float]) -> None:
+        if len(args) < 8:
+            raise ValueError("Syntax error")
+        link = self.check_axis(args[7], axis)
+        m = self.machine
+        self.load(axis, flexlink_from(args, m.axes[axis].units, m.axes[link].units))
+
     def set_addax(self, axis: int, value: float) -> None:
         """ADDAX(n): superimpose axis n's demand from now; ADDAX(-1): stop adding."""
         m = self.machine
@@ -239,6 +309,14 @@ class LinkedMoves:
         if isinstance(handover, Movelink) and handover.link == link.link:
             link.origin = handover.origin + handover.distance
             link.link_origin = handover.link_end
+        if isinstance(link, Movelink) and link.wait is not None:
+            reg = m.registration.axes[link.link]
+            if (reg.mark if link.wait == "MARK" else reg.markb):  # already captured (D)
+                pos = reg.reg_pos if link.wait == "MARK" else reg.reg_posb
+                link.link_origin = pos * m.axes[link.link].units - m.axes[link.link].datum
+                link.wait = None
+        if isinstance(link, Movelink) and link.follow is not None:
+            link.follow.rebase(float(m.demand_counts(link.link, now)[0]))
         if isinstance(link, Movelink) and link.start_at is not None:
             # option 2: from the absolute link position (its DPOS), once the link gets
             # there; already past it: from where it is (D)
@@ -259,6 +337,57 @@ class LinkedMoves:
             else:
                 m._attach(axis, link)
 
+    def registered(self, axis: int, event: str, counts: float) -> None:
+        """A registration event on `axis` (its position, demand counts): the links
+        waiting for it on that link axis start from there (the MARK link options)."""
+        m = self.machine
+        for a in m.axes:
+            link = a.link
+            if isinstance(link, Movelink) and link.link == axis and link.wait == event:
+                link.link_origin, link.wait = counts, None
+                if link.follow is not None:
+                    link.follow.rebase(m.demand(axis))
+            elif isinstance(link, Cambox) and link.link == axis and link.wait == event:
+                la = m.axes[axis]
+                if link.follow is not None:
+                    link.follow.rebase(m.dpos(axis))
+                link.start_at((counts + la.datum) / la.units, link.origin)
+                link.held, link.wait = True, None
+        m.changed()
+
+    def stop_repeating(self, axis: int) -> None:
+        """REP_OPTION bit 1 on `axis`: the repeating CAMBOXes and MOVELINKs running on it,
+        or linked to it, end at the end of the cycle they are in (D: the page's example
+        sets it on the link axis)."""
+        m = self.machine
+        for i, a in enumerate(m.axes):
+            link = a.link
+            if not isinstance(link, Cambox | Movelink) or axis not in (i, link.link):
+                continue
+            if isinstance(link, Cambox):
+                link.stop_repeating(m.dpos(link.link))
+            elif link.repeat:
+                u = m.demand(link.link) - link.link_origin
+                cycles = math.floor(u / link.span)
+                link.origin += cycles * link.distance
+                link.link_origin += cycles * link.span
+                link.repeat = False
+        m.changed()
+
+    def rebase(self) -> None:
+        """Forward-only links take in their link's travel up to now (every event)."""
+        m = self.machine
+        for a in m.axes:
+            link = a.link
+            follow = getattr(link, "follow", None)
+            if follow is None or follow.anchor is None:
+                continue
+            assert isinstance(link, Cambox | Movelink)
+            if isinstance(link, Cambox):
+                follow.rebase(m.dpos(link.link))
+            else:
+                follow.rebase(m.demand(link.link))
+
     def clear(self) -> None:
         """RAPIDSTOP: every buffered linked move goes."""
         for chain in self.chains:
@@ -271,6 +400,8 @@ class LinkedMoves:
         if isinstance(link, Movelink):
             return not link.repeat
         if isinstance(link, Cambox):
+            if link.end_position() is None:
+                return False
             leader = link.link
             return (isinstance(self.machine.axes[leader].link, Connect | Movelink | Cambox)
                     or leader in self.addax or self.shift[leader] != 0)
@@ -279,12 +410,19 @@ class LinkedMoves:
     def _done(self, link: Link, tick: int) -> bool:
         m = self.machine
         if isinstance(link, Movelink):
-            position = float(m.demand_counts(link.link, np.array([tick]))[0])
-            return position >= link.link_end - REACHED
+            if link.wait is not None:
+                return False
+            position = m.demand_counts(link.link, np.array([tick]))
+            if link.follow is not None:
+                position = link.follow.effective(position)
+            return float(position[0]) >= link.link_end - REACHED
         assert isinstance(link, Cambox)
         la = m.axes[link.link]
-        position = float(m.demand_counts(link.link, np.array([tick]))[0])
-        return (position + la.datum) / la.units - link.link_origin >= link.distance - 1e-9
+        dpos = (m.demand_counts(link.link, np.array([tick])) + la.datum) / la.units
+        if link.follow is not None:
+            dpos = link.follow.effective(dpos)
+        end = link.end_position()
+        return end is not None and float(dpos[0]) >= end - 1e-9
 
     def end_tick(self, link: Link, horizon: int | None) -> int | None:
         """The first servo tick the link axis has travelled the link distance, up to the
@@ -330,8 +468,7 @@ class LinkedMoves:
             if isinstance(link, Movelink):
                 self.finish(axis, link)
             else:  # a CAMBOX: the machine's own end of one, then what is buffered
-                m._unlink(axis)
-                self.cancelled(axis)
+                m._cambox_done(axis)
         m.changed()
 
     def finish(self, axis: int, link: Movelink) -> None:
@@ -347,4 +484,4 @@ class LinkedMoves:
             m._attach(axis, self.chains[axis].popleft(), link)
 
 
-__all__ = ["Addax", "Host", "LinkedMoves", "movelink_from"]
+__all__ = ["Addax", "Host", "LinkedMoves", "flexlink_from", "movelink_from"]

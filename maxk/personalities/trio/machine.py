@@ -29,17 +29,21 @@ import numpy as np
 
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.path import PathPlan
+from maxk.firmware_model.profiles import Motion
 from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from . import moves
+from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
+from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
+from .registration import Registration
 from .runs import (
     SHAPE,
     Cambox,
@@ -64,6 +68,9 @@ MAX_PHYSICAL = 2.0 ** 62
 """The farthest the stage itself may be taken, in counts from where it powered up (D:
 DEFPOS moves only the frame DPOS reads; a 64-bit counter's range)."""
 SERVO_PERIODS = (250, 500, 1000, 2000)
+MIN_LINK_COUNTS = 1e-6
+"""The shortest CAMBOX link distance, in counts of the link axis (D: shorter, a repeating
+cam's cycle count would overflow a double)."""
 AXIS_COUNT = 16  # axes 0-4 on the board, 5-15 virtual (D)
 _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # Axis types that are an encoder input and nothing else (the ATYPE help page: 76
@@ -72,10 +79,14 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
+_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
 
 
 class MC405Machine(Kinematics, Engine):
     """The MC405's firmware on the shared engine (one tick = one servo cycle)."""
+
+    _speed_name = "SPEED"  # the parameter a move loaded now runs at (MOVESP, jogs)
 
     def __init__(self, axis_defaults: Mapping[str, float], system_defaults: Mapping[str, float],
                  axis_count: int = AXIS_COUNT) -> None:
@@ -95,6 +106,9 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
         self.add_source(self.links)  # MOVELINKs ending (links.py)
+        self.add_source(self.registration)  # Z-mark captures (registration.py)
+        self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
+        self.add_source(self.jogs)  # jog inputs, looked at every event
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -111,6 +125,14 @@ class MC405Machine(Kinematics, Engine):
             self.links.reset()
         else:
             self.links = LinkedMoves(self, MOVE_BUFFER)
+        if hasattr(self, "jogs"):
+            self.jogs.reset()
+        else:
+            self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "registration"):
+            self.registration.reset()
+        else:
+            self.registration: Registration = Registration(self)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         if hasattr(self, "drive"):
@@ -132,7 +154,9 @@ class MC405Machine(Kinematics, Engine):
     def world_changed(self) -> None:
         """The world moved a switch or an input: a limit it turns on acts now."""
         self.changed()
+        self.registration.world_changed()
         self.drive.look(self.tick)
+        self.jogs.look()
 
     @property
     def pwm(self) -> PwmBank:
@@ -200,13 +224,17 @@ class MC405Machine(Kinematics, Engine):
             self.outputs.sync_encoder(axis)
             return output.encoder
         if name in AXIS_READS:
-            return self.drive.axis_parameter(name, axis)
+            value = self.drive.axis_parameter(name, axis)
+            return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":
-            return self.dpos(axis)
+            return self.wrapped(axis, self.dpos(axis))
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
+        if name in _REGISTRATION_READS:
+            value = self.registration.read(name, axis)
+            return self.wrapped(axis, value) if name.startswith("REG_POS") else value
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
@@ -218,10 +246,15 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
+        elif name == "REP_OPTION" and int(value) & 2:
+            self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
+            self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)
         else:
             self.axes[axis].params[name] = value
         self.changed()
         self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
+        if name in _JOG_PARAMETERS:
+            self.jogs.look()
 
     def system_parameter(self, name: str) -> float:
         if name in SYSTEM_READS:
@@ -254,9 +287,46 @@ class MC405Machine(Kinematics, Engine):
         deltas = [round(self._counts(a, d)) for a, d in zip(axes, distances, strict=True)]
         self._load(tuple(axes), deltas, kind=moves.move_kind(tuple(axes), deltas, False))
 
+    def wrapped(self, axis: int, position: float) -> float:
+        """A position as a repeating axis reads it: REP_DIST > 0 folds it into -REP_DIST
+        ..REP_DIST, or 0..REP_DIST with REP_OPTION bit 0 (I: REP_DIST page as recalled;
+        the machine keeps the unfolded position, so motion is never disturbed, D)."""
+        params = self.axes[axis].params
+        rep = params.get("REP_DIST", 0.0)
+        if not rep > 0:
+            return position
+        if int(params.get("REP_OPTION", 0.0)) & 1:
+            return position - rep * math.floor(position / rep)
+        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
+
+    def unwrapped(self, axis: int, position: float, here: float) -> float:
+        """A position in the fold the axis reads now (`here` unfolded) as an unfolded
+        one: MOVEABS and absolute link positions act within the current fold (D)."""
+        return position + here - self.wrapped(axis, here)
+
+    def move_sp(self, axes: Sequence[int], values: Sequence[float], absolute: bool) -> None:
+        """MOVESP / MOVEABSSP: MOVE / MOVEABS at the base axis's FORCE_SPEED instead of
+        SPEED (C: the speed-profiled moves' pages)."""
+        self._speed_name = "FORCE_SPEED"
+        try:
+            (self.move_abs if absolute else self.move)(axes, values)
+        finally:
+            self._speed_name = "SPEED"
+
+    def arc_sp(self, axes: Sequence[int], args: Sequence[float], helical: bool) -> None:
+        """MOVECIRCSP / MHELICALSP: MOVECIRC / MHELICAL at FORCE_SPEED (as MOVESP)."""
+        self._speed_name = "FORCE_SPEED"
+        try:
+            (self.mhelical if helical else self.movecirc)(axes, args)
+        finally:
+            self._speed_name = "SPEED"
+
     def move_abs(self, axes: Sequence[int], positions: Sequence[float]) -> None:
         deltas = []
         for a, p in zip(axes, positions, strict=True):
+            axis = self.axes[a]
+            end = (self._end_counts(a) + axis.datum + self.links.shift[a]) / axis.units
+            p = self.unwrapped(a, p, end)
             target = moves.own_target(self, a, p)  # physical counts
             delta = target - self._end_counts(a)
             if not abs(delta) < MAX_COUNTS:
@@ -382,18 +452,42 @@ class MC405Machine(Kinematics, Engine):
         self._link(axis, link)
 
     def cambox(self, axis: int, args: Sequence[float]) -> None:
-        start, end, multiplier, distance, link_axis = args[:5]
-        if len(args) > 5 and args[5] != 0:
-            raise ValueError("CAMBOX options are not supported")
+        """CAMBOX on the axis, or its multi-axis loading form CAMBOX(table start, axis
+        count) (`cambox_group`): every option of the help page but bits 5 and 14."""
+        if len(args) < 5:
+            raise ValueError("Syntax error")
+        self._load_camboxes([(axis, self._cambox(axis, args))])
+
+    def cambox_group(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """CAMBOX(table start, axis count): the axes' CAMBOXes from consecutive TABLE
+        values, 8 per axis; all checked before any is loaded (C: CAMBOX page)."""
+        start = args[0]
+        if start != int(start) or start < 0:
+            raise ValueError("Parameter out of range")
+        rows = multi_axis(int(start), len(axes), self.table.read)
+        self._load_camboxes([(a, self._cambox(a, row)) for a, row in zip(axes, rows,
+                                                                          strict=True)])
+
+    def _cambox(self, axis: int, args: Sequence[float]) -> Cambox:
+        link_axis = args[4]
         if link_axis != int(link_axis) or not 0 <= link_axis < self._axis_count \
                 or int(link_axis) == axis:
             raise ValueError("Invalid axis number")
-        if distance <= 0 or start != int(start) or end != int(end) or end <= start:
-            raise ValueError("Parameter out of range")
         if self.links.depends(int(link_axis), axis):
             raise ValueError("Parameter out of range")  # a loop of CAMBOX links (D)
-        values = np.array(self.table.read_run(int(start), int(end)))
-        self._link(axis, Cambox(values, multiplier, distance, int(link_axis), 0.0, 0.0))
+        if not args[3] * self.axes[int(link_axis)].units >= MIN_LINK_COUNTS:
+            raise ValueError("Parameter out of range")  # (D: cycles no double counts)
+        return cambox_from(args, self.table.read, self.table.read_run)
+
+    def _load_camboxes(self, cams: list[tuple[int, Cambox]]) -> None:
+        if not all(self.can_load([a]) for a, _cam in cams):
+            raise ValueError("Parameter out of range")  # (a group waits for none: D)
+        for axis, cam in cams:
+            self._link(axis, cam)
+
+    def regist(self, axis: int, args: Sequence[float]) -> None:
+        """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
+        self.registration.regist(axis, list(args))
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
@@ -460,14 +554,25 @@ class MC405Machine(Kinematics, Engine):
     def movelink(self, axis: int, args: Sequence[float]) -> None:
         self.links.movelink(axis, list(args))
 
+    def flexlink(self, axis: int, args: Sequence[float]) -> None:
+        self.links.flexlink(axis, list(args))
+
     def addax(self, axis: int, args: Sequence[float]) -> None:
         self.links.set_addax(axis, args[0])
 
+    def cam(self, axis: int, args: Sequence[float]) -> None:
+        """CAM(start, end, multiplier, distance): the TABLE profile in time (cams.py)."""
+        a = self.axes[axis]
+        motion = cam_motion(args, self.table.read_run, a.params["SPEED"] * a.units,
+                            a.units)
+        self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
+
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE) -> None:
+              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE,
+              preset: Motion | None = None) -> None:
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
-        speed = base.params["SPEED"] * base.units
+        speed = base.params[self._speed_name] * base.units
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
         if not min(speed, accel, decel) >= MIN_RATE:
@@ -477,7 +582,7 @@ class MC405Machine(Kinematics, Engine):
             if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
-        merge = base.params["MERGE"] != 0
+        merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
@@ -493,7 +598,8 @@ class MC405Machine(Kinematics, Engine):
             self.changed()
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
-                  single=len(axes) == 1 and not merge)
+                  single=len(axes) == 1 and not merge,
+                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0, preset=preset)
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
@@ -522,8 +628,8 @@ class MC405Machine(Kinematics, Engine):
             axis.steps, axis.fraction = round(axis.steps + axis.fraction), 0.0
         if run.single:
             axis = self.axes[run.base]
-            run.profile = single_profile(run.deltas[0][0], run.speeds[0], run.accels[0],
-                                         run.decel)
+            run.profile = run.preset if run.preset is not None else single_profile(
+                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp)
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return
@@ -592,8 +698,49 @@ class MC405Machine(Kinematics, Engine):
         if isinstance(link, Connpath):
             link.distance0 = float(self.path_distance(link.base, self._now())[0])
         else:
-            link.link_origin = self.dpos(link.link)
+            assert isinstance(link, Cambox)
+            self._start_cambox(link)
         self.axes[axis].link = link
+
+    def _start_cambox(self, cam: Cambox) -> None:
+        """A CAMBOX takes effect: from here, from its absolute link position (already
+        past it: from where the link is, D), or on its registration event (one already
+        captured on the link axis counts, D)."""
+        here = cam.origin
+        link_now = self.dpos(cam.link)
+        if cam.follow is not None:
+            cam.follow.rebase(link_now)
+        if cam.wait in ("MARK", "MARKB"):
+            reg = self.registration.axes[cam.link]
+            if reg.mark if cam.wait == "MARK" else reg.markb:
+                cam.start_at(reg.reg_pos if cam.wait == "MARK" else reg.reg_posb, here)
+                cam.held, cam.wait = True, None
+            return
+        if cam.wait is not None:
+            return  # R_MARK: no channel modelled reaches it (D)
+        if cam.start_pos is not None:
+            start = self.unwrapped(cam.link, cam.start_pos, link_now)
+            cam.start_at(max(start, link_now), here)
+            cam.held = True
+            return
+        cam.start_at(link_now, here)
+
+    def _cambox_done(self, axis: int) -> None:
+        """A CAMBOX reached its end: a pattern-mode one takes its next shape, else it
+        ends and what is buffered behind it starts."""
+        link = self.axes[axis].link
+        if isinstance(link, Cambox) and link.pattern is not None:
+            try:
+                going_on = next_pattern(link, self.table.read,
+                                        lambda i, v: self.table.write(i, [v]))
+            except (ValueError, IndexError):  # a control block pointing outside TABLE
+                going_on = False  # the CAMBOX ends there (D: the program is not stopped)
+            if going_on:
+                self.changed()
+                return
+        self._unlink(axis)
+        self.links.cancelled(axis)
+        self.changed()
 
     def _unlink(self, axis: int) -> None:
         a = self.axes[axis]
@@ -609,9 +756,24 @@ class MC405Machine(Kinematics, Engine):
         for a, axis in enumerate(self.axes):
             if isinstance(axis.link, Cambox) and axis.link_end is not None \
                     and axis.link_end <= now:
-                self._unlink(a)
-                self.links.cancelled(a)  # a linked move buffered behind it starts
-                self.changed()
+                self._cambox_done(a)  # a linked move buffered behind it starts
+
+
+class _FollowWatch:
+    """At every event tick, the forward-only links (link option bits 5 and 14) take in
+    their link's travel so far: between events each link's motion is one closed form,
+    monotonic (D), so the effective travel stays exact."""
+
+    every_event = True
+
+    def __init__(self, machine: MC405Machine) -> None:
+        self.machine = machine
+
+    def next_event(self) -> int | None:
+        return None
+
+    def on_event(self, now: int) -> None:
+        self.machine.links.rebase()
 
 
 class _MotionEvents:

@@ -44,10 +44,11 @@ class Host(LinkHost, Protocol):
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
 FORWARD, REVERSE = 10, 11
+CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
-                     "LINK_AXIS", "ADDAX_AXIS"})
+                     "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS"})
 
 
 def link_kind(link: Link) -> int:
@@ -193,7 +194,7 @@ def report(m: Host, name: str, axis: int) -> float:
         added = m.links.addax.get(axis)
         return float(added.link) if added is not None else -1.0
     now = m._now()
-    if name == "MSPEED":
+    if name in ("MSPEED", "DEMAND_SPEED"):  # (the demand is what the axis measures: D)
         if m.tick == 0:
             return 0.0
         ticks = np.array([m.tick - 1, m.tick])
