@@ -7,6 +7,10 @@ PoKeysLib call exercise the same bytes. Commands that set something answer nothi
 the device's empty replies carry nothing); queries answer decoded lines; a line the
 console cannot read, or a request the device ignores, answers `! ...`. Axes are named
 X Y Z A B C U V or 1..8.
+
+Long module: each console word is a handler beside its help line, and the words cover the
+whole request table (set-up, pulse engine, I/O, the REPL's slot words); split by word
+group, every half would import the other's parsing of axes and values.
 """
 
 from __future__ import annotations
