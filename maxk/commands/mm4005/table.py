@@ -477,13 +477,29 @@ _IO_ENTRIES: Final[tuple[CommandSpec, ...]] = (
 )
 
 
+_SEARCHED_WORDS: Final = ("WT WP WE WF WG WH WK WL WY UH UL DL JL RP IE KC OE YE YG YL YN YW WA "
+                          "AS CS YA YB YC YD YF YK YM YQ YS YV YY LP EO AP CP MP SM XL")
+SEARCHED_AGAIN: Final = frozenset(_SEARCHED_WORDS.split())
+"""The flow-control, variable-setting and programming commands whose pages were looked
+for a second time (2026-11-27) in the stored pages of the MM4005's and MM4006's manuals
+and of the sibling ESP300's remote-mode chapter (whose WS example and program-execution
+pages p. 3-2/3-3 were found), by name and in the pages' own layout (IMM PGM MIP, SYNTAX,
+PARAMETERS...): none was found, so none has a syntax, a range or a reply to follow and
+each stays Q rather than being guessed."""
+
+_SEARCH_NOTE: Final = ("in the MM4005, MM4006 or ESP300 manual pages (searched again "
+                       "2026-11-27)")
+
+
 def _listed(mnemonic: str) -> CommandSpec:
     """A command of the manual's list the emulator does not carry out: answers Q."""
     group = ml.GROUP[mnemonic]
+    searched = f" {_SEARCH_NOTE}" if mnemonic in SEARCHED_AGAIN else ""
     return _spec(mnemonic, mn.not_modelled, AxisRule.ELEMENT, Operand.ANY, query=True,
                  replies=False, source=f"{_LIST}: {group}", confidence="I",
-                 note=f"one of the {group} commands; its page was not found: not modelled, "
-                 "answers Q", summary=f"{mnemonic}: one of the {group} commands (not modelled)")
+                 note=f"one of the {group} commands; its page was not found{searched}: not "
+                 "modelled, answers Q",
+                 summary=f"{mnemonic}: one of the {group} commands (not modelled)")
 
 
 _MODELLED: Final = {spec.mnemonic for spec in _ENTRIES + _IO_ENTRIES}
