@@ -91,9 +91,25 @@ def test_position_trigger_fires_on_the_first_tick_the_axis_has_passed(hosted: Ho
     assert c.reading(1, "X")["position"] == 12003
     c.step(2.0)
     assert host.query("QA")[2] == "L"  # the host sees the limit its own way
+    # the factory limit style is hard (manual 2.14, LMH): the axis stops where the limit
+    # found it, on the tick the trigger set it
+    assert int(host.query("RP")) == 12003
+
+
+def test_a_soft_limit_set_by_a_trigger_decelerates_at_ac(hosted: Hosted) -> None:
+    """The same trigger with the soft limit style (SL): the axis decelerates at AC from
+    VL, VL^2 / (2 AC) = 500 steps past where the limit tripped."""
+    c = hosted.client
+    c.pause()
+    host = hosted.boards.connect(1)
+    host.command(f"AX; VL{VL}; AC{AC}; LA; SL; MR40000; GO;")
+    start = c.clock()[0]["tick"]
+    c.arm(1, "X fault plus active", axis="X", passes=12003)
+    c.step(3.0)
+    assert c.triggers(1)[0]["fired_tick"] == start + 10243
+    assert host.query("QA")[2] == "L"
     stop = int(host.query("RP"))
-    # a limit stops a MAXk move with its deceleration (AC): VL^2 / (2 AC) = 500 steps more
-    assert 12003 <= stop <= 12003 + 500 + 2
+    assert stop - 12003 == pytest.approx(VL * VL / (2 * AC), abs=2)
 
 
 def test_position_trigger_downward_fires_on_the_first_tick_at_or_below(hosted: Hosted) -> None:
