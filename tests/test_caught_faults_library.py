@@ -60,6 +60,8 @@ class Card:
         self.put(M.BOARD_NUMBER, 1)
         self.put(M.FIRMWARE_FLAGS, 0)  # power-up initialization done
         self.text = bytearray()
+        self.replies: dict[str, str] = {}  # a query's exact text -> the line the card answers
+        self._unanswered = ""
         self.clears: list[int] = []
         self.consuming = threading.Event()
         self.consuming.set()
@@ -83,8 +85,10 @@ class Card:
                 insert, process = self.get(M.CMD_INSERT), self.get(M.CMD_PROCESS)
                 while process != insert:
                     self.text.append(self.mem[M.CMD_RING + process])
+                    self._unanswered += chr(self.mem[M.CMD_RING + process])
                     process = (process + 1) % M.RING_SIZE
                 self.put(M.CMD_PROCESS, process)
+                self._answer()
             clear = self.get(M.ODBR_CLEAR)
             if clear:
                 self.clears.append(clear)
@@ -92,6 +96,18 @@ class Card:
                 self.put(M.ODBR_CLEAR, 0)
             self.put(M.TICK, self.get(M.TICK) + 1)
             time.sleep(0.0002)  # the firmware's pace; nothing depends on it
+
+    def _answer(self) -> None:
+        """A registered query that arrived gets its line in the response ring (the MAX
+        framing: the reply, then LF CR)."""
+        for query, reply in self.replies.items():
+            if self._unanswered.endswith(query):
+                insert = self.get(M.RESP_INSERT)
+                for byte in (reply + "\n\r").encode("latin-1"):
+                    self.mem[M.RESP_RING + insert] = byte
+                    insert = (insert + 1) % M.RING_SIZE
+                self.put(M.RESP_INSERT, insert)
+                self._unanswered = ""
 
     def take(self) -> str:
         """The text the library has sent since the last take (once the ring is empty)."""
@@ -124,7 +140,7 @@ def board(lib: ctypes.CDLL, tmp_path: Path, monkeypatch) -> Iterator[tuple[Card,
     card = Card(tmp_path / "card")
     monkeypatch.setenv("MAXK_OMSMAXK1", f"shm:{card.path}")
     monkeypatch.setenv("MAXK_OMS_COMMAND_TIMEOUT_MS", "20000")
-    monkeypatch.setenv("MAXK_OMS_RESPONSE_TIMEOUT_MS", "20000")
+    monkeypatch.setenv("MAXK_OMS_RESPONSE_TIMEOUT_MS", "5000")  # a query nobody answers
     handle = lib.GetOmsHandle(b"OmsMAXk1")
     assert handle, "the library did not take the stand-in card"
     card.take()  # whatever opening sent (nothing, on the map)
@@ -270,4 +286,77 @@ def test_clearing_the_controller_flags_writes_the_doorbell_clear(lib, board, cle
     assert card.clears == [ODBR_COMMAND_ERROR]
     assert card.get(M.ODBR) == 0
     assert lib.GetOmsControllerFlags(h, ctypes.byref(flags)) == SUCCESS and flags.value == 0
+    assert card.take() == ""
+
+
+def _long(lib, name: str, handle: int, *args: int) -> tuple[int, int]:
+    out = ctypes.c_long(-999)
+    rc = getattr(lib, name)(ctypes.c_void_p(handle), *(ctypes.c_long(a) for a in args),
+                            ctypes.byref(out))
+    return int(rc), out.value
+
+
+# (function, arguments, the query the vendor's template makes, the card's reply, the value)
+QUERIES = [
+    ("GetOmsAxisVelocity", (Y, ), "AYRV;", "4321", 4321),
+    ("GetOmsAxisAcceleration", (T, ), "ATRC;", "250000", 250000),
+    ("GetOmsIOBitConfig", (), "AXRB;", "00F0", 0x00F0),
+    ("GetAllOmsIOBits", (), "BX;", "0A05", 0x0A05),
+    ("GetOmsIOBit", (2, ), "BX;", "0A05", 1),  # 0x0A05 = ...0101: bit 2 set
+    ("GetOmsIOBit", (1, ), "BX;", "0A05", 0),
+    ("GetOmsIOBit", (11, ), "BX;", "0A05", 1),
+    ("GetOmsEncoderFlags", (Y, ), "AM;EA;", "EN---,EESDH,NN---", 0x1F),
+    ("GetOmsEncoderFlags", (X, ), "AM;EA;", "EN---,EESDH,NN---", 0x01),
+    ("GetOmsEncoderFlags", (Z, ), "AM;EA;", "EN---,EESDH,NN---", 0x00),
+]
+
+
+@pytest.mark.parametrize("name, args, query, reply, value", QUERIES,
+                         ids=[f"{q[0]}{q[1]}" for q in QUERIES])
+def test_each_query_getter_asks_its_query_and_reads_its_reply(lib, board, name, args, query,
+                                                                reply, value) -> None:
+    """A getter's value comes from its own query's reply: the card answers only that
+    exact text (a getter asking another question would get no reply)."""
+    card, handle = board
+    card.replies[query] = reply
+    assert _long(lib, name, handle, *args) == (SUCCESS, value)
+    assert card.take() == query
+
+
+@pytest.mark.parametrize("name, query", [("GetSelectedOmsVelocities", "AMRV;"),
+                                         ("GetSelectedOmsAccelerations", "AMRC;")])
+def test_selected_getters_fill_only_the_chosen_axes(lib, board, name, query) -> None:
+    card, handle = board
+    card.replies[query] = ",".join(str(11 * (i + 1)) for i in range(10))
+    data = AxesData(*([-1] * 10))
+    assert getattr(lib, name)(ctypes.c_void_p(handle), ctypes.c_long(X | Z | K),
+                              ctypes.byref(data)) == SUCCESS
+    assert [getattr(data, a) for a in "XYZTUVRSWK"] == [11, -1, 33, -1, -1, -1, -1, -1, -1,
+                                                        110]
+    assert card.take() == query
+
+
+def test_the_controller_description_is_the_wy_reply(lib, board) -> None:
+    card, handle = board
+    card.replies["WY;"] = "MAXk-8000 ver:1.33, s/n:4711"
+    text = ctypes.create_string_buffer(80)
+    assert lib.GetOmsControllerDescription(ctypes.c_void_p(handle), text) == SUCCESS
+    assert text.value == b"MAXk-8000 ver:1.33, s/n:4711"
+    assert card.take() == "WY;"
+
+
+def test_sensor_getters_read_the_switch_words(lib, board) -> None:
+    """GetOmsHomeSensors reads the home word, GetOmsLimitSensors the limit word: each its
+    own register's bits."""
+    card, handle = board
+    card.put(M.HOME_WORD, 0b10_0000_0101)  # X, Z, K at home
+    # the map's limit word (docs/shared-memory.md, Table 3-2): bit i minus and i+8 plus
+    # for X..S, 16/17 W/K minus, 24/25 W/K plus; the API's mask: minus X..K bits 0..9,
+    # plus X..K bits 10..19 (reference oms-maxk-dll-api.md)
+    card.put(M.LIMIT_WORD, (1 << 1) | (1 << (8 + 3)) | (1 << 17) | (1 << 24))
+    rc, home = _long(lib, "GetOmsHomeSensors", handle)
+    assert (rc, home) == (SUCCESS, 0b10_0000_0101)
+    rc, limits = _long(lib, "GetOmsLimitSensors", handle)
+    # Y minus, T plus, K minus, W plus
+    assert (rc, limits) == (SUCCESS, (1 << 1) | (1 << (10 + 3)) | (1 << 9) | (1 << (10 + 8)))
     assert card.take() == ""

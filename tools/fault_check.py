@@ -115,6 +115,16 @@ FAULTS: tuple[Fault, ...] = (
           "        if self not in service.departed:\n",
           "        self._inbox.clear()\n        if self not in service.departed:\n",
           ("tests/test_isolation.py",)),
+    Fault("velocity-query", "C library: GetOmsAxisVelocity asks RC (the acceleration)",
+          "maxk/host/oms_library/OmsMAXkMC.c",
+          'GetOmsAxisVelocity(HANDLE h, long axis, long *v) '
+          '{ return axis_report(h, axis, "RV", v); }',
+          'GetOmsAxisVelocity(HANDLE h, long axis, long *v) '
+          '{ return axis_report(h, axis, "RC", v); }',
+          (LIBRARY,)),
+    Fault("wk-plus-limit", "C library: W/K plus limit sensors land on the minus bits",
+          "maxk/host/oms_library/OmsMAXkMC.c",
+          "*out |= 1L << (18 + i);", "*out |= 1L << (8 + i);", (LIBRARY,)),
     Fault("io-bit-low", "C library: SetOmsIOBit(bit, 0) sets the bit high",
           "maxk/host/oms_library/OmsMAXkMC.c",
           '"AA;%s%ld;", state ? "BH" : "BL", bit)', '"AA;%s%ld;", "BH", bit)', (LIBRARY,)),
