@@ -157,6 +157,9 @@ def run_tests(copy: Path, tests: tuple[str, ...], timeout: float) -> tuple[int, 
     except subprocess.TimeoutExpired:
         return -1, "timed out"
     lines = [line for line in done.stdout.splitlines() if line.strip()]
+    if done.returncode == 0:
+        dots = sum(line.split(" [")[0].count(".") for line in lines)
+        return 0, f"{dots} tests passed"
     failed = [line.split(" - ")[0].removeprefix("FAILED ") for line in lines
               if line.startswith("FAILED ")]
     return done.returncode, (failed[0] if failed else lines[-1] if lines
