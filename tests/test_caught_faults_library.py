@@ -360,3 +360,34 @@ def test_sensor_getters_read_the_switch_words(lib, board) -> None:
     # Y minus, T plus, K minus, W plus
     assert (rc, limits) == (SUCCESS, (1 << 1) | (1 << (10 + 3)) | (1 << 9) | (1 << (10 + 8)))
     assert card.take() == ""
+
+
+@pytest.mark.parametrize("name, args, text", SETTERS,
+                         ids=[f"{n}{a}" for n, a, _ in SETTERS])
+def test_the_board_takes_each_setter_text(name: str, args: tuple[int, ...], text: str) -> None:
+    """The other half of a setter: the text it sends is a command the MAXk takes (no
+    command error), on a 10-axis board with I/O bits 3 and 14 made outputs first."""
+    from maxk import MAXk
+
+    board = MAXk("MAXk-A000")
+    board.send("AA;BD4008;")
+    board.advance(0.01)
+    board.send(text)
+    board.advance(0.01)
+    assert not board.command_error and board.last_error is None, board.last_error
+
+
+def test_the_io_bit_setters_move_the_output_lines() -> None:
+    """SetOmsIOBit's texts, on the board: the output line goes high, then low."""
+    from maxk import MAXk
+
+    board = MAXk("MAXk-A000")
+    view = board.world_view()
+    board.send("AA;BD4008;")
+    board.send("AA;BH3;")
+    board.send("AA;BH14;")
+    board.advance(0.01)
+    assert [n for n in range(16) if view.output_level(n)] == [3, 14]
+    board.send("AA;BL14;")
+    board.advance(0.01)
+    assert [n for n in range(16) if view.output_level(n)] == [3]
