@@ -48,6 +48,7 @@ def test_maxk_host_reads_the_limit_in_qa(maxk_served) -> None:
     c.pause()
     with socket.create_connection(served.doors[0].tcp, timeout=10) as host:
         assert _max(host, "AX; VL10000; AC100000; MA20000; GO; RP\n") == "0"
+        start = c.clock()[0]["tick"]  # paused: the move began on this tick
         trip = c.arm(1, "X fault plus active", axis="X", passes=12000)
         c.step(1.0)
         assert _max(host, "QA\n")[2] == "N"  # at 1 s not there yet
@@ -55,9 +56,9 @@ def test_maxk_host_reads_the_limit_in_qa(maxk_served) -> None:
         qa = _max(host, "QA\n")
         assert qa[2] == "L", qa  # the limit, the MAXk's way
         fired = c.triggers(1)[0]
-        assert fired["id"] == trip["id"] and fired["fired_tick"] is not None
-        at = int(_max(host, "RP\n"))
-        assert 12000 <= at < 20000
+        # 0.1 s of ramp (500 steps) and 11500 steps at 10000/s: 1.25 s = 10240 ticks
+        assert fired["id"] == trip["id"] and fired["fired_tick"] == start + 10240
+        assert int(_max(host, "RP\n")) == 12000  # a hard stop where it tripped (factory)
 
 
 def test_mm4005_host_reads_the_limit_in_ms(maxk_served) -> None:

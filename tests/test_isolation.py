@@ -270,18 +270,21 @@ def test_the_repl_status_line_says_when_its_controller_runs_behind() -> None:
 
 def test_departed_hosts_behind_waits_are_bounded_per_controller() -> None:
     """A few bytes behind a wait still run when it ends (what a host sent runs); but a
-    controller keeps at most DEPARTED_HOSTS such hosts, the oldest dropped."""
+    controller keeps at most DEPARTED_HOSTS such hosts, the oldest dropped: when the
+    waits end (the test's clock moves 3 s past WA(2000)), the newest DEPARTED_HOSTS
+    hosts' VR writes have run and the 6 oldest hosts' have not."""
     from maxk.host.client import DEPARTED_HOSTS
 
     boards = HostedBoards(models=("MC405",))
     service = boards.services[0]
+    dropped = 6
     try:
-        for i in range(DEPARTED_HOSTS + 6):
+        for i in range(DEPARTED_HOSTS + dropped):
             before = boards.call(lambda: set(service.clients))
             host = socket.create_connection(("127.0.0.1", boards.ports[0]), timeout=5)
-            host.sendall(b"WA(1e11)\r\n")
+            host.sendall(b"WA(2000)\r\n")  # the clock is the test's: it waits until moved
             data = b""
-            while b"WA(1e11)\r\n" not in data:
+            while b"WA(2000)\r\n" not in data:
                 data += host.recv(4096)
             host.sendall(f"VR({i})={i + 1}\r\n".encode())
             deadline = time.monotonic() + 10
@@ -295,5 +298,12 @@ def test_departed_hosts_behind_waits_are_bounded_per_controller() -> None:
             assert time.monotonic() < deadline
             time.sleep(0.01)
         assert boards.call(lambda: len(service.departed)) == DEPARTED_HOSTS
+        boards.advance(3.0)  # every WA(2000) ends: the kept hosts' writes run
+        board = service.controller
+        values = boards.call(lambda: [board.query(f"?VR({i})")
+                                      for i in range(DEPARTED_HOSTS + dropped)])
+        assert [float(v) for v in values] == (
+            [0.0] * dropped + [float(i + 1) for i in range(dropped, DEPARTED_HOSTS + dropped)])
+        assert boards.call(lambda: len(service.departed)) == 0
     finally:
         boards.close()

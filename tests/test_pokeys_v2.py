@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 
-from maxk.firmware_model.profiles import RampShape, plan_move
 from maxk.personalities.pokeys import (
     AxisConfigBits as C,
 )
@@ -166,14 +166,24 @@ def test_internal_position_move_is_the_closed_form_profile() -> None:
     e.move([3000, 0] + [0] * 6)
     stream(e, [[0, 2]] * 100)
     records = run(e, 800, traced=True)
-    motion = plan_move(3000, 0.0, 10000.0, 50000.0, 50000.0, RampShape.LINEAR)
-    expected = [math.floor(motion.offset(k * 1e-3) + 1e-6) for k in range(794)]
+    # the trapezoid written out (issue 41: not the engine's plan_move): 10 pulses/ms =
+    # 10000/s, 0.05 pulses/ms^2 = 50000/s^2: 0.2 s (1000 pulses) up, 1000 at speed in
+    # 0.1 s, 0.2 s down; 3000 pulses in 0.5 s
+    def offset(ms: int) -> Fraction:
+        t = Fraction(ms, 1000)
+        if t <= Fraction(1, 5):
+            return 25000 * t * t
+        if t <= Fraction(3, 10):
+            return 1000 + 10000 * (t - Fraction(1, 5))
+        return 3000 - 25000 * (Fraction(1, 2) - min(t, Fraction(1, 2))) ** 2
+
+    expected = [math.floor(offset(k)) for k in range(794)]
     got = [0]
     for r in records:
         got.append(got[-1] + r.pulses[0])
     assert got == expected
     assert max(r.pulses[0] for r in records) == 10
-    end = 7 + math.ceil(motion.end_time * 1000 - 1e-9)
+    end = 7 + 500
     # records[i] is slot 7 + i, states as at its end: the last pulses go out in slot end-1.
     assert records[end - 9].axis_states[0] == AxisState.RUNNING
     assert records[end - 8].axis_states[0] == AxisState.READY and records[end - 8].pulses[0]
