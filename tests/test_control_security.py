@@ -486,3 +486,43 @@ def _line(sock: socket.socket, prefix: bytes) -> str:
         line, got = got.split(b"\r", 1)
         if line.startswith(prefix):
             return line[len(prefix):].decode()
+
+
+# ---- triggers: 64 a board, watched by two observers, each exact to its tick ----------------
+def test_sixty_four_triggers_each_fire_at_their_own_tick(door: Door) -> None:
+    """32 timed triggers armed out of order and 32 position triggers (X up past 16
+    positions, Y down past 16) on one board: each fires at its tick, the position ones at
+    the first tick the trace's reading is at or beyond the position; the 65th is a 409.
+    (The trace, written by maxk.trace, is the independent record of every tick.)"""
+    c = door.client
+    c.pause()
+    host = door.boards.connect(1)
+    host.command("AX; VL20000; AC100000; MR30000; GO; AY; VL20000; AC100000; MR-30000; GO;")
+    now = c.clock()[0]["tick"]
+    offsets = [(k * 37) % 320 + 5 for k in range(32)]  # distinct, not in order
+    assert len(set(offsets)) == 32
+    timed = {c.arm(1, f"input {k % 8} high", tick=now + o)["id"]: now + o
+             for k, o in enumerate(offsets)}
+    up = {c.arm(1, "input 9 high", axis="X", passes=p)["id"]: p
+          for p in range(1500, 25501, 1600)}
+    down = {c.arm(1, "input 10 high", axis="Y", passes=-p)["id"]: -p
+            for p in range(1500, 25501, 1600)}
+    assert len(up) == len(down) == 16
+    with pytest.raises(ControlError, match="at most 64 triggers"):
+        c.arm(1, "input 1 high", after=1.0)
+    c.start_trace(1, every_ticks=1)
+    c.step(2.0)
+    c.stop_trace(1)
+    rows = c.trace_csv(1).splitlines()
+    names = rows[0].split(",")
+    tick_at, x_at, y_at = (names.index(n) for n in ("tick", "X_position", "Y_position"))
+    table = [(int(r.split(",")[tick_at]), float(r.split(",")[x_at]),
+              float(r.split(",")[y_at])) for r in rows[1:]]
+    fired = {t["id"]: t["fired_tick"] for t in c.triggers(1)}
+    for ident, tick in timed.items():
+        assert fired[ident] == tick
+    for ident, position in up.items():
+        assert fired[ident] == next(t for t, x, _y in table if x >= position), position
+    for ident, position in down.items():
+        assert fired[ident] == next(t for t, _x, y in table if y <= position), position
+    assert c.arm(1, "input 1 high", after=1.0)["fired_tick"] is None  # room again
