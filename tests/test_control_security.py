@@ -103,6 +103,9 @@ def test_a_host_header_naming_another_site_is_refused_on_every_route(door: Door,
 def test_no_host_header_is_no_door(door: Door) -> None:
     status, _ = door.raw(b"GET /api HTTP/1.0\r\n\r\n")
     assert status == 421
+    for host in (f"attacker.example@127.0.0.1:{door.port}", "127.0.0.1/x", "127.0.0.2",
+                 "localhost.attacker.example", "127.0.0.1.nip.io"):
+        assert door.ask("GET", "/api", Host=host)[0] == 421, host
 
 
 @pytest.mark.parametrize("kind", ["text/plain", "application/x-www-form-urlencoded",

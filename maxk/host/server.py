@@ -40,7 +40,7 @@ from maxk.host.traffic import Traffic
 log = logging.getLogger("maxk.door.serve")
 
 
-HOSTS_PER_DOOR = 64  # hosts connected at once to one TCP door; more are hung up on (D)
+HOSTS_PER_DOOR = 256  # hosts connected at once to one TCP door; more are hung up on (D)
 
 
 class _Listener:
