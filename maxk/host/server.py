@@ -356,7 +356,7 @@ class Server:
     async def open_tcp(self, service: Service, host: str, port: int) -> tuple[str, int]:
         loop = asyncio.get_running_loop()
         listener = _Listener(service, self.hosts_per_door)
-        server = await loop.create_server(listener, host, port, backlog=32)
+        server = await loop.create_server(listener, host, port)
         self.listeners.append(listener)
         self._servers.append(server)
         address = server.sockets[0].getsockname()[:2]
