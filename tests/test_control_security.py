@@ -8,6 +8,7 @@ liveness bound (a loop with a generous limit), never a measurement."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import socket
 import struct
@@ -102,6 +103,9 @@ def test_a_host_header_naming_another_site_is_refused_on_every_route(door: Door,
 def test_no_host_header_is_no_door(door: Door) -> None:
     status, _ = door.raw(b"GET /api HTTP/1.0\r\n\r\n")
     assert status == 421
+    for host in (f"attacker.example@127.0.0.1:{door.port}", "127.0.0.1/x", "127.0.0.2",
+                 "localhost.attacker.example", "127.0.0.1.nip.io"):
+        assert door.ask("GET", "/api", Host=host)[0] == 421, host
 
 
 @pytest.mark.parametrize("kind", ["text/plain", "application/x-www-form-urlencoded",
@@ -486,3 +490,133 @@ def _line(sock: socket.socket, prefix: bytes) -> str:
         line, got = got.split(b"\r", 1)
         if line.startswith(prefix):
             return line[len(prefix):].decode()
+
+
+# ---- triggers: 64 a board, watched by two observers, each exact to its tick ----------------
+def test_sixty_four_triggers_each_fire_at_their_own_tick(door: Door) -> None:
+    """32 timed triggers armed out of order and 32 position triggers (X up past 16
+    positions, Y down past 16) on one board: each fires at its tick, the position ones at
+    the first tick the trace's reading is at or beyond the position; the 65th is a 409.
+    (The trace, written by maxk.trace, is the independent record of every tick.)"""
+    c = door.client
+    c.pause()
+    host = door.boards.connect(1)
+    host.command("AX; VL20000; AC100000; MR30000; GO; AY; VL20000; AC100000; MR-30000; GO;")
+    now = c.clock()[0]["tick"]
+    offsets = [(k * 37) % 320 + 5 for k in range(32)]  # distinct, not in order
+    assert len(set(offsets)) == 32
+    timed = {c.arm(1, f"input {k % 8} high", tick=now + o)["id"]: now + o
+             for k, o in enumerate(offsets)}
+    up = {c.arm(1, "input 9 high", axis="X", passes=p)["id"]: p
+          for p in range(1500, 25501, 1600)}
+    down = {c.arm(1, "input 10 high", axis="Y", passes=-p)["id"]: -p
+            for p in range(1500, 25501, 1600)}
+    assert len(up) == len(down) == 16
+    with pytest.raises(ControlError, match="at most 64 triggers"):
+        c.arm(1, "input 1 high", after=1.0)
+    c.start_trace(1, every_ticks=1)
+    c.step(2.0)
+    c.stop_trace(1)
+    rows = c.trace_csv(1).splitlines()
+    names = rows[0].split(",")
+    tick_at, x_at, y_at = (names.index(n) for n in ("tick", "X_position", "Y_position"))
+    table = [(int(r.split(",")[tick_at]), float(r.split(",")[x_at]),
+              float(r.split(",")[y_at])) for r in rows[1:]]
+    fired = {t["id"]: t["fired_tick"] for t in c.triggers(1)}
+    for ident, tick in timed.items():
+        assert fired[ident] == tick
+    for ident, position in up.items():
+        assert fired[ident] == next(t for t, x, _y in table if x >= position), position
+    for ident, position in down.items():
+        assert fired[ident] == next(t for t, _x, y in table if y <= position), position
+    assert c.arm(1, "input 1 high", after=1.0)["fired_tick"] is None  # room again
+
+
+# ---- the whole server: descriptors and signals ---------------------------------------------
+def _serve_limited(files: int, *models: str, options: tuple[str, ...] = ()) -> Any:
+    """`maxk serve --control` in a process allowed `files` descriptors (ulimit -n)."""
+    import resource
+
+    from maxk import testing
+
+    real = testing.subprocess.Popen
+
+    def limited(*args: Any, **kwargs: Any) -> Any:
+        kwargs["preexec_fn"] = lambda: resource.setrlimit(resource.RLIMIT_NOFILE,
+                                                          (files, files))
+        return real(*args, **kwargs)
+
+    testing.subprocess.Popen = limited  # type: ignore[assignment]
+    try:
+        return testing.serve(*models, options=options)
+    finally:
+        testing.subprocess.Popen = real  # type: ignore[assignment]
+
+
+def test_a_flood_of_connections_never_takes_the_server_to_emfile() -> None:
+    """`ulimit -n 256`, every address: 300 connections to the control door that never
+    send a request, and 300 to the MAXk's door. The doors' caps fit the descriptors:
+    the flood is refused, a host still connects to the MC405 and is answered, nothing
+    says EMFILE, and after SIGTERM the server ends cleanly."""
+    import signal
+
+    served = _serve_limited(256, "MAXk-8000", "MC405", options=("--host", "0.0.0.0"))
+    socks: list[socket.socket] = []
+    try:
+        port = int(served.url.rsplit(":", 1)[1])
+        maxk = served.doors[0].tcp[1]
+        for target in [("127.0.0.1", port)] * 300 + [("127.0.0.1", maxk)] * 300:
+            # (a full backlog may refuse one: what matters is the server, below)
+            with contextlib.suppress(OSError):
+                socks.append(socket.create_connection(target, timeout=10))
+        with socket.create_connection(("127.0.0.1", served.doors[1].tcp[1]), timeout=10) as host:
+            assert b"2" in _trio(host, b"?1+1\r", expect=b">>")
+        for sock in socks:
+            sock.close()
+        socks.clear()
+        served.process.send_signal(signal.SIGTERM)
+        assert served.process.wait(LIVENESS) == 0
+        assert served.process.stdout is not None
+        said = served.process.stdout.read()
+        assert "Too many open files" not in said and "EMFILE" not in said, said
+        assert "Traceback" not in said, said
+    finally:
+        for sock in socks:
+            sock.close()
+        served.stop()
+
+
+def test_sigterm_ends_a_loaded_server() -> None:
+    """SIGTERM while a long step ticks every tick, panels never read their streams and
+    hosts poll: the server ends (code 0) at once; figures in docs/control.md."""
+    import signal
+
+    from maxk import testing
+
+    served = testing.serve("MAXk-8000", "MC405")
+    socks: list[socket.socket] = []
+    try:
+        port = int(served.url.rsplit(":", 1)[1])
+        c = served.client
+        c.pause()
+        c.arm(1, "input 1 high", axis="X", passes=1e9)
+        stepping = threading.Thread(target=_step_an_hour, args=(c,), daemon=True)
+        stepping.start()
+        _until(lambda: c.clock()[0]["tick"] > 0, "the step never began")
+        for _ in range(8):
+            socks.append(_never_reading(port, "/api/stream"))
+        host = socket.create_connection(served.doors[0].tcp, timeout=10)
+        socks.append(host)
+        host.sendall(b"WY\n" * 100)
+        served.process.send_signal(signal.SIGTERM)
+        assert served.process.wait(LIVENESS) == 0
+        stepping.join(LIVENESS)
+    finally:
+        for sock in socks:
+            sock.close()
+        served.stop()
+
+
+def _step_an_hour(c: Client) -> None:
+    with contextlib.suppress(Exception):  # (the server goes away under it: the test)
+        Client(c.url, timeout=LIVENESS).step(3600.0)

@@ -8,26 +8,26 @@ and `:world`. The virtual clock is the pacer's (pause, step, speed). Built on ai
 the doors' own event loop: a request runs between two pacing passes, so it sees and
 changes a controller at one tick, as a host's command does. Every limit is here:
 request size, traces, triggers, streams; a bad request gets a 4xx with a reason, and a
-fault in a handler is a 500 for that request only, never the server's end.
+fault in a handler is a 500 for that request only, never the server's end. Who may ask
+and how many may connect is control_guard.py's; what a board keeps, control_board.py's.
+
+Long module: every route of the door, the clock's words and the panel's picture in one
+place, so that what the door answers can be read in one file.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
-import ipaddress
 import json
 import logging
 import secrets
-import socket
 from collections import Counter
 from collections.abc import Awaitable, Callable
 from importlib import resources
 from typing import Any
 
 from aiohttp import web
-from aiohttp.web_protocol import RequestHandler
-from yarl import URL
 
 from maxk.controllers.panel import panel_extras
 from maxk.controllers.world_settings import parse_world
@@ -43,23 +43,28 @@ from maxk.host.control_board import (
     world_words,
 )
 from maxk.host.control_console import PanelConsole
+from maxk.host.control_guard import (
+    BODY_SECONDS,
+    CONNECTIONS,
+    HEADER_SECONDS,
+    KEEPALIVE_SECONDS,
+    LOOPBACK_NAMES,
+    WRITE_SECONDS,
+    GuardedHandler,
+    Refused,
+    abort,
+    door_names,
+    error_response,
+    small_send_buffer,
+)
+from maxk.host.control_guard import refusal as guard_refusal
 
 log = logging.getLogger("maxk.door.control")
 
 MAX_BODY = 64 * 1024  # bytes of one request
 STREAM_HZ = 15.0  # panel updates a second (server-sent events)
 STREAMS = 16  # panels open at once
-CONNECTIONS = 64  # connections open at once to the door; more are refused (503) (D)
-HEADER_SECONDS = 5.0  # a request's headers must arrive within this (slowloris) (D)
-BODY_SECONDS = 5.0  # and its body within this (D)
-KEEPALIVE_SECONDS = 10.0  # an idle kept-alive connection is closed after this (D)
-WRITE_SECONDS = 5.0  # a stream (events, CSV) whose reader takes none of it this long goes (D)
-STREAM_SNDBUF = 64 * 1024  # kernel send buffer of a stream's socket: a reader that stops
-# reading is seen within seconds, not after megabytes (D)
 CSV_CHUNK = 64 * 1024  # characters of trace CSV written at a time
-SIMPLE_ACTING = frozenset({"POST", "PUT", "PATCH"})  # (DELETE is never a browser's "simple"
-# request: a page must ask first, and the door grants no other origin; with a body it too
-# must say JSON)
 TRAFFIC_SHOWN = 8  # entries per host in a panel update
 MAX_STEP_SECONDS = 3600.0  # one clock step at most
 MAX_SPEED = 1000.0
@@ -124,7 +129,7 @@ class ControlDoor:
             if self.refused in (1, 10, 100) or self.refused % 1000 == 0:
                 log.warning("control door: more than %d connections at once; %d refused",
                             self.connections, self.refused)
-            return _Refused()
+            return Refused()
         assert self._runner is not None and self._runner.server is not None
         self.open_connections += 1
         return GuardedHandler(self, self._runner.server, loop=asyncio.get_running_loop(),
@@ -144,7 +149,7 @@ class ControlDoor:
             server = self._runner.server
             if server is not None:  # every connection (streams too) ends now
                 for handler in list(server.connections):
-                    _abort(handler)
+                    abort(handler)
             await self._runner.cleanup()
             self._runner = None
 
@@ -187,7 +192,7 @@ class ControlDoor:
         protocol = request.protocol
         if isinstance(protocol, GuardedHandler):
             protocol.request_started()
-        refusal = self._refusal(request)
+        refusal = guard_refusal(request, self.token, self.hosts, self.any_address)
         if refusal is not None:
             self.refusals[refusal.status] += 1
             return refusal
@@ -213,49 +218,6 @@ class ControlDoor:
             log.error("control door: %s %s: %s: %s", request.method, request.path,
                       type(error).__name__, error)
             return _error(500, f"{type(error).__name__}: {error}")
-
-    def _refusal(self, request: web.Request) -> web.Response | None:
-        host = request.headers.get("Host", "")
-        if not self._names_door(host):
-            return _error(421, f"this is a control door; the Host {host!r} does not name it "
-                          "(loopback names or the --host it listens on)")
-        if self.token is not None:
-            given = request.query.get("token") or request.headers.get(
-                "Authorization", "").removeprefix("Bearer ").strip()
-            if not secrets.compare_digest(given.encode(), self.token.encode()):
-                return _error(401, "this control door needs its token (printed at start-up): "
-                              "?token=... or Authorization: Bearer ...")
-        origin = request.headers.get("Origin")
-        if origin is not None and not _same_origin(origin, host):
-            return _error(403, f"a request from the page {origin!r} (another origin) is "
-                          "refused: the control door answers its own panel and programs")
-        site = request.headers.get("Sec-Fetch-Site", "same-origin")
-        navigating = request.headers.get("Sec-Fetch-Mode") == "navigate"
-        if site not in ("same-origin", "none") and not (navigating and request.method == "GET"):
-            return _error(403, f"a request from another site (Sec-Fetch-Site: {site}) is "
-                          "refused")
-        acting = request.method in SIMPLE_ACTING or (
-            request.method == "DELETE" and request.can_read_body)
-        if acting and request.content_type != "application/json":
-            return _error(415, "a request that acts needs Content-Type: application/json "
-                          f"(not {request.content_type!r})")
-        return None
-
-    def _names_door(self, host: str) -> bool:
-        try:
-            name = URL(f"http://{host}").raw_host
-        except ValueError:
-            return False
-        if not name:
-            return False
-        name = name.lower().rstrip(".")
-        if name in self.hosts:
-            return True
-        if self.any_address:
-            with contextlib.suppress(ValueError):
-                ipaddress.ip_address(name.strip("[]"))
-                return True  # an address literal is no DNS name a page could rebind
-        return False
 
     # ---- helpers -------------------------------------------------------------------
     def _board(self, request: web.Request) -> Board:
@@ -415,7 +377,7 @@ class ControlDoor:
         try:
             response = web.StreamResponse(headers={"Content-Type": "text/event-stream",
                                                    "Cache-Control": "no-cache"})
-            _small_send_buffer(request)
+            small_send_buffer(request)
             await response.prepare(request)
             period = 1.0 / self.stream_hz
             while not self._closing.is_set():
@@ -438,7 +400,7 @@ class ControlDoor:
         except (ConnectionError, RuntimeError):
             return False
         except TimeoutError:
-            _abort(request.protocol)
+            abort(request.protocol)
             return False
 
     # ---- act -----------------------------------------------------------------------
@@ -588,7 +550,7 @@ class ControlDoor:
             raise BadRequest("no trace: start one with POST .../trace", 404)
         end = text.tell()
         response = web.StreamResponse(headers={"Content-Type": "text/csv; charset=utf-8"})
-        _small_send_buffer(request)
+        small_send_buffer(request)
         await response.prepare(request)
         offset = 0
         while offset < end and not self._closing.is_set():
@@ -662,142 +624,8 @@ def _asset(name: str) -> web.Response:
                         headers={"Cache-Control": "no-cache", "Referrer-Policy": "no-referrer"})
 
 
-LOOPBACK_NAMES = frozenset({"localhost", "127.0.0.1", "::1", "[::1]"})
-
-
-def door_names(host: str) -> frozenset[str]:
-    """The names a request's Host may give for a door listening on `host`: the loopback
-    names, and the address or name it was told to listen on (with this machine's own
-    names when that is every address)."""
-    names = set(LOOPBACK_NAMES)
-    if host and host not in ("0.0.0.0", "::"):
-        names.add(host.lower())
-        if ":" in host:
-            names.add(f"[{host.lower()}]")
-    else:
-        with contextlib.suppress(OSError):
-            names.update({socket.gethostname().lower(), socket.getfqdn().lower()})
-    return frozenset(names)
-
-
-def _same_origin(origin: str, host: str) -> bool:
-    """A browser's Origin is the door's own when it is http:// and the Host it asked."""
-    return origin.lower() == f"http://{host.lower()}"
-
-
 def _no_constant(name: str) -> Any:
     raise BadRequest(f"{name}: JSON has no such number; a finite number only")
-
-
-def _small_send_buffer(request: web.Request) -> None:
-    transport = request.transport
-    sock = transport.get_extra_info("socket") if transport is not None else None
-    if sock is not None:
-        with contextlib.suppress(OSError):
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, STREAM_SNDBUF)
-
-
-def _abort(handler: RequestHandler) -> None:
-    """End a connection now, unsent output dropped (aiohttp's force_close alone waits
-    for a reader that never reads to take it)."""
-    transport = handler.transport
-    if transport is not None:
-        transport.abort()
-    handler.force_close()
-
-
-class _Refused(asyncio.Protocol):
-    """A connection over the door's cap: a 503, its request read and dropped, and closed
-    after a moment (a close with its request unread would reset the connection before
-    the client read why). More than REFUSING at once are closed at once: a flood never
-    takes the server to EMFILE."""
-
-    BODY = b'{"error": "too many connections to the control door", "status": 503}'
-    REFUSING = 32
-    LINGER = 0.2  # seconds a refused connection is given to read its 503
-    refusing = 0
-
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self.transport = transport
-        if _Refused.refusing >= self.REFUSING:
-            transport.abort()
-            return
-        _Refused.refusing += 1
-        self._counted = True
-        with contextlib.suppress(Exception):
-            transport.write(b"HTTP/1.1 503 Service Unavailable\r\nConnection: close\r\n"
-                            b"Content-Type: application/json\r\n"
-                            b"Content-Length: %d\r\n\r\n%s" % (len(self.BODY), self.BODY))
-            transport.write_eof()
-        asyncio.get_running_loop().call_later(self.LINGER, transport.abort)
-
-    def data_received(self, data: bytes) -> None:
-        """(Dropped: a refused request is not read.)"""
-
-    def eof_received(self) -> bool:
-        return False  # the client is done too: close
-
-    def connection_lost(self, exc: BaseException | None) -> None:
-        if getattr(self, "_counted", False):
-            self._counted = False
-            _Refused.refusing -= 1
-
-
-class GuardedHandler(RequestHandler):
-    """aiohttp's own request handler, counted against the door's cap, with a deadline on
-    a request's headers: from the connection's start (or from its first byte after a
-    finished request) to the request reaching the door, `header_seconds`; a connection
-    that sends its headers slower (slowloris) is closed."""
-
-    def __init__(self, door: ControlDoor, manager: web.Server, **kwargs: Any) -> None:
-        super().__init__(manager, **kwargs)
-        self._door = door
-        self._header_since: float | None = None
-        self._header_timer: asyncio.TimerHandle | None = None
-        self._counted = True
-
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        super().connection_made(transport)
-        self._headers_from_now()
-
-    def connection_lost(self, exc: BaseException | None) -> None:
-        if self._counted:
-            self._counted = False
-            self._door.open_connections -= 1
-        if self._header_timer is not None:
-            self._header_timer.cancel()
-            self._header_timer = None
-        super().connection_lost(exc)
-
-    def data_received(self, data: bytes) -> None:
-        if self._header_since is None and self._current_request is None and data:
-            self._headers_from_now()
-        super().data_received(data)
-
-    def request_started(self) -> None:
-        """The request's headers are in (the door's middleware says so)."""
-        self._header_since = None
-        if self._header_timer is not None:
-            self._header_timer.cancel()
-            self._header_timer = None
-
-    def _headers_from_now(self) -> None:
-        loop = asyncio.get_running_loop()
-        self._header_since = loop.time()
-        if self._header_timer is None:
-            self._header_timer = loop.call_later(self._door.header_seconds, self._deadline)
-
-    def _deadline(self) -> None:
-        self._header_timer = None
-        since = self._header_since
-        if since is None or self._current_request is not None:
-            return
-        left = since + self._door.header_seconds - asyncio.get_running_loop().time()
-        if left > 0:
-            self._header_timer = asyncio.get_running_loop().call_later(left, self._deadline)
-            return
-        _abort(self)
 
 
 def _outputs(view: Any) -> dict[str, bool]:
@@ -816,5 +644,4 @@ def _volts(view: Any, channel: int) -> float:
         return 0.0
 
 
-def _error(status: int, reason: str) -> web.Response:
-    return web.json_response({"error": reason, "status": status}, status=status)
+_error = error_response

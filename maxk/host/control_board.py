@@ -11,7 +11,7 @@ import ipaddress
 import logging
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from itertools import count
 from typing import Any
 
@@ -77,9 +77,12 @@ class BoundedText(io.StringIO):
 
 @dataclass
 class Trigger:
-    """A world setting armed for a virtual time (exact to the tick: an engine observer due
-    then) or for an axis passing a position (an observer every tick while armed: the
-    setting applies at the first tick the axis's reading is at or beyond the position)."""
+    """A world setting armed for a virtual time or for an axis passing a position (the
+    first tick the axis's reading is at or beyond it, in the direction it lay when
+    armed). A board watches all its triggers with two engine observers, whatever their
+    number: one due at the earliest armed tick, and one every tick while any position
+    trigger is armed, reading each watched axis once a tick and holding it against the
+    nearest armed position each way."""
 
     ident: int
     words: str
@@ -88,7 +91,10 @@ class Trigger:
     fired_tick: int | None = None
     said: str = ""
     error: str = ""
-    callback: Callable[[Any], None] | None = field(default=None, repr=False)
+    tick: int | None = None  # armed for this tick
+    axis: str | None = None  # armed for this axis passing `target`
+    target: float = 0.0
+    rising: bool = True
 
     def as_dict(self) -> dict[str, Any]:
         return {"id": self.ident, "words": self.words, "when": self.when,
@@ -107,6 +113,12 @@ class Board:
         self._ids = count(1)
         self.paused_speed: float | None = None  # the speed to go back to after a pause
         self.clock_word = 0  # counts the clock requests: a step ends when a later one came
+        self._timed: list[Trigger] = []  # armed for a tick
+        self._timer_at: int | None = None  # the tick the timer observer is due at
+        self._passing: list[Trigger] = []  # armed for a position, in the order armed
+        self._edges: dict[str, tuple[float | None, float | None]] = {}  # per axis: the
+        # nearest armed position above it and below it
+        self._view: Any = None
 
     @property
     def controller(self) -> Any:
@@ -116,15 +128,10 @@ class Board:
     def arm(self, words: str, when: dict[str, Any]) -> Trigger:
         apply = parse_world(words)  # ValueError: bad words, nothing armed
         engine = self.controller.engine
-        view = self.controller.world_view()
+        view = self._view = self.controller.world_view()
         armed = [t for t in self.triggers.values() if t.fired_tick is None]
         if len(armed) >= TRIGGERS:
             raise BadRequest(f"at most {TRIGGERS} triggers armed on one controller", 409)
-        if len(self.triggers) >= TRIGGERS:  # forget the oldest that fired
-            for ident in [i for i, t in self.triggers.items() if t.fired_tick is not None]:
-                del self.triggers[ident]
-                if len(self.triggers) < TRIGGERS:
-                    break
         trigger = Trigger(next(self._ids), words, when, apply)
         self.service.sync()
         if "axis" in when:
@@ -132,17 +139,9 @@ class Board:
             view.index(axis)  # KeyError: no such axis
             target = number_of(when.get("passes"), "passes")
             start = view.reading(axis).position
-            rising = start < target
-
-            def watch(_engine: Any) -> None:
-                position = view.reading(axis).position
-                if (position >= target) if rising else (position <= target):
-                    self._fire(trigger)
-
-            trigger.callback = watch
+            trigger.axis, trigger.target, trigger.rising = axis, target, start < target
             trigger.when = {"axis": axis, "passes": target,
-                            "direction": "up" if rising else "down"}
-            engine.add_observer(watch, 1)
+                            "direction": "up" if trigger.rising else "down"}
         else:
             if "tick" in when:
                 tick = int(number_of(when["tick"], "tick"))
@@ -158,15 +157,66 @@ class Board:
             if (tick - engine.tick) * engine.period > HORIZON_SECONDS:
                 raise BadRequest(f"a trigger is armed at most {HORIZON_SECONDS:g} virtual "
                                  "seconds ahead")
-
-            def due(_engine: Any) -> None:
-                self._fire(trigger)
-
-            trigger.callback = due
+            trigger.tick = tick
             trigger.when = {"tick": tick}
-            engine.add_observer(due, tick - engine.tick)
+        if len(self.triggers) >= TRIGGERS:  # forget the oldest that fired
+            for ident in [i for i, t in self.triggers.items() if t.fired_tick is not None]:
+                del self.triggers[ident]
+                if len(self.triggers) < TRIGGERS:
+                    break
         self.triggers[trigger.ident] = trigger
+        if trigger.axis is not None:
+            if not self._passing:
+                engine.add_observer(self._watch, 1)
+            self._passing.append(trigger)
+            self._find_edges()
+        else:
+            self._timed.append(trigger)
+            self._schedule()
         return trigger
+
+    def _watch(self, _engine: Any) -> None:
+        """Every tick while a position trigger is armed: each watched axis read once and
+        held against its nearest position each way (`_edges`), however many are armed."""
+        reading = self._view.reading
+        for axis, (up, down) in self._edges.items():
+            position = reading(axis).position
+            if (up is not None and position >= up) or (down is not None and position <= down):
+                for trigger in [t for t in self._passing if t.axis == axis and (
+                        position >= t.target if t.rising else position <= t.target)]:
+                    self._fire(trigger)
+
+    def _find_edges(self) -> None:
+        edges: dict[str, tuple[float | None, float | None]] = {}
+        for trigger in self._passing:
+            assert trigger.axis is not None
+            up, down = edges.get(trigger.axis, (None, None))
+            if trigger.rising:
+                up = trigger.target if up is None else min(up, trigger.target)
+            else:
+                down = trigger.target if down is None else max(down, trigger.target)
+            edges[trigger.axis] = (up, down)
+        self._edges = edges
+
+    def _schedule(self) -> None:
+        """The timer observer, due at the earliest armed tick (none when none is)."""
+        engine = self.controller.engine
+        earliest = min((t.tick for t in self._timed if t.tick is not None), default=None)
+        if earliest == self._timer_at:
+            return
+        if self._timer_at is not None:
+            engine.remove_observer(self._due)
+        self._timer_at = earliest
+        if earliest is not None:
+            engine.add_observer(self._due, max(1, earliest - engine.tick))
+
+    def _due(self, engine: Any) -> None:
+        now = engine.tick
+        for trigger in [t for t in self._timed if t.tick is not None and t.tick <= now]:
+            self._fire(trigger)
+        self._timer_at = None  # (this observer is spent: the next is added anew)
+        engine.remove_observer(self._due)
+        self._schedule()
 
     def controller_ticks(self, seconds: float) -> int:
         engine = self.controller.engine
@@ -176,11 +226,20 @@ class Board:
             raise BadRequest(f"at most {HORIZON_SECONDS:g} virtual seconds ahead")
         return max(1, round(seconds / engine.period))
 
+    def _let_go(self, trigger: Trigger) -> None:
+        """No longer watched (fired or disarmed)."""
+        engine = self.controller.engine
+        if trigger in self._passing:
+            self._passing.remove(trigger)
+            self._find_edges()
+            if not self._passing:
+                engine.remove_observer(self._watch)
+        if trigger in self._timed:
+            self._timed.remove(trigger)
+
     def _fire(self, trigger: Trigger) -> None:
         engine = self.controller.engine
-        if trigger.callback is not None:
-            engine.remove_observer(trigger.callback)
-            trigger.callback = None
+        self._let_go(trigger)
         trigger.fired_tick = engine.tick
         try:
             trigger.said = trigger.apply(self.controller)
@@ -193,9 +252,8 @@ class Board:
         trigger = self.triggers.pop(ident, None)
         if trigger is None:
             raise BadRequest(f"no trigger {ident}", 404)
-        if trigger.callback is not None:
-            self.controller.engine.remove_observer(trigger.callback)
-            trigger.callback = None
+        self._let_go(trigger)
+        self._schedule()
         return trigger
 
     # ---- traces --------------------------------------------------------------------

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import gc
 import logging
 import math
 import signal
@@ -283,9 +284,14 @@ async def serve(args: argparse.Namespace) -> int:
         token = f" token {control.token}" if control.token else ""
         print(f"control http://{host}:{bound}{token}", flush=True)
     loop = asyncio.get_running_loop()
+
+    def on_signal() -> None:
+        args.stopped_by_signal = True
+        server.stop()
+
     for sig in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
-            loop.add_signal_handler(sig, server.stop)
+            loop.add_signal_handler(sig, on_signal)
     if args.seconds is not None:
         loop.call_later(args.seconds, server.stop)
     try:
@@ -300,4 +306,10 @@ async def serve(args: argparse.Namespace) -> int:
 
 def main(args: argparse.Namespace) -> int:
     configure_logging(args)
-    return asyncio.run(serve(args))
+    code = asyncio.run(serve(args))
+    if getattr(args, "stopped_by_signal", False):
+        # The process ends now, every door closed: the interpreter's last collection of
+        # the controllers' object graphs took 0.35 s of SIGTERM's budget of 1 s; frozen,
+        # they are left to the process's end (measured: 0.05 s).
+        gc.freeze()
+    return code

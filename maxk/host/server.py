@@ -40,7 +40,7 @@ from maxk.host.traffic import Traffic
 log = logging.getLogger("maxk.door.serve")
 
 
-HOSTS_PER_DOOR = 64  # hosts connected at once to one TCP door; more are hung up on (D)
+HOSTS_PER_DOOR = 256  # hosts connected at once to one TCP door; more are hung up on (D)
 
 
 class _Listener:
@@ -380,7 +380,7 @@ class Server:
     async def open_tcp(self, service: Service, host: str, port: int) -> tuple[str, int]:
         loop = asyncio.get_running_loop()
         listener = _Listener(service, self.hosts_per_door)
-        server = await loop.create_server(listener, host, port, backlog=32)
+        server = await loop.create_server(listener, host, port)
         self.listeners.append(listener)
         self._servers.append(server)
         address = server.sockets[0].getsockname()[:2]
