@@ -620,3 +620,33 @@ def test_sigterm_ends_a_loaded_server() -> None:
 def _step_an_hour(c: Client) -> None:
     with contextlib.suppress(Exception):  # (the server goes away under it: the test)
         Client(c.url, timeout=LIVENESS).step(3600.0)
+
+
+def test_a_paused_mc405_frees_a_waiting_prompt_on_another_hosts_halt() -> None:
+    """While the clock stands, a `WA(2000)` typed at one host's MC405 prompt waits (no
+    prompt yet, the time cannot pass); another host's HALT gives it up at once: its
+    prompt comes, it answers again, and the clock has not moved."""
+    d = Door(("MC405",))
+    try:
+        c = d.client
+        b = d.boards
+        waiter = socket.create_connection(("127.0.0.1", b.ports[0]), timeout=10)
+        b.on_close(waiter.close)
+        other = socket.create_connection(("127.0.0.1", b.ports[0]), timeout=10)
+        b.on_close(other.close)
+        _trio(waiter, b"?1\r", expect=b">>")
+        _trio(other, b"?2\r", expect=b">>")
+        c.pause()
+        tick = c.clock()[0]["tick"]
+        waiter.sendall(b"WA(2000)\r")
+        waiter.settimeout(0.5)
+        with pytest.raises(TimeoutError):  # a liveness probe: no prompt while time stands
+            while b">>" not in waiter.recv(4096):
+                pass
+        waiter.settimeout(10)
+        _trio(other, b"HALT\r", expect=b">>")
+        _trio(waiter, b"", expect=b">>")  # the given-up statement's prompt
+        _trio(waiter, b"?3+4\r", expect=b"7\r\n>>")
+        assert c.clock()[0]["tick"] == tick
+    finally:
+        d.close()

@@ -77,6 +77,7 @@ class TrioCommandLine(LineSession):
         self.system = runtime
         self.context = ProcessContext(process=-1)
         runtime.command_lines.append(self.context)  # its DIMs count in the controller's memory
+        runtime.halt_listeners.append(self._halted)
         self.restart_requested = False
         self._input = bytearray()
         self._consumed = 0  # bytes of _input handled by the running pump
@@ -105,6 +106,17 @@ class TrioCommandLine(LineSession):
         self._input.clear()
         self.system.command_lines[:] = [  # its DIMs go with it
             ctx for ctx in self.system.command_lines if ctx is not self.context]
+        if self._halted in self.system.halt_listeners:
+            self.system.halt_listeners.remove(self._halted)
+
+    def _halted(self) -> None:
+        """A HALT (from any host): a statement waiting here is given up, its prompt sent."""
+        busy = self._busy
+        running = getattr(busy, "gi_running", False)  # the statement running this HALT
+        if busy is not None and not running and not self.closed:
+            self.abandon()
+            if self.notify is not None:
+                self.notify()
 
     def servo_cycle(self) -> None:
         """One servo cycle of the processes, then of a waiting command-line statement."""

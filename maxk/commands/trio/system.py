@@ -59,6 +59,9 @@ class ProgramCommands:
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.command_lines: list[ProcessContext] = []  # each open session's own context
+        self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
+        # HALT from any host ends a statement waiting at another's prompt too (D)
+        self._halting = False
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
@@ -300,9 +303,20 @@ class ProgramCommands:
                 del self.tasks[process]
 
     def halt(self) -> None:
+        """Every program stops, and every command line's waiting statement is given up
+        (its prompt comes now): a paused clock or a long WA never leaves a host's prompt
+        dead (D, issue 34: HALT is the controller's stop, from whichever host)."""
         for task in self.tasks.values():
             task.ctx.stopped = True
         self.tasks.clear()
+        if self._halting:
+            return
+        self._halting = True
+        try:
+            for listener in list(self.halt_listeners):
+                listener()
+        finally:
+            self._halting = False
 
     def cmd_halt(self, args: list[Value]) -> None:
         self.halt()
