@@ -51,8 +51,8 @@ class Fault:
 FAULTS: tuple[Fault, ...] = (
     Fault("trigger-late", "control door: a position trigger fires 20% late",
           "maxk/host/control_board.py",
-          "if (position >= target) if rising else (position <= target):",
-          "if (position >= target * 1.2) if rising else (position <= target * 1.2):",
+          "position >= t.target if t.rising else position <= t.target)]:",
+          "position >= t.target * 1.2 if t.rising else position <= t.target * 1.2)]:",
           (CONTROL, "tests/test_control.py")),
     Fault("json-level-false", "control door: {\"input\": n, \"level\": false} sets it high",
           "maxk/host/control_board.py",
@@ -105,8 +105,9 @@ FAULTS: tuple[Fault, ...] = (
     # more of the same kind, beyond the ten
     Fault("time-trigger-late", "control door: a time trigger fires one tick late",
           "maxk/host/control_board.py",
-          "engine.add_observer(due, tick - engine.tick)",
-          "engine.add_observer(due, tick - engine.tick + 1)", ("tests/test_control.py",)),
+          "engine.add_observer(self._due, max(1, earliest - engine.tick))",
+          "engine.add_observer(self._due, max(1, earliest - engine.tick) + 1)",
+          ("tests/test_control.py",)),
     Fault("encoder-ratio-text", "C library: SetOmsEncoderRatio swaps its operands",
           "maxk/host/oms_library/OmsMAXkMC.c",
           '"ER%ld,%ld;", counts, steps)', '"ER%ld,%ld;", steps, counts)', (LIBRARY,)),
