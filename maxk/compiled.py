@@ -65,6 +65,18 @@ def use_pure_python() -> None:
         sys.meta_path.insert(0, _SourceFirst())
 
 
+def built() -> list[str]:
+    """The listed modules whose shared library was built beside their source."""
+    package = Path(__file__).resolve().parent
+    found = []
+    for name in COMPILED_MODULES:
+        stem = package.joinpath(*name.split(".")[1:])
+        if any(stem.with_name(stem.name + suffix).is_file()
+               for suffix in importlib.machinery.EXTENSION_SUFFIXES):
+            found.append(name)
+    return found
+
+
 def active() -> list[str]:
     """The compiled modules this process runs compiled (imported from a shared library)."""
     compiled = []

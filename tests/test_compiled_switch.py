@@ -5,7 +5,6 @@ whole suite's job: CI runs it both ways, .ci/run.)"""
 
 from __future__ import annotations
 
-import importlib.machinery
 import json
 import os
 import subprocess
@@ -34,20 +33,9 @@ def _run(pure: bool) -> tuple[list[str], list[str]]:
     return active, files
 
 
-def _built() -> list[str]:
-    """The listed modules with a shared library beside their source in this checkout."""
-    built = []
-    for name in compiled.COMPILED_MODULES:
-        stem = PACKAGE.joinpath(*name.split(".")[1:])
-        if any(stem.with_name(stem.name + suffix).is_file()
-               for suffix in importlib.machinery.EXTENSION_SUFFIXES):
-            built.append(name)
-    return built
-
-
 def test_a_module_runs_compiled_exactly_when_it_was_built() -> None:
     active, files = _run(pure=False)
-    assert active == _built()
+    assert active == compiled.built()
     for name, file in zip(compiled.COMPILED_MODULES, files, strict=True):
         assert file.endswith(".py") == (name not in active)
 
