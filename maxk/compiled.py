@@ -27,11 +27,12 @@ COMPILED_MODULES = (
     "maxk.personalities.maxk.axis",
     "maxk.personalities.maxk.board",
     "maxk.personalities.maxk.queue",
-    "maxk.personalities.maxk.config",
     "maxk.commands.max.queued_motion",
     "maxk.commands.max.context",
 )
-"""Compiled when a compiler exists; never a module another controller's team edits."""
+"""Compiled when a compiler exists; never a module another controller's team edits.
+Not personalities/maxk/config.py: its AxisConfig drops its memoised plans in
+`__setattr__`, which a compiled class would not call."""
 
 GROUP = "maxk._compiled"
 """mypyc's shared library for them (`maxk/_compiled__mypyc*.so`), inside the package so
