@@ -22,6 +22,8 @@ class OptionalBuildExt(build_ext):
     """Build the kernel if possible; never fail the install for want of a compiler."""
 
     def run(self) -> None:
+        if self.inplace:
+            self._remove_stale_modules()
         try:
             super().run()
         except Exception as exc:  # no compiler at all (distutils' own errors vary)
@@ -44,6 +46,22 @@ class OptionalBuildExt(build_ext):
             extra_postargs=["-O2", "-fPIC", "-fvisibility=hidden"])
         self.compiler.link_shared_object(objects, str(target / OMS_LIBRARY_NAME),
                                          libraries=["pthread"])
+
+    def _remove_stale_modules(self) -> None:
+        """An in-place (editable) build leaves the shared libraries of an earlier build
+        beside the sources: one for a module no longer compiled (or a build with
+        MAXK_PURE_PYTHON=1) would shadow its .py and fail to import. Remove those."""
+        current = {ext.name for ext in self.extensions}
+        for source in Path("maxk").rglob("*.py"):
+            name = ".".join(source.with_suffix("").parts)
+            if name in current:
+                continue
+            for library in source.parent.glob(source.stem + ".*"):
+                if library.suffix in (".so", ".pyd") and library.name.split(".")[0] == source.stem:
+                    library.unlink()
+        for library in Path("maxk").glob("_compiled__mypyc.*"):
+            if "maxk._compiled__mypyc" not in current:
+                library.unlink()
 
     def build_extensions(self) -> None:
         self._mypyc_failed = False
