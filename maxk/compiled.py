@@ -1,12 +1,12 @@
 """Which modules the install compiles with mypyc, and the switch that turns them off.
 
-setup.py compiles these typed hot modules (the shared engine, profiles and axis, the MAXk
-board, axes and queues, the MAX lexer, interpreter and queued actions) where mypyc and a
-C compiler exist, and installs pure Python where they do not: the replies are the same
-either way (README, "Speed"). ``MAXK_PURE_PYTHON=1`` in the environment makes an installed build
-import the Python sources instead of the compiled modules, so that one install can run the
-suite both ways. setup.py reads this file without importing maxk: keep it free of imports
-from the package.
+setup.py compiles these typed hot modules (the shared engine, profiles, axis and paths,
+the MAXk board, axes, queues and vector tasks, the MAX lexer, interpreter and actions)
+where mypyc and a C compiler exist, and installs pure Python where they do not: the
+replies are the same either way (README, "Speed"). ``MAXK_PURE_PYTHON=1`` in the
+environment makes an installed build import the Python sources instead of the compiled
+modules, so that one install can run the suite both ways. setup.py reads this file
+without importing maxk: keep it free of imports from the package.
 """
 
 from __future__ import annotations
@@ -24,14 +24,17 @@ COMPILED_MODULES = (
     "maxk.firmware_model.axis",
     "maxk.firmware_model.profiles",
     "maxk.firmware_model.motion",
+    "maxk.firmware_model.path",
     "maxk.personalities.maxk.axis",
     "maxk.personalities.maxk.board",
     "maxk.personalities.maxk.queue",
+    "maxk.personalities.maxk.contouring",
     "maxk.commands.max.queued_motion",
     "maxk.commands.max.context",
     "maxk.commands.max.queued",
     "maxk.commands.max.lexer",
     "maxk.commands.max.interpreter",
+    "maxk.commands.max.vector",
 )
 """Compiled when a compiler exists; never a module another controller's team edits.
 Not personalities/maxk/config.py: its AxisConfig drops its memoised plans in
