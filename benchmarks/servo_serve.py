@@ -9,6 +9,7 @@ three a second per axis); then the hosts poll their boards with `AA RP;` at `rat
 second per board, one query outstanding each, and time every round trip.
 
     python3 -m benchmarks.servo_serve [--seconds 60] [--boards 16] [--rate 10] [--json]
+    python3 -m benchmarks.servo_serve --steppers ...   (the same moves, stepper axes)
 
 Target: p99 query round trip below 5 ms, every board kept in real time.
 """
@@ -39,6 +40,9 @@ MOVES = ("AA; PSM,M,M,M,M,M,M,M,M,M; LP0,0,0,0,0,0,0,0,0,0; "
          "AM; LS1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,1000000,"
          "1000000; MR7001,-5003,3002,1999,777,-7001,5003,-3002,-1999,-777; GO; "
          "MR-7001,5003,-3002,-1999,-777,7001,-5003,3002,1999,777; GO; LE; AA CL?;")
+STEPPER_MOVES = "AA; " + MOVES[MOVES.index("VL50000"):].replace("AA CL?;", "AA RP;")
+"""The same moves on the power-up stepper axes (issue 39: stepper boards served too)."""
+FIRST_REPLY = {MOVES: re.compile(rb"on(,on){9}"), STEPPER_MOVES: re.compile(rb"-?\d+(,-?\d+){9}")}
 RP_REPLY = re.compile(rb"-?\d+(,-?\d+){9}")
 TARGET_P99_MS = 5.0
 GRACE = 5.0  # seconds a reply may take after the last poll before it counts as lost
@@ -103,7 +107,8 @@ def _lag_summary(lags: list[float]) -> tuple[float, float]:
     return percentile(kept, 0.99), kept[-1] if kept else float("nan")
 
 
-def _hosts(ports: list[int], seconds: float, rate: float) -> tuple[list[float], int, int]:
+def _hosts(ports: list[int], seconds: float, rate: float,
+           setup: str = MOVES) -> tuple[list[float], int, int]:
     """One host per board: set it up, then `AA RP;` at `rate`/s, one outstanding each.
     Returns (sorted round trips in ms, queries sent, wrong replies)."""
     socks = [socket.create_connection(("127.0.0.1", p)) for p in ports]
@@ -125,8 +130,8 @@ def _hosts(ports: list[int], seconds: float, rate: float) -> tuple[list[float], 
 
     for k, sock in enumerate(socks):
         sock.settimeout(30.0)
-        sock.sendall(MOVES.encode())
-        assert reply(k) == b"on,on,on,on,on,on,on,on,on,on"
+        sock.sendall(setup.encode())
+        assert FIRST_REPLY[setup].fullmatch(reply(k))
     time.sleep(1.0)  # every board moving
     latencies: list[float] = []
     sent = wrong = 0
@@ -172,7 +177,8 @@ def _hosts(ports: list[int], seconds: float, rate: float) -> tuple[list[float], 
     return sorted(latencies), sent, wrong
 
 
-def figures(seconds: float = 60.0, boards: int = 16, rate: float = 10.0) -> list[Figure]:
+def figures(seconds: float = 60.0, boards: int = 16, rate: float = 10.0,
+            steppers: bool = False) -> list[Figure]:
     ctx = multiprocessing.get_context("spawn")
     ports_rx, ports_tx = ctx.Pipe(duplex=False)
     stats_rx, stats_tx = ctx.Pipe(duplex=False)
@@ -183,7 +189,8 @@ def figures(seconds: float = 60.0, boards: int = 16, rate: float = 10.0) -> list
         if not ports_rx.poll(60.0):
             raise RuntimeError("maxk serve did not open its ports")
         ports = ports_rx.recv()
-        latencies, sent, wrong = _hosts(ports, seconds, rate)
+        latencies, sent, wrong = _hosts(ports, seconds, rate,
+                                        STEPPER_MOVES if steppers else MOVES)
         code: object = "killed by its watchdog"  # unless it says it stopped
         lag: tuple[float, float] = (float("nan"), float("nan"))
         cpu_share = float("nan")
@@ -204,23 +211,24 @@ def figures(seconds: float = 60.0, boards: int = 16, rate: float = 10.0) -> list
             proc.join()
     if code not in (0, "killed by its watchdog"):
         raise RuntimeError(f"maxk serve exited {code}")
-    note = (f"{boards} x MAXk-A000, 10 servo axes each moving, AA RP at {rate:g}/s per "
+    kind = "stepper" if steppers else "servo"
+    note = (f"{boards} x MAXk-A000, 10 {kind} axes each moving, AA RP at {rate:g}/s per "
             f"board for {seconds:g} s; load average {os.getloadavg()[0]:.1f} on "
             f"{os.cpu_count()} CPUs")
     return [
-        Figure("serve_servo_boards_query_p50", percentile(latencies, 0.50), "ms", None, note),
-        Figure("serve_servo_boards_query_p99", percentile(latencies, 0.99), "ms", None,
+        Figure(f"serve_{kind}_boards_query_p50", percentile(latencies, 0.50), "ms", None, note),
+        Figure(f"serve_{kind}_boards_query_p99", percentile(latencies, 0.99), "ms", None,
                f"target p99 < {TARGET_P99_MS:g} ms"),
-        Figure("serve_servo_boards_query_max", latencies[-1] if latencies else float("nan"),
+        Figure(f"serve_{kind}_boards_query_max", latencies[-1] if latencies else float("nan"),
                "ms"),
-        Figure("serve_servo_boards_queries", len(latencies), "replies",
+        Figure(f"serve_{kind}_boards_queries", len(latencies), "replies",
                note=f"of {sent} sent (the rest lost: over {GRACE:g} s late); {wrong} wrong "
                "(must be 0)"),
-        Figure("serve_servo_boards_pacer_lag_p99", lag[0], "ms", None,
+        Figure(f"serve_{kind}_boards_pacer_lag_p99", lag[0], "ms", None,
                "the worst board's virtual time behind the wall clock after a pacing pass"),
-        Figure("serve_servo_boards_pacer_lag_max", lag[1], "ms", None,
+        Figure(f"serve_{kind}_boards_pacer_lag_max", lag[1], "ms", None,
                "" if code == 0 else "the server could not stop by itself: killed"),
-        Figure("serve_servo_boards_server_cpu", 100.0 * cpu_share, "% of one core", None,
+        Figure(f"serve_{kind}_boards_server_cpu", 100.0 * cpu_share, "% of one core", None,
                "the server process's CPU time over its life (set-up included)"),
     ]
 
@@ -232,8 +240,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--boards", type=int, default=16)
     parser.add_argument("--rate", type=float, default=10.0,
                         help="AA RP queries per second per board")
+    parser.add_argument("--steppers", action="store_true",
+                        help="stepper axes (the power-up setting) instead of servo axes")
     args = parser.parse_args(argv)
-    print_figures(figures(args.seconds, args.boards, args.rate), args.json)
+    print_figures(figures(args.seconds, args.boards, args.rate, args.steppers), args.json)
     return 0
 
 

@@ -232,8 +232,11 @@ static int run(const char *name, const char *second)
     OK(MoveOmsAxisOneStep(h, OMS_W_AXIS, NEGATIVE));
     CODE(MoveOmsAxisOneStep(h, OMS_W_AXIS, 7), INVALID_PARAMETER);
     OK(SetOmsAxisPosition(h, OMS_K_AXIS, 12345));
-    for (i = 0; i < 5000 && (motor(h, OMS_W_AXIS) != 1 || motor(h, OMS_K_AXIS) != 12345); i++)
+    /* W passes 1 on its way (+1, +1, -1): wait until it stays there for 200 reads */
+    for (i = 0, value = 0; i < 5000 && value < 200; i++) {
+        value = motor(h, OMS_W_AXIS) == 1 && motor(h, OMS_K_AXIS) == 12345 ? value + 1 : 0;
         OmsWait(1);
+    }
     EXPECT(motor(h, OMS_W_AXIS) == 1 && motor(h, OMS_K_AXIS) == 12345, "W one steps, K loaded");
 
     /* ---- homing against the world's switch (U home 500..560) ---------------------------- */

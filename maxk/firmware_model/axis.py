@@ -15,12 +15,19 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+try:  # mypyc's class options (setup.py compiles this module where it can)
+    from mypy_extensions import mypyc_attr
+except ImportError:  # pure Python without mypy installed: the decorator does nothing
+    def mypyc_attr(*_args: object, **_kwargs: object):  # type: ignore[no-redef,misc]
+        return lambda cls: cls
+
 from maxk.firmware_model.motion import Clock, MotionPlan
 
 if TYPE_CHECKING:
     from maxk.firmware_model.servo import ServoLoop
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # each controller's axes
 @dataclass
 class MotionAxis:
     """The kinematic state of one axis: the physical position at rest or at the origin
@@ -204,6 +211,7 @@ def first_tick(reached: Callable[[int], bool], lo: int, hi: int) -> int | None:
 SwitchSide = int  # +1: the plus limit, -1: the minus limit
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # Trio's limits
 class MotionEnds:
     """The shared machine ends its axes' motions: an event source that, on each motion's
     end tick, stands the axis on its final step (`finish_motion`, which calls the axis's

@@ -18,6 +18,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol, Self
 
+try:  # mypyc's class options (setup.py compiles this module where it can)
+    from mypy_extensions import mypyc_attr
+except ImportError:  # pure Python without mypy installed: the decorator does nothing
+    def mypyc_attr(*_args: object, **_kwargs: object):  # type: ignore[no-redef,misc]
+        return lambda cls: cls
+
 
 class EventSource(Protocol):
     """Something that changes the machine at ticks it can predict."""
@@ -40,11 +46,15 @@ class _Observer:
     callback: Callable[[Engine], None]
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # each controller's machine
 class Engine:
     """Integer virtual time, the event sources and the loop that runs them."""
 
-    def __init__(self, update_rate_hz: float) -> None:
+    def __init__(self, update_rate_hz: int | float) -> None:
         self.tick = 0
+        # `int | float`, not `float`: the rate is reported as it was given (#UR? says
+        # 1024, not 1024.0), and a compiled build (mypyc) would turn a `float`'s int
+        # into a float
         self.update_rate_hz = update_rate_hz
         self.period = 1.0 / update_rate_hz
         # Virtual time stays continuous across a change of update rate:
@@ -72,7 +82,7 @@ class Engine:
         return self._tick_origin + int((seconds - self._time_origin) * self.update_rate_hz
                                        + 1e-6)
 
-    def change_update_rate(self, rate_hz: float) -> None:
+    def change_update_rate(self, rate_hz: int | float) -> None:
         """From this tick on, ticks are `1/rate_hz` long; the time so far is kept."""
         self._time_origin = self.time
         self._tick_origin = self.tick

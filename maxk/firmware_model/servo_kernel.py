@@ -47,7 +47,20 @@ STEP, STEP_AXES = _load()
 None (no compiler at install time, or switched off)."""
 
 # the state's slots (the C enum's order)
-P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK = range(12)
+# annotated one by one: mypy then knows their type wherever an import cycle puts this
+# module (setup.py's mypyc build checks these modules without a cache)
+P: int = 0
+W: int = 1
+S: int = 2
+Q: int = 3
+DAC: int = 4
+RPREV: int = 5
+RPREV2: int = 6
+HAS_PREV: int = 7
+HAS_PREV2: int = 8
+CLOSED: int = 9
+TRIPPED: int = 10
+STUCK: int = 11
 STATE_SIZE = 12
 
 KIND_REST, KIND_PROFILE, KIND_CONTOUR = 0, 1, 2

@@ -144,11 +144,17 @@ class Lexer:
             out = self._split(buf)
             if len(_SPLITS) >= _CACHED_LINES:
                 _SPLITS.clear()
-            _SPLITS[buf] = (tuple(out), self._buf, self._skipping, self._bad,
-                            self._bad_count)
+            _SPLITS[buf] = self._state(out)
             return out
         items, self._buf, self._skipping, self._bad, self._bad_count = known
         return list(items)
+
+    def _state(self, out: list[ParsedCommand | LexError | ControlCharacter]) -> tuple[
+            tuple[ParsedCommand | LexError | ControlCharacter, ...], str, bool, str | None,
+            int]:
+        """A split and the state it leaves, to remember. (A method of its own: in `feed`
+        mypy has narrowed `_bad` to None, which a compiled build would enforce.)"""
+        return tuple(out), self._buf, self._skipping, self._bad, self._bad_count
 
     def _split(self, buf: str) -> list[ParsedCommand | LexError | ControlCharacter]:
         """The state machine proper, over the held text and what arrived."""

@@ -436,11 +436,11 @@ def validate_queued(ctx: Context) -> None:
     if m == "IO" and ctx.values[0][1] not in (0, 1):
         raise CommandError("IO#,#: the second operand is 0 (input) or 1 (output)")
     if m in ("ECA", "ECB"):
-        bits, clock = ctx.values[0]
-        if not 1 <= bits <= 32:
-            raise CommandError(f"{m}{bits},{clock}: 1 to 32 data bits")
+        data_bits, clock = ctx.values[0]  # (not `bits`: a list above, for a compiled build)
+        if not 1 <= data_bits <= 32:
+            raise CommandError(f"{m}{data_bits},{clock}: 1 to 32 data bits")
         if clock not in ABSOLUTE_ENCODER_CLOCKS:
-            raise CommandError(f"{m}{bits},{clock}: the clock is one of "
+            raise CommandError(f"{m}{data_bits},{clock}: the clock is one of "
                                + ", ".join(map(str, ABSOLUTE_ENCODER_CLOCKS)) + " Hz")
 
 

@@ -136,7 +136,9 @@ def _go(value: object, ctx: Context) -> Action:
         if target is None:
             return None
         axis.pending_target = None
-        if axis.start_move(target, board) and axis.motion is not None:
+        # `moving`, not `axis.motion is not None`: the check above narrowed the
+        # attribute to None, and a compiled build (mypyc) enforces what mypy narrowed
+        if axis.start_move(target, board) and axis.moving:
             return WAIT_MOTION
         return None
 
@@ -267,7 +269,7 @@ def _home(direction: int, load: bool) -> QueuedFactory:
             load_value = (value if value is not None else 0) if load else None
             if board.start_homing(axis, direction, load_value):  # type: ignore[arg-type]
                 return WAIT_MOTION
-            return WAIT_REST_RETRY if axis.motion is not None else None
+            return WAIT_REST_RETRY if axis.moving else None  # `moving`: see _go
 
         return action
 
@@ -307,7 +309,9 @@ def _go_to(raw: object, ctx: Context) -> Action:
             return None
         axis.pending_target = None
         axis.pending_linear = None
-        if axis.start_move(target, board) and axis.motion is not None:
+        # `moving`, not `axis.motion is not None`: the check above narrowed the
+        # attribute to None, and a compiled build (mypyc) enforces what mypy narrowed
+        if axis.start_move(target, board) and axis.moving:
             return WAIT_MOTION
         return None
 
@@ -327,7 +331,9 @@ def _timed_move(value: object, ctx: Context) -> Action:
             board.report_error(f"target {target} is outside the 32-bit position range",
                                f"A{axis.letter} TM{value}")
             return None
-        if axis.start_move(target, board) and axis.motion is not None:
+        # `moving`, not `axis.motion is not None`: the check above narrowed the
+        # attribute to None, and a compiled build (mypyc) enforces what mypy narrowed
+        if axis.start_move(target, board) and axis.moving:
             return WAIT_MOTION
         return None
 
@@ -358,7 +364,7 @@ def _in_position(value: object, ctx: Context) -> Action:
             return WAIT_REST_RETRY
         if axis.holding and abs(axis.position_error(board)) > axis.config.hold_deadband:
             board.maintain(axis, True)  # starts the correction that brings it in
-            if axis.motion is not None:
+            if axis.moving:  # `moving`, not `motion is not None`: see _go
                 return WAIT_REST_RETRY
         board.set_axis_flag(axis, F.AXIS_DONE)
         return None

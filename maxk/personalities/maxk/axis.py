@@ -251,8 +251,9 @@ class Axis(MotionAxis):
             return False
         return self.start_motion(self.config.plan_move(distance), board)
 
-    def start_jog(self, velocity: int, board: AxisHost) -> bool:
-        """JG: ramp from the present velocity to a signed jog velocity and slew."""
+    def start_jog(self, velocity: float, board: AxisHost) -> bool:
+        """JG: ramp from the present velocity to a signed jog velocity and slew (JF's
+        keeps a fraction of a step/s: a float, which a compiled build must be told)."""
         residual, current = self._rebase(board)
         c = self.config
         motion = plan_jog(residual, current, velocity, c.base_velocity, c.acceleration,
