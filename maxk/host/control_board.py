@@ -9,6 +9,7 @@ import contextlib
 import io
 import ipaddress
 import logging
+import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -24,6 +25,8 @@ log = logging.getLogger("maxk.door.control")
 TRACE_LIMIT = 4 * 1024 * 1024  # characters of CSV one trace keeps (then it stops itself)
 TRIGGERS = 64  # armed triggers per controller
 ERRORS = 200  # error log entries kept
+STEP_TURN_SECONDS = 0.01  # wall time a step runs before it pauses for the door's requests
+STEP_PAUSE_SECONDS = 0.001
 STEP_SLICE_SECONDS = 0.05  # virtual time advanced between two looks at the other doors
 HORIZON_SECONDS = 1e7  # a trigger is armed at most this far ahead (about 116 days) (D)
 
@@ -293,13 +296,20 @@ async def step_to(board: Board, target: int) -> None:
     engine = board.controller.engine
     piece = max(1, round(STEP_SLICE_SECONDS / engine.period))
     word = board.clock_word
+    turn = time.perf_counter()
     while engine.tick < target and board.clock_word == word:
         try:
             engine.advance(min(piece, target - engine.tick))
         except Exception as error:  # the controller's fault, told as the pacer tells it
             board.service._report(error, b"")
             return
-        await asyncio.sleep(0)
+        if time.perf_counter() - turn >= STEP_TURN_SECONDS:
+            # a real pause, not only a turn of the loop: fast slices yielding with
+            # sleep(0) alone left a request (a `run` to end this step) waiting seconds
+            await asyncio.sleep(STEP_PAUSE_SECONDS)
+            turn = time.perf_counter()
+        else:
+            await asyncio.sleep(0)
 
 
 def number_of(value: Any, what: str) -> float:

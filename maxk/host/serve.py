@@ -153,9 +153,13 @@ async def _open(opener: Any, service: Service, args: argparse.Namespace,
     return await opener(service, args.host, 0)
 
 
-RESERVED_FILES = 128
-"""Descriptors kept out of the doors' connection caps: the listeners, ptys, the map,
-logs, and a burst of connections accepted before they are refused (D)."""
+RESERVED_FILES = 128 + 100 + 32
+"""Descriptors kept out of the doors' connection caps (D): the listeners, ptys, the map
+and logs (128); one burst of connections accepted at once before they are refused and
+closed (asyncio accepts up to the listen backlog, 100, in one go, and closes a refused
+one on a later turn of the loop); the control door's refusals left to read their 503
+(32). A flood under a small descriptor limit (`ulimit -n 256`) met EMFILE in the accept
+burst when only 128 were kept."""
 
 
 def connection_caps(doors: int, door_cap: int) -> int:
