@@ -9,56 +9,25 @@ from __future__ import annotations
 
 import contextlib
 import http.server
-import os
-import shutil
 import socket
-import tempfile
 import threading
 from collections.abc import Iterator
 
 import pytest
 
+from tests.browsers import chromium, skip_without_browser
 from tests.test_control_security import Door
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-DRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
 WAIT = 30.0
 REBOUND = "rebound.test"  # a name the browser resolves to 127.0.0.1, as a rebinding page's
 
-
-def _have_browser() -> bool:
-    try:
-        import selenium  # noqa: F401
-    except ImportError:
-        return False
-    return os.path.exists(CHROMIUM) and os.path.exists(DRIVER)
-
-
-if not _have_browser() and not os.environ.get("CI"):
-    pytest.skip("no Chromium, chromedriver or selenium here (CI installs them)",
-                allow_module_level=True)
+skip_without_browser()
 
 
 @pytest.fixture
 def browser() -> Iterator[object]:
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    profile = tempfile.mkdtemp(prefix="maxk-chromium-")
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for flag in ("--headless", "--no-sandbox", "--disable-gpu",
-                 "--disable-background-networking", "--disable-component-update",
-                 "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
-                 f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1",
-                 f"--user-data-dir={profile}", "--window-size=1200,900"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(service=Service(executable_path=DRIVER), options=options)
-    try:
-        yield driver
-    finally:
-        driver.quit()
-        shutil.rmtree(profile, ignore_errors=True)
+    with chromium(f"--host-resolver-rules=MAP {REBOUND} 127.0.0.1", size="1200,900") as d:
+        yield d
 
 
 def _until(driver: object, predicate, message: str):

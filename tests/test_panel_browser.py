@@ -10,55 +10,26 @@ from __future__ import annotations
 
 import io
 import os
-import shutil
 import socket
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from maxk import testing
+from tests.browsers import chromium, skip_without_browser
 
 maxk_served = testing.maxk_served
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
-DRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
 WAIT = 20.0  # seconds a page may take to show something (a loaded CI machine)
 
-
-def _have_browser() -> bool:
-    try:
-        import selenium  # noqa: F401
-    except ImportError:
-        return False
-    return os.path.exists(CHROMIUM) and os.path.exists(DRIVER)
-
-
-if not _have_browser() and not os.environ.get("CI"):
-    pytest.skip("no Chromium, chromedriver or selenium here (CI installs them)",
-                allow_module_level=True)
+skip_without_browser()
 
 
 @pytest.fixture
 def browser() -> Iterator[object]:
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    profile = tempfile.mkdtemp(prefix="maxk-chromium-")
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for flag in ("--headless", "--no-sandbox", "--disable-gpu",
-                 "--disable-background-networking", "--disable-component-update",
-                 "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
-                 f"--user-data-dir={profile}", "--window-size=1400,1000"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(service=Service(executable_path=DRIVER), options=options)
-    try:
+    with chromium() as driver:
         yield driver
-    finally:
-        driver.quit()
-        shutil.rmtree(profile, ignore_errors=True)
 
 
 def _until(driver: object, predicate, message: str):
