@@ -155,11 +155,11 @@ async def _open(opener: Any, service: Service, args: argparse.Namespace,
 
 RESERVED_FILES = 128 + 100 + 32
 """Descriptors kept out of the doors' connection caps (D): the listeners, ptys, the map
-and logs (128); one burst of connections accepted at once before they are refused and
-closed (asyncio accepts up to the listen backlog, 100, in one go, and closes a refused
-one on a later turn of the loop); the control door's refusals left to read their 503
-(32). A flood under a small descriptor limit (`ulimit -n 256`) met EMFILE in the accept
-burst when only 128 were kept."""
+and logs (128); a burst of connections accepted at once, before they are refused and
+closed some turns of the loop later (100: asyncio accepts up to the listen backlog in
+one go, and a TCP door's backlog is held within its cap, server.py); the control door's
+refusals left to read their 503 (32). A flood under `ulimit -n 256` met EMFILE in the
+accept burst when only 128 were kept."""
 
 
 def connection_caps(doors: int, door_cap: int) -> int:

@@ -41,6 +41,7 @@ log = logging.getLogger("maxk.door.serve")
 
 
 HOSTS_PER_DOOR = 256  # hosts connected at once to one TCP door; more are hung up on (D)
+ACCEPT_BACKLOG = 100  # asyncio's listen backlog (a hundred hosts connecting at once)
 
 
 class _Listener:
@@ -380,7 +381,11 @@ class Server:
     async def open_tcp(self, service: Service, host: str, port: int) -> tuple[str, int]:
         loop = asyncio.get_running_loop()
         listener = _Listener(service, self.hosts_per_door)
-        server = await loop.create_server(listener, host, port)
+        # asyncio accepts up to the backlog in one go and closes a refused connection some
+        # turns of the loop later: under a small descriptor limit (a cap fitted to it) the
+        # burst stays within the cap, so a flood never reaches EMFILE (D)
+        backlog = max(8, min(ACCEPT_BACKLOG, self.hosts_per_door))
+        server = await loop.create_server(listener, host, port, backlog=backlog)
         self.listeners.append(listener)
         self._servers.append(server)
         address = server.sockets[0].getsockname()[:2]
