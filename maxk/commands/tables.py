@@ -7,6 +7,7 @@ source of truth it claims to be."""
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable, Iterable
+from pathlib import Path
 from typing import TypeVar
 
 Entry = TypeVar("Entry")
@@ -26,3 +27,19 @@ def unique_table(entries: Iterable[Entry], key: Callable[[Entry], Key],
             raise TableError(f"{what}: {name!r} is listed twice")
         table[name] = entry
     return table
+
+
+def rewrite_table(page: Path, header: str, table: str, row_start: str = "| ") -> None:
+    """Put a generated Markdown table into its page: the rows after `header` (lines
+    starting with `row_start`) are replaced by `table`; a page without the header gets the
+    table at its end. The one way a language's generated reference is kept true."""
+    text = page.read_text()
+    if header not in text:
+        page.write_text(text.rstrip("\n") + "\n\n" + table)
+        return
+    start = text.index(header)
+    lines = text[start + len(header):].split("\n")
+    taken = 0
+    while taken < len(lines) and lines[taken].startswith(row_start):
+        taken += 1
+    page.write_text(text[:start] + table + "\n".join(lines[taken:]))

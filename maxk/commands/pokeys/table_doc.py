@@ -11,6 +11,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ..tables import rewrite_table
 from .packet import REFUSED, UNKNOWN
 from .table import ANY, ENTRIES, CommandEntry
 
@@ -55,21 +56,6 @@ def table() -> str:
     return HEADER + "".join(r + "\n" for r in rows)
 
 
-def rewrite(page: Path) -> None:
-    """Replace the table that starts at HEADER with the generated one (or append it)."""
-    text = page.read_text()
-    if HEADER not in text:
-        page.write_text(text.rstrip("\n") + "\n\n" + table())
-        return
-    start = text.index(HEADER)
-    end = start + len(HEADER)
-    lines = text[end:].split("\n")
-    taken = 0
-    while taken < len(lines) and lines[taken].startswith("| "):
-        taken += 1
-    rest = "\n".join(lines[taken:])
-    page.write_text(text[:start] + table() + rest)
-
-
 if __name__ == "__main__":
-    rewrite(Path(sys.argv[1] if len(sys.argv) > 1 else "docs/pokeys.md"))
+    rewrite_table(Path(sys.argv[1] if len(sys.argv) > 1 else "docs/pokeys.md"), HEADER, table(),
+                  '| ')

@@ -9,6 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ..tables import rewrite_table
 from .keywords import KEYWORDS
 
 HEADER = ("| keyword | kind | what the emulator does | source | conf. |\n"
@@ -27,18 +28,6 @@ def table() -> str:
     return HEADER + "".join(row(name) + "\n" for name in sorted(KEYWORDS))
 
 
-def rewrite(page: Path) -> None:
-    """Replace the table that starts at HEADER with the generated one."""
-    text = page.read_text()
-    start = text.index(HEADER)
-    end = start + len(HEADER)
-    lines = text[end:].split("\n")
-    taken = 0
-    while taken < len(lines) and lines[taken].startswith("| `"):
-        taken += 1
-    rest = "\n".join(lines[taken:])
-    page.write_text(text[:start] + table() + rest)
-
-
 if __name__ == "__main__":
-    rewrite(Path(sys.argv[1] if len(sys.argv) > 1 else "docs/trio.md"))
+    rewrite_table(Path(sys.argv[1] if len(sys.argv) > 1 else "docs/trio.md"), HEADER, table(),
+                  '| `')
