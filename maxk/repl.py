@@ -67,6 +67,7 @@ class ReplSession(ConsoleSession):
         self._tick_at_epoch = self.controller.engine.tick
         self.finished = False
         self.record_path: Path | None = None  # where :record writes the session
+        self._saved_revision = -1  # the record's revision last written there
 
     # ---- time -----------------------------------------------------------------------
     def sync(self) -> None:
@@ -118,10 +119,11 @@ class ReplSession(ConsoleSession):
 
     def _save_record(self) -> list[str]:
         """Keep the :record file up to date (a line telling why, when it cannot be)."""
-        if self.record_path is None:
-            return []
+        if self.record_path is None or self.record.revision == self._saved_revision:
+            return []  # (help, :status and the like change nothing: not written again)
         try:
             self.record_path.write_text(self.record.script(), encoding="utf-8")
+            self._saved_revision = self.record.revision
         except (OSError, ValueError) as error:  # ValueError: a NUL in the name
             self.record_path = None
             return [f"record: {error}; recording stopped"]
@@ -190,6 +192,7 @@ class ReplSession(ConsoleSession):
             return [f"recording stopped; {path} kept" if path else "not recording"]
         path = Path(rest).expanduser()
         self.record_path = path
+        self._saved_revision = -1  # a new file: written now, whatever the record holds
         problem = self._save_record()
         return problem or [f"recording into {path}: the session since power-up, "
                            "then every line (`maxk run` replays it)"]

@@ -39,6 +39,7 @@ class SessionRecord:
         self.entries: list[Entry] = []
         self.start_tick = controller.engine.tick
         self.dropped = 0  # entries let go to keep the budget
+        self.revision = 0  # counts the changes: a writer saves only a record that changed
 
     def command(self, line: str, tick: int, replies: list[str], refused: list[str]) -> None:
         """A command line sent at `tick`, with its replies and the refusals it raised."""
@@ -55,10 +56,12 @@ class SessionRecord:
         """The controller powered up again: the script starts over from here."""
         self.entries.clear()
         self.dropped = 0
+        self.revision += 1
         self.start_tick = self.controller.engine.tick
 
     def _add(self, entry: Entry) -> None:
         self.entries.append(entry)
+        self.revision += 1
         if len(self.entries) > MAX_ENTRIES:
             half = MAX_ENTRIES // 2
             self.dropped += half
