@@ -16,7 +16,7 @@ import time
 from collections.abc import Callable
 
 from benchmarks.figure import Figure
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 
 ROWS = 250  # each row: LX, CA180, LX, CA-180 -> 1,000 elements
 WIDTH = 10.0

@@ -20,7 +20,7 @@ import threading
 import time
 
 from maxk.commands.pokeys import make_request
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 from maxk.controllers.registry import build
 from maxk.host.pacing import Pacer
 from maxk.host.server import Server, Service

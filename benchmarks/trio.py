@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 from tests.trio_helpers import EXAMPLE_2
 
 TARGET = 200.0  # simulated seconds per wall second

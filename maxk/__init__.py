@@ -7,7 +7,7 @@ from maxk import compiled as _compiled  # noqa: E402
 if _compiled.pure_python_requested():  # MAXK_PURE_PYTHON=1: the sources, not mypyc's build
     _compiled.use_pure_python()
 
-from maxk.controllers.maxk import MAXk  # noqa: E402
+from maxk.controllers.maxk.controller import MAXk  # noqa: E402
 
 
 def _register_pyserial_handler() -> None:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from maxk.controllers.maxk import MAXk
+from maxk.controllers.maxk.controller import MAXk
 from maxk.firmware_model.motor import VOLTS_PER_COUNT
 
 DEFAULT_MOVE = "AC100000; VL5000; MR6400; GO;"

@@ -14,7 +14,7 @@ import struct
 
 import pytest
 
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 
 PEV2 = 0x85
 STATUS, SETUP, STATE_SET, AXIS_SET = 0x00, 0x01, 0x02, 0x11

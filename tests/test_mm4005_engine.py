@@ -9,7 +9,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from maxk.controllers.mm4005 import MM4005Controller, axis_count_of
+from maxk.controllers.mm4005.controller import MM4005Controller, axis_count_of
 from maxk.controllers.registry import build
 from maxk.personalities.mm4005.machine import UPDATE_RATE_HZ
 

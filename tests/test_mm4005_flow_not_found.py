@@ -12,7 +12,7 @@ import pytest
 
 from maxk.commands.mm4005.manual_list import GROUP
 from maxk.commands.mm4005.table import COMMANDS, SEARCHED_AGAIN
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 
 RATE = 2000  # ticks a second
 PRIORITY = ("WT", "WP", "UH", "UL", "DL", "JL", "LP")  # the ones asked for first

@@ -10,7 +10,7 @@ import io
 import pytest
 
 from maxk.commands.mm4005 import COMMANDS
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 from maxk.trace import TraceWriter
 
 PERIOD = 0.0005  # manual 7.1.1: the servo cycle, one tick

@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from maxk.commands.mm4005 import COMMANDS
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 
 
 def test_ts_bits_follow_the_manual_table() -> None:

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from maxk.commands.mm4005 import MM4005Session
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 from maxk.personalities.mm4005.programs import MEMORY, ProgramStore
 
 RATE = 2000  # ticks a second

@@ -17,7 +17,7 @@ import re
 import pytest
 
 from maxk.commands.mm4005 import COMMANDS
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 
 TICK = 0.0005  # the servo cycle: engine ticks are 0.5 ms
 

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from maxk.commands.mm4005.session import MM4005Session
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 
 TICK = 0.0005
 

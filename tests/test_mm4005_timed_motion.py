@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.mm4005.controller import MM4005Controller
 from maxk.firmware_model.path import plan_timed, timed_segments
 from maxk.firmware_model.world import STUCK_ACTIVE
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 import struct
 
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 
 ANALOG, COUNTER_INPUT, OUTPUT = 0x08, 0x02 | 0x40, 0x04
 

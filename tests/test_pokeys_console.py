@@ -10,7 +10,7 @@ import pytest
 
 from maxk.commands.pokeys import make_request
 from maxk.controllers.contract import Console, Controller
-from maxk.controllers.pokeys import PoKeys, PoKeysError
+from maxk.controllers.pokeys.controller import PoKeys, PoKeysError
 from maxk.controllers.registry import build, kind_of
 from maxk.repl import ReplSession
 from maxk.script import parse_script, run_script

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 from maxk.firmware_model.world import axis_position_source
 from tests.hosting import HostedBoards
 from tests.pokeys_host import Host, axis_config_payload, decode_status, header_sum

@@ -10,7 +10,7 @@ import struct
 
 import pytest
 
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 from tests.hosting import HostedBoards
 from tests.pokeys_host import PK_ERR_GENERIC, PK_OK, Host, axis_config_payload
 from tests.pokeys_lib_host import LibHost

@@ -18,7 +18,7 @@ from maxk.commands.pokeys.packet import make_request
 from maxk.commands.pokeys.table import ENTRIES
 from maxk.commands.tables import TableError, unique_table
 from maxk.controllers.contract import BuildOptions
-from maxk.controllers.pokeys import PoKeys, build
+from maxk.controllers.pokeys.controller import PoKeys, build
 
 ROOT = Path(__file__).parent.parent
 HUGE = ["1e308", "-1e308", "1e-320", "nan", "NaN", "inf", "-inf", str(2 ** 63), "9" * 250,

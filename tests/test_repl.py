@@ -8,7 +8,7 @@ from pathlib import Path
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from maxk.controllers.maxk import AxisStatus
+from maxk.controllers.maxk.controller import AxisStatus
 from maxk.personalities.maxk import flags as F
 from maxk.repl import MnemonicCompleter, ReplSession
 
@@ -152,7 +152,7 @@ def test_the_status_line_of_a_maxk_a000_fits_80_columns():
 
 
 def test_the_status_line_abbreviates_positions_only_when_it_must():
-    from maxk.controllers.maxk_console import status_line
+    from maxk.controllers.maxk.console import status_line
 
     statuses = [AxisStatus(letter, position, 0, 0, done, moving, 0, "")
                 for letter, position, done, moving in zip(
@@ -171,7 +171,7 @@ def test_the_status_line_abbreviates_positions_only_when_it_must():
        doorbell=st.integers(0, 2**27 - 1), seconds=st.floats(0, 1e6))
 def test_the_status_line_always_fits_and_always_shows_every_axis(positions, done, moving,
                                                                  doorbell, seconds):
-    from maxk.controllers.maxk_console import status_line
+    from maxk.controllers.maxk.console import status_line
 
     statuses = [AxisStatus(letter, *values) for letter, values in zip(
         "XYZTUVRSWK", [(p, p, 0, d, m, 0, "") for p, d, m in zip(positions, done, moving,

@@ -537,7 +537,7 @@ def test_fixed_mc405_gate_edge_log_grows_for_ever() -> None:
     REPL word) and never dropped: the seed's own example 3 (an endless REPEAT of gated
     moves) grows the server by about 650 bytes per second of running, 56 MB a day, with
     no host doing anything. Expected: a bounded log (the newest N edges)."""
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
     from maxk.personalities.trio.pwm_link import GATE_LOG
     from tests.trio_helpers import EXAMPLE_3
 
@@ -575,7 +575,7 @@ def test_fixed_mc405_program_upload_rewrites_the_whole_program_per_line(tmp_path
     program file and the index: uploading n lines writes O(n^2) bytes, synchronously on
     the server's one event loop (1,000 lines of 100 characters: 1.8 s; 4,000: 11.4 s).
     A 150 KB program here writes about 100 MB. Expected: about the program's size."""
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     trio = MC405(archive=tmp_path / "MC405-board1.params.json")
     session = trio.open_session()

@@ -31,7 +31,7 @@ from hypothesis import strategies as st
 
 from maxk.commands.pokeys.packet import make_request
 from maxk.commands.pokeys.session import is_discovery
-from maxk.controllers.pokeys import PoKeys
+from maxk.controllers.pokeys.controller import PoKeys
 from tests.hosting import HostedBoards
 
 PEV2, PEV1, LARGE = 0x85, 0x80, 0xB0

@@ -409,7 +409,7 @@ def test_holds_mc405_download_with_edits_reloads_with_the_same_crc(tmp_path: Pat
     """atrio's download of 200 lines, then an insert in the middle, a delete of the first,
     a replace of the last and an insert at the end, COMPILE: a new controller on the same
     program directory gives the same EDPROG CRC, LIST and DIR."""
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     def run(session, line: str) -> bytes:
         session.feed(line.encode() + b"\r\n")

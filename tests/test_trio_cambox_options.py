@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 
 SPEED, ACCEL = 100.0, 1e6
 LOSS = SPEED * SPEED / (2 * ACCEL)  # 0.005

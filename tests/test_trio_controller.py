@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from maxk.controllers.contract import BuildOptions, Console, Controller
 from maxk.controllers.registry import build, canonical_model, kind_of
-from maxk.controllers.trio import MC405, program_directory
+from maxk.controllers.trio.controller import MC405, program_directory
 from tests.trio_helpers import EXAMPLE_1
 
 

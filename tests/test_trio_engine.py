@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 from tests.trio_helpers import EXAMPLE_1, EXAMPLE_2, EXAMPLE_3
 
 DT = 0.001  # s per servo cycle (SERVO_PERIOD 1000 us)

@@ -8,7 +8,7 @@ cycles (5 counts), so a move from rest passes count p (p >= 5) on tick 5 + p."""
 
 from __future__ import annotations
 
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 from tests.test_trio_drive import FAST, at, dpos, mc405
 
 

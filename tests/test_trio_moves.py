@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 
 DT = 0.001
 

@@ -13,7 +13,7 @@ import pytest
 
 from maxk.commands.trio.programs import MAX_PROGRAM_BYTES, MAX_PROGRAMS
 from maxk.commands.trio.tasks import STATEMENTS_PER_CYCLE
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 from tests.test_trio_doors import HostError, TrioHost, host, hosted  # noqa: F401
 from tests.trio_helpers import AtrioError, parse_reply
 

@@ -274,7 +274,7 @@ def test_docs_list_every_keyword_with_its_source() -> None:
 
 
 def _mc405_run(lines: list[str], seconds: float) -> tuple[str, object]:
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     controller = MC405()
     session = controller.open_session()
@@ -312,7 +312,7 @@ def test_deep_expressions_are_refused_never_a_crash(line: str) -> None:
 
 
 def test_the_repl_lists_processes_and_explains_every_keyword() -> None:
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     console = MC405().console()
     for line in ('SELECT "SLOW",0', "!SLOW,0RWA(5000)", 'RUN "SLOW", 4'):
@@ -329,7 +329,7 @@ def test_the_repl_lists_processes_and_explains_every_keyword() -> None:
 def test_movecirc_draws_the_arc_on_the_shared_planner(direction: int, y_sign: int) -> None:
     import math
 
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     controller = MC405()
     console = controller.console()

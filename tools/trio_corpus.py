@@ -41,7 +41,7 @@ from maxk.commands.trio.lexer import Tok, TrioError, tokenize
 from maxk.commands.trio.parser import parse_line
 from maxk.commands.trio.programs import check_name
 from maxk.commands.trio.tasks import _INCLUDE, join_continued
-from maxk.controllers.trio import MC405
+from maxk.controllers.trio.controller import MC405
 
 _TYPES = {".BAL": 12, ".MCC": 9}
 _DATA = re.compile(r"[0-9_]+\.TXT$", re.IGNORECASE)  # 0123.TXT: a data file a program OPENs

@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from maxk.commands.max.session import EOLS, FRAMINGS
-from maxk.controllers import pokeys
 from maxk.controllers.contract import BuildOptions, Controller, ControllerKind
-from maxk.controllers.maxk import MAXk
-from maxk.controllers.mm4005 import MODELS as MM4005_MODELS
-from maxk.controllers.mm4005 import MM4005Controller
+from maxk.controllers.maxk.controller import MAXk
+from maxk.controllers.mm4005.controller import MODELS as MM4005_MODELS
+from maxk.controllers.mm4005.controller import MM4005Controller
+from maxk.controllers.pokeys import controller as pokeys
 from maxk.personalities.maxk.models import DEFAULT_MODEL as MAXK_DEFAULT
 from maxk.personalities.maxk.models import (
     DEFAULT_UPDATE_RATE_HZ,
@@ -36,7 +36,7 @@ def _build_mm4005(model: str, options: BuildOptions) -> Controller:
 
 
 def _build_mc405(model: str, options: BuildOptions) -> Controller:
-    from maxk.controllers.trio import MC405
+    from maxk.controllers.trio.controller import MC405
 
     return MC405(archive=options.archive, update_rate_hz=options.update_rate_hz)
 

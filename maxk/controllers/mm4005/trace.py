@@ -19,7 +19,7 @@ from maxk.personalities.mm4005.timed import TracePoint
 
 
 class MM4005Controller(Protocol):
-    """What a recording reads of the controller (controllers/mm4005.py)."""
+    """What a recording reads of the controller (controllers/mm4005/controller.py)."""
 
     @property
     def machine(self) -> MM4005: ...

@@ -7,7 +7,7 @@ from __future__ import annotations
 import struct
 from collections.abc import Sequence
 
-from maxk.controllers.pokeys_status import PoKeysError
+from maxk.controllers.pokeys.status import PoKeysError
 from maxk.personalities.pokeys.device import PoKeysDevice
 from maxk.personalities.pokeys.io import PINS, check_function
 

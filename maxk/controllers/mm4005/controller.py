@@ -41,7 +41,7 @@ from maxk.personalities.mm4005.machine import MAX_AXES, MM4005
 from maxk.personalities.mm4005.programs import MEMORY, ProgramStore
 from maxk.personalities.mm4005.timed import TracePoint
 
-from .mm4005_trace import MM4005Recording, PathTrace
+from .trace import MM4005Recording, PathTrace
 
 log = logging.getLogger("maxk.mm4005")
 

@@ -23,8 +23,8 @@ from typing import Any, overload
 from maxk.commands.pokeys.table import ENTRIES
 from maxk.controllers.contract import ConsoleBase
 from maxk.controllers.glance import short_position
-from maxk.controllers.pokeys_console_io import IO_WORDS, IOWords
-from maxk.controllers.pokeys_status import (
+from maxk.controllers.pokeys.console_io import IO_WORDS, IOWords
+from maxk.controllers.pokeys.status import (
     STATE_SHORT,
     SWITCH_WORDS,
     V1_STATES,
@@ -37,7 +37,7 @@ from maxk.controllers.pokeys_status import (
     on_off,
     show_number,
 )
-from maxk.controllers.pokeys_trace import SlotRecorder
+from maxk.controllers.pokeys.trace import SlotRecorder
 from maxk.firmware_model.world import axis_position_source
 from maxk.personalities.pokeys import AXIS_LETTERS
 from maxk.personalities.pokeys.engine import PulseEngine

@@ -26,16 +26,16 @@ from maxk.commands.pokeys import PoKeysSession, make_request
 from maxk.commands.pokeys.device_commands import discovery_reply
 from maxk.commands.pokeys.session import DISCOVERY_HOST_IP, is_discovery
 from maxk.controllers.contract import BuildOptions, Notify, Transport
-from maxk.controllers.pokeys_console import PoKeysConsole
-from maxk.controllers.pokeys_io import PoKeysIOApi
-from maxk.controllers.pokeys_status import (
+from maxk.controllers.pokeys.console import PoKeysConsole
+from maxk.controllers.pokeys.io_api import PoKeysIOApi
+from maxk.controllers.pokeys.status import (
     V1_STATES,
     V2_STATES,
     EngineStatus,
     PoKeysError,
     axis_index,
 )
-from maxk.controllers.pokeys_world import PoKeysWorldView
+from maxk.controllers.pokeys.world_view import PoKeysWorldView
 from maxk.firmware_model.world import AxisWorld, World
 from maxk.personalities.pokeys import (
     MODELS,

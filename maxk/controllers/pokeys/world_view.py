@@ -4,7 +4,7 @@ analog pins, encoders wired to axes, and its trace columns."""
 
 from __future__ import annotations
 
-from maxk.controllers.pokeys_status import PoKeysControls, axis_index
+from maxk.controllers.pokeys.status import PoKeysControls, axis_index
 from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import InputSource
 from maxk.personalities.pokeys import AXIS_LETTERS

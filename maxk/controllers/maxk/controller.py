@@ -21,7 +21,7 @@ from maxk.commands.max.interpreter import Interpreter
 from maxk.commands.max.lexer import SEPARATORS
 from maxk.commands.max.session import Framing, MaxSession
 from maxk.controllers.contract import Notify, Transport, VirtualTime
-from maxk.controllers.maxk_console import AxisStatus, MaxConsole
+from maxk.controllers.maxk.console import AxisStatus, MaxConsole
 from maxk.controllers.world_view import AxisReading, WorldView
 from maxk.firmware_model.world import AxisWorld, InputSource
 from maxk.personalities.maxk import flags as F

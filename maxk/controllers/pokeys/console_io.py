@@ -5,7 +5,7 @@ Python API, or a change of the world (`analog`, `key`, `kbd48`, `encoder N on X`
 
 from __future__ import annotations
 
-from maxk.controllers.pokeys_status import ConsoleError, PoKeysControls, on_off
+from maxk.controllers.pokeys.status import ConsoleError, PoKeysControls, on_off
 from maxk.personalities.pokeys import AXIS_LETTERS
 from maxk.personalities.pokeys.io import (
     ANALOG_FULL_SCALE,
