@@ -210,6 +210,9 @@ class FakeTrioMachine:
     def regist(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no registration)
 
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no position switches)
+
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.pwm[axis].control(args, self.table, self.axis_params[axis]["UNITS"],
                                self._axis_count)

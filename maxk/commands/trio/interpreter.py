@@ -185,7 +185,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
-                               "MOVECIRCSP", "MHELICALSP"})
+                               "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH"})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1132,6 +1132,8 @@ class Interpreter:
             self._act(lambda: m.cam(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
+        elif name in ("PSWITCH", "HW_PSWITCH"):  # position switches: never wait
+            self._act(lambda: m.position_switch(name, axis, args))
         elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form
             axes = base_array([axis], m.axis_count)[:int(args[1])] \
                 if args[1] == int(args[1]) and 1 <= args[1] <= m.axis_count else []

@@ -787,6 +787,40 @@ _ENTRIES: list[Keyword] = [
              "input of axis n is world digital input n (D), latched on the tick it "
              "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
              "newer forms (20..) are refused (D)."),
+    # ---- position switches (personalities/trio/pswitch.py) -------------------------------
+    _command("PSWITCH", "PSWITCH(switch, enable[, axis, output, state, setpos, resetpos]), "
+             "PSWITCH(switch, OFF[, hold]), PSWITCH(switch, mode, axis, output, state, "
+             "table start, table end[, pulse time]): one of 64 software position switches.",
+             (2, 8), axis=True, source=f"{TOK}; {HELP} (PSWITCH page)", confidence="I",
+             note="The output is the OR of every switch on it and OP's setting (C). Cyclic "
+             "(enable 1, 3 with setpos above resetpos, 5 on DPOS): the switch drives state "
+             "while setpos <= position < resetpos (user units, REP_DIST folded as DPOS "
+             "reads) and the opposite outside (C: example 3; the edge counts D); with bit 1 "
+             "the window runs from setpos over the fold to resetpos (I). Sequence (mode bit "
+             "3): TABLE start..end fire in turn as the axis reaches each in the direction "
+             "of bit 5 (0 up, 1 down); the first drives state, each next toggles, or with "
+             "bit 4 each gives a pulse of state for pulse time servo cycles (C); the "
+             "sequence ends at the first value that does not go on in its direction (D: "
+             "example 4 names 100 entries and fills 16); positions already passed fire at "
+             "once, in order (D); before its first position it drives nothing (D). Every "
+             "level follows the axis's whole demand counts (MPOS too, D) and changes on its "
+             "exact servo tick, found on the motion. OFF: the output keeps its level (an "
+             "output the switch held ON stays ON as if OP set it), hold 1 forces it OFF "
+             "(C); PSWITCH(n, ON) alone enables the set-up again (D). Bad numbers, setpos "
+             "above resetpos without bit 1, bit 6 (Z output) and an axis with a negative "
+             "UNITS: 'Parameter out of range', nothing changed (D)."),
+    _command("HW_PSWITCH", "HW_PSWITCH(mode[, direction, opstate, table start, table end]) "
+             "AXIS(n): the axis's hardware position switch on output 8 + n.", (1, 5),
+             axis=True, source=f"{TOK}; {HELP} (HW_PSWITCH page)", confidence="I",
+             note="MC405: axes 0..4, output 8 + axis (C: note 1); other axes 'Invalid axis "
+             "number' (D). Mode 1 loads TABLE start..end into the FIFO (512 positions: "
+             "beyond, 'Parameter out of range', nothing loaded, C/D) behind what it holds; "
+             "the first position drives opstate, each next toggles (C), compared with "
+             "MPOS x UNITS (counts, DEFPOS applied; no x16 on the emulator's step axes, D) "
+             "travelling direction (1 increasing, 0 decreasing) on the exact servo tick. "
+             "Mode 0 disables it (the FIFO kept), 2 clears the FIFO (C). The output is "
+             "ORed with OP's (D). A load ends at the first value not going on in its "
+             "direction (D, as PSWITCH)."),
     _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
              "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",

@@ -145,7 +145,12 @@ class TrioMachine(Protocol):
         """REGIST(mode) AXIS(n): arm a registration capture."""
         ...
 
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """PSWITCH(...) or HW_PSWITCH(...) AXIS(axis): a position switch."""
+        ...
+
     # ---- PWM and memory ---------------------------------------------------------------
+
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         """PWM_CONTROL(mode, ...) on one axis (personality PwmOutput.control)."""
         ...

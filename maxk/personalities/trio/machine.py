@@ -41,6 +41,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
@@ -107,6 +108,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.outputs)
         self.add_source(self.links)  # MOVELINKs ending (links.py)
         self.add_source(self.registration)  # Z-mark captures (registration.py)
+        self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
 
@@ -133,6 +135,10 @@ class MC405Machine(Kinematics, Engine):
             self.registration.reset()
         else:
             self.registration: Registration = Registration(self)
+        if hasattr(self, "switches"):
+            self.switches.reset()
+        else:
+            self.switches: PositionSwitches = PositionSwitches(self)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         if hasattr(self, "drive"):
@@ -391,7 +397,8 @@ class MC405Machine(Kinematics, Engine):
         return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
 
     def output(self, number: int) -> bool:
-        return self.digital_outputs.get(number, False)
+        """OP's setting OR every position switch driving the output (pswitch.py)."""
+        return self.digital_outputs.get(number, False) or self.switches.drives(number)
 
     def set_output(self, number: int, on: bool) -> None:
         self.digital_outputs[number] = on
@@ -488,6 +495,13 @@ class MC405Machine(Kinematics, Engine):
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
         self.registration.regist(axis, list(args))
+
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """PSWITCH(...) / HW_PSWITCH(...) AXIS(n) (pswitch.py)."""
+        if name == "PSWITCH":
+            self.switches.pswitch(args)
+        else:
+            self.switches.hw_pswitch(axis, args)
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
