@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ...personalities.trio.memory import VR_COUNT
-from .keywords import KEYWORDS, Keyword, Kind
+from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
@@ -649,6 +649,12 @@ class Interpreter:
 
     def read_parameter(self, expr: Param, ctx: ProcessContext) -> float:
         keyword = expr.keyword
+        if keyword.name in CHANNEL_PARAMETERS:  # R_MARK(channel) [AXIS(n)]
+            if len(expr.index) != 1 or expr.slot is not None:
+                raise TrioError("Syntax error")
+            channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
+            return self._machine(lambda: self.machine.channel_parameter(
+                keyword.name, axis, channel))
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:

@@ -36,6 +36,10 @@ class TrioMachine(Protocol):
         PWM_MARK PWM_ENCODER of one axis."""
         ...
 
+    def channel_parameter(self, name: str, axis: int, channel: float) -> float:
+        """A parameter of one of the axis's channels: R_MARK(channel) and the like."""
+        ...
+
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         ...
 

@@ -81,7 +81,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
-_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
+_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
+                                 "REGIST_SPEEDB", "REGIST_CONTROL"})
 
 
 class MC405Machine(Kinematics, Engine):
@@ -243,11 +244,20 @@ class MC405Machine(Kinematics, Engine):
             return self.wrapped(axis, value) if name.startswith("REG_POS") else value
         return self.axes[axis].params[name]
 
+    def channel_parameter(self, name: str, axis: int, channel: float) -> float:
+        """R_MARK(channel), R_REGPOS(channel), R_REGISTSPEED(channel) (registration.py)."""
+        if channel != int(channel):
+            raise ValueError("Parameter out of range")
+        value = self.registration.read(name, axis, int(channel))
+        return self.wrapped(axis, value) if name == "R_REGPOS" else value
+
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         if name == "PWM_CYCLE":
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
+        elif name == "REGIST_CONTROL":
+            self.registration.write_control(axis, value)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
@@ -724,14 +734,12 @@ class MC405Machine(Kinematics, Engine):
         link_now = self.dpos(cam.link)
         if cam.follow is not None:
             cam.follow.rebase(link_now)
-        if cam.wait in ("MARK", "MARKB"):
-            reg = self.registration.axes[cam.link]
-            if reg.mark if cam.wait == "MARK" else reg.markb:
-                cam.start_at(reg.reg_pos if cam.wait == "MARK" else reg.reg_posb, here)
+        if cam.wait is not None:  # MARK, MARKB, R_MARKn: one already captured counts (D)
+            position = self.registration.captured(cam.link, cam.wait)
+            if position is not None:
+                cam.start_at(position, here)
                 cam.held, cam.wait = True, None
             return
-        if cam.wait is not None:
-            return  # R_MARK: no channel modelled reaches it (D)
         if cam.start_pos is not None:
             start = self.unwrapped(cam.link, cam.start_pos, link_now)
             cam.start_at(max(start, link_now), here)
