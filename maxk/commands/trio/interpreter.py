@@ -185,7 +185,8 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
-                               "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH"})
+                               "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
+                               "HW_TIMER"})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1138,7 +1139,7 @@ class Interpreter:
             self._act(lambda: m.cam(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
-        elif name in ("PSWITCH", "HW_PSWITCH"):  # position switches: never wait
+        elif name in ("PSWITCH", "HW_PSWITCH", "HW_TIMER"):  # (pswitch.py): never wait
             self._act(lambda: m.position_switch(name, axis, args))
         elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form
             axes = base_array([axis], m.axis_count)[:int(args[1])] \

@@ -873,6 +873,26 @@ _ENTRIES: list[Keyword] = [
              "Mode 0 disables it (the FIFO kept), 2 clears the FIFO (C). The output is "
              "ORed with OP's (D). A load ends at the first value not going on in its "
              "direction (D, as PSWITCH)."),
+    _command("HW_TIMER", "HW_TIMER(mode, cycle time[, on time, reps], op mode, op sel, "
+             "op state): drive a digital output from the hardware timer.", (1, 7),
+             axis=True, source=f"{TOK}; {HELP} (HW_TIMER page)", confidence="I",
+             note="Mode 1: the output at op state for cycle time us, then the opposite; "
+             "mode 2: op state for on time us of each of reps cycles of cycle time us, the "
+             "opposite between and after (C); times truncated to 10 us (C). Op mode 0: "
+             "output op sel 8..15; 2: output 8 + op sel (0..4) (C). While it runs it owns "
+             "the output; at its end the output stays at its last level as if OP had set "
+             "it; HW_TIMER(0) stops it where it is (D). Op mode 1 (an axis's enable "
+             "output: not in the emulated world) and bad values: 'Parameter out of range' "
+             "(D). Outputs are read at servo ticks: a pulse shorter than a servo cycle "
+             "shows on its first tick only (D)."),
+    _system("HW_TIMER_DONE", "1 while the HW_TIMER runs, 0 when it is done.",
+            writable=False, source=f"{TOK}; {HELP} (HW_TIMER_DONE page)", confidence="C",
+            note="Turns 0 on the servo tick the timer's time is over (pswitch.py)."),
+    _axis("FE_LATCH", "The following error that put the axis into motion error.",
+          writable=False, source=f"{TOK}; {HELP} (FE_LATCH page)", confidence="I",
+          note="The FE (user units) of the servo cycle |FE| passed FE_LIMIT and raised "
+          "the motion error (the drive then goes off: C); 0 before, and again from SERVO "
+          "= ON (C). Servo axes of the shared loop only (following.py)."),
     _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
              "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",

@@ -239,6 +239,8 @@ class MC405Machine(Kinematics, Engine):
             return self.vp_speed(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
+        if name == "FE_LATCH":
+            return self.drive.following.fe_latch(axis)
         if name in _REGISTRATION_READS:
             value = self.registration.read(name, axis)
             return self.wrapped(axis, value) if name.startswith("REG_POS") else value
@@ -256,6 +258,9 @@ class MC405Machine(Kinematics, Engine):
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
+        elif name == "SERVO" and value != 0:
+            self.drive.following.latch.pop(axis, None)  # FE_LATCH resets (C: page)
+            self.axes[axis].params[name] = value
         elif name == "REGIST_CONTROL":
             self.registration.write_control(axis, value)
         elif name == "ENDMOVE":
@@ -273,6 +278,8 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.look()
 
     def system_parameter(self, name: str) -> float:
+        if name == "HW_TIMER_DONE":
+            return self.switches.timer_done()
         if name in SYSTEM_READS:
             return self.drive.system_parameter(name)
         return self.system[name]
@@ -407,8 +414,9 @@ class MC405Machine(Kinematics, Engine):
         return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
 
     def output(self, number: int) -> bool:
-        """OP's setting OR every position switch driving the output (pswitch.py)."""
-        return self.digital_outputs.get(number, False) or self.switches.drives(number)
+        """OP's setting OR every position switch driving the output, or the hardware
+        timer's level while it runs (pswitch.py)."""
+        return self.switches.level(number, self.digital_outputs.get(number, False))
 
     def set_output(self, number: int, on: bool) -> None:
         self.digital_outputs[number] = on
@@ -510,6 +518,8 @@ class MC405Machine(Kinematics, Engine):
         """PSWITCH(...) / HW_PSWITCH(...) AXIS(n) (pswitch.py)."""
         if name == "PSWITCH":
             self.switches.pswitch(args)
+        elif name == "HW_TIMER":
+            self.switches.hw_timer(args)
         else:
             self.switches.hw_pswitch(axis, args)
 

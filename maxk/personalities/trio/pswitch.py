@@ -24,10 +24,20 @@ the programs waiting on an output see it on its own servo tick.
   (MPOS x UNITS) toggling the output from opstate as the axis passes each in the given
   direction; mode 0 disables it, 2 clears the FIFO.
 
+- **HW_TIMER(mode, cycle time[, on time, reps], op mode, op sel, op state)**: the
+  hardware timer drives a digital output (8..15; op mode 2: 8 + op sel) at op state for
+  cycle time us (mode 1), or for on time us of each of reps cycles of cycle time us
+  (mode 2), times truncated to 10 us (C: page); HW_TIMER_DONE reads 1 while it runs. An
+  output level is read at servo ticks: a pulse shorter than a servo cycle shows on its
+  first tick only.
+
 Decisions (D): a sequence ends at the first TABLE value that does not go on in its
 direction (the page's example 4 names 100 entries and fills 16); a position already
 passed when loaded fires at once, several in one cycle in order; before its first
-position a sequence drives nothing; an axis with a negative UNITS is refused.
+position a sequence drives nothing; an axis with a negative UNITS is refused. While
+the hardware timer runs it owns its output (OP and the switches do not change it); when
+it ends the output stays at the timer's last level as if OP had set it, and HW_TIMER(0)
+leaves it where it is; axis enable outputs (op mode 1) are not modelled and refused.
 """
 
 from __future__ import annotations
@@ -80,6 +90,27 @@ class Sequence_:
 Switch = Window | Sequence_
 
 
+@dataclass
+class Timer:
+    """HW_TIMER: `output` at `state` for `on` us of each `cycle` us, `reps` times, from
+    servo tick `start` (mode 1: on = cycle, reps 1)."""
+
+    output: int
+    state: bool
+    start: int
+    cycle: int  # us
+    on: int  # us
+    reps: int
+
+    def end_us(self) -> int:
+        return self.cycle * self.reps
+
+    def level(self, elapsed_us: float) -> bool:
+        if elapsed_us >= self.end_us():
+            return not self.state
+        return self.state if elapsed_us % self.cycle < self.on else not self.state
+
+
 class PositionSwitches:
     """The machine's PSWITCHes and HW_PSWITCHes: an event source of the engine."""
 
@@ -93,6 +124,7 @@ class PositionSwitches:
         self.hardware: dict[int, Sequence_] = {}
         self.edges: deque[tuple[int, int, bool]] = deque(maxlen=EDGE_LOG)
         self._seen: dict[int, bool] = {}  # each driven output's level at the last event
+        self.timer: Timer | None = None
 
     # ---- the program's side ------------------------------------------------------------
     def pswitch(self, args: Sequence[float]) -> None:
@@ -178,6 +210,57 @@ class PositionSwitches:
         self._load(switch, [self._threshold(axis, p, direction, units=False)
                             for p in positions])
 
+    def hw_timer(self, args: Sequence[float]) -> None:
+        """HW_TIMER(0) / (1, cycle, op mode, op sel, state) / (2, cycle, on, reps, op mode,
+        op sel, state): every argument checked before any change."""
+        mode = _whole(args[0], 0, 2) if args else -1
+        if mode == 0:
+            if len(args) != 1:
+                raise ValueError("Syntax error")
+            self._timer_end(keep=True)
+            return
+        if len(args) != (5 if mode == 1 else 7):
+            raise ValueError("Syntax error")
+        cycle = _whole(args[1], 10, 2 ** 31) // 10 * 10  # 10 us resolution (C)
+        on, reps = cycle, 1
+        if mode == 2:
+            on = _whole(args[2], 0, cycle) // 10 * 10
+            reps = _whole(args[3], 1, 2 ** 31)
+        op_mode, op_sel = _whole(args[-3], 0, 2), _whole(args[-2], 0, 15)
+        if op_mode == 1:
+            raise ValueError("Parameter out of range")  # enable outputs: not modelled (D)
+        if op_mode == 0 and not 8 <= op_sel <= 15 or op_mode == 2 and not op_sel <= 4:
+            raise ValueError("Parameter out of range")
+        output = op_sel if op_mode == 0 else HW_OUTPUT + op_sel
+        self._timer_end(keep=True)
+        self.timer = Timer(output, args[-1] != 0, self.m.tick, cycle, on, reps)
+        self._acted()
+
+    def timer_done(self) -> float:
+        """HW_TIMER_DONE: 1 while the timer runs, else 0 (C: page)."""
+        return 0.0 if self.timer is None else 1.0
+
+    def level(self, output: int, op: bool) -> bool:
+        """The output's level: the running timer's, else OP's OR the switches'."""
+        timer = self._timer_level(output)
+        if timer is not None:
+            return timer
+        return op or self.drives(output)
+
+    def _timer_level(self, output: int) -> bool | None:
+        timer = self.timer
+        if timer is None or (output >= 0 and timer.output != output):
+            return None
+        return timer.level((self.m.tick - timer.start) * self.m.period * 1e6)
+
+    def _timer_end(self, keep: bool) -> None:
+        """The timer ends: its output stays at the level it has now (as OP's)."""
+        timer = self.timer
+        if timer is not None and keep:
+            self.m.digital_outputs[timer.output] = bool(self._timer_level(timer.output))
+        self.timer = None
+        self._acted()
+
     def drives(self, output: int) -> bool:
         """Does any switch drive this output ON now?"""
         now = self.m.tick
@@ -192,6 +275,9 @@ class PositionSwitches:
         best: int | None = None
         if self._changed_since_event():
             best = m.tick
+        if self.timer is not None:  # its end: the output is OP's again, DONE reads 0
+            end = self.timer.start + math.ceil(self.timer.end_us() / (m.period * 1e6) - 1e-9)
+            best = end if best is None else min(best, end)
         horizon: int | None = -1
         for switch in self._all():
             if not switch.enabled:
@@ -207,6 +293,10 @@ class PositionSwitches:
         return best
 
     def on_event(self, now: int) -> None:
+        timer = self.timer
+        if timer is not None and (now - timer.start) * self.m.period * 1e6 >= \
+                timer.end_us() - 1e-6:
+            self._timer_end(keep=True)
         for switch in self._all():
             if isinstance(switch, Sequence_) and switch.enabled:
                 self._fire(switch, now)
@@ -352,6 +442,8 @@ class PositionSwitches:
 
     def _log(self, now: int) -> None:
         outputs = {s.output for s in self._all()} | set(self._seen)
+        if self.timer is not None:
+            outputs.add(self.timer.output)
         for output in sorted(outputs):
             level = self.m.output(output)
             if self._seen.get(output, False) != level:
@@ -396,4 +488,4 @@ def _first(reached: Callable[[int], bool], now: int, horizon: int) -> int | None
     return hi
 
 
-__all__ = ["FIFO_DEPTH", "HW_OUTPUT", "SWITCHES", "PositionSwitches"]
+__all__ = ["FIFO_DEPTH", "HW_OUTPUT", "SWITCHES", "PositionSwitches", "Timer"]
