@@ -1,4 +1,4 @@
-"""HW_TIMER / HW_TIMER_DONE and FE_LATCH from their TrioBASIC help pages.
+"""HW_TIMER / HW_TIMER_DONE, FE_LATCH and PMOVE from their TrioBASIC help pages.
 
 The servo cycle is 1000 us: a timer started on tick t0 shows the level it has at
 (t - t0) x 1000 us on tick t.
@@ -101,3 +101,20 @@ def test_fe_latch_holds_the_error_that_raised_the_motion_error() -> None:
         assert trio.query("?FE_LATCH") == "0"  # reset by SERVO = ON
     assert runs[0] == runs[1]
     assert 30 < runs[0] < 31
+
+
+def test_pmove_is_true_while_a_move_waits_for_room_in_the_buffer() -> None:
+    """Moves of 1000 at SPEED 1000 with ACCEL 1e6 last 1.001 s (1001 cycles); the program
+    starts on tick 1, so move k ends on tick 1 + 1001 k. The axis holds 16: the 20th move
+    waits until the 4th has ended (tick 4005)."""
+    trio = MC405()
+    trio.load("P", "BASE(0)\nSPEED=1000: ACCEL=1e6: DECEL=1e6\nFOR i = 1 TO 20\n"
+              "MOVE(1000)\nNEXT i")
+    assert trio.send('RUN "P", 3') == []
+    at(trio, 100)
+    assert trio.query("?PMOVE PROC(3)") == "-1"
+    assert trio.query("?PMOVE") == "0"  # the command line's own: nothing waits
+    at(trio, 4004)
+    assert trio.query("?PMOVE PROC(3)") == "-1"
+    at(trio, 4005)
+    assert trio.query("?PMOVE PROC(3)") == "0"

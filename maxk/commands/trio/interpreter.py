@@ -138,6 +138,7 @@ class ProcessContext:
     memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
     held: int = 0  # their sum (PROGRAM_MEMORY)
     rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
+    pmove: bool = False  # PMOVE: a motion command waits for room in the axes' buffers
 
 
 class SystemHook(Protocol):
@@ -201,7 +202,11 @@ def _truth(value: bool) -> float:
 
 
 PROCESS_PARAMETERS = frozenset({"RUN_ERROR", "ERROR_LINE", "TICKS", "PROCNUMBER",
-                                "PROC_LINE", "PROC_STATUS"})
+                                "PROC_LINE", "PROC_STATUS", "PMOVE"})
+_LOADING = frozenset({"MOVE", "MOVEABS", "MOVESP", "MOVEABSSP", "MOVECIRC", "MHELICAL",
+                      "MOVECIRCSP", "MHELICALSP", "MOVELINK", "CONNECT", "FLEXLINK", "CAM",
+                      "CAMBOX", "CONNPATH", "FORWARD", "REVERSE"})
+"""Motion commands a process holds in its move buffer while the axes have no room."""
 
 
 def _text(value: Value) -> str:
@@ -701,6 +706,8 @@ class Interpreter:
             return float(ctx.process)
         if name == "PROC_LINE":
             return float(ctx.line)
+        if name == "PMOVE":
+            return _truth(ctx.pmove)
         return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
 
     @staticmethod
@@ -717,6 +724,13 @@ class Interpreter:
             self.print(stmt, ctx)
         elif isinstance(stmt, Assign):
             self.assign(stmt, ctx)
+        elif isinstance(stmt, Command) and stmt.keyword.name in _LOADING:
+            try:
+                for wait in self.command(stmt, ctx):
+                    ctx.pmove = True  # held in the process move buffer (PMOVE's page)
+                    yield wait
+            finally:
+                ctx.pmove = False
         elif isinstance(stmt, Command):
             yield from self.command(stmt, ctx)
         elif isinstance(stmt, WaitIdle):

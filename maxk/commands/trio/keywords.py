@@ -893,6 +893,13 @@ _ENTRIES: list[Keyword] = [
           note="The FE (user units) of the servo cycle |FE| passed FE_LIMIT and raised "
           "the motion error (the drive then goes off: C); 0 before, and again from SERVO "
           "= ON (C). Servo axes of the shared loop only (following.py)."),
+    _system("PMOVE", "TRUE while a motion command of the process waits in its process "
+            "move buffer.", writable=False, source=f"{TOK}; {HELP} (PMOVE page)",
+            confidence="I", note="Per process (PROC(n) reads another's). TRUE while the "
+            "process's motion command (MOVE, MOVEABS, the links, CAM, FORWARD ...) waits "
+            "for room in the axes' move buffers, FALSE once it is loaded (C). The "
+            "emulator hands a move to the axes in the servo cycle it is given, so the "
+            "page's one-cycle transfer of a move that finds room is not seen (D)."),
     _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
              "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
