@@ -900,6 +900,55 @@ _ENTRIES: list[Keyword] = [
             "for room in the axes' move buffers, FALSE once it is loaded (C). The "
             "emulator hands a move to the axes in the servo cycle it is given, so the "
             "page's one-cycle transfer of a move that finds room is not seen (D)."),
+    # ---- conveyor tracking and link words the pages do not give exactly enough ----------
+    _command("SYNC", "SYNC(control, sync time[, sync position, sync axis, pos1[, pos2[, "
+             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 11),
+             axis=True, source=f"{TOK}; {HELP} (SYNC page)", confidence="D",
+             note="Not modelled: accepted, no effect, as a function it returns 0; "
+             "SYNC's synchronising movement over sync_time (and SYNC_PAUSE, SYNC_DWELL, "
+             "SYNC_WITHDRAW shaping it) is given on its pages only as velocity graphs, not "
+             "exactly enough to be exact to the servo tick; it also follows the conveyor "
+             "in the robot's USER_FRAME, which is not modelled (D)."),
+    *[_axis(name, summary, writable=writable, source=f"{TOK}; {HELP} ({name} page)",
+            confidence="D", note="Not modelled: " + why,
+            default=1e6 if name == "CLUTCH_RATE" else 0.0)
+      for name, summary, writable, why in (
+          ("SYNC_CONTROL", "The SYNC state of the axis (0 none ... 3 synchronised).", True,
+           "stored, reads what is written (the token table makes it writable); SYNC is "
+           "not modelled (see SYNC) (D)."),
+          ("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", False,
+           "reads 0: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_WITHDRAW", "A withdraw distance SYNC adds on this axis.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_FLIGHT", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_DPOS", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_AXIS", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_TIME", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("MOVELINK_MODIFY", "An offset to the end of the running MOVELINK.", True,
+           "stored: the page does not say how the rest of a running MOVELINK is reshaped "
+           "(its speed ratio, its ramps) to end at the new place, so no exact figure can "
+           "be given; a MOVELINK runs as loaded (D)."),
+          ("CLUTCH_RATE", "The rate (ratio per second) CONNECT changes its ratio at.", True,
+           "stored: CONNECT takes a new ratio at once, as at the page's default rate "
+           "(1,000,000 a second); a ramped ratio moves the slave by the sum of ratio x "
+           "link step each servo cycle, which the closed-form link model does not hold "
+           "(D)."),
+      )],
+    _command("CAMLINK", "CAMLINK(start, entries, mode, multiplier, link dist, link axis[, "
+             "link opt[, link pos]]): Motion Perfect's off-line cam point calculation.",
+             (5, 8), axis=True, source=f"{TOK}; {HELP} (CAMLINK page)", confidence="D",
+             note="Not modelled: accepted, no effect, as a function it returns 0; the page "
+             "leaves where the results go (start + entries + 1 inside the point blocks) and "
+             "what relative X and the line segments' fixed speed mean open, so no exact "
+             "TABLE result can be given (D)."),
     _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
              "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
