@@ -202,3 +202,24 @@ def test_bad_registration_is_refused_and_arms_nothing(line: str) -> None:
     assert read(trio, "REGIST_CONTROL") == 1 + 4
     assert read(trio, "MTYPE AXIS(0)") == 0 and read(trio, "NTYPE AXIS(0)") == 0
     assert trio.send("?R_MARK(8)")[0].endswith("Parameter out of range")
+
+
+def test_the_z_mark_of_an_encoder_axis_on_the_steppers_shaft() -> None:
+    """A calibration stage's index check: REGIST(20, 0, 1, 0, 0) on the encoder axis 2
+    (ATYPE 76, UNITS -1.5625) while the stepper axis 6 (UNITS 16) moves; the encoder
+    turns -1.5625 / 16 counts a step. The stepper runs 6300 t - 315 units after its 0.1 s
+    ramp; the encoder's index at -7000..-6997 counts is met going down at -6997, i.e. at
+    6997 / 1.5625 = 4478.08 units: t = 4793.08 / 6300 = 0.76081 s, tick 761."""
+    trio = MC405()
+    assert trio.send("ATYPE AXIS(2) = 76: UNITS AXIS(2) = -1.5625") == []
+    assert trio.send("ATYPE AXIS(6) = 43: UNITS AXIS(6) = 16: SPEED AXIS(6) = 6300: "
+                     "ACCEL AXIS(6) = 63000: DECEL AXIS(6) = 63000") == []
+    trio.world_view().set_shaft_encoder("2", "6", -1.5625 / 16)
+    stage = trio.machine.world.axes[2]
+    stage.index_period, stage.index_offset, stage.index_width = 10000, -7000, 4
+    assert trio.send("BASE(2): REGIST(20, 0, 1, 0, 0): MOVE(7500) AXIS(6)") == []
+    at(trio, 760)
+    assert read(trio, "MARK AXIS(2)") == 0
+    at(trio, 761)
+    assert read(trio, "MARK AXIS(2)") == -1
+    assert trio.machine.registration.read("REG_POS", 2) == pytest.approx(4478.08, abs=1e-9)

@@ -33,7 +33,10 @@ inputs change on servo ticks, so the time-based interpolation has nothing betwee
 A channel is armed until its capture (or its quantity) is done (C: REGIST again to
 re-arm); arming one channel leaves the other armed (C for mode 20, D for the older
 modes). REGIST_SPEED is the demand's change over the servo cycle before the capture, in
-user units per ms, signed (D). Links that start on a registration event (CAMBOX,
+user units per ms, signed (D). An encoder axis (ATYPE 76 ...) whose input the world
+mounts on another axis's motor captures on that encoder's counts (the stage's shaft: I,
+a calibration stage homes this way, REGIST(20, 0, 1, 0, 0) on the encoder axis while
+the stepper moves). Links that start on a registration event (CAMBOX,
 MOVELINK options 1, 256 and 512) start from the captured position (`links.py`).
 """
 
@@ -257,7 +260,7 @@ class Registration:
                 if cap.source != "R":
                     continue
                 level = self._input(cap.input)
-                here = self.m.demand(axis)
+                here = self._counts_at(axis, self.m.tick)
                 if level != cap.level and level == cap.rising and self._in_window(
                         axis, cap, here):
                     self._capture(axis, channel, here)
@@ -288,7 +291,9 @@ class Registration:
             if not any(cap.source == "Z" for cap in reg.armed.values()):
                 continue
             a = m.axes[axis]
-            own = a.motion is not None and a.link is None and axis not in m.links.addax
+            encoder = m.encoder_counts(axis) is not None  # reads a mounted encoder (I)
+            own = a.motion is not None and a.link is None and axis not in m.links.addax \
+                and not encoder
             if not own and horizon == -1:
                 horizon = m.motion_horizon()
             if not own and (horizon is None or horizon <= m.tick):
@@ -296,7 +301,7 @@ class Registration:
             stage = m.world.axes[axis]
             if stage.index_period <= 0:
                 continue
-            here = a.steps_now(m) if own else math.floor(m.demand(axis))
+            here = a.steps_now(m) if own else math.floor(self._counts_at(axis, m.tick))
             for channel, cap in reg.armed.items():
                 if cap.source != "Z" or not self._gate_open(cap):
                     continue
@@ -331,8 +336,7 @@ class Registration:
             return None
 
         def reached(tick: int) -> bool:
-            here = float(m.demand_counts(axis, np.array([tick]))[0])
-            return direction * (here - position) >= 0
+            return direction * (self._counts_at(axis, tick) - position) >= 0
 
         if not reached(horizon):
             return None
@@ -346,6 +350,16 @@ class Registration:
             else:
                 lo = mid
         return hi
+
+    def _counts_at(self, axis: int, tick: int) -> float:
+        """Where the axis's capture latches, in counts: the encoder the world mounts on
+        an encoder axis's input (ATYPE 76 ...: the stage's shaft), else its demand."""
+        m = self.m
+        mount = m.world.encoders.get(axis)
+        if mount is not None and m.encoder_counts(axis) is not None:
+            motor = float(m.demand_counts(mount.motor, np.array([tick]))[0])
+            return float(mount.counts(motor - m.world.axes[mount.motor].lost_steps))
+        return float(m.demand_counts(axis, np.array([tick]))[0])
 
     def next_event(self) -> int | None:
         m = self.m
@@ -374,10 +388,10 @@ class Registration:
         reg = self.axes[axis]
         cap = reg.armed[channel]
         position = (counts + a.datum) / a.units
-        before = float(m.demand_counts(axis, np.array([m.tick - 1]))[0])
+        change = self._counts_at(axis, m.tick) - self._counts_at(axis, m.tick - 1)
         state = reg.channel(channel)
         state.position = position
-        state.speed = (m.demand(axis) - before) / a.units / (m.period * 1000)
+        state.speed = change / a.units / (m.period * 1000)
         if cap.quantity:
             m.table.write(cap.table_start + cap.count, [position])
             cap.count += 1
