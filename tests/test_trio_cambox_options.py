@@ -465,7 +465,7 @@ def test_a_pattern_pointing_outside_table_ends_the_cambox_and_time_goes_on() -> 
     "CAMBOX(0, 3, 1, 10, 1, 128, 0, 10) AXIS(0)",  # an offset past the link distance
     "CAM(0, 3, 1, -10) AXIS(0)",  # a distance that is not positive
     "CAM(3, 0, 1, 10) AXIS(0)",
-    "REGIST(10) AXIS(0)",
+    "REGIST(5) AXIS(0)",  # reserved (REGIST page)
     "MOVELINK(1, 10, 0, 0, 1, 16 + 5 * 1024) AXIS(0)",  # curve 5: unused
     "FLEXLINK(1, 1, 10, 0, 0, 50, 50, 1, 32 + 16384) AXIS(0)",
 ])

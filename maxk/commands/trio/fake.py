@@ -210,6 +210,12 @@ class FakeTrioMachine:
     def regist(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no registration)
 
+    def channel_parameter(self, name: str, axis: int, channel: float) -> float:
+        return 0.0  # (the fake has no registration channels)
+
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no position switches)
+
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.pwm[axis].control(args, self.table, self.axis_params[axis]["UNITS"],
                                self._axis_count)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ...personalities.trio.memory import VR_COUNT
-from .keywords import KEYWORDS, Keyword, Kind
+from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
@@ -138,6 +138,7 @@ class ProcessContext:
     memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
     held: int = 0  # their sum (PROGRAM_MEMORY)
     rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
+    pmove: bool = False  # PMOVE: a motion command waits for room in the axes' buffers
 
 
 class SystemHook(Protocol):
@@ -185,7 +186,8 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
-                               "MOVECIRCSP", "MHELICALSP"})
+                               "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
+                               "HW_TIMER"})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -200,7 +202,11 @@ def _truth(value: bool) -> float:
 
 
 PROCESS_PARAMETERS = frozenset({"RUN_ERROR", "ERROR_LINE", "TICKS", "PROCNUMBER",
-                                "PROC_LINE", "PROC_STATUS"})
+                                "PROC_LINE", "PROC_STATUS", "PMOVE"})
+_LOADING = frozenset({"MOVE", "MOVEABS", "MOVESP", "MOVEABSSP", "MOVECIRC", "MHELICAL",
+                      "MOVECIRCSP", "MHELICALSP", "MOVELINK", "CONNECT", "FLEXLINK", "CAM",
+                      "CAMBOX", "CONNPATH", "FORWARD", "REVERSE"})
+"""Motion commands a process holds in its move buffer while the axes have no room."""
 
 
 def _text(value: Value) -> str:
@@ -649,6 +655,12 @@ class Interpreter:
 
     def read_parameter(self, expr: Param, ctx: ProcessContext) -> float:
         keyword = expr.keyword
+        if keyword.name in CHANNEL_PARAMETERS:  # R_MARK(channel) [AXIS(n)]
+            if len(expr.index) != 1 or expr.slot is not None:
+                raise TrioError("Syntax error")
+            channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
+            return self._machine(lambda: self.machine.channel_parameter(
+                keyword.name, axis, channel))
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:
@@ -694,6 +706,8 @@ class Interpreter:
             return float(ctx.process)
         if name == "PROC_LINE":
             return float(ctx.line)
+        if name == "PMOVE":
+            return _truth(ctx.pmove)
         return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
 
     @staticmethod
@@ -710,6 +724,13 @@ class Interpreter:
             self.print(stmt, ctx)
         elif isinstance(stmt, Assign):
             self.assign(stmt, ctx)
+        elif isinstance(stmt, Command) and stmt.keyword.name in _LOADING:
+            try:
+                for wait in self.command(stmt, ctx):
+                    ctx.pmove = True  # held in the process move buffer (PMOVE's page)
+                    yield wait
+            finally:
+                ctx.pmove = False
         elif isinstance(stmt, Command):
             yield from self.command(stmt, ctx)
         elif isinstance(stmt, WaitIdle):
@@ -1132,6 +1153,8 @@ class Interpreter:
             self._act(lambda: m.cam(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
+        elif name in ("PSWITCH", "HW_PSWITCH", "HW_TIMER"):  # (pswitch.py): never wait
+            self._act(lambda: m.position_switch(name, axis, args))
         elif name == "CAMBOX" and len(args) == 2:  # the multi-axis loading form
             axes = base_array([axis], m.axis_count)[:int(args[1])] \
                 if args[1] == int(args[1]) and 1 <= args[1] <= m.axis_count else []

@@ -64,6 +64,8 @@ class Keyword:
                 raise TrioError("Parameter out of range")
 
 
+CHANNEL_PARAMETERS = frozenset({"R_MARK", "R_REGPOS", "R_REGISTSPEED"})
+"""Read-only axis parameters of one channel: NAME(channel) [AXIS(n)] (registration.py)."""
 SEED = "seed"
 TOK = "tokentable"
 REF = "ref"
@@ -248,7 +250,9 @@ _ENTRIES: list[Keyword] = [
              "jump, D); 8192 DPOS (the model follows DPOS always, D); 32 follows only the "
              "link's forward travel, 16384 only forward travel past its highest point "
              "(taken in at every engine event, between which the link's motion is "
-             "monotonic, D). 512 (R_MARK) and reserved bits: 'Parameter out of range' (D). "
+             "monotonic, D); 512 starts on the link axis's R_MARK(link pos) at R_REGPOS "
+             "exactly (channels 0..7, C; registration.py). Reserved bits: 'Parameter out "
+             "of range' (D). "
              "Before a registration/absolute start the axis holds; a repeating CAMBOX "
              "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
              "an axis, on the base axis and the axes after it (I), all checked first (C). "
@@ -283,8 +287,9 @@ _ENTRIES: list[Keyword] = [
              "where it is, D); 4 repeats both ways until REP_OPTION bit 1; 16 curved "
              "ramps, bits 10..12 the curve: 0 sine, 1/2/3 power 9/7/5 polynomial speed "
              "(smoothstep polynomials, I), 4 linear; 32 forward travel only, 16384 forward "
-             "past the highest point (as CAMBOX's). 512 (R_MARK), base_dist and reserved "
-             "bits: 'Parameter out of range' (D). "
+             "past the highest point (as CAMBOX's); 512 starts at the link axis's "
+             "R_MARK(link pos) R_REGPOS (C: page; one start event at once, D). base_dist "
+             "and reserved bits: 'Parameter out of range' (D). "
              "Buffered like a move (NTYPE 22). MTYPE 22."),
     _command("FLEXLINK", "FLEXLINK(base dist, excite dist, link dist, base in, base out, "
              "excite acc, excite dec, link axis[, options[, start pos]]): a constant-ratio "
@@ -295,8 +300,8 @@ _ENTRIES: list[Keyword] = [
              "of it, ramping over excite acc % and excite dec % of that window on the "
              "curve bits 10..12 give (0 sine by default, 1/2/3 power 9/7/5 polynomial "
              "speed, 4 linear: C, page). Options 1/256 (MARK/MARKB start), 2 (absolute "
-             "start), 4 (repeat), 32/16384 (forward only), 8192 as MOVELINK's; 512 refused "
-             "(D). "
+             "start), 4 (repeat), 32/16384 (forward only), 8192 and 512 (R_MARK(start pos) "
+             "start) as MOVELINK's. "
              "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
              "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
              "in the pages found)."),
@@ -776,17 +781,174 @@ _ENTRIES: list[Keyword] = [
     Keyword("PROC", Kind.MODIFIER, "PROC(n) after a process parameter: process n's.", TOK,
             args=(1, 1)),
     # ---- registration (personalities/trio/registration.py) -------------------------------
-    _command("REGIST", "REGIST(mode) AXIS(n): arm one capture of the axis's position on a "
-             "registration edge.", (1, 7), axis=True, source=f"{TOK}; {MAN}",
-             confidence="I", note="Modes (I: the MC2xx manual's table as recalled): 1/2 "
-             "Z mark rising/falling, 3/4 R input rising/falling into MARK/REG_POS; 5..8 "
-             "R (A) with the Z mark on MARKB/REG_POSB; 9 R rising (A) and falling (B). The "
-             "Z mark is the world's index marks of the axis, found to the servo tick on "
-             "the axis's own motion (on a linked axis by bisecting its demand up to the "
-             "next motion event, D); REG_POS is the mark's exact count (the latch). The R "
-             "input of axis n is world digital input n (D), latched on the tick it "
-             "changes. + 256 / + 768: only edges inside / outside OPEN_WIN..CLOSE_WIN (I). The "
-             "newer forms (20..) are refused (D)."),
+    _command("REGIST", "REGIST(mode[, channel, source, edge, window[, quantity, table "
+             "start]]) AXIS(n): arm a capture of the axis's position on a registration "
+             "edge.", (1, 7), axis=True, source=f"{TOK}; {HELP} (REGIST page)",
+             confidence="I", note="Modes as the page's tables (C): 0 cancels every "
+             "channel; 1/2 Z mark rising/falling, 3/4 RA input rising/falling into MARK/"
+             "REG_POS/REGIST_SPEED; 6..9 RA with the Z mark into MARKB/REG_POSB; 10..13 RA "
+             "and RB; 14/15 Z, 16/17 RB into the B channel only; + 256 / + 768 only edges "
+             "inside / outside OPEN_WIN..CLOSE_WIN. 20: channel 0/1 (A/B), source 0 RA, 1 "
+             "Z, 2 RB, 4 any digital input (channel = its number, into MARK); windows 1/2 "
+             "OPEN_WIN, 3/4 while the gate input (channel bits 16 up) is high/low; "
+             "quantity captures to TABLE(table start ...) with MARK reading minus the "
+             "count. 21: time-based channel 0..7 on input channel (source 256 + n: input "
+             "n), read with R_MARK/R_REGPOS/R_REGISTSPEED(channel). RA/RB are the inputs "
+             "REG_INPUTS names. The Z mark is the world's index marks of the axis, found to "
+             "the servo tick on its motion (on a linked axis by bisecting its demand up to "
+             "the next motion event, D); REG_POS the mark's exact count; an input edge is "
+             "captured on the tick the world changes it (the world's inputs change on "
+             "servo ticks: D). Arming one channel leaves the other armed (C for 20, D for "
+             "1..17). 23/24 (pulse width): accepted, no effect, the world's edges are "
+             "clean (D). 5, 18, 19, 22 (Flexaxis), 32..71 (older time modes), windows 5/6 "
+             "(OPEN_WINB is not in this firmware's token table) and bad arguments: "
+             "'Parameter out of range', nothing armed (D)."),
+    _axis("R_MARK", "R_MARK(channel): TRUE once the time-based channel's capture (REGIST "
+          "21) has happened.", writable=False, source=f"{TOK}; {HELP} (R_MARK page)",
+          confidence="C", note="Per axis and channel 0..7 (as MARK: reset by REGIST, minus "
+          "the count when capturing to TABLE). The token table lists it as a command; "
+          "the page's form R_MARK(channel) [AXIS(n)] is a read-only axis parameter."),
+    _axis("R_REGPOS", "R_REGPOS(channel): the position the time-based channel captured "
+          "(user units).", writable=False, source=f"{TOK}; {HELP} (R_REGPOS page)",
+          confidence="C", note="As REG_POS, per channel 0..7."),
+    _axis("R_REGISTSPEED", "R_REGISTSPEED(channel): the axis's speed at the time-based "
+          "channel's capture, user units per ms.", writable=False,
+          source=f"{TOK}; {HELP} (R_REGISTSPEED page)", confidence="I",
+          note="As REGIST_SPEED, per channel 0..7."),
+    _axis("REGIST_SPEED", "The axis's speed at channel A's capture, user units per ms.",
+          writable=False, source=f"{TOK}; {HELP} (REGIST_SPEED page)", confidence="I",
+          note="The demand's change over the servo cycle before the capture's tick, "
+          "signed (D: so REG_POS - REGIST_SPEED x delay compensates either way)."),
+    _axis("REGIST_SPEEDB", "The axis's speed at channel B's capture, user units per ms.",
+          writable=False, source=f"{TOK}; {HELP} (REGIST_SPEEDB page)", confidence="I",
+          note="As REGIST_SPEED."),
+    _axis("REGIST_CONTROL", "The registration control bits: channel A bits 0..3, B 4..7: "
+          "input (1) or Z mark (0), enable (bit 2/6), falling edge (bit 3/7).",
+          value_range=(0, 255), source=f"{TOK}; {HELP} (REGIST_CONTROL page)",
+          confidence="I", note="Reads what is armed now (C: bits); written, a channel "
+          "whose enable bit is 0 is disarmed, one enabled as it already is stays, "
+          "otherwise it is armed as the bits say on its REG_INPUTS input or the Z mark "
+          "(D). Bits 1 and 5 are not used (C)."),
+    _axis("REG_INPUTS", "The registration inputs of the axis: bits 0..3 the first (RA), "
+          "4..7 the second (RB).", value_range=(0, 255),
+          source=f"{TOK}; {HELP} (REG_INPUTS page)", confidence="C",
+          note="Power-up (MC405): axis n takes inputs n and n + 4 modulo 8 (C for axes "
+          "0..4; the virtual axes likewise, D). Read when REGIST arms a channel."),
+    _axis("REGIST_DELAY", "The delay (ms) time-based registration compensates.",
+          source=f"{TOK}; {HELP} (REGIST_DELAY page)", confidence="D",
+          note="Not modelled: stored; the emulator's inputs and positions carry no "
+          "delay (an edge is captured at the exact position of its servo tick), so there "
+          "is nothing to compensate (D)."),
+    # ---- position switches (personalities/trio/pswitch.py) -------------------------------
+    _command("PSWITCH", "PSWITCH(switch, enable[, axis, output, state, setpos, resetpos]), "
+             "PSWITCH(switch, OFF[, hold]), PSWITCH(switch, mode, axis, output, state, "
+             "table start, table end[, pulse time]): one of 64 software position switches.",
+             (2, 8), axis=True, source=f"{TOK}; {HELP} (PSWITCH page)", confidence="I",
+             note="The output is the OR of every switch on it and OP's setting (C). Cyclic "
+             "(enable 1, 3 with setpos above resetpos, 5 on DPOS): the switch drives state "
+             "while setpos <= position < resetpos (user units, REP_DIST folded as DPOS "
+             "reads) and the opposite outside (C: example 3; the edge counts D); with bit 1 "
+             "the window runs from setpos over the fold to resetpos (I). Sequence (mode bit "
+             "3): TABLE start..end fire in turn as the axis reaches each in the direction "
+             "of bit 5 (0 up, 1 down); the first drives state, each next toggles, or with "
+             "bit 4 each gives a pulse of state for pulse time servo cycles (C); the "
+             "sequence ends at the first value that does not go on in its direction (D: "
+             "example 4 names 100 entries and fills 16); positions already passed fire at "
+             "once, in order (D); before its first position it drives nothing (D). Every "
+             "level follows the axis's whole demand counts (MPOS too, D) and changes on its "
+             "exact servo tick, found on the motion. OFF: the output keeps its level (an "
+             "output the switch held ON stays ON as if OP set it), hold 1 forces it OFF "
+             "(C); PSWITCH(n, ON) alone enables the set-up again (D). Bad numbers, setpos "
+             "above resetpos without bit 1, bit 6 (Z output) and an axis with a negative "
+             "UNITS: 'Parameter out of range', nothing changed (D)."),
+    _command("HW_PSWITCH", "HW_PSWITCH(mode[, direction, opstate, table start, table end]) "
+             "AXIS(n): the axis's hardware position switch on output 8 + n.", (1, 5),
+             axis=True, source=f"{TOK}; {HELP} (HW_PSWITCH page)", confidence="I",
+             note="MC405: axes 0..4, output 8 + axis (C: note 1); other axes 'Invalid axis "
+             "number' (D). Mode 1 loads TABLE start..end into the FIFO (512 positions: "
+             "beyond, 'Parameter out of range', nothing loaded, C/D) behind what it holds; "
+             "the first position drives opstate, each next toggles (C), compared with "
+             "MPOS x UNITS (counts, DEFPOS applied; no x16 on the emulator's step axes, D) "
+             "travelling direction (1 increasing, 0 decreasing) on the exact servo tick. "
+             "Mode 0 disables it (the FIFO kept), 2 clears the FIFO (C). The output is "
+             "ORed with OP's (D). A load ends at the first value not going on in its "
+             "direction (D, as PSWITCH)."),
+    _command("HW_TIMER", "HW_TIMER(mode, cycle time[, on time, reps], op mode, op sel, "
+             "op state): drive a digital output from the hardware timer.", (1, 7),
+             axis=True, source=f"{TOK}; {HELP} (HW_TIMER page)", confidence="I",
+             note="Mode 1: the output at op state for cycle time us, then the opposite; "
+             "mode 2: op state for on time us of each of reps cycles of cycle time us, the "
+             "opposite between and after (C); times truncated to 10 us (C). Op mode 0: "
+             "output op sel 8..15; 2: output 8 + op sel (0..4) (C). While it runs it owns "
+             "the output; at its end the output stays at its last level as if OP had set "
+             "it; HW_TIMER(0) stops it where it is (D). Op mode 1 (an axis's enable "
+             "output: not in the emulated world) and bad values: 'Parameter out of range' "
+             "(D). Outputs are read at servo ticks: a pulse shorter than a servo cycle "
+             "shows on its first tick only (D)."),
+    _system("HW_TIMER_DONE", "1 while the HW_TIMER runs, 0 when it is done.",
+            writable=False, source=f"{TOK}; {HELP} (HW_TIMER_DONE page)", confidence="C",
+            note="Turns 0 on the servo tick the timer's time is over (pswitch.py)."),
+    _axis("FE_LATCH", "The following error that put the axis into motion error.",
+          writable=False, source=f"{TOK}; {HELP} (FE_LATCH page)", confidence="I",
+          note="The FE (user units) of the servo cycle |FE| passed FE_LIMIT and raised "
+          "the motion error (the drive then goes off: C); 0 before, and again from SERVO "
+          "= ON (C). Servo axes of the shared loop only (following.py)."),
+    _system("PMOVE", "TRUE while a motion command of the process waits in its process "
+            "move buffer.", writable=False, source=f"{TOK}; {HELP} (PMOVE page)",
+            confidence="I", note="Per process (PROC(n) reads another's). TRUE while the "
+            "process's motion command (MOVE, MOVEABS, the links, CAM, FORWARD ...) waits "
+            "for room in the axes' move buffers, FALSE once it is loaded (C). The "
+            "emulator hands a move to the axes in the servo cycle it is given, so the "
+            "page's one-cycle transfer of a move that finds room is not seen (D)."),
+    # ---- conveyor tracking and link words the pages do not give exactly enough ----------
+    _command("SYNC", "SYNC(control, sync time[, sync position, sync axis, pos1[, pos2[, "
+             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 11),
+             axis=True, source=f"{TOK}; {HELP} (SYNC page)", confidence="D",
+             note="Not modelled: accepted, no effect, as a function it returns 0; "
+             "SYNC's synchronising movement over sync_time (and SYNC_PAUSE, SYNC_DWELL, "
+             "SYNC_WITHDRAW shaping it) is given on its pages only as velocity graphs, not "
+             "exactly enough to be exact to the servo tick; it also follows the conveyor "
+             "in the robot's USER_FRAME, which is not modelled (D)."),
+    *[_axis(name, summary, writable=writable, source=f"{TOK}; {HELP} ({name} page)",
+            confidence="D", note="Not modelled: " + why,
+            default=1e6 if name == "CLUTCH_RATE" else 0.0)
+      for name, summary, writable, why in (
+          ("SYNC_CONTROL", "The SYNC state of the axis (0 none ... 3 synchronised).", True,
+           "stored, reads what is written (the token table makes it writable); SYNC is "
+           "not modelled (see SYNC) (D)."),
+          ("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", False,
+           "reads 0: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_WITHDRAW", "A withdraw distance SYNC adds on this axis.", True,
+           "stored: SYNC is not modelled (see SYNC) (D)."),
+          ("SYNC_FLIGHT", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_DPOS", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_AXIS", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("SYNC_TIME", "Reserved keyword (its page).", True,
+           "stored: a reserved keyword, its page gives no effect (C)."),
+          ("MOVELINK_MODIFY", "An offset to the end of the running MOVELINK.", True,
+           "stored: the page does not say how the rest of a running MOVELINK is reshaped "
+           "(its speed ratio, its ramps) to end at the new place, so no exact figure can "
+           "be given; a MOVELINK runs as loaded (D)."),
+          ("CLUTCH_RATE", "The rate (ratio per second) CONNECT changes its ratio at.", True,
+           "stored: CONNECT takes a new ratio at once, as at the page's default rate "
+           "(1,000,000 a second); a ramped ratio moves the slave by the sum of ratio x "
+           "link step each servo cycle, which the closed-form link model does not hold "
+           "(D)."),
+      )],
+    _command("CAMLINK", "CAMLINK(start, entries, mode, multiplier, link dist, link axis[, "
+             "link opt[, link pos]]): Motion Perfect's off-line cam point calculation.",
+             (5, 8), axis=True, source=f"{TOK}; {HELP} (CAMLINK page)", confidence="D",
+             note="Not modelled: accepted, no effect, as a function it returns 0; the page "
+             "leaves where the results go (start + entries + 1 inside the point blocks) and "
+             "what relative X and the line segments' fixed speed mean open, so no exact "
+             "TABLE result can be given (D)."),
     _command("CAM", "CAM(start, end, multiplier, distance): follow the TABLE profile in "
              "time, the whole of it taking distance / SPEED.", (4, 4), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
@@ -834,11 +996,12 @@ _ENTRIES: list[Keyword] = [
     _axis("CLOSE_WIN", "Where the registration window closes (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="As OPEN_WIN."),
     _axis("MARK", "TRUE once the capture REGIST armed has happened.", writable=False,
-          source=f"{TOK}; {MAN}", confidence="C", note="FALSE from REGIST until the "
-          "edge; TRUE from the servo tick of the edge (registration.py)."),
+          source=f"{TOK}; {MAN}; {HELP} (MARK page)", confidence="C", note="FALSE from "
+          "REGIST until the edge; TRUE from the servo tick of the edge (registration.py); "
+          "capturing to TABLE (REGIST 20/21 quantity), minus the count captured."),
     _axis("MARKB", "TRUE once the capture of REGIST's second channel has happened.",
           writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As MARK, channel "
-          "B (REGIST modes 5..9)."),
+          "B (REGIST modes 6..17, 20 channel 1)."),
     _axis("REG_POS", "The position captured by the last registration (user units).",
           writable=False, source=f"{TOK}; {MAN}", confidence="C", note="The mark's exact "
           "position, DEFPOS applied, in the axis's UNITS."),
@@ -923,9 +1086,6 @@ _ENTRIES: list[Keyword] = [
            "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
            "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
-          ("R_MARK", "R_MARK(channel): the newer registration channels' mark.", (1, 1), True,
-           "the newer REGIST(20..) channels are not modelled (REGIST modes 1..9 are: "
-           "MARK, MARKB); reads 0 (D)."),
           ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
            (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
            "drive it (accepted, returns 0, D)."),

@@ -36,6 +36,10 @@ class TrioMachine(Protocol):
         PWM_MARK PWM_ENCODER of one axis."""
         ...
 
+    def channel_parameter(self, name: str, axis: int, channel: float) -> float:
+        """A parameter of one of the axis's channels: R_MARK(channel) and the like."""
+        ...
+
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         ...
 
@@ -145,7 +149,12 @@ class TrioMachine(Protocol):
         """REGIST(mode) AXIS(n): arm a registration capture."""
         ...
 
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """PSWITCH(...) or HW_PSWITCH(...) AXIS(axis): a position switch."""
+        ...
+
     # ---- PWM and memory ---------------------------------------------------------------
+
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         """PWM_CONTROL(mode, ...) on one axis (personality PwmOutput.control)."""
         ...

@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TypeVar
 
-from .keywords import Keyword, Kind, lookup
+from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
 
 # ---- expressions ---------------------------------------------------------------------
@@ -516,7 +516,8 @@ class _Parser:
         """A parameter with its arguments (``NODE_PROFILE(s, n)``) and modifiers
         (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
         index: tuple[Expr, ...] = ()
-        if self.at_op("(") and keyword.note.startswith("Not modelled"):
+        if self.at_op("(") and (keyword.note.startswith("Not modelled")
+                                or keyword.name in CHANNEL_PARAMETERS):
             # only a parameter the emulator keeps as written takes arguments (D): a
             # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()

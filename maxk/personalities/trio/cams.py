@@ -72,7 +72,10 @@ def cambox_from(args: Sequence[float], read_table: Callable[[int], float],
     elif bits & MARKB_START:
         cam.wait = "MARKB"
     elif bits & R_MARK_START:
-        cam.wait, cam.channel = "R_MARK", _index(link_pos)
+        cam.channel = _index(link_pos)
+        if cam.channel >= 8:
+            raise ValueError("Parameter out of range")  # R_MARK channels 0..7 (C)
+        cam.wait = f"R_MARK{cam.channel}"
     cam.start_pos = link_pos if bits & ABSOLUTE else None
     return cam
 

@@ -65,6 +65,7 @@ class Following:
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
         self.over: list[int] = []  # axes whose following error stopped the last stretch
+        self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
 
     @property
     def servos(self) -> list[TrioAxis]:
@@ -135,6 +136,7 @@ class Following:
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
                  if a.servo is not None} if watched else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
+        errors: dict[int, float] = {}  # axis -> its FE (counts) on that tick
         for a in servos:
             loop = a.servo
             assert loop is not None
@@ -144,11 +146,14 @@ class Following:
             if a.index in watched:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
-            over = self._first_over(a, loop) if a.index in watched else None
+            passed = self._first_over(a, loop) if a.index in watched else None
+            over = None if passed is None else passed[0]
             loop.recorder = None
             ticks = [t for t in (over, loop.trip_tick) if t is not None]
             if ticks:
                 found[a.index] = min(ticks)
+            if passed is not None and over == found[a.index]:
+                errors[a.index] = passed[1]
         if not found:
             return None
         first = min(found.values())
@@ -159,6 +164,9 @@ class Following:
                 assert loop is not None
                 loop.restore(saved[a.index])
                 loop.advance(a, m, first)  # type: ignore[arg-type]
+        for axis in self.over:  # FE_LATCH: the error compared with FE_LIMIT (C: its page)
+            if axis in errors:
+                self.latch[axis] = errors[axis]
         return first
 
     def _watched(self, a: TrioAxis) -> bool:
@@ -170,15 +178,21 @@ class Following:
                 and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
 
     @staticmethod
-    def _first_over(a: TrioAxis, loop: ServoLoop) -> int | None:
+    def _first_over(a: TrioAxis, loop: ServoLoop) -> tuple[int, float] | None:
+        """The first recorded cycle whose |FE| passed FE_LIMIT, and that FE (counts)."""
         samples = loop.recorder
         if not samples:
             return None
         bound = a.params["FE_LIMIT"] * a.units
         for sample in samples:
             if abs(sample[5]) > bound:
-                return int(sample[0])
+                return int(sample[0]), float(sample[5])
         return None
+
+    def fe_latch(self, axis: int) -> float:
+        """FE_LATCH: the FE (user units) that raised the axis's motion error; 0 before it
+        and from SERVO = ON (C: page)."""
+        return self.latch.get(axis, 0.0) / self.m.axes[axis].units
 
     def tripped(self, axis: int) -> bool:
         loop = self.m.axes[axis].servo

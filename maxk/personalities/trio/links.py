@@ -74,12 +74,26 @@ distance (D: float rounding of a position computed exactly on a whole count)."""
 MIN_SPAN = 1e-6
 """The shortest link distance, counts (D: shorter, a repeating MOVELINK's cycle count
 would overflow a double)."""
-MOVELINK_MODELLED = 1 | 2 | 4 | 16 | 32 | 256 | 7 << 10 | 8192 | 16384
-"""MOVELINK link option bits modelled (the MOVELINK help page): 1 and 256 start on the
-link axis's MARK / MARKB, 2 at an absolute link position, 4 repeats, 16 shapes the ramps
-as the curve bits 10..12 name, 8192 follows DPOS (what the model follows anyway); 32 and
-16384 (active only while the link moves forward), 512 (R_MARK) and the reserved bits
-are refused (D: not modelled)."""
+MOVELINK_MODELLED = 1 | 2 | 4 | 16 | 32 | 256 | 512 | 7 << 10 | 8192 | 16384
+"""MOVELINK link option bits modelled (the MOVELINK help page): 1, 256 and 512 start on
+the link axis's MARK / MARKB / R_MARK(link pos), 2 at an absolute link position, 4
+repeats, 16 shapes the ramps as the curve bits 10..12 name, 8192 follows DPOS (what the
+model follows anyway); 32 and 16384 are active only while the link moves forward; the
+reserved bits are refused (D)."""
+
+
+def start_event(bits: int, args: list[float], at: int) -> str | None:
+    """The registration event a link option starts on: MARK (bit 0), MARKB (bit 8) or
+    R_MARK of the channel in the link position argument `args[at]` (bit 9); two start
+    events at once are refused (D)."""
+    if sum(1 for b in (1, 2, 256, 512) if bits & b) > 1:
+        raise ValueError("Parameter out of range")
+    if not bits & 512:
+        return "MARK" if bits & 1 else "MARKB" if bits & 256 else None
+    channel = args[at] if len(args) > at else -1.0
+    if channel != int(channel) or not 0 <= channel < 8:
+        raise ValueError("Parameter out of range")  # R_MARK channels 0..7 (C)
+    return f"R_MARK{int(channel)}"
 
 
 def movelink_from(args: list[float], units: float, link_units: float) -> Movelink:
@@ -97,8 +111,7 @@ def movelink_from(args: list[float], units: float, link_units: float) -> Movelin
     curve = (bits >> 10) & 7 if bits & 16 else None
     if curve is not None and curve > 4:
         raise ValueError("Parameter out of range")  # 5..7 unused (C)
-    if bits & 1 and bits & 256 or (bits & 2 and bits & (1 | 256)):
-        raise ValueError("Parameter out of range")  # one start event (D)
+    wait = start_event(bits, args, 6)
     if accel + decel > span:  # both shortened in proportion to fit (C: MOVELINK page)
         scale = span / (accel + decel)
         accel, decel = accel * scale, decel * scale
@@ -110,7 +123,6 @@ def movelink_from(args: list[float], units: float, link_units: float) -> Movelin
         raise ValueError("Parameter out of range")  # option 2 needs its link position
     if not all(math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (*counts, distance * units)):
         raise ValueError("Parameter out of range")
-    wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
     return Movelink(distance * units, counts[0], counts[1], counts[2], int(link),
                     repeat=bool(bits & 4), start_at=start, wait=wait,
                     curve=None if curve == 4 else curve, follow=follow_of(bits))
@@ -126,7 +138,7 @@ def follow_of(bits: int) -> Follow | None:
     return Follow("threshold") if bits & 16384 else None
 
 
-FLEXLINK_MODELLED = 1 | 2 | 4 | 32 | 256 | 7 << 10 | 8192 | 16384
+FLEXLINK_MODELLED = 1 | 2 | 4 | 32 | 256 | 512 | 7 << 10 | 8192 | 16384
 """FLEXLINK link option bits modelled (the FLEXLINK help page): as MOVELINK's, with the
 curve bits 10..12 acting without bit 4 (0, sine, by default)."""
 
@@ -147,8 +159,9 @@ def flexlink_from(args: list[float], units: float, link_units: float) -> Flexlin
         raise ValueError("Parameter out of range")
     bits = int(options)
     curve = (bits >> 10) & 7
-    if curve > 4 or (bits & 1 and bits & 256) or (bits & 2 and bits & (1 | 256)):
+    if curve > 4:
         raise ValueError("Parameter out of range")
+    wait = start_event(bits, args, 9)
     counts = span * link_units
     if not counts >= MIN_SPAN or not all(
             math.isfinite(v) and abs(v) < 2.0 ** 53 for v in (counts, (base + excite) * units)):
@@ -157,7 +170,6 @@ def flexlink_from(args: list[float], units: float, link_units: float) -> Flexlin
     start = args[9] * link_units if bits & 2 and len(args) > 9 else None
     if bits & 2 and start is None:
         raise ValueError("Parameter out of range")
-    wait = "MARK" if bits & 1 else "MARKB" if bits & 256 else None
     return Flexlink((base + excite) * units, counts, (w1 - w0) * acc / 100,
                     (w1 - w0) * dec / 100, int(link), repeat=bool(bits & 4), start_at=start,
                     wait=wait, curve=None if curve == 4 else curve, base=base * units,
@@ -310,9 +322,8 @@ class LinkedMoves:
             link.origin = handover.origin + handover.distance
             link.link_origin = handover.link_end
         if isinstance(link, Movelink) and link.wait is not None:
-            reg = m.registration.axes[link.link]
-            if (reg.mark if link.wait == "MARK" else reg.markb):  # already captured (D)
-                pos = reg.reg_pos if link.wait == "MARK" else reg.reg_posb
+            pos = m.registration.captured(link.link, link.wait)  # already captured (D)
+            if pos is not None:
                 link.link_origin = pos * m.axes[link.link].units - m.axes[link.link].datum
                 link.wait = None
         if isinstance(link, Movelink) and link.follow is not None:

@@ -41,6 +41,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
@@ -80,7 +81,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
-_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
+_REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
+                                 "REGIST_SPEEDB", "REGIST_CONTROL"})
 
 
 class MC405Machine(Kinematics, Engine):
@@ -107,6 +109,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.outputs)
         self.add_source(self.links)  # MOVELINKs ending (links.py)
         self.add_source(self.registration)  # Z-mark captures (registration.py)
+        self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
 
@@ -133,6 +136,10 @@ class MC405Machine(Kinematics, Engine):
             self.registration.reset()
         else:
             self.registration: Registration = Registration(self)
+        if hasattr(self, "switches"):
+            self.switches.reset()
+        else:
+            self.switches: PositionSwitches = PositionSwitches(self)
         if hasattr(self, "outputs"):
             self.outputs.reset()
         if hasattr(self, "drive"):
@@ -232,16 +239,30 @@ class MC405Machine(Kinematics, Engine):
             return self.vp_speed(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
+        if name == "FE_LATCH":
+            return self.drive.following.fe_latch(axis)
         if name in _REGISTRATION_READS:
             value = self.registration.read(name, axis)
             return self.wrapped(axis, value) if name.startswith("REG_POS") else value
         return self.axes[axis].params[name]
+
+    def channel_parameter(self, name: str, axis: int, channel: float) -> float:
+        """R_MARK(channel), R_REGPOS(channel), R_REGISTSPEED(channel) (registration.py)."""
+        if channel != int(channel):
+            raise ValueError("Parameter out of range")
+        value = self.registration.read(name, axis, int(channel))
+        return self.wrapped(axis, value) if name == "R_REGPOS" else value
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
         if name == "PWM_CYCLE":
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
             self.pwm[axis].set_mark(value)
+        elif name == "SERVO" and value != 0:
+            self.drive.following.latch.pop(axis, None)  # FE_LATCH resets (C: page)
+            self.axes[axis].params[name] = value
+        elif name == "REGIST_CONTROL":
+            self.registration.write_control(axis, value)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
@@ -257,6 +278,8 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.look()
 
     def system_parameter(self, name: str) -> float:
+        if name == "HW_TIMER_DONE":
+            return self.switches.timer_done()
         if name in SYSTEM_READS:
             return self.drive.system_parameter(name)
         return self.system[name]
@@ -391,7 +414,9 @@ class MC405Machine(Kinematics, Engine):
         return self.world.analog_volts(channel, self)  # type: ignore[arg-type]
 
     def output(self, number: int) -> bool:
-        return self.digital_outputs.get(number, False)
+        """OP's setting OR every position switch driving the output, or the hardware
+        timer's level while it runs (pswitch.py)."""
+        return self.switches.level(number, self.digital_outputs.get(number, False))
 
     def set_output(self, number: int, on: bool) -> None:
         self.digital_outputs[number] = on
@@ -488,6 +513,15 @@ class MC405Machine(Kinematics, Engine):
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
         self.registration.regist(axis, list(args))
+
+    def position_switch(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """PSWITCH(...) / HW_PSWITCH(...) AXIS(n) (pswitch.py)."""
+        if name == "PSWITCH":
+            self.switches.pswitch(args)
+        elif name == "HW_TIMER":
+            self.switches.hw_timer(args)
+        else:
+            self.switches.hw_pswitch(axis, args)
 
     def pwm_control(self, axis: int, args: Sequence[float]) -> None:
         self.outputs.control(axis, args)
@@ -710,14 +744,12 @@ class MC405Machine(Kinematics, Engine):
         link_now = self.dpos(cam.link)
         if cam.follow is not None:
             cam.follow.rebase(link_now)
-        if cam.wait in ("MARK", "MARKB"):
-            reg = self.registration.axes[cam.link]
-            if reg.mark if cam.wait == "MARK" else reg.markb:
-                cam.start_at(reg.reg_pos if cam.wait == "MARK" else reg.reg_posb, here)
+        if cam.wait is not None:  # MARK, MARKB, R_MARKn: one already captured counts (D)
+            position = self.registration.captured(cam.link, cam.wait)
+            if position is not None:
+                cam.start_at(position, here)
                 cam.held, cam.wait = True, None
             return
-        if cam.wait is not None:
-            return  # R_MARK: no channel modelled reaches it (D)
         if cam.start_pos is not None:
             start = self.unwrapped(cam.link, cam.start_pos, link_now)
             cam.start_at(max(start, link_now), here)
