@@ -910,9 +910,9 @@ _ENTRIES: list[Keyword] = [
       )],
     *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
       for name, summary, arity, axis, why in (
-          ("B_SPLINE", "B_SPLINE(...): expand TABLE data into a B-spline curve.", (5, 9),
-           False, "its spline's exact construction (knots, end conditions) was not found "
-           "in the pages (accepted, no effect, D)."),
+          ("CUBIC_VPU", "CUBIC_VPU(...): a cubic path from TABLE data.", (5, 10), False,
+           "no help page for it was found, so neither its arguments nor its effect are "
+           "known (accepted, no effect, D)."),
           ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
            "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
           ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
@@ -930,6 +930,30 @@ _ENTRIES: list[Keyword] = [
            (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
            "drive it (accepted, returns 0, D)."),
       )],
+    # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
+    _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
+             "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "
+             "knots, expansion, in, out): a NURBS curve of XYZ points, points * expansion "
+             "XYZ triples.", (5, 9), source=f"{HELP} B_SPLINE; {TOK}", confidence="I",
+             note="Counts, argument order and the XYZ layout from the page (C); the knot "
+             "vector read after the points (I: the page's example); mode 1's end points "
+             "taken three times and mode 2's evenly spaced parameters, both ends included, "
+             "are ours (D); weight_op other than 0, dimensions or curve type other than 3: "
+             "Parameter out of range (D). Every value is computed before one TABLE write: "
+             "an error writes nothing."),
+    _command("C_SPLINE", "C_SPLINE(mode, in, points, dims, expansion, out[, tension, bias]): "
+             "cubic Hermite (Catmull-Rom, modes 1/3; cardinal, modes 2/4) expansion of "
+             "TABLE points, (points - 1) * expansion + 1 per dimension.", (6, 8),
+             source=f"{HELP} C_SPLINE; {TOK}", confidence="I",
+             note="Layout (3/4 interleaved, 1/2 a block per dimension), ranges (dims 2..8, "
+             "expansion 2..100, tension and bias -1..1) from the page (C); the tangents are "
+             "the usual tension/bias form (I); each end its own missing neighbour (D)."),
+    _command("A_SPLINE", "A_SPLINE(in, points, out, expansion): Akima interpolation of "
+             "TABLE values, points * expansion values.", (4, 4),
+             source=f"{HELP} A_SPLINE; {TOK}", confidence="D",
+             note="Akima's slopes with his extrapolated end slopes (I); the count from the "
+             "page's example's CAMBOX (I); the values evenly spaced from the first point to "
+             "the last (D); at least 3 points (D)."),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),
