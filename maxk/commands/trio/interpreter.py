@@ -19,6 +19,8 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from ...personalities.trio.geometry import NAMES as GEOMETRIC
+from ...personalities.trio.geometry import group_size
 from ...personalities.trio.memory import VR_COUNT
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
@@ -185,7 +187,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
-                               "MOVECIRCSP", "MHELICALSP"})
+                               "MOVECIRCSP", "MHELICALSP", *GEOMETRIC})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1032,6 +1034,11 @@ class Interpreter:
             while not m.can_load(axes):
                 yield ON_CHANGE
             self._act(lambda: m.arc_sp(axes, args, name == "MHELICALSP"))
+        elif name in GEOMETRIC:  # MSPHERICAL(SP) (personality geometry.py)
+            axes = self.group(stmt.axis, ctx, group_size(args))
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.geometric_move(name, axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))

@@ -930,6 +930,23 @@ _ENTRIES: list[Keyword] = [
            (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
            "drive it (accepted, returns 0, D)."),
       )],
+    # ---- geometric moves (personalities/trio/geometry.py) ------------------------------------
+    _command("MSPHERICAL", "MSPHERICAL(x, y, z, u, v, w, mode[, gtpi[, rotau[, rotav[, "
+             "rotaw]]]]): an arc of a circle anywhere in the space of the first three BASE "
+             "axes, at the base axis's SPEED: mode 0 end and a point on the way, 1 end and "
+             "centre (the short way), 2 two points of a full circle, 3 a point and the "
+             "centre of a full circle.", (6, 12), axis=True,
+             source=f"{HELP} MSPHERICAL; {TOK}", confidence="I",
+             note="One segment of the shared path planner (merges like MOVECIRC); MTYPE 31 "
+             "(C: MTYPE page). Modes, gtpi (the other way round) and the linear rota axes "
+             "from the page (C); every position relative to the start (I, as MOVECIRC); "
+             "rota values are distances (I); points in line, the end off the circle by "
+             "more than a count, or mode bits 8..12 (MOVETURN): Parameter out of range "
+             "(D; the page: a RUN_ERROR for points in line); ends on whole counts (D)."),
+    _command("MSPHERICALSP", "MSPHERICALSP(...): MSPHERICAL at the base axis's FORCE_SPEED.",
+             (6, 12), axis=True, source=f"{HELP} MSPHERICALSP; {TOK}", confidence="I",
+             note="As MSPHERICAL, its path speed FORCE_SPEED (as MOVESP); MTYPE 40 (C: MTYPE "
+             "page). ENDMOVE_SPEED and STARTMOVE_SPEED are not applied (see them)."),
     # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
     _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
              "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "

@@ -76,6 +76,10 @@ class TrioMachine(Protocol):
         arc on the first two axes, the third moving distance3 along it."""
         ...
 
+    def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MSPHERICAL / MSPHERICALSP (personality geometry.py) on the BASE group `axes`."""
+        ...
+
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         """MOVEMODIFY(position): the running move now ends at this absolute position."""
         ...

@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import moves
+from . import geometry, moves
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -535,6 +535,16 @@ class MC405Machine(Kinematics, Engine):
     def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
         moves.mhelical(self, tuple(axes), list(args))
 
+    def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MSPHERICAL / MSPHERICALSP (geometry.py); the SP form at FORCE_SPEED."""
+        sp = name.endswith("SP")
+        self._speed_name = "FORCE_SPEED" if sp else "SPEED"
+        try:
+            geometry.mspherical(self, tuple(axes), list(args),
+                                geometry.MSPHERICALSP if sp else geometry.MSPHERICAL)
+        finally:
+            self._speed_name = "SPEED"
+
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         moves.movemodify(self, axis, args[0], MIN_RATE)
 
@@ -568,7 +578,7 @@ class MC405Machine(Kinematics, Engine):
         self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE,
+              arc: tuple[float, ...] | None = None, kind: int = moves.MOVE,
               preset: Motion | None = None) -> None:
         self.drive.check_move(axes)
         base = self.axes[axes[0]]

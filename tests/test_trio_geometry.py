@@ -1,0 +1,186 @@
+"""MSPHERICAL and MSPHERICALSP on an MC405: arcs anywhere in the space of three BASE axes,
+on the shared path planner. Expected positions come from the circle worked out by hand
+(centre, the two unit directions of its plane, the angle s / r) and the trapezoid of the
+path speed: at SPEED 10, ACCEL = DECEL 1000, the path has gone 10 t - 0.05 at t seconds
+once the 10 ms ramp is over."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from maxk.controllers.trio import MC405
+
+SETUP = "BASE(0, 1, 2, 3): SPEED = 10: ACCEL = 1000: DECEL = 1000"
+
+
+def machine() -> MC405:
+    trio = MC405()
+    assert trio.send(SETUP) == []
+    return trio
+
+
+def at(trio: MC405, tick: int) -> list[float]:
+    trio.advance(ticks=tick - trio.tick)
+    return [trio.machine.dpos(a) for a in range(4)]
+
+
+def read(trio: MC405, what: str) -> float:
+    return float(trio.query(f"?{what}"))
+
+
+def on_circle(centre: tuple[float, float, float], e1: tuple[float, float, float],
+              e2: tuple[float, float, float], r: float, s: float) -> list[float]:
+    theta = s / r
+    return [centre[i] + r * (math.cos(theta) * e1[i] + math.sin(theta) * e2[i])
+            for i in range(3)]
+
+
+def cruise(tick: int, speed: float = 10.0) -> float:
+    """Path distance at `tick` (ms) once the ramp (speed / 1000 s) is over."""
+    return speed * tick / 1000 - speed * speed / 2000
+
+
+def test_page_example_1_a_quarter_circle_up_to_z() -> None:
+    """Example 1 of the page: end (30, 0, 30), a point on the way (30 (1 - cos 45),
+    0, 30 sin 45): the quarter circle about (30, 0, 0) that leaves along +Z. Its length
+    is 15 pi; at 10 units/s it ends 15 pi / 10 + 0.01 s after it starts: on tick 4723."""
+    trio = machine()
+    assert trio.send("MSPHERICAL(30, 0, 30, 30 * (1 - COS(PI / 4)), 0, "
+                     "30 * SIN(PI / 4), 0)") == []
+    trio.advance(ticks=1)
+    assert read(trio, "MTYPE") == 31  # the MTYPE page: 31 MSPHERICAL
+    assert at(trio, 1000)[:3] == pytest.approx(
+        on_circle((30, 0, 0), (-1, 0, 0), (0, 0, 1), 30, cruise(1000)), abs=1e-9)
+    # half way along (s = 7.5 pi, t = (s + 0.05) / 10: tick 2361, 0.002 units short)
+    # it passes the page's mid point
+    assert at(trio, 2361)[:3] == pytest.approx([30 * (1 - math.cos(math.pi / 4)), 0,
+                                                30 * math.sin(math.pi / 4)], abs=2e-3)
+    assert at(trio, 4000)[:3] == pytest.approx(
+        on_circle((30, 0, 0), (-1, 0, 0), (0, 0, 1), 30, cruise(4000)), abs=1e-9)
+    assert at(trio, 4722)[0] < 30 and read(trio, "IDLE") == 0
+    assert at(trio, 4723) == [30, 0, 30, 0]
+    assert read(trio, "IDLE") == -1
+
+
+def test_mode_1_takes_the_short_way_and_gtpi_the_long_way() -> None:
+    """End (10, 10, 0) about centre (10, 0, 0): the short way is a quarter circle leaving
+    along +Y (length 5 pi); gtpi takes the other three quarters, leaving along -Y (15 pi),
+    so it passes (20, 0, 0) half way (7.5 pi along)."""
+    trio = machine()
+    assert trio.send("MSPHERICAL(10, 10, 0, 10, 0, 0, 1)") == []
+    assert at(trio, 1000)[:3] == pytest.approx(
+        on_circle((10, 0, 0), (-1, 0, 0), (0, 1, 0), 10, cruise(1000)), abs=1e-9)
+    end = math.ceil((5 * math.pi / 10 + 0.01) * 1000)
+    assert at(trio, end - 1)[1] < 10
+    assert at(trio, end) == [10, 10, 0, 0]
+    trio = machine()
+    assert trio.send("MSPHERICAL(10, 10, 0, 10, 0, 0, 1, 1)") == []
+    for tick in (1000, 3000):
+        assert at(trio, tick)[:3] == pytest.approx(
+            on_circle((10, 0, 0), (-1, 0, 0), (0, -1, 0), 10, cruise(tick)), abs=1e-9)
+    end = math.ceil((15 * math.pi / 10 + 0.01) * 1000)
+    assert at(trio, end - 1) != [10, 10, 0, 0]
+    assert at(trio, end) == [10, 10, 0, 0]
+
+
+def test_mode_2_full_circle_through_two_points_in_a_tilted_plane() -> None:
+    """Points (10, 10, 0) then (20, 0, 0) with the start: the circle about (10, 0, 0),
+    radius 10, in the plane z = 0, leaving toward +Y first (20 pi long). Then one in the
+    upright plane through the diagonal x = y: centre (c, c, 0), c = 10 / sqrt 2, radius
+    10, leaving upward toward its first point (c, c, 10)."""
+    trio = machine()
+    # first point (u, v, w) = (10, 10, 0), second (x, y, z) = (20, 0, 0)
+    assert trio.send("MSPHERICAL(20, 0, 0, 10, 10, 0, 2)") == []
+    assert at(trio, 2000)[:3] == pytest.approx(
+        on_circle((10, 0, 0), (-1, 0, 0), (0, 1, 0), 10, cruise(2000)), abs=1e-9)
+    end = math.ceil((20 * math.pi / 10 + 0.01) * 1000)
+    assert at(trio, end - 1) != [0, 0, 0, 0]
+    assert at(trio, end) == [0, 0, 0, 0]
+    c = 10 / math.sqrt(2)
+    trio = machine()
+    assert trio.send(f"MSPHERICAL({2 * c}, {2 * c}, 0, {c}, {c}, 10, 2)") == []
+    e1 = (-1 / math.sqrt(2), -1 / math.sqrt(2), 0.0)
+    assert at(trio, 1500)[:3] == pytest.approx(
+        on_circle((c, c, 0), e1, (0, 0, 1), 10, cruise(1500)), abs=1e-6)
+
+
+def test_mode_3_full_circle_from_a_point_and_the_centre() -> None:
+    """Point (5, 0, 5) and centre (5, 0, 0): radius 5 in the XZ plane, leaving the short
+    way toward the point (+Z); a whole turn, 10 pi long, back on the start."""
+    trio = machine()
+    assert trio.send("MSPHERICAL(5, 0, 5, 5, 0, 0, 3)") == []
+    assert at(trio, 1000)[:3] == pytest.approx(
+        on_circle((5, 0, 0), (-1, 0, 0), (0, 0, 1), 5, cruise(1000)), abs=1e-9)
+    end = math.ceil((10 * math.pi / 10 + 0.01) * 1000)
+    assert at(trio, end) == [0, 0, 0, 0]
+
+
+def test_rotau_moves_a_fourth_axis_in_proportion_along_the_arc() -> None:
+    """rotau = 8: axis 3 moves 8 while the arc is travelled, the path length the arc's
+    alone (the end tick is the plain arc's)."""
+    trio = machine()
+    assert trio.send("MSPHERICAL(10, 10, 0, 10, 0, 0, 1, 0, 8)") == []
+    length = 5 * math.pi
+    got = at(trio, 1000)
+    assert got[3] == pytest.approx(8 * cruise(1000) / length, abs=1e-9)
+    end = math.ceil((length / 10 + 0.01) * 1000)
+    assert at(trio, end) == [10, 10, 0, 8]
+
+
+def test_msphericalsp_runs_at_force_speed() -> None:
+    """The MSPHERICALSP page's example: FORCE_SPEED 30, the quarter circle of radius 30
+    (15 pi long) takes 15 pi / 30 + 0.03 s; MTYPE 40."""
+    trio = machine()
+    assert trio.send("FORCE_SPEED = 30: MSPHERICALSP(30, 0, 30, 8.7868, 0, 21.2132, 0)") == []
+    trio.advance(ticks=1)
+    assert read(trio, "MTYPE") == 40
+    end = math.ceil((15 * math.pi / 30 + 0.03) * 1000)
+    assert at(trio, end - 1)[0] < 30
+    assert at(trio, end)[:3] == pytest.approx([30, 0, 30], abs=1e-9)
+
+
+@pytest.mark.parametrize("line", [
+    "MSPHERICAL(20, 0, 0, 10, 0, 0, 1)",  # centre in line with start and end (page)
+    "MSPHERICAL(20, 0, 0, 10, 0, 0, 0)",  # mid point in line: no circle
+    "MSPHERICAL(10, 0, 0, 10, 0, 0, 3)",  # point in line with the centre
+    "MSPHERICAL(10, 10, 0, 10, 0, 0, 5)",  # no mode 5
+    "MSPHERICAL(10, 10, 0, 10, 0, 0, 2049)",  # bit 11: MOVETURN, not modelled
+    "MSPHERICAL(10, 30, 0, 10, 0, 0, 1)",  # the end is not on the circle
+])
+def test_bad_spherical_moves_are_refused_and_load_nothing(line: str) -> None:
+    trio = machine()
+    reply = trio.send(line)
+    assert len(reply) == 1 and "Parameter out of range" in reply[0], reply
+    trio.advance(ticks=10)
+    for axis in range(4):
+        assert read(trio, f"MTYPE AXIS({axis})") == 0
+        assert trio.machine.dpos(axis) == 0
+
+
+def test_a_program_merges_an_mspherical_between_moves() -> None:
+    """With MERGE on, MOVE - MSPHERICAL - MOVE is one path: the end comes when the whole
+    length has been travelled at SPEED, with one ramp up and one down."""
+    trio = machine()
+    trio.load("ARC", "\n".join([
+        "BASE(0, 1, 2)",
+        "MERGE = ON",
+        "MOVE(0, 0, -10)",
+        "MSPHERICAL(10, 10, 0, 10, 0, 0, 1)",
+        "MOVE(0, 0, 10)",
+        "WAIT IDLE",
+        "VR(1) = 1",
+    ]))
+    trio.send('RUN "ARC"')
+    length = 10 + 5 * math.pi + 10
+    end = math.ceil((length / 10 + 0.01) * 1000)
+    # (the arc's sqrt(A r) = 100 units/s is above SPEED: no slowing on it); the program
+    # loads its first move on the tick after RUN: the path starts a tick later
+    assert at(trio, 500)[:3] == pytest.approx([0, 0, -cruise(499)], abs=1e-9)
+    assert at(trio, 1500)[:3] == pytest.approx(
+        [*on_circle((10, 0, -10), (-1, 0, 0), (0, 1, 0), 10, cruise(1499) - 10)[:2], -10],
+        abs=1e-9)
+    assert at(trio, end)[2] < 0
+    assert at(trio, end + 1)[:3] == [10, 10, 0]
+    assert read(trio, "VR(1)") == 1
