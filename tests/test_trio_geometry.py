@@ -184,3 +184,81 @@ def test_a_program_merges_an_mspherical_between_moves() -> None:
     assert at(trio, end)[2] < 0
     assert at(trio, end + 1)[:3] == [10, 10, 0]
     assert read(trio, "VR(1)") == 1
+
+
+# ---- TANG_DIRECTION and MOVETANG -------------------------------------------------------------
+def test_tang_direction_follows_the_path_tangent_and_keeps_it_at_rest() -> None:
+    """The page's table: +Y 0, +X PI/2, -Y PI, -X -PI/2 (atan2(X, Y)). On MOVECIRC's
+    clockwise circle about (10, 0) from the origin the path leaves along +Y and turns
+    toward +X by s / r: at tick 1000, s = 9.95, the direction is 0.995."""
+    trio = machine()
+    assert read(trio, "TANG_DIRECTION") == 0
+    for move, expected in (("MOVE(10, 0)", math.pi / 2), ("MOVE(0, -10)", math.pi),
+                           ("MOVE(-10, 0)", -math.pi / 2), ("MOVE(10, 10)", math.pi / 4)):
+        assert trio.send(move) == []
+        trio.advance(ticks=500)
+        assert trio.machine.axis_parameter("TANG_DIRECTION", 0) == pytest.approx(expected)
+        trio.advance(ticks=2000)  # ended: the direction is kept
+        assert read(trio, "IDLE") == -1
+        assert trio.machine.axis_parameter("TANG_DIRECTION", 0) == pytest.approx(expected)
+    start = trio.tick
+    assert trio.send("MOVECIRC(10, 10, 10, 0, 1)") == []
+    at(trio, start + 1000)
+    assert trio.machine.axis_parameter("TANG_DIRECTION", 0) == pytest.approx(0.995,
+                                                                            abs=1e-12)
+    reply = trio.send("TANG_DIRECTION = 1")
+    assert len(reply) == 1 and "read only" in reply[0]
+
+
+def tangential() -> MC405:
+    trio = MC405()
+    assert trio.send("BASE(2): REP_DIST = 2000: SPEED = 1000: ACCEL = 100000: "
+                     "DECEL = 100000") == []
+    return trio
+
+
+def axis2(trio: MC405, tick: int) -> float:
+    trio.advance(ticks=tick - trio.tick)
+    return trio.machine.dpos(2)
+
+
+def test_movetang_goes_the_short_way_and_retargets_on_the_fly() -> None:
+    """REP_DIST 2000 is half a turn. MOVETANG(1000) from 0, then at tick 500 (at full speed,
+    at 495) MOVETANG(1500): the move goes on to 1500 without a stop, ending on tick 1510
+    as a single 1500 move would (1.5 s at 1000/s plus a 10 ms ramp)."""
+    trio = tangential()
+    assert trio.send("MOVETANG(1000)") == []
+    assert axis2(trio, 500) == pytest.approx(495, abs=1e-9)
+    assert read(trio, "MTYPE AXIS(2)") == 30  # the MTYPE page: 30 MOVETANG
+    assert trio.send("MOVETANG(1500)") == []
+    assert axis2(trio, 1200) == pytest.approx(1195, abs=1e-9)
+    assert axis2(trio, 1509) < 1500
+    assert axis2(trio, 1510) == 1500
+    # from 1500 to -1900: forward through the fold, 600 (not back 3400)
+    assert trio.send("MOVETANG(-1900)") == []
+    assert axis2(trio, 1510 + 300) == pytest.approx(1500 + 300 - 5, abs=1e-9)
+    axis2(trio, 1510 + 610)
+    assert trio.machine.dpos(2) == 2100
+    assert read(trio, "DPOS AXIS(2)") == -1900
+    assert read(trio, "IDLE AXIS(2)") == -1
+
+
+@pytest.mark.parametrize("line", [
+    "MOVETANG(2500)",  # outside -REP_DIST..REP_DIST
+    "MOVETANG(0, 0)",  # the link_axis form: not modelled
+])
+def test_bad_movetang_is_refused(line: str) -> None:
+    trio = tangential()
+    reply = trio.send(line)
+    assert len(reply) == 1 and "Parameter out of range" in reply[0], reply
+    trio.advance(ticks=10)
+    assert read(trio, "MTYPE AXIS(2)") == 0 and read(trio, "MTYPE AXIS(3)") == 0
+
+
+def test_movetang_while_another_move_runs_is_refused() -> None:
+    trio = tangential()
+    assert trio.send("MOVE(100)") == []
+    reply = trio.send("MOVETANG(5)")
+    assert len(reply) == 1 and "Parameter out of range" in reply[0], reply
+    trio.advance(ticks=1000)
+    assert trio.machine.dpos(2) == 100

@@ -331,7 +331,11 @@ class FakeTrioMachine:
 
     def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
         """The fake goes straight to the move's end (the MC405 machine draws the arc; a
-        full circle, MSPHERICAL modes 2 and 3, ends where it started)."""
+        full circle, MSPHERICAL modes 2 and 3, ends where it started); MOVETANG is an
+        absolute move there."""
+        if name == "MOVETANG":
+            self.move_abs([axes[0]], [args[0]])
+            return
         end = list(args[:3]) if len(args) < 7 or args[6] in (0, 1) else [0.0] * 3
         self.move([int(a) for a in axes], [*end, *args[8:]][:len(axes)])
 

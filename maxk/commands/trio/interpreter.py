@@ -1034,6 +1034,9 @@ class Interpreter:
             while not m.can_load(axes):
                 yield ON_CHANGE
             self._act(lambda: m.arc_sp(axes, args, name == "MHELICALSP"))
+        elif name == "MOVETANG":  # retargets its running move: never waits (D)
+            axes = [self.axis_of(stmt.axis, ctx)]
+            self._act(lambda: m.geometric_move(name, axes, args))
         elif name in GEOMETRIC:  # MSPHERICAL(SP) (personality geometry.py)
             axes = self.group(stmt.axis, ctx, group_size(args))
             while not m.can_load(axes):

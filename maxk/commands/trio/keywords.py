@@ -947,6 +947,24 @@ _ENTRIES: list[Keyword] = [
              (6, 12), axis=True, source=f"{HELP} MSPHERICALSP; {TOK}", confidence="I",
              note="As MSPHERICAL, its path speed FORCE_SPEED (as MOVESP); MTYPE 40 (C: MTYPE "
              "page). ENDMOVE_SPEED and STARTMOVE_SPEED are not applied (see them)."),
+    _command("MOVETANG", "MOVETANG(position[, link_axis]) AXIS(n): move the axis at its "
+             "SPEED/ACCEL/DECEL to `position` the short way round, REP_DIST being half a "
+             "turn; called again while it moves, the end moves to the new position.",
+             (1, 2), axis=True, source=f"{HELP} MOVETANG; {TOK}", confidence="I",
+             note="The short way and the -REP_DIST..REP_DIST range from the page (C); a new "
+             "MOVETANG while one runs re-plans its end from where the axis is at the speed "
+             "it has, as MOVEMODIFY (I); MTYPE 30 while it moves (C), 0 after it (D: the page "
+             "keeps 30, so WAIT IDLE would never end); while another move runs on the axis, "
+             "or REP_DIST is not positive: Parameter out of range (D). The link_axis form "
+             "(the end copied from TANG_DIRECTION each servo cycle) is refused: a target "
+             "moved every cycle is not a closed-form motion of the shared machine (D)."),
+    _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
+          "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
+          writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",
+          note="The exact tangent of the path segment the group is on at this tick (C: the "
+          "page's table); a single-axis move is X alone (D); at rest the direction of the "
+          "last path the axis ended (D), 0 at power-up. The token table has it writable; "
+          "writing is refused (D)."),
     # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
     _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
              "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "

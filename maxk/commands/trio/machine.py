@@ -77,7 +77,8 @@ class TrioMachine(Protocol):
         ...
 
     def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
-        """MSPHERICAL / MSPHERICALSP (personality geometry.py) on the BASE group `axes`."""
+        """MSPHERICAL / MSPHERICALSP (personality geometry.py) on the BASE group `axes`;
+        MOVETANG (tangential.py) on the one axis `axes[0]`."""
         ...
 
     def movemodify(self, axis: int, args: Sequence[float]) -> None:

@@ -42,7 +42,7 @@ class Host(Protocol):
 
 
 MSPHERICAL, MSPHERICALSP = 31, 40  # MTYPE (C: the MTYPE page)
-NAMES = frozenset({"MSPHERICAL", "MSPHERICALSP"})
+NAMES = frozenset({"MSPHERICAL", "MSPHERICALSP", "MOVETANG"})  # (MOVETANG: tangential.py)
 Vector = tuple[float, float, float]
 
 

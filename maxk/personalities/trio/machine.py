@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import geometry, moves
+from . import geometry, moves, tangential
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -78,7 +78,7 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
-_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION"})
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
 
@@ -117,6 +117,7 @@ class MC405Machine(Kinematics, Engine):
                      for i in range(self._axis_count)]
         self.queues: list[deque[Run]] = [deque() for _ in range(self._axis_count)]
         self.distance_done = [0.0] * self._axis_count  # path distance per base, user units
+        self.tangents: dict[int, float] = {}  # TANG_DIRECTION at rest (tangential.py)
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
@@ -230,6 +231,8 @@ class MC405Machine(Kinematics, Engine):
             return self.wrapped(axis, self.dpos(axis))
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name == "TANG_DIRECTION":
+            return tangential.direction(self, axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
         if name in _REGISTRATION_READS:
@@ -536,7 +539,11 @@ class MC405Machine(Kinematics, Engine):
         moves.mhelical(self, tuple(axes), list(args))
 
     def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
-        """MSPHERICAL / MSPHERICALSP (geometry.py); the SP form at FORCE_SPEED."""
+        """MSPHERICAL / MSPHERICALSP (geometry.py), the SP form at FORCE_SPEED; MOVETANG
+        (tangential.py) on its one axis."""
+        if name == "MOVETANG":
+            tangential.movetang(self, axes[0], args, MIN_RATE)
+            return
         sp = name.endswith("SP")
         self._speed_name = "FORCE_SPEED" if sp else "SPEED"
         try:
@@ -680,6 +687,7 @@ class MC405Machine(Kinematics, Engine):
             run = queue[0] if queue else None
             if run is None or not run.started or run.end_tick > now:
                 continue
+            tangential.finished(self, run)
             for a in run.axes:
                 axis = self.axes[a]
                 if axis.motion is not None:
