@@ -262,3 +262,68 @@ def test_movetang_while_another_move_runs_is_refused() -> None:
     assert len(reply) == 1 and "Parameter out of range" in reply[0], reply
     trio.advance(ticks=1000)
     assert trio.machine.dpos(2) == 100
+
+
+# ---- SPHERE_CENTRE and FILLET --------------------------------------------------------------
+def table(trio: MC405, start: int, count: int) -> list[float]:
+    return [trio.machine.table_read(start + i) for i in range(count)]
+
+
+def test_sphere_centre_of_the_page_example() -> None:
+    """Mid (-200, 400, 0), end (-500, 500, 0) from the start: both 500 from (-500, 0, 0)
+    (3-4-5 triangles), the end a quarter turn round from the start."""
+    trio = MC405()
+    trio.send("TABLE(10, -200, 400, 0)")
+    trio.send("TABLE(20, -500, 500, 0)")
+    assert trio.send("SPHERE_CENTRE(10, 20, 30)") == []
+    assert table(trio, 30, 6) == pytest.approx([-500, 0, 0, math.pi / 2, 500, 0], abs=1e-9)
+    trio.send("TABLE(20, -400, 800, 0)")  # in line with the mid point: the error flag
+    assert trio.send("SPHERE_CENTRE(10, 20, 30)") == []
+    assert table(trio, 30, 6) == [0, 0, 0, 0, 0, 1]
+
+
+def test_fillet_option_2_gives_the_page_example_output() -> None:
+    """The page prints this exact output for A = (10, 0, 0), B = (0, -5, 5)."""
+    trio = MC405()
+    trio.send("TABLE(100, 10, 0, 0, 0, -5, 5)")
+    assert trio.send("FILLET(100, 200, 2)") == []
+    h = math.sqrt(0.5)
+    assert table(trio, 200, 14) == pytest.approx(
+        [0.5, -h / 2, h / 2, 1, 0, 0, 0, -h, h, 0, 10, 5 * math.sqrt(2), 0, 0], abs=1e-12)
+
+
+def test_fillet_option_0_blends_a_right_angle_and_mspherical_runs_it() -> None:
+    """A = (100, 0, 0) then B = (0, 100, 0), radius 10: the arc starts 10 before the corner
+    (A remain 90), ends (10, 10, 0) further, its centre (0, 10, 0) from its start, its mid
+    point 10 from the centre at 45 degrees; B remain 90; a quarter turn, 5 pi long. The
+    page's way to run it: MOVE, MSPHERICAL (end, mid, mode 0), MOVE: it ends on A + B."""
+    trio = MC405()
+    trio.send("TABLE(300, 100, 0, 0, 0, 100, 0, 10)")
+    assert trio.send("FILLET(300, 400, 0)") == []
+    h = 10 * math.sqrt(0.5)
+    assert table(trio, 400, 19) == pytest.approx(
+        [90, 0, 0, 10, 10, 0, h, 10 - h, 0, 0, 10, 0, 0, 10, 0, 90, 0, math.pi / 2,
+         5 * math.pi], abs=1e-9)
+    trio.load("FIL", "\n".join([
+        "BASE(0, 1, 2)",
+        "SPEED = 100: ACCEL = 10000: DECEL = 10000: MERGE = ON",
+        "MOVE(TABLE(400), TABLE(401), TABLE(402))",
+        "MSPHERICAL(TABLE(403), TABLE(404), TABLE(405), TABLE(406), TABLE(407), "
+        "TABLE(408), 0)",
+        "MOVE(TABLE(414), TABLE(415), TABLE(416))",
+    ]))
+    trio.send('RUN "FIL"')
+    trio.advance(ticks=3000)
+    assert [trio.machine.dpos(a) for a in range(3)] == [100, 100, 0]
+    # a radius too large for the lines: the largest that fits, min(100, 100) / tan 45
+    trio.send("TABLE(300, 100, 0, 0, 0, 100, 0, 150)")
+    assert trio.send("FILLET(300, 400, 0)") == []
+    assert table(trio, 400, 19)[13] == pytest.approx(100)
+    trio.send("TABLE(300, 100, 0, 0, -50, 0, 0, 10)")  # in line (back on itself)
+    assert trio.send("FILLET(300, 400, 0)") == []
+    assert table(trio, 412, 1) == [2]
+    trio.send("TABLE(300, 0, 0, 0)")  # a zero vector
+    assert trio.send("FILLET(300, 400, 0)") == []
+    assert table(trio, 412, 1) == [1]
+    reply = trio.send("FILLET(300, 400, 1)")  # two 2D arcs: not modelled
+    assert len(reply) == 1 and "Parameter out of range" in reply[0]

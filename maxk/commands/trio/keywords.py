@@ -965,6 +965,20 @@ _ENTRIES: list[Keyword] = [
           "page's table); a single-axis move is X alone (D); at rest the direction of the "
           "last path the axis ended (D), 0 at power-up. The token table has it writable; "
           "writing is refused (D)."),
+    _command("SPHERE_CENTRE", "SPHERE_CENTRE(mid, end, out): the centre (x, y, z), angle, "
+             "radius and error flag of the arc from the start through the TABLE points mid "
+             "and end (relative to the start), written to TABLE out..out+5.", (3, 3),
+             axis=True, source=f"{HELP} SPHERE_CENTRE; {TOK}", confidence="I",
+             note="The layout from the page (C); the angle in radians (D); points in line: "
+             "the flag 1 and the rest 0 (D)."),
+    _command("FILLET", "FILLET(in, out, option): option 0 the arc of a radius blending two "
+             "3D lines (19 values), option 2 the unit vectors, mid vector and dot product of "
+             "two 3D vectors (13 values).", (3, 3), source=f"{HELP} FILLET; {TOK}",
+             confidence="I",
+             note="Layouts from the page (C); option 2 gives the page's example output "
+             "exactly; option 0's angle in radians and, when the radius does not fit, the "
+             "largest whose ends fit both lines (D). Options 1 and 3 (2D arc pairs): "
+             "Parameter out of range (D: not modelled)."),
     # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
     _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
              "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "

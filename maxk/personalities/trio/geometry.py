@@ -26,7 +26,7 @@ modelled). Geometry is in counts of each axis, as MOVECIRC's; ends land on whole
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Protocol
 
 from maxk.firmware_model.path import SegmentDef
@@ -152,5 +152,99 @@ def sphere_definition(arc: tuple[float, ...], start: tuple[float, ...],
                       None)
 
 
-__all__ = ["MSPHERICAL", "MSPHERICALSP", "NAMES", "group_size", "mspherical",
-           "sphere_arc", "sphere_definition"]
+
+
+# ---- TABLE geometry: SPHERE_CENTRE, FILLET -------------------------------------------
+TABLE_NAMES = frozenset({"SPHERE_CENTRE", "FILLET"})
+Read = Callable[[int], float]
+
+
+def _point(read: Read, start: int) -> Vector:
+    return (read(start), read(start + 1), read(start + 2))
+
+
+def _index(value: float) -> int:
+    if value != int(value) or value < 0:
+        raise ValueError("Parameter out of range")
+    return int(value)
+
+
+def sphere_centre(args: Sequence[float], read: Read) -> tuple[int, list[float]]:
+    """SPHERE_CENTRE(mid, end, out): the centre (relative to the start), the angle of the
+    arc start -> mid -> end (radians, D), its radius, and 1 (points in line: the rest 0,
+    D) or 0 (TrioBASIC help SPHERE_CENTRE)."""
+    mid, end = _point(read, _index(args[0])), _point(read, _index(args[1]))
+    try:
+        centre, _e2, _end, turn = sphere_arc(0, end, mid, False)
+    except ValueError:
+        return _index(args[2]), [0.0] * 5 + [1.0]
+    return _index(args[2]), [*centre, math.radians(turn), _norm(centre), 0.0]
+
+
+def _fillet_lines(a: Vector, b: Vector, radius: float) -> list[float]:
+    """FILLET option 0: the arc of `radius` blending the line a into the line b."""
+    la, lb = _norm(a), _norm(b)
+    out = [0.0] * 19
+    if la == 0 or lb == 0:
+        out[12] = 1.0
+        return out
+    ua = (a[0] / la, a[1] / la, a[2] / la)
+    ub = (b[0] / lb, b[1] / lb, b[2] / lb)
+    cosine = max(-1.0, min(1.0, _dot(ua, ub)))
+    across = _sub(ub, tuple(cosine * x for x in ua))
+    if _norm(across) < 1e-12:
+        out[12] = 2.0  # in line (either way)
+        return out
+    angle = math.acos(cosine)
+    half = math.tan(angle / 2)
+    if radius * half > min(la, lb):  # the largest radius whose ends fit both lines (D)
+        radius = min(la, lb) / half
+    t = radius * half  # from the corner to each end of the arc
+    n = _unit(across, 1.0)
+    centre = tuple(radius * x for x in n)
+    end = tuple(t * (x + y) for x, y in zip(ua, ub, strict=True))
+    spoke = _unit(tuple(e - 2 * c for e, c in zip(end, centre, strict=True)), 1.0)
+    mid = tuple(c + radius * s for c, s in zip(centre, spoke, strict=True))
+    out[0:3] = [x * (la - t) / la for x in a]
+    out[3:6], out[6:9], out[9:12] = end, mid, centre
+    out[13] = radius
+    out[14:17] = [x * (lb - t) / lb for x in b]
+    out[17], out[18] = angle, radius * angle
+    return out
+
+
+def _fillet_dot(a: Vector, b: Vector) -> list[float]:
+    """FILLET option 2: the mid vector, both unit vectors, their dot product, lengths."""
+    la, lb = _norm(a), _norm(b)
+    if la == 0 or lb == 0:
+        return [0.0] * 9 + [0.0, la, lb, 1.0]
+    ua = [x / la for x in a]
+    ub = [x / lb for x in b]
+    return [0.5 * (x + y) for x, y in zip(ua, ub, strict=True)] + ua + ub + [
+        _dot(ua, ub), la, lb, 0.0]
+
+
+def fillet(args: Sequence[float], read: Read) -> tuple[int, list[float]]:
+    """FILLET(in, out, option): options 0 and 2 (TrioBASIC help FILLET); 1 and 3 are
+    refused (D: not modelled)."""
+    start, out, option = _index(args[0]), _index(args[1]), args[2]
+    a, b = _point(read, start), _point(read, start + 3)
+    if option == 0:
+        radius = read(start + 6)
+        if not radius > 0:
+            raise ValueError("Parameter out of range")
+        return out, _fillet_lines(a, b, radius)
+    if option == 2:
+        return out, _fillet_dot(a, b)
+    raise ValueError("Parameter out of range")
+
+
+def table_function(name: str, args: Sequence[float], read: Read) -> tuple[int, list[float]]:
+    """One of TABLE_NAMES: where its values go in TABLE and the values (nothing written)."""
+    if len(args) != 3:
+        raise ValueError("Syntax error")
+    return (sphere_centre if name == "SPHERE_CENTRE" else fillet)(args, read)
+
+
+__all__ = ["MSPHERICAL", "MSPHERICALSP", "NAMES", "TABLE_NAMES", "fillet", "group_size",
+           "mspherical", "sphere_arc", "sphere_centre", "sphere_definition", "table_function"]
