@@ -327,3 +327,83 @@ def test_fillet_option_0_blends_a_right_angle_and_mspherical_runs_it() -> None:
     assert table(trio, 412, 1) == [1]
     reply = trio.send("FILLET(300, 400, 1)")  # two 2D arcs: not modelled
     assert len(reply) == 1 and "Parameter out of range" in reply[0]
+
+
+# ---- MOVEABSSEQ and MOVESEQ ------------------------------------------------------------------
+def o_shape(sequence: str) -> MC405:
+    trio = MC405()
+    assert trio.send("BASE(0, 1): MERGE = ON: SPEED = 100: ACCEL = 10000: "
+                     "DECEL = 10000") == []
+    assert trio.send("DEFPOS(100, 30)") == []
+    trio.send("TABLE(1000, 100, 120, 180, 120, 180, 0, 100, 0, 100, 30)")
+    trio.send("TABLE(2000, 0, 90, 80, 0, 0, -120, -80, 0, 0, 30)")
+    for line in sequence.split(";"):
+        assert trio.send(line) == [], line
+    return trio
+
+
+PAGE_O = ("MOVE(0, 60); MOVECIRC(30, 30, 30, 0, 1); MOVE(20, 0); "
+          "MOVECIRC(30, -30, 0, -30, 1); MOVE(0, -60); MOVECIRC(-30, -30, -30, 0, 1); "
+          "MOVE(-20, 0); MOVECIRC(-30, 30, 0, 30, 1)")
+
+
+@pytest.mark.parametrize("sequence", ["MOVEABSSEQ(1000, 2, 5, 0, 30)",
+                                      "MOVESEQ(2000, 2, 5, 0, 30)"])
+def test_moveabsseq_draws_the_pages_o_as_its_move_and_movecirc_sequence(
+        sequence: str) -> None:
+    """The page's example 1: the five corner points with radius 30 load the same moves as
+    its MOVE / MOVECIRC 'O' (four sides, four quarter arcs): the two paths agree at every
+    tick looked at, and both end back on (100, 30) at the same tick. MOVESEQ takes the
+    same points as increments."""
+    by_hand, by_table = o_shape(PAGE_O), o_shape(sequence)
+    length = 60 + 20 + 60 + 20 + 4 * (30 * math.pi / 2)
+    end = math.ceil((length / 100 + 0.01) * 1000)
+    for tick in (300, 900, 1500, 2100, 2700, 3300, end - 1):
+        here = [dpos_of(by_hand, tick, a) for a in (0, 1)]
+        assert [dpos_of(by_table, tick, a) for a in (0, 1)] == pytest.approx(here, abs=1e-6)
+    assert read(by_table, "MTYPE") != 0
+    assert [dpos_of(by_table, end, a) for a in (0, 1)] == [100, 30]
+    assert read(by_table, "IDLE") == -1
+
+
+def dpos_of(trio: MC405, tick: int, axis: int) -> float:
+    if trio.tick < tick:
+        trio.advance(ticks=tick - trio.tick)
+    return trio.machine.dpos(axis)
+
+
+def test_moveabsseq_reduces_a_radius_too_big_and_loads_as_room_frees() -> None:
+    """A staircase of 20 points 10 apart with radius 50: each corner may take only half
+    of a side (5), so the radius is 5 / tan(45) = 5 for these right angles; the program
+    loads the 20 moves through the 16-move buffer, waiting for room, and ends on the
+    last point."""
+    trio = MC405()
+    points = []
+    for i in range(20):
+        points += [10 * ((i + 1) // 2), 10 * (i // 2)]
+    trio.send("TABLE(500, " + ", ".join(str(p) for p in points) + ")")
+    trio.load("ZIG", "\n".join([
+        "BASE(0, 1)",
+        "MERGE = ON: SPEED = 1000: ACCEL = 100000: DECEL = 100000",
+        "MOVEABSSEQ(500, 2, 20, 0, 50)",
+        "VR(5) = 1",
+        "WAIT IDLE",
+        "VR(6) = 1",
+    ]))
+    trio.send('RUN "ZIG"')
+    trio.advance(ticks=5)
+    assert read(trio, "VR(5)") == 0  # still loading: the buffer is full
+    trio.advance(ticks=2000)
+    assert read(trio, "VR(6)") == 1
+    assert [trio.machine.dpos(a) for a in (0, 1)] == points[-2:]
+    # the moves themselves: the first point is the start (a side of no length, no
+    # corner); 18 right-angle corners, each arc meeting the next half way along a side
+    # (no straight move between), a straight move in and one out
+    from maxk.personalities.trio.sequences import plan
+    moves = plan("MOVEABSSEQ", [500, 2, 20, 0, 50], [0.0, 0.0], trio.machine.table_read)
+    assert len(moves) == 1 + 18 + 1
+    assert moves[0] == ("MOVEABS", [5.0, 0.0])
+    assert moves[1][0] == "MOVECIRC"  # left turn: anticlockwise (0)
+    assert moves[1][1] == pytest.approx([5, 5, 0, 5, 0], abs=1e-12)
+    assert moves[2][1] == pytest.approx([5, 5, 5, 0, 1], abs=1e-12)  # right: clockwise
+    assert moves[-1] == ("MOVEABS", [100.0, 90.0])

@@ -979,6 +979,19 @@ _ENTRIES: list[Keyword] = [
              "exactly; option 0's angle in radians and, when the radius does not fit, the "
              "largest whose ends fit both lines (D). Options 1 and 3 (2D arc pairs): "
              "Parameter out of range (D: not modelled)."),
+    *[_command(name, f"{name}(table, axes, npoints, options, radius[, output[, "
+               "transition]]): a sequence of TABLE points (" + what + ") loaded as "
+               "MOVEABS moves with a fillet arc of `radius` at each corner: MOVECIRC on 2 "
+               "axes, MSPHERICAL on 3.", (5, 7), axis=True, source=f"{HELP} {name}; {TOK}",
+               confidence="I",
+               note="The moves it loads and the radius reduced to fit from the page (C); "
+               "the arcs are FILLET option 0's; a corner takes at most half of a side it "
+               "shares with another corner (D); each move waits for room in the buffer as "
+               "a MOVE does. Options other than 0, an output area, a transition angle, "
+               "other than 2 or 3 axes: Parameter out of range (D: not modelled). "
+               "MOVE_COUNT is not counted (D).")
+      for name, what in (("MOVEABSSEQ", "absolute"),
+                         ("MOVESEQ", "increments from the point before (I)"))],
     # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
     _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
              "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "

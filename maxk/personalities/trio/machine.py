@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import geometry, moves, tangential
+from . import geometry, moves, sequences, tangential
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -551,6 +551,14 @@ class MC405Machine(Kinematics, Engine):
                                 geometry.MSPHERICALSP if sp else geometry.MSPHERICAL)
         finally:
             self._speed_name = "SPEED"
+
+    def sequence(self, name: str, axes: Sequence[int], args: Sequence[float]
+                 ) -> list[tuple[str, list[float]]]:
+        """MOVEABSSEQ / MOVESEQ: the moves they load, from where the group's buffered
+        moves end (sequences.py)."""
+        start = [(self._end_counts(a) + self.axes[a].datum + self.links.shift[a])
+                 / self.axes[a].units for a in axes]
+        return sequences.plan(name, args, start, self.table.read)
 
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         moves.movemodify(self, axis, args[0], MIN_RATE)
