@@ -116,6 +116,12 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
                "cancelled as it starts (no step); moves away from it run (I). An input the "
                "world drives as a level acts when it changes (D).")
 
+ROBOT_WHY = ("the robot (kinematic) system: the FRAME page gives frames 2, 5 and 6 (and 1, "
+             "the SCARA, from its TABLE data) exactly, but every robot word needs world "
+             "positions (DPOS, UNITS) kept apart from motor positions (AXIS_DPOS, MPOS by "
+             "AXIS_UNITS), which the shared machine does not do yet (not built, D); the RPS "
+             "robots' kinematic models (KINEMATIC_GROUP robot types) are not in the help "
+             "pages")
 _ENTRIES: list[Keyword] = [
     # ---- axis parameters ------------------------------------------------------------
     _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
@@ -902,11 +908,8 @@ _ENTRIES: list[Keyword] = [
            "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
            "(stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
-           "the robot system is not modelled (stored, D)."),
-          ("FRAME", "The robot (kinematic) frame of the axes.",
-           "the robot system's transforms (FRAME, MOVEL, MOVEJ, TOOL_OFFSET, USER_FRAME) "
-           "are not modelled: the pages found do not give each frame's equations exactly "
-           "enough to be exact to the tick (stored, D)."),
+           ROBOT_WHY + " (stored, D)."),
+          ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),
       )],
     *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
       for name, summary, arity, axis, why in (
@@ -914,15 +917,19 @@ _ENTRIES: list[Keyword] = [
            "no help page for it was found, so neither its arguments nor its effect are "
            "known (accepted, no effect, D)."),
           ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
-           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+           "an RPS statement (MOVEL target [S:= T:= ...], GTA targets) on a robot chosen "
+           "by ROBOT and KINEMATIC_GROUP: the robot types' kinematic models are not in "
+           "the help pages and the RPS target syntax is not parsed (accepted bare, no "
+           "effect, D)."),
           ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
-           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+           "as MOVEL: an RPS statement on a robot whose kinematic model is not in the help "
+           "pages (accepted bare, no effect, D)."),
           ("FRAME_TRANS", "FRAME_TRANS(...): a robot frame's transform.", (4, 5), False,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("TOOL_OFFSET", "TOOL_OFFSET(...): the robot's tool offset.", (0, 8), True,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("R_MARK", "R_MARK(channel): the newer registration channels' mark.", (1, 1), True,
            "the newer REGIST(20..) channels are not modelled (REGIST modes 1..9 are: "
            "MARK, MARKB); reads 0 (D)."),
@@ -1063,10 +1070,34 @@ _FIRMWARE = ("FLASH", "EPROM", "FPGA_", "BOOT_LOADER", "LOADSYSTEM", "LOAD_PROJE
              "TRIOPCTEST", "PENDANT", "USER_PID", "CUSTOM_FUNC", "FUNCTION_LIST", "EXEC")
 
 
+_ROBOT = ("FRAME", "USER_FRAME", "WORLD_", "ROBOT_", "TCP_", "KINEMATIC_", "OBJECT_FRAME",
+          "ATTACH_OBJECT_FRAME", "SYNC_TO_OBJECT_FRAME", "AXIS_DPOS", "AXIS_FS_LIMIT",
+          "AXIS_RS_LIMIT", "VOLUME_LIMIT", "TOOL_OFFSET")
+_OWN_WHY = {
+    "MOVEABSFR": "its page: under development, to be used only on Trio's instruction; it "
+                 "gives no behaviour (D)",
+    "MOVEPICK": "its page gives the arch's corner rounding (overlap 0..0.9) and the speed "
+                "controls in words and pictures, not as equations (D)",
+    "PICKLINK": "MOVEPICK linked to another axis; see MOVEPICK (D)",
+    "MOVETURN": "its page leaves the modes' paths undescribed (empty examples, a '?' for "
+                "mode 3) (D)",
+    "MOVECONTOUR": "its contour speed profiling (corner_acc, STOP_ANGLE, RAISE_ANGLE, the "
+                   "spline modes) is described, not given exactly; 5-axis needs a licence "
+                   "(D)",
+    "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
+                     "only their own axes are not built (D)",
+}
+
+
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
-    firmware, files, memory and debugging, has no effect an emulated machine shows; any
-    other word is simply not modelled yet."""
+    firmware, files, memory and debugging, has no effect an emulated machine shows; the
+    robot words and a few moves have their own reason; any other word is simply not
+    modelled yet."""
+    if name in _OWN_WHY:
+        return _OWN_WHY[name]
+    if name.startswith(_ROBOT):
+        return ROBOT_WHY + " (D)"
     if name.startswith(_FIELDBUS):
         return ("a fieldbus, network or drive-bus word: the emulator has no bus or remote "
                 "drive, so nothing it shows depends on it (D)")
