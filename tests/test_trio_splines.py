@@ -83,14 +83,15 @@ def test_bad_spline_arguments_are_refused_and_write_nothing(line: str) -> None:
 def test_a_spline_that_does_not_fit_in_table_writes_nothing() -> None:
     trio = MC405()
     trio.send("TABLE(0, 1, 2, 3, 4)")
-    reply = trio.send("B_SPLINE(1, 0, 4, 511990, 10)")  # 50 values from 511990
+    reply = trio.send("B_SPLINE(1, 0, 4, 511990, 10)")  # 51 values from 511990
     assert len(reply) == 1 and "out of range" in reply[0], reply
     assert table(trio, 511990) == 0
 
 
 # ---- B_SPLINE --------------------------------------------------------------------------------
 def test_b_spline_mode_1_count_and_values() -> None:
-    """Points 0, 6, 12, expansion 2: (3 + 1) * 2 = 8 values. The control polygon is
+    """Points 0, 6, 12, expansion 2: (3 + 1) * 2 = 8 values and the last point. The
+    control polygon is
     0 0 0 6 12 12 12; the uniform cubic basis at t = 0 is (1, 4, 1, 0) / 6 and at
     t = 0.5 is (1, 23, 23, 1) / 48."""
     trio = MC405()
@@ -100,12 +101,12 @@ def test_b_spline_mode_1_count_and_values() -> None:
                 6 / 6, (23 * 6 + 12) / 48,  # 0 0 6 12
                 (6 * 4 + 12) / 6, (23 * 6 + 24 * 12) / 48,  # 0 6 12 12
                 (6 + 5 * 12) / 6, (6 + 47 * 12) / 48]  # 6 12 12 12
-    assert values(trio, 100, 9) == pytest.approx(expected + [0], abs=1e-12)
+    assert values(trio, 100, 10) == pytest.approx(expected + [12, 0], abs=1e-12)
 
 
 def test_b_spline_page_example_ten_points_give_110() -> None:
-    """The page: a 10 point profile expanded by 10 gives (10 + 1) * 10 = 110 values, from a
-    program, as its example's CAMBOX would read them."""
+    """The page: a 10 point profile expanded by 10 gives (10 + 1) * 10 = 110 values, and
+    the closing point (a real cell's program cams over 111), from a program."""
     trio = MC405()
     trio.load("SPL", "\n".join([
         "FOR i = 0 TO 9",
@@ -117,10 +118,9 @@ def test_b_spline_page_example_ten_points_give_110() -> None:
     trio.send('RUN "SPL"')
     trio.advance(ticks=50)
     assert float(trio.query("?VR(0)")) == 1
-    out = values(trio, 200, 111)
-    assert out[0] == 0 and out[110] == 0  # 110 values written, the 111th untouched
-    assert out[109] != 0
-    assert all(b >= a for a, b in zip(out[:110], out[1:110], strict=False))  # i*i rises
+    out = values(trio, 200, 112)
+    assert out[0] == 0 and out[110] == 81 and out[111] == 0  # 111 values, then untouched
+    assert all(b >= a for a, b in zip(out[:111], out[1:111], strict=False))  # i*i rises
 
 
 def test_b_spline_mode_2_nurbs_degree_1_and_2() -> None:

@@ -322,7 +322,8 @@ _ENTRIES: list[Keyword] = [
              "aims its own moves, without the live ADDAX part (D)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
           "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
-          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH.", writable=False,
+          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 30 MOVETANG, 31 MSPHERICAL, "
+          "40 MSPHERICALSP.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="The codes as recalled from the manual's MTYPE table (the table's text was "
           "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
@@ -1001,10 +1002,13 @@ _ENTRIES: list[Keyword] = [
                          ("MOVESEQ", "increments from the point before (I)"))],
     # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
     _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
-             "of TABLE points, (points + 1) * expansion values; B_SPLINE(2, 3, 3, 0, points, "
+             "of TABLE points, (points + 1) * expansion values and the last point; "
+             "B_SPLINE(2, 3, 3, 0, points, "
              "knots, expansion, in, out): a NURBS curve of XYZ points, points * expansion "
              "XYZ triples.", (5, 9), source=f"{HELP} B_SPLINE; {TOK}", confidence="I",
-             note="Counts, argument order and the XYZ layout from the page (C); the knot "
+             note="Counts, argument order and the XYZ layout from the page (C); mode 1's "
+             "closing point after the page's count (I: a real cell's program lays its "
+             "outputs (points + 1) * expansion + 1 apart and cams over all); the knot "
              "vector read after the points (I: the page's example); mode 1's end points "
              "taken three times and mode 2's evenly spaced parameters, both ends included, "
              "are ours (D); weight_op other than 0, dimensions or curve type other than 3: "

@@ -6,10 +6,13 @@ value, and only then writes them in one TABLE write, so bad arguments or an outp
 does not fit change nothing. What each page fixes and what we decided (D) where it does not
 (TrioBASIC help B_SPLINE, C_SPLINE, A_SPLINE):
 
-- B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline; the page gives the
-  count, (points + 1) * expansion values. (D) The control polygon is the points with the
-  first and the last taken three times (that gives points + 1 spans, and the curve starts
-  exactly on the first point); each span gives `expansion` values at t = j / expansion.
+- B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline; the page gives
+  (points + 1) * expansion values, and a real machine's program (a palletising cell's)
+  lays its outputs (points + 1) * expansion + 1 apart and cams over every one of them: so
+  the closing point follows them (I). (D) The control polygon is the points with the
+  first and the last taken three times (points + 1 spans: the curve starts exactly on
+  the first point and ends exactly on the last); each span gives `expansion` values at
+  t = j / expansion, then the last point.
 - B_SPLINE(2, 3, 3, weight_op, points, knots, expansion, in, out): a NURBS curve of XYZ
   points; the knot vector follows the points in TABLE (I: the page's example stores it
   there); its degree is knots - points - 1; weight_op 0 (every weight 1) is the only one
@@ -66,7 +69,7 @@ def b_spline(args: Sequence[float], read: Read) -> tuple[int, list[float]]:
         points = _whole(args[2], 2, MAX_OUTPUT)
         out = _whole(args[3], 0, MAX_OUTPUT)
         expansion = _whole(args[4], 1, MAX_OUTPUT)
-        if (points + 1) * expansion > MAX_OUTPUT:
+        if (points + 1) * expansion + 1 > MAX_OUTPUT:
             raise ValueError("Parameter out of range")
         p = _read(read, start, points)
         q = np.concatenate(([p[0]] * 2, p, [p[-1]] * 2))
@@ -74,7 +77,7 @@ def b_spline(args: Sequence[float], read: Read) -> tuple[int, list[float]]:
         basis = np.stack(((1 - t) ** 3, 3 * t ** 3 - 6 * t ** 2 + 4,
                           -3 * t ** 3 + 3 * t ** 2 + 3 * t + 1, t ** 3)) / 6.0
         values = [basis.T @ q[s:s + 4] for s in range(points + 1)]
-        return out, [float(v) for v in np.concatenate(values)]
+        return out, [float(v) for v in np.concatenate(values)] + [float(p[-1])]
     if len(args) != 9:
         raise ValueError("Syntax error")
     if args[1] != 3 or args[2] != 3 or args[3] != 0:
