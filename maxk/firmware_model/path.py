@@ -41,8 +41,10 @@ EPS = 1e-9  # path lengths closer than this are one point
 class SegmentDef:
     """A VP or VC as defined, with the VA/VV/VIO values in effect when it was sent."""
 
-    kind: str  # "line" or "arc"
+    kind: str  # "line", "arc" or "sphere"
     values: tuple[float | None, ...]  # line: one coordinate per contour axis; arc: centre
+    # sphere (an arc anywhere in the space of the first three axes): centre (3), the unit
+    # direction the arc leaves its start along (3), its end (3), then further axes' rises
     relative: bool
     angle: float  # arc: degrees, positive from the first axis toward the second
     v_start: float | None  # None: go on at the previous segment's end velocity
@@ -61,7 +63,8 @@ class Segment:
     """A resolved segment: where it starts and ends on the path (s0, length)."""
 
     __slots__ = ("defn", "s0", "length", "start", "end", "unit", "cx", "cy", "radius",
-                 "theta0", "turn", "v_start", "v_end", "accel", "ceiling", "arc_cap")
+                 "theta0", "turn", "v_start", "v_end", "accel", "ceiling", "arc_cap",
+                 "frame")
 
     def __init__(self, defn: SegmentDef, start: tuple[float, ...], s0: float,
                  v_previous: float | None) -> None:
@@ -76,7 +79,10 @@ class Segment:
         self.arc_cap = math.inf
         self.unit: tuple[float, ...] = tuple(0.0 for _ in start)
         self.cx = self.cy = self.radius = self.theta0 = self.turn = 0.0
-        if defn.kind == "line":
+        self.frame: tuple[float, ...] = ()  # sphere: centre, e1 (start), e2 (way on)
+        if defn.kind == "sphere":
+            self.end = self._sphere(defn, start)
+        elif defn.kind == "line":
             end = tuple(
                 (start[k] + v if defn.relative else v) if v is not None else start[k]
                 for k, v in enumerate(defn.values))
@@ -108,9 +114,25 @@ class Segment:
                        *start[2 + len(rise):])
             self.end = end
 
+    def _sphere(self, defn: SegmentDef, start: tuple[float, ...]) -> tuple[float, ...]:
+        """An arc in the space of axes 0..2 (MSPHERICAL): the circle through the start
+        about the centre, leaving along e2; further axes rise in proportion."""
+        v = [0.0 if x is None else float(x) for x in defn.values]
+        centre, e2, end3, rise = v[0:3], v[3:6], v[6:9], v[9:]
+        d = [start[i] - centre[i] for i in range(3)]
+        self.radius = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        e1 = [x / self.radius for x in d] if self.radius > 0 else [1.0, 0.0, 0.0]
+        self.frame = (*centre, *e1, *e2)
+        self.turn = math.radians(defn.angle)
+        self.length = self.radius * abs(self.turn)
+        if self.radius > 0:
+            self.arc_cap = math.sqrt(self.accel * self.radius)
+        return (*end3, *(s + r for s, r in zip(start[3:], rise, strict=False)),
+                *start[3 + len(rise):])
+
     @property
     def is_arc(self) -> bool:
-        return self.defn.kind == "arc"
+        return self.defn.kind != "line"
 
     def coordinate(self, sigma: float, k: int) -> float:
         """Axis k's ideal position sigma counts along this segment."""
@@ -118,7 +140,11 @@ class Segment:
             return self.end[k]
         if not self.is_arc:
             return self.start[k] + self.unit[k] * sigma
-        if k > 1:  # (a helix's further axes: in proportion to the arc)
+        if self.frame and k < 3:
+            f, theta = self.frame, sigma / self.radius
+            return f[k] + self.radius * (math.cos(theta) * f[3 + k]
+                                         + math.sin(theta) * f[6 + k])
+        if k > 1 or self.frame:  # (a helix's further axes: in proportion to the arc)
             rise = self.end[k] - self.start[k]
             return self.start[k] + rise * sigma / self.length if rise else self.start[k]
         if self.radius == 0:
@@ -132,7 +158,10 @@ class Segment:
         """d(axis k)/ds: the share of the vector velocity axis k carries."""
         if not self.is_arc:
             return self.unit[k]
-        if k > 1:
+        if self.frame and k < 3:
+            f, theta = self.frame, sigma / self.radius
+            return -math.sin(theta) * f[3 + k] + math.cos(theta) * f[6 + k]
+        if k > 1 or self.frame:
             return (self.end[k] - self.start[k]) / self.length if self.length else 0.0
         if self.radius == 0:
             return 0.0
@@ -142,7 +171,20 @@ class Segment:
 
     def extremes(self, k: int, a: float, b: float) -> list[float]:
         """Where axis k turns round within (a, b) on an arc (it is monotonic between)."""
-        if not self.is_arc or k > 1 or self.radius == 0:
+        if self.frame and k < 3 and self.radius > 0:
+            f = self.frame  # d/dtheta = 0 where tan(theta) = e2[k] / e1[k]
+            if f[3 + k] == 0 and f[6 + k] == 0:
+                return []
+            first = math.atan2(f[6 + k], f[3 + k])
+            m = math.ceil((a / self.radius - first) / math.pi)
+            found: list[float] = []
+            while (first + m * math.pi) * self.radius < b:
+                sigma = (first + m * math.pi) * self.radius
+                if a + 1e-9 < sigma < b - 1e-9:
+                    found.append(sigma)
+                m += 1
+            return found
+        if not self.is_arc or k > 1 or self.radius == 0 or self.frame:
             return []
         sign = 1.0 if self.turn > 0 else -1.0
         phase = 0.0 if k == 0 else math.pi / 2  # x turns at m*pi, y at pi/2 + m*pi

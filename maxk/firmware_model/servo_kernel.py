@@ -116,6 +116,8 @@ def program(motion: MotionPlan | None, base: int, motion_start: int,
         for pc in plan.pieces:
             body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)
         for seg in plan.segments:
+            if seg.frame:
+                return None  # an arc in 3D (MSPHERICAL): the kernel knows plane arcs only
             values = (float(seg.start[k]), seg.unit[k], float(seg.end[k]))
             if not all(math.isfinite(v) and abs(v) < _EXACT for v in values):
                 return None

@@ -335,6 +335,26 @@ class FakeTrioMachine:
         """The fake goes straight to the helix's end, as it does for MOVECIRC."""
         self.move([int(a) for a in axes[:3]], [*args[:2], args[5]])
 
+    def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
+        """The fake goes straight to the move's end (the MC405 machine draws the arc; a
+        full circle, MSPHERICAL modes 2 and 3, ends where it started); MOVETANG is an
+        absolute move there."""
+        if name == "MOVETANG":
+            self.move_abs([axes[0]], [args[0]])
+            return
+        end = list(args[:3]) if len(args) < 7 or args[6] in (0, 1) else [0.0] * 3
+        self.move([int(a) for a in axes], [*end, *args[8:]][:len(axes)])
+
+    def sequence(self, name: str, axes: Sequence[int], args: Sequence[float]
+                 ) -> list[tuple[str, list[float]]]:
+        """The fake goes straight from point to point (no fillets)."""
+        count = int(args[1]) if len(args) > 2 and args[1] in (2, 3) else 0
+        if not count:
+            raise ValueError("Parameter out of range")
+        return [("MOVEABS" if name == "MOVEABSSEQ" else "MOVE",
+                 [self.table.read(int(args[0]) + i * count + k) for k in range(count)])
+                for i in range(int(args[2]))]
+
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         """The fake has no running move to modify: an absolute move (as on an idle axis)."""
         self.move_abs([axis], [args[0]])

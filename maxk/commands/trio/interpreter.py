@@ -17,9 +17,14 @@ import math
 import random
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Protocol
 
+from ...personalities.trio.geometry import NAMES as GEOMETRIC
+from ...personalities.trio.geometry import group_size
 from ...personalities.trio.memory import VR_COUNT
+from ...personalities.trio.sequences import NAMES as SEQUENCES
+from ...personalities.trio.sequences import axes_of
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -187,7 +192,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
-                               "HW_TIMER"})
+                               "HW_TIMER", *GEOMETRIC, *SEQUENCES})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1053,6 +1058,21 @@ class Interpreter:
             while not m.can_load(axes):
                 yield ON_CHANGE
             self._act(lambda: m.arc_sp(axes, args, name == "MHELICALSP"))
+        elif name in SEQUENCES:  # MOVE(ABS)SEQ: its moves loaded one by one as room
+            axes = self.group(stmt.axis, ctx, int(self._machine(lambda: axes_of(args))))
+            sequence = self._machine_moves(lambda: m.sequence(name, axes, args))
+            for move_kind, move_args in sequence:
+                while not m.can_load(axes):
+                    yield ON_CHANGE
+                self._act(partial(self._load_one, axes, move_kind, move_args))
+        elif name == "MOVETANG":  # retargets its running move: never waits (D)
+            axes = [self.axis_of(stmt.axis, ctx)]
+            self._act(lambda: m.geometric_move(name, axes, args))
+        elif name in GEOMETRIC:  # MSPHERICAL(SP) (personality geometry.py)
+            axes = self.group(stmt.axis, ctx, group_size(args))
+            while not m.can_load(axes):
+                yield ON_CHANGE
+            self._act(lambda: m.geometric_move(name, axes, args))
         elif name == "DEFPOS":
             axes = self.group(stmt.axis, ctx, len(args))
             self._act(lambda: m.defpos(axes, args))
@@ -1121,6 +1141,26 @@ class Interpreter:
         flags = flags | (1 << flag) if args[1] != 0 else flags & ~(1 << flag)
         self.hook.indexed[("FLAGS", ())] = float(flags)
         return 0.0
+
+    @staticmethod
+    def _machine_moves(action: Callable[[], list[tuple[str, list[float]]]]
+                       ) -> list[tuple[str, list[float]]]:
+        try:
+            return action()
+        except ValueError as exc:
+            raise TrioError(_machine_text(exc)) from None
+
+    def _load_one(self, axes: list[int], kind: str, values: list[float]) -> None:
+        """One move of a MOVE(ABS)SEQ sequence."""
+        m = self.machine
+        if kind == "MOVEABS":
+            m.move_abs(axes, values)
+        elif kind == "MOVE":
+            m.move(axes, values)
+        elif kind == "MOVECIRC":
+            m.movecirc(axes, values)
+        else:
+            m.geometric_move(kind, axes, values)
 
     def _axis_command(self, name: str, axis: int, args: list[float]) -> Wait:
         m = self.machine

@@ -118,6 +118,12 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
                "cancelled as it starts (no step); moves away from it run (I). An input the "
                "world drives as a level acts when it changes (D).")
 
+ROBOT_WHY = ("the robot (kinematic) system: the FRAME page gives frames 2, 5 and 6 (and 1, "
+             "the SCARA, from its TABLE data) exactly, but every robot word needs world "
+             "positions (DPOS, UNITS) kept apart from motor positions (AXIS_DPOS, MPOS by "
+             "AXIS_UNITS), which the shared machine does not do yet (not built, D); the RPS "
+             "robots' kinematic models (KINEMATIC_GROUP robot types) are not in the help "
+             "pages")
 _ENTRIES: list[Keyword] = [
     # ---- axis parameters ------------------------------------------------------------
     _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
@@ -321,7 +327,8 @@ _ENTRIES: list[Keyword] = [
              "aims its own moves, without the live ADDAX part (D)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
           "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
-          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH.", writable=False,
+          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 30 MOVETANG, 31 MSPHERICAL, "
+          "40 MSPHERICALSP.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="The codes as recalled from the manual's MTYPE table (the table's text was "
           "not found in the stored pages: I). DATUM's searches read 10/11 (D, not 12); a "
@@ -1065,31 +1072,121 @@ _ENTRIES: list[Keyword] = [
            "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
            "(stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
-           "the robot system is not modelled (stored, D)."),
-          ("FRAME", "The robot (kinematic) frame of the axes.",
-           "the robot system's transforms (FRAME, MOVEL, MOVEJ, TOOL_OFFSET, USER_FRAME) "
-           "are not modelled: the pages found do not give each frame's equations exactly "
-           "enough to be exact to the tick (stored, D)."),
+           ROBOT_WHY + " (stored, D)."),
+          ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),
       )],
     *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
       for name, summary, arity, axis, why in (
-          ("B_SPLINE", "B_SPLINE(...): expand TABLE data into a B-spline curve.", (5, 9),
-           False, "its spline's exact construction (knots, end conditions) was not found "
-           "in the pages (accepted, no effect, D)."),
+          ("CUBIC_VPU", "CUBIC_VPU(...): a cubic path from TABLE data.", (5, 10), False,
+           "no help page for it was found, so neither its arguments nor its effect are "
+           "known (accepted, no effect, D)."),
           ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
-           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+           "an RPS statement (MOVEL target [S:= T:= ...], GTA targets) on a robot chosen "
+           "by ROBOT and KINEMATIC_GROUP: the robot types' kinematic models are not in "
+           "the help pages and the RPS target syntax is not parsed (accepted bare, no "
+           "effect, D)."),
           ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
-           "the robot system is not modelled (see FRAME; accepted, no effect, D)."),
+           "as MOVEL: an RPS statement on a robot whose kinematic model is not in the help "
+           "pages (accepted bare, no effect, D)."),
           ("FRAME_TRANS", "FRAME_TRANS(...): a robot frame's transform.", (4, 5), False,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("TOOL_OFFSET", "TOOL_OFFSET(...): the robot's tool offset.", (0, 8), True,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
-           "the robot system is not modelled (see FRAME; accepted, returns 0, D)."),
+           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
            (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
            "drive it (accepted, returns 0, D)."),
       )],
+    # ---- geometric moves (personalities/trio/geometry.py) ------------------------------------
+    _command("MSPHERICAL", "MSPHERICAL(x, y, z, u, v, w, mode[, gtpi[, rotau[, rotav[, "
+             "rotaw]]]]): an arc of a circle anywhere in the space of the first three BASE "
+             "axes, at the base axis's SPEED: mode 0 end and a point on the way, 1 end and "
+             "centre (the short way), 2 two points of a full circle, 3 a point and the "
+             "centre of a full circle.", (6, 12), axis=True,
+             source=f"{HELP} MSPHERICAL; {TOK}", confidence="I",
+             note="One segment of the shared path planner (merges like MOVECIRC); MTYPE 31 "
+             "(C: MTYPE page). Modes, gtpi (the other way round) and the linear rota axes "
+             "from the page (C); every position relative to the start (I, as MOVECIRC); "
+             "rota values are distances (I); points in line, the end off the circle by "
+             "more than a count, or mode bits 8..12 (MOVETURN): Parameter out of range "
+             "(D; the page: a RUN_ERROR for points in line); ends on whole counts (D)."),
+    _command("MSPHERICALSP", "MSPHERICALSP(...): MSPHERICAL at the base axis's FORCE_SPEED.",
+             (6, 12), axis=True, source=f"{HELP} MSPHERICALSP; {TOK}", confidence="I",
+             note="As MSPHERICAL, its path speed FORCE_SPEED (as MOVESP); MTYPE 40 (C: MTYPE "
+             "page). ENDMOVE_SPEED and STARTMOVE_SPEED are not applied (see them)."),
+    _command("MOVETANG", "MOVETANG(position[, link_axis]) AXIS(n): move the axis at its "
+             "SPEED/ACCEL/DECEL to `position` the short way round, REP_DIST being half a "
+             "turn; called again while it moves, the end moves to the new position.",
+             (1, 2), axis=True, source=f"{HELP} MOVETANG; {TOK}", confidence="I",
+             note="The short way and the -REP_DIST..REP_DIST range from the page (C); a new "
+             "MOVETANG while one runs re-plans its end from where the axis is at the speed "
+             "it has, as MOVEMODIFY (I); MTYPE 30 while it moves (C), 0 after it (D: the page "
+             "keeps 30, so WAIT IDLE would never end); while another move runs on the axis, "
+             "or REP_DIST is not positive: Parameter out of range (D). The link_axis form "
+             "(the end copied from TANG_DIRECTION each servo cycle) is refused: a target "
+             "moved every cycle is not a closed-form motion of the shared machine (D)."),
+    _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
+          "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
+          writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",
+          note="The exact tangent of the path segment the group is on at this tick (C: the "
+          "page's table); a single-axis move is X alone (D); at rest the direction of the "
+          "last path the axis ended (D), 0 at power-up. The token table has it writable; "
+          "writing is refused (D)."),
+    _command("SPHERE_CENTRE", "SPHERE_CENTRE(mid, end, out): the centre (x, y, z), angle, "
+             "radius and error flag of the arc from the start through the TABLE points mid "
+             "and end (relative to the start), written to TABLE out..out+5.", (3, 3),
+             axis=True, source=f"{HELP} SPHERE_CENTRE; {TOK}", confidence="I",
+             note="The layout from the page (C); the angle in radians (D); points in line: "
+             "the flag 1 and the rest 0 (D)."),
+    _command("FILLET", "FILLET(in, out, option): option 0 the arc of a radius blending two "
+             "3D lines (19 values), option 2 the unit vectors, mid vector and dot product of "
+             "two 3D vectors (13 values).", (3, 3), source=f"{HELP} FILLET; {TOK}",
+             confidence="I",
+             note="Layouts from the page (C); option 2 gives the page's example output "
+             "exactly; option 0's angle in radians and, when the radius does not fit, the "
+             "largest whose ends fit both lines (D). Options 1 and 3 (2D arc pairs): "
+             "Parameter out of range (D: not modelled)."),
+    *[_command(name, f"{name}(table, axes, npoints, options, radius[, output[, "
+               "transition]]): a sequence of TABLE points (" + what + ") loaded as "
+               "MOVEABS moves with a fillet arc of `radius` at each corner: MOVECIRC on 2 "
+               "axes, MSPHERICAL on 3.", (5, 7), axis=True, source=f"{HELP} {name}; {TOK}",
+               confidence="I",
+               note="The moves it loads and the radius reduced to fit from the page (C); "
+               "the arcs are FILLET option 0's; a corner takes at most half of a side it "
+               "shares with another corner (D); each move waits for room in the buffer as "
+               "a MOVE does. Options other than 0, an output area, a transition angle, "
+               "other than 2 or 3 axes: Parameter out of range (D: not modelled). "
+               "MOVE_COUNT is not counted (D).")
+      for name, what in (("MOVEABSSEQ", "absolute"),
+                         ("MOVESEQ", "increments from the point before (I)"))],
+    # ---- TABLE splines (personalities/trio/splines.py) ----------------------------------------
+    _command("B_SPLINE", "B_SPLINE(1, in, points, out, expansion): a uniform cubic B-spline "
+             "of TABLE points, (points + 1) * expansion values and the last point; "
+             "B_SPLINE(2, 3, 3, 0, points, "
+             "knots, expansion, in, out): a NURBS curve of XYZ points, points * expansion "
+             "XYZ triples.", (5, 9), source=f"{HELP} B_SPLINE; {TOK}", confidence="I",
+             note="Counts, argument order and the XYZ layout from the page (C); mode 1's "
+             "closing point after the page's count (I: a real cell's program lays its "
+             "outputs (points + 1) * expansion + 1 apart and cams over all); the knot "
+             "vector read after the points (I: the page's example); mode 1's end points "
+             "taken three times and mode 2's evenly spaced parameters, both ends included, "
+             "are ours (D); weight_op other than 0, dimensions or curve type other than 3: "
+             "Parameter out of range (D). Every value is computed before one TABLE write: "
+             "an error writes nothing."),
+    _command("C_SPLINE", "C_SPLINE(mode, in, points, dims, expansion, out[, tension, bias]): "
+             "cubic Hermite (Catmull-Rom, modes 1/3; cardinal, modes 2/4) expansion of "
+             "TABLE points, (points - 1) * expansion + 1 per dimension.", (6, 8),
+             source=f"{HELP} C_SPLINE; {TOK}", confidence="I",
+             note="Layout (3/4 interleaved, 1/2 a block per dimension), ranges (dims 2..8, "
+             "expansion 2..100, tension and bias -1..1) from the page (C); the tangents are "
+             "the usual tension/bias form (I); each end its own missing neighbour (D)."),
+    _command("A_SPLINE", "A_SPLINE(in, points, out, expansion): Akima interpolation of "
+             "TABLE values, points * expansion values.", (4, 4),
+             source=f"{HELP} A_SPLINE; {TOK}", confidence="D",
+             note="Akima's slopes with his extrapolated end slopes (I); the count from the "
+             "page's example's CAMBOX (I); the values evenly spaced from the first point to "
+             "the last (D); at least 3 points (D)."),
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
     _constant("FALSE", 0.0),
@@ -1137,10 +1234,34 @@ _FIRMWARE = ("FLASH", "EPROM", "FPGA_", "BOOT_LOADER", "LOADSYSTEM", "LOAD_PROJE
              "TRIOPCTEST", "PENDANT", "USER_PID", "CUSTOM_FUNC", "FUNCTION_LIST", "EXEC")
 
 
+_ROBOT = ("FRAME", "USER_FRAME", "WORLD_", "ROBOT_", "TCP_", "KINEMATIC_", "OBJECT_FRAME",
+          "ATTACH_OBJECT_FRAME", "SYNC_TO_OBJECT_FRAME", "AXIS_DPOS", "AXIS_FS_LIMIT",
+          "AXIS_RS_LIMIT", "VOLUME_LIMIT", "TOOL_OFFSET")
+_OWN_WHY = {
+    "MOVEABSFR": "its page: under development, to be used only on Trio's instruction; it "
+                 "gives no behaviour (D)",
+    "MOVEPICK": "its page gives the arch's corner rounding (overlap 0..0.9) and the speed "
+                "controls in words and pictures, not as equations (D)",
+    "PICKLINK": "MOVEPICK linked to another axis; see MOVEPICK (D)",
+    "MOVETURN": "its page leaves the modes' paths undescribed (empty examples, a '?' for "
+                "mode 3) (D)",
+    "MOVECONTOUR": "its contour speed profiling (corner_acc, STOP_ANGLE, RAISE_ANGLE, the "
+                   "spline modes) is described, not given exactly; 5-axis needs a licence "
+                   "(D)",
+    "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
+                     "only their own axes are not built (D)",
+}
+
+
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
-    firmware, files, memory and debugging, has no effect an emulated machine shows; any
-    other word is simply not modelled yet."""
+    firmware, files, memory and debugging, has no effect an emulated machine shows; the
+    robot words and a few moves have their own reason; any other word is simply not
+    modelled yet."""
+    if name in _OWN_WHY:
+        return _OWN_WHY[name]
+    if name.startswith(_ROBOT):
+        return ROBOT_WHY + " (D)"
     if name.startswith(_FIELDBUS):
         return ("a fieldbus, network or drive-bus word: the emulator has no bus or remote "
                 "drive, so nothing it shows depends on it (D)")

@@ -80,6 +80,17 @@ class TrioMachine(Protocol):
         arc on the first two axes, the third moving distance3 along it."""
         ...
 
+    def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MSPHERICAL / MSPHERICALSP (personality geometry.py) on the BASE group `axes`;
+        MOVETANG (tangential.py) on the one axis `axes[0]`."""
+        ...
+
+    def sequence(self, name: str, axes: Sequence[int], args: Sequence[float]
+                 ) -> list[tuple[str, list[float]]]:
+        """MOVEABSSEQ / MOVESEQ: the MOVEABS, MOVECIRC and MSPHERICAL moves they load
+        (personality sequences.py), nothing loaded yet."""
+        ...
+
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         """MOVEMODIFY(position): the running move now ends at this absolute position."""
         ...

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator
 from dataclasses import dataclass
 
+from ...personalities.trio import geometry, splines
 from ...personalities.trio.memory import TABLE_SIZE
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
@@ -126,10 +127,29 @@ class ProgramCommands:
         if keyword.name == "STOP" and not args and ctx.program:
             ctx.stopped = True  # STOP alone in a program: this program ends here
             args = [ctx.program]
+        if keyword.name in splines.NAMES or keyword.name in geometry.TABLE_NAMES:
+            self.table_spline(keyword.name, args)
+            return _done()
         handler = getattr(self, "cmd_" + keyword.name.lower(), None)
         if handler is not None:  # else a token-table word the emulator does not model:
             handler(args)  # accepted with no effect (its table note says so)
         return _done()
+
+    def table_spline(self, name: str, args: list[Value]) -> None:
+        """B_SPLINE, C_SPLINE, A_SPLINE: TABLE points expanded into TABLE (splines.py);
+        SPHERE_CENTRE, FILLET: TABLE geometry (geometry.py); every value computed before
+        one write, so an error changes nothing."""
+        if any(isinstance(a, str) for a in args):
+            raise TrioError("Syntax error")
+        try:
+            numbers = [float(a) for a in args]
+            read = self.machine.table_read
+            out, values = (splines.expand(name, numbers, read) if name in splines.NAMES
+                           else geometry.table_function(name, numbers, read))
+            self.machine.table_write(out, values)
+        except ValueError as exc:
+            text = str(exc)  # (a TABLE range error reads as TABLE's own)
+            raise TrioError(text[:1].upper() + text[1:]) from None
 
     # ---- program handling -----------------------------------------------------------------
     def _target(self, args: list[Value]) -> str:

@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import moves
+from . import geometry, moves, sequences, tangential
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -79,7 +79,7 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
-_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION"})
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
                                  "REGIST_SPEEDB", "REGIST_CONTROL"})
@@ -120,6 +120,7 @@ class MC405Machine(Kinematics, Engine):
                      for i in range(self._axis_count)]
         self.queues: list[deque[Run]] = [deque() for _ in range(self._axis_count)]
         self.distance_done = [0.0] * self._axis_count  # path distance per base, user units
+        self.tangents: dict[int, float] = {}  # TANG_DIRECTION at rest (tangential.py)
         self.table = TableMemory()
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
@@ -237,6 +238,8 @@ class MC405Machine(Kinematics, Engine):
             return self.wrapped(axis, self.dpos(axis))
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name == "TANG_DIRECTION":
+            return tangential.direction(self, axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
         if name == "FE_LATCH":
@@ -569,6 +572,28 @@ class MC405Machine(Kinematics, Engine):
     def mhelical(self, axes: Sequence[int], args: Sequence[float]) -> None:
         moves.mhelical(self, tuple(axes), list(args))
 
+    def geometric_move(self, name: str, axes: Sequence[int], args: Sequence[float]) -> None:
+        """MSPHERICAL / MSPHERICALSP (geometry.py), the SP form at FORCE_SPEED; MOVETANG
+        (tangential.py) on its one axis."""
+        if name == "MOVETANG":
+            tangential.movetang(self, axes[0], args, MIN_RATE)
+            return
+        sp = name.endswith("SP")
+        self._speed_name = "FORCE_SPEED" if sp else "SPEED"
+        try:
+            geometry.mspherical(self, tuple(axes), list(args),
+                                geometry.MSPHERICALSP if sp else geometry.MSPHERICAL)
+        finally:
+            self._speed_name = "SPEED"
+
+    def sequence(self, name: str, axes: Sequence[int], args: Sequence[float]
+                 ) -> list[tuple[str, list[float]]]:
+        """MOVEABSSEQ / MOVESEQ: the moves they load, from where the group's buffered
+        moves end (sequences.py)."""
+        start = [(self._end_counts(a) + self.axes[a].datum + self.links.shift[a])
+                 / self.axes[a].units for a in axes]
+        return sequences.plan(name, args, start, self.table.read)
+
     def movemodify(self, axis: int, args: Sequence[float]) -> None:
         moves.movemodify(self, axis, args[0], MIN_RATE)
 
@@ -602,7 +627,7 @@ class MC405Machine(Kinematics, Engine):
         self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, float, float] | None = None, kind: int = moves.MOVE,
+              arc: tuple[float, ...] | None = None, kind: int = moves.MOVE,
               preset: Motion | None = None) -> None:
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
@@ -704,6 +729,7 @@ class MC405Machine(Kinematics, Engine):
             run = queue[0] if queue else None
             if run is None or not run.started or run.end_tick > now:
                 continue
+            tangential.finished(self, run)
             for a in run.axes:
                 axis = self.axes[a]
                 if axis.motion is not None:

@@ -36,6 +36,8 @@ from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
 from maxk.firmware_model.servo import Gains
 
+from .geometry import sphere_definition
+
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
 
@@ -63,8 +65,9 @@ class Run:
     end_tick: int = 0
     profile: Motion | None = None  # single-axis runs
     segments: list[Segment] = field(default_factory=list)
-    arcs: dict[int, tuple[float, float, float]] = field(default_factory=dict)
-    # move index -> an arc's centre (counts from the move's start) and turn (degrees)
+    arcs: dict[int, tuple[float, ...]] = field(default_factory=dict)
+    # move index -> an arc's centre (counts from the move's start) and turn (degrees);
+    # MSPHERICAL's: its centre, way on and end, then turn (geometry.py)
     kinds: dict[int, int] = field(default_factory=dict)  # move index -> MTYPE (1: MOVE)
 
     @property
@@ -89,7 +92,10 @@ class Run:
             j = len(self.segments)
             defn = defs[j]
             start = self.segments[-1].end if self.segments else origin
-            if j in self.arcs:  # MOVECIRC: the centre on the path's own frame
+            if j in self.arcs and len(self.arcs[j]) > 3:  # MSPHERICAL (geometry.py)
+                defn = sphere_definition(self.arcs[j], start,
+                                         tuple(float(d) for d in self.deltas[j][3:]), defn)
+            elif j in self.arcs:  # MOVECIRC: the centre on the path's own frame
                 dx, dy, angle = self.arcs[j]  # (MHELICAL: the third axis rises along it)
                 rise = tuple(float(d) for d in self.deltas[j][2:])
                 defn = SegmentDef("arc", (start[0] + dx, start[1] + dy, *rise), True, angle,
