@@ -360,6 +360,8 @@ class Interpreter:
         if isinstance(expr, Var):
             return self.variable(expr.name, ctx)
         if isinstance(expr, Param):
+            if expr.keyword.name == "PROGRAM_NAME":
+                return self.program_name(expr, ctx)
             return self.read_parameter(expr, ctx)
         if isinstance(expr, Call):
             return self.call(expr, ctx)
@@ -469,7 +471,7 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE"):
+        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -670,6 +672,17 @@ class Interpreter:
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
+
+    def program_name(self, expr: Param, ctx: ProcessContext) -> str:
+        """PROGRAM_NAME [PROC(n)]: the name of the program a process runs, "" for a
+        process running none or the command line (help page PROGRAM_NAME; "" is D)."""
+        if expr.process is not None:
+            number = self.number(expr.process, ctx)
+            if number != int(number) or not 0 <= number < 64:
+                raise TrioError("Parameter out of range")
+            other = self.hook.context_of(int(number))
+            return other.program if other is not None else ""
+        return ctx.program
 
     def _indexed_key(self, expr: Param, ctx: ProcessContext) -> tuple[str, tuple[float, ...]]:
         """Where a parameter with arguments or a SLOT/PORT modifier is stored (D: not

@@ -402,6 +402,67 @@ _ENTRIES: list[Keyword] = [
     _command("EX", "Restart the controller.", (0, 1), source=REF,
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
              "starts a new one (ref 5)."),
+    # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
+    _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
+             (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
+             note="The names quoted or bare, a space or comma between. The copy has the "
+             "original's type and lines; a new name already in use is 'Program already "
+             "exists' and a copy that does not fit the store is not kept (D)."),
+    _command("RENAME", "RENAME oldname newname: rename a program.", (2, 2),
+             source=f"{HELP} RENAME", string_arg=True, confidence="I",
+             note="Lines, type and RUNTYPE go with the name; a running program is 'Program "
+             "is running', a name in use 'Program already exists' (D)."),
+    _command("CLEAR", "CLEAR: every VR to 0, and the local variables of the process.",
+             (0, 0), source=f"{HELP} CLEAR", confidence="I",
+             note="TABLE is kept (the page names VRs and local variables only, I); "
+             "strings become empty (D)."),
+    _command("RESET", "RESET: the process's local named variables to 0.", (0, 0),
+             source=f"{HELP} RESET",
+             note="DIM'd arrays are zeroed too, strings made empty (D)."),
+    _command("LIST_GLOBAL", "LIST_GLOBAL [offset[, length]]: print the GLOBAL and "
+             "CONSTANT definitions.", (0, 2), source=f"{HELP} LIST_GLOBAL", confidence="I",
+             note="Numbered in the order they were first defined (the page's example: "
+             "offset 1 is the second one); the GLOBAL table then the CONSTANT table, names "
+             "in a 33-character column, constants with 5 decimals (page); length -1 is "
+             "all."),
+    _command("TABLEVALUES", "TABLEVALUES(first, last[, format]): TABLE values as one "
+             "comma-separated line.", (2, 3), source=f"{HELP} TABLEVALUES",
+             note="Four decimals; format 1 writes a run of n equal values as kn,value "
+             "(page's example). More than 10000 values at once is out of range (D)."),
+    _command("EXIT_LOOP", "EXIT_LOOP: leave the innermost WHILE, FOR or REPEAT loop.",
+             (0, 0), source=f"{HELP} EXIT_LOOP",
+             note="Outside a loop it is a 'Structure error' at COMPILE (D); on the command "
+             "line it does nothing (D)."),
+    _command("CONTINUE", "CONTINUE: go on with the next pass of the innermost loop.",
+             (0, 0), source=f"{HELP} CONTINUE", confidence="I",
+             note="Jumps to the loop's WEND, NEXT or UNTIL, which decides the next pass "
+             "(UNTIL's condition is tested, D); outside a loop a 'Structure error' (D)."),
+    _command("CRC16", "CRC16(mode, ...): set up (0) or compute (1 legacy, 2) a CRC of TABLE "
+             "or VR bytes.", (2, 5), source=f"{HELP} CRC16", confidence="I",
+             note="Mode 1 is the augmented CRC (the data followed by zero bytes flushes "
+             "it); mode 2 the direct CRC, reverse_input running it least significant bit "
+             "first (Modbus with the page's example 5, I) and reverse_output reversing the "
+             "result (D). Each value is taken as its low 8 bits (D). Not set up: 0 (page)."),
+    _function("STRTOD", "STRTOD(format, ...): read a number from VRs or a channel.", (3, 5),
+              source=f"{HELP} STRTOD", confidence="I",
+              note="VR source: one character a VR, the index of the first character not "
+              "read goes to VR(vr_index). Channel source (an OPEN file channel's waiting "
+              "characters): the length read and the terminating character's code are "
+              "stored, the characters and the terminator are taken (I). Format 3 puts "
+              "letter codes in VR(vr_index + 0..25) for A..Z (the page's A = +0, D where "
+              "its M example says 13) and returns their bit mask. At most 64 characters "
+              "(D)."),
+    _function("IEEE_IN", "IEEE_IN(b0..b3[, b4..b7]): the float these IEEE 754 bytes "
+              "encode.", (4, 8), source=f"{HELP} IEEE_IN",
+              note="Byte 0 is the high byte (page). A byte outside 0..255 is out of range, "
+              "a NaN or infinity an 'Arithmetic error' (D)."),
+    _function("IEEE_OUT", "IEEE_OUT(value, n[, size]): byte n of value as an IEEE 754 "
+              "float.", (2, 3), source=f"{HELP} IEEE_OUT",
+              note="Size 32 (default) or 64; byte 0 is the high byte (page)."),
+    Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
+            "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
+            "On the command line, or for a process running nothing: an empty string (D).",
+            None, False),
     # ---- functions ---------------------------------------------------------------------------
     *[_function(name, f"{name}(x).", (1, 1), source=f"{TOK}; {MAN}")
       for name in ("ABS", "INT", "FRAC", "SGN", "SQR", "SIN", "COS", "TAN", "ATAN", "EXP",

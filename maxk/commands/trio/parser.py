@@ -843,6 +843,8 @@ class _Parser:
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
+        if keyword.name in ("COPY", "RENAME"):
+            return Command(keyword, self.two_program_names(), None)
         if keyword.string_arg and self.bare_program_name():
             args.append(Str(self.advance().text))  # SELECT MC_CONFIG: a name unquoted
             while self.at_op(","):
@@ -878,6 +880,18 @@ class _Parser:
                 self.advance()
             args.append(self.expression())
         return tuple(args)
+
+    def two_program_names(self) -> tuple[Expr, ...]:
+        """COPY "a" "b" and RENAME a b: two program names, each quoted or bare, a space
+        or a comma between (their help pages write both without a comma)."""
+        names: list[Expr] = []
+        while len(names) < 2 and self.tok.kind in (Tok.STRING, Tok.NAME):
+            names.append(Str(self.advance().text))
+            if len(names) == 1 and self.at_op(","):
+                self.advance()
+        if len(names) != 2:
+            raise TrioError("Syntax error")
+        return tuple(names)
 
     def bare_program_name(self) -> bool:
         """A program named without quotes, as a command line takes it (``SELECT

@@ -11,6 +11,8 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass
 
 from ...personalities.trio.memory import TABLE_SIZE
+from .datawords import CrcSetup
+from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
@@ -39,8 +41,9 @@ class Scope:
     repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
 
 
-class ProgramCommands:
-    """The SystemHook of the interpreter: commands that act on programs and processes."""
+class ProgramCommands(Housekeeping):
+    """The SystemHook of the interpreter: commands that act on programs and processes
+    (and, from Housekeeping, COPY/RENAME, CLEAR/RESET, LIST_GLOBAL and the data words)."""
 
     def __init__(self, machine: TrioMachine, programs: ProgramStore,
                  output: Callable[[str], None]) -> None:
@@ -53,8 +56,10 @@ class ProgramCommands:
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
         self.broken: set[str] = set()  # libraries that failed to compile since their edit
-        self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
-        self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
+        self.defined: dict[str, int] = {}  # each GLOBAL/CONSTANT's number (LIST_GLOBAL)
+        self.constants: dict[str, Value] = Definitions("C", self.defined)  # CONSTANT
+        self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
+        self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
@@ -116,6 +121,8 @@ class ProgramCommands:
         return "".join(line + "\r\n" for line in self.programs.lines[info.name])
 
     def system_function(self, name: str, args: list[Value]) -> float:
+        if name in DATA_FUNCTIONS:
+            return self.data_function(name, args)
         program = _name(args)
         if name == "IS_PROG":
             return -1.0 if self.programs.exists(program) else 0.0
@@ -126,6 +133,10 @@ class ProgramCommands:
         if keyword.name == "STOP" and not args and ctx.program:
             ctx.stopped = True  # STOP alone in a program: this program ends here
             args = [ctx.program]
+        with_context = getattr(self, "ctx_" + keyword.name.lower(), None)
+        if with_context is not None:  # CLEAR, RESET: act on the asking process too
+            with_context(args, ctx)
+            return _done()
         handler = getattr(self, "cmd_" + keyword.name.lower(), None)
         if handler is not None:  # else a token-table word the emulator does not model:
             handler(args)  # accepted with no effect (its table note says so)

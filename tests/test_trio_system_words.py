@@ -1,0 +1,322 @@
+"""TrioBASIC loop words (EXIT_LOOP, CONTINUE), program housekeeping (COPY, RENAME,
+PROGRAM_NAME), variables (CLEAR, RESET, LIST_GLOBAL) and data words (TABLEVALUES, CRC16,
+STRTOD, IEEE_IN, IEEE_OUT), each from what its help page says happens.
+
+The CRC figures are the published check values of the CRC catalogue for the nine bytes
+"123456789" (CRC-16/UMTS alias BUYPASS FEE8, CRC-16/ARC BB3D, CRC-16/MODBUS 4B37,
+CRC-8 F4), not values computed by the code under test.
+"""
+
+from __future__ import annotations
+
+import struct
+
+import pytest
+
+from maxk.commands.trio import TrioError, compile_program
+from tests.trio_helpers import AtrioError, Rig
+
+
+def started(text: str, name: str = "P") -> Rig:
+    rig = Rig()
+    rig.load(name, text)
+    assert rig.command(f'RUN "{name}"') == b""
+    return rig
+
+
+# ---- EXIT_LOOP and CONTINUE: the help pages' example loop --------------------------------
+
+_PAGE_LOOP = """SPEED=1000
+WHILE IN(12) = OFF
+  MOVE(5)
+  WAIT IDLE
+  IF IN(9) = ON THEN
+    {word}
+  ENDIF
+  OP(10, OFF)
+  MOVE(-5)
+  WAIT IDLE
+  OP(10, ON)
+  VR(1) = VR(1) + 1
+WEND
+PRINT "out"; DPOS"""
+
+
+def test_exit_loop_leaves_the_while_after_the_first_move() -> None:
+    rig = Rig()
+    rig.machine.inputs[9] = True
+    rig.load("P", _PAGE_LOOP.format(word="EXIT_LOOP"))
+    rig.command('RUN "P"')
+    out = rig.cycles(40).decode()
+    # one MOVE(5) at 1000 units/s (1 unit a 1 ms cycle), then out of the loop: the move
+    # back, OP(10) and the counter never run
+    assert out == "out5\r\n"
+    assert rig.machine.dpos[0] == 5
+    assert rig.machine.vr_read(1) == 0
+    assert not rig.machine.output(10)
+
+
+def test_without_exit_loop_the_same_loop_comes_back_and_counts() -> None:
+    rig = started(_PAGE_LOOP.format(word="EXIT_LOOP"))  # IN(9) off: the word never runs
+    assert rig.cycles(60) == b""
+    assert rig.machine.vr_read(1) >= 2  # passes of 5 out and 5 back
+    assert 0 <= rig.machine.dpos[0] <= 5
+    rig.machine.inputs[12] = True
+    out = rig.cycles(30)
+    assert out == b"out0\r\n" and rig.machine.output(10)  # a whole pass, then out
+
+
+def test_continue_skips_the_rest_of_the_pass_and_loops_on() -> None:
+    rig = Rig()
+    rig.machine.inputs[9] = True
+    rig.load("P", _PAGE_LOOP.format(word="CONTINUE"))
+    rig.command('RUN "P"')
+    assert rig.cycles(100) == b""  # never leaves: IN(12) is off
+    position = rig.machine.dpos[0]
+    assert position >= 50  # only the MOVE(5)s run, pass after pass, never back
+    assert rig.machine.vr_read(1) == 0 and not rig.machine.output(10)
+    rig.machine.inputs[12] = True  # the WHILE's own test still decides at the WEND
+    out = rig.cycles(20).decode()
+    end = rig.machine.dpos[0]
+    assert end % 5 == 0 and position <= end <= position + 5  # the move under way ends
+    assert out == f"out{end:g}\r\n"
+
+
+def test_continue_in_for_goes_to_next_and_exit_loop_leaves_only_the_inner_loop() -> None:
+    text = "\n".join([
+        "FOR i = 1 TO 3",
+        "  FOR j = 1 TO 5",
+        "    IF j = 2 THEN CONTINUE",
+        "    IF j = 4 THEN EXIT_LOOP",
+        "    PRINT i; j; \" \";",
+        "  NEXT j",
+        "NEXT i",
+        "REPEAT",
+        "  k = k + 1",
+        "  IF k < 3 THEN CONTINUE",
+        "  PRINT \"k\"; k",
+        "UNTIL k >= 3",
+    ])
+    rig = started(text)
+    assert rig.cycles(40).decode() == "11 13 21 23 31 33 k3\r\n"
+
+
+@pytest.mark.parametrize("lines, line", [
+    (["a = 1", "EXIT_LOOP"], 2),
+    (["IF a THEN CONTINUE"], 1),
+    (["WHILE 1", "WEND", "CONTINUE"], 3),
+])
+def test_loop_words_outside_a_loop_are_structure_errors(lines: list[str], line: int) -> None:
+    with pytest.raises(TrioError) as err:
+        compile_program(lines)
+    assert (err.value.message, err.value.line) == ("Structure error", line)
+
+
+# ---- COPY, RENAME, PROGRAM_NAME ----------------------------------------------------------
+
+def test_copy_makes_a_second_program_with_the_same_lines() -> None:
+    rig = Rig()
+    rig.load("MOTION", "VR(3) = 7\nPRINT PROGRAM_NAME")
+    assert rig.command('COPY "MOTION"  "MOTION_BACK"') == b""
+    assert rig.command('LIST "MOTION_BACK"') == b"VR(3) = 7\r\nPRINT PROGRAM_NAME"
+    assert rig.command('LIST "MOTION"') == b"VR(3) = 7\r\nPRINT PROGRAM_NAME"
+    rig.command('RUN "MOTION_BACK"')
+    assert rig.cycles(3) == b"MOTION_BACK\r\n"
+    with pytest.raises(AtrioError, match="Program already exists"):
+        rig.command('COPY "MOTION" "MOTION_BACK"')
+    with pytest.raises(AtrioError, match="Program not found"):
+        rig.command('COPY "NOPE" "OTHER"')
+
+
+def test_rename_moves_name_lines_and_runtype() -> None:
+    rig = Rig()
+    rig.load("CAR", "PRINT PROGRAM_NAME")
+    rig.command('RUNTYPE "CAR", 1, 3')
+    assert rig.command("RENAME car voiture") == b""
+    assert rig.command('?IS_PROG "CAR"') == b"0"
+    directory = rig.command("DIR").decode()
+    assert "VOITURE" in directory and "Auto(3)" in directory and "CAR " not in directory
+    rig.command('RUN "VOITURE"')
+    assert rig.cycles(3) == b"VOITURE\r\n"
+
+
+def test_rename_of_a_running_program_is_refused() -> None:
+    rig = started("WHILE 1\nWEND", "LOOPER")
+    with pytest.raises(AtrioError, match="Program is running"):
+        rig.command("RENAME LOOPER OTHER")
+    assert rig.command('?IS_PROG "LOOPER"') == b"-1"
+
+
+def test_program_name_of_another_process_and_of_the_command_line() -> None:
+    rig = Rig()
+    rig.load("DEMO_PROG", "WHILE 1\nWEND")
+    rig.command('RUN "DEMO_PROG", 18')
+    rig.cycles(2)
+    assert rig.command("?PROGRAM_NAME PROC(18)") == b"DEMO_PROG"
+    assert rig.command("?PROGRAM_NAME PROC(5)") == b""  # no program on process 5
+    assert rig.command("?PROGRAM_NAME") == b""
+
+
+# ---- CLEAR, RESET, LIST_GLOBAL -----------------------------------------------------------
+
+def test_clear_zeroes_the_vrs_and_the_local_variables_but_not_table() -> None:
+    rig = Rig()
+    text = ("VR(0) = 44\nVR(10) = 12.3456\nVR(100) = 2\nTABLE(5, 9)\nx = 3\n"
+            "PRINT VR(0); \" \"; VR(10); \" \"; VR(100); \" \"; x\nCLEAR\n"
+            "PRINT VR(0); \" \"; VR(10); \" \"; VR(100); \" \"; x; \" \"; TABLE(5)")
+    rig.load("P", text)
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"44 12.3456 2 3\r\n0 0 0 0 9\r\n"
+
+
+def test_reset_zeroes_only_the_local_variables() -> None:
+    rig = Rig()
+    rig.load("P", 'VR(2) = 5\ncounter = 4\nDIM s AS STRING(8)\ns = "ab"\nRESET\n'
+             'PRINT counter; "/"; s; "/"; VR(2)')
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"0//5\r\n"
+
+
+def test_list_global_numbers_definitions_in_the_order_they_were_made() -> None:
+    rig = Rig()
+    rig.command('CONSTANT "cutter", 23')
+    rig.command('GLOBAL "conveyor", 5')
+    global_table = ["Global" + " " * 27 + "VR", "-" * 16 + " " * 17 + "----",
+                    "CONVEYOR" + " " * 25 + "5"]
+    constant_table = ["Constant" + " " * 25 + "Value", "-" * 16 + " " * 17 + "-------",
+                      "CUTTER" + " " * 27 + "23.00000"]
+    assert rig.command("LIST_GLOBAL").decode().split("\r\n") == global_table + constant_table
+    assert rig.command("LIST_GLOBAL 1").decode().split("\r\n") == global_table
+    assert rig.command("LIST_GLOBAL 0,1").decode().split("\r\n") == constant_table
+    assert rig.command("LIST_GLOBAL 0,-1").decode().split("\r\n") == \
+        global_table + constant_table
+    assert rig.command("LIST_GLOBAL 2") == b""
+    with pytest.raises(AtrioError, match="Parameter out of range"):
+        rig.command("LIST_GLOBAL -1")
+
+
+# ---- TABLEVALUES -------------------------------------------------------------------------
+
+def test_tablevalues_plain_and_compressed_as_the_page_shows() -> None:
+    rig = Rig()
+    rig.command("TABLE(1, 0.0, 0.1, 0.1, 0.1, 0.2, 0.2, 0.0)")
+    plain = "0.0000,0.1000,0.1000,0.1000,0.2000,0.2000,0.0000"
+    assert rig.command("TABLEVALUES(1, 7, 0)").decode() == plain
+    assert rig.command("TABLEVALUES(1, 7)").decode() == plain
+    assert rig.command("TABLEVALUES(1, 7, 1)").decode() == "0.0000,k3,0.1000,k2,0.2000,0.0000"
+    for bad in ("TABLEVALUES(7, 1)", "TABLEVALUES(1, 7, 2)", "TABLEVALUES(-1, 3)"):
+        with pytest.raises(AtrioError, match="Parameter out of range"):
+            rig.command(bad)
+
+
+# ---- CRC16 -------------------------------------------------------------------------------
+
+def _digits_in_vr(rig: Rig, first: int) -> None:
+    for k, char in enumerate(b"123456789"):
+        rig.command(f"VR({first + k}) = {char}")
+
+
+@pytest.mark.parametrize("setup, initial, expected", [
+    ("CRC16(0, $8005)", "0", 0xFEE8),  # CRC-16/UMTS (BUYPASS)
+    ("CRC16(0, $8005, TRUE, FALSE, 16)", "$FFFF", 0x4B37),  # the page's Modbus form
+    ("CRC16(0, $8005, TRUE)", "0", 0xBB3D),  # CRC-16/ARC
+    ("CRC16(0, 7, 0, 0, 8)", "0", 0xF4),  # CRC-8
+    ("CRC16(0, $1021)", "0", 0x31C3),  # CRC-16/XMODEM
+    # reverse_output turns the result's bits end for end (our decision): ARC's, reversed
+    ("CRC16(0, $8005, 1, 1)", "0", int(f"{0xBB3D:016b}"[::-1], 2)),
+])
+def test_crc16_mode_2_gives_the_catalogue_check_values(setup: str, initial: str,
+                                                        expected: int) -> None:
+    rig = Rig()
+    _digits_in_vr(rig, 100)
+    rig.command(setup)
+    assert rig.command(f"?CRC16(2, 1, 100, 108, {initial})") == str(expected).encode()
+
+
+def test_crc16_mode_2_carries_on_from_a_previous_result() -> None:
+    rig = Rig()
+    _digits_in_vr(rig, 0)
+    rig.command("CRC16(0, $8005)")
+    rig.command("VR(20) = CRC16(2, 1, 0, 3, 0)")
+    assert rig.command("?CRC16(2, 1, 4, 8, VR(20))") == str(0xFEE8).encode()
+
+
+def test_crc16_legacy_mode_needs_the_two_zero_bytes_to_flush() -> None:
+    rig = Rig()
+    rig.command("TABLE(0, 49, 50, 51, 52, 53, 54, 55, 56, 57, 0, 0)")
+    assert rig.command("?CRC16(1, 0, 0, 10, 0)") == b"0"  # not initialised yet (page)
+    assert rig.command("?CRC16(0, $8005)") == b"-1"
+    assert rig.command("?CRC16(1, 0, 0, 10, 0)") == str(0xFEE8).encode()
+    # the page's example 2: the data, then each flush byte from VR(0) = 0 on its own
+    rig.command("VR(0) = 0")
+    rig.command("c = CRC16(1, 0, 0, 8, 0)")
+    rig.command("c = CRC16(1, 1, 0, 0, c)")
+    assert rig.command("?CRC16(1, 1, 0, 0, c)") == str(0xFEE8).encode()
+
+
+def test_crc16_bad_arguments() -> None:
+    rig = Rig()
+    for bad in ("CRC16(0, $10000)", "CRC16(0, 7, 0, 0, 40)", "?CRC16(3, 0, 0, 1, 0)",
+                "?CRC16(2, 2, 0, 1, 0)", "?CRC16(2, 1, 5, 1, 0)"):
+        with pytest.raises(AtrioError, match="Parameter out of range"):
+            rig.command(bad)
+
+
+# ---- IEEE_IN, IEEE_OUT -------------------------------------------------------------------
+
+def test_ieee_out_and_in_round_trip_single_and_double() -> None:
+    rig = Rig()
+    # -2.5 is sign 1, exponent 128, mantissa .25: C0 20 00 00 (single)
+    assert [rig.command(f"?IEEE_OUT(-2.5, {n})") for n in range(4)] == \
+        [b"192", b"32", b"0", b"0"]
+    # 1.0 as a double: 3F F0 00 00 00 00 00 00
+    assert [int(rig.command(f"?IEEE_OUT(1, {n}, 64)")) for n in range(8)] == \
+        [0x3F, 0xF0, 0, 0, 0, 0, 0, 0]
+    assert rig.command("?IEEE_IN(192, 32, 0, 0)") == b"-2.5000"
+    assert rig.command("?IEEE_IN(63, 240, 0, 0, 0, 0, 0, 0)") == b"1"
+    rig.command("a = 1234.5")
+    bytes_ = [int(rig.command(f"?IEEE_OUT(a, {n})")) for n in range(4)]
+    assert bytes_ == list(struct.pack(">f", 1234.5))
+    for bad in ("?IEEE_OUT(1, 4)", "?IEEE_OUT(1, 0, 16)", "?IEEE_IN(256, 0, 0, 0)",
+                "?IEEE_OUT(1e300, 0)"):
+        with pytest.raises(AtrioError, match="Parameter out of range"):
+            rig.command(bad)
+
+
+# ---- STRTOD ------------------------------------------------------------------------------
+
+def _text_in_vr(rig: Rig, first: int, text: str) -> None:
+    for k, char in enumerate(text + "\0"):
+        rig.command(f"VR({first + k}) = {ord(char)}")
+
+
+@pytest.mark.parametrize("text, fmt, value, used", [
+    ("12.7E-3x", 0, "0.0127", 7), ("+12.6;", 0, "12.6000", 5), (".125", 0, "0.1250", 4),
+    ("-0.12", 0, "-0.1200", 5), ("1.6e+3", 0, "1600", 6), ("12.", 0, "12", 3),
+    ("12.5", 2, "0", 4), ("42,", 2, "42", 2), ("abc", 0, "0", 0),
+])
+def test_strtod_from_vrs(text: str, fmt: int, value: str, used: int) -> None:
+    rig = Rig()
+    _text_in_vr(rig, 200, text)
+    assert rig.command(f"?STRTOD({fmt}, 200, 10)") == value.encode()
+    assert rig.command("?VR(10)") == str(200 + used).encode()
+
+
+def test_strtod_from_a_channel_as_the_pages_example() -> None:
+    rig = Rig()
+    rig.load("N", "123.456")
+    rig.load("P", 'OPEN #40 AS "N" FOR INPUT\nVR(100) = STRTOD(1, 40, 101, 102)\n'
+             'PRINT VR(100); " "; VR(101); " "; VR(102)\nCLOSE #40')
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"123.4560 7 13\r\n"
+
+
+def test_strtod_letter_codes_from_a_channel() -> None:
+    rig = Rig()
+    rig.load("G", "G1 X12.5 Y-3 F100")
+    rig.load("P", 'OPEN #41 AS "G" FOR INPUT\nm = STRTOD(7, 41, 10, 11, 20)\n'
+             'PRINT m; " "; VR(20 + 6); " "; VR(20 + 23); " "; VR(20 + 24); " "; VR(25); '
+             '" "; VR(10)\nCLOSE #41')
+    rig.command('RUN "P"')
+    mask = (1 << 6) | (1 << 23) | (1 << 24) | (1 << 5)  # G, X, Y, F
+    assert rig.cycles(5).decode() == f"{mask} 1 12.5000 -3 100 17\r\n"
