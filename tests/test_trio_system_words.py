@@ -320,3 +320,44 @@ def test_strtod_letter_codes_from_a_channel() -> None:
     rig.command('RUN "P"')
     mask = (1 << 6) | (1 << 23) | (1 << 24) | (1 << 5)  # G, X, Y, F
     assert rig.cycles(5).decode() == f"{mask} 1 12.5000 -3 100 17\r\n"
+
+
+# ---- INTEGER_READ, INTEGER_WRITE -----------------------------------------------------
+
+def test_integer_read_splits_the_float_pattern_of_a_vr() -> None:
+    rig = Rig()
+    rig.command("VR(1) = 0.9999")
+    rig.command("INTEGER_READ(VR(1), VR(4), VR(5))")
+    pattern = struct.unpack(">Q", struct.pack(">d", 0.9999))[0]  # 3FEFFF2E 48E8A71E
+    assert rig.command("?VR(4)") == str(pattern & 0xFFFFFFFF).encode()
+    assert rig.command("?HEX(VR(5)), HEX(VR(4))") == b"3FEFFF2E\t48E8A71E"
+
+
+def test_integer_write_then_read_gives_the_words_back() -> None:
+    rig = Rig()
+    rig.command("INTEGER_WRITE(VR(1), $1234, $5678)")
+    rig.command("INTEGER_READ(VR(1), VR(4), TABLE(9))")
+    assert rig.command("?HEX(VR(4)), HEX(TABLE(9))") == b"1234\t5678"
+    rig.command("INTEGER_WRITE(VR(1), $48E8A71E, $3FEFFF2E)")
+    assert rig.command("?VR(1)") == b"0.9999"
+
+
+def test_integer_read_of_a_parameter_is_its_integer_pattern() -> None:
+    rig = Rig()
+    rig.command("DEFPOS(-3)")
+    rig.command("INTEGER_READ(DPOS, lo, hi)")
+    assert rig.command("?lo; \" \"; HEX(hi)") == str(2**32 - 3).encode() + b" FFFFFFFF"
+    for bad in ("INTEGER_WRITE(VR(1), 0, $7FF00000)",  # +infinity
+                "INTEGER_WRITE(VR(1), 1.5, 0)", "INTEGER_WRITE(VR(1), $100000000, 0)"):
+        with pytest.raises(AtrioError, match="Parameter out of range"):
+            rig.command(bad)
+    assert rig.command("?VR(1)") == b"0"  # nothing written by the refused ones
+
+
+def test_io_and_analogue_counts() -> None:
+    rig = Rig()
+    assert [rig.command(f"?{word}") for word in ("NIO", "N_ANA_IN", "N_ANA_OUT")] == \
+        [b"32", b"8", b"8"]
+    rig.command("?IN(31)")  # the last point NIO counts is addressable
+    with pytest.raises(AtrioError, match="read only"):
+        rig.command("NIO = 48")

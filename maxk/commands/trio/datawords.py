@@ -179,3 +179,33 @@ def table_values(values: list[float], compressed: bool) -> str:
         out.append(f"{values[k]:.4f}")
         k += run
     return ",".join(out)
+
+
+def words_of(value: float, whole: bool) -> tuple[float, float]:
+    """INTEGER_READ: the low and high 32-bit words of the value's 64-bit pattern, each
+    0..$FFFFFFFF. A parameter or an INTEGER variable holds a 64-bit integer, anything else
+    (VR, TABLE, a plain variable) a 64-bit float (help page INTEGER_READ: the bit pattern,
+    not a cast; which values are integers here is our decision, D)."""
+    if whole:
+        if not -(1 << 63) <= value < (1 << 63):
+            raise TrioError("Parameter out of range")
+        pattern = int(value) & 0xFFFF_FFFF_FFFF_FFFF
+    else:
+        pattern = struct.unpack(">Q", struct.pack(">d", value))[0]
+    return float(pattern & 0xFFFF_FFFF), float(pattern >> 32)
+
+
+def value_of(low: float, high: float, whole: bool) -> float:
+    """INTEGER_WRITE: the value whose 64-bit pattern is high:low (each word -2^31 ..
+    $FFFFFFFF, taken as its 32 bits, D). A float pattern that is no number (NaN,
+    infinity) has no TrioBASIC value: 'Parameter out of range' (D)."""
+    for word in (low, high):
+        if word != int(word) or not -(1 << 31) <= word <= 0xFFFF_FFFF:
+            raise TrioError("Parameter out of range")
+    pattern = (int(high) & 0xFFFF_FFFF) << 32 | int(low) & 0xFFFF_FFFF
+    if whole:
+        return float(pattern - (1 << 64) if pattern >> 63 else pattern)
+    value = struct.unpack(">d", struct.pack(">Q", pattern))[0]
+    if not math.isfinite(value):
+        raise TrioError("Parameter out of range")
+    return float(value)

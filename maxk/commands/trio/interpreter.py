@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ...personalities.trio.memory import VR_COUNT
+from .datawords import value_of, words_of
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -251,7 +252,12 @@ def _chr(args: list[Value]) -> Value:
 
 
 def _hex(args: list[Value]) -> Value:
-    number = _int_arg(args[0])
+    """HEX(n): any whole n of 48 bits (D: the 48-bit two's complement it prints), so the
+    32-bit words INTEGER_READ gives print as its page shows."""
+    value = args[0]
+    if isinstance(value, str) or value != int(value) or not -(1 << 47) <= value < (1 << 48):
+        raise TrioError("Parameter out of range")
+    number = int(value)
     return f"{number & 0xFFFFFFFFFFFF if number < 0 else number:X}"
 
 
@@ -1016,6 +1022,9 @@ class Interpreter:
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
             return
+        if name in ("INTEGER_READ", "INTEGER_WRITE"):
+            self.raw_bits(stmt, ctx)
+            return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]
             yield from self.hook.system_command(stmt.keyword, values, ctx)
@@ -1073,6 +1082,31 @@ class Interpreter:
         else:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
+
+    def raw_bits(self, stmt: Command, ctx: ProcessContext) -> None:
+        """INTEGER_READ(source, low, high) / INTEGER_WRITE(destination, low, high): a
+        64-bit pattern as two 32-bit words (datawords.words_of, value_of)."""
+        first, low, high = stmt.args
+        whole = isinstance(first, Param) or isinstance(first, Var) \
+            and ctx.types.get(first.name) == "INTEGER"
+        if stmt.keyword.name == "INTEGER_READ":
+            words = words_of(self.number(first, ctx), whole)
+            for target, word in ((low, words[0]), (high, words[1])):
+                self.put(target, word, ctx)
+        else:
+            self.put(first, value_of(self.number(low, ctx), self.number(high, ctx), whole),
+                     ctx)
+
+    def put(self, target: Expr, value: float, ctx: ProcessContext) -> None:
+        """Store into what an argument names: a variable, VR(n), TABLE(n), an array
+        element or a parameter; anything else (a number) cannot take a value."""
+        if isinstance(target, Call) and target.name == "TABLE" and len(target.args) == 1:
+            index = self._index(self.number(target.args[0], ctx))
+            self._act(lambda: self.machine.table_write(index, [value]))
+        elif isinstance(target, (Var, Call, Param)):
+            self.assign(Assign(target, Num(value)), ctx)
+        else:
+            raise TrioError("Syntax error")
 
     def bit_command(self, name: str, args: list[float]) -> float:
         """SET_BIT(b, vr) / CLEAR_BIT(b, vr) / READ_BIT(b, vr): bit b (0..52) of VR(vr);

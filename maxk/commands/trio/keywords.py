@@ -459,6 +459,26 @@ _ENTRIES: list[Keyword] = [
     _function("IEEE_OUT", "IEEE_OUT(value, n[, size]): byte n of value as an IEEE 754 "
               "float.", (2, 3), source=f"{HELP} IEEE_OUT",
               note="Size 32 (default) or 64; byte 0 is the high byte (page)."),
+    _command("INTEGER_READ", "INTEGER_READ(source, low, high): the two 32-bit words of a "
+             "value's 64-bit pattern.", (3, 3), source=f"{HELP} INTEGER_READ",
+             confidence="I",
+             note="low and high take a variable, VR(n) or TABLE(n). A parameter or an "
+             "INTEGER variable is a 64-bit integer, every other value a 64-bit float (D). "
+             "Each word 0..$FFFFFFFF (the page's example 1 swaps its MSW/LSW labels: its "
+             "parameter list is followed)."),
+    _command("INTEGER_WRITE", "INTEGER_WRITE(destination, low, high): write the 64-bit "
+             "pattern high:low.", (3, 3), source=f"{HELP} INTEGER_WRITE", confidence="I",
+             note="A word may be -2^31..$FFFFFFFF (its 32 bits, D); a float pattern that is "
+             "NaN or infinite is 'Parameter out of range' (D)."),
+    _system("NIO", "NIO: the number of I/O points (the highest + 1).", writable=False,
+            source=f"{HELP} NIO", confidence="D",
+            note="32, as NIN and NOP: the points IN and OP address (D; the page: read only, "
+            "the larger of the input and output counts)."),
+    *[_system(name, f"{name}: the number of analogue {what} channels.", writable=False,
+              source=f"{HELP} {name}", confidence="D",
+              note=f"8: the channels {word}(0..7) takes (D).")
+      for name, what, word in (("N_ANA_IN", "input", "AIN"), ("N_ANA_OUT", "output",
+                                                               "AOUT"))],
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",

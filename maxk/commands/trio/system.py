@@ -97,8 +97,10 @@ class ProgramCommands(Housekeeping):
             if name.startswith("AOUT"):
                 return self.analog_outputs.get(channel, 0.0)
             return float(round(self.machine.analog_input(channel) / 10.0 * 2047))
-        if name in ("NIN", "NOP"):
+        if name in ("NIN", "NOP", "NIO"):
             return 32.0  # the I/O points IN and OP address here (D: as IN and OP take)
+        if name in ("N_ANA_IN", "N_ANA_OUT"):
+            return 8.0  # the channels AIN(n) and AOUT(n) take
         if name == "SCOPE_POS":
             return self.scope_position()
         if name == "CONTROL":
