@@ -361,3 +361,40 @@ def test_io_and_analogue_counts() -> None:
     rig.command("?IN(31)")  # the last point NIO counts is addressable
     with pytest.raises(AtrioError, match="read only"):
         rig.command("NIO = 48")
+
+
+# ---- OPEN ... FOR OUTPUT / APPEND: files a program writes -----------------------------
+
+def test_strtod_page_example_writes_a_file_then_reads_it_back() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        'OPEN #40 AS "N" FOR OUTPUT(1)', 'PRINT #40, "123.456"', "CLOSE #40",
+        'OPEN #40 AS "N" FOR INPUT', "VR(100) = STRTOD(1, 40, 101, 102)",
+        'PRINT #5, "Value = "; VR(100)', 'PRINT #5, "Length of string = "; VR(101)[0]',
+        'PRINT #5, "Terminating character = "; VR(102)[0]', "CLOSE #40"]))
+    rig.command('RUN "P"')
+    assert rig.cycles(5).decode().split("\r\n") == [
+        "Value = 123.4560", "Length of string = 7", "Terminating character = 13", ""]
+    assert rig.command('?PROG_TYPE "N"') == b"3"  # a text file of the store
+
+
+def test_output_clears_append_adds_and_a_partial_line_waits_for_close() -> None:
+    rig = Rig()
+    rig.load("LOG", "old line", program_type=3)
+    rig.load("P", "\n".join([
+        'OPEN #41 AS "LOG" FOR OUTPUT', 'PRINT #41, "shift"; 2', 'PRINT #41, 7; " parts";',
+        "WA(3)", "CLOSE #41", 'OPEN #42 AS "LOG" FOR APPEND', 'PRINT #42, "end"',
+        "CLOSE #42"]))
+    rig.command('RUN "P"')
+    rig.cycles(1)
+    assert rig.command('LIST "LOG"') == b"shift2"  # the open line is not written yet
+    assert rig.cycles(10) == b""  # nothing reaches the terminal
+    assert rig.command('LIST "LOG"') == b"shift2\r\n7 parts\r\nend"
+
+
+def test_append_to_a_missing_file_is_an_error_and_opens_nothing() -> None:
+    rig = Rig()
+    rig.load("P", 'OPEN #43 AS "NOFILE" FOR APPEND\nPRINT "not here"')
+    rig.command('RUN "P"')
+    assert b"Program not found" in rig.cycles(3)
+    assert rig.command('?IS_PROG "NOFILE"') == b"0"

@@ -64,6 +64,7 @@ class Housekeeping:
     constants: dict[str, Value]
     globals: dict[str, int]
     files: dict[int, list[int]]
+    writing: dict[int, tuple[str, str]]  # OPEN ... FOR OUTPUT: channel -> file, partial line
     crc: CrcSetup | None
     defined: dict[str, int]  # "C name" / "G name" -> when it was first defined
 
@@ -154,6 +155,44 @@ class Housekeeping:
                 lines.append(f"{name:<{_NAME_COLUMN}}{shown}")
         for line in lines:
             self.output(line + "\r\n")
+
+    # ---- files written by a program ---------------------------------------------------
+    def open_output(self, channel: int, name: str, append: bool) -> None:
+        """OPEN #n AS "name" FOR OUTPUT[(mode)]: the program of that name, created as a
+        text file (type 3) when missing, else cleared; FOR APPEND: it must exist, and what
+        is printed goes after its lines (help page OPEN). Every mode of OUTPUT writes the
+        store (D: the emulator has one file system, no RAM or SD card apart)."""
+        name = name.upper()
+        if append:
+            name = self.programs.get(name).name
+        elif self.programs.exists(name):
+            name = self.programs.get(name).name
+            self._idle(name)
+            self.programs.clear(name)
+            self.compiled.pop(name, None)
+        else:
+            self.programs.create(name, 3)
+        self.writing[channel] = (name, "")
+
+    def write_file(self, channel: int, text: str) -> bool:
+        """PRINT #n to a file opened for output: each finished line (CR LF or LF) becomes
+        a line of the file at once; the rest waits for its end or CLOSE. False: the
+        channel is no such file (its text goes to the terminal)."""
+        if channel not in self.writing:
+            return False
+        name, pending = self.writing[channel]
+        lines = (pending + text).replace("\r\n", "\n").split("\n")
+        for line in lines[:-1]:
+            self.programs.edit(name, len(self.programs.lines[name]), "R", line)
+        self.writing[channel] = (name, lines[-1])
+        self.compiled.pop(name, None)
+        return True
+
+    def close_file(self, channel: int) -> None:
+        """CLOSE #n: an unfinished last line is written."""
+        name, pending = self.writing.pop(channel, ("", ""))
+        if pending:
+            self.programs.edit(name, len(self.programs.lines[name]), "R", pending)
 
     # ---- TABLE -------------------------------------------------------------------------
     def cmd_tablevalues(self, args: list[Value]) -> None:

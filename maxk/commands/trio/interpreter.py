@@ -166,6 +166,12 @@ class SystemHook(Protocol):
 
     def file_text(self, name: str) -> str: ...
 
+    def open_output(self, channel: int, name: str, append: bool) -> None: ...
+
+    def write_file(self, channel: int, text: str) -> bool: ...
+
+    def close_file(self, channel: int) -> None: ...
+
     def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None: ...
 
     def trigger(self, repeat: bool) -> None: ...
@@ -786,11 +792,15 @@ class Interpreter:
             if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
                 text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
                 files[number] = [ord(c) for c in reversed(text)]
+            elif stmt.mode in ("OUTPUT", "APPEND"):  # PRINT #n writes the file
+                self.hook.open_output(number, name, stmt.mode == "APPEND")
+                files[number] = []
             else:
                 files[number] = []
             return
         if stmt.action == "CLOSE":
             files.pop(number, None)
+            self.hook.close_file(number)
             return
         if number >= FILE_CHANNELS and number not in files:
             raise TrioError("Channel not open")
@@ -890,7 +900,9 @@ class Interpreter:
                 value = self.evaluate(item, ctx)
                 parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
-        self.output("".join(parts) + ("\r\n" if stmt.newline else ""))
+        text = "".join(parts) + ("\r\n" if stmt.newline else "")
+        if stmt.channel is None or not self.hook.write_file(int(channel), text):
+            self.output(text)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
         """A value as a DIMmed variable of that name holds it."""

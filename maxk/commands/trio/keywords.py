@@ -711,13 +711,20 @@ _ENTRIES: list[Keyword] = [
              source=f"{TOK}; public programs",
              note="FOR INPUT reads a program of the store (a .TXT file) as text, its lines "
              "ending CR LF (D: the store is the file system); a missing one is 'Program "
-             "not found'; a channel already open is 'Channel already open' (D). Output "
-             "modes accept and drop what is written (D)."),
+             "not found'; a channel already open is 'Channel already open' (D). FOR "
+             "OUTPUT[(mode)] creates the file (a .TXT program) or clears it, FOR APPEND "
+             "needs it and writes after its lines; PRINT #n writes each finished line to "
+             "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
+             "store, D). FIFO_WRITE accepts and drops what is written (D)."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
                "with no effect (D).")
       for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
+    _command("OUTPUT", "OPEN's OUTPUT[(mode)] channel mode: write a file (see OPEN).",
+             (0, 1), source=f"{HELP} OUTPUT; {HELP} OPEN",
+             note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
+             "with no effect (D)."),
     _command("CLOSE", "CLOSE #n: close a channel.", (0, 0), confidence="I",
              source=f"{TOK}; public programs", note="Closing a channel not open does "
              "nothing (D)."),

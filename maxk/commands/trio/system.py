@@ -63,6 +63,7 @@ class ProgramCommands(Housekeeping):
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
+        self.writing: dict[int, tuple[str, str]] = {}  # OPEN #n FOR OUTPUT: file, rest
         self.command_lines: list[ProcessContext] = []  # each open session's own context
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
