@@ -398,3 +398,29 @@ def test_append_to_a_missing_file_is_an_error_and_opens_nothing() -> None:
     rig.command('RUN "P"')
     assert b"Program not found" in rig.cycles(3)
     assert rig.command('?IS_PROG "NOFILE"') == b"0"
+
+
+# ---- LOADED on the MC405 ----------------------------------------------------------------
+
+def test_loaded_turns_true_on_the_tick_the_held_move_starts() -> None:
+    from maxk.controllers.trio import MC405
+
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=1000: ACCEL=10000: DECEL=10000") == []
+    assert trio.send("MOVE(100): MOVE(50)") == []
+    # the first move: peak speed 1000 reached after 0.1 s at 10000/s^2 covers 50, so a
+    # triangle of 0.1 s up and 0.1 s down ends at 100 on tick 200 (1 ms ticks)
+    trio.advance(ticks=199)
+    assert (trio.query("?LOADED"), trio.machine.dpos(0) < 100) == ("0", True)
+    trio.advance(ticks=1)
+    assert (trio.query("?LOADED"), trio.machine.dpos(0)) == ("-1", 100.0)
+    assert trio.send("LOADED = 1") == ["! Parameter is read only"]
+
+
+def test_is_open_follows_open_and_close() -> None:
+    rig = Rig()
+    rig.load("N", "x", program_type=3)
+    rig.load("P", 'PRINT IS_OPEN #40\nOPEN #40 AS "N" FOR INPUT\nPRINT IS_OPEN #40; '
+             'IS_OPEN #41\nCLOSE #40\nIF FALSE = IS_OPEN #40 THEN PRINT "closed"')
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"0\r\n-10\r\nclosed\r\n"

@@ -464,6 +464,10 @@ class Interpreter:
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
             return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
                 if expr.args else 0.0
+        if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
+            if len(expr.args) != 1:
+                raise TrioError("Syntax error")
+            return _truth(self._channel(expr.args, ctx) in self.hook.files)
         if name in ("DATE$", "TIME$", "DAY$"):
             return self.clock_text(name)
         if name in _CLOCK:
@@ -683,6 +687,9 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
+        if keyword.name == "LOADED":  # no move held behind the one running (its page)
+            return _truth(self._machine(lambda: self.machine.axis_parameter("NTYPE", axis))
+                          == 0)
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
 
     def program_name(self, expr: Param, ctx: ProcessContext) -> str:

@@ -479,6 +479,14 @@ _ENTRIES: list[Keyword] = [
               note=f"8: the channels {word}(0..7) takes (D).")
       for name, what, word in (("N_ANA_IN", "input", "AIN"), ("N_ANA_OUT", "output",
                                                                "AOUT"))],
+    _axis("LOADED", "TRUE when no move is held in the axis's buffer behind the one "
+          "running (NTYPE 0), else FALSE.", writable=False, source=f"{HELP} LOADED",
+          confidence="I", note="Read as NTYPE = 0: the page's 'all moves loaded into the "
+          "MTYPE buffer' (I)."),
+    _function("IS_OPEN", "IS_OPEN #n: TRUE (-1) while channel n is open, else FALSE.",
+              (1, 1), source=f"{HELP} IS_OPEN", confidence="I",
+              note="Open means an OPEN not yet closed; the terminal channels read FALSE "
+              "(D: none is opened by OPEN here)."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",

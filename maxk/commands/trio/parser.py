@@ -1032,9 +1032,9 @@ class _Parser:
             return Call(tok.text, ())
         if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
             return Call("FILE", self.file_args())
-        if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
+        if tok.text in ("KEY", "IS_OPEN") and self.at_op("#"):  # KEY #n, IS_OPEN #n
             self.advance()
-            return Call("KEY", (self.unary(),))
+            return Call(tok.text, (self.unary(),))
         if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
