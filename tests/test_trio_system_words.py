@@ -424,3 +424,15 @@ def test_is_open_follows_open_and_close() -> None:
              'IS_OPEN #41\nCLOSE #40\nIF FALSE = IS_OPEN #40 THEN PRINT "closed"')
     rig.command('RUN "P"')
     assert rig.cycles(5) == b"0\r\n-10\r\nclosed\r\n"
+
+
+def test_demand_edges_is_dpos_in_encoder_edges_at_each_tick() -> None:
+    from maxk.controllers.trio import MC405
+
+    trio = MC405()
+    assert trio.send("UNITS=400: SPEED=10: ACCEL=100: DECEL=100: MOVE(2.5)") == []
+    trio.advance(ticks=100)  # 0.1 s into the ramp at 100 units/s^2: 0.5 units
+    assert trio.query("?DEMAND_EDGES") == str(round(0.5 * 100 * 0.1 ** 2 * 400))
+    trio.advance(ticks=2000)  # long done: 2.5 units of 400 edges
+    assert trio.query("?DEMAND_EDGES AXIS(0)") == "1000"
+    assert trio.send("DEMAND_EDGES = 5") == ["! Parameter is read only"]

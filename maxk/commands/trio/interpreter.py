@@ -687,6 +687,9 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
+        if keyword.name == "DEMAND_EDGES":  # DPOS in encoder edges (its page)
+            return self._machine(lambda: self.machine.axis_parameter("DPOS", axis)
+                                 * self.machine.axis_parameter("UNITS", axis))
         if keyword.name == "LOADED":  # no move held behind the one running (its page)
             return _truth(self._machine(lambda: self.machine.axis_parameter("NTYPE", axis))
                           == 0)

@@ -487,6 +487,9 @@ _ENTRIES: list[Keyword] = [
               (1, 1), source=f"{HELP} IS_OPEN", confidence="I",
               note="Open means an OPEN not yet closed; the terminal channels read FALSE "
               "(D: none is opened by OPEN here)."),
+    _axis("DEMAND_EDGES", "The demand position DPOS in encoder edges (DPOS x UNITS).",
+          writable=False, source=f"{HELP} DEMAND_EDGES", confidence="I",
+          note="DPOS x UNITS, unrounded (D: the page does not say whether it rounds)."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",
@@ -1073,10 +1076,69 @@ _FIRMWARE = ("FLASH", "EPROM", "FPGA_", "BOOT_LOADER", "LOADSYSTEM", "LOAD_PROJE
              "TRIOPCTEST", "PENDANT", "USER_PID", "CUSTOM_FUNC", "FUNCTION_LIST", "EXEC")
 
 
+_SERIAL = "the emulator has no serial port or multi-drop bus, only the telnet command line"
+_MP = "a Motion Perfect transfer word whose binary reply format the pages do not give"
+_MAP = "an I/O map of expansion modules, CAN or drive I/O, which the emulated MC405 has none of"
+# Why the I/O, channel, program and system words left unmodelled have no effect to show
+# (issue 35e; each from the word's TrioBASIC help page).
+_SYSTEM_WHY = {
+    "PRMBLK": _MP, "LOOKUP": _MP, "AXISVALUES": _MP, "EDPROG1": _MP,
+    "VIEW": "it shows the compiled object code, which the emulator does not produce",
+    "STORE": "it loads firmware (help page STORE)",
+    "CHANNEL_READ": _SERIAL + " (its delimiter, escape and CRC framing is for those)",
+    "CHANNEL_WRITE": _SERIAL, "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
+    "INDEVICE": "the emulator has one terminal: every channel's input is the command "
+                "line's, so the default channel changes nothing",
+    "OUTDEVICE": "the emulator has one terminal: every channel's PRINT reaches the "
+                 "command-line hosts, so the default channel changes nothing",
+    "SETLINE": "moving a process's program pointer is a debugger's word (Motion Perfect)",
+    "IO_STATUS": "it reads a remote EtherCAT I/O device's status; there is no EtherCAT",
+    "IO_STATUSMASK": "it masks a remote EtherCAT I/O device's status; there is no EtherCAT",
+    "IOMAP": _MAP, "DRIVEIO_BASE": _MAP, "INTERNALIO_BASE": _MAP, "MODULEIO_BASE": _MAP,
+    "MODULE_IO_MODE": _MAP, "AXIS_OFFSET": "it places a module slot's axes; the MC405's "
+                                          "axes are fixed here",
+    "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
+    "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
+    "CLEAR_PARAMS": "it resets flash parameters that take effect after a power cycle",
+    "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
+    "SCOPE_CYCLE_COUNT": "SCOPE's capture cycles are not counted (SCOPE_POS is modelled)",
+    "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
+    "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
+    "SEEK": "an open file's read position is not kept (its characters are read in order)",
+    "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
+    "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
+                           "text file of the store",
+    "SYSTEM_ERROR_MASK": "SYSTEM_ERROR is always 0 here (no fault it could mask)",
+    "SCHEDULE_TYPE": "the emulator's process scheduling is fixed (one pass a servo cycle, "
+                     "see tasks.py)",
+    "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
+    "LAST_AXIS": "every axis of the emulated MC405 is always processed",
+    "INITIALISE": "resetting every axis parameter of a live machine at once is not "
+                  "supported by the shared machine",
+    "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
+    "AXIS_DISPLAY": "no function on the MC4xx (help page)",
+    "AXIS_DEBUG_A": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_B": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_C": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_D": "reserved for Trio's own analysis (help page)",
+    "AXIS_A_OUTPUT": "a reserved keyword (help page)", "AXIS_B_OUTPUT": "a reserved keyword",
+    "AXIS_D_OUTPUT": "a reserved keyword",
+    "AXIS_Z_OUTPUT": "the Z pins' line driver as an output: no pins in the world",
+    "POS_DELAY": "a digital drive network's delay on HW_PSWITCH: no drive network",
+    "AXESDIFF": "it configures an ATYPE 85 monitoring axis, which is not modelled",
+    "COORDINATOR_DATA": "special firmware features (help page: ask Trio)",
+    "MPE_MODE": "the Motion Perfect channel protocol is not modelled (MPE is 0)",
+    "GTA": "no help page found", "GTAMAP": "no help page found",
+    "INT_BASE": "no help page found",
+}
+
+
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
     firmware, files, memory and debugging, has no effect an emulated machine shows; any
     other word is simply not modelled yet."""
+    if name in _SYSTEM_WHY:
+        return _SYSTEM_WHY[name] + " (D)"
     if name.startswith(_FIELDBUS):
         return ("a fieldbus, network or drive-bus word: the emulator has no bus or remote "
                 "drive, so nothing it shows depends on it (D)")
