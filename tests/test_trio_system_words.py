@@ -436,3 +436,87 @@ def test_demand_edges_is_dpos_in_encoder_edges_at_each_tick() -> None:
     trio.advance(ticks=2000)  # long done: 2.5 units of 400 edges
     assert trio.query("?DEMAND_EDGES AXIS(0)") == "1000"
     assert trio.send("DEMAND_EDGES = 5") == ["! Parameter is read only"]
+
+
+def test_seek_moves_where_the_next_read_starts() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        "DIM s AS STRING(40)",
+        'OPEN #40 AS "MY_FILE" FOR OUTPUT(1)',
+        'PRINT #40, "Trio Motion Technology MC range"', "CLOSE #40",
+        'OPEN #40 AS "MY_FILE" FOR INPUT',
+        "SEEK #40, 0, 23", "LINPUT #40, s", "PRINT s",  # 23 characters in: the M of MC
+        "SEEK #40, 0, 5", "GET #40, c", "SEEK #40, 1, 1", "GET #40, d",
+        "PRINT CHR(c); CHR(d)",  # M of Motion, then one skipped: t
+        "SEEK #40, 1, 1000"]))
+    rig.command('RUN "P"')
+    out = rig.cycles(10).decode()
+    assert out.startswith("MC range\r\nMt\r\n")
+    assert "Parameter out of range" in out
+
+
+# ---- CHANNEL_WRITE, CHANNEL_READ ------------------------------------------------------
+
+def test_channel_write_then_read_a_string_as_the_page_example_1() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        "DIM output_string AS STRING(10)", "DIM input_string AS STRING(10)",
+        'output_string = "0123456789"', 'OPEN #40 AS "test.txt" FOR OUTPUT(1)',
+        "n = CHANNEL_WRITE(40, output_string)", "CLOSE #40",
+        'OPEN #41 AS "test.txt" FOR INPUT', "CHANNEL_READ(41, input_string)",
+        "PRINT #5, input_string; \" \"; n", "CLOSE #41"]))
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"0123456789 10\r\n"
+    assert rig.command('LIST "TEST"') == b"0123456789"
+
+
+def test_channel_write_from_vrs_and_an_integer_array() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        "DIM buf AS INTEGER(3)", "buf(0) = 84", "buf(1) = 82", "buf(2) = 73",
+        'OPEN #40 AS "ram:out" FOR OUTPUT(1)', "CHANNEL_WRITE(40, buf, 3)",
+        "VR(100) = 79", "VR(101) = 10", "CHANNEL_WRITE(40, 100, 2)", "CLOSE #40",
+        'CHANNEL_WRITE(0, "to the terminal", 6)']))
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"to the"
+    assert rig.command('LIST "OUT"') == b"TRIO"
+
+
+def test_channel_read_into_vrs_stops_at_each_delimiter() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        'OPEN #40 AS "ram:test" FOR OUTPUT(1)', "FOR i = 9 TO 11", "  PRINT #40, i",
+        "NEXT i", "CLOSE #40", "VR(10) = 13", "VR(11) = 10",
+        'OPEN #40 AS "ram:test" FOR INPUT', "REPEAT",
+        "  c = CHANNEL_READ(40, 100, 100, 10, 2)",
+        "  PRINT c[0]; \" \"; VR(100)[0]; \" \"; VRSTRING(101)", "UNTIL NOT KEY #40",
+        "CLOSE #40"]))
+    rig.command('RUN "P"')
+    # each line: its digits up to the CR (reason 1), then the LF alone (reason 2)
+    assert rig.cycles(40).decode().split("\r\n") == [
+        "1 1 9", "0 2 ", "2 1 10", "0 2 ", "2 1 11", "0 2 ", ""]
+
+
+def test_channel_read_string_form_escape_and_crc() -> None:
+    rig = Rig()
+    rig.load("SRC", "ab\\,c,def", program_type=3)
+    rig.load("P", "\n".join([
+        "DIM b AS STRING(20)", "CRC16(0, $8005)", 'OPEN #40 AS "SRC" FOR INPUT',
+        's = CHANNEL_READ(40, b, ",;", 92, 7)', 'PRINT s; " "; b; " "; VR(7)',
+        "CLOSE #40"]))
+    rig.command('RUN "P"')
+    crc = 0  # CRC-16 (poly $8005, MSB first, init 0) of "ab,c" worked by hand below
+    for byte in b"ab,c":
+        for k in range(7, -1, -1):
+            feedback = ((crc >> 15) & 1) ^ ((byte >> k) & 1)
+            crc = (crc << 1) & 0xFFFF
+            if feedback:
+                crc ^= 0x8005
+    assert rig.cycles(5).decode() == f"-1 ab,c {crc}\r\n"
+
+
+def test_channel_words_on_a_closed_file_channel() -> None:
+    rig = Rig()
+    for bad in ('?CHANNEL_WRITE(40, "x")', "?CHANNEL_READ(41, 100, 10)"):
+        with pytest.raises(AtrioError, match="Channel not open"):
+            rig.command(bad)

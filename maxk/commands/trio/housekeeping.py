@@ -38,6 +38,19 @@ _NAME_COLUMN = 33  # LIST_GLOBAL's name column (help page's layout)
 _V = TypeVar("_V")
 
 
+def file_name(name: str) -> str:
+    """The program of the store an OPEN names: a location prefix (RAM:, SD:, USB1:, FLASH:)
+    and a .TXT or .BAS extension are dropped (D: the store is the one file system and its
+    names carry no extension), so the pages' "ram:test.txt" is TEST."""
+    name = name.upper()
+    if ":" in name and name.split(":", 1)[0] in ("RAM", "SD", "USB1", "USB2", "FLASH"):
+        name = name.split(":", 1)[1]
+    for extension in (".TXT", ".BAS"):
+        if name.endswith(extension):
+            name = name[:-len(extension)]
+    return name
+
+
 class Definitions(dict[str, _V]):
     """The GLOBAL (or CONSTANT) names: a dict that numbers each name the first time it is
     defined, in one count shared by both kinds (LIST_GLOBAL's order and offsets)."""
@@ -64,6 +77,7 @@ class Housekeeping:
     constants: dict[str, Value]
     globals: dict[str, int]
     files: dict[int, list[int]]
+    sources: dict[int, list[int]]  # OPEN ... FOR INPUT: every character, last first
     writing: dict[int, tuple[str, str]]  # OPEN ... FOR OUTPUT: channel -> file, partial line
     crc: CrcSetup | None
     defined: dict[str, int]  # "C name" / "G name" -> when it was first defined
@@ -162,7 +176,7 @@ class Housekeeping:
         text file (type 3) when missing, else cleared; FOR APPEND: it must exist, and what
         is printed goes after its lines (help page OPEN). Every mode of OUTPUT writes the
         store (D: the emulator has one file system, no RAM or SD card apart)."""
-        name = name.upper()
+        name = file_name(name)
         if append:
             name = self.programs.get(name).name
         elif self.programs.exists(name):
@@ -193,6 +207,19 @@ class Housekeeping:
         name, pending = self.writing.pop(channel, ("", ""))
         if pending:
             self.programs.edit(name, len(self.programs.lines[name]), "R", pending)
+
+    def cmd_seek(self, args: list[Value]) -> None:
+        """SEEK #n, from, position: the next character read is `position` bytes from the
+        start (from 0) or from where reading is (from 1) of a file open FOR INPUT (help
+        page SEEK). Outside the file: 'Parameter out of range' (D), nothing moves."""
+        channel, origin, offset = (_whole(a) for a in args)
+        if channel not in self.sources:
+            raise TrioError("Channel not open")
+        whole, waiting = self.sources[channel], self.files[channel]
+        at = (len(whole) - len(waiting) if origin == 1 else 0) + offset
+        if origin not in (0, 1) or not 0 <= at <= len(whole):
+            raise TrioError("Parameter out of range")
+        waiting[:] = whole[:len(whole) - at]
 
     # ---- TABLE -------------------------------------------------------------------------
     def cmd_tablevalues(self, args: list[Value]) -> None:

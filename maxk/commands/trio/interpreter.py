@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ...personalities.trio.memory import VR_COUNT
-from .datawords import value_of, words_of
+from .datawords import CrcSetup, value_of, words_of
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -162,6 +162,8 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    sources: dict[int, list[int]]  # ... and every character of the file (SEEK)
+    crc: CrcSetup | None  # CRC16(0, ...)'s set-up (CRC16, CHANNEL_READ's crc)
     clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
 
     def file_text(self, name: str) -> str: ...
@@ -464,6 +466,11 @@ class Interpreter:
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
             return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
                 if expr.args else 0.0
+        if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
+            from .channelwords import channel_read, channel_write
+
+            return (channel_read if name == "CHANNEL_READ" else channel_write)(
+                self, expr.args, ctx)
         if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
             if len(expr.args) != 1:
                 raise TrioError("Syntax error")
@@ -802,6 +809,7 @@ class Interpreter:
             if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
                 text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
                 files[number] = [ord(c) for c in reversed(text)]
+                self.hook.sources[number] = files[number][:]  # what SEEK goes back to
             elif stmt.mode in ("OUTPUT", "APPEND"):  # PRINT #n writes the file
                 self.hook.open_output(number, name, stmt.mode == "APPEND")
                 files[number] = []
@@ -810,6 +818,7 @@ class Interpreter:
             return
         if stmt.action == "CLOSE":
             files.pop(number, None)
+            self.hook.sources.pop(number, None)
             self.hook.close_file(number)
             return
         if number >= FILE_CHANNELS and number not in files:
@@ -1046,6 +1055,9 @@ class Interpreter:
             return
         if name in ("INTEGER_READ", "INTEGER_WRITE"):
             self.raw_bits(stmt, ctx)
+            return
+        if name in ("CHANNEL_READ", "CHANNEL_WRITE"):
+            self.call(Call(name, stmt.args), ctx)
             return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]

@@ -490,6 +490,28 @@ _ENTRIES: list[Keyword] = [
     _axis("DEMAND_EDGES", "The demand position DPOS in encoder edges (DPOS x UNITS).",
           writable=False, source=f"{HELP} DEMAND_EDGES", confidence="I",
           note="DPOS x UNITS, unrounded (D: the page does not say whether it rounds)."),
+    _command("SEEK", "SEEK #n, from, position: where the next read of a file starts.",
+             (3, 3), source=f"{HELP} SEEK", confidence="I",
+             note="From 0: position characters from the start (0 is the first, D: the "
+             "page's example counts one less); from 1: from where reading is. A file open "
+             "FOR INPUT only ('Channel not open' else, D); outside the file 'Parameter out "
+             "of range' (D)."),
+    _command("CHANNEL_WRITE", "CHANNEL_WRITE(channel, buffer[, count]): write a string, "
+             "VRs or an INTEGER array's bytes to a channel; returns the count.", (2, 3),
+             source=f"{HELP} CHANNEL_WRITE", confidence="I",
+             note="To a file open FOR OUTPUT, or a terminal channel (0..19: the "
+             "command-line hosts, D); a file open for reading is 'Parameter out of "
+             "range' (D). Each value's low 8 bits (D); at most 4096 (D)."),
+    _command("CHANNEL_READ", "CHANNEL_READ(channel, buffer[, delimiters[, escape[, "
+             "crc]]]): read a channel's characters into VRs or a STRING.", (2, 7),
+             source=f"{HELP} CHANNEL_READ", confidence="I",
+             note="Stops when full, empty or at a delimiter (taken, not stored, I). VR "
+             "form: VR(base) why it stopped (0, k-th delimiter), the characters from "
+             "VR(base + 1) and a 0, at most size - 2 (D), returns the count; STRING form: "
+             "returns -k for the k-th delimiter, else 0. The escape character is not "
+             "stored (D). crc: CRC16 mode 2 with CRC16(0, ...)'s set-up, 0 without (D). "
+             "Terminal channels have nothing to read in a program (D). Files' names drop "
+             "a RAM:/SD: prefix and a .TXT extension (D)."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",
@@ -1085,8 +1107,7 @@ _SYSTEM_WHY = {
     "PRMBLK": _MP, "LOOKUP": _MP, "AXISVALUES": _MP, "EDPROG1": _MP,
     "VIEW": "it shows the compiled object code, which the emulator does not produce",
     "STORE": "it loads firmware (help page STORE)",
-    "CHANNEL_READ": _SERIAL + " (its delimiter, escape and CRC framing is for those)",
-    "CHANNEL_WRITE": _SERIAL, "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
+    "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
     "INDEVICE": "the emulator has one terminal: every channel's input is the command "
                 "line's, so the default channel changes nothing",
     "OUTDEVICE": "the emulator has one terminal: every channel's PRINT reaches the "
@@ -1104,7 +1125,6 @@ _SYSTEM_WHY = {
     "SCOPE_CYCLE_COUNT": "SCOPE's capture cycles are not counted (SCOPE_POS is modelled)",
     "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
     "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
-    "SEEK": "an open file's read position is not kept (its characters are read in order)",
     "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
     "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
                            "text file of the store",

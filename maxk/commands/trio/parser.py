@@ -845,6 +845,8 @@ class _Parser:
         args: list[Expr] = []
         if keyword.name in ("COPY", "RENAME"):
             return Command(keyword, self.two_program_names(), None)
+        if keyword.name == "SEEK" and self.at_op("#"):  # SEEK #n, from, position
+            self.advance()
         if keyword.string_arg and self.bare_program_name():
             args.append(Str(self.advance().text))  # SELECT MC_CONFIG: a name unquoted
             while self.at_op(","):

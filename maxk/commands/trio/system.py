@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from ...personalities.trio.memory import TABLE_SIZE
 from .datawords import CrcSetup
-from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping
+from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
@@ -64,6 +64,7 @@ class ProgramCommands(Housekeeping):
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.writing: dict[int, tuple[str, str]] = {}  # OPEN #n FOR OUTPUT: file, rest
+        self.sources: dict[int, list[int]] = {}  # OPEN #n FOR INPUT: the whole file
         self.command_lines: list[ProcessContext] = []  # each open session's own context
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
@@ -120,7 +121,7 @@ class ProgramCommands(Housekeeping):
     def file_text(self, name: str) -> str:
         """OPEN #n AS "NAME" FOR INPUT: the text of a program of the store, its lines
         ending in CR LF (D: the store is the controller's file system)."""
-        info = self.programs.get(name.upper())
+        info = self.programs.get(file_name(name))
         return "".join(line + "\r\n" for line in self.programs.lines[info.name])
 
     def system_function(self, name: str, args: list[Value]) -> float:
