@@ -14,6 +14,7 @@ from collections.abc import Callable
 from typing import TypeVar
 
 from ...personalities.trio.memory import TABLE_SIZE, VR_COUNT
+from .channelwords import channel_read, channel_write
 from .datawords import (
     CrcSetup,
     crc_direct,
@@ -25,9 +26,10 @@ from .datawords import (
     read_number,
     table_values,
 )
-from .interpreter import FILE_CHANNELS, ProcessContext, Value
+from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value
 from .lexer import TrioError
 from .machine import TrioMachine
+from .parser import Expr
 from .programs import ProgramStore
 from .tasks import Step, Task
 
@@ -169,6 +171,12 @@ class Housekeeping:
                 lines.append(f"{name:<{_NAME_COLUMN}}{shown}")
         for line in lines:
             self.output(line + "\r\n")
+
+    def channel_word(self, name: str, args: tuple[Expr, ...], ctx: ProcessContext,
+                     interp: Interpreter) -> float:
+        """CHANNEL_READ / CHANNEL_WRITE (channelwords.py): their buffers go by reference."""
+        word = channel_read if name == "CHANNEL_READ" else channel_write
+        return word(interp, args, ctx)
 
     # ---- files written by a program ---------------------------------------------------
     def open_output(self, channel: int, name: str, append: bool) -> None:

@@ -170,6 +170,9 @@ class SystemHook(Protocol):
 
     def open_output(self, channel: int, name: str, append: bool) -> None: ...
 
+    def channel_word(self, name: str, args: tuple[Expr, ...], ctx: ProcessContext,
+                     interp: Interpreter) -> float: ...
+
     def write_file(self, channel: int, text: str) -> bool: ...
 
     def close_file(self, channel: int) -> None: ...
@@ -467,10 +470,7 @@ class Interpreter:
             return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
                 if expr.args else 0.0
         if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
-            from .channelwords import channel_read, channel_write
-
-            return (channel_read if name == "CHANNEL_READ" else channel_write)(
-                self, expr.args, ctx)
+            return self.hook.channel_word(name, expr.args, ctx, self)
         if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
             if len(expr.args) != 1:
                 raise TrioError("Syntax error")
