@@ -520,3 +520,29 @@ def test_channel_words_on_a_closed_file_channel() -> None:
     for bad in ('?CHANNEL_WRITE(40, "x")', "?CHANNEL_READ(41, 100, 10)"):
         with pytest.raises(AtrioError, match="Channel not open"):
             rig.command(bad)
+
+
+def test_channel_write_page_example_2_text_stored_in_vrs() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        'OPEN #40 AS "sd:test.txt" FOR OUTPUT(1)',
+        'VR(100) = "Brevity is the soul of wit."', "CHANNEL_WRITE(#40, 100, 27)",
+        "CLOSE #40", 'OPEN #41 AS "sd:test.txt" FOR INPUT',
+        "n = CHANNEL_READ(41, 500, 42)", "PRINT #5, VRSTRING(501); \"|\"; n; VR(500)",
+        "CLOSE #41"]))
+    rig.command('RUN "P"')
+    # 27 characters, then the file's CR LF line end: read on to the end (reason 0)
+    assert rig.cycles(5) == b"Brevity is the soul of wit.|290\r\n"
+    assert rig.command("?VR(100); \" \"; VR(126); \" \"; VR(127)") == b"66 46 0"
+
+
+def test_channel_read_string_buffer_with_delimiters_in_vrs() -> None:
+    rig = Rig()
+    rig.load("SRC", "12\n34", program_type=3)
+    rig.load("P", "\n".join([
+        "DIM b AS STRING(100)", "VR(10) = 13", "VR(11) = 10",
+        'OPEN #40 AS "SRC" FOR INPUT', "s = CHANNEL_READ(40, b, 10, 2)",
+        "t = CHANNEL_READ(40, b, 10, 2)", "u = CHANNEL_READ(40, b, 10, 2)",
+        'PRINT s; t; " "; b; u', "CLOSE #40"]))
+    rig.command('RUN "P"')
+    assert rig.cycles(5) == b"-1-2 34-1\r\n"

@@ -36,6 +36,15 @@ def _string_capacity(interp: Interpreter, expr: Expr, ctx: ProcessContext) -> in
     return None
 
 
+def _vr_delimiters(interp: Interpreter, base: Expr, count: Expr,
+                   ctx: ProcessContext) -> list[int]:
+    first, number = interp.integer(base, ctx), interp.integer(count, ctx)
+    if not 0 <= number <= 256:
+        raise TrioError("Parameter out of range")
+    _vr_index(first, number)
+    return [int(interp.machine.vr_read(first + k)) for k in range(number)]
+
+
 def channel_write(interp: Interpreter, args: tuple[Expr, ...], ctx: ProcessContext) -> float:
     """CHANNEL_WRITE(channel, buffer[, count]): a string's characters (its first count),
     or count values from VR(buffer) on or from an INTEGER array, each its low 8 bits
@@ -94,13 +103,15 @@ def channel_read(interp: Interpreter, args: tuple[Expr, ...], ctx: ProcessContex
     capacity = _string_capacity(interp, args[1], ctx)
     rest: tuple[Expr, ...]
     if capacity is not None:
-        if len(args) > 5:
+        given = interp.evaluate(args[2], ctx) if len(args) > 2 else ""
+        if isinstance(given, str):
+            delimiters, rest = [ord(c) for c in given], args[3:]
+        else:  # the delimiters in VRs: base and count (the page's example 3)
+            if len(args) < 4:
+                raise TrioError("Syntax error")
+            delimiters, rest = _vr_delimiters(interp, args[2], args[3], ctx), args[4:]
+        if len(rest) > 2:
             raise TrioError("Syntax error")
-        delimiters_text = interp.evaluate(args[2], ctx) if len(args) > 2 else ""
-        if not isinstance(delimiters_text, str):
-            raise TrioError("Type mismatch")
-        delimiters = [ord(c) for c in delimiters_text]
-        rest = args[3:]
         size = capacity
     else:
         if len(args) not in (3, 5, 6, 7):
@@ -109,13 +120,7 @@ def channel_read(interp: Interpreter, args: tuple[Expr, ...], ctx: ProcessContex
         if not 2 <= size <= CHANNEL_BYTES:
             raise TrioError("Parameter out of range")
         _vr_index(base, size)
-        delimiters = []
-        if len(args) > 3:
-            dbase, dcount = interp.integer(args[3], ctx), interp.integer(args[4], ctx)
-            if not 0 <= dcount <= 256:
-                raise TrioError("Parameter out of range")
-            first = _vr_index(dbase, dcount)
-            delimiters = [int(interp.machine.vr_read(first + k)) for k in range(dcount)]
+        delimiters = _vr_delimiters(interp, args[3], args[4], ctx) if len(args) > 3 else []
         rest = args[5:]
         size -= 2
     escape = interp.integer(rest[0], ctx) if rest else None

@@ -539,6 +539,14 @@ class Interpreter:
                 out.append(chr(code))
         return "".join(out)
 
+    def vr_text(self, first: int, text: str) -> None:
+        """VR(n) = "text": one character a VR from VR(n), then a 0, as VRSTRING reads it
+        back (I: CHANNEL_WRITE's page example 2 stores its text so). All or nothing."""
+        if first + len(text) >= VR_COUNT:
+            raise TrioError("Parameter out of range")
+        for k, char in enumerate(text + "\0"):
+            self.machine.vr_write(first + k, float(ord(char)))
+
     def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
         """A FUNCTION's argument: a DIM array named alone goes by reference (the
         function's ``AS INTEGER()`` parameter), anything else by value."""
@@ -979,6 +987,9 @@ class Interpreter:
             if not -2048 <= value <= 2047:
                 raise TrioError("Parameter out of range")
             self.hook.analog_outputs[channel] = value
+            return
+        if isinstance(target, Call) and target.name == "VR" and isinstance(raw, str):
+            self.vr_text(self._index(self.number(target.args[0], ctx)), raw)
             return
         if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
             raise TrioError("Parameter is read only")

@@ -511,7 +511,8 @@ _ENTRIES: list[Keyword] = [
              "returns -k for the k-th delimiter, else 0. The escape character is not "
              "stored (D). crc: CRC16 mode 2 with CRC16(0, ...)'s set-up, 0 without (D). "
              "Terminal channels have nothing to read in a program (D). Files' names drop "
-             "a RAM:/SD: prefix and a .TXT extension (D)."),
+             "a RAM:/SD: prefix and a .TXT extension (D). The channel may be written #n; "
+             "a STRING buffer's delimiters may be a string or a VR base and count (page)."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",
@@ -523,7 +524,8 @@ _ENTRIES: list[Keyword] = [
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
               source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
-              "programs clear VR 0..65535)."),
+              "programs clear VR 0..65535). VR(n) = \"text\" stores one character a VR "
+              "and a 0 after, as VRSTRING reads back (I: CHANNEL_WRITE's page example)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),

@@ -23,6 +23,9 @@ from .lexer import Tok, Token, TrioError, tokenize
 # ---- expressions ---------------------------------------------------------------------
 
 
+_CHANNEL_FIRST = frozenset({"CHANNEL_READ", "CHANNEL_WRITE"})  # (#n, ...) or (n, ...)
+
+
 @dataclass(frozen=True)
 class Num:
     value: float
@@ -854,6 +857,8 @@ class _Parser:
                 args.append(self.expression())
         elif self.at_op("("):
             self.advance()
+            if keyword.name in _CHANNEL_FIRST and self.at_op("#"):
+                self.advance()
             if not self.at_op(")"):
                 args.append(self.expression())
                 while self.at_op(","):
@@ -1087,6 +1092,8 @@ class _Parser:
             raise TrioError("Syntax error")
         self.advance()
         args: list[Expr] = []
+        if keyword.name in _CHANNEL_FIRST and self.at_op("#"):
+            self.advance()  # CHANNEL_WRITE(#25, ...): the channel may carry its #
         if not self.at_op(")"):
             args.append(self.expression())
             while self.at_op(","):
