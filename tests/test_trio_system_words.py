@@ -546,3 +546,22 @@ def test_channel_read_string_buffer_with_delimiters_in_vrs() -> None:
         'PRINT s; t; " "; b; u', "CLOSE #40"]))
     rig.command('RUN "P"')
     assert rig.cycles(5) == b"-1-2 34-1\r\n"
+
+
+# ---- OUTDEVICE, INDEVICE ---------------------------------------------------------------
+
+def test_outdevice_and_indevice_redirect_print_and_reads_of_this_process() -> None:
+    rig = Rig()
+    rig.load("P", "\n".join([
+        'OPEN #40 AS "LOG" FOR OUTPUT', "OUTDEVICE = 40", 'PRINT "into the file"',
+        "PRINT OUTDEVICE", "OUTDEVICE = 0", "CLOSE #40", 'PRINT "terminal"',
+        'OPEN #41 AS "LOG" FOR INPUT', "INDEVICE = 41", "LINPUT s", "PRINT KEY",
+        "GET c", "PRINT c; INDEVICE", "CLOSE #41"]))
+    rig.command('RUN "P"')
+    # the file's first line is read whole; its second starts with "4" (code 52)
+    assert rig.cycles(10) == b"terminal\r\n-1\r\n5241\r\n"
+    assert rig.command('LIST "LOG"') == b"into the file\r\n40"
+    assert rig.command("?OUTDEVICE") == b"0"  # the command line's own, untouched
+    for bad in ("OUTDEVICE = 256", "INDEVICE = 1.5"):
+        with pytest.raises(AtrioError, match="Parameter out of range"):
+            rig.command(bad)

@@ -139,6 +139,8 @@ class ProcessContext:
     memory: dict[str, int] = field(default_factory=dict)  # bytes each name holds
     held: int = 0  # their sum (PROGRAM_MEMORY)
     rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
+    outdevice: int = 0  # OUTDEVICE: where PRINT with no #channel goes
+    indevice: int = 0  # INDEVICE: where GET, INPUT, LINPUT and KEY with no #channel read
 
 
 class SystemHook(Protocol):
@@ -212,7 +214,7 @@ def _truth(value: bool) -> float:
 
 
 PROCESS_PARAMETERS = frozenset({"RUN_ERROR", "ERROR_LINE", "TICKS", "PROCNUMBER",
-                                "PROC_LINE", "PROC_STATUS"})
+                                "PROC_LINE", "PROC_STATUS", "OUTDEVICE", "INDEVICE"})
 
 
 def _text(value: Value) -> str:
@@ -467,8 +469,8 @@ class Interpreter:
             array, index = self._element(name, expr.args, ctx)
             return array[index]
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
-            return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
-                if expr.args else 0.0
+            channel = self._channel(expr.args, ctx) if expr.args else ctx.indevice
+            return _truth(bool(self.hook.files.get(channel)))
         if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
             return self.hook.channel_word(name, expr.args, ctx, self)
         if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
@@ -742,6 +744,8 @@ class Interpreter:
             return value - (self.machine.servo_tick() - since)
         if name == "PROCNUMBER":
             return float(ctx.process)
+        if name in ("OUTDEVICE", "INDEVICE"):
+            return float(ctx.outdevice if name == "OUTDEVICE" else ctx.indevice)
         if name == "PROC_LINE":
             return float(ctx.line)
         return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
@@ -806,7 +810,7 @@ class Interpreter:
         INPUT is read a character at a time; the terminal channels (none opened) never
         receive a character while a program runs, so GET/INPUT on them wait (D)."""
         files = self.hook.files
-        number = 0 if stmt.channel is None else self._channel((stmt.channel,), ctx)
+        number = ctx.indevice if stmt.channel is None else self._channel((stmt.channel,), ctx)
         if stmt.action == "OPEN":
             assert stmt.name is not None
             name = self.evaluate(stmt.name, ctx)
@@ -914,6 +918,7 @@ class Interpreter:
     def print(self, stmt: Print, ctx: ProcessContext) -> None:
         """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
         emulator has one terminal; channel numbers are checked, 0..255)."""
+        channel = float(ctx.outdevice)  # OUTDEVICE when no #channel is given (its page)
         if stmt.channel is not None:
             channel = self.number(stmt.channel, ctx)
             if channel != int(channel) or not 0 <= channel <= 255:
@@ -928,7 +933,7 @@ class Interpreter:
                 parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
         text = "".join(parts) + ("\r\n" if stmt.newline else "")
-        if stmt.channel is None or not self.hook.write_file(int(channel), text):
+        if not self.hook.write_file(int(channel), text):
             self.output(text)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
@@ -1000,6 +1005,15 @@ class Interpreter:
         value = self.number_value(raw)
         if isinstance(target, Param) and target.keyword.name == "TICKS":
             ctx.ticks = (value, self.machine.servo_tick())
+            return
+        if isinstance(target, Param) and target.keyword.name in ("OUTDEVICE", "INDEVICE"):
+            target.keyword.check(value)  # 0..255, whole (D)
+            if value != int(value):
+                raise TrioError("Parameter out of range")
+            if target.keyword.name == "OUTDEVICE":
+                ctx.outdevice = int(value)
+            else:
+                ctx.indevice = int(value)
             return
         if isinstance(target, Call):  # VR(i) = value
             index = self._index(self.number(target.args[0], ctx))

@@ -513,6 +513,16 @@ _ENTRIES: list[Keyword] = [
              "Terminal channels have nothing to read in a program (D). Files' names drop "
              "a RAM:/SD: prefix and a .TXT extension (D). The channel may be written #n; "
              "a STRING buffer's delimiters may be a string or a VR base and count (page)."),
+    _system("OUTDEVICE", "OUTDEVICE = n: the channel PRINT with no #channel writes to, "
+            "this process only.", value_range=(0, 255), source=f"{HELP} OUTDEVICE",
+            confidence="I",
+            note="A process's own (starts 0). A file open FOR OUTPUT on that channel takes "
+            "the text; every other channel reaches the command-line hosts (D: one "
+            "terminal). DIR and the like are not redirected (D)."),
+    _system("INDEVICE", "INDEVICE = n: the channel GET, INPUT, LINPUT and KEY with no "
+            "#channel read, this process only.", value_range=(0, 255),
+            source=f"{HELP} INDEVICE", confidence="I",
+            note="A process's own (starts 0): a file open FOR INPUT on it is read."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",
@@ -1110,10 +1120,6 @@ _SYSTEM_WHY = {
     "VIEW": "it shows the compiled object code, which the emulator does not produce",
     "STORE": "it loads firmware (help page STORE)",
     "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
-    "INDEVICE": "the emulator has one terminal: every channel's input is the command "
-                "line's, so the default channel changes nothing",
-    "OUTDEVICE": "the emulator has one terminal: every channel's PRINT reaches the "
-                 "command-line hosts, so the default channel changes nothing",
     "SETLINE": "moving a process's program pointer is a debugger's word (Motion Perfect)",
     "IO_STATUS": "it reads a remote EtherCAT I/O device's status; there is no EtherCAT",
     "IO_STATUSMASK": "it masks a remote EtherCAT I/O device's status; there is no EtherCAT",
