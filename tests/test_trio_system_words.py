@@ -565,3 +565,22 @@ def test_outdevice_and_indevice_redirect_print_and_reads_of_this_process() -> No
     for bad in ("OUTDEVICE = 256", "INDEVICE = 1.5"):
         with pytest.raises(AtrioError, match="Parameter out of range"):
             rig.command(bad)
+
+
+# ---- SCOPE_CYCLE_COUNT ------------------------------------------------------------------
+
+def test_scope_cycle_count_counts_triggers_and_repeated_scans() -> None:
+    from maxk.controllers.trio import MC405
+
+    trio = MC405()
+    assert trio.query("?SCOPE_CYCLE_COUNT") == "0"
+    trio.send("TRIGGER")  # nothing armed: no cycle starts
+    assert trio.query("?SCOPE_CYCLE_COUNT") == "0"
+    trio.send("SCOPE(ON, 1, 0, 4, TICKS)")
+    trio.send("TRIGGER")
+    trio.advance(ticks=10)  # 4 samples, then the capture ends
+    assert trio.query("?SCOPE_CYCLE_COUNT") == "1"
+    trio.send("TRIGGER(1)")  # repeating: a new scan every 4 samples (ticks 0-3, 4-7, ...)
+    trio.advance(ticks=9)  # scans start on ticks 0, 4 and 8 of these 9
+    assert trio.query("?SCOPE_CYCLE_COUNT") == "4"
+    assert trio.send("SCOPE_CYCLE_COUNT = 0") == ["! Parameter is read only"]

@@ -523,6 +523,10 @@ _ENTRIES: list[Keyword] = [
             "#channel read, this process only.", value_range=(0, 255),
             source=f"{HELP} INDEVICE", confidence="I",
             note="A process's own (starts 0): a file open FOR INPUT on it is read."),
+    _system("SCOPE_CYCLE_COUNT", "How many SCOPE capture cycles have started.",
+            writable=False, source=f"{HELP} SCOPE_CYCLE_COUNT", confidence="I",
+            note="One more at each TRIGGER of an armed SCOPE and at each new scan of a "
+            "repeating one (TRIGGER(1)); read only (D: the page gives no write)."),
     Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
             "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
             "On the command line, or for a process running nothing: an empty string (D).",
@@ -1130,7 +1134,6 @@ _SYSTEM_WHY = {
     "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
     "CLEAR_PARAMS": "it resets flash parameters that take effect after a power cycle",
     "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
-    "SCOPE_CYCLE_COUNT": "SCOPE's capture cycles are not counted (SCOPE_POS is modelled)",
     "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
     "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
     "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",

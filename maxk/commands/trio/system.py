@@ -71,6 +71,7 @@ class ProgramCommands(Housekeeping):
         self._halting = False
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
+        self.scope_cycles = 0  # SCOPE_CYCLE_COUNT: capture cycles started
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
         # it ends, its outputs and the level they take then
 
@@ -105,6 +106,8 @@ class ProgramCommands(Housekeeping):
             return 8.0  # the channels AIN(n) and AOUT(n) take
         if name == "SCOPE_POS":
             return self.scope_position()
+        if name == "SCOPE_CYCLE_COUNT":
+            return float(self.scope_cycles)
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
@@ -422,6 +425,7 @@ class ProgramCommands(Housekeeping):
         if scope is None:
             return  # (disabled: TRIGGER starts nothing, the page's example 2)
         scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
+        self.scope_cycles += 1
         self.run_timers()
 
     def scope_position(self) -> float:
@@ -450,6 +454,7 @@ class ProgramCommands(Housekeeping):
             scope.next_tick = now + scope.period
         elif scope.repeat:
             scope.taken, scope.next_tick = 0, now + scope.period
+            self.scope_cycles += 1
         else:
             scope.next_tick = None
 
