@@ -25,6 +25,7 @@ from ...personalities.trio.geometry import group_size
 from ...personalities.trio.memory import VR_COUNT
 from ...personalities.trio.sequences import NAMES as SEQUENCES
 from ...personalities.trio.sequences import axes_of
+from .datawords import CrcSetup, value_of, words_of
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -144,6 +145,8 @@ class ProcessContext:
     held: int = 0  # their sum (PROGRAM_MEMORY)
     rng: random.Random | None = None  # RND/RNDF: this process's generator (RANDOMIZE)
     pmove: bool = False  # PMOVE: a motion command waits for room in the axes' buffers
+    outdevice: int = 0  # OUTDEVICE: where PRINT with no #channel goes
+    indevice: int = 0  # INDEVICE: where GET, INPUT, LINPUT and KEY with no #channel read
 
 
 class SystemHook(Protocol):
@@ -167,9 +170,20 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    sources: dict[int, list[int]]  # ... and every character of the file (SEEK)
+    crc: CrcSetup | None  # CRC16(0, ...)'s set-up (CRC16, CHANNEL_READ's crc)
     clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
 
     def file_text(self, name: str) -> str: ...
+
+    def open_output(self, channel: int, name: str, append: bool) -> None: ...
+
+    def channel_word(self, name: str, args: tuple[Expr, ...], ctx: ProcessContext,
+                     interp: Interpreter) -> float: ...
+
+    def write_file(self, channel: int, text: str) -> bool: ...
+
+    def close_file(self, channel: int) -> None: ...
 
     def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None: ...
 
@@ -207,7 +221,8 @@ def _truth(value: bool) -> float:
 
 
 PROCESS_PARAMETERS = frozenset({"RUN_ERROR", "ERROR_LINE", "TICKS", "PROCNUMBER",
-                                "PROC_LINE", "PROC_STATUS", "PMOVE"})
+                                "PROC_LINE", "PROC_STATUS", "PMOVE", "OUTDEVICE",
+                                "INDEVICE"})
 _LOADING = frozenset({"MOVE", "MOVEABS", "MOVESP", "MOVEABSSP", "MOVECIRC", "MHELICAL",
                       "MOVECIRCSP", "MHELICALSP", "MOVELINK", "CONNECT", "FLEXLINK", "CAM",
                       "CAMBOX", "CONNPATH", "FORWARD", "REVERSE"})
@@ -262,7 +277,12 @@ def _chr(args: list[Value]) -> Value:
 
 
 def _hex(args: list[Value]) -> Value:
-    number = _int_arg(args[0])
+    """HEX(n): any whole n of 48 bits (D: the 48-bit two's complement it prints), so the
+    32-bit words INTEGER_READ gives print as its page shows."""
+    value = args[0]
+    if isinstance(value, str) or value != int(value) or not -(1 << 47) <= value < (1 << 48):
+        raise TrioError("Parameter out of range")
+    number = int(value)
     return f"{number & 0xFFFFFFFFFFFF if number < 0 else number:X}"
 
 
@@ -371,6 +391,8 @@ class Interpreter:
         if isinstance(expr, Var):
             return self.variable(expr.name, ctx)
         if isinstance(expr, Param):
+            if expr.keyword.name == "PROGRAM_NAME":
+                return self.program_name(expr, ctx)
             return self.read_parameter(expr, ctx)
         if isinstance(expr, Call):
             return self.call(expr, ctx)
@@ -459,8 +481,14 @@ class Interpreter:
             array, index = self._element(name, expr.args, ctx)
             return array[index]
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
-            return _truth(bool(self.hook.files.get(self._channel(expr.args, ctx)))) \
-                if expr.args else 0.0
+            channel = self._channel(expr.args, ctx) if expr.args else ctx.indevice
+            return _truth(bool(self.hook.files.get(channel)))
+        if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
+            return self.hook.channel_word(name, expr.args, ctx, self)
+        if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
+            if len(expr.args) != 1:
+                raise TrioError("Syntax error")
+            return _truth(self._channel(expr.args, ctx) in self.hook.files)
         if name in ("DATE$", "TIME$", "DAY$"):
             return self.clock_text(name)
         if name in _CLOCK:
@@ -480,7 +508,7 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE"):
+        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -524,6 +552,14 @@ class Interpreter:
             if 32 <= code <= 126 or 160 <= code <= 255:
                 out.append(chr(code))
         return "".join(out)
+
+    def vr_text(self, first: int, text: str) -> None:
+        """VR(n) = "text": one character a VR from VR(n), then a 0, as VRSTRING reads it
+        back (I: CHANNEL_WRITE's page example 2 stores its text so). All or nothing."""
+        if first + len(text) >= VR_COUNT:
+            raise TrioError("Parameter out of range")
+        for k, char in enumerate(text + "\0"):
+            self.machine.vr_write(first + k, float(ord(char)))
 
     def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
         """A FUNCTION's argument: a DIM array named alone goes by reference (the
@@ -686,7 +722,24 @@ class Interpreter:
         axis = self.axis_of(expr.axis, ctx)
         if keyword.name == "IDLE":
             return _truth(self.machine.axis_idle(axis))
+        if keyword.name == "DEMAND_EDGES":  # DPOS in encoder edges (its page)
+            return self._machine(lambda: self.machine.axis_parameter("DPOS", axis)
+                                 * self.machine.axis_parameter("UNITS", axis))
+        if keyword.name == "LOADED":  # no move held behind the one running (its page)
+            return _truth(self._machine(lambda: self.machine.axis_parameter("NTYPE", axis))
+                          == 0)
         return self._machine(lambda: self.machine.axis_parameter(keyword.name, axis))
+
+    def program_name(self, expr: Param, ctx: ProcessContext) -> str:
+        """PROGRAM_NAME [PROC(n)]: the name of the program a process runs, "" for a
+        process running none or the command line (help page PROGRAM_NAME; "" is D)."""
+        if expr.process is not None:
+            number = self.number(expr.process, ctx)
+            if number != int(number) or not 0 <= number < 64:
+                raise TrioError("Parameter out of range")
+            other = self.hook.context_of(int(number))
+            return other.program if other is not None else ""
+        return ctx.program
 
     def _indexed_key(self, expr: Param, ctx: ProcessContext) -> tuple[str, tuple[float, ...]]:
         """Where a parameter with arguments or a SLOT/PORT modifier is stored (D: not
@@ -709,6 +762,8 @@ class Interpreter:
             return value - (self.machine.servo_tick() - since)
         if name == "PROCNUMBER":
             return float(ctx.process)
+        if name in ("OUTDEVICE", "INDEVICE"):
+            return float(ctx.outdevice if name == "OUTDEVICE" else ctx.indevice)
         if name == "PROC_LINE":
             return float(ctx.line)
         if name == "PMOVE":
@@ -782,7 +837,7 @@ class Interpreter:
         INPUT is read a character at a time; the terminal channels (none opened) never
         receive a character while a program runs, so GET/INPUT on them wait (D)."""
         files = self.hook.files
-        number = 0 if stmt.channel is None else self._channel((stmt.channel,), ctx)
+        number = ctx.indevice if stmt.channel is None else self._channel((stmt.channel,), ctx)
         if stmt.action == "OPEN":
             assert stmt.name is not None
             name = self.evaluate(stmt.name, ctx)
@@ -793,11 +848,17 @@ class Interpreter:
             if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
                 text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
                 files[number] = [ord(c) for c in reversed(text)]
+                self.hook.sources[number] = files[number][:]  # what SEEK goes back to
+            elif stmt.mode in ("OUTPUT", "APPEND"):  # PRINT #n writes the file
+                self.hook.open_output(number, name, stmt.mode == "APPEND")
+                files[number] = []
             else:
                 files[number] = []
             return
         if stmt.action == "CLOSE":
             files.pop(number, None)
+            self.hook.sources.pop(number, None)
+            self.hook.close_file(number)
             return
         if number >= FILE_CHANNELS and number not in files:
             raise TrioError("Channel not open")
@@ -884,6 +945,7 @@ class Interpreter:
     def print(self, stmt: Print, ctx: ProcessContext) -> None:
         """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
         emulator has one terminal; channel numbers are checked, 0..255)."""
+        channel = float(ctx.outdevice)  # OUTDEVICE when no #channel is given (its page)
         if stmt.channel is not None:
             channel = self.number(stmt.channel, ctx)
             if channel != int(channel) or not 0 <= channel <= 255:
@@ -897,7 +959,9 @@ class Interpreter:
                 value = self.evaluate(item, ctx)
                 parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
-        self.output("".join(parts) + ("\r\n" if stmt.newline else ""))
+        text = "".join(parts) + ("\r\n" if stmt.newline else "")
+        if not self.hook.write_file(int(channel), text):
+            self.output(text)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
         """A value as a DIMmed variable of that name holds it."""
@@ -956,6 +1020,9 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             self.hook.analog_outputs[channel] = value
             return
+        if isinstance(target, Call) and target.name == "VR" and isinstance(raw, str):
+            self.vr_text(self._index(self.number(target.args[0], ctx)), raw)
+            return
         if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
             raise TrioError("Parameter is read only")
         if isinstance(target, Call) and target.name != "VR":
@@ -965,6 +1032,15 @@ class Interpreter:
         value = self.number_value(raw)
         if isinstance(target, Param) and target.keyword.name == "TICKS":
             ctx.ticks = (value, self.machine.servo_tick())
+            return
+        if isinstance(target, Param) and target.keyword.name in ("OUTDEVICE", "INDEVICE"):
+            target.keyword.check(value)  # 0..255, whole (D)
+            if value != int(value):
+                raise TrioError("Parameter out of range")
+            if target.keyword.name == "OUTDEVICE":
+                ctx.outdevice = int(value)
+            else:
+                ctx.indevice = int(value)
             return
         if isinstance(target, Call):  # VR(i) = value
             index = self._index(self.number(target.args[0], ctx))
@@ -1028,6 +1104,12 @@ class Interpreter:
             return
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
+            return
+        if name in ("INTEGER_READ", "INTEGER_WRITE"):
+            self.raw_bits(stmt, ctx)
+            return
+        if name in ("CHANNEL_READ", "CHANNEL_WRITE"):
+            self.call(Call(name, stmt.args), ctx)
             return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]
@@ -1101,6 +1183,31 @@ class Interpreter:
         else:
             axis = self.axis_of(stmt.axis, ctx)
             yield from self._axis_command(name, axis, args)
+
+    def raw_bits(self, stmt: Command, ctx: ProcessContext) -> None:
+        """INTEGER_READ(source, low, high) / INTEGER_WRITE(destination, low, high): a
+        64-bit pattern as two 32-bit words (datawords.words_of, value_of)."""
+        first, low, high = stmt.args
+        whole = isinstance(first, Param) or isinstance(first, Var) \
+            and ctx.types.get(first.name) == "INTEGER"
+        if stmt.keyword.name == "INTEGER_READ":
+            words = words_of(self.number(first, ctx), whole)
+            for target, word in ((low, words[0]), (high, words[1])):
+                self.put(target, word, ctx)
+        else:
+            self.put(first, value_of(self.number(low, ctx), self.number(high, ctx), whole),
+                     ctx)
+
+    def put(self, target: Expr, value: float, ctx: ProcessContext) -> None:
+        """Store into what an argument names: a variable, VR(n), TABLE(n), an array
+        element or a parameter; anything else (a number) cannot take a value."""
+        if isinstance(target, Call) and target.name == "TABLE" and len(target.args) == 1:
+            index = self._index(self.number(target.args[0], ctx))
+            self._act(lambda: self.machine.table_write(index, [value]))
+        elif isinstance(target, (Var, Call, Param)):
+            self.assign(Assign(target, Num(value)), ctx)
+        else:
+            raise TrioError("Syntax error")
 
     def bit_command(self, name: str, args: list[float]) -> float:
         """SET_BIT(b, vr) / CLEAR_BIT(b, vr) / READ_BIT(b, vr): bit b (0..52) of VR(vr);

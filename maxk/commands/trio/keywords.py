@@ -414,6 +414,135 @@ _ENTRIES: list[Keyword] = [
     _command("EX", "Restart the controller.", (0, 1), source=REF,
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
              "starts a new one (ref 5)."),
+    # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
+    _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
+             (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
+             note="The names quoted or bare, a space or comma between. The copy has the "
+             "original's type and lines; a new name already in use is 'Program already "
+             "exists' and a copy that does not fit the store is not kept (D)."),
+    _command("RENAME", "RENAME oldname newname: rename a program.", (2, 2),
+             source=f"{HELP} RENAME", string_arg=True, confidence="I",
+             note="Lines, type and RUNTYPE go with the name; a running program is 'Program "
+             "is running', a name in use 'Program already exists' (D)."),
+    _command("CLEAR", "CLEAR: every VR to 0, and the local variables of the process.",
+             (0, 0), source=f"{HELP} CLEAR", confidence="I",
+             note="TABLE is kept (the page names VRs and local variables only, I); "
+             "strings become empty (D)."),
+    _command("RESET", "RESET: the process's local named variables to 0.", (0, 0),
+             source=f"{HELP} RESET",
+             note="DIM'd arrays are zeroed too, strings made empty (D)."),
+    _command("LIST_GLOBAL", "LIST_GLOBAL [offset[, length]]: print the GLOBAL and "
+             "CONSTANT definitions.", (0, 2), source=f"{HELP} LIST_GLOBAL", confidence="I",
+             note="Numbered in the order they were first defined (the page's example: "
+             "offset 1 is the second one); the GLOBAL table then the CONSTANT table, names "
+             "in a 33-character column, constants with 5 decimals (page); length -1 is "
+             "all."),
+    _command("TABLEVALUES", "TABLEVALUES(first, last[, format]): TABLE values as one "
+             "comma-separated line.", (2, 3), source=f"{HELP} TABLEVALUES",
+             note="Four decimals; format 1 writes a run of n equal values as kn,value "
+             "(page's example). More than 10000 values at once is out of range (D)."),
+    _command("EXIT_LOOP", "EXIT_LOOP: leave the innermost WHILE, FOR or REPEAT loop.",
+             (0, 0), source=f"{HELP} EXIT_LOOP",
+             note="Outside a loop it is a 'Structure error' at COMPILE (D); on the command "
+             "line it does nothing (D)."),
+    _command("CONTINUE", "CONTINUE: go on with the next pass of the innermost loop.",
+             (0, 0), source=f"{HELP} CONTINUE", confidence="I",
+             note="Jumps to the loop's WEND, NEXT or UNTIL, which decides the next pass "
+             "(UNTIL's condition is tested, D); outside a loop a 'Structure error' (D)."),
+    _command("CRC16", "CRC16(mode, ...): set up (0) or compute (1 legacy, 2) a CRC of TABLE "
+             "or VR bytes.", (2, 5), source=f"{HELP} CRC16", confidence="I",
+             note="Mode 1 is the augmented CRC (the data followed by zero bytes flushes "
+             "it); mode 2 the direct CRC, reverse_input running it least significant bit "
+             "first (Modbus with the page's example 5, I) and reverse_output reversing the "
+             "result (D). Each value is taken as its low 8 bits (D). Not set up: 0 (page)."),
+    _function("STRTOD", "STRTOD(format, ...): read a number from VRs or a channel.", (3, 5),
+              source=f"{HELP} STRTOD", confidence="I",
+              note="VR source: one character a VR, the index of the first character not "
+              "read goes to VR(vr_index). Channel source (an OPEN file channel's waiting "
+              "characters): the length read and the terminating character's code are "
+              "stored, the characters and the terminator are taken (I). Format 3 puts "
+              "letter codes in VR(vr_index + 0..25) for A..Z (the page's A = +0, D where "
+              "its M example says 13) and returns their bit mask. At most 64 characters "
+              "(D)."),
+    _function("IEEE_IN", "IEEE_IN(b0..b3[, b4..b7]): the float these IEEE 754 bytes "
+              "encode.", (4, 8), source=f"{HELP} IEEE_IN",
+              note="Byte 0 is the high byte (page). A byte outside 0..255 is out of range, "
+              "a NaN or infinity an 'Arithmetic error' (D)."),
+    _function("IEEE_OUT", "IEEE_OUT(value, n[, size]): byte n of value as an IEEE 754 "
+              "float.", (2, 3), source=f"{HELP} IEEE_OUT",
+              note="Size 32 (default) or 64; byte 0 is the high byte (page)."),
+    _command("INTEGER_READ", "INTEGER_READ(source, low, high): the two 32-bit words of a "
+             "value's 64-bit pattern.", (3, 3), source=f"{HELP} INTEGER_READ",
+             confidence="I",
+             note="low and high take a variable, VR(n) or TABLE(n). A parameter or an "
+             "INTEGER variable is a 64-bit integer, every other value a 64-bit float (D). "
+             "Each word 0..$FFFFFFFF (the page's example 1 swaps its MSW/LSW labels: its "
+             "parameter list is followed)."),
+    _command("INTEGER_WRITE", "INTEGER_WRITE(destination, low, high): write the 64-bit "
+             "pattern high:low.", (3, 3), source=f"{HELP} INTEGER_WRITE", confidence="I",
+             note="A word may be -2^31..$FFFFFFFF (its 32 bits, D); a float pattern that is "
+             "NaN or infinite is 'Parameter out of range' (D)."),
+    _system("NIO", "NIO: the number of I/O points (the highest + 1).", writable=False,
+            source=f"{HELP} NIO", confidence="D",
+            note="32, as NIN and NOP: the points IN and OP address (D; the page: read only, "
+            "the larger of the input and output counts)."),
+    *[_system(name, f"{name}: the number of analogue {what} channels.", writable=False,
+              source=f"{HELP} {name}", confidence="D",
+              note=f"8: the channels {word}(0..7) takes (D).")
+      for name, what, word in (("N_ANA_IN", "input", "AIN"), ("N_ANA_OUT", "output",
+                                                               "AOUT"))],
+    _axis("LOADED", "TRUE when no move is held in the axis's buffer behind the one "
+          "running (NTYPE 0), else FALSE.", writable=False, source=f"{HELP} LOADED",
+          confidence="I", note="Read as NTYPE = 0: the page's 'all moves loaded into the "
+          "MTYPE buffer' (I)."),
+    _function("IS_OPEN", "IS_OPEN #n: TRUE (-1) while channel n is open, else FALSE.",
+              (1, 1), source=f"{HELP} IS_OPEN", confidence="I",
+              note="Open means an OPEN not yet closed; the terminal channels read FALSE "
+              "(D: none is opened by OPEN here)."),
+    _axis("DEMAND_EDGES", "The demand position DPOS in encoder edges (DPOS x UNITS).",
+          writable=False, source=f"{HELP} DEMAND_EDGES", confidence="I",
+          note="DPOS x UNITS, unrounded (D: the page does not say whether it rounds)."),
+    _command("SEEK", "SEEK #n, from, position: where the next read of a file starts.",
+             (3, 3), source=f"{HELP} SEEK", confidence="I",
+             note="From 0: position characters from the start (0 is the first, D: the "
+             "page's example counts one less); from 1: from where reading is. A file open "
+             "FOR INPUT only ('Channel not open' else, D); outside the file 'Parameter out "
+             "of range' (D)."),
+    _command("CHANNEL_WRITE", "CHANNEL_WRITE(channel, buffer[, count]): write a string, "
+             "VRs or an INTEGER array's bytes to a channel; returns the count.", (2, 3),
+             source=f"{HELP} CHANNEL_WRITE", confidence="I",
+             note="To a file open FOR OUTPUT, or a terminal channel (0..19: the "
+             "command-line hosts, D); a file open for reading is 'Parameter out of "
+             "range' (D). Each value's low 8 bits (D); at most 4096 (D)."),
+    _command("CHANNEL_READ", "CHANNEL_READ(channel, buffer[, delimiters[, escape[, "
+             "crc]]]): read a channel's characters into VRs or a STRING.", (2, 7),
+             source=f"{HELP} CHANNEL_READ", confidence="I",
+             note="Stops when full, empty or at a delimiter (taken, not stored, I). VR "
+             "form: VR(base) why it stopped (0, k-th delimiter), the characters from "
+             "VR(base + 1) and a 0, at most size - 2 (D), returns the count; STRING form: "
+             "returns -k for the k-th delimiter, else 0. The escape character is not "
+             "stored (D). crc: CRC16 mode 2 with CRC16(0, ...)'s set-up, 0 without (D). "
+             "Terminal channels have nothing to read in a program (D). Files' names drop "
+             "a RAM:/SD: prefix and a .TXT extension (D). The channel may be written #n; "
+             "a STRING buffer's delimiters may be a string or a VR base and count (page)."),
+    _system("OUTDEVICE", "OUTDEVICE = n: the channel PRINT with no #channel writes to, "
+            "this process only.", value_range=(0, 255), source=f"{HELP} OUTDEVICE",
+            confidence="I",
+            note="A process's own (starts 0). A file open FOR OUTPUT on that channel takes "
+            "the text; every other channel reaches the command-line hosts (D: one "
+            "terminal). DIR and the like are not redirected (D)."),
+    _system("INDEVICE", "INDEVICE = n: the channel GET, INPUT, LINPUT and KEY with no "
+            "#channel read, this process only.", value_range=(0, 255),
+            source=f"{HELP} INDEVICE", confidence="I",
+            note="A process's own (starts 0): a file open FOR INPUT on it is read."),
+    _system("SCOPE_CYCLE_COUNT", "How many SCOPE capture cycles have started.",
+            writable=False, source=f"{HELP} SCOPE_CYCLE_COUNT", confidence="I",
+            note="One more at each TRIGGER of an armed SCOPE and at each new scan of a "
+            "repeating one (TRIGGER(1)); read only (D: the page gives no write)."),
+    Keyword("PROGRAM_NAME", Kind.SYSTEM_PARAMETER, "The name of the program a process "
+            "runs (a string); PROC(n) for another process.", f"{HELP} PROGRAM_NAME", "C",
+            "On the command line, or for a process running nothing: an empty string (D).",
+            None, False),
     # ---- functions ---------------------------------------------------------------------------
     *[_function(name, f"{name}(x).", (1, 1), source=f"{TOK}; {MAN}")
       for name in ("ABS", "INT", "FRAC", "SGN", "SQR", "SIN", "COS", "TAN", "ATAN", "EXP",
@@ -421,7 +550,8 @@ _ENTRIES: list[Keyword] = [
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
               source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
-              "programs clear VR 0..65535)."),
+              "programs clear VR 0..65535). VR(n) = \"text\" stores one character a VR "
+              "and a 0 after, as VRSTRING reads back (I: CHANNEL_WRITE's page example)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
@@ -642,13 +772,20 @@ _ENTRIES: list[Keyword] = [
              source=f"{TOK}; public programs",
              note="FOR INPUT reads a program of the store (a .TXT file) as text, its lines "
              "ending CR LF (D: the store is the file system); a missing one is 'Program "
-             "not found'; a channel already open is 'Channel already open' (D). Output "
-             "modes accept and drop what is written (D)."),
+             "not found'; a channel already open is 'Channel already open' (D). FOR "
+             "OUTPUT[(mode)] creates the file (a .TXT program) or clears it, FOR APPEND "
+             "needs it and writes after its lines; PRINT #n writes each finished line to "
+             "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
+             "store, D). FIFO_WRITE accepts and drops what is written (D)."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
                "with no effect (D).")
       for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
+    _command("OUTPUT", "OPEN's OUTPUT[(mode)] channel mode: write a file (see OPEN).",
+             (0, 1), source=f"{HELP} OUTPUT; {HELP} OPEN",
+             note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
+             "with no effect (D)."),
     _command("CLOSE", "CLOSE #n: close a channel.", (0, 0), confidence="I",
              source=f"{TOK}; public programs", note="Closing a channel not open does "
              "nothing (D)."),
@@ -1253,13 +1390,65 @@ _OWN_WHY = {
 }
 
 
+_SERIAL = "the emulator has no serial port or multi-drop bus, only the telnet command line"
+_MP = "a Motion Perfect transfer word whose binary reply format the pages do not give"
+_MAP = "an I/O map of expansion modules, CAN or drive I/O, which the emulated MC405 has none of"
+# Why the I/O, channel, program and system words left unmodelled have no effect to show
+# (issue 35e; each from the word's TrioBASIC help page).
+_SYSTEM_WHY = {
+    "PRMBLK": _MP, "LOOKUP": _MP, "AXISVALUES": _MP, "EDPROG1": _MP,
+    "VIEW": "it shows the compiled object code, which the emulator does not produce",
+    "STORE": "it loads firmware (help page STORE)",
+    "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
+    "SETLINE": "moving a process's program pointer is a debugger's word (Motion Perfect)",
+    "IO_STATUS": "it reads a remote EtherCAT I/O device's status; there is no EtherCAT",
+    "IO_STATUSMASK": "it masks a remote EtherCAT I/O device's status; there is no EtherCAT",
+    "IOMAP": _MAP, "DRIVEIO_BASE": _MAP, "INTERNALIO_BASE": _MAP, "MODULEIO_BASE": _MAP,
+    "MODULE_IO_MODE": _MAP, "AXIS_OFFSET": "it places a module slot's axes; the MC405's "
+                                          "axes are fixed here",
+    "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
+    "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
+    "CLEAR_PARAMS": "it resets flash parameters that take effect after a power cycle",
+    "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
+    "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
+    "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
+    "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
+    "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
+                           "text file of the store",
+    "SYSTEM_ERROR_MASK": "SYSTEM_ERROR is always 0 here (no fault it could mask)",
+    "SCHEDULE_TYPE": "the emulator's process scheduling is fixed (one pass a servo cycle, "
+                     "see tasks.py)",
+    "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
+    "LAST_AXIS": "every axis of the emulated MC405 is always processed",
+    "INITIALISE": "resetting every axis parameter of a live machine at once is not "
+                  "supported by the shared machine",
+    "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
+    "AXIS_DISPLAY": "no function on the MC4xx (help page)",
+    "AXIS_DEBUG_A": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_B": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_C": "reserved for Trio's own analysis (help page)",
+    "AXIS_DEBUG_D": "reserved for Trio's own analysis (help page)",
+    "AXIS_A_OUTPUT": "a reserved keyword (help page)", "AXIS_B_OUTPUT": "a reserved keyword",
+    "AXIS_D_OUTPUT": "a reserved keyword",
+    "AXIS_Z_OUTPUT": "the Z pins' line driver as an output: no pins in the world",
+    "POS_DELAY": "a digital drive network's delay on HW_PSWITCH: no drive network",
+    "AXESDIFF": "it configures an ATYPE 85 monitoring axis, which is not modelled",
+    "COORDINATOR_DATA": "special firmware features (help page: ask Trio)",
+    "MPE_MODE": "the Motion Perfect channel protocol is not modelled (MPE is 0)",
+    "GTA": "no help page found", "GTAMAP": "no help page found",
+    "INT_BASE": "no help page found",
+}
+
+
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
     firmware, files, memory and debugging, has no effect an emulated machine shows; the
-    robot words and a few moves have their own reason; any other word is simply not
-    modelled yet."""
+    robot words, a few moves and the I/O and system words have their own reason; any other
+    word is simply not modelled yet."""
     if name in _OWN_WHY:
         return _OWN_WHY[name]
+    if name in _SYSTEM_WHY:
+        return _SYSTEM_WHY[name] + " (D)"
     if name.startswith(_ROBOT):
         return ROBOT_WHY + " (D)"
     if name.startswith(_FIELDBUS):

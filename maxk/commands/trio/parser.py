@@ -23,6 +23,9 @@ from .lexer import Tok, Token, TrioError, tokenize
 # ---- expressions ---------------------------------------------------------------------
 
 
+_CHANNEL_FIRST = frozenset({"CHANNEL_READ", "CHANNEL_WRITE"})  # (#n, ...) or (n, ...)
+
+
 @dataclass(frozen=True)
 class Num:
     value: float
@@ -844,6 +847,10 @@ class _Parser:
 
     def command(self, keyword: Keyword) -> Command:
         args: list[Expr] = []
+        if keyword.name in ("COPY", "RENAME"):
+            return Command(keyword, self.two_program_names(), None)
+        if keyword.name == "SEEK" and self.at_op("#"):  # SEEK #n, from, position
+            self.advance()
         if keyword.string_arg and self.bare_program_name():
             args.append(Str(self.advance().text))  # SELECT MC_CONFIG: a name unquoted
             while self.at_op(","):
@@ -851,6 +858,8 @@ class _Parser:
                 args.append(self.expression())
         elif self.at_op("("):
             self.advance()
+            if keyword.name in _CHANNEL_FIRST and self.at_op("#"):
+                self.advance()
             if not self.at_op(")"):
                 args.append(self.expression())
                 while self.at_op(","):
@@ -879,6 +888,18 @@ class _Parser:
                 self.advance()
             args.append(self.expression())
         return tuple(args)
+
+    def two_program_names(self) -> tuple[Expr, ...]:
+        """COPY "a" "b" and RENAME a b: two program names, each quoted or bare, a space
+        or a comma between (their help pages write both without a comma)."""
+        names: list[Expr] = []
+        while len(names) < 2 and self.tok.kind in (Tok.STRING, Tok.NAME):
+            names.append(Str(self.advance().text))
+            if len(names) == 1 and self.at_op(","):
+                self.advance()
+        if len(names) != 2:
+            raise TrioError("Syntax error")
+        return tuple(names)
 
     def bare_program_name(self) -> bool:
         """A program named without quotes, as a command line takes it (``SELECT
@@ -1019,9 +1040,9 @@ class _Parser:
             return Call(tok.text, ())
         if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
             return Call("FILE", self.file_args())
-        if tok.text == "KEY" and self.at_op("#"):  # KEY #n: a character waits on channel n
+        if tok.text in ("KEY", "IS_OPEN") and self.at_op("#"):  # KEY #n, IS_OPEN #n
             self.advance()
-            return Call("KEY", (self.unary(),))
+            return Call(tok.text, (self.unary(),))
         if keyword.kind is Kind.FUNCTION or tok.text in _EXPRESSION_COMMANDS or (
                 keyword.kind is Kind.COMMAND and self.at_op("(")):
             return Call(tok.text, self.call_args(keyword))
@@ -1072,6 +1093,8 @@ class _Parser:
             raise TrioError("Syntax error")
         self.advance()
         args: list[Expr] = []
+        if keyword.name in _CHANNEL_FIRST and self.at_op("#"):
+            self.advance()  # CHANNEL_WRITE(#25, ...): the channel may carry its #
         if not self.at_op(")"):
             args.append(self.expression())
             while self.at_op(","):

@@ -8,40 +8,26 @@ processes, one task each, stepped once per servo cycle in process order.
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
-from dataclasses import dataclass
 
 from ...personalities.trio import geometry, splines
-from ...personalities.trio.memory import TABLE_SIZE
+from .datawords import CrcSetup
+from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
-from .parser import Expr, FunctionDef
+from .parser import FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
+from .timers import Scope, TimersAndScope
 
 PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 10)
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
 
 
-@dataclass
-class Scope:
-    """SCOPE(ON, period, table_start, table_stop, p0 ...): what it samples, where to.
-    Each parameter has its own block of (stop - start) / n TABLE values (the page's
-    example: two parameters over 0..1000 fill 0..499 and 500..999)."""
-
-    period: int  # servo cycles between samples
-    start: int
-    block: int  # samples each parameter has room for
-    params: list[Expr]
-    ctx: ProcessContext  # the axes BASE names when SCOPE was set
-    next_tick: int | None = None  # the next sample (None: not triggered, or done)
-    taken: int = 0  # samples stored since TRIGGER
-    repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
-
-
-class ProgramCommands:
-    """The SystemHook of the interpreter: commands that act on programs and processes."""
+class ProgramCommands(Housekeeping, TimersAndScope):
+    """The SystemHook of the interpreter: commands that act on programs and processes
+    (and, from Housekeeping, COPY/RENAME, CLEAR/RESET, LIST_GLOBAL and the data words)."""
 
     def __init__(self, machine: TrioMachine, programs: ProgramStore,
                  output: Callable[[str], None]) -> None:
@@ -54,17 +40,22 @@ class ProgramCommands:
         self.tasks: dict[int, Task] = {}
         self.compiled: dict[str, list[Step]] = {}
         self.broken: set[str] = set()  # libraries that failed to compile since their edit
-        self.constants: dict[str, Value] = {}  # CONSTANT "name", value (every process)
-        self.globals: dict[str, int] = {}  # GLOBAL "name", vr (every process)
+        self.defined: dict[str, int] = {}  # each GLOBAL/CONSTANT's number (LIST_GLOBAL)
+        self.constants: dict[str, Value] = Definitions("C", self.defined)  # CONSTANT
+        self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
+        self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
+        self.writing: dict[int, tuple[str, str]] = {}  # OPEN #n FOR OUTPUT: file, rest
+        self.sources: dict[int, list[int]] = {}  # OPEN #n FOR INPUT: the whole file
         self.command_lines: list[ProcessContext] = []  # each open session's own context
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
         self._halting = False
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
+        self.scope_cycles = 0  # SCOPE_CYCLE_COUNT: capture cycles started
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
         # it ends, its outputs and the level they take then
 
@@ -93,10 +84,14 @@ class ProgramCommands:
             if name.startswith("AOUT"):
                 return self.analog_outputs.get(channel, 0.0)
             return float(round(self.machine.analog_input(channel) / 10.0 * 2047))
-        if name in ("NIN", "NOP"):
+        if name in ("NIN", "NOP", "NIO"):
             return 32.0  # the I/O points IN and OP address here (D: as IN and OP take)
+        if name in ("N_ANA_IN", "N_ANA_OUT"):
+            return 8.0  # the channels AIN(n) and AOUT(n) take
         if name == "SCOPE_POS":
             return self.scope_position()
+        if name == "SCOPE_CYCLE_COUNT":
+            return float(self.scope_cycles)
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
@@ -113,10 +108,12 @@ class ProgramCommands:
     def file_text(self, name: str) -> str:
         """OPEN #n AS "NAME" FOR INPUT: the text of a program of the store, its lines
         ending in CR LF (D: the store is the controller's file system)."""
-        info = self.programs.get(name.upper())
+        info = self.programs.get(file_name(name))
         return "".join(line + "\r\n" for line in self.programs.lines[info.name])
 
     def system_function(self, name: str, args: list[Value]) -> float:
+        if name in DATA_FUNCTIONS:
+            return self.data_function(name, args)
         program = _name(args)
         if name == "IS_PROG":
             return -1.0 if self.programs.exists(program) else 0.0
@@ -129,6 +126,10 @@ class ProgramCommands:
             args = [ctx.program]
         if keyword.name in splines.NAMES or keyword.name in geometry.TABLE_NAMES:
             self.table_spline(keyword.name, args)
+            return _done()
+        with_context = getattr(self, "ctx_" + keyword.name.lower(), None)
+        if with_context is not None:  # CLEAR, RESET: act on the asking process too
+            with_context(args, ctx)
             return _done()
         handler = getattr(self, "cmd_" + keyword.name.lower(), None)
         if handler is not None:  # else a token-table word the emulator does not model:
@@ -371,106 +372,6 @@ class ProgramCommands:
         numbers = [_number(a) for a in args]
         if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:
             self.output("0\r\n")  # no EtherCAT network: state 0 (D)
-
-    def cmd_timer(self, args: list[Value]) -> None:
-        """TIMER(slot, output, pattern, time[, option]): outputs on (option 0) or off
-        (option 1) now, back after `time` ms (TIMER's page); pattern 1 is the output
-        alone, another number a bit array of outputs from `output` up. The time is
-        rounded up to whole servo cycles (D, as WA); a slot set again while it runs
-        starts over (D)."""
-        slot, first, pattern, ms = (_number(a) for a in args[:4])
-        option = _number(args[4]) if len(args) > 4 else 0.0
-        period = self.machine.servo_period_us()
-        if not (0 <= slot <= 127 and 0 <= first <= 255 and 0 <= pattern <= 65535
-                and 0 <= ms <= 1e9 and option in (0, 1)) or \
-                any(v != int(v) for v in (slot, first, pattern)):
-            raise TrioError("Parameter out of range")
-        outputs = [int(first) + k for k in range(16) if int(pattern) >> k & 1]
-        if any(n > 255 for n in outputs):
-            raise TrioError("Parameter out of range")
-        start_level = option == 0
-        for n in outputs:
-            self.machine.set_output(n, start_level)
-        ticks = -(-int(ms * 1000) // period)
-        self.timers[int(slot)] = (self.machine.servo_tick() + ticks, outputs, not start_level)
-        self.run_timers()
-
-    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None:
-        """SCOPE(OFF); SCOPE(ON, period): a new period; SCOPE(ON, period, start, stop,
-        p0[, ... p7]): arm a capture of up to 8 parameters (SCOPE's page)."""
-        if args[0] == 0:
-            self.scope = None
-            return
-        period = args[1] if len(args) > 1 else 1.0
-        if period != int(period) or not 1 <= period <= 1e6:
-            raise TrioError("Parameter out of range")
-        if len(args) == 2:
-            if self.scope is None:
-                raise TrioError("Parameter out of range")
-            self.scope.period = int(period)
-            return
-        if len(args) != 4 or not 1 <= len(params) <= 8:
-            raise TrioError("Syntax error")
-        start, stop = args[2], args[3]
-        if start != int(start) or stop != int(stop) or not 0 <= start < stop <= TABLE_SIZE:
-            raise TrioError("Parameter out of range")
-        block = int(stop - start) // len(params)
-        if block < 1:
-            raise TrioError("Parameter out of range")
-        self.scope = Scope(int(period), int(start), block, params,
-                           ProcessContext(process=ctx.process, base=list(ctx.base)))
-
-    def trigger(self, repeat: bool) -> None:
-        """TRIGGER[(auto)]: the armed SCOPE samples from this servo cycle on (D: the
-        first sample is taken on the trigger's own cycle)."""
-        scope = self.scope
-        if scope is None:
-            return  # (disabled: TRIGGER starts nothing, the page's example 2)
-        scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
-        self.run_timers()
-
-    def scope_position(self) -> float:
-        """SCOPE_POS: the TABLE index the capture stores its next sample at (D: in the
-        first parameter's block)."""
-        scope = self.scope
-        return float(scope.start + scope.taken) if scope is not None else 0.0
-
-    def next_timer(self) -> int | None:
-        """The tick the next TIMER ends or the SCOPE samples (None: neither)."""
-        ticks = [end for end, _o, _l in self.timers.values()]
-        if self.scope is not None and self.scope.next_tick is not None:
-            ticks.append(self.scope.next_tick)
-        return min(ticks, default=None)
-
-    def _sample(self, now: int) -> None:
-        scope = self.scope
-        if scope is None or scope.next_tick is None or scope.next_tick > now:
-            return
-        assert self.interpreter is not None
-        values = [self.interpreter.number(p, scope.ctx) for p in scope.params]
-        for i, value in enumerate(values):
-            self.machine.table_write(scope.start + i * scope.block + scope.taken, [value])
-        scope.taken += 1
-        if scope.taken < scope.block:
-            scope.next_tick = now + scope.period
-        elif scope.repeat:
-            scope.taken, scope.next_tick = 0, now + scope.period
-        else:
-            scope.next_tick = None
-
-    def run_timers(self) -> None:
-        """End the TIMERs due by now (their outputs take their end level); take the
-        SCOPE's sample due now."""
-        now = self.machine.servo_tick()
-        try:
-            self._sample(now)
-        except TrioError:
-            self.scope = None  # a parameter it cannot read ends the capture (D)
-        for slot, (end, outputs, level) in sorted(self.timers.items()):
-            if end <= now:
-                del self.timers[slot]
-                for n in outputs:
-                    self.machine.set_output(n, level)
 
     def run_processes(self) -> None:
         """One servo cycle of every process, lowest number first."""

@@ -32,6 +32,7 @@ from typing import cast
 
 from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, error_code
 from .lexer import TrioError
+from .loopjumps import link_loop_jumps, loop_jump
 from .parser import (
     Case,
     Else,
@@ -199,6 +200,7 @@ def compile_program(lines: list[str],
                 steps.append(Step(number, stmt))
     if open_blocks:
         raise TrioError("Structure error", open_blocks[-1].line)
+    link_loop_jumps([(s.line, s.stmt) for s in steps], targets)  # EXIT_LOOP, CONTINUE
     for index, step in enumerate(steps):
         label = None
         if isinstance(step.stmt, (Goto, Gosub, OnError)):
@@ -426,8 +428,8 @@ class Task:
         ctx.pc = pc + 1
         if isinstance(stmt, (IfBlock, While)):
             ctx.pc = pc + 1 if interp.number(stmt.condition, ctx) != 0 else step.target
-        elif isinstance(stmt, (Else, Goto, FunctionDef)):
-            ctx.pc = step.target  # the end of a branch / GOTO / past a FUNCTION
+        elif isinstance(stmt, (Else, Goto, FunctionDef)) or loop_jump(stmt) is not None:
+            ctx.pc = step.target  # a branch's end / GOTO / past a FUNCTION / out of a loop
         elif isinstance(stmt, EndFunc):
             raise TrioError("Structure error")  # reached only by a jump into a FUNCTION
         elif isinstance(stmt, (EndIf, Repeat, Label, EndCase)):

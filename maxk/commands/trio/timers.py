@@ -1,0 +1,147 @@
+"""TIMER and SCOPE: outputs set for a time, and parameters sampled into TABLE, each on
+its own servo cycles (their help pages). The runtime wakes for the next one
+(`next_timer`) and runs them before the processes of the cycle (`run_timers`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ...personalities.trio.memory import TABLE_SIZE
+from .interpreter import Interpreter, ProcessContext, Value
+from .lexer import TrioError
+from .machine import TrioMachine
+from .parser import Expr
+
+
+@dataclass
+class Scope:
+    """SCOPE(ON, period, table_start, table_stop, p0 ...): what it samples, where to.
+    Each parameter has its own block of (stop - start) / n TABLE values (the page's
+    example: two parameters over 0..1000 fill 0..499 and 500..999)."""
+
+    period: int  # servo cycles between samples
+    start: int
+    block: int  # samples each parameter has room for
+    params: list[Expr]
+    ctx: ProcessContext  # the axes BASE names when SCOPE was set
+    next_tick: int | None = None  # the next sample (None: not triggered, or done)
+    taken: int = 0  # samples stored since TRIGGER
+    repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
+
+
+class TimersAndScope:
+    """TIMER and SCOPE handlers; the attributes are the runtime's own."""
+
+    machine: TrioMachine
+    interpreter: Interpreter | None
+    scope: Scope | None
+    scope_cycles: int
+    timers: dict[int, tuple[int, list[int], bool]]
+
+    def cmd_timer(self, args: list[Value]) -> None:
+        """TIMER(slot, output, pattern, time[, option]): outputs on (option 0) or off
+        (option 1) now, back after `time` ms (TIMER's page); pattern 1 is the output
+        alone, another number a bit array of outputs from `output` up. The time is
+        rounded up to whole servo cycles (D, as WA); a slot set again while it runs
+        starts over (D)."""
+        slot, first, pattern, ms = (_number(a) for a in args[:4])
+        option = _number(args[4]) if len(args) > 4 else 0.0
+        period = self.machine.servo_period_us()
+        if not (0 <= slot <= 127 and 0 <= first <= 255 and 0 <= pattern <= 65535
+                and 0 <= ms <= 1e9 and option in (0, 1)) or \
+                any(v != int(v) for v in (slot, first, pattern)):
+            raise TrioError("Parameter out of range")
+        outputs = [int(first) + k for k in range(16) if int(pattern) >> k & 1]
+        if any(n > 255 for n in outputs):
+            raise TrioError("Parameter out of range")
+        start_level = option == 0
+        for n in outputs:
+            self.machine.set_output(n, start_level)
+        ticks = -(-int(ms * 1000) // period)
+        self.timers[int(slot)] = (self.machine.servo_tick() + ticks, outputs, not start_level)
+        self.run_timers()
+
+    def set_scope(self, args: list[float], params: list[Expr], ctx: ProcessContext) -> None:
+        """SCOPE(OFF); SCOPE(ON, period): a new period; SCOPE(ON, period, start, stop,
+        p0[, ... p7]): arm a capture of up to 8 parameters (SCOPE's page)."""
+        if args[0] == 0:
+            self.scope = None
+            return
+        period = args[1] if len(args) > 1 else 1.0
+        if period != int(period) or not 1 <= period <= 1e6:
+            raise TrioError("Parameter out of range")
+        if len(args) == 2:
+            if self.scope is None:
+                raise TrioError("Parameter out of range")
+            self.scope.period = int(period)
+            return
+        if len(args) != 4 or not 1 <= len(params) <= 8:
+            raise TrioError("Syntax error")
+        start, stop = args[2], args[3]
+        if start != int(start) or stop != int(stop) or not 0 <= start < stop <= TABLE_SIZE:
+            raise TrioError("Parameter out of range")
+        block = int(stop - start) // len(params)
+        if block < 1:
+            raise TrioError("Parameter out of range")
+        self.scope = Scope(int(period), int(start), block, params,
+                           ProcessContext(process=ctx.process, base=list(ctx.base)))
+
+    def trigger(self, repeat: bool) -> None:
+        """TRIGGER[(auto)]: the armed SCOPE samples from this servo cycle on (D: the
+        first sample is taken on the trigger's own cycle)."""
+        scope = self.scope
+        if scope is None:
+            return  # (disabled: TRIGGER starts nothing, the page's example 2)
+        scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
+        self.scope_cycles += 1
+        self.run_timers()
+
+    def scope_position(self) -> float:
+        """SCOPE_POS: the TABLE index the capture stores its next sample at (D: in the
+        first parameter's block)."""
+        scope = self.scope
+        return float(scope.start + scope.taken) if scope is not None else 0.0
+
+    def next_timer(self) -> int | None:
+        """The tick the next TIMER ends or the SCOPE samples (None: neither)."""
+        ticks = [end for end, _o, _l in self.timers.values()]
+        if self.scope is not None and self.scope.next_tick is not None:
+            ticks.append(self.scope.next_tick)
+        return min(ticks, default=None)
+
+    def _sample(self, now: int) -> None:
+        scope = self.scope
+        if scope is None or scope.next_tick is None or scope.next_tick > now:
+            return
+        assert self.interpreter is not None
+        values = [self.interpreter.number(p, scope.ctx) for p in scope.params]
+        for i, value in enumerate(values):
+            self.machine.table_write(scope.start + i * scope.block + scope.taken, [value])
+        scope.taken += 1
+        if scope.taken < scope.block:
+            scope.next_tick = now + scope.period
+        elif scope.repeat:
+            scope.taken, scope.next_tick = 0, now + scope.period
+            self.scope_cycles += 1
+        else:
+            scope.next_tick = None
+
+    def run_timers(self) -> None:
+        """End the TIMERs due by now (their outputs take their end level); take the
+        SCOPE's sample due now."""
+        now = self.machine.servo_tick()
+        try:
+            self._sample(now)
+        except TrioError:
+            self.scope = None  # a parameter it cannot read ends the capture (D)
+        for slot, (end, outputs, level) in sorted(self.timers.items()):
+            if end <= now:
+                del self.timers[slot]
+                for n in outputs:
+                    self.machine.set_output(n, level)
+
+
+def _number(value: Value) -> float:
+    if isinstance(value, str):
+        raise TrioError("Parameter out of range")
+    return value
