@@ -503,6 +503,43 @@ _ENTRIES: list[Keyword] = [
           ("D_GAIN", "derivative", "KD: DAC counts per count of change of the error"),
           ("VFF_GAIN", "velocity feed forward", "KV: DAC counts per count per servo "
            "cycle of demand speed"))],
+    # ---- the servo output: open loop, the other gains, its limit (issue 35) -------------
+    _axis("DAC", "Open-loop output of a servo axis, DAC counts (12-bit: 2047 = 10 V).",
+          source=f"{HELP} DAC, SERVO", confidence="C",
+          note="With SERVO OFF, WDOG ON and AXIS_ENABLE ON a servo axis (ATYPE 36/77) puts "
+          "it out, limited to +/-OUTLIMIT, and the world's motor runs under it (MPOS reads "
+          "its encoder; DPOS stays, FE = DPOS - MPOS, and the demand takes MPOS when SERVO "
+          "goes ON: I); with WDOG or AXIS_ENABLE OFF the output is 0 (C). On the shared "
+          "16-bit output it is 16 x the value (D). The axis keeps its loop from then on, "
+          "also with P_GAIN 0 (D). Reads back what was written (D)."),
+    _axis("DAC_OUT", "The output of the axis's servo on the last servo cycle, DAC counts.",
+          writable=False, source=f"{HELP} DAC_OUT", confidence="I",
+          note="SERVO OFF: the DAC value within OUTLIMIT (0 with WDOG or AXIS_ENABLE OFF, "
+          "C); SERVO ON: the closed loop's last output / 16 (the shared 16-bit output in "
+          "12-bit counts, D), times DAC_SCALE's sign. 0 on an axis without a loop (D)."),
+    _axis("DAC_SCALE", "Multiplier of the closed loop's output (its sign: polarity).",
+          default=1, value_range=(-16, 16), source=f"{HELP} DAC_SCALE", confidence="I",
+          note="Power-up 1 (MC405, C). The gains act times |DAC_SCALE| (integer part) and "
+          "a negative value inverts the closed loop's output (C); the open-loop DAC is "
+          "not scaled (C). Range -16..16 (D)."),
+    _axis("OUTLIMIT", "Limit of the DAC output, DAC counts.", default=2047,
+          value_range=(0, 2047), source=f"{HELP} OUTLIMIT", confidence="I",
+          note="Power-up 2047: the full +/-10 V of the MC405's 12-bit DAC (I). Limits the "
+          "open-loop DAC (C); the closed loop saturates at the shared output's +/-10 V "
+          "and is not limited further (D: a limit inside the shared filter is not "
+          "modelled)."),
+    _axis("OV_GAIN", "Output velocity gain: times the change of the measured position.",
+          source=f"{HELP} OV_GAIN", confidence="C",
+          note="Adds OV_GAIN x (MPOS change over the servo cycle, counts) to the output "
+          "(C), exactly: the shared filter runs it as OV_GAIN added to the velocity "
+          "feed-forward and taken from D_GAIN, since the measured change is the demand's "
+          "change less the error's (I). Normally negative (damping). Scaling as the other "
+          "gains (D)."),
+    _axis("AFF_GAIN", "Acceleration feed-forward: times the change of demand speed.",
+          source=f"{HELP} AFF_GAIN", confidence="I",
+          note="Adds AFF_GAIN x (change of the demand speed over the servo cycle, counts "
+          "per cycle per cycle) to the closed loop's output: the shared filter's "
+          "acceleration feed-forward (scaling D, as the other gains)."),
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
@@ -890,14 +927,6 @@ _ENTRIES: list[Keyword] = [
            "changing the speed of moves already planned is not in the shared planner "
            "yet (stored, D)."),
           ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
-          ("OV_GAIN", "Output velocity gain of the servo loop.",
-           "the shared servo filter has no measured-velocity term (stored, D)."),
-          ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",
-           "its scaling to the shared filter's acceleration term is not published "
-           "(stored, D)."),
-          ("DAC", "The servo's output (written: the open-loop output).",
-           "open-loop output of a servo with SERVO OFF is not modelled; the closed loop's "
-           "output is not read here (stored, D)."),
           ("DRIVE_FE_LIMIT", "Following-error limit inside a digital drive.",
            "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
            "(stored, D)."),

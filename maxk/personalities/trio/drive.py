@@ -121,7 +121,7 @@ class Drive:
         self.error_axis = -1  # ERROR_AXIS: the first axis that went into error
         self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
         # direction and its run (the FORWARD/REVERSE at CREEP)
-        self.following.over = []
+        self.following.reset()
         self.limits.reset(self.m.axes)
 
     # ---- what the language reads -----------------------------------------------------
@@ -152,7 +152,7 @@ class Drive:
             bits |= REV_SOFT
         if self.searching(axis) is not None:
             bits |= DATUMING
-        fe = self.following.error_counts(axis) / m.axes[axis].units
+        fe = self.following.checked_error(axis) / m.axes[axis].units
         if abs(fe) > params["FE_LIMIT"] or self.following.tripped(axis):
             bits |= FE_EXCEEDED
         if params["FE_RANGE"] > 0 and abs(fe) > params["FE_RANGE"]:

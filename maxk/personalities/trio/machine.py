@@ -223,6 +223,8 @@ class MC405Machine(Kinematics, Engine):
                 return self.mark(axis)
             self.outputs.sync_encoder(axis)
             return output.encoder
+        if name == "DAC_OUT":
+            return self.drive.following.dac_out(axis)
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
             return self.wrapped(axis, value) if name == "MPOS" else value
