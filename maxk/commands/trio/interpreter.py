@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ...personalities.trio.memory import VR_COUNT
+from ...personalities.trio.slm import dlink
 from .keywords import KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -474,6 +475,8 @@ class Interpreter:
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
+        if name == "DLINK":
+            return self.drive_link(args)
         if name not in _MATH and name not in ("ATAN2", "TABLE", "VR"):
             return 0.0  # a token-table function not modelled: 0 (its table note)
         if len(numbers) != len(args):
@@ -501,6 +504,15 @@ class Interpreter:
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
         return float(result)
+
+    def drive_link(self, args: list[Value]) -> float:
+        """DLINK(function, ...): the SLM drive interface (personalities/trio/slm.py)."""
+        if any(isinstance(a, str) for a in args):
+            raise TrioError("Syntax error")
+        try:
+            return dlink([float(a) for a in args], self.machine.axis_count)
+        except ValueError as exc:
+            raise TrioError(_machine_text(exc)) from None
 
     def vr_string(self, first: int) -> str:
         """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
@@ -1002,6 +1014,9 @@ class Interpreter:
             return
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
+            return
+        if name == "DLINK":
+            self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
             return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]

@@ -540,6 +540,17 @@ _ENTRIES: list[Keyword] = [
           note="Adds AFF_GAIN x (change of the demand speed over the servo cycle, counts "
           "per cycle per cycle) to the closed loop's output: the shared filter's "
           "acceleration feed-forward (scaling D, as the other gains)."),
+    _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
+             "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
+             "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",
+             confidence="I",
+             note="The MC405 has no SLM slot and the world no SLM module or drive, so each "
+             "function answers as the page says when nothing answers: 2 and 3 return 0, 4 "
+             "returns FALSE and leaves ATYPE (it would set 11), 6 and 7 return FALSE, 5, 8, "
+             "9 and 10 return -1 (C from the page, I for the MC405). Each function's "
+             "argument count is checked ('Syntax error' otherwise, D) and its axis (0..the "
+             "last axis), slot and channel (whole, 0 up) ('Parameter out of range'); "
+             "functions 0 and 1 are reserved: 'Parameter out of range' (D)."),
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
@@ -955,9 +966,6 @@ _ENTRIES: list[Keyword] = [
           ("R_MARK", "R_MARK(channel): the newer registration channels' mark.", (1, 1), True,
            "the newer REGIST(20..) channels are not modelled (REGIST modes 1..9 are: "
            "MARK, MARKB); reads 0 (D)."),
-          ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
-           (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
-           "drive it (accepted, returns 0, D)."),
       )],
     # ---- constants, operators, modifiers --------------------------------------------------------
     _constant("TRUE", -1.0),
