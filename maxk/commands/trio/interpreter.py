@@ -1018,6 +1018,13 @@ class Interpreter:
         if name == "DLINK":
             self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
             return
+        if name == "ENCODER_RATIO":  # (no arguments: 1:1, D)
+            ratio = [self.number(a, ctx) for a in stmt.args] or [1.0, 1.0]
+            if len(ratio) != 2:
+                raise TrioError("Syntax error")
+            axis = self.axis_of(stmt.axis, ctx)
+            self._act(lambda: self.machine.encoder_ratio(axis, ratio[0], ratio[1]))
+            return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]
             yield from self.hook.system_command(stmt.keyword, values, ctx)

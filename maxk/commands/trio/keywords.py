@@ -540,6 +540,23 @@ _ENTRIES: list[Keyword] = [
           note="Adds AFF_GAIN x (change of the demand speed over the servo cycle, counts "
           "per cycle per cycle) to the closed loop's output: the shared filter's "
           "acceleration feed-forward (scaling D, as the other gains)."),
+    _axis("ENCODER", "Raw copy of the axis's feedback register, counts.", writable=False,
+          source=f"{HELP} ENCODER", confidence="I",
+          note="The count of the encoder the axis reads, with no DEFPOS, UNITS or "
+          "ENCODER_RATIO (C): a servo axis's world motor encoder, an encoder input's "
+          "mounted encoder (ATYPE 76 ...), else (no feedback: a stepper, a virtual axis) "
+          "the demand counts, whole (D). A 32-bit register: wraps at +/-2^31 (D)."),
+    _command("ENCODER_RATIO", "ENCODER_RATIO(mpos_count, input_count): MPOS counts per "
+             "encoder count.", (0, 3), axis=True, source=f"{HELP} ENCODER_RATIO; {TOK}",
+             confidence="I",
+             note="On an encoder input (ATYPE 76 ...) MPOS and DPOS count mpos_count / "
+             "input_count x the encoder's counts (C); MPOS keeps its value when the ratio "
+             "changes (DEFPOS's offset takes the difference, D). Whole numbers up to "
+             "16777215, input_count above 0, mpos_count not 0 (negative reverses the "
+             "axis, C), else 'Parameter out of range'; no arguments: 1:1 (D); 1 or 3 "
+             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
+             "kept but the shared servo loop's feedback is not scaled (not modelled: the "
+             "loop runs in the motor encoder's counts)."),
     _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
              "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
              "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",

@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import moves
+from . import encoders, moves
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -225,6 +225,8 @@ class MC405Machine(Kinematics, Engine):
             return output.encoder
         if name == "DAC_OUT":
             return self.drive.following.dac_out(axis)
+        if name == "ENCODER":
+            return encoders.encoder(self, axis)
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
             return self.wrapped(axis, value) if name == "MPOS" else value
@@ -368,6 +370,23 @@ class MC405Machine(Kinematics, Engine):
         return not self.digital_input(number)
 
     def encoder_counts(self, axis: int) -> float | None:
+        """What an encoder input's MPOS counts: its encoder's counts times ENCODER_RATIO
+        (`encoders.py`); None when the axis is no encoder input with an encoder."""
+        raw = self.raw_encoder(axis)
+        return None if raw is None else raw * encoders.ratio(self.axes[axis].params)
+
+    def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
+        """ENCODER_RATIO(mpos_count, input_count): an encoder input's MPOS keeps its
+        value at the change (its DEFPOS offset takes up the difference, D)."""
+        a = self.axes[axis]
+        before = self.encoder_counts(axis)
+        encoders.set_ratio(a.params, mpos_count, input_count)
+        after = self.encoder_counts(axis)
+        if before is not None and after is not None:
+            a.datum += before - after
+        self.changed()
+
+    def raw_encoder(self, axis: int) -> float | None:
         """The counts of the encoder the world mounts on this axis's encoder input, when
         the axis is an encoder input (ENCODER_ATYPES); None otherwise."""
         mount = self.world.encoders.get(axis)
