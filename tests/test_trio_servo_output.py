@@ -155,3 +155,71 @@ def test_ov_and_aff_gains_add_their_terms_to_the_output_every_cycle() -> None:
             assert abs(float(trio.machine.drive.following.dac_out(0)) - expected) < 1e-6, tick
             checked += 1 if v0 != v1 else 0
     assert checked >= 5  # the acceleration ramps were among the cycles checked
+
+
+def test_s_ref_and_t_ref_are_the_dac_and_their_outs_dac_out() -> None:
+    trio = mc405(OPEN, "S_REF=300")
+    assert (trio.query("?DAC"), trio.query("?T_REF"), trio.query("?S_REF_OUT"),
+            trio.query("?T_REF_OUT")) == ("300", "300", "300", "300")
+    trio.send("T_REF=-700")
+    assert (trio.query("?DAC"), trio.query("?DAC_OUT")) == ("-700", "-700")
+    assert trio.send("S_REF_OUT=5")[0].startswith("!")  # read only, as DAC_OUT
+    assert trio.query("?DAC") == "-700"
+
+
+# ---- FE_LIMIT_MODE ---------------------------------------------------------------------
+SERVO = ("ATYPE=77: P_GAIN=10: D_GAIN=160: SERVO=ON: WDOG=ON: SPEED=4000: ACCEL=40000: "
+         "DECEL=40000")
+
+
+STEP = "SPEED=40000: ACCEL=4e7: DECEL=4e7"  # a short move is a step of the demand
+
+
+def _errors_at(mode: int, limit: float, distance: int, slices: int,
+               profile: str = "SPEED=4000") -> int | None:
+    """The tick of the motion error of a move with FE_LIMIT `limit` (None: none by 400)."""
+    trio = mc405(SERVO, profile, f"FE_LIMIT={limit}: FE_LIMIT_MODE={mode}: ERRORMASK=268")
+    trio.send(f"MOVE({distance})")
+    while trio.machine.tick < 400:
+        trio.advance(ticks=slices)
+        if trio.query("?MOTION_ERROR") != "0":
+            return None if slices > 1 else trio.machine.tick
+    return None if trio.query("?MOTION_ERROR") == "0" else -1
+
+
+def fe_by_tick(distance: int, ticks: int, profile: str = "SPEED=4000") -> list[float]:
+    trio = mc405(SERVO, profile, f"MOVE({distance})")
+    out = []
+    for _ in range(ticks):
+        trio.advance(ticks=1)
+        out.append(float(trio.query("?FE")))
+    return out
+
+
+def test_fe_limit_mode_1_raises_the_error_one_cycle_later_whatever_the_slicing() -> None:
+    """Along the ramp FE grows every cycle: mode 1 sees the second cycle beyond the limit
+    one cycle after mode 0 sees the first."""
+    first = _errors_at(0, 30, 8000, 1)
+    assert first is not None and first > 50
+    assert _errors_at(1, 30, 8000, 1) == first + 1
+    whole = mc405(SERVO, "FE_LIMIT=30: FE_LIMIT_MODE=1: ERRORMASK=268", "MOVE(8000)")
+    whole.advance(ticks=400)  # one stretch: the error found inside it
+    stepped = mc405(SERVO, "FE_LIMIT=30: FE_LIMIT_MODE=1: ERRORMASK=268", "MOVE(8000)")
+    stepped.advance(ticks=first + 1)
+    for trio in (whole, stepped):
+        assert (trio.query("?MOTION_ERROR"), trio.query("?AXISSTATUS")) == ("1", "256")
+    assert stepped.query("?DPOS") == whole.query("?DPOS")  # stopped on the same cycle
+
+
+def test_fe_limit_mode_1_ignores_a_single_cycle_beyond_the_limit() -> None:
+    """A short, steep move's error peaks once: a limit just under the peak and above both
+    its neighbours is passed on one cycle only."""
+    fe = [abs(v) for v in fe_by_tick(60, 200, STEP)]
+    peak = max(range(len(fe)), key=fe.__getitem__)
+    neighbour = max(fe[peak - 1], fe[peak + 1], *fe[peak + 2:])
+    assert fe[peak] - neighbour > 5.0  # room for a limit between them
+    limit = (fe[peak] + neighbour) / 2
+    assert _errors_at(0, limit, 60, 1, STEP) is not None
+    assert _errors_at(1, limit, 60, 1, STEP) is None
+    assert _errors_at(1, limit, 60, 400, STEP) is None
+    assert mc405().send("FE_LIMIT_MODE=2") == ["! Parameter out of range"]

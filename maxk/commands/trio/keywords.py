@@ -528,6 +528,16 @@ _ENTRIES: list[Keyword] = [
           "open-loop DAC (C); the closed loop saturates at the shared output's +/-10 V "
           "and is not limited further (D: a limit inside the shared filter is not "
           "modelled)."),
+    *[_axis(name, f"The same parameter as {same}.", writable=same == "DAC",
+            source=f"{HELP} {name}", confidence="C",
+            note=f"Another name of {same}: reads and writes {same} itself.")
+      for name, same in (("S_REF", "DAC"), ("T_REF", "DAC"), ("S_REF_OUT", "DAC_OUT"),
+                         ("T_REF_OUT", "DAC_OUT"))],
+    _axis("FE_LIMIT_MODE", "1: FE_LIMIT must be exceeded on two servo cycles in a row.",
+          value_range=(0, 1), source=f"{HELP} FE_LIMIT_MODE", confidence="C",
+          note="0 (power-up): AXISSTATUS bit 8 on the first cycle |FE| passes FE_LIMIT; 1: "
+          "on the second of two cycles in a row, a single cycle beyond it is ignored (C). "
+          "The cycle before is the servo loop's own last error (sub-count, D)."),
     _axis("OV_GAIN", "Output velocity gain: times the change of the measured position.",
           source=f"{HELP} OV_GAIN", confidence="C",
           note="Adds OV_GAIN x (MPOS change over the servo cycle, counts) to the output "

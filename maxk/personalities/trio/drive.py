@@ -153,7 +153,7 @@ class Drive:
         if self.searching(axis) is not None:
             bits |= DATUMING
         fe = self.following.checked_error(axis) / m.axes[axis].units
-        if abs(fe) > params["FE_LIMIT"] or self.following.tripped(axis):
+        if self.following.beyond_limit(axis, fe) or self.following.tripped(axis):
             bits |= FE_EXCEEDED
         if params["FE_RANGE"] > 0 and abs(fe) > params["FE_RANGE"]:
             bits |= FE_WARNING

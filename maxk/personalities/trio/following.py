@@ -205,10 +205,11 @@ class Following:
             if a.link is not None:  # a linked servo axis follows its demand (D)
                 loop.p, loop.w, loop.tick = m.demand(a.index), 0.0, limit
                 continue
+            before = loop.q  # the error of the cycle before the stretch
             if a.index in watched:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
-            over = self._first_over(a, loop) if a.index in watched else None
+            over = self._first_over(a, loop, before) if a.index in watched else None
             loop.recorder = None
             ticks = [t for t in (over, loop.trip_tick) if t is not None]
             if ticks:
@@ -234,15 +235,34 @@ class Following:
                 and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
 
     @staticmethod
-    def _first_over(a: TrioAxis, loop: ServoLoop) -> int | None:
+    def _first_over(a: TrioAxis, loop: ServoLoop, before: float) -> int | None:
+        """The first recorded cycle whose |FE| passes FE_LIMIT; with FE_LIMIT_MODE 1 the
+        second of two such cycles in a row (help FE_LIMIT_MODE), the cycle before the
+        stretch counting as the first of them."""
         samples = loop.recorder
         if not samples:
             return None
         bound = a.params["FE_LIMIT"] * a.units
+        twice = int(a.params["FE_LIMIT_MODE"]) == 1
+        previous = abs(before) > bound
         for sample in samples:
-            if abs(sample[5]) > bound:
+            over = abs(sample[5]) > bound
+            if over and (previous or not twice):
                 return int(sample[0])
+            previous = over
         return None
+
+    def beyond_limit(self, axis: int, fe: float) -> bool:
+        """Does AXISSTATUS show FE_LIMIT exceeded for this FE (user units)? With
+        FE_LIMIT_MODE 1 only when the last cycle's error was beyond it too."""
+        a = self.m.axes[axis]
+        limit = a.params["FE_LIMIT"]
+        if not abs(fe) > limit:
+            return False
+        loop = a.servo
+        if int(a.params["FE_LIMIT_MODE"]) != 1 or loop is None:
+            return True
+        return abs(loop.q) > limit * abs(a.units)
 
     def tripped(self, axis: int) -> bool:
         loop = self.m.axes[axis].servo

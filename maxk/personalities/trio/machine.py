@@ -79,6 +79,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED"})
+DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
+"""Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB"})
 
@@ -212,6 +214,7 @@ class MC405Machine(Kinematics, Engine):
         return round(self.period * 1e6)
 
     def axis_parameter(self, name: str, axis: int) -> float:
+        name = DAC_ALIASES.get(name, name)
         if name in ("MPOS", "DPOS", "FE") and (counts := self.encoder_counts(axis)) is not None:
             a = self.axes[axis]
             return 0.0 if name == "FE" else (counts + a.datum) / a.units
@@ -242,6 +245,7 @@ class MC405Machine(Kinematics, Engine):
         return self.axes[axis].params[name]
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
+        name = DAC_ALIASES.get(name, name)
         if name == "PWM_CYCLE":
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
