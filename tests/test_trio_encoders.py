@@ -83,3 +83,16 @@ def test_the_register_wraps_at_32_bits() -> None:
     assert trio.run_until_idle()
     assert trio.query("?ENCODER AXIS(2)") == "-2147483648"
     assert trio.query("?DPOS AXIS(2)") == "2147483648"
+
+
+def test_endat_register_access_fails_with_no_endat_encoder_and_sets_parameter_mode() -> None:
+    trio = mc405("BASE(1)")
+    assert trio.query("?ENCODER_CONTROL AXIS(1)") == "0"
+    trio.load("ENDAT", "BASE(1)\nIF ENCODER_READ($A700) = -1 THEN VR(5) = 1\n"
+              "ENCODER_CONTROL = 0\nIF NOT ENCODER_WRITE(3, 7) THEN VR(6) = 1\n")
+    trio.send('RUN "ENDAT"')
+    trio.advance(0.01)
+    assert (trio.query("?VR(5)"), trio.query("?VR(6)")) == ("1", "1")
+    assert trio.query("?ENCODER_CONTROL AXIS(1)") == "1"  # the write set it again
+    assert trio.send("?ENCODER_READ(-1)") == ["! Parameter out of range"]
+    assert trio.send("?ENCODER_READ(1,2)") == ["! Syntax error"]

@@ -19,6 +19,7 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from ...personalities.trio.encoders import endat
 from ...personalities.trio.memory import VR_COUNT
 from ...personalities.trio.slm import dlink
 from .keywords import KEYWORDS, Keyword, Kind
@@ -477,6 +478,11 @@ class Interpreter:
         numbers = [a for a in args if not isinstance(a, str)]
         if name == "DLINK":
             return self.drive_link(args)
+        if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
+            value = self.drive_link(args, lambda a, _: endat(name, a))
+            self._act(lambda: self.machine.set_axis_parameter("ENCODER_CONTROL",
+                                                              ctx.base[0], 1.0))
+            return value
         if name not in _MATH and name not in ("ATAN2", "TABLE", "VR"):
             return 0.0  # a token-table function not modelled: 0 (its table note)
         if len(numbers) != len(args):
@@ -505,12 +511,14 @@ class Interpreter:
             raise TrioError("Arithmetic error")
         return float(result)
 
-    def drive_link(self, args: list[Value]) -> float:
-        """DLINK(function, ...): the SLM drive interface (personalities/trio/slm.py)."""
+    def drive_link(self, args: list[Value],
+                   answer: Callable[[list[float], int], float] = dlink) -> float:
+        """DLINK(function, ...): the SLM drive interface (personalities/trio/slm.py); or
+        another drive-side function with no hardware behind it (`answer`)."""
         if any(isinstance(a, str) for a in args):
             raise TrioError("Syntax error")
         try:
-            return dlink([float(a) for a in args], self.machine.axis_count)
+            return answer([float(a) for a in args], self.machine.axis_count)
         except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
 

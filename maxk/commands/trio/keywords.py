@@ -567,6 +567,90 @@ _ENTRIES: list[Keyword] = [
              "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
              "kept but the shared servo loop's feedback is not scaled (not modelled: the "
              "loop runs in the motor encoder's counts)."),
+    _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
+              "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
+              note="The world has only incremental encoders, so no EnDat encoder is "
+              "initialised: returns -1 (C) and sets ENCODER_CONTROL of the base axis to 1 "
+              "(C). The address a whole number from 0, else 'Parameter out of range' (D)."),
+    _function("ENCODER_WRITE", "ENCODER_WRITE(address, data): write a register of an EnDat "
+              "absolute encoder.", (2, 2), source=f"{HELP} ENCODER_WRITE; {TOK}",
+              confidence="I", note="No EnDat encoder in the world: returns FALSE (the write "
+              "fails, C) and sets ENCODER_CONTROL of the base axis to 1 (C)."),
+    *[_axis(name, summary, writable=writable, default=default, confidence="D",
+            source=f"{HELP} {name}", note="Not modelled: " + why)
+      for name, summary, writable, default, why in (
+          ("DRIVE_FE_LIMIT", "Following-error limit on a remote drive's own FE.", True,
+           20000.0, "it bounds DRIVE_FE, the error a fieldbus (EtherCAT) drive reports; the "
+           "world has no remote drive, so DRIVE_FE is never reported (the controller's own "
+           "FE_LIMIT acts). Power-up 20000 (C)."),
+          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.", True, 0.0,
+           "a dead band is a switch inside the servo filter; the shared filter (whose "
+           "closed-form stretches assume a linear loop) has none (stored)."),
+          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.", True, 0.0,
+           "see D_ZONE_MIN (stored)."),
+          ("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.", True, 0.0,
+           "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_CONTROL", "EnDat encoder mode: 0 position, 1 parameter read/write.", True,
+           0.0, "no EnDat encoder in the world; ENCODER_READ and ENCODER_WRITE set it to 1 "
+           "as the page says (stored)."),
+          ("ENCODER_STATUS", "Status and alarm fields of a Tamagawa absolute encoder.", True,
+           0.0, "absolute encoders only: reads 0, as the page gives for an encoder not "
+           "initialised (stored)."),
+          ("ENCODER_TURNS", "Multi-turn count of an EnDat/Tamagawa absolute encoder.", True,
+           0.0, "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_ID", "Identification of a Tamagawa absolute encoder.", True, 0.0,
+           "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_FILTER", "Filter on an encoder's feedback against jitter.", True, 1.0,
+           "the world's encoders have no jitter, so the filter of a jitter-free count is "
+           "not applied (stored; power-up 1: no filtering, C)."),
+          ("PS_ENCODER", "Raw copy of the hardware position-switch encoder.", False, 0.0,
+           "the hardware position switch (HW_PSWITCH) is not modelled: reads 0."),
+          ("INVERT_STEP", "Rising (ON) or falling step edge active.", True, 0.0,
+           "the world's stepper turns on whole steps, not on pulse edges: the edge is "
+           "invisible to it (stored)."),
+          ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
+           "MICROSTEP): stored."),
+          ("BACKLASH_DIST", "The backlash compensation being applied.", True, 0.0,
+           "BACKLASH is not modelled: reads what was written."),
+          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.", True,
+           0.0, "an offset inside the servo filter's output; the shared filter has none "
+           "(stored)."),
+          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.", True,
+           0.0, "see POS_OFFSET (stored)."),
+          ("PLM_OFFSET", "SLM/PLM motor encoder offset.", True, 0.0,
+           "SLM interface only; the MC405 has no SLM (see DLINK; stored)."),
+          ("AXIS_ERROR_COUNT", "Communication errors counted on a digital axis.", True, 0.0,
+           "the emulator has no digital axis bus to fail: stays as written (power-up 0)."),
+      )],
+    _system("SERVO_OFFSET", "Start of the servo work within the servo period.",
+            source=f"{HELP} SERVO_OFFSET; {TOK}", confidence="D",
+            note="Not modelled: firmware scheduling inside one servo period, which the "
+            "emulator runs as one instant (stored)."),
+    _system("MPE_MODE", "The command line's Motion Perfect protocol mode.", writable=False,
+            source=f"{HELP} MPE_MODE; {TOK}", confidence="D",
+            note="Not modelled: reads 0 (no protocol: direct mode), as every session the "
+            "emulator serves is; the Motion Perfect protocols are not emulated."),
+    *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
+               confidence="D", note="Not modelled: " + why)
+      for name, summary, arity, why in (
+          ("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand count.",
+           (0, 3), "the world takes a stepper's demand counts as its motor's steps "
+           "everywhere (limits, index marks, shaft encoders); the shared machine carries "
+           "no ratio between them (accepted, no effect)."),
+          ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
+           "moves.", (1, 4), "the compensation move superimposed after each reversal of "
+           "DPOS is not in the shared machine (accepted, no effect)."),
+          ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
+           "the shared servo loop drives one motor from one filter; summing two filters "
+           "onto one motor is not in it (accepted, no effect)."),
+          ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
+           "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
+           "parameters UNITS scales is not listed on the page (the VRs are not written)."),
+          ("HANDWHEEL_AXIS", "Reserved keyword.", (0, 2), "a reserved word without a help "
+           "page (accepted, no effect)."),
+          ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
+           "'Reserved Keyword'): accepted, no effect, returns 0."),
+      )],
     _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
              "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
              "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",
@@ -965,9 +1049,6 @@ _ENTRIES: list[Keyword] = [
            "changing the speed of moves already planned is not in the shared planner "
            "yet (stored, D)."),
           ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
-          ("DRIVE_FE_LIMIT", "Following-error limit inside a digital drive.",
-           "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
-           "(stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
            "the robot system is not modelled (stored, D)."),
           ("FRAME", "The robot (kinematic) frame of the axes.",

@@ -63,4 +63,16 @@ def encoder(machine: EncoderHost, axis: int) -> float:
     return float(wrapped)
 
 
-__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "ratio", "set_ratio"]
+def endat(name: str, args: list[float]) -> float:
+    """ENCODER_READ(address) / ENCODER_WRITE(address, data) on an axis with no EnDat
+    encoder (the world has only incremental encoders): the read returns -1 (encoder not
+    initialised), the write FALSE (help ENCODER_READ, ENCODER_WRITE). The address is a
+    whole number from 0 (D)."""
+    if len(args) != (1 if name == "ENCODER_READ" else 2):
+        raise ValueError("Syntax error")
+    if not math.isfinite(args[0]) or args[0] != int(args[0]) or args[0] < 0:
+        raise ValueError("Parameter out of range")
+    return -1.0 if name == "ENCODER_READ" else 0.0
+
+
+__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "endat", "ratio", "set_ratio"]
