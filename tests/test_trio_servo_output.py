@@ -54,7 +54,8 @@ def test_dac_with_servo_off_runs_the_motor_at_its_steady_speed() -> None:
     at(trio, 1500)  # one second later
     travelled = float(trio.query("?MPOS")) - start
     assert abs(travelled - steady_speed(1024)) <= 1.0  # (encoder counts: +/-1)
-    assert float(trio.query("?FE")) == -float(trio.query("?MPOS"))  # DPOS stays 0
+    # DPOS is MPOS while SERVO is OFF (help DPOS): FE reads 0
+    assert (trio.query("?DPOS"), trio.query("?FE")) == (trio.query("?MPOS"), "0")
 
 
 def test_the_help_page_square_wave_reverses_the_motor_every_250_ms() -> None:
@@ -87,6 +88,10 @@ def test_dac_is_not_put_out_with_the_watchdog_or_the_enable_off() -> None:
     assert trio.query("?DAC_OUT") == "1024"
     at(trio, 2500)
     assert float(trio.query("?MPOS")) > 0.4 * steady_speed(1024)
+    trio.send("WDOG=OFF")  # the output goes to 0, DPOS still follows MPOS as it coasts
+    at(trio, 2502)
+    assert trio.query("?DAC_OUT") == "0"
+    assert (trio.query("?DPOS"), trio.query("?FE")) == (trio.query("?MPOS"), "0")
 
 
 def test_outlimit_limits_the_open_loop_output() -> None:

@@ -508,10 +508,11 @@ _ENTRIES: list[Keyword] = [
           source=f"{HELP} DAC, SERVO", confidence="C",
           note="With SERVO OFF, WDOG ON and AXIS_ENABLE ON a servo axis (ATYPE 36/77) puts "
           "it out, limited to +/-OUTLIMIT, and the world's motor runs under it (MPOS reads "
-          "its encoder; DPOS stays, FE = DPOS - MPOS, and the demand takes MPOS when SERVO "
-          "goes ON: I); with WDOG or AXIS_ENABLE OFF the output is 0 (C). On the shared "
-          "16-bit output it is 16 x the value (D). The axis keeps its loop from then on, "
-          "also with P_GAIN 0 (D). Reads back what was written (D)."),
+          "its encoder; DPOS reads MPOS and FE 0 while SERVO or WDOG is OFF, help DPOS, C; "
+          "the demand takes MPOS when the loop closes, I); with WDOG or AXIS_ENABLE OFF "
+          "the output is 0 (C). On the shared 16-bit output it is 16 x the value (D). The "
+          "axis keeps its loop from then on, also with P_GAIN 0 (D). Reads back what was "
+          "written (D)."),
     _axis("DAC_OUT", "The output of the axis's servo on the last servo cycle, DAC counts.",
           writable=False, source=f"{HELP} DAC_OUT", confidence="I",
           note="SERVO OFF: the DAC value within OUTLIMIT (0 with WDOG or AXIS_ENABLE OFF, "

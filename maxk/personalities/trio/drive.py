@@ -131,7 +131,7 @@ class Drive:
         if name in ("MPOS", "FE"):
             a = self.m.axes[axis]
             fe = self.following.error_counts(axis) / a.units  # 0: profile-only
-            return self.m.dpos(axis) - fe if name == "MPOS" else fe
+            return self.m.dpos(axis) - fe if name == "MPOS" else self.following.shown(axis, fe)
         return float(self.drive_status(axis))
 
     def system_parameter(self, name: str) -> float:

@@ -14,7 +14,8 @@ gain times the change of the measured position dPm, is exact without a term of i
 in the shared filter: dPm = v - (e - e_prev) on every cycle, so it is OV_GAIN added to
 the velocity feed-forward and taken from the derivative gain. The loop is closed while
 the axis's drive is enabled (`Drive.enabled`); when it closes again the demand is set to
-where the motor stands (I: the controller keeps DPOS = MPOS while the servo is off).
+where the motor stands; while it is open DPOS reads MPOS and FE 0 (help DPOS: DPOS is
+set to MPOS while SERVO or WDOG is OFF).
 
 With SERVO OFF, WDOG ON and AXIS_ENABLE ON the output is the open-loop DAC value
 (TrioBASIC help DAC, SERVO), limited to +/-OUTLIMIT: the MC405's 12-bit value (2047 =
@@ -179,6 +180,18 @@ class Following:
         """FE in counts: demand - encoder (0 for a profile-only axis)."""
         measured = self.measured(axis)
         return 0.0 if measured is None else self.m.demand(axis) - measured
+
+    def open_error(self, axis: int) -> float:
+        """Demand less encoder, counts, while the axis's loop is open (0 otherwise): DPOS
+        reads MPOS while SERVO or WDOG is OFF (help DPOS), so DPOS is read this much
+        less than the demand kept (which takes MPOS when the loop closes again)."""
+        loop = self.m.axes[axis].servo
+        return 0.0 if loop is None or loop.closed else self.error_counts(axis)
+
+    def shown(self, axis: int, fe: float) -> float:
+        """FE as read: 0 while the loop is open (DPOS = MPOS then)."""
+        loop = self.m.axes[axis].servo
+        return 0.0 if loop is not None and not loop.closed else fe
 
     def checked_error(self, axis: int) -> float:
         """FE as FE_LIMIT and FE_RANGE see it: 0 while the loop is open (SERVO OFF: no

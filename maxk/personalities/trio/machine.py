@@ -233,8 +233,9 @@ class MC405Machine(Kinematics, Engine):
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
             return self.wrapped(axis, value) if name == "MPOS" else value
-        if name == "DPOS":
-            return self.wrapped(axis, self.dpos(axis))
+        if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
+            open_error = self.drive.following.open_error(axis) / self.axes[axis].units
+            return self.wrapped(axis, self.dpos(axis) - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name in moves.REPORTS:
