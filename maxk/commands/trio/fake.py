@@ -309,6 +309,10 @@ class FakeTrioMachine:
     def input_function(self, number: int) -> bool:
         return not self.digital_input(number)
 
+    def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
+        if input_count <= 0 or mpos_count == 0:
+            raise ValueError("Parameter out of range")
+
     def invert_input(self, number: int, on: bool) -> None:
         if on:
             self.inverted.add(number)

@@ -20,11 +20,13 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Protocol
 
+from ...personalities.trio.encoders import endat
 from ...personalities.trio.geometry import NAMES as GEOMETRIC
 from ...personalities.trio.geometry import group_size
 from ...personalities.trio.memory import VR_COUNT
 from ...personalities.trio.sequences import NAMES as SEQUENCES
 from ...personalities.trio.sequences import axes_of
+from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
@@ -513,6 +515,13 @@ class Interpreter:
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
+        if name == "DLINK":
+            return self.drive_link(args)
+        if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
+            value = self.drive_link(args, lambda a, _: endat(name, a))
+            self._act(lambda: self.machine.set_axis_parameter("ENCODER_CONTROL",
+                                                              ctx.base[0], 1.0))
+            return value
         if name not in _MATH and name not in ("ATAN2", "TABLE", "VR"):
             return 0.0  # a token-table function not modelled: 0 (its table note)
         if len(numbers) != len(args):
@@ -540,6 +549,17 @@ class Interpreter:
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
         return float(result)
+
+    def drive_link(self, args: list[Value],
+                   answer: Callable[[list[float], int], float] = dlink) -> float:
+        """DLINK(function, ...): the SLM drive interface (personalities/trio/slm.py); or
+        another drive-side function with no hardware behind it (`answer`)."""
+        if any(isinstance(a, str) for a in args):
+            raise TrioError("Syntax error")
+        try:
+            return answer([float(a) for a in args], self.machine.axis_count)
+        except ValueError as exc:
+            raise TrioError(_machine_text(exc)) from None
 
     def vr_string(self, first: int) -> str:
         """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
@@ -1110,6 +1130,16 @@ class Interpreter:
             return
         if name in ("CHANNEL_READ", "CHANNEL_WRITE"):
             self.call(Call(name, stmt.args), ctx)
+            return
+        if name == "DLINK":
+            self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
+            return
+        if name == "ENCODER_RATIO":  # (no arguments: 1:1, D)
+            ratio = [self.number(a, ctx) for a in stmt.args] or [1.0, 1.0]
+            if len(ratio) != 2:
+                raise TrioError("Syntax error")
+            axis = self.axis_of(stmt.axis, ctx)
+            self._act(lambda: self.machine.encoder_ratio(axis, ratio[0], ratio[1]))
             return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]

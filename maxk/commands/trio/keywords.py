@@ -645,6 +645,166 @@ _ENTRIES: list[Keyword] = [
           ("D_GAIN", "derivative", "KD: DAC counts per count of change of the error"),
           ("VFF_GAIN", "velocity feed forward", "KV: DAC counts per count per servo "
            "cycle of demand speed"))],
+    # ---- the servo output: open loop, the other gains, its limit (issue 35) -------------
+    _axis("DAC", "Open-loop output of a servo axis, DAC counts (12-bit: 2047 = 10 V).",
+          source=f"{HELP} DAC, SERVO", confidence="C",
+          note="With SERVO OFF, WDOG ON and AXIS_ENABLE ON a servo axis (ATYPE 36/77) puts "
+          "it out, limited to +/-OUTLIMIT, and the world's motor runs under it (MPOS reads "
+          "its encoder; DPOS reads MPOS and FE 0 while SERVO or WDOG is OFF, help DPOS, C; "
+          "the demand takes MPOS when the loop closes, I); with WDOG or AXIS_ENABLE OFF "
+          "the output is 0 (C). On the shared 16-bit output it is 16 x the value (D). The "
+          "axis keeps its loop from then on, also with P_GAIN 0 (D). Reads back what was "
+          "written (D)."),
+    _axis("DAC_OUT", "The output of the axis's servo on the last servo cycle, DAC counts.",
+          writable=False, source=f"{HELP} DAC_OUT", confidence="I",
+          note="SERVO OFF: the DAC value within OUTLIMIT (0 with WDOG or AXIS_ENABLE OFF, "
+          "C); SERVO ON: the closed loop's last output / 16 (the shared 16-bit output in "
+          "12-bit counts, D), times DAC_SCALE's sign. 0 on an axis without a loop (D)."),
+    _axis("DAC_SCALE", "Multiplier of the closed loop's output (its sign: polarity).",
+          default=1, value_range=(-16, 16), source=f"{HELP} DAC_SCALE", confidence="I",
+          note="Power-up 1 (MC405, C). The gains act times |DAC_SCALE| (integer part) and "
+          "a negative value inverts the closed loop's output (C); the open-loop DAC is "
+          "not scaled (C). Range -16..16 (D)."),
+    _axis("OUTLIMIT", "Limit of the DAC output, DAC counts.", default=2047,
+          value_range=(0, 2047), source=f"{HELP} OUTLIMIT", confidence="I",
+          note="Power-up 2047: the full +/-10 V of the MC405's 12-bit DAC (I). Limits the "
+          "open-loop DAC (C); the closed loop saturates at the shared output's +/-10 V "
+          "and is not limited further (D: a limit inside the shared filter is not "
+          "modelled)."),
+    *[_axis(name, f"The same parameter as {same}.", writable=same == "DAC",
+            source=f"{HELP} {name}", confidence="C",
+            note=f"Another name of {same}: reads and writes {same} itself.")
+      for name, same in (("S_REF", "DAC"), ("T_REF", "DAC"), ("S_REF_OUT", "DAC_OUT"),
+                         ("T_REF_OUT", "DAC_OUT"))],
+    _axis("FE_LIMIT_MODE", "1: FE_LIMIT must be exceeded on two servo cycles in a row.",
+          value_range=(0, 1), source=f"{HELP} FE_LIMIT_MODE", confidence="C",
+          note="0 (power-up): AXISSTATUS bit 8 on the first cycle |FE| passes FE_LIMIT; 1: "
+          "on the second of two cycles in a row, a single cycle beyond it is ignored (C). "
+          "The cycle before is the servo loop's own last error (sub-count, D)."),
+    _axis("OV_GAIN", "Output velocity gain: times the change of the measured position.",
+          source=f"{HELP} OV_GAIN", confidence="C",
+          note="Adds OV_GAIN x (MPOS change over the servo cycle, counts) to the output "
+          "(C), exactly: the shared filter runs it as OV_GAIN added to the velocity "
+          "feed-forward and taken from D_GAIN, since the measured change is the demand's "
+          "change less the error's (I). Normally negative (damping). Scaling as the other "
+          "gains (D)."),
+    _axis("AFF_GAIN", "Acceleration feed-forward: times the change of demand speed.",
+          source=f"{HELP} AFF_GAIN", confidence="I",
+          note="Adds AFF_GAIN x (change of the demand speed over the servo cycle, counts "
+          "per cycle per cycle) to the closed loop's output: the shared filter's "
+          "acceleration feed-forward (scaling D, as the other gains)."),
+    _axis("ENCODER", "Raw copy of the axis's feedback register, counts.", writable=False,
+          source=f"{HELP} ENCODER", confidence="I",
+          note="The count of the encoder the axis reads, with no DEFPOS, UNITS or "
+          "ENCODER_RATIO (C): a servo axis's world motor encoder, an encoder input's "
+          "mounted encoder (ATYPE 76 ...), else (no feedback: a stepper, a virtual axis) "
+          "the demand counts, whole (D). A 32-bit register: wraps at +/-2^31 (D)."),
+    _command("ENCODER_RATIO", "ENCODER_RATIO(mpos_count, input_count): MPOS counts per "
+             "encoder count.", (0, 3), axis=True, source=f"{HELP} ENCODER_RATIO; {TOK}",
+             confidence="I",
+             note="On an encoder input (ATYPE 76 ...) MPOS and DPOS count mpos_count / "
+             "input_count x the encoder's counts (C); MPOS keeps its value when the ratio "
+             "changes (DEFPOS's offset takes the difference, D). Whole numbers up to "
+             "16777215, input_count above 0, mpos_count not 0 (negative reverses the "
+             "axis, C), else 'Parameter out of range'; no arguments: 1:1 (D); 1 or 3 "
+             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
+             "kept but the shared servo loop's feedback is not scaled (not modelled: the "
+             "loop runs in the motor encoder's counts)."),
+    _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
+              "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
+              note="The world has only incremental encoders, so no EnDat encoder is "
+              "initialised: returns -1 (C) and sets ENCODER_CONTROL of the base axis to 1 "
+              "(C). The address a whole number from 0, else 'Parameter out of range' (D)."),
+    _function("ENCODER_WRITE", "ENCODER_WRITE(address, data): write a register of an EnDat "
+              "absolute encoder.", (2, 2), source=f"{HELP} ENCODER_WRITE; {TOK}",
+              confidence="I", note="No EnDat encoder in the world: returns FALSE (the write "
+              "fails, C) and sets ENCODER_CONTROL of the base axis to 1 (C)."),
+    *[_axis(name, summary, writable=writable, default=default, confidence="D",
+            source=f"{HELP} {name}", note="Not modelled: " + why)
+      for name, summary, writable, default, why in (
+          ("DRIVE_FE_LIMIT", "Following-error limit on a remote drive's own FE.", True,
+           20000.0, "it bounds DRIVE_FE, the error a fieldbus (EtherCAT) drive reports; the "
+           "world has no remote drive, so DRIVE_FE is never reported (the controller's own "
+           "FE_LIMIT acts). Power-up 20000 (C)."),
+          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.", True, 0.0,
+           "a dead band is a switch inside the servo filter; the shared filter (whose "
+           "closed-form stretches assume a linear loop) has none (stored)."),
+          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.", True, 0.0,
+           "see D_ZONE_MIN (stored)."),
+          ("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.", True, 0.0,
+           "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_CONTROL", "EnDat encoder mode: 0 position, 1 parameter read/write.", True,
+           0.0, "no EnDat encoder in the world; ENCODER_READ and ENCODER_WRITE set it to 1 "
+           "as the page says (stored)."),
+          ("ENCODER_STATUS", "Status and alarm fields of a Tamagawa absolute encoder.", True,
+           0.0, "absolute encoders only: reads 0, as the page gives for an encoder not "
+           "initialised (stored)."),
+          ("ENCODER_TURNS", "Multi-turn count of an EnDat/Tamagawa absolute encoder.", True,
+           0.0, "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_ID", "Identification of a Tamagawa absolute encoder.", True, 0.0,
+           "absolute encoders only; the world's encoders are incremental (stored)."),
+          ("ENCODER_FILTER", "Filter on an encoder's feedback against jitter.", True, 1.0,
+           "the world's encoders have no jitter, so the filter of a jitter-free count is "
+           "not applied (stored; power-up 1: no filtering, C)."),
+          ("PS_ENCODER", "Raw copy of the hardware position-switch encoder.", False, 0.0,
+           "the hardware position switch (HW_PSWITCH) is not modelled: reads 0."),
+          ("INVERT_STEP", "Rising (ON) or falling step edge active.", True, 0.0,
+           "the world's stepper turns on whole steps, not on pulse edges: the edge is "
+           "invisible to it (stored)."),
+          ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
+           "MICROSTEP): stored."),
+          ("BACKLASH_DIST", "The backlash compensation being applied.", True, 0.0,
+           "BACKLASH is not modelled: reads what was written."),
+          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.", True,
+           0.0, "an offset inside the servo filter's output; the shared filter has none "
+           "(stored)."),
+          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.", True,
+           0.0, "see POS_OFFSET (stored)."),
+          ("PLM_OFFSET", "SLM/PLM motor encoder offset.", True, 0.0,
+           "SLM interface only; the MC405 has no SLM (see DLINK; stored)."),
+          ("AXIS_ERROR_COUNT", "Communication errors counted on a digital axis.", True, 0.0,
+           "the emulator has no digital axis bus to fail: stays as written (power-up 0)."),
+      )],
+    _system("SERVO_OFFSET", "Start of the servo work within the servo period.",
+            source=f"{HELP} SERVO_OFFSET; {TOK}", confidence="D",
+            note="Not modelled: firmware scheduling inside one servo period, which the "
+            "emulator runs as one instant (stored)."),
+    _system("MPE_MODE", "The command line's Motion Perfect protocol mode.", writable=False,
+            source=f"{HELP} MPE_MODE; {TOK}", confidence="D",
+            note="Not modelled: reads 0 (no protocol: direct mode), as every session the "
+            "emulator serves is; the Motion Perfect protocols are not emulated."),
+    *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
+               confidence="D", note="Not modelled: " + why)
+      for name, summary, arity, why in (
+          ("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand count.",
+           (0, 3), "the world takes a stepper's demand counts as its motor's steps "
+           "everywhere (limits, index marks, shaft encoders); the shared machine carries "
+           "no ratio between them (accepted, no effect)."),
+          ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
+           "moves.", (1, 4), "the compensation move superimposed after each reversal of "
+           "DPOS is not in the shared machine (accepted, no effect)."),
+          ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
+           "the shared servo loop drives one motor from one filter; summing two filters "
+           "onto one motor is not in it (accepted, no effect)."),
+          ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
+           "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
+           "parameters UNITS scales is not listed on the page (the VRs are not written)."),
+          ("HANDWHEEL_AXIS", "Reserved keyword.", (0, 2), "a reserved word without a help "
+           "page (accepted, no effect)."),
+          ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
+           "'Reserved Keyword'): accepted, no effect, returns 0."),
+      )],
+    _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
+             "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
+             "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",
+             confidence="I",
+             note="The MC405 has no SLM slot and the world no SLM module or drive, so each "
+             "function answers as the page says when nothing answers: 2 and 3 return 0, 4 "
+             "returns FALSE and leaves ATYPE (it would set 11), 6 and 7 return FALSE, 5, 8, "
+             "9 and 10 return -1 (C from the page, I for the MC405). Each function's "
+             "argument count is checked ('Syntax error' otherwise, D) and its axis (0..the "
+             "last axis), slot and channel (whole, 0 up) ('Parameter out of range'); "
+             "functions 0 and 1 are reserved: 'Parameter out of range' (D)."),
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
@@ -1197,17 +1357,6 @@ _ENTRIES: list[Keyword] = [
            "changing the speed of moves already planned is not in the shared planner "
            "yet (stored, D)."),
           ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
-          ("OV_GAIN", "Output velocity gain of the servo loop.",
-           "the shared servo filter has no measured-velocity term (stored, D)."),
-          ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",
-           "its scaling to the shared filter's acceleration term is not published "
-           "(stored, D)."),
-          ("DAC", "The servo's output (written: the open-loop output).",
-           "open-loop output of a servo with SERVO OFF is not modelled; the closed loop's "
-           "output is not read here (stored, D)."),
-          ("DRIVE_FE_LIMIT", "Following-error limit inside a digital drive.",
-           "no digital (EtherCAT) drive in the world: the controller's own FE_LIMIT acts "
-           "(stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
            ROBOT_WHY + " (stored, D)."),
           ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),
@@ -1231,9 +1380,6 @@ _ENTRIES: list[Keyword] = [
            ROBOT_WHY + " (accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
            ROBOT_WHY + " (accepted, returns 0, D)."),
-          ("DLINK", "DLINK(function, ...): set up a drive link (a Trio or fieldbus drive).",
-           (2, 5), False, "no digital drive in the world; the axis's own ATYPE and gains "
-           "drive it (accepted, returns 0, D)."),
       )],
     # ---- geometric moves (personalities/trio/geometry.py) ------------------------------------
     _command("MSPHERICAL", "MSPHERICAL(x, y, z, u, v, w, mode[, gtpi[, rotau[, rotav[, "

@@ -194,6 +194,10 @@ class TrioMachine(Protocol):
         inputs are active low, on while IN(n) reads 0."""
         ...
 
+    def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
+        """ENCODER_RATIO(mpos_count, input_count): MPOS counts per encoder count."""
+        ...
+
     def invert_input(self, number: int, on: bool) -> None:
         """INVERT_IN(n, state)."""
         ...

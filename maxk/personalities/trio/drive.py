@@ -121,7 +121,7 @@ class Drive:
         self.error_axis = -1  # ERROR_AXIS: the first axis that went into error
         self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
         # direction and its run (the FORWARD/REVERSE at CREEP)
-        self.following.over = []
+        self.following.reset()
         self.limits.reset(self.m.axes)
 
     # ---- what the language reads -----------------------------------------------------
@@ -131,7 +131,7 @@ class Drive:
         if name in ("MPOS", "FE"):
             a = self.m.axes[axis]
             fe = self.following.error_counts(axis) / a.units  # 0: profile-only
-            return self.m.dpos(axis) - fe if name == "MPOS" else fe
+            return self.m.dpos(axis) - fe if name == "MPOS" else self.following.shown(axis, fe)
         return float(self.drive_status(axis))
 
     def system_parameter(self, name: str) -> float:
@@ -152,8 +152,8 @@ class Drive:
             bits |= REV_SOFT
         if self.searching(axis) is not None:
             bits |= DATUMING
-        fe = self.following.error_counts(axis) / m.axes[axis].units
-        if abs(fe) > params["FE_LIMIT"] or self.following.tripped(axis):
+        fe = self.following.checked_error(axis) / m.axes[axis].units
+        if self.following.beyond_limit(axis, fe) or self.following.tripped(axis):
             bits |= FE_EXCEEDED
         if params["FE_RANGE"] > 0 and abs(fe) > params["FE_RANGE"]:
             bits |= FE_WARNING

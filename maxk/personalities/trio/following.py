@@ -7,10 +7,22 @@ is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis stays the exact, prof
 axis it always was (MPOS = DPOS, FE = 0), so every exact figure keeps its meaning.
 
 The gains map onto the shared filter as DAC = P_GAIN e + D_GAIN (e - e_prev) + I_GAIN
-sum(e) + VFF_GAIN v (counts, counts per servo cycle: D, the MC405's own scaling is not
-published here), the integral limited to the whole DAC. The loop is closed while the
-axis's drive is enabled (`Drive.enabled`); when it closes again the demand is set to
-where the motor stands (I: the controller keeps DPOS = MPOS while the servo is off).
+sum(e) + VFF_GAIN v + AFF_GAIN a + OV_GAIN dPm (counts, counts per servo cycle: D, the
+MC405's own scaling is not published here), the integral limited to the whole DAC, all
+times |DAC_SCALE| (its sign inverts the output: the loop's polarity). OV_GAIN's term, the
+gain times the change of the measured position dPm, is exact without a term of its own
+in the shared filter: dPm = v - (e - e_prev) on every cycle, so it is OV_GAIN added to
+the velocity feed-forward and taken from the derivative gain. The loop is closed while
+the axis's drive is enabled (`Drive.enabled`); when it closes again the demand is set to
+where the motor stands; while it is open DPOS reads MPOS and FE 0 (help DPOS: DPOS is
+set to MPOS while SERVO or WDOG is OFF).
+
+With SERVO OFF, WDOG ON and AXIS_ENABLE ON the output is the open-loop DAC value
+(TrioBASIC help DAC, SERVO), limited to +/-OUTLIMIT: the MC405's 12-bit value (2047 =
+10 V) times 16 on the shared 16-bit output (D); the world's motor runs under it, MPOS
+reads its encoder. A servo axis gets its loop (and the world's motor) when P_GAIN is
+above 0 or when such an output is first put out; it keeps it from then on (D). DAC_OUT
+reads the output in the same 12-bit units.
 
 FE_LIMIT is compared on every servo cycle: each stretch the engine integrates is run
 with the loops recording every cycle; if |FE| passes FE_LIMIT x UNITS counts on some
@@ -39,6 +51,7 @@ class ServoHost(Protocol):
     tick: int
     period: float
     world: World
+    system: dict[str, float]
 
     def demand(self, axis: int) -> float: ...
 
@@ -46,14 +59,30 @@ SERVO_ATYPES = frozenset({36, 77})
 """Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
 servo with PWM, 77 incremental encoder servo with enable)."""
 FE_EXCEEDED = 1 << 8
+DAC_STEP = 16.0
+"""Shared 16-bit output counts per MC405 DAC count (a 12-bit DAC, 2047 = 10 V: help DAC;
+the factor is ours, D)."""
 
 
-def gains_of(params: dict[str, float]) -> Gains | None:
-    """The loop's gains for an axis's parameters; None: not a servo (profile-only)."""
-    if int(params["ATYPE"]) not in SERVO_ATYPES or not params["P_GAIN"] > 0:
+def gains_of(params: dict[str, float], open_output: float = 0.0,
+             keep: bool = False) -> Gains | None:
+    """The loop's gains for an axis's parameters and its open-loop output (shared DAC
+    counts, 0 unless SERVO is off with its drive on); None: not a servo (profile-only)."""
+    if int(params["ATYPE"]) not in SERVO_ATYPES:
         return None
-    return Gains(kp=params["P_GAIN"], ki=params["I_GAIN"] * 1024.0, kd=params["D_GAIN"],
-                 ku=DAC_LIMIT / 4.0, kv=params["VFF_GAIN"])
+    if not (params["P_GAIN"] > 0 or open_output or keep):
+        return None
+    scale = abs(int(params["DAC_SCALE"]))
+    ov = params["OV_GAIN"]
+    return Gains(kp=params["P_GAIN"] * scale, ki=params["I_GAIN"] * 1024.0 * scale,
+                 kd=(params["D_GAIN"] - ov) * scale, ku=DAC_LIMIT / 4.0,
+                 kv=(params["VFF_GAIN"] + ov) * scale, ka=params["AFF_GAIN"] * scale,
+                 ko=open_output)
+
+
+def polarity(params: dict[str, float]) -> int:
+    """DAC_SCALE's sign: a negative one inverts the closed loop's output."""
+    return -1 if params["DAC_SCALE"] < 0 else 1
 
 
 class Following:
@@ -66,6 +95,33 @@ class Following:
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
+        self.driven: set[int] = set()  # axes an open-loop output gave a loop (kept, D)
+
+    def reset(self) -> None:
+        """Power-up: no stretch stopped, no loop kept for an open-loop output."""
+        self.over = []
+        self.driven = set()
+
+    def open_output(self, axis: int) -> float:
+        """The open-loop output in MC405 DAC counts: DAC within +/-OUTLIMIT while SERVO
+        is OFF and WDOG and AXIS_ENABLE are ON, else 0 (help DAC)."""
+        params = self.m.axes[axis].params
+        if (params["SERVO"] != 0 or params["AXIS_ENABLE"] == 0 or self.m.system["WDOG"] == 0
+                or int(params["ATYPE"]) not in SERVO_ATYPES):
+            return 0.0
+        limit = abs(params["OUTLIMIT"])
+        return max(-limit, min(limit, params["DAC"]))
+
+    def dac_out(self, axis: int) -> float:
+        """DAC_OUT: the output put out on the last servo cycle, MC405 DAC counts."""
+        a = self.m.axes[axis]
+        loop = a.servo
+        if loop is None or loop.tripped:
+            return 0.0
+        if not loop.closed:
+            return self.open_output(axis)
+        return loop.dac * a.config.servo_polarity / DAC_STEP
+
 
     @property
     def servos(self) -> list[TrioAxis]:
@@ -76,12 +132,16 @@ class Following:
         or open it with its drive."""
         m = self.m
         for i, a in enumerate(m.axes):
-            gains = gains_of(a.params)
+            out = self.open_output(i)
+            sign = polarity(a.params) if not out else 1  # (the open loop is not scaled)
+            if out and a.params["P_GAIN"] <= 0:
+                self.driven.add(i)
+            gains = gains_of(a.params, out * DAC_STEP, i in self.driven)
             if gains is None:
                 a.servo = None
                 continue
-            if a.config.gains != gains:
-                a.config = ServoGains(gains)
+            if a.config.gains != gains or a.config.servo_polarity != sign:
+                a.config = ServoGains(gains, sign)
             loop = a.servo
             if loop is None:
                 loop = a.servo = ServoLoop(m.demand(i), m.tick)
@@ -123,6 +183,24 @@ class Following:
         measured = self.measured(axis)
         return 0.0 if measured is None else self.m.demand(axis) - measured
 
+    def open_error(self, axis: int) -> float:
+        """Demand less encoder, counts, while the axis's loop is open (0 otherwise): DPOS
+        reads MPOS while SERVO or WDOG is OFF (help DPOS), so DPOS is read this much
+        less than the demand kept (which takes MPOS when the loop closes again)."""
+        loop = self.m.axes[axis].servo
+        return 0.0 if loop is None or loop.closed else self.error_counts(axis)
+
+    def shown(self, axis: int, fe: float) -> float:
+        """FE as read: 0 while the loop is open (DPOS = MPOS then)."""
+        loop = self.m.axes[axis].servo
+        return 0.0 if loop is not None and not loop.closed else fe
+
+    def checked_error(self, axis: int) -> float:
+        """FE as FE_LIMIT and FE_RANGE see it: 0 while the loop is open (SERVO OFF: no
+        position loop whose error could be exceeded, D)."""
+        loop = self.m.axes[axis].servo
+        return 0.0 if loop is None or not loop.closed else self.error_counts(axis)
+
     # ---- every servo cycle -------------------------------------------------------------
     def integrate(self, limit: int) -> int | None:
         """Run the loops to `limit`; the tick of a following error that stops them on the
@@ -143,10 +221,11 @@ class Following:
             if a.link is not None:  # a linked servo axis follows its demand (D)
                 loop.p, loop.w, loop.tick = m.demand(a.index), 0.0, limit
                 continue
+            before = loop.q  # the error of the cycle before the stretch
             if a.index in watched:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
-            passed = self._first_over(a, loop) if a.index in watched else None
+            passed = self._first_over(a, loop, before) if a.index in watched else None
             over = None if passed is None else passed[0]
             loop.recorder = None
             ticks = [t for t in (over, loop.trip_tick) if t is not None]
@@ -178,15 +257,21 @@ class Following:
                 and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
 
     @staticmethod
-    def _first_over(a: TrioAxis, loop: ServoLoop) -> tuple[int, float] | None:
-        """The first recorded cycle whose |FE| passed FE_LIMIT, and that FE (counts)."""
+    def _first_over(a: TrioAxis, loop: ServoLoop, before: float) -> tuple[int, float] | None:
+        """The first recorded cycle whose |FE| passes FE_LIMIT, and that FE (counts); with
+        FE_LIMIT_MODE 1 the second of two such cycles in a row (help FE_LIMIT_MODE), the
+        cycle before the stretch counting as the first of them."""
         samples = loop.recorder
         if not samples:
             return None
         bound = a.params["FE_LIMIT"] * a.units
+        twice = int(a.params["FE_LIMIT_MODE"]) == 1
+        previous = abs(before) > bound
         for sample in samples:
-            if abs(sample[5]) > bound:
+            over = abs(sample[5]) > bound
+            if over and (previous or not twice):
                 return int(sample[0]), float(sample[5])
+            previous = over
         return None
 
     def fe_latch(self, axis: int) -> float:
@@ -194,9 +279,21 @@ class Following:
         and from SERVO = ON (C: page)."""
         return self.latch.get(axis, 0.0) / self.m.axes[axis].units
 
+    def beyond_limit(self, axis: int, fe: float) -> bool:
+        """Does AXISSTATUS show FE_LIMIT exceeded for this FE (user units)? With
+        FE_LIMIT_MODE 1 only when the last cycle's error was beyond it too."""
+        a = self.m.axes[axis]
+        limit = a.params["FE_LIMIT"]
+        if not abs(fe) > limit:
+            return False
+        loop = a.servo
+        if int(a.params["FE_LIMIT_MODE"]) != 1 or loop is None:
+            return True
+        return abs(loop.q) > limit * abs(a.units)
+
     def tripped(self, axis: int) -> bool:
         loop = self.m.axes[axis].servo
         return loop is not None and (loop.tripped or loop.trip_tick is not None)
 
 
-__all__ = ["SERVO_ATYPES", "Following", "gains_of"]
+__all__ = ["DAC_STEP", "SERVO_ATYPES", "Following", "gains_of", "polarity"]

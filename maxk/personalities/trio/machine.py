@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import geometry, moves, sequences, tangential
+from . import encoders, geometry, moves, sequences, tangential
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .jogs import Jogs
@@ -80,6 +80,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
 _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION"})
+DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
+"""Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
                                  "REGIST_SPEEDB", "REGIST_CONTROL"})
@@ -220,6 +222,7 @@ class MC405Machine(Kinematics, Engine):
         return round(self.period * 1e6)
 
     def axis_parameter(self, name: str, axis: int) -> float:
+        name = DAC_ALIASES.get(name, name)
         if name in ("MPOS", "DPOS", "FE") and (counts := self.encoder_counts(axis)) is not None:
             a = self.axes[axis]
             return 0.0 if name == "FE" else (counts + a.datum) / a.units
@@ -231,11 +234,16 @@ class MC405Machine(Kinematics, Engine):
                 return self.mark(axis)
             self.outputs.sync_encoder(axis)
             return output.encoder
+        if name == "DAC_OUT":
+            return self.drive.following.dac_out(axis)
+        if name == "ENCODER":
+            return encoders.encoder(self, axis)
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
             return self.wrapped(axis, value) if name == "MPOS" else value
-        if name == "DPOS":
-            return self.wrapped(axis, self.dpos(axis))
+        if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
+            open_error = self.drive.following.open_error(axis) / self.axes[axis].units
+            return self.wrapped(axis, self.dpos(axis) - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name == "TANG_DIRECTION":
@@ -257,6 +265,7 @@ class MC405Machine(Kinematics, Engine):
         return self.wrapped(axis, value) if name == "R_REGPOS" else value
 
     def set_axis_parameter(self, name: str, axis: int, value: float) -> None:
+        name = DAC_ALIASES.get(name, name)
         if name == "PWM_CYCLE":
             self.pwm[axis].set_cycle(value)
         elif name == "PWM_MARK":
@@ -392,6 +401,23 @@ class MC405Machine(Kinematics, Engine):
         return not self.digital_input(number)
 
     def encoder_counts(self, axis: int) -> float | None:
+        """What an encoder input's MPOS counts: its encoder's counts times ENCODER_RATIO
+        (`encoders.py`); None when the axis is no encoder input with an encoder."""
+        raw = self.raw_encoder(axis)
+        return None if raw is None else raw * encoders.ratio(self.axes[axis].params)
+
+    def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
+        """ENCODER_RATIO(mpos_count, input_count): an encoder input's MPOS keeps its
+        value at the change (its DEFPOS offset takes up the difference, D)."""
+        a = self.axes[axis]
+        before = self.encoder_counts(axis)
+        encoders.set_ratio(a.params, mpos_count, input_count)
+        after = self.encoder_counts(axis)
+        if before is not None and after is not None:
+            a.datum += before - after
+        self.changed()
+
+    def raw_encoder(self, axis: int) -> float | None:
         """The counts of the encoder the world mounts on this axis's encoder input, when
         the axis is an encoder input (ENCODER_ATYPES); None otherwise."""
         mount = self.world.encoders.get(axis)
