@@ -405,7 +405,7 @@ class Interpreter:
             result = self._apply(op, a, b)
         except (ZeroDivisionError, OverflowError, ValueError, TypeError):
             # (TypeError: a negative base to a fraction is complex, no real number)
-            raise TrioError("Divide by zero" if op in ("/", "MOD") and b == 0
+            raise TrioError("Divide by zero" if op in ("/", "MOD", "FMOD") and b == 0
                             else "Arithmetic error") from None
         if isinstance(result, complex) or not math.isfinite(result):
             raise TrioError("Arithmetic error")
@@ -425,6 +425,8 @@ class Interpreter:
             return float(a ** b)
         if op == "MOD":
             return math.fmod(int(a), int(b)) if int(b) else a / 0
+        if op == "FMOD":  # the remainder keeps the dividend's sign (help FMOD: -204.56 -> -24.56)
+            return math.fmod(a, b) if b else a / 0
         if op == "AND":
             return float(int(a) & int(b))
         if op == "OR":
@@ -975,7 +977,10 @@ class Interpreter:
     def group(self, axis: Expr | None, ctx: ProcessContext, count: int) -> list[int]:
         """The axes a multi-axis command acts on: the base array, or AXIS(n) onwards."""
         if axis is None:
-            base = ctx.base
+            # the default BASE array is the sequence 0, 1, 2, ... (TrioBASIC help, BASE),
+            # held as [0] until a BASE command writes the whole array
+            base = ctx.base if len(ctx.base) > 1 else \
+                base_array(ctx.base, self.machine.axis_count)
         else:
             first = self.axis_of(axis, ctx)
             base = base_array([first], self.machine.axis_count)

@@ -940,6 +940,10 @@ _ENTRIES: list[Keyword] = [
               "Bitwise on the integer parts; comparisons give TRUE (-1) or FALSE (0)."
               if op != "MOD" else "Remainder of the integer parts (I).")
       for op in ("AND", "OR", "XOR", "NOT", "MOD")],
+    Keyword("FMOD", Kind.OPERATOR, "a FMOD b: the floating point remainder of a / b, with "
+            "a's sign, at MOD's precedence.", "TrioBASIC help FMOD", "C",
+            "The page's examples: 2023.4 FMOD 356 = 243.4, -204.56 FMOD 60 = -24.56 (C); "
+            "FMOD 0 is 'Divide by zero' as MOD (D)."),
     Keyword("AXIS", Kind.MODIFIER, "AXIS(n) after a parameter or command: axis n instead of "
             "the base axis.", f"{SEED}; {TOK}", args=(1, 1)),
 ]
@@ -952,7 +956,9 @@ _STATEMENTS = {
     "ELSEIF": "ELSEIF cond THEN: another branch of a block IF.",
     "CONSTANT": "CONSTANT \"name\", value: a named constant for every program.",
     "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program.",
-    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array.",
+    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array; "
+           "STRING with no (n) holds 64 characters (D: the CHR and HEX pages' examples "
+           "declare one so, no page gives its length).",
     "AS": "Part of DIM.", "FLOAT": "Part of DIM.", "INTEGER": "Part of DIM.",
     "BOOLEAN": "Part of DIM.", "STRING": "Part of DIM: STRING(n).",
     "SELECT_CASE": "SELECT_CASE expr ... CASE v[, v] ... CASE ELSE ... END_CASE.",

@@ -290,6 +290,7 @@ class For:
     start: Expr
     end: Expr
     step: Expr | None
+    vr: Expr | None = None  # FOR VR(n) = ...: the loop counts in VR(n) (help, VR example)
 
 
 @dataclass(frozen=True)
@@ -329,6 +330,11 @@ def parse_expression(text: str) -> Expr:
 
 MAX_NESTING = 64  # brackets, unary operators and calls nested in one expression (D)
 MAX_OPERATORS = 128  # binary operators in one line (D: evaluation recurses through them)
+
+
+# DIM s AS STRING with no length: the help's CHR and HEX examples declare one so; no page
+# gives its length, 64 characters is our decision (D).
+DEFAULT_STRING_LENGTH = 64
 
 
 class _Parser:
@@ -666,6 +672,12 @@ class _Parser:
         if name == "NEXT":
             if self.tok.kind is Tok.NAME and lookup(self.tok.text) is None:
                 return Next(self.advance().text)
+            if self.at_name("VR"):  # NEXT VR(n): ends the FOR VR(n) loop
+                self.advance()
+                self.expect_op("(")
+                self.expression()
+                self.expect_op(")")
+                return Next("VR")
             return Next(None)
         if name == "WAIT":
             if self.at_name("IDLE"):
@@ -764,7 +776,9 @@ class _Parser:
             if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
             kind = self.advance().text
-            if kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
+            if kind == "STRING" and not self.at_op("("):
+                length = DEFAULT_STRING_LENGTH  # DIM s AS STRING (the CHR and HEX pages)
+            elif kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
                 self.expect_op("(")
                 fields = [self.expression()]
                 while self.at_op(","):
@@ -789,7 +803,12 @@ class _Parser:
 
     def for_statement(self) -> For:
         tok = self.advance()
-        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+        vr = None
+        if tok.kind is Tok.NAME and tok.text == "VR" and self.at_op("("):
+            self.advance()
+            vr = self.expression()
+            self.expect_op(")")
+        elif tok.kind is not Tok.NAME or lookup(tok.text) is not None:
             raise TrioError("Syntax error")
         self.expect_op("=")
         start = self.expression()
@@ -801,7 +820,7 @@ class _Parser:
         if self.at_name("STEP"):
             self.advance()
             step = self.expression()
-        return For(tok.text, start, end, step)
+        return For(tok.text, start, end, step, vr)
 
     def print_rest(self) -> Print:
         items: list[tuple[Expr | Format, str]] = []
@@ -951,7 +970,7 @@ class _Parser:
 
     def term(self) -> Expr:
         left = self.unary()
-        while self.at_op("*", "/") or self.at_name("MOD"):
+        while self.at_op("*", "/") or self.at_name("MOD", "FMOD"):
             op = self.advance().text
             left = self.binary(op, left, self.unary())
         return left

@@ -33,6 +33,8 @@ from typing import cast
 from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, error_code
 from .lexer import TrioError
 from .parser import (
+    Assign,
+    Call,
     Case,
     Else,
     ElseIf,
@@ -48,6 +50,7 @@ from .parser import (
     IfLine,
     Label,
     Next,
+    Num,
     OnError,
     OnJump,
     Repeat,
@@ -472,7 +475,10 @@ class Task:
             start = interp.number(stmt.start, ctx)
             end = interp.number(stmt.end, ctx)
             increment = 1.0 if stmt.step is None else interp.number(stmt.step, ctx)
-            ctx.variables[stmt.variable] = start
+            if stmt.vr is not None:
+                interp.assign(Assign(Call("VR", (stmt.vr,)), Num(start)), ctx)
+            else:
+                ctx.variables[stmt.variable] = start
             ctx.loops[pc] = (end, increment)
             ctx.pc = pc + 1 if _in_range(start, end, increment) else step.target
         elif isinstance(stmt, Next):
@@ -482,8 +488,13 @@ class Task:
             if stmt.variable is not None and stmt.variable != loop.variable:
                 raise TrioError("Structure error")
             end, increment = ctx.loops[opener]
-            value = interp.number_value(ctx.variables.get(loop.variable, 0.0)) + increment
-            ctx.variables[loop.variable] = value
+            if loop.vr is not None:  # the counter is VR(n), read and written as the program would
+                counter = Call("VR", (loop.vr,))
+                value = interp.number(counter, ctx) + increment
+                interp.assign(Assign(counter, Num(value)), ctx)
+            else:
+                value = interp.number_value(ctx.variables.get(loop.variable, 0.0)) + increment
+                ctx.variables[loop.variable] = value
             if _in_range(value, end, increment):
                 if not waited:
                     yield _PASS

@@ -1,0 +1,82 @@
+"""Language forms the TrioBASIC help's own examples use, which a run of every page's
+examples (tools/trio_corpus_check.py) showed stopping: the default BASE array, the FMOD
+operator, a FOR loop counting in a VR, a STRING declared without a length. Each test is
+written from what the keyword's page says happens, with numbers of our own."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.trio_helpers import Rig
+
+
+def run(program: str, cycles: int = 50, rig: Rig | None = None) -> str:
+    rig = rig or Rig()
+    rig.load("P", program)
+    rig.command('RUN "P"')
+    return rig.cycles(cycles).decode()
+
+
+# ---- BASE: the default array is 0, 1, 2, ... (help BASE) ---------------------------------
+
+def test_a_two_axis_move_with_no_base_set_runs_on_axes_0_and_1() -> None:
+    out = run("MOVEABS(12, -7)\nWAIT IDLE\nPRINT DPOS AXIS(0); \" \"; DPOS AXIS(1)",
+              cycles=3000)
+    assert out == "12 -7\r\n"
+
+
+def test_base_of_one_axis_goes_on_with_the_next_axes() -> None:
+    # BASE(2) makes the array 2, 3, 4, ...: the second and third distances go to 3 and 4
+    out = run("BASE(2)\nMOVE(5, 6, 7)\nWAIT IDLE\n"
+              "PRINT DPOS AXIS(2); \" \"; DPOS AXIS(3); \" \"; DPOS AXIS(4); \" \"; "
+              "DPOS AXIS(0)", cycles=3000)
+    assert out == "5 6 7 0\r\n"
+
+
+def test_base_wraps_round_to_axis_0_after_the_last_axis() -> None:
+    rig = Rig(axis_count=4)
+    out = run("BASE(3)\nMOVE(2, 9)\nWAIT IDLE\nPRINT DPOS AXIS(3); \" \"; DPOS AXIS(0)",
+              cycles=3000, rig=rig)
+    assert out == "2 9\r\n"
+
+
+# ---- FMOD (help FMOD): the floating point remainder, with the dividend's sign ---------------
+
+@pytest.mark.parametrize(("expr", "text"), [
+    ("10.5 FMOD 4", "2.5000"),      # 10.5 - 2 x 4
+    ("-7.5 FMOD 2", "-1.5000"),     # -7.5 + 3 x 2: the sign of -7.5
+    ("7.5 FMOD -2", "1.5000"),      # the divisor's sign does not matter
+    ("1 + 9 FMOD 4", "2"),          # FMOD binds before + (as MOD): 1 + 1
+    ("2 * 9 FMOD 4", "2"),          # and left to right with *: 18 FMOD 4
+])
+def test_fmod(expr: str, text: str) -> None:
+    assert Rig().command("?" + expr).decode() == text
+
+
+def test_fmod_by_zero_is_divide_by_zero() -> None:
+    out = run("x = 5 FMOD 0\nPRINT \"after\"")
+    assert "Divide by zero" in out and "after" not in out
+
+
+# ---- FOR VR(n) = a TO b ... NEXT VR(n) (help VR, example 2) -------------------------------
+
+def test_for_can_count_in_a_vr() -> None:
+    out = run("n = 0\nFOR VR(7) = 20 TO 26 STEP 3\n  VR(VR(7)) = 1\n  n = n + 1\nNEXT VR(7)\n"
+              "PRINT n; \" \"; VR(7); \" \"; VR(20) + VR(23) + VR(26) + VR(21)")
+    # 20, 23, 26: three turns; the counter ends one step past the end (29)
+    assert out == "3 29 3\r\n"
+
+
+def test_for_vr_counter_is_the_vr_another_program_sees() -> None:
+    rig = Rig()
+    rig.load("P", "FOR VR(3) = 1 TO 5\n  WA(10)\nNEXT VR(3)")
+    rig.command('RUN "P"')
+    rig.cycles(25)  # in its third turn: VR(3) = 3
+    assert rig.command("?VR(3)") == b"3"
+
+
+# ---- DIM s AS STRING with no length (help CHR and HEX examples) ---------------------------
+
+def test_a_string_declared_without_a_length_holds_text() -> None:
+    out = run('DIM s AS STRING\ns = "ab" + CHR(90) + HEX(255)\nPRINT s; " "; LEN(s)')
+    assert out == "abZFF 5\r\n"
