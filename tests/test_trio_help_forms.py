@@ -80,3 +80,46 @@ def test_for_vr_counter_is_the_vr_another_program_sees() -> None:
 def test_a_string_declared_without_a_length_holds_text() -> None:
     out = run('DIM s AS STRING\ns = "ab" + CHR(90) + HEX(255)\nPRINT s; " "; LEN(s)')
     assert out == "abZFF 5\r\n"
+
+
+# ---- PRINT formats (help PRINT): [d], [w, d], C format strings ------------------------------
+
+def test_print_one_bracketed_value_is_the_decimals() -> None:
+    # the page: [d] is the number of decimal places; [w, d] a width and decimals
+    out = run('x = 2.71828\nPRINT x[3]; "|"; x[0]; "|"; x[7, 2]; "|"; x[-7, 2]; "|"')
+    assert out == "2.718|3|   2.72|2.72   |\r\n"
+
+
+@pytest.mark.parametrize(("spec", "value", "text"), [
+    ("<%L>", "-42.9", "<-42>"),                  # a 64-bit integer, truncated
+    ("<%+8L>", "300", "<    +300>"),
+    ("<%08L>", "-17", "<-0000017>"),
+    ("<%X>", "3054", "<BEE>"),
+    ("<%+6X>", "255", "<    FF>"),                # no sign for hexadecimal
+    ("<%W>", "-1", "<18446744073709551615>"),     # 2^64 - 1: unsigned 64-bit
+    ("<%f>", "0.5", "<0.5000>"),                  # 4 decimals unless told
+    ("<%.1f>", "0.25", "<0.2>"),
+    ("<%-9.3f>", "3.14159", "<3.142    >"),
+    ("<%+010.1f>", "-8.25", "<-0000008.2>"),
+    ("<%e>", "-0.000123", "<-1.2300e-04>"),
+    ("<%.1E>", "98765", "<9.9E+04>"),
+    ("<%C>", "65", "<A>"),
+    ("<%-3c>", "66", "<B  >"),
+])
+def test_print_c_format_of_a_number(spec: str, value: str, text: str) -> None:
+    assert run(f'PRINT ({value})["{spec}"]') == text + "\r\n"
+
+
+def test_print_c_format_of_a_string_and_text_around_it() -> None:
+    out = run('DIM s AS STRING(20)\ns = "motion"\n'
+              'PRINT s["[%S]"]; s["[%9S]"]; s["[%-9S]"]; s["[%.3S]"]; s["[%6.2R]"]')
+    assert out == "[motion][   motion][motion   ][mot][    mo]\r\n"
+
+
+@pytest.mark.parametrize("line", ['PRINT 1["no conversion"]', 'PRINT 1["%L %L"]',
+                                  'PRINT 1["%q"]', "PRINT 1[-3]", "PRINT 1[2.5]"])
+def test_print_bad_formats_are_syntax_errors(line: str) -> None:
+    rig = Rig()
+    rig.command('SELECT "P",0')
+    rig.command(f"!P,0R{line}")
+    assert b"Syntax error" in rig.send("COMPILE")

@@ -49,6 +49,7 @@ from .parser import (
     WaitLoaded,
     WaitUntil,
 )
+from .printformat import c_format
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
@@ -866,9 +867,13 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
         parts = []
         for item, separator in stmt.items:
-            if isinstance(item, Format):
+            if isinstance(item, Format) and item.spec is not None:
+                parts.append(c_format(item.spec, self.evaluate(item.value, ctx)))
+            elif isinstance(item, Format):
                 number = self.number(item.value, ctx)
-                parts.append(f"{number:{item.width}.{item.decimals}f}")
+                field = f"{number:.{item.decimals}f}"
+                parts.append(field.ljust(-item.width) if item.width < 0
+                             else field.rjust(item.width))
             else:
                 value = self.evaluate(item, ctx)
                 parts.append(value if isinstance(value, str) else format_number(value))

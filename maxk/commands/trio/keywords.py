@@ -418,7 +418,11 @@ _ENTRIES: list[Keyword] = [
     # ---- statements ---------------------------------------------------------------------------
     _statement("PRINT", "Print expressions and strings; ',' tabs, ';' joins, a final ';' "
                "keeps the line open. '?' is the same.", source=f"{REF}; {MAN}",
-               note="Integer values print without decimals (ref 3), others with 4 (manual)."),
+               note="Integer values print without decimals (ref 3), others with 4 (manual). "
+               "Formats (TrioBASIC help PRINT, C): x[d] d decimals; x[w, d] in w characters, "
+               "negative w left justified; x[\"%...\"] a C format string (%f %F %e %E, 4 "
+               "decimals by default; %L, %W and %X 64-bit; %R %S strings; %C a character) "
+               "with the text around it echoed."),
     _statement("IF", "IF cond THEN ... [ELSE ...] on one line, or a block to ENDIF."),
     _statement("THEN", "Part of IF."),
     _statement("ELSE", "Part of IF."),

@@ -19,6 +19,7 @@ from typing import TypeVar
 
 from .keywords import Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
+from .printformat import check_spec
 
 # ---- expressions ---------------------------------------------------------------------
 
@@ -81,11 +82,14 @@ Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
 
 @dataclass(frozen=True)
 class Format:
-    """``x[w,d]`` in a PRINT: the value in a field of w characters with d decimals."""
+    """``x[w,d]`` in a PRINT: the value in a field of w characters (negative: left
+    justified) with d decimals; ``x[d]``: d decimals; ``x["%..."]``: a C format string
+    (printformat.py)."""
 
     value: Expr
     width: int
     decimals: int
+    spec: str | None = None
 
 
 @dataclass(frozen=True)
@@ -836,20 +840,32 @@ class _Parser:
             expr: Expr | Format = self.expression()
             if self.at_op("["):
                 self.advance()
-                width = self.advance()
-                decimals = 0
-                if self.at_op(","):
-                    self.advance()
-                    tok = self.advance()
-                    if tok.kind is not Tok.NUMBER:
-                        raise TrioError("Syntax error")
-                    decimals = int(tok.value)
-                self.expect_op("]")
-                if width.kind is not Tok.NUMBER or not 0 <= width.value <= 127 \
-                        or not 0 <= decimals <= 15:
-                    raise TrioError("Syntax error")
                 assert not isinstance(expr, Format)
-                expr = Format(expr, int(width.value), decimals)
+                if self.tok.kind is Tok.STRING:  # x["%12.2f"]: a C format (PRINT's page)
+                    spec = self.advance().text
+                    check_spec(spec)
+                    self.expect_op("]")
+                    expr = Format(expr, 0, 0, spec)
+                else:
+                    sign = -1 if self.at_op("-") else 1
+                    if sign < 0:
+                        self.advance()
+                    first = self.advance()
+                    if first.kind is not Tok.NUMBER or first.value != int(first.value):
+                        raise TrioError("Syntax error")
+                    width, decimals = 0, int(first.value)  # x[d]: d decimals (PRINT's page)
+                    if self.at_op(","):
+                        self.advance()
+                        tok = self.advance()
+                        if tok.kind is not Tok.NUMBER:
+                            raise TrioError("Syntax error")
+                        width, decimals = sign * int(first.value), int(tok.value)
+                    elif sign < 0:
+                        raise TrioError("Syntax error")
+                    self.expect_op("]")
+                    if not -127 <= width <= 127 or not 0 <= decimals <= 15:
+                        raise TrioError("Syntax error")
+                    expr = Format(expr, width, decimals)
             separator = ""
             if self.at_op(",", ";"):
                 separator = self.advance().text

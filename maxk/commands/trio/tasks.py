@@ -21,6 +21,9 @@ costs virtual time, and a HALT from any host stops it within a cycle.
 A runtime error ends the process with its error line, unless ON BASICERROR GOTO named a
 handler: then RUN_ERROR and ERROR_LINE are set and the process goes on at the handler
 (the handler is cleared, so an error in it ends the process: D).
+
+Long module: COMPILE's block linking and the runner of every block statement (IF, loops,
+SELECT_CASE, GOSUB, FUNCTION calls) are one concern, a process's control flow.
 """
 
 from __future__ import annotations
