@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import pytest
 
+from maxk.controllers.trio import MC405
 from tests.trio_helpers import Rig
 
 
@@ -123,3 +124,23 @@ def test_print_bad_formats_are_syntax_errors(line: str) -> None:
     rig.command('SELECT "P",0')
     rig.command(f"!P,0R{line}")
     assert b"Syntax error" in rig.send("COMPILE")
+
+
+# ---- a loop of moves that end where they start (help IN, example 2) -----------------------
+
+def test_a_loop_of_zero_moves_and_wait_idle_takes_servo_cycles_not_forever() -> None:
+    """MOVEABS to where the axis is ends on the tick it loads; WAIT IDLE then passes. The
+    loop still gives up the servo cycle every few wakes, so time goes on (it hung the
+    emulator in one tick before: each zero move's end woke the process again)."""
+    trio = MC405()
+    trio.programs.create("P", 0)
+    for n, line in enumerate(["n = 0", "WHILE n < 40", "  MOVEABS(0)", "  WAIT IDLE",
+                              "  n = n + 1", "WEND", "VR(9) = n"]):
+        trio.programs.edit("P", n, "R", line)
+    session = trio.open_session()
+    session.feed(b'RUN "P"\r')
+    trio.advance(ticks=2)
+    assert trio.runtime.tasks  # 40 passes do not fit in a tick or two (8 wakes a tick)
+    trio.advance(ticks=100)
+    assert trio.query("?VR(9)") == "40"
+    assert trio.runtime.tasks == {}

@@ -88,6 +88,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("directory", type=Path)
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--quiet", action="store_true", help="the summary only")
+    parser.add_argument("--progress", action="store_true", help="each program on stderr")
     args = parser.parse_args(argv)
     rows = []
     total = Report()
@@ -102,6 +103,8 @@ def main(argv: list[str] | None = None) -> int:
             status, message, text = run_one(program, programs, args.seconds)
             rows.append((f"{project}/{program.name}", report.code_lines, report.parsed,
                          status, message, text))
+            if args.progress:
+                print(f"{project}/{program.name}: {status}", file=sys.stderr, flush=True)
     if not args.quiet:
         print(f"{'program':40} {'lines':>5} {'parsed':>6}  status    message | line")
         for where, lines, parsed, status, message, text in rows:

@@ -313,6 +313,7 @@ class Task:
         self.wake: Wake | None = None  # what the last step waits for (None: next cycle)
         self.due: int | None = None  # scheduler: the tick to run next (None: on a change)
         self.seen = -1  # scheduler: the machine revision its last step saw (-1: fresh)
+        self.stepped = (-1, 0)  # scheduler: the tick it last stepped at, and how often then
         self.functions = {s.stmt.name: i for i, s in enumerate(steps)
                           if isinstance(s.stmt, FunctionDef)}
         self.frames: list[ProcessContext] = []  # FUNCTION calls running: depth, memory
