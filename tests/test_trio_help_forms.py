@@ -144,3 +144,24 @@ def test_a_loop_of_zero_moves_and_wait_idle_takes_servo_cycles_not_forever() -> 
     trio.advance(ticks=100)
     assert trio.query("?VR(9)") == "40"
     assert trio.runtime.tasks == {}
+
+
+# ---- name(i) = v0, v1, ...: a row of an array (help Array Indexing, example 3) ------------
+
+def test_a_row_of_a_two_dimensional_array_is_set_from_a_list() -> None:
+    out = run("DIM m AS FLOAT(3, 2)\nm(2) = 5, 6\nm(0) = 1\n"
+              "PRINT m(0, 0); m(0, 1); m(1, 0); m(1, 1); m(2, 0); m(2, 1)")
+    assert out == "100056\r\n"
+
+
+def test_a_list_from_an_element_fills_on_to_the_end_of_the_row() -> None:
+    out = run("DIM v AS INTEGER(5)\nv(3) = 8.9, 7\nPRINT v(2); v(3); v(4)\n"
+              "DIM w AS FLOAT(2, 3)\nw(0, 1) = 4, 3\nPRINT w(0, 1); w(0, 2); w(1, 0)")
+    assert out == "087\r\n430\r\n"  # INTEGER elements take 8.9 as 8
+
+
+@pytest.mark.parametrize("line", ["m(1) = 1, 2, 3", "m(3) = 1, 2", "m(0, 1) = 1, 2"])
+def test_a_list_longer_than_its_row_changes_nothing(line: str) -> None:
+    out = run(f"DIM m AS FLOAT(3, 2)\nm(0) = 4, 4\n{line}\nPRINT \"not here\"",
+              rig=None)
+    assert "Array index out of range" in out and "not here" not in out

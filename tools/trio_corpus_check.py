@@ -10,7 +10,8 @@ A row gives the program, its code lines and how many parse, and how it stopped:
 - ``clean``: ended, or still running (waiting on an input, a loop) with no error;
 - ``compile``: refused by COMPILE (the message and the line);
 - ``runtime``: stopped by an error while running, or an error its ON BASICERROR caught;
-- ``crash``: a Python exception escaped the emulator (a defect whatever the program).
+- ``crash``: a Python exception escaped the emulator, or the run made no way in
+  ``--hang`` seconds of wall time (a defect whatever the program).
 
 The closing table counts the stops by message, so the causes can be told apart (a
 parse error, a missing language form, a keyword the emulator refuses). The programs
@@ -21,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import signal
 import sys
 import traceback
 from collections import Counter
@@ -37,10 +39,23 @@ _COMPILE = re.compile(r"%\[COMMAND LINE\] - Program (\w+) line (\d+): (.*)")
 _RUNTIME = re.compile(r"%\[Process \d+:Program (\w+) Line (\d+)\] - (.*)")
 
 
-def run_one(program: Program, programs: list[Program], seconds: float) -> tuple[str, str, str]:
-    """(status, message, the failing line's text) of one program run alone."""
+class Hang(Exception):
+    """The emulator made no way through the run in the wall time allowed."""
+
+
+def _alarm(_signum: int, _frame: object) -> None:
+    raise Hang
+
+
+def run_one(program: Program, programs: list[Program], seconds: float,
+            hang: int = 0) -> tuple[str, str, str]:
+    """(status, message, the failing line's text) of one program run alone; a run that
+    takes more than `hang` seconds of wall time (0: no limit) is a crash (a hang)."""
     caught: list[str] = []
     original = trio_tasks.error_code
+    if hang:
+        signal.signal(signal.SIGALRM, _alarm)
+        signal.alarm(hang)
 
     def record(message: str) -> float:
         caught.append(message)
@@ -63,11 +78,14 @@ def run_one(program: Program, programs: list[Program], seconds: float) -> tuple[
             if not controller.runtime.tasks:
                 break
         out = session.read().decode("latin-1")
+    except Hang:
+        return "crash", f"hang: still in the run after {hang} s of wall time", ""
     except Exception as exc:  # a defect of the emulator: reported, the run goes on
         frame = traceback.extract_tb(exc.__traceback__)[-1]
         return "crash", f"{type(exc).__name__}: {exc} ({Path(frame.filename).name}:"\
             f"{frame.lineno})", ""
     finally:
+        signal.alarm(0)
         trio_tasks.error_code = original
     texts = {other.name: other.lines for other in programs}
     for line in out.split("\r\n"):
@@ -89,6 +107,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--quiet", action="store_true", help="the summary only")
     parser.add_argument("--progress", action="store_true", help="each program on stderr")
+    parser.add_argument("--hang", type=int, default=60,
+                        help="wall seconds after which a run counts as a hang (0: none)")
     args = parser.parse_args(argv)
     rows = []
     total = Report()
@@ -100,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
             total.parsed += report.parsed
             if program.type != 0:
                 continue
-            status, message, text = run_one(program, programs, args.seconds)
+            status, message, text = run_one(program, programs, args.seconds, args.hang)
             rows.append((f"{project}/{program.name}", report.code_lines, report.parsed,
                          status, message, text))
             if args.progress:

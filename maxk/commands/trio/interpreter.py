@@ -749,10 +749,33 @@ class Interpreter:
         array = ctx.arrays.get(stmt.name)
         if array is None:
             raise TrioError("Variable not defined")
-        if len(stmt.values) > len(array):
+        start, room = self._fill_start(stmt, array, ctx)
+        if len(stmt.values) > room:
             raise TrioError("Array index out of range")
         values = [self._typed(stmt.name, self.evaluate(v, ctx), ctx) for v in stmt.values]
-        array[:len(values)] = values
+        array[start:start + len(values)] = values
+
+    def _fill_start(self, stmt: ArrayFill, array: list[Value],
+                    ctx: ProcessContext) -> tuple[int, int]:
+        """Where ``name(i, ...) = v0, v1, ...`` starts and how many values fit: fewer
+        indices than dimensions pick a row (its whole length), all of them an element,
+        filled on to the end of its last dimension (D: the page shows rows only)."""
+        if not stmt.index:
+            return 0, len(array)
+        shape = ctx.shapes.get(stmt.name, (len(array),))
+        if len(stmt.index) > len(shape):
+            raise TrioError("Variable not defined")
+        flat = 0
+        for arg, size in zip(stmt.index, shape, strict=False):
+            index = self.number(arg, ctx)
+            if index != int(index) or not 0 <= index < size:
+                raise TrioError("Array index out of range")
+            flat = flat * size + int(index)
+        rest = shape[len(stmt.index):]
+        if rest:
+            room = math.prod(rest)
+            return flat * room, room
+        return flat, shape[-1] - flat % shape[-1]
 
     def channel(self, stmt: Channel, ctx: ProcessContext) -> Wait:
         """OPEN/CLOSE/GET/INPUT/LINPUT on a channel (see docs/trio.md): a file opened FOR
@@ -939,6 +962,11 @@ class Interpreter:
             return
         if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
             raise TrioError("Parameter is read only")
+        if isinstance(target, Call) and target.name != "VR" and \
+                0 < len(target.args) < len(ctx.shapes.get(target.name, ())):
+            held: Expr = Str(raw) if isinstance(raw, str) else Num(raw)
+            self.fill(ArrayFill(target.name, (held,), target.args), ctx)  # a row
+            return
         if isinstance(target, Call) and target.name != "VR":
             array, index = self._element(target.name, target.args, ctx)
             array[index] = self._typed(target.name, raw, ctx)

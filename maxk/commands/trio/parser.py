@@ -188,10 +188,12 @@ class Dim:
 
 @dataclass(frozen=True)
 class ArrayFill:
-    """``name = v0, v1, ...``: the first elements of a DIM array."""
+    """``name = v0, v1, ...``: the first elements of a DIM array; ``name(i) = v0, ...``
+    the row i of a 2-dimensional array, or from element i on (Array Indexing's page)."""
 
     name: str
     values: tuple[Expr, ...]
+    index: tuple[Expr, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -496,7 +498,14 @@ class _Parser:
             self.advance()
             if not args:
                 raise TrioError("Syntax error")
-            return Assign(element, self.expression())
+            value = self.expression()
+            if not self.at_op(",") or isinstance(element, Bit) or name == "VR":
+                return Assign(element, value)
+            values = [value]
+            while self.at_op(","):
+                self.advance()
+                values.append(self.expression())
+            return ArrayFill(name, tuple(values), args)
         variable = self.bit_target(Var(name))
         self.expect_op("=")
         value = self.expression()
