@@ -118,7 +118,7 @@ def test_print_c_format_of_a_string_and_text_around_it() -> None:
 
 
 @pytest.mark.parametrize("line", ['PRINT 1["no conversion"]', 'PRINT 1["%L %L"]',
-                                  'PRINT 1["%q"]', "PRINT 1[-3]", "PRINT 1[2.5]"])
+                                  'PRINT 1["%q"]', "PRINT 1[-3]", "PRINT 1[2.5, 1]"])
 def test_print_bad_formats_are_syntax_errors(line: str) -> None:
     rig = Rig()
     rig.command('SELECT "P",0')
@@ -165,3 +165,44 @@ def test_a_list_longer_than_its_row_changes_nothing(line: str) -> None:
     out = run(f"DIM m AS FLOAT(3, 2)\nm(0) = 4, 4\n{line}\nPRINT \"not here\"",
               rig=None)
     assert "Array index out of range" in out and "not here" not in out
+
+
+# ---- CONSTANT "name" / GLOBAL "name" alone clear that one; the keyword alone all ----------
+
+def test_constant_and_global_named_alone_are_cleared() -> None:
+    rig = Rig()
+    out = run('CONSTANT "lim", 40\nCONSTANT "gap", 3\nGLOBAL "count", 12\n'
+              'GLOBAL "spare", 13\ncount = 8\nCONSTANT "lim"\nGLOBAL "spare"\n'
+              "lim = 1\nspare = 2\nPRINT lim; gap; count; spare; VR(13)", rig=rig)
+    # lim and spare are plain variables again; gap and count are still declared
+    assert out == "13820\r\n"
+
+
+def test_global_alone_clears_every_global() -> None:
+    out = run('GLOBAL "a1", 20\nGLOBAL "a2", 21\nGLOBAL\na1 = 5\na2 = 6\n'
+              "PRINT a1; a2; VR(20); VR(21)")
+    assert out == "5600\r\n"
+
+
+# ---- VR(n) = "text" (help VR, example 4) ---------------------------------------------------
+
+def test_a_string_into_vrs_one_character_code_each_then_0() -> None:
+    out = run('VR(40) = "Cut 7"\nPRINT VR(40); " "; VR(43); " "; VR(44); " "; VR(45); '
+              '" "; VRSTRING(40)')
+    assert out == "67 32 55 0 Cut 7\r\n"  # C, space, 7, the 0 after them
+
+
+def test_a_string_past_the_last_vr_writes_nothing() -> None:
+    out = run('VR(65534) = 9\nVR(65533) = "abc"\nPRINT "not here"\n')
+    assert "Parameter out of range" in out and "not here" not in out
+    rig = Rig()
+    rig.load("P", 'VR(65534) = 9\nVR(65533) = "abc"')
+    rig.command('RUN "P"')
+    rig.cycles(10)
+    assert rig.command("?VR(65533); VR(65534)") == b"09"
+
+
+# ---- x[w.d]: the REGIST and MARK pages write the width and decimals so (D) ----------------
+
+def test_print_width_dot_decimals() -> None:
+    assert run('x = 12.345\nPRINT "<"; x[8.1]; ">"') == "<    12.3>\r\n"

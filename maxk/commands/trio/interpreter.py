@@ -505,6 +505,18 @@ class Interpreter:
             raise TrioError("Arithmetic error")
         return float(result)
 
+    def vr_write_string(self, first: int, text: str) -> None:
+        """VR(n) = "text": one character code a VR from VR(n) on and a 0 after them, so
+        VRSTRING(n) reads the text back (TrioBASIC help VR, example 4); a text that would
+        pass the last VR writes nothing (D)."""
+        codes = [float(ord(c) & 0xFF) for c in text] + [0.0]
+        if first + len(codes) > VR_COUNT:
+            raise TrioError("Parameter out of range")
+        def write() -> None:
+            for k, code in enumerate(codes):
+                self.machine.vr_write(first + k, code)
+        self._act(write)
+
     def vr_string(self, first: int) -> str:
         """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
         printable characters are kept (help page: codes 32..126 and 160..255, I)."""
@@ -830,9 +842,15 @@ class Interpreter:
 
     def declare(self, stmt: Declare, ctx: ProcessContext) -> None:
         """CONSTANT "name", value and GLOBAL "name", vr: names every process sees;
-        CONSTANT alone clears every CONSTANT."""
+        the name alone clears that one (a name not declared: nothing, D), the keyword
+        alone clears every one (TrioBASIC help CONSTANT, GLOBAL)."""
+        table: dict[str, Value] | dict[str, int] = \
+            self.hook.globals if stmt.what == "GLOBAL" else self.hook.constants
         if not stmt.name:
-            self.hook.constants.clear()
+            table.clear()
+            return
+        if stmt.value is None:
+            table.pop(stmt.name, None)
             return
         value = self.evaluate(stmt.value, ctx)
         if stmt.what == "GLOBAL":
@@ -970,6 +988,9 @@ class Interpreter:
         if isinstance(target, Call) and target.name != "VR":
             array, index = self._element(target.name, target.args, ctx)
             array[index] = self._typed(target.name, raw, ctx)
+            return
+        if isinstance(target, Call) and isinstance(raw, str):  # VR(i) = "text" (VR's page)
+            self.vr_write_string(self._index(self.number(target.args[0], ctx)), raw)
             return
         value = self.number_value(raw)
         if isinstance(target, Param) and target.keyword.name == "TICKS":

@@ -408,8 +408,11 @@ _ENTRIES: list[Keyword] = [
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
-              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
-              "programs clear VR 0..65535)."),
+              source=f"{TOK}; {MAN}; TrioBASIC help VR", note=f"VR(0..{VR_COUNT - 1}) "
+              "(count I: public programs clear VR 0..65535). VR(n) = \"text\" writes one "
+              "character code a VR from n and a 0 after them, read back by VRSTRING(n) "
+              "(C: VR's page, example 4). FOR VR(n) = a TO b ... NEXT VR(n) counts in "
+              "the VR (C: example 2)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
@@ -958,8 +961,11 @@ _STATEMENTS = {
     "GOSUB": "GOSUB label: call the routine at `label:`; RETURN comes back.",
     "RETURN": "Return from a GOSUB.",
     "ELSEIF": "ELSEIF cond THEN: another branch of a block IF.",
-    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program.",
-    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program.",
+    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program; "
+                "CONSTANT \"name\" clears that one, CONSTANT alone every one (help "
+                "CONSTANT).",
+    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program; GLOBAL "
+              "\"name\" clears that one, GLOBAL alone every one (help GLOBAL).",
     "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array; "
            "STRING with no (n) holds 64 characters (D: the CHR and HEX pages' examples "
            "declare one so, no page gives its length).",

@@ -151,8 +151,8 @@ class Declare:
     """CONSTANT "name", value / GLOBAL "name", vr."""
 
     what: str  # "CONSTANT" or "GLOBAL"
-    name: str
-    value: Expr
+    name: str  # "": every one of them is cleared (CONSTANT / GLOBAL alone)
+    value: Expr | None  # None: the name alone clears that one (the pages' examples)
 
 
 @dataclass(frozen=True)
@@ -631,8 +631,8 @@ class _Parser:
             return self.case()
         if name == "END_CASE":
             return EndCase()
-        if name == "CONSTANT" and self.at_statement_end():
-            return Declare("CONSTANT", "", Num(0.0))  # clears every CONSTANT (I)
+        if name in ("CONSTANT", "GLOBAL") and self.at_statement_end():
+            return Declare(name, "", None)  # clears every CONSTANT / GLOBAL (their pages)
         if name == "DEFCONST":  # DEFCONST name value: a CONSTANT (I, public programs)
             tok = self.advance()
             if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
@@ -644,6 +644,8 @@ class _Parser:
             tok = self.advance()
             if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
                 raise TrioError("Syntax error")
+            if self.at_statement_end():  # CONSTANT "name": clears that one (its page)
+                return Declare(name, tok.text.upper(), None)
             self.expect_op(",")
             return Declare(name, tok.text.upper(), self.expression())
         if name == "DIM":
@@ -860,16 +862,22 @@ class _Parser:
                     if sign < 0:
                         self.advance()
                     first = self.advance()
-                    if first.kind is not Tok.NUMBER or first.value != int(first.value):
+                    if first.kind is not Tok.NUMBER:
                         raise TrioError("Syntax error")
                     width, decimals = 0, int(first.value)  # x[d]: d decimals (PRINT's page)
+                    if first.value != int(first.value):  # x[5.1]: as [5, 1] (D: the
+                        whole, _, part = first.text.partition(".")  # REGIST page writes it)
+                        if not whole.isdigit() or not part.isdigit() or self.at_op(","):
+                            raise TrioError("Syntax error")
+                        width, decimals = sign * int(whole), int(part)
+                        sign = 1
                     if self.at_op(","):
                         self.advance()
                         tok = self.advance()
                         if tok.kind is not Tok.NUMBER:
                             raise TrioError("Syntax error")
                         width, decimals = sign * int(first.value), int(tok.value)
-                    elif sign < 0:
+                    elif sign < 0 and width == 0:
                         raise TrioError("Syntax error")
                     self.expect_op("]")
                     if not -127 <= width <= 127 or not 0 <= decimals <= 15:
