@@ -206,3 +206,17 @@ def test_a_string_past_the_last_vr_writes_nothing() -> None:
 
 def test_print_width_dot_decimals() -> None:
     assert run('x = 12.345\nPRINT "<"; x[8.1]; ">"') == "<    12.3>\r\n"
+
+
+# ---- ELSE IF cond THEN at a line's end: as ELSEIF (help FLAG example 1, D) ----------------
+
+@pytest.mark.parametrize(("value", "printed"), [(4, "low"), (7, "mid"), (9, "high")])
+def test_else_if_then_closes_with_the_one_endif(value: int, printed: str) -> None:
+    out = run(f"v = {value}\nIF v < 5 THEN\n  PRINT \"low\"\nELSE IF v < 8 THEN\n"
+              "  PRINT \"mid\"\nELSE\n  PRINT \"high\"\nENDIF\nPRINT \"end\"")
+    assert out == f"{printed}\r\nend\r\n"
+
+
+def test_else_followed_by_a_one_line_if_is_still_an_else() -> None:
+    out = run('v = 2\nIF v = 1 THEN\n  PRINT "one"\nELSE IF v = 2 THEN PRINT "two"\nENDIF')
+    assert out == "two\r\n"
