@@ -208,15 +208,25 @@ def test_print_width_dot_decimals() -> None:
     assert run('x = 12.345\nPRINT "<"; x[8.1]; ">"') == "<    12.3>\r\n"
 
 
-# ---- ELSE IF cond THEN at a line's end: as ELSEIF (help FLAG example 1, D) ----------------
+# ---- ROUND, ULPDIFF, LENB (their help pages) -------------------------------------------------
 
-@pytest.mark.parametrize(("value", "printed"), [(4, "low"), (7, "mid"), (9, "high")])
-def test_else_if_then_closes_with_the_one_endif(value: int, printed: str) -> None:
-    out = run(f"v = {value}\nIF v < 5 THEN\n  PRINT \"low\"\nELSE IF v < 8 THEN\n"
-              "  PRINT \"mid\"\nELSE\n  PRINT \"high\"\nENDIF\nPRINT \"end\"")
-    assert out == f"{printed}\r\nend\r\n"
+@pytest.mark.parametrize(("expr", "text"), [
+    ("ROUND(2.5)", "3"),               # INT(2.5 + 0.5)
+    ("ROUND(-2.5)", "-3"),             # INT(-2.5 - 0.5): away from zero both ways
+    ("ROUND(7.49)", "7"),
+    ("ROUND(2.71828, 2)", "2.7200"),   # INT(271.828 + 0.5) / 100
+    ("ROUND(-2.71828, 3)", "-2.7180"),  # INT(-2718.28 - 0.5) / 1000
+    ("ROUND(86420, -2)", "86400"),     # INT(864.2 + 0.5) x 100
+    ("ROUND(49, -2)", "0"),
+    ("ULPDIFF(1, 1)", "0"),
+    ("ULPDIFF(1, 1 + 2^-52)", "1"),    # the next double after 1
+    ("ULPDIFF(2 + 2^-50, 2)", "2"),    # above 2 a step is 2^-51
+    ("ULPDIFF(-2^-1074, 2^-1074)", "2"),  # across zero: -min, 0, +min
+    ('LENB("abc")', "3"),
+])
+def test_round_ulpdiff_lenb(expr: str, text: str) -> None:
+    assert Rig().command("?" + expr).decode() == text
 
 
-def test_else_followed_by_a_one_line_if_is_still_an_else() -> None:
-    out = run('v = 2\nIF v = 1 THEN\n  PRINT "one"\nELSE IF v = 2 THEN PRINT "two"\nENDIF')
-    assert out == "two\r\n"
+def test_round_of_a_string_is_a_type_mismatch() -> None:
+    assert "Type mismatch" in run('x = ROUND("7")\nPRINT "not here"')

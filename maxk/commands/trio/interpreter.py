@@ -15,6 +15,7 @@ from __future__ import annotations
 import datetime
 import math
 import random
+import struct
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -319,6 +320,35 @@ def _instr(args: list[Value]) -> Value:
     return -1.0
 
 
+def _num_arg(value: Value) -> float:
+    if isinstance(value, str):
+        raise TrioError("Type mismatch")
+    return value
+
+
+def _round(args: list[Value]) -> Value:
+    """ROUND(v[, p]): INT(v * 10^p +- 0.5) / 10^p, the sign's way (help ROUND)."""
+    value = _num_arg(args[0])
+    places = _int_arg(args[1]) if len(args) > 1 else 0
+    if not -308 <= places <= 308:
+        raise TrioError("Parameter out of range")
+    scale = 10.0 ** places
+    half = 0.5 if value >= 0 else -0.5
+    return math.trunc(value * scale + half) / scale
+
+
+def _ulp_order(value: float) -> int:
+    """A double's bits as an integer that counts the doubles in order."""
+    bits = struct.unpack("<q", struct.pack("<d", value))[0]
+    return bits if bits >= 0 else -(bits & 0x7FFFFFFFFFFFFFFF)
+
+
+def _ulpdiff(args: list[Value]) -> Value:
+    """ULPDIFF(a, b): how many doubles apart a and b are (help ULPDIFF)."""
+    a, b = _num_arg(args[0]), _num_arg(args[1])
+    return float(abs(_ulp_order(a) - _ulp_order(b)))
+
+
 def _arity(low: int, high: int,
            function: Callable[[list[Value]], Value]) -> Callable[[list[Value]], Value]:
     def checked(args: list[Value]) -> Value:
@@ -342,6 +372,9 @@ _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
     "STR": _arity(1, 3, _str),
     "VAL": _arity(1, 1, _val),
     "INSTR": _arity(2, 4, _instr),
+    "LENB": _arity(1, 1, lambda a: float(len(_str_arg(a[0]).encode("utf-8")))),
+    "ROUND": _arity(1, 2, _round),
+    "ULPDIFF": _arity(2, 2, _ulpdiff),
 }
 
 

@@ -601,6 +601,17 @@ _ENTRIES: list[Keyword] = [
               "default 0); 0 for an empty string or an offset outside it.", (1, 2),
               source=f"{HELP}; {TOK}"),
     _function("LEN", "LEN(s): characters in s.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LENB", "LENB(s): the bytes s takes in UTF-8.", (1, 1),
+              source="TrioBASIC help LENB", confidence="I",
+              note="Strings here hold characters; their UTF-8 length is the page's byte "
+              "count (I)."),
+    _function("ROUND", "ROUND(v[, places]): INT(v x 10^places + 0.5) / 10^places (- 0.5 "
+              "below 0); negative places round the integer part.", (1, 2),
+              source="TrioBASIC help ROUND", confidence="C",
+              note="The page's formula and examples (C); PRINT shows a whole result "
+              "without decimals, as every whole value here (D)."),
+    _function("ULPDIFF", "ULPDIFF(a, b): how many doubles lie between a and b (units in "
+              "the last place).", (2, 2), source="TrioBASIC help ULPDIFF", confidence="C"),
     _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2), source=f"{HELP}; {TOK}"),
     _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2),
               source=f"{HELP}; {TOK}"),

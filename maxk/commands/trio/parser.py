@@ -671,15 +671,6 @@ class _Parser:
                     raise TrioError("Syntax error")
             return IfLine(condition, then, otherwise)
         if name == "ELSE":
-            if self.at_name("IF") and self.tokens[-2].kind is Tok.NAME and \
-                    self.tokens[-2].text == "THEN":  # ELSE IF cond THEN: as ELSEIF (D: the
-                self.advance()  # FLAG page's example closes both with one ENDIF)
-                condition = self.expression()
-                if not self.at_name("THEN"):
-                    raise TrioError("Syntax error")
-                self.advance()
-                self.expect_end()
-                return ElseIf(condition)
             return Else()
         if name == "ENDIF":
             return EndIf()
