@@ -230,3 +230,17 @@ def test_round_ulpdiff_lenb(expr: str, text: str) -> None:
 
 def test_round_of_a_string_is_a_type_mismatch() -> None:
     assert "Type mismatch" in run('x = ROUND("7")\nPRINT "not here"')
+
+
+# ---- SET_BIT / CLEAR_BIT / READ_BIT with mode 1: a TABLE value (their help pages) ----------
+
+def test_bit_functions_on_table_with_mode_1() -> None:
+    out = run("TABLE(30, 8)\nVR(30) = 8\nSET_BIT(0, 30, 1)\nCLEAR_BIT(3, 30, 1)\n"
+              "SET_BIT(1, 30, 0)\n"
+              "PRINT TABLE(30); \" \"; VR(30); \" \"; READ_BIT(0, 30, 1); READ_BIT(0, 30)")
+    assert out == "1 10 10\r\n"  # TABLE 8 -> 9 -> 1; VR 8 -> 10 (mode 0 is the VR)
+
+
+def test_a_bit_function_mode_other_than_0_or_1_is_refused() -> None:
+    out = run("TABLE(2, 0)\nSET_BIT(0, 2, 2)\nPRINT \"not here\"")
+    assert "Parameter out of range" in out and "not here" not in out

@@ -1167,14 +1167,18 @@ class Interpreter:
             self._act(lambda: m.invert_input(point, args[1] != 0))
             return -1.0  # the two-argument form as a function: TRUE (help page)
         if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
-            if len(args) != 2:
-                raise TrioError("Syntax error")
+            if len(args) not in (2, 3) or len(args) == 3 and args[2] not in (0.0, 1.0):
+                raise TrioError("Syntax error" if len(args) not in (2, 3)
+                                else "Parameter out of range")
             bit, index = self._point(args[0], 53), self._index(args[1])
-            value = int(self._machine(lambda: m.vr_read(index)))
+            table = len(args) == 3 and args[2] == 1.0  # mode 1: a TABLE value (their pages)
+            value = int(self._machine(lambda: m.table_read(index) if table
+                                      else m.vr_read(index)))
             if name == "READ_BIT":
                 return float((value >> bit) & 1)
             value = value | (1 << bit) if name == "SET_BIT" else value & ~(1 << bit)
-            self._act(lambda: m.vr_write(index, float(value)))
+            self._act(lambda: m.table_write(index, [float(value)]) if table
+                      else m.vr_write(index, float(value)))
             return 0.0
         flags = int(self.hook.indexed.get(("FLAGS", ()), 0.0))
         if name == "FLAGS":

@@ -684,12 +684,16 @@ _ENTRIES: list[Keyword] = [
           note="Applied at once as a DEFPOS to DPOS + d, and OFFPOS reads 0 again, so the "
           "common 'OFFPOS = d: WAIT UNTIL OFFPOS = 0' goes on (I: the controller applies it "
           "on the next servo cycle and clears it)."),
-    _command("SET_BIT", "SET_BIT(b, vr): set bit b of VR(vr).", (2, 2), confidence="I",
-             source=f"{TOK}; {MAN}", note="Bits 0..52 of the VR's integer part (D)."),
-    _command("CLEAR_BIT", "CLEAR_BIT(b, vr): clear bit b of VR(vr).", (2, 2),
-             confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
-    _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
-              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("SET_BIT", "SET_BIT(b, vr[, mode]): set bit b of VR(vr), or of TABLE(vr) "
+             "with mode 1.", (2, 3), confidence="I", source=f"{TOK}; {MAN}; TrioBASIC help "
+             "SET_BIT", note="Bits 0..52 of the value's integer part (the page); mode 0 VR, "
+             "1 TABLE (C), another mode 'Parameter out of range' (D)."),
+    _command("CLEAR_BIT", "CLEAR_BIT(b, vr[, mode]): clear bit b of VR(vr), or of "
+             "TABLE(vr) with mode 1.", (2, 3), confidence="I",
+             source=f"{TOK}; {MAN}; TrioBASIC help CLEAR_BIT", note="As SET_BIT."),
+    _function("READ_BIT", "READ_BIT(b, vr[, mode]): bit b of VR(vr), or of TABLE(vr) with "
+              "mode 1, 1 or 0.", (2, 3), confidence="I",
+              source=f"{TOK}; {MAN}; TrioBASIC help READ_BIT", note="As SET_BIT."),
     _command("TIME", "TIME reads the real time clock's seconds since midnight; TIME = "
              "hh:mm:ss sets it.", (0, 0), source=f"{HELP}; {TOK}", confidence="I",
              note="The clock is virtual time from 00:00:00 on Saturday 01/01/2000 at power "
