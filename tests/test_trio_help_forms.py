@@ -244,3 +244,12 @@ def test_bit_functions_on_table_with_mode_1() -> None:
 def test_a_bit_function_mode_other_than_0_or_1_is_refused() -> None:
     out = run("TABLE(2, 0)\nSET_BIT(0, 2, 2)\nPRINT \"not here\"")
     assert "Parameter out of range" in out and "not here" not in out
+
+
+# ---- IS_PROG "text" + name: a joined name after the keyword (help IS_PROG) ----------------
+
+def test_is_prog_takes_a_joined_name() -> None:
+    rig = Rig()
+    rig.command('SELECT "CUT2",0')
+    out = run('n = "2"\nPRINT IS_PROG "CUT" + n; IS_PROG "CUT" + "3"; IS_PROG "CUT2"', rig=rig)
+    assert out == "-10-1\r\n"

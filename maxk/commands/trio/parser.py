@@ -1116,6 +1116,9 @@ class _Parser:
 
     def call_args(self, keyword: Keyword) -> tuple[Expr, ...]:
         if keyword.string_arg and self.tok.kind is Tok.STRING:
+            nxt = self.tokens[self.pos + 1]
+            if nxt.kind is Tok.OP and nxt.text == "+":  # IS_PROG "SD:" + name (its page)
+                return (self.additive(),)
             return (Str(self.advance().text),)
         if not self.at_op("("):
             if keyword.name == "BASE" or keyword.args[0] == 0:
