@@ -15,6 +15,7 @@ from __future__ import annotations
 import datetime
 import math
 import random
+import struct
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass, field
 from functools import partial
@@ -57,6 +58,7 @@ from .parser import (
     WaitLoaded,
     WaitUntil,
 )
+from .printformat import c_format
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
@@ -351,6 +353,35 @@ def _instr(args: list[Value]) -> Value:
     return -1.0
 
 
+def _num_arg(value: Value) -> float:
+    if isinstance(value, str):
+        raise TrioError("Type mismatch")
+    return value
+
+
+def _round(args: list[Value]) -> Value:
+    """ROUND(v[, p]): INT(v * 10^p +- 0.5) / 10^p, the sign's way (help ROUND)."""
+    value = _num_arg(args[0])
+    places = _int_arg(args[1]) if len(args) > 1 else 0
+    if not -308 <= places <= 308:
+        raise TrioError("Parameter out of range")
+    scale = 10.0 ** places
+    half = 0.5 if value >= 0 else -0.5
+    return math.trunc(value * scale + half) / scale
+
+
+def _ulp_order(value: float) -> int:
+    """A double's bits as an integer that counts the doubles in order."""
+    bits = struct.unpack("<q", struct.pack("<d", value))[0]
+    return bits if bits >= 0 else -(bits & 0x7FFFFFFFFFFFFFFF)
+
+
+def _ulpdiff(args: list[Value]) -> Value:
+    """ULPDIFF(a, b): how many doubles apart a and b are (help ULPDIFF)."""
+    a, b = _num_arg(args[0]), _num_arg(args[1])
+    return float(abs(_ulp_order(a) - _ulp_order(b)))
+
+
 def _arity(low: int, high: int,
            function: Callable[[list[Value]], Value]) -> Callable[[list[Value]], Value]:
     def checked(args: list[Value]) -> Value:
@@ -374,6 +405,9 @@ _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
     "STR": _arity(1, 3, _str),
     "VAL": _arity(1, 1, _val),
     "INSTR": _arity(2, 4, _instr),
+    "LENB": _arity(1, 1, lambda a: float(len(_str_arg(a[0]).encode("utf-8")))),
+    "ROUND": _arity(1, 2, _round),
+    "ULPDIFF": _arity(2, 2, _ulpdiff),
 }
 
 
@@ -440,7 +474,7 @@ class Interpreter:
             result = self._apply(op, a, b)
         except (ZeroDivisionError, OverflowError, ValueError, TypeError):
             # (TypeError: a negative base to a fraction is complex, no real number)
-            raise TrioError("Divide by zero" if op in ("/", "MOD") and b == 0
+            raise TrioError("Divide by zero" if op in ("/", "MOD", "FMOD") and b == 0
                             else "Arithmetic error") from None
         if isinstance(result, complex) or not math.isfinite(result):
             raise TrioError("Arithmetic error")
@@ -460,6 +494,8 @@ class Interpreter:
             return float(a ** b)
         if op == "MOD":
             return math.fmod(int(a), int(b)) if int(b) else a / 0
+        if op == "FMOD":  # the remainder keeps the dividend's sign (help FMOD: -204.56 -> -24.56)
+            return math.fmod(a, b) if b else a / 0
         if op == "AND":
             return float(int(a) & int(b))
         if op == "OR":
@@ -561,6 +597,18 @@ class Interpreter:
         except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
 
+    def vr_write_string(self, first: int, text: str) -> None:
+        """VR(n) = "text": one character code a VR from VR(n) on and a 0 after them, so
+        VRSTRING(n) reads the text back (TrioBASIC help VR, example 4); a text that would
+        pass the last VR writes nothing (D)."""
+        codes = [float(ord(c) & 0xFF) for c in text] + [0.0]
+        if first + len(codes) > VR_COUNT:
+            raise TrioError("Parameter out of range")
+        def write() -> None:
+            for k, code in enumerate(codes):
+                self.machine.vr_write(first + k, code)
+        self._act(write)
+
     def vr_string(self, first: int) -> str:
         """VRSTRING(n): one character a VR from VR(n) to the first VR holding 0; only
         printable characters are kept (help page: codes 32..126 and 160..255, I)."""
@@ -572,14 +620,6 @@ class Interpreter:
             if 32 <= code <= 126 or 160 <= code <= 255:
                 out.append(chr(code))
         return "".join(out)
-
-    def vr_text(self, first: int, text: str) -> None:
-        """VR(n) = "text": one character a VR from VR(n), then a 0, as VRSTRING reads it
-        back (I: CHANNEL_WRITE's page example 2 stores its text so). All or nothing."""
-        if first + len(text) >= VR_COUNT:
-            raise TrioError("Parameter out of range")
-        for k, char in enumerate(text + "\0"):
-            self.machine.vr_write(first + k, float(ord(char)))
 
     def argument(self, expr: Expr, ctx: ProcessContext) -> Argument:
         """A FUNCTION's argument: a DIM array named alone goes by reference (the
@@ -847,10 +887,33 @@ class Interpreter:
         array = ctx.arrays.get(stmt.name)
         if array is None:
             raise TrioError("Variable not defined")
-        if len(stmt.values) > len(array):
+        start, room = self._fill_start(stmt, array, ctx)
+        if len(stmt.values) > room:
             raise TrioError("Array index out of range")
         values = [self._typed(stmt.name, self.evaluate(v, ctx), ctx) for v in stmt.values]
-        array[:len(values)] = values
+        array[start:start + len(values)] = values
+
+    def _fill_start(self, stmt: ArrayFill, array: list[Value],
+                    ctx: ProcessContext) -> tuple[int, int]:
+        """Where ``name(i, ...) = v0, v1, ...`` starts and how many values fit: fewer
+        indices than dimensions pick a row (its whole length), all of them an element,
+        filled on to the end of its last dimension (D: the page shows rows only)."""
+        if not stmt.index:
+            return 0, len(array)
+        shape = ctx.shapes.get(stmt.name, (len(array),))
+        if len(stmt.index) > len(shape):
+            raise TrioError("Variable not defined")
+        flat = 0
+        for arg, size in zip(stmt.index, shape, strict=False):
+            index = self.number(arg, ctx)
+            if index != int(index) or not 0 <= index < size:
+                raise TrioError("Array index out of range")
+            flat = flat * size + int(index)
+        rest = shape[len(stmt.index):]
+        if rest:
+            room = math.prod(rest)
+            return flat * room, room
+        return flat, shape[-1] - flat % shape[-1]
 
     def channel(self, stmt: Channel, ctx: ProcessContext) -> Wait:
         """OPEN/CLOSE/GET/INPUT/LINPUT on a channel (see docs/trio.md): a file opened FOR
@@ -911,9 +974,15 @@ class Interpreter:
 
     def declare(self, stmt: Declare, ctx: ProcessContext) -> None:
         """CONSTANT "name", value and GLOBAL "name", vr: names every process sees;
-        CONSTANT alone clears every CONSTANT."""
+        the name alone clears that one (a name not declared: nothing, D), the keyword
+        alone clears every one (TrioBASIC help CONSTANT, GLOBAL)."""
+        table: dict[str, Value] | dict[str, int] = \
+            self.hook.globals if stmt.what == "GLOBAL" else self.hook.constants
         if not stmt.name:
-            self.hook.constants.clear()
+            table.clear()
+            return
+        if stmt.value is None:
+            table.pop(stmt.name, None)
             return
         value = self.evaluate(stmt.value, ctx)
         if stmt.what == "GLOBAL":
@@ -972,9 +1041,13 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
         parts = []
         for item, separator in stmt.items:
-            if isinstance(item, Format):
+            if isinstance(item, Format) and item.spec is not None:
+                parts.append(c_format(item.spec, self.evaluate(item.value, ctx)))
+            elif isinstance(item, Format):
                 number = self.number(item.value, ctx)
-                parts.append(f"{number:{item.width}.{item.decimals}f}")
+                field = f"{number:.{item.decimals}f}"
+                parts.append(field.ljust(-item.width) if item.width < 0
+                             else field.rjust(item.width))
             else:
                 value = self.evaluate(item, ctx)
                 parts.append(value if isinstance(value, str) else format_number(value))
@@ -1040,14 +1113,19 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             self.hook.analog_outputs[channel] = value
             return
-        if isinstance(target, Call) and target.name == "VR" and isinstance(raw, str):
-            self.vr_text(self._index(self.number(target.args[0], ctx)), raw)
-            return
         if isinstance(target, Call) and target.name in KEYWORDS and target.name != "VR":
             raise TrioError("Parameter is read only")
+        if isinstance(target, Call) and target.name != "VR" and \
+                0 < len(target.args) < len(ctx.shapes.get(target.name, ())):
+            held: Expr = Str(raw) if isinstance(raw, str) else Num(raw)
+            self.fill(ArrayFill(target.name, (held,), target.args), ctx)  # a row
+            return
         if isinstance(target, Call) and target.name != "VR":
             array, index = self._element(target.name, target.args, ctx)
             array[index] = self._typed(target.name, raw, ctx)
+            return
+        if isinstance(target, Call) and isinstance(raw, str):  # VR(i) = "text" (VR's page)
+            self.vr_write_string(self._index(self.number(target.args[0], ctx)), raw)
             return
         value = self.number_value(raw)
         if isinstance(target, Param) and target.keyword.name == "TICKS":
@@ -1097,7 +1175,10 @@ class Interpreter:
     def group(self, axis: Expr | None, ctx: ProcessContext, count: int) -> list[int]:
         """The axes a multi-axis command acts on: the base array, or AXIS(n) onwards."""
         if axis is None:
-            base = ctx.base
+            # the default BASE array is the sequence 0, 1, 2, ... (TrioBASIC help, BASE),
+            # held as [0] until a BASE command writes the whole array
+            base = ctx.base if len(ctx.base) > 1 else \
+                base_array(ctx.base, self.machine.axis_count)
         else:
             first = self.axis_of(axis, ctx)
             base = base_array([first], self.machine.axis_count)
@@ -1253,14 +1334,18 @@ class Interpreter:
             self._act(lambda: m.invert_input(point, args[1] != 0))
             return -1.0  # the two-argument form as a function: TRUE (help page)
         if name in ("SET_BIT", "CLEAR_BIT", "READ_BIT"):
-            if len(args) != 2:
-                raise TrioError("Syntax error")
+            if len(args) not in (2, 3) or len(args) == 3 and args[2] not in (0.0, 1.0):
+                raise TrioError("Syntax error" if len(args) not in (2, 3)
+                                else "Parameter out of range")
             bit, index = self._point(args[0], 53), self._index(args[1])
-            value = int(self._machine(lambda: m.vr_read(index)))
+            table = len(args) == 3 and args[2] == 1.0  # mode 1: a TABLE value (their pages)
+            value = int(self._machine(lambda: m.table_read(index) if table
+                                      else m.vr_read(index)))
             if name == "READ_BIT":
                 return float((value >> bit) & 1)
             value = value | (1 << bit) if name == "SET_BIT" else value & ~(1 << bit)
-            self._act(lambda: m.vr_write(index, float(value)))
+            self._act(lambda: m.table_write(index, [float(value)]) if table
+                      else m.vr_write(index, float(value)))
             return 0.0
         flags = int(self.hook.indexed.get(("FLAGS", ()), 0.0))
         if name == "FLAGS":

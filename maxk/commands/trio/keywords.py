@@ -549,9 +549,11 @@ _ENTRIES: list[Keyword] = [
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
-              source=f"{TOK}; {MAN}", note=f"VR(0..{VR_COUNT - 1}) (count I: public "
-              "programs clear VR 0..65535). VR(n) = \"text\" stores one character a VR "
-              "and a 0 after, as VRSTRING reads back (I: CHANNEL_WRITE's page example)."),
+              source=f"{TOK}; {MAN}; TrioBASIC help VR", note=f"VR(0..{VR_COUNT - 1}) "
+              "(count I: public programs clear VR 0..65535). VR(n) = \"text\" writes one "
+              "character code a VR from n and a 0 after them, read back by VRSTRING(n) "
+              "(C: VR's page, example 4). FOR VR(n) = a TO b ... NEXT VR(n) counts in "
+              "the VR (C: example 2)."),
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
@@ -560,7 +562,11 @@ _ENTRIES: list[Keyword] = [
     # ---- statements ---------------------------------------------------------------------------
     _statement("PRINT", "Print expressions and strings; ',' tabs, ';' joins, a final ';' "
                "keeps the line open. '?' is the same.", source=f"{REF}; {MAN}",
-               note="Integer values print without decimals (ref 3), others with 4 (manual)."),
+               note="Integer values print without decimals (ref 3), others with 4 (manual). "
+               "Formats (TrioBASIC help PRINT, C): x[d] d decimals; x[w, d] in w characters, "
+               "negative w left justified; x[\"%...\"] a C format string (%f %F %e %E, 4 "
+               "decimals by default; %L, %W and %X 64-bit; %R %S strings; %C a character) "
+               "with the text around it echoed."),
     _statement("IF", "IF cond THEN ... [ELSE ...] on one line, or a block to ENDIF."),
     _statement("THEN", "Part of IF."),
     _statement("ELSE", "Part of IF."),
@@ -896,6 +902,17 @@ _ENTRIES: list[Keyword] = [
               "default 0); 0 for an empty string or an offset outside it.", (1, 2),
               source=f"{HELP}; {TOK}"),
     _function("LEN", "LEN(s): characters in s.", (1, 1), source=f"{HELP}; {TOK}"),
+    _function("LENB", "LENB(s): the bytes s takes in UTF-8.", (1, 1),
+              source="TrioBASIC help LENB", confidence="I",
+              note="Strings here hold characters; their UTF-8 length is the page's byte "
+              "count (I)."),
+    _function("ROUND", "ROUND(v[, places]): INT(v x 10^places + 0.5) / 10^places (- 0.5 "
+              "below 0); negative places round the integer part.", (1, 2),
+              source="TrioBASIC help ROUND", confidence="C",
+              note="The page's formula and examples (C); PRINT shows a whole result "
+              "without decimals, as every whole value here (D)."),
+    _function("ULPDIFF", "ULPDIFF(a, b): how many doubles lie between a and b (units in "
+              "the last place).", (2, 2), source="TrioBASIC help ULPDIFF", confidence="C"),
     _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2), source=f"{HELP}; {TOK}"),
     _function("RIGHT", "RIGHT(s, n): the last n characters.", (2, 2),
               source=f"{HELP}; {TOK}"),
@@ -975,12 +992,16 @@ _ENTRIES: list[Keyword] = [
           note="Applied at once as a DEFPOS to DPOS + d, and OFFPOS reads 0 again, so the "
           "common 'OFFPOS = d: WAIT UNTIL OFFPOS = 0' goes on (I: the controller applies it "
           "on the next servo cycle and clears it)."),
-    _command("SET_BIT", "SET_BIT(b, vr): set bit b of VR(vr).", (2, 2), confidence="I",
-             source=f"{TOK}; {MAN}", note="Bits 0..52 of the VR's integer part (D)."),
-    _command("CLEAR_BIT", "CLEAR_BIT(b, vr): clear bit b of VR(vr).", (2, 2),
-             confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
-    _function("READ_BIT", "READ_BIT(b, vr): bit b of VR(vr), 1 or 0.", (2, 2),
-              confidence="I", source=f"{TOK}; {MAN}", note="As SET_BIT."),
+    _command("SET_BIT", "SET_BIT(b, vr[, mode]): set bit b of VR(vr), or of TABLE(vr) "
+             "with mode 1.", (2, 3), confidence="I", source=f"{TOK}; {MAN}; TrioBASIC help "
+             "SET_BIT", note="Bits 0..52 of the value's integer part (the page); mode 0 VR, "
+             "1 TABLE (C), another mode 'Parameter out of range' (D)."),
+    _command("CLEAR_BIT", "CLEAR_BIT(b, vr[, mode]): clear bit b of VR(vr), or of "
+             "TABLE(vr) with mode 1.", (2, 3), confidence="I",
+             source=f"{TOK}; {MAN}; TrioBASIC help CLEAR_BIT", note="As SET_BIT."),
+    _function("READ_BIT", "READ_BIT(b, vr[, mode]): bit b of VR(vr), or of TABLE(vr) with "
+              "mode 1, 1 or 0.", (2, 3), confidence="I",
+              source=f"{TOK}; {MAN}; TrioBASIC help READ_BIT", note="As SET_BIT."),
     _command("TIME", "TIME reads the real time clock's seconds since midnight; TIME = "
              "hh:mm:ss sets it.", (0, 0), source=f"{HELP}; {TOK}", confidence="I",
              note="The clock is virtual time from 00:00:00 on Saturday 01/01/2000 at power "
@@ -1480,6 +1501,10 @@ _ENTRIES: list[Keyword] = [
               "Bitwise on the integer parts; comparisons give TRUE (-1) or FALSE (0)."
               if op != "MOD" else "Remainder of the integer parts (I).")
       for op in ("AND", "OR", "XOR", "NOT", "MOD")],
+    Keyword("FMOD", Kind.OPERATOR, "a FMOD b: the floating point remainder of a / b, with "
+            "a's sign, at MOD's precedence.", "TrioBASIC help FMOD", "C",
+            "The page's examples: 2023.4 FMOD 356 = 243.4, -204.56 FMOD 60 = -24.56 (C); "
+            "FMOD 0 is 'Divide by zero' as MOD (D)."),
     Keyword("AXIS", Kind.MODIFIER, "AXIS(n) after a parameter or command: axis n instead of "
             "the base axis.", f"{SEED}; {TOK}", args=(1, 1)),
 ]
@@ -1490,9 +1515,14 @@ _STATEMENTS = {
     "GOSUB": "GOSUB label: call the routine at `label:`; RETURN comes back.",
     "RETURN": "Return from a GOSUB.",
     "ELSEIF": "ELSEIF cond THEN: another branch of a block IF.",
-    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program.",
-    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program.",
-    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array.",
+    "CONSTANT": "CONSTANT \"name\", value: a named constant for every program; "
+                "CONSTANT \"name\" clears that one, CONSTANT alone every one (help "
+                "CONSTANT).",
+    "GLOBAL": "GLOBAL \"name\", vr: a name for VR(vr) in every program; GLOBAL "
+              "\"name\" clears that one, GLOBAL alone every one (help GLOBAL).",
+    "DIM": "DIM name[(n)] AS INTEGER|FLOAT|BOOLEAN|STRING(n): a local variable or array; "
+           "STRING with no (n) holds 64 characters (D: the CHR and HEX pages' examples "
+           "declare one so, no page gives its length).",
     "AS": "Part of DIM.", "FLOAT": "Part of DIM.", "INTEGER": "Part of DIM.",
     "BOOLEAN": "Part of DIM.", "STRING": "Part of DIM: STRING(n).",
     "SELECT_CASE": "SELECT_CASE expr ... CASE v[, v] ... CASE ELSE ... END_CASE.",

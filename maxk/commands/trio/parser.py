@@ -19,6 +19,7 @@ from typing import TypeVar
 
 from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
+from .printformat import check_spec
 
 # ---- expressions ---------------------------------------------------------------------
 
@@ -84,11 +85,14 @@ Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
 
 @dataclass(frozen=True)
 class Format:
-    """``x[w,d]`` in a PRINT: the value in a field of w characters with d decimals."""
+    """``x[w,d]`` in a PRINT: the value in a field of w characters (negative: left
+    justified) with d decimals; ``x[d]``: d decimals; ``x["%..."]``: a C format string
+    (printformat.py)."""
 
     value: Expr
     width: int
     decimals: int
+    spec: str | None = None
 
 
 @dataclass(frozen=True)
@@ -150,8 +154,8 @@ class Declare:
     """CONSTANT "name", value / GLOBAL "name", vr."""
 
     what: str  # "CONSTANT" or "GLOBAL"
-    name: str
-    value: Expr
+    name: str  # "": every one of them is cleared (CONSTANT / GLOBAL alone)
+    value: Expr | None  # None: the name alone clears that one (the pages' examples)
 
 
 @dataclass(frozen=True)
@@ -187,10 +191,12 @@ class Dim:
 
 @dataclass(frozen=True)
 class ArrayFill:
-    """``name = v0, v1, ...``: the first elements of a DIM array."""
+    """``name = v0, v1, ...``: the first elements of a DIM array; ``name(i) = v0, ...``
+    the row i of a 2-dimensional array, or from element i on (Array Indexing's page)."""
 
     name: str
     values: tuple[Expr, ...]
+    index: tuple[Expr, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -293,6 +299,7 @@ class For:
     start: Expr
     end: Expr
     step: Expr | None
+    vr: Expr | None = None  # FOR VR(n) = ...: the loop counts in VR(n) (help, VR example)
 
 
 @dataclass(frozen=True)
@@ -332,6 +339,11 @@ def parse_expression(text: str) -> Expr:
 
 MAX_NESTING = 64  # brackets, unary operators and calls nested in one expression (D)
 MAX_OPERATORS = 128  # binary operators in one line (D: evaluation recurses through them)
+
+
+# DIM s AS STRING with no length: the help's CHR and HEX examples declare one so; no page
+# gives its length, 64 characters is our decision (D).
+DEFAULT_STRING_LENGTH = 64
 
 
 class _Parser:
@@ -489,7 +501,14 @@ class _Parser:
             self.advance()
             if not args:
                 raise TrioError("Syntax error")
-            return Assign(element, self.expression())
+            value = self.expression()
+            if not self.at_op(",") or isinstance(element, Bit) or name == "VR":
+                return Assign(element, value)
+            values = [value]
+            while self.at_op(","):
+                self.advance()
+                values.append(self.expression())
+            return ArrayFill(name, tuple(values), args)
         variable = self.bit_target(Var(name))
         self.expect_op("=")
         value = self.expression()
@@ -616,8 +635,8 @@ class _Parser:
             return self.case()
         if name == "END_CASE":
             return EndCase()
-        if name == "CONSTANT" and self.at_statement_end():
-            return Declare("CONSTANT", "", Num(0.0))  # clears every CONSTANT (I)
+        if name in ("CONSTANT", "GLOBAL") and self.at_statement_end():
+            return Declare(name, "", None)  # clears every CONSTANT / GLOBAL (their pages)
         if name == "DEFCONST":  # DEFCONST name value: a CONSTANT (I, public programs)
             tok = self.advance()
             if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
@@ -629,6 +648,8 @@ class _Parser:
             tok = self.advance()
             if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
                 raise TrioError("Syntax error")
+            if self.at_statement_end():  # CONSTANT "name": clears that one (its page)
+                return Declare(name, tok.text.upper(), None)
             self.expect_op(",")
             return Declare(name, tok.text.upper(), self.expression())
         if name == "DIM":
@@ -670,6 +691,12 @@ class _Parser:
         if name == "NEXT":
             if self.tok.kind is Tok.NAME and lookup(self.tok.text) is None:
                 return Next(self.advance().text)
+            if self.at_name("VR"):  # NEXT VR(n): ends the FOR VR(n) loop
+                self.advance()
+                self.expect_op("(")
+                self.expression()
+                self.expect_op(")")
+                return Next("VR")
             return Next(None)
         if name == "WAIT":
             if self.at_name("IDLE"):
@@ -768,7 +795,9 @@ class _Parser:
             if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
             kind = self.advance().text
-            if kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
+            if kind == "STRING" and not self.at_op("("):
+                length = DEFAULT_STRING_LENGTH  # DIM s AS STRING (the CHR and HEX pages)
+            elif kind == "STRING":  # STRING(length), STRING(size, length), ... (DIM's page)
                 self.expect_op("(")
                 fields = [self.expression()]
                 while self.at_op(","):
@@ -793,7 +822,12 @@ class _Parser:
 
     def for_statement(self) -> For:
         tok = self.advance()
-        if tok.kind is not Tok.NAME or lookup(tok.text) is not None:
+        vr = None
+        if tok.kind is Tok.NAME and tok.text == "VR" and self.at_op("("):
+            self.advance()
+            vr = self.expression()
+            self.expect_op(")")
+        elif tok.kind is not Tok.NAME or lookup(tok.text) is not None:
             raise TrioError("Syntax error")
         self.expect_op("=")
         start = self.expression()
@@ -805,7 +839,7 @@ class _Parser:
         if self.at_name("STEP"):
             self.advance()
             step = self.expression()
-        return For(tok.text, start, end, step)
+        return For(tok.text, start, end, step, vr)
 
     def print_rest(self) -> Print:
         items: list[tuple[Expr | Format, str]] = []
@@ -821,20 +855,38 @@ class _Parser:
             expr: Expr | Format = self.expression()
             if self.at_op("["):
                 self.advance()
-                width = self.advance()
-                decimals = 0
-                if self.at_op(","):
-                    self.advance()
-                    tok = self.advance()
-                    if tok.kind is not Tok.NUMBER:
-                        raise TrioError("Syntax error")
-                    decimals = int(tok.value)
-                self.expect_op("]")
-                if width.kind is not Tok.NUMBER or not 0 <= width.value <= 127 \
-                        or not 0 <= decimals <= 15:
-                    raise TrioError("Syntax error")
                 assert not isinstance(expr, Format)
-                expr = Format(expr, int(width.value), decimals)
+                if self.tok.kind is Tok.STRING:  # x["%12.2f"]: a C format (PRINT's page)
+                    spec = self.advance().text
+                    check_spec(spec)
+                    self.expect_op("]")
+                    expr = Format(expr, 0, 0, spec)
+                else:
+                    sign = -1 if self.at_op("-") else 1
+                    if sign < 0:
+                        self.advance()
+                    first = self.advance()
+                    if first.kind is not Tok.NUMBER:
+                        raise TrioError("Syntax error")
+                    width, decimals = 0, int(first.value)  # x[d]: d decimals (PRINT's page)
+                    if first.value != int(first.value):  # x[5.1]: as [5, 1] (D: the
+                        whole, _, part = first.text.partition(".")  # REGIST page writes it)
+                        if not whole.isdigit() or not part.isdigit() or self.at_op(","):
+                            raise TrioError("Syntax error")
+                        width, decimals = sign * int(whole), int(part)
+                        sign = 1
+                    if self.at_op(","):
+                        self.advance()
+                        tok = self.advance()
+                        if tok.kind is not Tok.NUMBER:
+                            raise TrioError("Syntax error")
+                        width, decimals = sign * int(first.value), int(tok.value)
+                    elif sign < 0 and width == 0:
+                        raise TrioError("Syntax error")
+                    self.expect_op("]")
+                    if not -127 <= width <= 127 or not 0 <= decimals <= 15:
+                        raise TrioError("Syntax error")
+                    expr = Format(expr, width, decimals)
             separator = ""
             if self.at_op(",", ";"):
                 separator = self.advance().text
@@ -973,7 +1025,7 @@ class _Parser:
 
     def term(self) -> Expr:
         left = self.unary()
-        while self.at_op("*", "/") or self.at_name("MOD"):
+        while self.at_op("*", "/") or self.at_name("MOD", "FMOD"):
             op = self.advance().text
             left = self.binary(op, left, self.unary())
         return left
@@ -1086,6 +1138,9 @@ class _Parser:
 
     def call_args(self, keyword: Keyword) -> tuple[Expr, ...]:
         if keyword.string_arg and self.tok.kind is Tok.STRING:
+            nxt = self.tokens[self.pos + 1]
+            if nxt.kind is Tok.OP and nxt.text == "+":  # IS_PROG "SD:" + name (its page)
+                return (self.additive(),)
             return (Str(self.advance().text),)
         if not self.at_op("("):
             if keyword.name == "BASE" or keyword.args[0] == 0:

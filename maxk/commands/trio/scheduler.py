@@ -24,6 +24,14 @@ from .interpreter import due_after
 from .session import TrioCommandLine
 from .system import ProgramCommands
 
+# A process that waits on a change is stepped again at the same tick when another source's
+# event there changes the machine (a WAIT IDLE may end mid-cycle). A statement that itself
+# makes such an event at once (MOVEABS to where the axis is: a zero move ending on the
+# tick it loads) would wake it again and again and the tick would never end: after this
+# many steps in one tick the process goes on at the next servo cycle (D; a loop pass takes
+# a servo cycle anyway, tasks.py).
+RESTEPS_PER_TICK = 8
+
 
 class ProcessClock(Protocol):
     """What the scheduler needs of the machine: its servo tick and change counter."""
@@ -80,6 +88,10 @@ class ProcessScheduler:
                 continue  # stopped by a process before it this cycle
             if not self._ready(task.due, task.seen, now):
                 continue
+            if task.stepped == (now, RESTEPS_PER_TICK):
+                continue  # it woke at this tick often enough: on next cycle (see RESTEPS)
+            count = task.stepped[1] + 1 if task.stepped[0] == now else 1
+            task.stepped = (now, count)
             runtime.step_task(process, task)
             task.due = due_after(task.wake, now)
             task.seen = self.clock.revision

@@ -21,6 +21,9 @@ costs virtual time, and a HALT from any host stops it within a cycle.
 A runtime error ends the process with its error line, unless ON BASICERROR GOTO named a
 handler: then RUN_ERROR and ERROR_LINE are set and the process goes on at the handler
 (the handler is cleared, so an error in it ends the process: D).
+
+Long module: COMPILE's block linking and the runner of every block statement (IF, loops,
+SELECT_CASE, GOSUB, FUNCTION calls) are one concern, a process's control flow.
 """
 
 from __future__ import annotations
@@ -34,6 +37,8 @@ from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, err
 from .lexer import TrioError
 from .loopjumps import link_loop_jumps, loop_jump
 from .parser import (
+    Assign,
+    Call,
     Case,
     Else,
     ElseIf,
@@ -49,6 +54,7 @@ from .parser import (
     IfLine,
     Label,
     Next,
+    Num,
     OnError,
     OnJump,
     Repeat,
@@ -309,6 +315,7 @@ class Task:
         self.wake: Wake | None = None  # what the last step waits for (None: next cycle)
         self.due: int | None = None  # scheduler: the tick to run next (None: on a change)
         self.seen = -1  # scheduler: the machine revision its last step saw (-1: fresh)
+        self.stepped = (-1, 0)  # scheduler: the tick it last stepped at, and how often then
         self.functions = {s.stmt.name: i for i, s in enumerate(steps)
                           if isinstance(s.stmt, FunctionDef)}
         self.frames: list[ProcessContext] = []  # FUNCTION calls running: depth, memory
@@ -474,7 +481,10 @@ class Task:
             start = interp.number(stmt.start, ctx)
             end = interp.number(stmt.end, ctx)
             increment = 1.0 if stmt.step is None else interp.number(stmt.step, ctx)
-            ctx.variables[stmt.variable] = start
+            if stmt.vr is not None:
+                interp.assign(Assign(Call("VR", (stmt.vr,)), Num(start)), ctx)
+            else:
+                ctx.variables[stmt.variable] = start
             ctx.loops[pc] = (end, increment)
             ctx.pc = pc + 1 if _in_range(start, end, increment) else step.target
         elif isinstance(stmt, Next):
@@ -484,8 +494,13 @@ class Task:
             if stmt.variable is not None and stmt.variable != loop.variable:
                 raise TrioError("Structure error")
             end, increment = ctx.loops[opener]
-            value = interp.number_value(ctx.variables.get(loop.variable, 0.0)) + increment
-            ctx.variables[loop.variable] = value
+            if loop.vr is not None:  # the counter is VR(n), read and written as the program would
+                counter = Call("VR", (loop.vr,))
+                value = interp.number(counter, ctx) + increment
+                interp.assign(Assign(counter, Num(value)), ctx)
+            else:
+                value = interp.number_value(ctx.variables.get(loop.variable, 0.0)) + increment
+                ctx.variables[loop.variable] = value
             if _in_range(value, end, increment):
                 if not waited:
                     yield _PASS

@@ -1,0 +1,58 @@
+"""PRINT's C format strings, ``PRINT x[":%12.2f:"]`` (TrioBASIC help, PRINT).
+
+A format is text, one ``%`` conversion with its flags (``+`` sign, ``-`` left, ``0``
+zeroes), width and precision, and more text, both echoed. The conversions: ``f F e E``
+a float (4 decimals unless a precision is given, as the page's output shows), ``L`` a
+64-bit integer, ``W`` and ``X`` that integer unsigned in decimal and hexadecimal (no sign,
+even with ``+``), ``R`` and ``S`` a string (the whole string, width and precision as C's
+``%s``), ``C`` a character code (``c`` too: the page's example writes it so).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .lexer import TrioError
+
+_SPEC = re.compile(r"%([-+0]*)(\d*)(?:\.(\d+))?([fFeELWXRSCc])")
+_MASK = (1 << 64) - 1
+
+
+def check_spec(spec: str) -> re.Match[str]:
+    """The one conversion of a format; none, or more than one, is a syntax error."""
+    found = _SPEC.search(spec)
+    if found is None or "%" in spec[found.end():] or "%" in spec[:found.start()]:
+        raise TrioError("Syntax error")
+    return found
+
+
+def c_format(spec: str, value: float | str) -> str:
+    """``value`` written by the one conversion in ``spec``."""
+    found = check_spec(spec)
+    flags, width, precision, kind = found.groups()
+    before, after = spec[:found.start()], spec[found.end():]
+    left = "-" if "-" in flags else ""
+    if kind in "RS":
+        text = value if isinstance(value, str) else _number_text(value)
+        cut = f".{precision}" if precision is not None else ""
+        return before + f"%{left}{width}{cut}s" % text + after
+    if isinstance(value, str):
+        raise TrioError("Type mismatch")
+    if not math.isfinite(value):
+        raise TrioError("Arithmetic error")
+    if kind in "Cc":
+        return before + f"%{left}{width}s" % chr(int(value) & 0x10FFFF) + after
+    if kind in "fFeE":
+        digits = 4 if precision is None else int(precision)
+        return before + f"%{flags}{width}.{digits}{kind}" % value + after
+    number = int(value)
+    if kind == "L":
+        return before + f"%{flags}{width}d" % number + after
+    unsigned = flags.replace("+", "")
+    conversion = "d" if kind == "W" else "X"
+    return before + f"%{unsigned}{width}{conversion}" % (number & _MASK) + after
+
+
+def _number_text(value: float) -> str:
+    return f"{value:.4f}"
