@@ -159,6 +159,27 @@ def scan(project: str, program: Program, report: Report) -> None:
                 report.declared.add(tokens[k + 1].text.upper())
 
 
+def run_alone(program: Program, programs: list[Program], seconds: float) -> str:
+    """`RUN` one program on a fresh MC405 holding its whole project, for the simulated
+    seconds asked (less when no process is left); what its session printed."""
+    controller = MC405()
+    store = controller.programs
+    for other in programs:
+        store.create(other.name, other.type)
+        for n, line in enumerate(other.lines):
+            store.edit(other.name, n, "R", line)
+    session = controller.open_session()
+    session.feed(f'RUN "{program.name}"\r'.encode())
+    step = 0.5
+    elapsed = 0.0
+    while elapsed < seconds:
+        controller.advance(step)
+        elapsed += step
+        if not controller.runtime.tasks:
+            break
+    return session.read().decode("latin-1")
+
+
 def run(project: str, programs: list[Program], seconds: float, report: Report) -> None:
     """Start each BASIC program alone on a controller holding the whole project."""
     caught: list[str] = []
@@ -173,25 +194,9 @@ def run(project: str, programs: list[Program], seconds: float, report: Report) -
         for program in programs:
             if program.type != 0:
                 continue
-            controller = MC405()
-            store = controller.programs
-            for other in programs:
-                store.create(other.name, other.type)
-                for n, line in enumerate(other.lines):
-                    store.edit(other.name, n, "R", line)
-            session = controller.open_session()
             caught.clear()
-            session.feed(f'RUN "{program.name}"\r'.encode())
-            errors: list[str] = []
-            step = 0.5
-            elapsed = 0.0
-            while elapsed < seconds:
-                controller.advance(step)
-                elapsed += step
-                if not controller.runtime.tasks:
-                    break
-            out = session.read().decode("latin-1")
-            errors += [line.strip() for line in out.split("\r\n") if "%[" in line]
+            out = run_alone(program, programs, seconds)
+            errors = [line.strip() for line in out.split("\r\n") if "%[" in line]
             errors += [f"(caught by ON BASICERROR) {m}" for m in caught]
             report.runs.append((project, program.name, errors))
     finally:

@@ -30,10 +30,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from trio_corpus import Program, Report, projects, scan  # noqa: E402
+from trio_corpus import Program, Report, projects, run_alone, scan  # noqa: E402
 
 from maxk.commands.trio import tasks as trio_tasks  # noqa: E402
-from maxk.controllers.trio import MC405  # noqa: E402
 
 _COMPILE = re.compile(r"%\[COMMAND LINE\] - Program (\w+) line (\d+): (.*)")
 _RUNTIME = re.compile(r"%\[Process \d+:Program (\w+) Line (\d+)\] - (.*)")
@@ -63,21 +62,7 @@ def run_one(program: Program, programs: list[Program], seconds: float,
 
     trio_tasks.error_code = record  # type: ignore[assignment]
     try:
-        controller = MC405()
-        store = controller.programs
-        for other in programs:
-            store.create(other.name, other.type)
-            for n, line in enumerate(other.lines):
-                store.edit(other.name, n, "R", line)
-        session = controller.open_session()
-        session.feed(f'RUN "{program.name}"\r'.encode())
-        elapsed = 0.0
-        while elapsed < seconds:
-            controller.advance(0.5)
-            elapsed += 0.5
-            if not controller.runtime.tasks:
-                break
-        out = session.read().decode("latin-1")
+        out = run_alone(program, programs, seconds)
     except Hang:
         return "crash", f"hang: still in the run after {hang} s of wall time", ""
     except Exception as exc:  # a defect of the emulator: reported, the run goes on
