@@ -798,14 +798,43 @@ _ENTRIES: list[Keyword] = [
     _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
-             "FORCE_SPEED taken when it loads (C). ENDMOVE_SPEED and STARTMOVE_SPEED are "
-             "not applied: the planner joins merged moves at the next move's speed (D)."),
+             "FORCE_SPEED, with STARTMOVE_SPEED and ENDMOVE_SPEED, taken when it loads "
+             "(C); merged, the moves join at the speeds profiles_sp.py gives "
+             "(ENDMOVE_SPEED, STARTMOVE_SPEED, else an SP move's FORCE_SPEED from its "
+             "start: C, help pages FORCE_SPEED, ENDMOVE_SPEED, STARTMOVE_SPEED)."),
     _command("MOVEABSSP", "MOVEABSSP(p1[, p2...]): MOVEABS at the base axis's FORCE_SPEED.",
              (1, 128), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVEABS (MTYPE 2: D), at FORCE_SPEED (as MOVESP)."),
     _axis("FORCE_SPEED", "The vector speed of MOVESP and MOVEABSSP, user units/s.",
           default=0.0, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="Read when a MOVESP/MOVEABSSP loads; 0 refuses them like a SPEED of 0 (D)."),
+          note="Read when an SP move loads: the move's own top speed, reached at its "
+          "start (the move before ramps up to it at its end: C, the page's example 1); "
+          "0 refuses them like a SPEED of 0 (D)."),
+    _axis("STARTMOVE_SPEED", "The speed an SP move (MOVESP...) starts at; -1 not used.",
+          default=-1.0, value_range=(-1, _BIG), source="TrioBASIC help STARTMOVE_SPEED",
+          confidence="C", note="Loaded with the move; caps the seam speed into it (the "
+          "move before slows to it at its end). Below 0: not used (D: any negative as -1). "
+          "Taken with ENDMOVE_SPEED of the move before: the lower (D)."),
+    _axis("ENDMOVE_SPEED", "The speed an SP move (MOVESP...) ends at; -1 not used.",
+          default=-1.0, value_range=(-1, _BIG), source="TrioBASIC help ENDMOVE_SPEED",
+          confidence="C", note="Loaded with the move; the move ramps at ACCEL within "
+          "itself to reach it at its end, and the move after starts there; the last "
+          "move buffered ends at rest (C). Below 0: not used (D)."),
+    _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
+          "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
+          "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
+          "Parameter out of range (D). Taken when a move loads. Modes 5 and 6 differ "
+          "only in VP_OPTIONS and SP-move parameter binding, not modelled: one jerk "
+          "profile (D); in 6 an SRAMP above 0 gives JERK = ACCEL/SRAMP (C: SRAMP page; "
+          "SRAMP 0 leaves JERK in force, D). Jerk shapes single-axis moves; merged and "
+          "interpolated paths keep linear ramps (D)."),
+    _axis("JERK", "Jerk limit of moves in VP_MODE 5 and 6, user units/s^3.",
+          value_range=(0, _BIG), source="TrioBASIC help JERK, VP_MODE", confidence="C",
+          note="A single-axis move's acceleration rises at JERK to ACCEL, holds and falls "
+          "at JERK (DECEL on the way down): a ramp to SPEED lasts SPEED/ACCEL + "
+          "ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is not reached (C); a move too "
+          "short to reach SPEED keeps the shares SPEED gives (D). 0: no jerk limit (D). "
+          "Ignored in VP_MODE 0 (C)."),
     _axis("FWD_JOG", "The input that jogs the axis forward while it is low; -1 none.",
           default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
           note="Active low (C: MC206 manual, JOGSPEED page); read as IN(n) reads it. The "
@@ -821,10 +850,11 @@ _ENTRIES: list[Keyword] = [
     _axis("JOGSPEED", "The slow jog speed, user units/s.", value_range=(0, _BIG),
           source=f"{TOK}; {MAN}", confidence="C", note="A jog at 0 does not start (D)."),
     _axis("SRAMP", "S-ramp time, ms: a single-axis move's acceleration rises to ACCEL "
-          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 250),
-          source=f"{TOK}; {MAN}", confidence="I",
-          note="Range 0..250 ms (I, as recalled). Taken when the move loads. A ramp to "
-          "SPEED then lasts SPEED/ACCEL + SRAMP (the shared S-curve profile); a move "
+          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 500),
+          source="TrioBASIC help SRAMP", confidence="C",
+          note="Range 0..500 ms (C). Taken when the move loads. VP_MODE 0: a "
+          "ramp to SPEED then lasts SPEED/ACCEL + SRAMP (C: SRAMP page's example; the "
+          "shared S-curve profile); VP_MODE 6: see VP_MODE (JERK = ACCEL/SRAMP); a move "
           "too short to reach SPEED keeps the shares SPEED gives (D). Interpolated and "
           "merged paths, CANCEL's ramp down and links stay linear (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
@@ -866,14 +896,6 @@ _ENTRIES: list[Keyword] = [
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
-          ("JERK", "Jerk limit of the axis's moves.",
-           "the page giving its units and how it combines with SRAMP was not found; "
-           "SRAMP shapes the S-ramps (stored, D)."),
-          ("STARTMOVE_SPEED", "Speed a speed-profiled move starts at.",
-           "the shared path planner joins merged moves at the next move's speed and has "
-           "no per-move start speed yet (stored, D)."),
-          ("ENDMOVE_SPEED", "Speed a speed-profiled move ends at.",
-           "as STARTMOVE_SPEED: no per-move end speed in the shared planner yet (stored, D)."),
           ("CORNER_MODE", "How merged moves slow at corners (bits).",
            "corners run at the planner's own speeds (MERGE); the corner rules "
            "(DECEL_ANGLE, STOP_ANGLE, RAISE_ANGLE, FULL_SP_RADIUS) are not applied "

@@ -41,6 +41,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .profiles_sp import VP_MODES, jerk_counts, sp_speeds, sramp_seconds
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
@@ -246,6 +247,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
+        elif name == "VP_MODE" and value not in VP_MODES:
+            raise ValueError("Parameter out of range")
         elif name == "REP_OPTION" and int(value) & 2:
             self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
             self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)
@@ -583,12 +586,16 @@ class MC405Machine(Kinematics, Engine):
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
+        sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
+              else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:
                 last.arcs[len(last.deltas)] = arc
             last.kinds[len(last.deltas)] = kind
+            if sp is not None:
+                last.sp[len(last.deltas)] = sp
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -599,7 +606,10 @@ class MC405Machine(Kinematics, Engine):
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
-                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0, preset=preset)
+                  sramp=sramp_seconds(base.params),
+                  jerk=jerk_counts(base.params, base.units), preset=preset)
+        if sp is not None:
+            run.sp[0] = sp
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
@@ -629,7 +639,8 @@ class MC405Machine(Kinematics, Engine):
         if run.single:
             axis = self.axes[run.base]
             run.profile = run.preset if run.preset is not None else single_profile(
-                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp)
+                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp,
+                run.jerk)
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return

@@ -1,0 +1,228 @@
+"""Speed profiles of the MC405's moves from their TrioBASIC help pages: jerk-limited ramps
+(VP_MODE 5/6, JERK, SRAMP in mode 6) and the SP moves' FORCE_SPEED, STARTMOVE_SPEED and
+ENDMOVE_SPEED on merged moves.
+
+Every expected position is hand arithmetic: a jerk-limited ramp from rest rises at J for
+A/J seconds (position J t^3 / 6), holds A, and falls; a merged path ramps at ACCEL
+between the speeds the pages give.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from maxk.controllers.trio import MC405
+
+
+def at(trio: MC405, tick: int) -> None:
+    trio.advance(ticks=tick - trio.tick)
+
+
+def dpos(trio: MC405, axis: int = 0) -> float:
+    return trio.machine.dpos(axis)
+
+
+def end_tick(seconds: float) -> int:
+    return math.ceil(seconds * 1000 - 1e-6)
+
+
+# ---- jerk-limited ramps ----------------------------------------------------------------
+JERK_EXAMPLE = "UNITS=1000: SPEED=50000: ACCEL=80000: DECEL=80000: JERK=300000"
+
+
+def test_jerk_page_example_rises_at_jerk_and_ends_later_than_a_trapezoid() -> None:
+    """The JERK page's move in VP_MODE 6: the acceleration rises over 80000/300000 s,
+    so a ramp to 50000 lasts 0.625 + 0.2667 s and covers half its time x 50000."""
+    j, a, v = 300000.0, 80000.0, 50000.0
+    rise = a / j
+    ramp = v / a + rise
+    total = 2 * ramp + (50000 - v * ramp) / v
+    trio = MC405()
+    assert trio.send(f"BASE(0): VP_MODE=6: {JERK_EXAMPLE}: MOVE(50000)") == []
+    at(trio, 200)  # in the rise: J t^3 / 6
+    assert dpos(trio) == pytest.approx(j * 0.2 ** 3 / 6, abs=1e-6)
+    at(trio, 500)  # holding ACCEL since the rise ended
+    p_rise, v_rise = j * rise ** 3 / 6, j * rise ** 2 / 2
+    tau = 0.5 - rise
+    assert dpos(trio) == pytest.approx(p_rise + v_rise * tau + a * tau * tau / 2, abs=1e-6)
+    end = end_tick(total)
+    assert end == 1892
+    at(trio, end - 1)
+    assert dpos(trio) < 50000
+    assert float(trio.query("?MTYPE AXIS(0)")) == 1
+    at(trio, end)
+    assert dpos(trio) == 50000
+    assert float(trio.query("?MTYPE AXIS(0)")) == 0
+
+
+def test_jerk_is_ignored_in_vp_mode_0() -> None:
+    """The same move in VP_MODE 0 (no SRAMP) is the trapezoid: 2 x 0.625 + 0.375 s."""
+    trio = MC405()
+    assert trio.send(f"BASE(0): VP_MODE=0: {JERK_EXAMPLE}: MOVE(50000)") == []
+    at(trio, 200)
+    assert dpos(trio) == pytest.approx(80000 * 0.2 ** 2 / 2, abs=1e-6)
+    at(trio, 1624)
+    assert dpos(trio) < 50000
+    at(trio, 1625)
+    assert dpos(trio) == 50000
+
+
+def test_a_speed_below_accel_squared_over_jerk_gives_a_triangle_of_acceleration() -> None:
+    """VP_MODE 5, SPEED 100, ACCEL 1000, JERK 5000: ACCEL^2/JERK = 200 > 100, so the
+    acceleration peaks at sqrt(100 x 5000) and each ramp lasts 2 sqrt(100/5000) s."""
+    trio = MC405()
+    assert trio.send("BASE(0): VP_MODE=5: SPEED=100: ACCEL=1000: DECEL=1000: JERK=5000")\
+        == []
+    assert trio.send("MOVE(100)") == []
+    ramp = 2 * math.sqrt(100 / 5000)
+    at(trio, 100)  # inside the rise (half the ramp is 0.1414 s)
+    assert dpos(trio) == pytest.approx(5000 * 0.1 ** 3 / 6, abs=1e-9)
+    at(trio, 200)  # past the ramp's middle: 100 ramp/2 ... by symmetry of the S:
+    half = ramp / 2  # the speed at the middle is 50; from there the mirror image
+    w = ramp - 0.2  # time left to the ramp's end
+    ramp_distance = 100 * ramp / 2
+    assert dpos(trio) == pytest.approx(ramp_distance - 100 * w + 5000 * w ** 3 / 6,
+                                       abs=1e-9)
+    assert half < 0.2 < ramp
+    end = end_tick(2 * ramp + (100 - 100 * ramp) / 100)
+    at(trio, end - 1)
+    assert dpos(trio) < 100
+    at(trio, end)
+    assert dpos(trio) == 100
+
+
+def test_sramp_in_vp_mode_6_sets_jerk_from_accel_so_a_slower_decel_ramps_shorter() -> None:
+    """VP_MODE 6, ACCEL 1000, DECEL 500, SRAMP 40: JERK = 1000/0.04 = 25000 for both
+    ramps: up 0.1 + 0.04 s, down 0.2 + 500/25000 s (the SRAMP page: with another DECEL
+    the deceleration differs). In VP_MODE 0 the down ramp would be 0.2 + 0.04 s."""
+    for mode, down_rise in ((6, 500 / 25000), (0, 0.04)):
+        trio = MC405()
+        assert trio.send(f"BASE(0): VP_MODE={mode}: UNITS=1000: SPEED=100: ACCEL=1000: "
+                         "DECEL=500: SRAMP=40") == []
+        assert trio.send("MOVE(100.25)") == []
+        at(trio, 40)
+        assert dpos(trio) == pytest.approx(25000 * 0.04 ** 3 / 6, abs=1e-9)
+        up, down = 0.1 + 0.04, 0.2 + down_rise
+        end = end_tick(up + down + (100.25 - 100 * (up + down) / 2) / 100)
+        at(trio, end - 1)
+        assert dpos(trio) < 100.25
+        at(trio, end)
+        assert dpos(trio) == 100.25, mode
+
+
+def test_vp_mode_takes_only_the_pages_modes() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): VP_MODE=5") == []
+    assert trio.send("VP_MODE=3")[0].endswith("Parameter out of range")
+    assert float(trio.query("?VP_MODE")) == 5
+    assert float(trio.query("?STARTMOVE_SPEED")) == -1
+    assert float(trio.query("?ENDMOVE_SPEED")) == -1
+    assert trio.send("ENDMOVE_SPEED=-2")[0].endswith("Parameter out of range")
+    assert float(trio.query("?ENDMOVE_SPEED")) == -1
+
+
+# ---- FORCE_SPEED, STARTMOVE_SPEED, ENDMOVE_SPEED on merged moves -------------------------
+def test_endmove_speed_page_example_1() -> None:
+    """FORCE_SPEED 15 ENDMOVE_SPEED 10 MOVESP(20), then FORCE_SPEED 10 ENDMOVE_SPEED 5
+    MOVESP(5), ACCEL 100: the first ramps 0 -> 15 (1.125 units), cruises, and slows to
+    10 at its end (0.625 units); the second runs at 10 and, the last buffered, stops
+    (its ENDMOVE_SPEED becomes 0)."""
+    trio = MC405()
+    assert trio.send("BASE(0): MERGE=ON: ACCEL=100: DECEL=100: SPEED=1") == []
+    assert trio.send("FORCE_SPEED=15: ENDMOVE_SPEED=10: MOVESP(20): FORCE_SPEED=10: "
+                     "ENDMOVE_SPEED=5: MOVESP(5)") == []
+    cruise = (20 - 1.125 - 0.625) / 15
+    slow_from = 0.15 + cruise
+    seam = slow_from + 0.05
+    at(trio, 1400)
+    tau = 1.4 - slow_from
+    assert dpos(trio) == pytest.approx(1.125 + 18.25 + 15 * tau - 50 * tau * tau, abs=1e-9)
+    at(trio, 1600)
+    assert dpos(trio) == pytest.approx(20 + 10 * (1.6 - seam), abs=1e-9)
+    end = end_tick(seam + 4.5 / 10 + 0.1)
+    assert end == 1967
+    at(trio, end - 1)
+    assert dpos(trio) < 25
+    at(trio, end)
+    assert dpos(trio) == 25
+
+
+def test_force_speed_page_example_1_ramps_up_before_the_sp_move_and_down_after() -> None:
+    """SPEED 15: MOVE(100), MOVESP(20) at FORCE_SPEED 30 (ENDMOVE_SPEED -1), MOVE(101),
+    merged, ACCEL 100: the MOVE reaches 30 at its end (3.375 units of ramp), the MOVESP
+    runs at 30 throughout, the last MOVE ramps back to 15 and stops."""
+    trio = MC405()
+    assert trio.send("BASE(0): MERGE=ON: ACCEL=100: DECEL=100: SPEED=15") == []
+    assert trio.send("MOVE(100): FORCE_SPEED=30: ENDMOVE_SPEED=-1: MOVESP(20): MOVE(101)")\
+        == []
+    cruise1 = (100 - 1.125 - 3.375) / 15
+    up_from = 0.15 + cruise1
+    sp_start = up_from + 0.15
+    at(trio, 6600)
+    tau = 6.6 - up_from
+    assert dpos(trio) == pytest.approx(1.125 + 95.5 + 15 * tau + 50 * tau * tau, abs=1e-9)
+    at(trio, 7000)
+    assert dpos(trio) == pytest.approx(100 + 30 * (7.0 - sp_start), abs=1e-9)
+    third = sp_start + 20 / 30
+    at(trio, 7400)
+    tau = 7.4 - third
+    assert dpos(trio) == pytest.approx(120 + 30 * tau - 50 * tau * tau, abs=1e-9)
+    end = end_tick(third + 0.15 + (101 - 3.375 - 1.125) / 15 + 0.15)
+    assert end == 14067
+    at(trio, end - 1)
+    assert dpos(trio) < 221
+    at(trio, end)
+    assert dpos(trio) == 221
+
+
+def test_startmove_speed_slows_the_move_before_to_it() -> None:
+    """FORCE_SPEED 20: MOVESP(10), then STARTMOVE_SPEED 5 MOVESP(10), ACCEL 100: the first
+    slows 20 -> 5 at its end (1.875 units), the second starts at 5 and climbs to 20."""
+    trio = MC405()
+    assert trio.send("BASE(0): MERGE=ON: ACCEL=100: DECEL=100: FORCE_SPEED=20") == []
+    assert trio.send("MOVESP(10): STARTMOVE_SPEED=5: MOVESP(10)") == []
+    cruise = (10 - 2 - 1.875) / 20
+    slow_from = 0.2 + cruise
+    at(trio, 600)
+    tau = 0.6 - slow_from
+    assert dpos(trio) == pytest.approx(8.125 + 20 * tau - 50 * tau * tau, abs=1e-9)
+    seam = slow_from + 0.15
+    at(trio, 700)
+    tau = 0.7 - seam
+    assert dpos(trio) == pytest.approx(10 + 5 * tau + 50 * tau * tau, abs=1e-9)
+    end = end_tick(2 * seam)
+    assert end == 1313
+    at(trio, end - 1)
+    assert dpos(trio) < 20
+    at(trio, end)
+    assert dpos(trio) == 20
+
+
+def test_interpolated_movesp_with_endmove_speed_slows_at_each_seam() -> None:
+    """ENDMOVE_SPEED page example 2 on two axes: FORCE_SPEED 1000, ENDMOVE_SPEED 500,
+    ACCEL 1e5, three vectors: each seam is crossed at 500; the path ends at rest."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): MERGE=ON: ACCEL=100000: DECEL=100000: "
+                     "FORCE_SPEED=1000: ENDMOVE_SPEED=500") == []
+    assert trio.send("MOVESP(100, 10): MOVESP(70, -10): MOVESP(120, 15)") == []
+    a = 1e5
+    lengths = [math.hypot(100, 10), math.hypot(70, 10), math.hypot(120, 15)]
+    up0, down, up = 1000 ** 2 / (2 * a), (1000 ** 2 - 500 ** 2) / (2 * a), \
+        (1000 ** 2 - 500 ** 2) / (2 * a)
+    t1 = 1000 / a + (lengths[0] - up0 - down) / 1000 + 500 / a
+    t2 = t1 + 500 / a + (lengths[1] - up - down) / 1000 + 500 / a
+    t3 = t2 + 500 / a + (lengths[2] - up - up0) / 1000 + 1000 / a
+    # the first tick past the first seam: the second vector entered at 500, climbing
+    tick = end_tick(t1)
+    at(trio, tick)
+    tau = tick / 1000 - t1
+    along = 500 * tau + a * tau * tau / 2
+    assert 0 < tau < 500 / a
+    assert dpos(trio, 0) == pytest.approx(100 + 70 * along / lengths[1], abs=1e-9)
+    end = end_tick(t3)
+    at(trio, end - 1)
+    assert dpos(trio, 0) < 290
+    at(trio, end)
+    assert (dpos(trio, 0), dpos(trio, 1)) == (290, 15)
