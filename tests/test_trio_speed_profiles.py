@@ -226,3 +226,78 @@ def test_interpolated_movesp_with_endmove_speed_slows_at_each_seam() -> None:
     assert dpos(trio, 0) < 290
     at(trio, end)
     assert (dpos(trio, 0), dpos(trio, 1)) == (290, 15)
+
+
+# ---- feed hold -------------------------------------------------------------------------
+def held_machine(extra: str = "") -> MC405:
+    trio = MC405()
+    trio.world_view().set_input(7, True)  # the feed-hold input is active low: released
+    assert trio.send(f"BASE(0): SPEED=10: ACCEL=100: DECEL=100: FHOLD_IN=7{extra}") == []
+    return trio
+
+
+def test_feed_hold_at_fhspeed_0_pauses_the_move_and_release_resumes_it() -> None:
+    """SPEED 10, ACCEL 100, MOVE(100): at 1.05 s (10 units) the input goes low: the move
+    slows to rest over 0.1 s (0.5 units) and waits, still MTYPE 1; released at 3 s it
+    ramps back to 10 and ends 0.1 + (89.5 - 1) / 10 + 0.1 s later."""
+    trio = held_machine()
+    assert float(trio.query("?FHSPEED")) == 0
+    assert trio.send("MOVE(100)") == []
+    at(trio, 1050)
+    assert dpos(trio) == pytest.approx(10.0, abs=1e-9)
+    trio.world_view().set_input(7, False)
+    at(trio, 1100)
+    assert dpos(trio) == pytest.approx(10.0 + 10 * 0.05 - 50 * 0.05 ** 2, abs=1e-9)
+    at(trio, 2000)
+    assert dpos(trio) == pytest.approx(10.5, abs=1e-9)
+    assert float(trio.query("?MTYPE AXIS(0)")) == 1
+    at(trio, 3000)
+    assert dpos(trio) == pytest.approx(10.5, abs=1e-9)
+    trio.world_view().set_input(7, True)
+    at(trio, 3050)
+    assert dpos(trio) == pytest.approx(10.5 + 50 * 0.05 ** 2, abs=1e-9)
+    end = 3000 + end_tick(0.1 + (89.5 - 1.0) / 10 + 0.1)
+    at(trio, end - 1)
+    assert dpos(trio) < 100
+    at(trio, end)
+    assert dpos(trio) == 100
+    assert float(trio.query("?MTYPE AXIS(0)")) == 0
+
+
+def test_feed_hold_runs_the_move_at_fhspeed_while_the_input_is_low() -> None:
+    """FHSPEED 2: held at 1.05 s the move slows 10 -> 2 over 0.08 s (0.48 units), runs at
+    2, and released at 2.05 s climbs back to 10 over 0.08 s (0.48 units)."""
+    trio = held_machine(": FHSPEED=2")
+    assert trio.send("MOVE(100)") == []
+    at(trio, 1050)
+    trio.world_view().set_input(7, False)
+    at(trio, 1500)
+    assert dpos(trio) == pytest.approx(10.0 + 0.48 + 2 * (0.45 - 0.08), abs=1e-9)
+    at(trio, 2050)
+    here = 10.0 + 0.48 + 2 * (1.0 - 0.08)
+    assert dpos(trio) == pytest.approx(here, abs=1e-9)
+    trio.world_view().set_input(7, True)
+    end = 2050 + end_tick(0.08 + (100 - here - 0.48 - 0.5) / 10 + 0.1)
+    at(trio, end - 1)
+    assert dpos(trio) < 100
+    at(trio, end)
+    assert dpos(trio) == 100
+
+
+def test_a_move_loaded_under_feed_hold_waits_and_a_link_goes_on() -> None:
+    """Input low before MOVE(5) on axis 0 (FHSPEED 0): it does not move; CONNECT on axis 2
+    to axis 1's FORWARD is not speed controlled and follows (axis 1 has no feed hold)."""
+    trio = held_machine()
+    trio.world_view().set_input(7, False)
+    assert trio.send("MOVE(5)") == []
+    assert trio.send("BASE(1): SPEED=10: ACCEL=1e6: DECEL=1e6: FORWARD") == []
+    assert trio.send("CONNECT(1, 1) AXIS(2)") == []
+    at(trio, 500)
+    assert dpos(trio, 0) == 0
+    assert float(trio.query("?MTYPE AXIS(0)")) == 1
+    assert dpos(trio, 2) == pytest.approx(dpos(trio, 1), abs=1e-9)
+    assert dpos(trio, 1) > 4
+    trio.world_view().set_input(7, True)
+    end = 500 + end_tick(0.1 + (5 - 1.0) / 10 + 0.1)
+    at(trio, end)
+    assert dpos(trio, 0) == 5

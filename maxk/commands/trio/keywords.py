@@ -820,6 +820,20 @@ _ENTRIES: list[Keyword] = [
           confidence="C", note="Loaded with the move; the move ramps at ACCEL within "
           "itself to reach it at its end, and the move after starts there; the last "
           "move buffered ends at rest (C). Below 0: not used (D)."),
+    _axis("FHOLD_IN", "The feed-hold input: while it is active (low) the base axis's "
+          "moves run at FHSPEED; -1 none.", default=-1, value_range=(-1, 1023),
+          source="TrioBASIC help FHOLD_IN", confidence="C",
+          note="Active low, read as IN(n) reads it (INVERT_IN applies, C). The moves of "
+          "the BASE group based on the axis slow to FHSPEED and go back to their speed "
+          "when it lets go, not cancelled (C); links go on (C). Re-planned on the shared "
+          "path planner at the move's ACCEL (the page: ACCEL/DECEL/JERK, D), from the tick "
+          "the input changes; moves merged after the one in progress run at FHSPEED too "
+          "(re-planned at each move's start, D); a single-axis move held turns into a "
+          "linear-ramped path (D) (feedhold.py)."),
+    _axis("FHSPEED", "The speed moves run at while the feed-hold input is active, user "
+          "units/s.", value_range=(0, _BIG), source="TrioBASIC help FHSPEED, FHOLD_IN",
+          confidence="C", note="Power-up 0: a feed hold pauses the moves (C). Above a "
+          "move's own speed: the move keeps its speed (D)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
@@ -908,10 +922,6 @@ _ENTRIES: list[Keyword] = [
            "see CORNER_MODE (stored, D)."),
           ("FULL_SP_RADIUS", "Arc radius above which CORNER_MODE keeps full speed.",
            "see CORNER_MODE (stored, D)."),
-          ("FHOLD_IN", "Feed-hold input: while it is active moves run at FHSPEED.",
-           "changing the speed of moves already planned is not in the shared planner "
-           "yet (stored, D)."),
-          ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
           ("OV_GAIN", "Output velocity gain of the servo loop.",
            "the shared servo filter has no measured-velocity term (stored, D)."),
           ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",

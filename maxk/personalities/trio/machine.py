@@ -37,6 +37,7 @@ from maxk.firmware_model.world import World
 from . import moves
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
+from .feedhold import FeedHold
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
@@ -56,6 +57,7 @@ from .runs import (
 )
 from .trace import PwmTrace
 
+HELD = 2 ** 62  # the end tick of a run held at speed 0 (it ends when it goes on)
 MOVE_BUFFER = 16  # moves an axis holds, running and buffered (D)
 MIN_RATE = 1e-6
 """The least SPEED, ACCEL or DECEL a move runs with, in counts per second (squared) (D: a
@@ -110,6 +112,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.registration)  # Z-mark captures (registration.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
+        self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -130,6 +133,10 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.reset()
         else:
             self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "feedhold"):
+            self.feedhold.reset()
+        else:
+            self.feedhold: FeedHold = FeedHold(self)
         if hasattr(self, "registration"):
             self.registration.reset()
         else:
@@ -158,6 +165,7 @@ class MC405Machine(Kinematics, Engine):
         self.registration.world_changed()
         self.drive.look(self.tick)
         self.jogs.look()
+        self.feedhold.look()
 
     @property
     def pwm(self) -> PwmBank:
@@ -258,6 +266,8 @@ class MC405Machine(Kinematics, Engine):
         self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
         if name in _JOG_PARAMETERS:
             self.jogs.look()
+        if name in ("FHOLD_IN", "FHSPEED"):
+            self.feedhold.look()
 
     def system_parameter(self, name: str) -> float:
         if name in SYSTEM_READS:
@@ -616,6 +626,8 @@ class MC405Machine(Kinematics, Engine):
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
+        if self.feedhold.held:
+            self.feedhold.look()  # (a move starting under a feed hold)
         self.changed()
 
     def _start_ready(self) -> None:
@@ -652,8 +664,9 @@ class MC405Machine(Kinematics, Engine):
         run.plan = plan
         run.arrays = PlanArrays(plan)
         run.plan_tick = now
-        end = plan.end_time if plan.end_time is not None else 0.0
-        run.end_tick = now + math.ceil(end / self.period - 1e-9)
+        end = plan.end_time
+        run.end_tick = (now + math.ceil(end / self.period - 1e-9) if end is not None
+                        else HELD)  # (held at speed 0: feed hold at FHSPEED 0)
         for k, a in enumerate(run.axes):
             axis = self.axes[a]
             axis.steps = axis.steps_at_tick(now, self.period)

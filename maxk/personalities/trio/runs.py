@@ -55,6 +55,7 @@ class Run:
     units: float  # the base axis's UNITS when loaded: VP_SPEED is in its user units
     single: bool  # one axis, MERGE OFF: a closed-form profile, nothing merges into it
     sramp: float = 0.0  # SRAMP when loaded, seconds: the acceleration's rise (S-ramps)
+    scale: float = 1.0  # the path's speed scale (feed hold: FHSPEED's share, feedhold.py)
     jerk: float = 0.0  # VP_MODE 5/6: the jerk limit when loaded, counts/s^3 (0: none)
     preset: Motion | None = None  # a CAM's own profile (in time), made when loaded
     started: bool = False
@@ -163,12 +164,12 @@ class Run:
     def plan_new(self, now: int, stop: bool = False, period: float = 0.001) -> PathPlan:
         """The path planned from where it is now (from rest when it starts now)."""
         if self.plan is None:
-            return plan_path(self.segments, 0, 0.0, 0.0, 1.0)
+            return plan_path(self.segments, 0, 0.0, 0.0, self.scale)
         s, v = self.plan.state((now - self.plan_tick) * period)
         i = self.segment_index(s)
         if stop:
             return plan_stop(self.segments, i, s, v, 1.0)
-        return plan_path(self.segments, i, s, v, 1.0)
+        return plan_path(self.segments, i, s, v, self.scale)
 
     def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
         return ContourMotion(plan, k, float(origin))
