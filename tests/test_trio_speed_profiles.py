@@ -301,3 +301,98 @@ def test_a_move_loaded_under_feed_hold_waits_and_a_link_goes_on() -> None:
     end = 500 + end_tick(0.1 + (5 - 1.0) / 10 + 0.1)
     at(trio, end)
     assert dpos(trio, 0) == 5
+
+
+# ---- CORNER_MODE -----------------------------------------------------------------------
+def cornering(mode: int, extra: str) -> MC405:
+    trio = MC405()
+    assert trio.send("BASE(0, 1): MERGE=ON: ACCEL=100: DECEL=100: FORCE_SPEED=8: "
+                     f"CORNER_MODE={mode}{extra}") == []
+    assert trio.send("MOVESP(10, 0): MOVESP(0, 10)") == []
+    return trio
+
+
+def test_corner_beyond_stop_angle_stops_at_the_junction() -> None:
+    """CORNER_MODE 2, STOP_ANGLE 25 degrees, a 90-degree corner at FORCE_SPEED 8: the
+    first vector ends at rest (0.08 s and 0.32 units each ramp), the second starts from
+    rest; without CORNER_MODE the path would turn at 8."""
+    trio = cornering(2, ": STOP_ANGLE=25 * PI / 180")
+    corner = 0.08 + (10 - 0.64) / 8 + 0.08
+    at(trio, end_tick(corner))
+    assert (dpos(trio, 0), dpos(trio, 1)) == (pytest.approx(10, abs=1e-9),
+                                             pytest.approx(0, abs=1e-9))
+    tick = end_tick(corner) + 40
+    at(trio, tick)
+    tau = tick / 1000 - corner
+    assert dpos(trio, 1) == pytest.approx(50 * tau * tau, abs=1e-9)
+    end = end_tick(2 * corner)
+    at(trio, end - 1)
+    assert dpos(trio, 1) < 10
+    at(trio, end)
+    assert (dpos(trio, 0), dpos(trio, 1)) == (10, 10)
+
+
+def test_corner_between_decel_and_stop_angle_slows_in_proportion() -> None:
+    """DECEL_ANGLE 30, STOP_ANGLE 120 degrees: a 90-degree corner is crossed at
+    8 x (120 - 90) / (120 - 30) = 8/3."""
+    trio = cornering(2, ": DECEL_ANGLE=30 * PI / 180: STOP_ANGLE=120 * PI / 180")
+    v = 8 / 3
+    slow = (8 - v) / 100
+    d_slow = (64 - v * v) / 200
+    cruise = (10 - 0.32 - d_slow) / 8
+    corner = 0.08 + cruise + slow
+    at(trio, 1300)  # slowing toward the corner
+    tau = 1.3 - 0.08 - cruise
+    assert dpos(trio, 0) == pytest.approx(0.32 + 8 * cruise + 8 * tau - 50 * tau * tau,
+                                          abs=1e-9)
+    at(trio, 1320)  # past it, climbing from 8/3 on the second vector
+    tau = 1.32 - corner
+    assert dpos(trio, 1) == pytest.approx(v * tau + 50 * tau * tau, abs=1e-9)
+    end = end_tick(2 * corner)
+    at(trio, end - 1)
+    assert dpos(trio, 1) < 10
+    at(trio, end)
+    assert dpos(trio, 1) == 10
+
+
+def test_no_corner_mode_turns_at_full_speed() -> None:
+    trio = cornering(0, ": STOP_ANGLE=25 * PI / 180")
+    end = end_tick(0.08 + (20 - 0.64) / 8 + 0.08)
+    at(trio, end - 1)
+    assert dpos(trio, 1) < 10
+    at(trio, end)
+    assert dpos(trio, 1) == 10
+
+
+@pytest.mark.parametrize(("mode", "speed"), [
+    (0, 10.0),  # no radius control
+    (8, 10.0 * 3 / 6),  # the ratio of the radius to FULL_SP_RADIUS
+    (8 + 16, math.sqrt(10.0 ** 2 / 6 * 3)),  # v^2/r within that at FULL_SP_RADIUS
+])
+def test_radius_speed_control_slows_a_tight_arc(mode: int, speed: float) -> None:
+    """FULL_SP_RADIUS 6, FORCE_SPEED 10: a quarter circle of radius 3 (3 pi / 2 long),
+    ACCEL 1e6 (ramps of microseconds)."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): ACCEL=1e6: DECEL=1e6: FORCE_SPEED=10: "
+                     f"FULL_SP_RADIUS=6: CORNER_MODE={mode}") == []
+    assert trio.send("MOVECIRCSP(3, 3, 3, 0, 1)") == []
+    end = end_tick(3 * math.pi / 2 / speed + speed / 1e6)
+    at(trio, end - 1)
+    assert float(trio.query("?MTYPE AXIS(0)")) == 4
+    at(trio, end)
+    assert (dpos(trio, 0), dpos(trio, 1)) == (3, 3)
+
+
+def test_an_arc_tangent_to_the_line_before_it_is_no_corner() -> None:
+    """STOP_ANGLE 25 degrees: MOVESP(10, 0) then a quarter circle starting along +x
+    (centre 5 above its start, anticlockwise): no change of direction, no stop; the
+    path (10 + 5 pi / 2) runs at 8 throughout."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): MERGE=ON: ACCEL=100: DECEL=100: FORCE_SPEED=8: "
+                     "CORNER_MODE=2: STOP_ANGLE=25 * PI / 180") == []
+    assert trio.send("MOVESP(10, 0): MOVECIRCSP(5, 5, 0, 5, 0)") == []
+    end = end_tick(0.08 + (10 + 5 * math.pi / 2 - 0.64) / 8 + 0.08)
+    at(trio, end - 1)
+    assert dpos(trio, 1) < 5
+    at(trio, end)
+    assert (dpos(trio, 0), dpos(trio, 1)) == (15, 5)

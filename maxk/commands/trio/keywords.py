@@ -834,6 +834,30 @@ _ENTRIES: list[Keyword] = [
           "units/s.", value_range=(0, _BIG), source="TrioBASIC help FHSPEED, FHOLD_IN",
           confidence="C", note="Power-up 0: a feed hold pauses the moves (C). Above a "
           "move's own speed: the move keeps its speed (D)."),
+    _axis("CORNER_MODE", "Corner and radius speed control of SP moves (bits).",
+          value_range=(0, 127), source="TrioBASIC help CORNER_MODE", confidence="C",
+          note="Applied when an SP move loads (C; profiles_sp.py). Bit 1: the change of "
+          "direction from the move it merges after (first two axes, lines and arc "
+          "tangents) lowers its STARTMOVE_SPEED by DECEL_ANGLE/STOP_ANGLE (C). Bit 3: an "
+          "arc's FORCE_SPEED by radius / FULL_SP_RADIUS, or (bit 4) v^2/r within the "
+          "centripetal acceleration at FULL_SP_RADIUS, or (bits 4, 5) within ACCEL (C; "
+          "every arc of the shared planner is held within sqrt(ACCEL x radius) anyway, "
+          "D). Not modelled: bit 2 (the CORNER_STATE machine) and bit 6 (vector radius "
+          "control: the page does not give its radius of two vectors) (D)."),
+    _axis("DECEL_ANGLE", "The change of direction (radians) beyond which CORNER_MODE "
+          "slows a corner.", value_range=(0, _BIG), source="TrioBASIC help DECEL_ANGLE",
+          confidence="C", note="Between DECEL_ANGLE and STOP_ANGLE the corner's speed "
+          "falls linearly from FORCE_SPEED to 0 (D: the page's formula as printed reads "
+          "the other way round, 0 at DECEL_ANGLE, against its own text); ignored when not "
+          "below STOP_ANGLE (C)."),
+    _axis("STOP_ANGLE", "The change of direction (radians) beyond which CORNER_MODE stops "
+          "at the corner.", value_range=(0, _BIG), source="TrioBASIC help STOP_ANGLE",
+          confidence="C", note="The move after the corner gets STARTMOVE_SPEED 0: the "
+          "path comes to rest at the junction (C). 0: no stops (C)."),
+    _axis("FULL_SP_RADIUS", "The smallest arc radius run at full speed under CORNER_MODE "
+          "bit 3, user units.", value_range=(0, _BIG),
+          source="TrioBASIC help FULL_SP_RADIUS", confidence="C", note="A tighter arc "
+          "runs at FORCE_SPEED x radius / FULL_SP_RADIUS (C); 0: no slowing (D)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
@@ -910,18 +934,9 @@ _ENTRIES: list[Keyword] = [
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
-          ("CORNER_MODE", "How merged moves slow at corners (bits).",
-           "corners run at the planner's own speeds (MERGE); the corner rules "
-           "(DECEL_ANGLE, STOP_ANGLE, RAISE_ANGLE, FULL_SP_RADIUS) are not applied "
-           "(stored, D)."),
-          ("DECEL_ANGLE", "Corner angle where CORNER_MODE starts slowing.",
-           "see CORNER_MODE (stored, D)."),
-          ("STOP_ANGLE", "Corner angle where CORNER_MODE stops.", "see CORNER_MODE "
-           "(stored, D)."),
-          ("RAISE_ANGLE", "Corner angle where CORNER_MODE raises the tool.",
-           "see CORNER_MODE (stored, D)."),
-          ("FULL_SP_RADIUS", "Arc radius above which CORNER_MODE keeps full speed.",
-           "see CORNER_MODE (stored, D)."),
+          ("RAISE_ANGLE", "Corner angle beyond which CORNER_STATE starts its sequence.",
+           "the CORNER_STATE machine (CORNER_MODE bit 2), which holds the move loader "
+           "for a program's handshake, is not modelled (stored, D)."),
           ("OV_GAIN", "Output velocity gain of the servo loop.",
            "the shared servo filter has no measured-velocity term (stored, D)."),
           ("AFF_GAIN", "Acceleration feed-forward of the servo loop.",

@@ -75,3 +75,88 @@ def seam(speeds: list[float], sp: Mapping[int, tuple[float, float]], j: int) -> 
     if after is not None and after[0] >= 0:
         speed = min(speed, after[0])
     return speed
+
+
+# ---- CORNER_MODE: corner and radius speed control of SP moves -----------------------------
+def _direction(delta: tuple[float, ...], arc: tuple[float, float, float] | None,
+               end: bool) -> tuple[float, float]:
+    """The direction (first two axes) a move starts (end False) or ends in: a line's
+    vector; an arc's tangent, from its centre (relative to its start) and its turn."""
+    if arc is None:
+        return (float(delta[0]), float(delta[1]) if len(delta) > 1 else 0.0)
+    cx, cy, turn = arc
+    rx, ry = -cx, -cy  # the start, from the centre
+    if end:
+        angle = math.radians(turn)
+        rx, ry = (rx * math.cos(angle) - ry * math.sin(angle),
+                  rx * math.sin(angle) + ry * math.cos(angle))
+    return (-ry, rx) if turn > 0 else (ry, -rx)
+
+
+def change_of_direction(before: tuple[float, ...], before_arc: tuple[float, float, float]
+                        | None, after: tuple[float, ...],
+                        after_arc: tuple[float, float, float] | None) -> float:
+    """The change in direction (radians, 0..pi) from the end of one move to the start of
+    the next, in the plane of the first two axes (CHANGE_DIR_LAST's angle: D)."""
+    ax, ay = _direction(before, before_arc, True)
+    bx, by = _direction(after, after_arc, False)
+    if (ax == 0 and ay == 0) or (bx == 0 and by == 0):
+        return 0.0
+    return abs(math.atan2(ax * by - ay * bx, ax * bx + ay * by))
+
+
+def corner_speed(params: Mapping[str, float], force: float, angle: float) -> float | None:
+    """CORNER_MODE bit 1: the STARTMOVE_SPEED (counts/s) a corner of `angle` gives a move
+    at FORCE_SPEED `force` (None: no slowing). Beyond STOP_ANGLE (when above 0) it stops;
+    beyond DECEL_ANGLE (when below STOP_ANGLE) the speed falls linearly from FORCE_SPEED
+    at DECEL_ANGLE to 0 at STOP_ANGLE (the DECEL_ANGLE page's proportional reduction: D,
+    its formula as printed gives 0 at DECEL_ANGLE, the reverse of its own text)."""
+    if not int(params.get("CORNER_MODE", 0.0)) & 2:
+        return None
+    stop = params.get("STOP_ANGLE", 0.0)
+    decel = params.get("DECEL_ANGLE", 0.0)
+    if stop > 0 and angle > stop:
+        return 0.0
+    if decel < stop and angle > decel:
+        return force * (stop - angle) / (stop - decel)
+    return None
+
+
+def radius_speed(params: Mapping[str, float], units: float, force: float, radius: float,
+                 accel: float) -> float:
+    """CORNER_MODE bit 3: an arc's FORCE_SPEED (counts/s) for its radius (counts): by the
+    ratio radius / FULL_SP_RADIUS (bit 4 clear), or so that v^2 / r stays within the
+    centripetal acceleration at FULL_SP_RADIUS (bit 4) or within ACCEL (bits 4 and 5);
+    (C: CORNER_MODE and FULL_SP_RADIUS pages)."""
+    mode = int(params.get("CORNER_MODE", 0.0))
+    if not mode & 8 or radius <= 0:
+        return force
+    full = params.get("FULL_SP_RADIUS", 0.0) * units
+    if mode & 16:
+        limit = accel if mode & 32 else (force * force / full if full > 0 else math.inf)
+        return min(force, math.sqrt(limit * radius))
+    if full > 0 and radius < full:
+        return force * radius / full
+    return force
+
+
+Arc = tuple[float, float, float]  # an arc's centre from its start (counts) and turn (deg)
+
+
+def cornered(params: Mapping[str, float], units: float, force: float, accel: float,
+             sp: tuple[float, float], delta: tuple[float, ...], arc: Arc | None,
+             previous: tuple[tuple[float, ...], Arc | None] | None
+             ) -> tuple[float, tuple[float, float]]:
+    """An SP move's (FORCE_SPEED, (STARTMOVE_SPEED, ENDMOVE_SPEED)) after CORNER_MODE:
+    an arc's radius speed control, and the corner from the move it merges after
+    (`previous`: that move's delta and arc) lowering its STARTMOVE_SPEED (C: the
+    corner control "operates by setting the next move's STARTMOVE_SPEED", at load)."""
+    if arc is not None:
+        force = radius_speed(params, units, force, math.hypot(arc[0], arc[1]), accel)
+    if previous is not None:
+        angle = change_of_direction(previous[0], previous[1], delta, arc)
+        corner = corner_speed(params, force, angle)
+        if corner is not None:
+            start = corner if sp[0] < 0 else min(sp[0], corner)
+            sp = (start, sp[1])
+    return force, sp
