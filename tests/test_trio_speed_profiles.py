@@ -396,3 +396,61 @@ def test_an_arc_tangent_to_the_line_before_it_is_no_corner() -> None:
     assert dpos(trio, 1) < 5
     at(trio, end)
     assert (dpos(trio, 0), dpos(trio, 1)) == (15, 5)
+
+
+# ---- what the profiler reports ------------------------------------------------------------
+def test_directions_of_the_sp_moves_loaded() -> None:
+    """The pages' examples: MOVESP(10000, 10000) starts at 45 degrees from Y, MOVESP(0,
+    10000) at 0; MOVESP(10000, -10000) ends at 135; MOVESP(0, 100) then MOVESP(100, 0)
+    turns 90 degrees. Plain moves leave them."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): SPEED=1: FORCE_SPEED=1: MERGE=ON") == []
+
+    def read(name: str) -> float:
+        return float(trio.query(f"?{name}"))
+
+    trio.send("MOVESP(10000, 10000)")
+    assert read("START_DIR_LAST") == pytest.approx(math.pi / 4, abs=1e-4)
+    trio.send("MOVESP(0, 10000)")
+    assert read("START_DIR_LAST") == pytest.approx(0, abs=1e-4)
+    trio.send("MOVESP(10000, -10000)")
+    assert read("END_DIR_LAST") == pytest.approx(3 * math.pi / 4, abs=1e-4)
+    trio.send("MOVESP(0, 100): MOVESP(100, 0)")
+    assert read("CHANGE_DIR_LAST") == pytest.approx(math.pi / 2, abs=1e-4)
+    trio.send("MOVE(-5, -5)")
+    assert read("END_DIR_LAST") == pytest.approx(math.pi / 2, abs=1e-4)
+    trio.send("MOVECIRCSP(0, 10, 0, 5, 1)")  # a half circle clockwise, centre above
+    assert read("START_DIR_LAST") == pytest.approx(-math.pi / 2, abs=1e-4)
+    assert read("END_DIR_LAST") == pytest.approx(math.pi / 2, abs=1e-4)
+    assert read("CHANGE_DIR_LAST") == pytest.approx(math.pi, abs=1e-4)
+    assert trio.send("START_DIR_LAST=1")[0].endswith("read only")
+
+
+def test_endmove_buffer_is_the_end_of_every_move_buffered() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=1: DEFPOS(10)") == []
+    assert trio.send("MOVE(100): MOVE(150): MOVE(25)") == []
+    assert float(trio.query("?ENDMOVE_BUFFER")) == 10 + 275
+    trio.advance(1.0)
+    assert float(trio.query("?ENDMOVE_BUFFER")) == 10 + 275
+
+
+def test_vp_accel_and_vp_jerk_follow_the_profile() -> None:
+    """A jerk-limited ramp (VP_MODE 5, JERK 50000, ACCEL 1000, SPEED 100): VP_JERK reads
+    50000 while the acceleration rises (0.02 s), VP_ACCEL 1000 while it holds, 0 at
+    speed, -1000 while slowing."""
+    trio = MC405()
+    assert trio.send("BASE(0): VP_MODE=5: SPEED=100: ACCEL=1000: DECEL=1000: JERK=50000: "
+                     "MOVE(100)") == []
+    at(trio, 10)
+    assert float(trio.query("?VP_JERK")) == pytest.approx(50000, rel=1e-6)
+    assert float(trio.query("?VP_ACCEL")) == pytest.approx(50000 * 0.0095, rel=1e-6)
+    at(trio, 50)
+    assert float(trio.query("?VP_ACCEL")) == pytest.approx(1000, rel=1e-6)
+    assert float(trio.query("?VP_JERK")) == pytest.approx(0, abs=1e-3)
+    at(trio, 500)
+    assert float(trio.query("?VP_ACCEL")) == pytest.approx(0, abs=1e-6)
+    ramp = 100 / 1000 + 1000 / 50000
+    slowing = end_tick(2 * ramp + (100 - 100 * ramp) / 100) - 60
+    at(trio, slowing)
+    assert float(trio.query("?VP_ACCEL")) == pytest.approx(-1000, rel=1e-6)

@@ -858,6 +858,30 @@ _ENTRIES: list[Keyword] = [
           "bit 3, user units.", value_range=(0, _BIG),
           source="TrioBASIC help FULL_SP_RADIUS", confidence="C", note="A tighter arc "
           "runs at FORCE_SPEED x radius / FULL_SP_RADIUS (C); 0: no slowing (D)."),
+    _axis("START_DIR_LAST", "The start direction of the last SP move loaded (radians "
+          "from the Y axis toward X).", writable=False,
+          source="TrioBASIC help START_DIR_LAST", confidence="C", note="Of the first two "
+          "BASE axes, -PI..PI; an arc's tangent (C). Set as the move loads (C)."),
+    _axis("END_DIR_LAST", "The end direction of the last SP move loaded (radians from the "
+          "Y axis toward X); written, the direction the next SP move's corner is taken "
+          "from.", value_range=(-math.pi, math.pi), source="TrioBASIC help END_DIR_LAST",
+          confidence="C", note="Power-up 0 (D). Plain moves leave it (C: write it after "
+          "them)."),
+    _axis("CHANGE_DIR_LAST", "The change of direction (0..PI) from END_DIR_LAST before "
+          "the last SP move loaded to its start.", writable=False,
+          source="TrioBASIC help CHANGE_DIR_LAST", confidence="C", note="The angle "
+          "CORNER_MODE's DECEL_ANGLE and STOP_ANGLE compare (C); 2D (AXIS_MODE's 3D mode "
+          "is not modelled, D)."),
+    _axis("ENDMOVE_BUFFER", "The absolute end of every move buffered on the axis, user "
+          "units.", writable=False, source="TrioBASIC help ENDMOVE_BUFFER",
+          confidence="C", note="As DPOS reads (DEFPOS/OFFPOS applied, C); DPOS with none "
+          "(D); the REP_DIST fold is not applied (D)."),
+    _axis("VP_ACCEL", "The profiler's acceleration now, user units/s^2.", writable=False,
+          source="TrioBASIC help VP_ACCEL", confidence="I", note="VP_SPEED's change over "
+          "the servo cycle before now, per second: negative while slowing (D)."),
+    _axis("VP_JERK", "The profiler's jerk now, user units/s^3.", writable=False,
+          source="TrioBASIC help VP_JERK", confidence="I", note="VP_ACCEL's change over "
+          "the servo cycle before now, per second (D)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "

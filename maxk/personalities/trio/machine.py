@@ -42,7 +42,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
-from .profiles_sp import VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
+from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
@@ -599,11 +599,11 @@ class MC405Machine(Kinematics, Engine):
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
-        if sp is not None:  # CORNER_MODE (profiles_sp.py)
-            previous = (None if last is None or not merge or last.axes != axes
-                        else (last.deltas[-1], last.arcs.get(len(last.deltas) - 1)))
-            speed, sp = cornered(base.params, base.units, speed, accel, sp,
-                                 tuple(float(d) for d in deltas), arc, previous)
+        if sp is not None:  # CORNER_MODE and the directions (profiles_sp.py)
+            speed, sp, headings = cornered(base.params, base.units, speed, accel, sp,
+                                           tuple(float(d) for d in deltas), arc)
+            for name, value in zip(DIRECTIONS, headings, strict=True):
+                base.params[name] = value
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:

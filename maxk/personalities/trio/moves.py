@@ -40,6 +40,7 @@ class Host(LinkHost, Protocol):
     def _apply_plan(self, run: Run, plan: PathPlan) -> None: ...
     def can_load(self, axes: Sequence[int]) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
+    def vp_speed_at(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
 
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
@@ -48,7 +49,8 @@ CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
-                     "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS"})
+                     "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS", "ENDMOVE_BUFFER", "VP_ACCEL",
+                     "VP_JERK"})
 
 
 def link_kind(link: Link) -> int:
@@ -194,6 +196,16 @@ def report(m: Host, name: str, axis: int) -> float:
         added = m.links.addax.get(axis)
         return float(added.link) if added is not None else -1.0
     now = m._now()
+    if name == "ENDMOVE_BUFFER":  # the end of every move buffered, as DPOS reads (C)
+        return (m._end_counts(axis) + a.datum + m.links.shift[axis]) / a.units
+    if name in ("VP_ACCEL", "VP_JERK"):
+        # VP_SPEED's change over the servo cycle before now (and its change: D)
+        ticks = np.maximum(np.arange(m.tick - 2, m.tick + 1), 0)
+        v = m.vp_speed_at(axis, ticks)
+        accel = np.diff(v) / m.period
+        if name == "VP_ACCEL":
+            return float(accel[-1])
+        return float(accel[1] - accel[0]) / m.period if m.tick >= 2 else 0.0
     if name in ("MSPEED", "DEMAND_SPEED"):  # (the demand is what the axis measures: D)
         if m.tick == 0:
             return 0.0

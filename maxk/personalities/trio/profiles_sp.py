@@ -21,6 +21,7 @@ import math
 from collections.abc import Mapping
 
 VP_MODES = frozenset({0.0, 5.0, 6.0})  # the modes the VP_MODE page lists
+DIRECTIONS = ("START_DIR_LAST", "END_DIR_LAST", "CHANGE_DIR_LAST")  # set as SP moves load
 UNSET = -1.0  # STARTMOVE_SPEED / ENDMOVE_SPEED: not used (their power-up value, C)
 
 
@@ -93,16 +94,15 @@ def _direction(delta: tuple[float, ...], arc: tuple[float, float, float] | None,
     return (-ry, rx) if turn > 0 else (ry, -rx)
 
 
-def change_of_direction(before: tuple[float, ...], before_arc: tuple[float, float, float]
-                        | None, after: tuple[float, ...],
-                        after_arc: tuple[float, float, float] | None) -> float:
-    """The change in direction (radians, 0..pi) from the end of one move to the start of
-    the next, in the plane of the first two axes (CHANGE_DIR_LAST's angle: D)."""
-    ax, ay = _direction(before, before_arc, True)
-    bx, by = _direction(after, after_arc, False)
-    if (ax == 0 and ay == 0) or (bx == 0 and by == 0):
-        return 0.0
-    return abs(math.atan2(ax * by - ay * bx, ax * bx + ay * by))
+def heading(direction: tuple[float, float]) -> float:
+    """A direction as START_DIR_LAST and END_DIR_LAST give it: radians from the Y axis
+    toward X (0 up Y, PI/2 up X, -PI..PI; C: their pages)."""
+    return math.atan2(direction[0], direction[1])
+
+
+def change_of_direction(before: float, after: float) -> float:
+    """The unsigned change (0..PI) from one heading to another (CHANGE_DIR_LAST, C)."""
+    return abs(math.remainder(after - before, 2.0 * math.pi))
 
 
 def corner_speed(params: Mapping[str, float], force: float, angle: float) -> float | None:
@@ -144,19 +144,19 @@ Arc = tuple[float, float, float]  # an arc's centre from its start (counts) and 
 
 
 def cornered(params: Mapping[str, float], units: float, force: float, accel: float,
-             sp: tuple[float, float], delta: tuple[float, ...], arc: Arc | None,
-             previous: tuple[tuple[float, ...], Arc | None] | None
-             ) -> tuple[float, tuple[float, float]]:
-    """An SP move's (FORCE_SPEED, (STARTMOVE_SPEED, ENDMOVE_SPEED)) after CORNER_MODE:
-    an arc's radius speed control, and the corner from the move it merges after
-    (`previous`: that move's delta and arc) lowering its STARTMOVE_SPEED (C: the
-    corner control "operates by setting the next move's STARTMOVE_SPEED", at load)."""
+             sp: tuple[float, float], delta: tuple[float, ...], arc: Arc | None
+             ) -> tuple[float, tuple[float, float], tuple[float, float, float]]:
+    """An SP move's FORCE_SPEED and (STARTMOVE_SPEED, ENDMOVE_SPEED) after CORNER_MODE
+    (an arc's radius speed control; the change of direction from END_DIR_LAST, the end
+    of the SP move loaded before, lowering its STARTMOVE_SPEED: C, the corner control
+    "operates by setting the next move's STARTMOVE_SPEED", at load), and its
+    (START_DIR_LAST, END_DIR_LAST, CHANGE_DIR_LAST)."""
+    start = heading(_direction(delta, arc, False))
+    end = heading(_direction(delta, arc, True))
+    change = change_of_direction(params.get("END_DIR_LAST", 0.0), start)
     if arc is not None:
         force = radius_speed(params, units, force, math.hypot(arc[0], arc[1]), accel)
-    if previous is not None:
-        angle = change_of_direction(previous[0], previous[1], delta, arc)
-        corner = corner_speed(params, force, angle)
-        if corner is not None:
-            start = corner if sp[0] < 0 else min(sp[0], corner)
-            sp = (start, sp[1])
-    return force, sp
+    corner = corner_speed(params, force, change)
+    if corner is not None:
+        sp = (corner if sp[0] < 0 else min(sp[0], corner), sp[1])
+    return force, sp, (start, end, change)
