@@ -454,3 +454,42 @@ def test_vp_accel_and_vp_jerk_follow_the_profile() -> None:
     slowing = end_tick(2 * ramp + (100 - 100 * ramp) / 100) - 60
     at(trio, slowing)
     assert float(trio.query("?VP_ACCEL")) == pytest.approx(-1000, rel=1e-6)
+
+
+# ---- SPEED changed while a move runs ----------------------------------------------------
+def test_speed_written_during_a_move_acts_at_once() -> None:
+    """SPEED 10, ACCEL 100, MOVE(100): at 2 s (19.5 units) SPEED=20: it climbs to 20 over
+    0.1 s (1.5 units) and ends 0.1 + (80.5 - 1.5 - 2) / 20 + 0.2 s later."""
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=10: ACCEL=100: DECEL=100: MOVE(100)") == []
+    at(trio, 2000)
+    assert dpos(trio) == pytest.approx(19.5, abs=1e-9)
+    assert trio.send("SPEED=20") == []
+    at(trio, 2050)
+    assert dpos(trio) == pytest.approx(19.5 + 10 * 0.05 + 50 * 0.05 ** 2, abs=1e-9)
+    end = 2000 + end_tick(0.1 + (80.5 - 1.5 - 2.0) / 20 + 0.2)
+    at(trio, end - 1)
+    assert dpos(trio) < 100
+    at(trio, end)
+    assert dpos(trio) == 100
+
+
+def test_a_forward_slows_when_speed_is_lowered() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=10: ACCEL=100: DECEL=100: FORWARD") == []
+    at(trio, 1000)
+    assert trio.send("SPEED=5") == []
+    at(trio, 2000)
+    assert dpos(trio) == pytest.approx(9.5 + (100 - 25) / 200 + 5 * 0.95, abs=1e-9)
+
+
+def test_an_sp_move_keeps_the_speed_it_was_loaded_with() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=1: FORCE_SPEED=10: ACCEL=100: DECEL=100: "
+                     "MOVESP(100)") == []
+    at(trio, 1000)
+    assert trio.send("SPEED=20") == []
+    at(trio, 10099)
+    assert dpos(trio) < 100
+    at(trio, 10100)
+    assert dpos(trio) == 100

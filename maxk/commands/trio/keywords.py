@@ -136,12 +136,17 @@ _ENTRIES: list[Keyword] = [
           "type (ATYPE 76 ...) reads the world's encoder mounted on its input as MPOS "
           "(see docs/trio.md, Encoder axes)."),
     _axis("SPEED", "Programmed speed of moves, user units/s.", default=1000,
-          value_range=(0, _BIG), source=f"{MAN}; {TOK}", confidence="I",
-          note="Power-up value 1000 is our decision (D)."),
+          value_range=(0, _BIG), source=f"{MAN}; {TOK}; TrioBASIC help VP_MODE",
+          confidence="I", note="Power-up value 1000 is our decision (D). Written while "
+          "moves run it acts at once on the base axis's plain (not SP) moves, the one "
+          "running re-planned from where it is and those buffered run at it (C: VP_MODE "
+          "page; buffered ones D; a single-axis move then ramps linearly, D: respeed.py)."),
     _axis("ACCEL", "Acceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
-          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D). Written while moves run: as "
+          "SPEED (C: VP_MODE page)."),
     _axis("DECEL", "Deceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
-          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D). Written while moves run: as "
+          "SPEED (C: VP_MODE page; a path's moves ramp down at ACCEL, D)."),
     _axis("MERGE", "Merge consecutive moves without stopping (ON/OFF).", default=0,
           value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}", confidence="I",
           note="A move joins the one before it (one path, corners at full speed) when MERGE "

@@ -46,6 +46,7 @@ from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds,
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
+from .respeed import respeed
 from .runs import (
     SHAPE,
     Cambox,
@@ -268,6 +269,8 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.look()
         if name in ("FHOLD_IN", "FHSPEED"):
             self.feedhold.look()
+        if name in ("SPEED", "ACCEL", "DECEL"):
+            respeed(self, axis)  # the plain moves running take it at once (respeed.py)
 
     def system_parameter(self, name: str) -> float:
         if name in SYSTEM_READS:
