@@ -493,3 +493,18 @@ def test_an_sp_move_keeps_the_speed_it_was_loaded_with() -> None:
     assert dpos(trio) < 100
     at(trio, 10100)
     assert dpos(trio) == 100
+
+
+def test_in_pos_needs_the_move_done_and_the_error_and_speed_within_their_limits() -> None:
+    """A stepper axis (FE 0): with IN_POS_DIST and IN_POS_SPEED at their power-up 0 it is
+    never in position (strictly less); set, it is once the moves end."""
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=10: ACCEL=100: DECEL=100") == []
+    assert float(trio.query("?IN_POS")) == 0
+    assert trio.send("IN_POS_DIST=0.01: IN_POS_SPEED=0.1") == []
+    assert float(trio.query("?IN_POS")) == -1
+    assert trio.send("MOVE(1): MOVE(1)") == []
+    at(trio, 150)
+    assert float(trio.query("?IN_POS")) == 0
+    trio.advance(1.0)
+    assert float(trio.query("?IN_POS")) == -1

@@ -887,6 +887,17 @@ _ENTRIES: list[Keyword] = [
     _axis("VP_JERK", "The profiler's jerk now, user units/s^3.", writable=False,
           source="TrioBASIC help VP_JERK", confidence="I", note="VP_ACCEL's change over "
           "the servo cycle before now, per second (D)."),
+    _axis("IN_POS", "TRUE when the axis has finished its moves and is in position.",
+          writable=False, source="TrioBASIC help IN_POS", confidence="C",
+          note="TRUE (-1) when no move runs or is buffered, |FE| < IN_POS_DIST and "
+          "|MSPEED| < IN_POS_SPEED (C: strictly less, so with their power-up 0 it never "
+          "is, as the page warns)."),
+    _axis("IN_POS_DIST", "The following error within which IN_POS reads TRUE, user units.",
+          value_range=(0, _BIG), source="TrioBASIC help IN_POS_DIST", confidence="C",
+          note="Power-up 0 (C)."),
+    _axis("IN_POS_SPEED", "The measured speed below which IN_POS reads TRUE, user "
+          "units/s.", value_range=(0, _BIG), source="TrioBASIC help IN_POS_SPEED",
+          confidence="C", note="Power-up 0 (C)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "

@@ -41,6 +41,7 @@ class Host(LinkHost, Protocol):
     def can_load(self, axes: Sequence[int]) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
     def vp_speed_at(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def axis_parameter(self, name: str, axis: int) -> float: ...
 
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
@@ -50,7 +51,7 @@ CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
                      "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS", "ENDMOVE_BUFFER", "VP_ACCEL",
-                     "VP_JERK"})
+                     "VP_JERK", "IN_POS"})
 
 
 def link_kind(link: Link) -> int:
@@ -188,6 +189,13 @@ def report(m: Host, name: str, axis: int) -> float:
         index = (0 if name == "MTYPE" else 1) if executing else (None if name == "MTYPE"
                                                                   else 0)
         return float(kinds[index]) if index is not None and index < len(kinds) else 0.0
+    if name == "IN_POS":  # (C: the IN_POS page's four conditions, strictly less)
+        executing, kinds = held(m, axis)
+        params = a.params
+        inside = (not executing and not kinds
+                  and abs(m.axis_parameter("FE", axis)) < params["IN_POS_DIST"]
+                  and abs(report(m, "MSPEED", axis)) < params["IN_POS_SPEED"])
+        return -1.0 if inside else 0.0
     if name == "LINK_AXIS":
         link = a.link
         leader = getattr(link, "link", getattr(link, "base", None))
