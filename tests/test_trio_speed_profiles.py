@@ -508,3 +508,26 @@ def test_in_pos_needs_the_move_done_and_the_error_and_speed_within_their_limits(
     assert float(trio.query("?IN_POS")) == 0
     trio.advance(1.0)
     assert float(trio.query("?IN_POS")) == -1
+
+
+def test_vector_buffered_is_the_path_length_left() -> None:
+    """BASE(0, 1), SPEED 10, ACCEL 1e6: MOVE(30, 40) and MOVE(0, 20) hold 50 + 20; after
+    2 s (20 of the first run) 50 are left; the MERGE OFF moves are separate runs."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): SPEED=10: ACCEL=1e6: DECEL=1e6") == []
+    assert trio.send("MOVE(30, 40): MOVE(0, 20)") == []
+    assert float(trio.query("?VECTOR_BUFFERED")) == pytest.approx(70, abs=1e-4)
+    at(trio, 2000)
+    assert float(trio.query("?VECTOR_BUFFERED")) == pytest.approx(50 + 10 * 10 / 2e6,
+                                                                  abs=1e-4)
+    trio.advance(10.0)
+    assert float(trio.query("?VECTOR_BUFFERED")) == 0
+
+
+def test_mspeedf_reads_mspeed_with_the_power_up_filter() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): SPEED=10: ACCEL=100: DECEL=100: MOVE(100)") == []
+    at(trio, 50)
+    assert float(trio.query("?MSPEED_FILTER")) == 1
+    assert float(trio.query("?MSPEEDF")) == pytest.approx(100 * 0.0495, abs=1e-4)
+    assert float(trio.query("?MSPEEDF")) == float(trio.query("?MSPEED"))

@@ -898,6 +898,25 @@ _ENTRIES: list[Keyword] = [
     _axis("IN_POS_SPEED", "The measured speed below which IN_POS reads TRUE, user "
           "units/s.", value_range=(0, _BIG), source="TrioBASIC help IN_POS_SPEED",
           confidence="C", note="Power-up 0 (C)."),
+    _axis("VECTOR_BUFFERED", "The path length of the moves buffered on the group based "
+          "on the axis, user units.", writable=False,
+          source="TrioBASIC help VECTOR_BUFFERED", confidence="I", note="The running "
+          "move's remainder included (D: the page's \"available for deceleration\"); "
+          "links and CAMs are not vectors (0, D)."),
+    _axis("MSPEEDF", "MSPEED through a low-pass filter (MSPEED_FILTER), user units/s.",
+          writable=False, source="TrioBASIC help MSPEEDF, MSPEED_FILTER", confidence="I",
+          note="Reads MSPEED: equal to it with MSPEED_FILTER at its power-up 1 (C); a "
+          "filter below 1 is not applied (D: the filter runs every servo cycle over a "
+          "history the event engine does not keep)."),
+    _axis("MSPEED_FILTER", "MSPEEDF's filter coefficient, 0..1 (1: no filtering).",
+          default=1.0, value_range=(0, 1), source="TrioBASIC help MSPEED_FILTER",
+          confidence="C", note="Power-up 1 (C); values below 1 are stored, not applied "
+          "(see MSPEEDF, D)."),
+    _system("LIMIT_BUFFERED", "The most moves the controller buffers (1..BUFFERSIZE).",
+            default=1, value_range=(1, 64), source="TrioBASIC help LIMIT_BUFFERED",
+            confidence="D", note="Not modelled: the machine's buffer depth is fixed at "
+            "16 moves per axis, the running one included (docs/trio.md), whatever it "
+            "says; power-up 1 as the page, 1..64 (stored, D)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
@@ -974,6 +993,36 @@ _ENTRIES: list[Keyword] = [
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
+          ("CORNER_STATE", "The corner state machine's handshake bits (CORNER_MODE bit 2).",
+           "the state machine holding the move loader for a program's handshake is not "
+           "modelled (stored, D)."),
+          ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
+          ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
+          ("MOVE_COUNT", "Counts the moves loaded into MTYPE.",
+           "counting each move as it becomes active and each link's automatic repeat is "
+           "not modelled (stored, D)."),
+          ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
+           "a speed ramp across a whole move is not among the path planner's pieces "
+           "(stored, D)."),
+          ("FORCE_DWELL", "A dwell (ms) at the end of the next SP move.",
+           "a dwell inside a merged path is not in the shared path planner (stored, D)."),
+          ("LOOKAHEAD_FACTOR", "A factor on the SP speeds in the move buffer.",
+           "re-factoring the SP speeds already buffered is not modelled (stored, D)."),
+          ("INTERP_FACTOR", "0 takes the axis out of the vector speed (a following axis).",
+           "every BASE axis takes part in the vector speed (stored, D)."),
+          ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
+           "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
+           "D)."),
+          ("MOVE_PA", "A value carried with each move loaded (MOVE_PA_CONT acts on it).",
+           "outputs and values switched as moves become active are not modelled "
+           "(stored, D)."),
+          ("MOVE_PB", "As MOVE_PA.", "see MOVE_PA (stored, D)."),
+          ("MOVE_PA_CONT", "What MOVE_PA does when a move becomes active.",
+           "see MOVE_PA (stored, D)."),
+          ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB.", "see MOVE_PA (stored, D)."),
+          ("MOVE_PA_IDLE", "MOVE_PA's setting while the axis is idle.",
+           "see MOVE_PA (stored, D)."),
+          ("MOVE_PB_IDLE", "As MOVE_PA_IDLE, for MOVE_PB.", "see MOVE_PA (stored, D)."),
           ("RAISE_ANGLE", "Corner angle beyond which CORNER_STATE starts its sequence.",
            "the CORNER_STATE machine (CORNER_MODE bit 2), which holds the move loader "
            "for a program's handshake, is not modelled (stored, D)."),

@@ -51,7 +51,7 @@ CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
                      "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS", "ENDMOVE_BUFFER", "VP_ACCEL",
-                     "VP_JERK", "IN_POS"})
+                     "VP_JERK", "IN_POS", "VECTOR_BUFFERED", "MSPEEDF"})
 
 
 def link_kind(link: Link) -> int:
@@ -189,6 +189,8 @@ def report(m: Host, name: str, axis: int) -> float:
         index = (0 if name == "MTYPE" else 1) if executing else (None if name == "MTYPE"
                                                                   else 0)
         return float(kinds[index]) if index is not None and index < len(kinds) else 0.0
+    if name == "VECTOR_BUFFERED":
+        return _vector_buffered(m, axis)
     if name == "IN_POS":  # (C: the IN_POS page's four conditions, strictly less)
         executing, kinds = held(m, axis)
         params = a.params
@@ -214,7 +216,8 @@ def report(m: Host, name: str, axis: int) -> float:
         if name == "VP_ACCEL":
             return float(accel[-1])
         return float(accel[1] - accel[0]) / m.period if m.tick >= 2 else 0.0
-    if name in ("MSPEED", "DEMAND_SPEED"):  # (the demand is what the axis measures: D)
+    if name in ("MSPEED", "DEMAND_SPEED", "MSPEEDF"):  # (the demand is what the axis
+        # measures, D; MSPEEDF is MSPEED with MSPEED_FILTER at 1, C, and unfiltered, D)
         if m.tick == 0:
             return 0.0
         ticks = np.array([m.tick - 1, m.tick])
@@ -226,6 +229,29 @@ def report(m: Host, name: str, axis: int) -> float:
         return abs(end - here) / a.units
     extra = float(m.demand_counts(axis, now)[0]) - here  # ADDAX's part, as DPOS has it
     return (end + extra + a.datum) / a.units  # ENDMOVE
+
+
+def _vector_buffered(m: Host, axis: int) -> float:
+    """The path length still to run of the moves of the group based on the axis, the
+    running one's remainder included (D: "available for deceleration"), in the base's
+    user units as each run loaded them."""
+    total = 0.0
+    for run in m.queues[axis]:
+        if run.base != axis or run.preset is not None:
+            continue
+        lengths = [_length(delta, run.arcs.get(j)) for j, delta in enumerate(run.deltas)]
+        left = sum(lengths)
+        if run.started:
+            s_done, _v = run.distance_speed(m._now(), m.period)
+            left = max(0.0, (run.length() if run.stopping else left) - float(s_done[0]))
+        total += left / run.units
+    return total
+
+
+def _length(delta: tuple[int, ...], arc: tuple[float, float, float] | None) -> float:
+    if arc is None:
+        return math.sqrt(sum(float(d) * float(d) for d in delta))
+    return math.hypot(arc[0], arc[1]) * abs(math.radians(arc[2]))
 
 
 def _move_end(m: Host, axis: int, here: float) -> float:
