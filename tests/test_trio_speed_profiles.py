@@ -251,6 +251,7 @@ def test_feed_hold_at_fhspeed_0_pauses_the_move_and_release_resumes_it() -> None
     at(trio, 2000)
     assert dpos(trio) == pytest.approx(10.5, abs=1e-9)
     assert float(trio.query("?MTYPE AXIS(0)")) == 1
+    assert int(float(trio.query("?AXISSTATUS AXIS(0)"))) & 128  # feedhold active (h)
     at(trio, 3000)
     assert dpos(trio) == pytest.approx(10.5, abs=1e-9)
     trio.world_view().set_input(7, True)
@@ -262,6 +263,7 @@ def test_feed_hold_at_fhspeed_0_pauses_the_move_and_release_resumes_it() -> None
     at(trio, end)
     assert dpos(trio) == 100
     assert float(trio.query("?MTYPE AXIS(0)")) == 0
+    assert not int(float(trio.query("?AXISSTATUS AXIS(0)"))) & 128
 
 
 def test_feed_hold_runs_the_move_at_fhspeed_while_the_input_is_low() -> None:

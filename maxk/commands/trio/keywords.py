@@ -468,10 +468,11 @@ _ENTRIES: list[Keyword] = [
           note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
           "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D)."),
     _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
-          "reverse limit, 64 datuming, 256 following error exceeded, 512 forward soft limit, "
-          "1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
+          "reverse limit, 64 datuming, 128 feed hold, 256 following error exceeded, 512 "
+          "forward soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
           confidence="I", note="Bits 4/5 from the FWD_IN/REV_IN inputs, 9/10 from DPOS "
           "against FS_LIMIT/RS_LIMIT (manual, C for 9/10), 6 while DATUM(1)/(2) searches, "
+          "7 while FHOLD_IN's input is active (C: help AXISSTATUS), "
           "1/8 from FE against FE_RANGE/FE_LIMIT (8 also when the servo loop trips); the "
           "bits that put the axis into motion error stay set until DATUM(0). Bits 2/3 "
           "(remote drive) read 0: no remote drives (D)."),
@@ -842,7 +843,7 @@ _ENTRIES: list[Keyword] = [
     _axis("CORNER_MODE", "Corner and radius speed control of SP moves (bits).",
           value_range=(0, 127), source="TrioBASIC help CORNER_MODE", confidence="C",
           note="Applied when an SP move loads (C; profiles_sp.py). Bit 1: the change of "
-          "direction from the move it merges after (first two axes, lines and arc "
+          "direction from END_DIR_LAST (CHANGE_DIR_LAST: first two axes, lines and arc "
           "tangents) lowers its STARTMOVE_SPEED by DECEL_ANGLE/STOP_ANGLE (C). Bit 3: an "
           "arc's FORCE_SPEED by radius / FULL_SP_RADIUS, or (bit 4) v^2/r within the "
           "centripetal acceleration at FULL_SP_RADIUS, or (bits 4, 5) within ACCEL (C; "

@@ -168,6 +168,10 @@ class MC405Machine(Kinematics, Engine):
         self.jogs.look()
         self.feedhold.look()
 
+    def feed_held(self, axis: int) -> bool:
+        """FHOLD_IN's input is active on the axis (AXISSTATUS bit 7)."""
+        return axis in self.feedhold.held
+
     @property
     def pwm(self) -> PwmBank:
         return self.outputs.bank
