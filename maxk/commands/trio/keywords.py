@@ -848,8 +848,8 @@ _ENTRIES: list[Keyword] = [
           "arc's FORCE_SPEED by radius / FULL_SP_RADIUS, or (bit 4) v^2/r within the "
           "centripetal acceleration at FULL_SP_RADIUS, or (bits 4, 5) within ACCEL (C; "
           "every arc of the shared planner is held within sqrt(ACCEL x radius) anyway, "
-          "D). Not modelled: bit 2 (the CORNER_STATE machine) and bit 6 (vector radius "
-          "control: the page does not give its radius of two vectors) (D)."),
+          "D). Bits 2 (the CORNER_STATE machine) and 6 (vector radius control: the page "
+          "does not give its radius of two vectors) are stored, no effect (D)."),
     _axis("DECEL_ANGLE", "The change of direction (radians) beyond which CORNER_MODE "
           "slows a corner.", value_range=(0, _BIG), source="TrioBASIC help DECEL_ANGLE",
           confidence="C", note="Between DECEL_ANGLE and STOP_ANGLE the corner's speed "

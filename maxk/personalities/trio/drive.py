@@ -72,7 +72,6 @@ class DriveHost(Protocol):
     def demand(self, axis: int) -> float: ...
     def digital_input(self, number: int) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
-    def feed_held(self, axis: int) -> bool: ...
     def changed(self) -> None: ...
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
@@ -86,7 +85,6 @@ REMOTE_ERROR = 1 << 3  # remote drive error (never set)
 FWD_LIMIT = 1 << 4  # in the forward limit (FWD_IN's input on)
 REV_LIMIT = 1 << 5  # in the reverse limit
 DATUMING = 1 << 6  # a DATUM(1)/(2) search runs
-FEEDHOLD = 1 << 7  # FHOLD_IN's input active (feedhold.py)
 FE_EXCEEDED = 1 << 8  # |FE| beyond FE_LIMIT
 FWD_SOFT = 1 << 9  # DPOS beyond FS_LIMIT
 REV_SOFT = 1 << 10  # DPOS below RS_LIMIT
@@ -147,8 +145,6 @@ class Drive:
             wired = params[name]
             if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
                 bits |= bit
-        if m.feed_held(axis):
-            bits |= FEEDHOLD
         dpos = m.dpos(axis)
         if dpos > params["FS_LIMIT"]:
             bits |= FWD_SOFT

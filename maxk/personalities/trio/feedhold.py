@@ -23,6 +23,8 @@ from maxk.firmware_model.path import plan_path
 
 from .runs import Run
 
+FEEDHOLD = 1 << 7  # AXISSTATUS bit 7 (h): the feed-hold input is active (C: AXISSTATUS)
+
 
 class FeedHold:
     """The feed-hold inputs of every base axis: an every-event watcher of the machine."""

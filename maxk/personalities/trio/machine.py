@@ -37,7 +37,7 @@ from maxk.firmware_model.world import World
 from . import moves
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
-from .feedhold import FeedHold
+from .feedhold import FEEDHOLD, FeedHold
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
@@ -168,10 +168,6 @@ class MC405Machine(Kinematics, Engine):
         self.jogs.look()
         self.feedhold.look()
 
-    def feed_held(self, axis: int) -> bool:
-        """FHOLD_IN's input is active on the axis (AXISSTATUS bit 7)."""
-        return axis in self.feedhold.held
-
     @property
     def pwm(self) -> PwmBank:
         return self.outputs.bank
@@ -239,6 +235,8 @@ class MC405Machine(Kinematics, Engine):
             return output.encoder
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
+            if name == "AXISSTATUS" and axis in self.feedhold.held:
+                value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":
             return self.wrapped(axis, self.dpos(axis))
