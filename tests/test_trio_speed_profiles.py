@@ -533,3 +533,27 @@ def test_mspeedf_reads_mspeed_with_the_power_up_filter() -> None:
     assert float(trio.query("?MSPEED_FILTER")) == 1
     assert float(trio.query("?MSPEEDF")) == pytest.approx(100 * 0.0495, abs=1e-4)
     assert float(trio.query("?MSPEEDF")) == float(trio.query("?MSPEED"))
+
+
+def test_force_speed_powers_up_at_1000() -> None:
+    """The FORCE_SPEED page: 1000 at UNITS 1; MOVESP(10) with ACCEL 1e6 takes 10 ms."""
+    trio = MC405()
+    assert float(trio.query("?FORCE_SPEED")) == 1000
+    assert trio.send("BASE(0): ACCEL=1e6: DECEL=1e6: MOVESP(10)") == []
+    end = end_tick(10 / 1000 + 1000 / 1e6)
+    at(trio, end - 1)
+    assert dpos(trio) < 10
+    at(trio, end)
+    assert dpos(trio) == 10
+
+
+def test_speed_changed_under_feed_hold_keeps_fhspeed() -> None:
+    """FHSPEED 2 holding a move programmed at 10; SPEED=20 meanwhile: still 2 while held."""
+    trio = held_machine(": FHSPEED=2")
+    assert trio.send("MOVE(100)") == []
+    at(trio, 1050)
+    trio.world_view().set_input(7, False)
+    at(trio, 1500)
+    assert trio.send("SPEED=20") == []
+    at(trio, 2000)
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(2, abs=1e-9)

@@ -812,8 +812,9 @@ _ENTRIES: list[Keyword] = [
              (1, 128), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVEABS (MTYPE 2: D), at FORCE_SPEED (as MOVESP)."),
     _axis("FORCE_SPEED", "The vector speed of MOVESP and MOVEABSSP, user units/s.",
-          default=0.0, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="Read when an SP move loads: the move's own top speed, reached at its "
+          default=1000.0, value_range=(0, _BIG), source="TrioBASIC help FORCE_SPEED",
+          confidence="C", note="Power-up 1000 (C: at UNITS 1; kept in user units, as "
+          "SPEED, D). Read when an SP move loads: the move's own top speed, reached at its "
           "start (the move before ramps up to it at its end: C, the page's example 1); "
           "0 refuses them like a SPEED of 0 (D)."),
     _axis("STARTMOVE_SPEED", "The speed an SP move (MOVESP...) starts at; -1 not used.",

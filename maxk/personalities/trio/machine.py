@@ -273,6 +273,8 @@ class MC405Machine(Kinematics, Engine):
             self.feedhold.look()
         if name in ("SPEED", "ACCEL", "DECEL"):
             respeed(self, axis)  # the plain moves running take it at once (respeed.py)
+            if self.feedhold.held:
+                self.feedhold.look()  # (a feed hold's share of the new speed)
 
     def system_parameter(self, name: str) -> float:
         if name in SYSTEM_READS:
