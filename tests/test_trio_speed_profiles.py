@@ -557,3 +557,30 @@ def test_speed_changed_under_feed_hold_keeps_fhspeed() -> None:
     assert trio.send("SPEED=20") == []
     at(trio, 2000)
     assert float(trio.query("?VP_SPEED")) == pytest.approx(2, abs=1e-9)
+
+
+def test_move_count_counts_each_move_as_it_becomes_the_running_one() -> None:
+    """Three merged moves on axes 0 and 1 at 10 units/s (ACCEL 1e6): the first counts as
+    it starts, each other as the path reaches it; a zero-length move and a jog do not."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1): SPEED=10: ACCEL=1e6: DECEL=1e6: MERGE=ON") == []
+    assert trio.send("MOVE_COUNT=5: MOVE_COUNT AXIS(1)=0") == []
+    assert trio.send("MOVE(10, 0): MOVE(0, 10): MOVE(10, 0)") == []
+    assert float(trio.query("?MOVE_COUNT")) == 6
+    at(trio, 999)
+    assert float(trio.query("?MOVE_COUNT AXIS(1)")) == 1
+    at(trio, 1001)
+    assert float(trio.query("?MOVE_COUNT AXIS(1)")) == 2
+    trio.advance(3.0)
+    assert float(trio.query("?MOVE_COUNT")) == 8
+    assert trio.send("MERGE=OFF: MOVE(0, 0)") == []
+    trio.advance(0.1)
+    assert float(trio.query("?MOVE_COUNT")) == 8
+    trio.world_view().set_input(7, True)
+    assert trio.send("BASE(2): SPEED=10: JOGSPEED=5: FWD_JOG=7: MOVE(1)") == []
+    trio.advance(0.5)
+    assert float(trio.query("?MOVE_COUNT AXIS(2)")) == 1
+    trio.world_view().set_input(7, False)
+    trio.advance(0.5)
+    assert float(trio.query("?MTYPE AXIS(2)")) == 14
+    assert float(trio.query("?MOVE_COUNT AXIS(2)")) == 1

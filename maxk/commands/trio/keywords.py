@@ -919,6 +919,12 @@ _ENTRIES: list[Keyword] = [
             confidence="D", note="Not modelled: the machine's buffer depth is fixed at "
             "16 moves per axis, the running one included (docs/trio.md), whatever it "
             "says; power-up 1 as the page, 1..64 (stored, D)."),
+    _axis("MOVE_COUNT", "Counts the moves that became the running one (MTYPE); "
+          "writable.", source="TrioBASIC help MOVE_COUNT", confidence="I",
+          note="Each buffered move (MOVE..., SP moves, arcs, CAM) counts once on every "
+          "axis of its group as it becomes the running move; zero-length moves and jogs "
+          "do not (C). Links (CONNECT, MOVELINK, CAMBOX) and their automatic repeats are "
+          "not counted (D: not modelled yet)."),
     _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
           "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
           "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
@@ -1000,9 +1006,6 @@ _ENTRIES: list[Keyword] = [
            "modelled (stored, D)."),
           ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
-          ("MOVE_COUNT", "Counts the moves loaded into MTYPE.",
-           "counting each move as it becomes active and each link's automatic repeat is "
-           "not modelled (stored, D)."),
           ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
            "a speed ramp across a whole move is not among the path planner's pieces "
            "(stored, D)."),

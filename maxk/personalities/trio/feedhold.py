@@ -96,6 +96,7 @@ def _as_path(m: Any, run: Run) -> Run:
     new = Run((axis,), [(end - here,)], run.speeds[:1],  # type: ignore[list-item]
               run.accels[:1], run.decel, run.units, single=False)
     new.kinds = {0: run.kinds.get(0, 1)}
+    new.counted = run.counted  # (MOVE_COUNT counted it already)
     new.started = True
     new.start_tick = now
     new.resolve((here,))

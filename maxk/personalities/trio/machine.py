@@ -652,6 +652,7 @@ class MC405Machine(Kinematics, Engine):
                    and self.axes[a].pending_link is None for a in run.axes):
                 self._start(run)
                 self.drive.started(run)
+        moves.count_moves(self)  # MOVE_COUNT: the runs that started
 
     def _start(self, run: Run) -> None:
         now = self.tick

@@ -49,6 +49,7 @@ FORWARD, REVERSE = 10, 11
 CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
+_UNCOUNTED = (FWD_JOG, REV_JOG)  # MOVE_COUNT leaves jogs out (C)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
                      "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS", "ENDMOVE_BUFFER", "VP_ACCEL",
                      "VP_JERK", "IN_POS", "VECTOR_BUFFERED", "MSPEEDF"})
@@ -144,12 +145,32 @@ def movemodify(m: Host, axis: int, position: float, min_rate: float) -> None:
     new = Run((axis,), [(d,) for d in deltas], speeds,  # type: ignore[misc]
               [accel] * len(deltas), params["DECEL"] * a.units, a.units, single=False)
     new.kinds = {j: MOVEMODIFY for j in range(len(deltas))}
+    new.counted = len(deltas) - 1  # (the move it modifies was counted)
     new.started = True
     new.start_tick = m.tick
     new.resolve((here,))
     queue[0] = new
     m._apply_plan(new, plan_path(new.segments, 0, 0.0, abs(velocity), 1.0))
     m.changed()
+
+
+def count_moves(m: Host) -> None:
+    """MOVE_COUNT: each move of a run that has become the running one (MTYPE) since the
+    last look counts once on every axis of its group; zero-length moves and jogs do not
+    (C: MOVE_COUNT page). Looked at when a run starts and at every motion event, which
+    every move boundary of a path is."""
+    for queue in m.queues:
+        run = queue[0] if queue else None
+        if run is None or not run.started:
+            continue  # (a group's run heads each of its axes' queues: counted once)
+        now = _current(m, run)
+        if now <= run.counted:
+            continue
+        moves = sum(1 for j in range(run.counted + 1, now + 1)
+                    if any(run.deltas[j]) and run.kinds.get(j, MOVE) not in _UNCOUNTED)
+        run.counted = now
+        for a in run.axes:
+            m.axes[a].params["MOVE_COUNT"] += moves
 
 
 def moves_left(m: Host, run: Run) -> int:

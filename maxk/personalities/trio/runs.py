@@ -70,6 +70,7 @@ class Run:
     arcs: dict[int, tuple[float, float, float]] = field(default_factory=dict)
     # move index -> an arc's centre (counts from the move's start) and turn (degrees)
     kinds: dict[int, int] = field(default_factory=dict)  # move index -> MTYPE (1: MOVE)
+    counted: int = -1  # the last move MOVE_COUNT has counted (moves.count_moves)
     sp: dict[int, tuple[float, float]] = field(default_factory=dict)
     # an SP move's index -> its (STARTMOVE_SPEED, ENDMOVE_SPEED), counts/s (-1: unused)
 
