@@ -100,8 +100,10 @@ class TrioHost:
         if self.cmd_int("?MPE") != 0:
             raise HostError("Motion Perfect probably open")
 
-    def unasked(self, timeout: float = 2.0) -> bytes:
-        """Whatever the controller sends without being asked."""
+    def unasked(self, timeout: float = 10.0) -> bytes:
+        """Whatever the controller sends without being asked: up to a line end, waiting
+        at most `timeout` seconds of wall time for the server thread (a loaded machine
+        can take seconds to deliver)."""
         deadline = time.monotonic() + timeout
         while not self.buffer.endswith(b"\r\n") and time.monotonic() < deadline:
             self._receive(max(0.01, deadline - time.monotonic()))
@@ -218,7 +220,7 @@ def test_a_waiting_command_holds_only_its_prompt(hosted, host) -> None:
     hosted.advance(0.499)
     assert host.unasked(0.2) == b""
     hosted.advance(0.001)
-    assert host.unasked() == b">>\nControl char : 0x10000000A\r\n>>"
+    assert host.unasked(2.0) == b">>\nControl char : 0x10000000A\r\n>>"
     other.close()
 
 

@@ -51,6 +51,10 @@ class SegmentDef:
     v_end: float
     accel: float
     io: tuple[int, int | None, int] | None
+    # its own top speed (a Trio move's SPEED or FORCE_SPEED): the segment cruises at it
+    # whatever its ends are; v_end is then the seam speed alone, which may be above the
+    # top (the segment ramps up to it at its end). None: max(v_start, v_end) (a VP/VV)
+    v_top: float | None = None
 
 
 def _snap(x: float) -> float:
@@ -64,7 +68,7 @@ class Segment:
 
     __slots__ = ("defn", "s0", "length", "start", "end", "unit", "cx", "cy", "radius",
                  "theta0", "turn", "v_start", "v_end", "accel", "ceiling", "arc_cap",
-                 "frame")
+                 "frame", "topped")
 
     def __init__(self, defn: SegmentDef, start: tuple[float, ...], s0: float,
                  v_previous: float | None) -> None:
@@ -75,7 +79,9 @@ class Segment:
         self.v_end = defn.v_end
         self.v_start = defn.v_start if defn.v_start is not None else (
             v_previous if v_previous is not None else defn.v_end)
-        self.ceiling = max(self.v_start, self.v_end)
+        self.topped = defn.v_top is not None
+        self.ceiling = defn.v_top if defn.v_top is not None else max(self.v_start,
+                                                                     self.v_end)
         self.arc_cap = math.inf
         self.unit: tuple[float, ...] = tuple(0.0 for _ in start)
         self.cx = self.cy = self.radius = self.theta0 = self.turn = 0.0
@@ -353,7 +359,7 @@ class PathPlan:
         cap = allow[j] if j < len(allow) else _allowed(self.segments, forward, j)
         v_out = max(min(cap, up), down)
         end = _segment_pieces(self._pieces, forward.t, s, length, v_in, v_out,
-                              min(seg.ceiling * forward.scale, seg.arc_cap), a)
+                              min(seg.ceiling * forward.scale, seg.arc_cap), a, seg.topped)
         if end is None:
             self._end_time = None
             return True
@@ -455,8 +461,16 @@ def _end_cap(segments: list[Segment], forward: _Forward, j: int) -> float:
     scale = forward.scale
     seg = segments[forward.i0 + j]
     after = segments[forward.i0 + j + 1]
-    return min(seg.v_end * scale, min(seg.ceiling * scale, seg.arc_cap),
-               min(after.ceiling * scale, after.arc_cap))
+    return min(seg.v_end * scale, _seam_cap(seg, scale), _seam_cap(after, scale))
+
+
+def _seam_cap(seg: Segment, scale: float) -> float:
+    """What a segment's own speed allows at its seams: its ceiling (x override, sqrt(A R)
+    on arcs); a segment with its own top speed only its arc's cap (its seam speed may be
+    above its top: it ramps up to it at its end)."""
+    if seg.topped:
+        return seg.arc_cap
+    return min(seg.ceiling * scale, seg.arc_cap)
 
 
 def _allowed(segments: list[Segment], forward: _Forward, j: int) -> float:
@@ -496,7 +510,7 @@ def _allow_all(segments: list[Segment], forward: _Forward) -> None:
     """The whole backward pass at once (a plan made whole): the values _allowed gives,
     from the end of the path (where every anchor's value comes from anyway)."""
     scale, i0, n = forward.scale, forward.i0, forward.n
-    ceilings = [min(seg.ceiling * scale, seg.arc_cap) for seg in segments[i0:i0 + n]]
+    ceilings = [_seam_cap(seg, scale) for seg in segments[i0:i0 + n]]
     allow = [min(seg.v_end * scale, ceilings[j], ceilings[j + 1])
              for j, seg in enumerate(segments[i0:i0 + n - 1])]
     allow.append(0.0)  # the known path ends at rest
@@ -506,11 +520,14 @@ def _allow_all(segments: list[Segment], forward: _Forward) -> None:
                            math.sqrt(allow[j] ** 2 + 2.0 * seg.accel * seg.length))
     forward.allow = allow
 def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: float,
-                    v_out: float, ceiling: float, accel: float) -> float | None:
+                    v_out: float, ceiling: float, accel: float,
+                    topped: bool = False) -> float | None:
     """Append one segment's pieces (ramp to the top speed, cruise, ramp to v_out).
     Returns the time at its end, or None if the path is held at speed 0 inside it."""
     if length <= 0:
         return t
+    if topped and v_out > ceiling + 1e-9:
+        return _rising_end_pieces(out, t, s, length, v_in, v_out, ceiling, accel)
     if v_out > ceiling + 1e-9:  # a lowered override: slow down over the whole segment
         a = (v_out * v_out - v_in * v_in) / (2.0 * length)
         duration = (v_out - v_in) / a if a else length / max(v_in, EPS)
@@ -543,6 +560,36 @@ def _segment_pieces(out: list[Piece], t: float, s: float, length: float, v_in: f
         out.append(Piece(t, duration, s, peak, -accel))
         t += duration
     return t
+
+
+def _rising_end_pieces(out: list[Piece], t: float, s: float, length: float, v_in: float,
+                       v_out: float, top: float, accel: float) -> float:
+    """A segment with its own top speed whose end is faster than it: to the top speed,
+    cruise, and up to v_out at the end; entered faster than its top too, down to the
+    top (or as far down as its length allows) and up again."""
+    low = top
+    if v_in > top:
+        valley = (v_in * v_in + v_out * v_out) / 2.0 - accel * length
+        if valley > top * top:
+            low = math.sqrt(valley)
+    d1 = abs(low * low - v_in * v_in) / (2.0 * accel)
+    d3 = (v_out * v_out - low * low) / (2.0 * accel)
+    cruise = length - d1 - d3
+    if cruise < 0:  # rounding
+        d1 = max(0.0, d1 + cruise)
+        cruise = 0.0
+    if abs(low - v_in) > 1e-12:
+        duration = abs(low - v_in) / accel
+        out.append(Piece(t, duration, s, v_in, accel if low > v_in else -accel))
+        t += duration
+        s += d1
+    if cruise > 1e-9:
+        out.append(Piece(t, cruise / low, s, low, 0.0))
+        t += cruise / low
+        s += cruise
+    duration = (v_out - low) / accel
+    out.append(Piece(t, duration, s, low, accel))
+    return t + duration
 
 
 def plan_path(segments: list[Segment], i0: int, s_now: float, v_now: float | None,

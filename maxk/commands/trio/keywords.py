@@ -144,12 +144,17 @@ _ENTRIES: list[Keyword] = [
           "type (ATYPE 76 ...) reads the world's encoder mounted on its input as MPOS "
           "(see docs/trio.md, Encoder axes)."),
     _axis("SPEED", "Programmed speed of moves, user units/s.", default=1000,
-          value_range=(0, _BIG), source=f"{MAN}; {TOK}", confidence="I",
-          note="Power-up value 1000 is our decision (D)."),
+          value_range=(0, _BIG), source=f"{MAN}; {TOK}; TrioBASIC help VP_MODE",
+          confidence="I", note="Power-up value 1000 is our decision (D). Written while "
+          "moves run it acts at once on the base axis's plain (not SP) moves, the one "
+          "running re-planned from where it is and those buffered run at it (C: VP_MODE "
+          "page; buffered ones D; a single-axis move then ramps linearly, D: respeed.py)."),
     _axis("ACCEL", "Acceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
-          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D). Written while moves run: as "
+          "SPEED (C: VP_MODE page)."),
     _axis("DECEL", "Deceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
-          source=f"{MAN}; {TOK}", note="Power-up 1000 (D)."),
+          source=f"{MAN}; {TOK}", note="Power-up 1000 (D). Written while moves run: as "
+          "SPEED (C: VP_MODE page; a path's moves ramp down at ACCEL, D)."),
     _axis("MERGE", "Merge consecutive moves without stopping (ON/OFF).", default=0,
           value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}", confidence="I",
           note="A move joins the one before it (one path, corners at full speed) when MERGE "
@@ -611,10 +616,11 @@ _ENTRIES: list[Keyword] = [
           note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
           "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D)."),
     _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
-          "reverse limit, 64 datuming, 256 following error exceeded, 512 forward soft limit, "
-          "1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
+          "reverse limit, 64 datuming, 128 feed hold, 256 following error exceeded, 512 "
+          "forward soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
           confidence="I", note="Bits 4/5 from the FWD_IN/REV_IN inputs, 9/10 from DPOS "
           "against FS_LIMIT/RS_LIMIT (manual, C for 9/10), 6 while DATUM(1)/(2) searches, "
+          "7 while FHOLD_IN's input is active (C: help AXISSTATUS), "
           "1/8 from FE against FE_RANGE/FE_LIMIT (8 also when the servo loop trips); the "
           "bits that put the axis into motion error stay set until DATUM(0). Bits 2/3 "
           "(remote drive) read 0: no remote drives (D)."),
@@ -1285,14 +1291,142 @@ _ENTRIES: list[Keyword] = [
     _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
-             "FORCE_SPEED taken when it loads (C). ENDMOVE_SPEED and STARTMOVE_SPEED are "
-             "not applied: the planner joins merged moves at the next move's speed (D)."),
+             "FORCE_SPEED, with STARTMOVE_SPEED and ENDMOVE_SPEED, taken when it loads "
+             "(C); merged, the moves join at the speeds profiles_sp.py gives "
+             "(ENDMOVE_SPEED, STARTMOVE_SPEED, else an SP move's FORCE_SPEED from its "
+             "start: C, help pages FORCE_SPEED, ENDMOVE_SPEED, STARTMOVE_SPEED)."),
     _command("MOVEABSSP", "MOVEABSSP(p1[, p2...]): MOVEABS at the base axis's FORCE_SPEED.",
              (1, 128), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVEABS (MTYPE 2: D), at FORCE_SPEED (as MOVESP)."),
     _axis("FORCE_SPEED", "The vector speed of MOVESP and MOVEABSSP, user units/s.",
-          default=0.0, value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="Read when a MOVESP/MOVEABSSP loads; 0 refuses them like a SPEED of 0 (D)."),
+          default=1000.0, value_range=(0, _BIG), source="TrioBASIC help FORCE_SPEED",
+          confidence="C", note="Power-up 1000 (C: at UNITS 1; kept in user units, as "
+          "SPEED, D). Read when an SP move loads: the move's own top speed, reached at its "
+          "start (the move before ramps up to it at its end: C, the page's example 1); "
+          "0 refuses them like a SPEED of 0 (D)."),
+    _axis("STARTMOVE_SPEED", "The speed an SP move (MOVESP...) starts at; -1 not used.",
+          default=-1.0, value_range=(-1, _BIG), source="TrioBASIC help STARTMOVE_SPEED",
+          confidence="C", note="Loaded with the move; caps the seam speed into it (the "
+          "move before slows to it at its end). Below 0: not used (D: any negative as -1). "
+          "Taken with ENDMOVE_SPEED of the move before: the lower (D)."),
+    _axis("ENDMOVE_SPEED", "The speed an SP move (MOVESP...) ends at; -1 not used.",
+          default=-1.0, value_range=(-1, _BIG), source="TrioBASIC help ENDMOVE_SPEED",
+          confidence="C", note="Loaded with the move; the move ramps at ACCEL within "
+          "itself to reach it at its end, and the move after starts there; the last "
+          "move buffered ends at rest (C). Below 0: not used (D)."),
+    _axis("FHOLD_IN", "The feed-hold input: while it is active (low) the base axis's "
+          "moves run at FHSPEED; -1 none.", default=-1, value_range=(-1, 1023),
+          source="TrioBASIC help FHOLD_IN", confidence="C",
+          note="Active low, read as IN(n) reads it (INVERT_IN applies, C). The moves of "
+          "the BASE group based on the axis slow to FHSPEED and go back to their speed "
+          "when it lets go, not cancelled (C); links go on (C). Re-planned on the shared "
+          "path planner at the move's ACCEL (the page: ACCEL/DECEL/JERK, D), from the tick "
+          "the input changes; moves merged after the one in progress run at FHSPEED too "
+          "(re-planned at each move's start, D); a single-axis move held turns into a "
+          "linear-ramped path (D) (feedhold.py)."),
+    _axis("FHSPEED", "The speed moves run at while the feed-hold input is active, user "
+          "units/s.", value_range=(0, _BIG), source="TrioBASIC help FHSPEED, FHOLD_IN",
+          confidence="C", note="Power-up 0: a feed hold pauses the moves (C). Above a "
+          "move's own speed: the move keeps its speed (D)."),
+    _axis("CORNER_MODE", "Corner and radius speed control of SP moves (bits).",
+          value_range=(0, 127), source="TrioBASIC help CORNER_MODE", confidence="C",
+          note="Applied when an SP move loads (C; profiles_sp.py). Bit 1: the change of "
+          "direction from END_DIR_LAST (CHANGE_DIR_LAST: first two axes, lines and arc "
+          "tangents) lowers its STARTMOVE_SPEED by DECEL_ANGLE/STOP_ANGLE (C). Bit 3: an "
+          "arc's FORCE_SPEED by radius / FULL_SP_RADIUS, or (bit 4) v^2/r within the "
+          "centripetal acceleration at FULL_SP_RADIUS, or (bits 4, 5) within ACCEL (C; "
+          "every arc of the shared planner is held within sqrt(ACCEL x radius) anyway, "
+          "D). Bits 2 (the CORNER_STATE machine) and 6 (vector radius control: the page "
+          "does not give its radius of two vectors) are stored, no effect (D)."),
+    _axis("DECEL_ANGLE", "The change of direction (radians) beyond which CORNER_MODE "
+          "slows a corner.", value_range=(0, _BIG), source="TrioBASIC help DECEL_ANGLE",
+          confidence="C", note="Between DECEL_ANGLE and STOP_ANGLE the corner's speed "
+          "falls linearly from FORCE_SPEED to 0 (D: the page's formula as printed reads "
+          "the other way round, 0 at DECEL_ANGLE, against its own text); ignored when not "
+          "below STOP_ANGLE (C)."),
+    _axis("STOP_ANGLE", "The change of direction (radians) beyond which CORNER_MODE stops "
+          "at the corner.", value_range=(0, _BIG), source="TrioBASIC help STOP_ANGLE",
+          confidence="C", note="The move after the corner gets STARTMOVE_SPEED 0: the "
+          "path comes to rest at the junction (C). 0: no stops (C)."),
+    _axis("FULL_SP_RADIUS", "The smallest arc radius run at full speed under CORNER_MODE "
+          "bit 3, user units.", value_range=(0, _BIG),
+          source="TrioBASIC help FULL_SP_RADIUS", confidence="C", note="A tighter arc "
+          "runs at FORCE_SPEED x radius / FULL_SP_RADIUS (C); 0: no slowing (D)."),
+    _axis("START_DIR_LAST", "The start direction of the last SP move loaded (radians "
+          "from the Y axis toward X).", writable=False,
+          source="TrioBASIC help START_DIR_LAST", confidence="C", note="Of the first two "
+          "BASE axes, -PI..PI; an arc's tangent (C). Set as the move loads (C)."),
+    _axis("END_DIR_LAST", "The end direction of the last SP move loaded (radians from the "
+          "Y axis toward X); written, the direction the next SP move's corner is taken "
+          "from.", value_range=(-math.pi, math.pi), source="TrioBASIC help END_DIR_LAST",
+          confidence="C", note="Power-up 0 (D). Plain moves leave it (C: write it after "
+          "them)."),
+    _axis("CHANGE_DIR_LAST", "The change of direction (0..PI) from END_DIR_LAST before "
+          "the last SP move loaded to its start.", writable=False,
+          source="TrioBASIC help CHANGE_DIR_LAST", confidence="C", note="The angle "
+          "CORNER_MODE's DECEL_ANGLE and STOP_ANGLE compare (C); 2D (AXIS_MODE's 3D mode "
+          "is not modelled, D)."),
+    _axis("ENDMOVE_BUFFER", "The absolute end of every move buffered on the axis, user "
+          "units.", writable=False, source="TrioBASIC help ENDMOVE_BUFFER",
+          confidence="C", note="As DPOS reads (DEFPOS/OFFPOS applied, C); DPOS with none "
+          "(D); the REP_DIST fold is not applied (D)."),
+    _axis("VP_ACCEL", "The profiler's acceleration now, user units/s^2.", writable=False,
+          source="TrioBASIC help VP_ACCEL", confidence="I", note="VP_SPEED's change over "
+          "the servo cycle before now, per second: negative while slowing (D)."),
+    _axis("VP_JERK", "The profiler's jerk now, user units/s^3.", writable=False,
+          source="TrioBASIC help VP_JERK", confidence="I", note="VP_ACCEL's change over "
+          "the servo cycle before now, per second (D)."),
+    _axis("IN_POS", "TRUE when the axis has finished its moves and is in position.",
+          writable=False, source="TrioBASIC help IN_POS", confidence="C",
+          note="TRUE (-1) when no move runs or is buffered, |FE| < IN_POS_DIST and "
+          "|MSPEED| < IN_POS_SPEED (C: strictly less, so with their power-up 0 it never "
+          "is, as the page warns)."),
+    _axis("IN_POS_DIST", "The following error within which IN_POS reads TRUE, user units.",
+          value_range=(0, _BIG), source="TrioBASIC help IN_POS_DIST", confidence="C",
+          note="Power-up 0 (C)."),
+    _axis("IN_POS_SPEED", "The measured speed below which IN_POS reads TRUE, user "
+          "units/s.", value_range=(0, _BIG), source="TrioBASIC help IN_POS_SPEED",
+          confidence="C", note="Power-up 0 (C)."),
+    _axis("VECTOR_BUFFERED", "The path length of the moves buffered on the group based "
+          "on the axis, user units.", writable=False,
+          source="TrioBASIC help VECTOR_BUFFERED", confidence="I", note="The running "
+          "move's remainder included (D: the page's \"available for deceleration\"); "
+          "links and CAMs are not vectors (0, D)."),
+    _axis("MSPEEDF", "MSPEED through a low-pass filter (MSPEED_FILTER), user units/s.",
+          writable=False, source="TrioBASIC help MSPEEDF, MSPEED_FILTER", confidence="I",
+          note="Reads MSPEED: equal to it with MSPEED_FILTER at its power-up 1 (C); a "
+          "filter below 1 is not applied (D: the filter runs every servo cycle over a "
+          "history the event engine does not keep)."),
+    _axis("MSPEED_FILTER", "MSPEEDF's filter coefficient, 0..1 (1: no filtering).",
+          default=1.0, value_range=(0, 1), source="TrioBASIC help MSPEED_FILTER",
+          confidence="C", note="Power-up 1 (C); values below 1 are stored, not applied "
+          "(see MSPEEDF, D)."),
+    _system("LIMIT_BUFFERED", "The most moves the controller buffers (1..BUFFERSIZE).",
+            default=1, value_range=(1, 64), source="TrioBASIC help LIMIT_BUFFERED",
+            confidence="D", note="Not modelled: the machine's buffer depth is fixed at "
+            "16 moves per axis, the running one included (docs/trio.md), whatever it "
+            "says; power-up 1 as the page, 1..64 (stored, D)."),
+    _axis("MOVE_COUNT", "Counts the moves that became the running one (MTYPE); "
+          "writable.", source="TrioBASIC help MOVE_COUNT", confidence="I",
+          note="Each buffered move (MOVE..., SP moves, arcs, CAM) counts once on every "
+          "axis of its group as it becomes the running move; zero-length moves and jogs "
+          "do not (C). Links (CONNECT, MOVELINK, CAMBOX) and their automatic repeats are "
+          "not counted (D: not modelled yet)."),
+    _axis("VP_MODE", "The velocity profiler: 0 trapezoid (SRAMP blends), 5 and 6 jerk "
+          "limited (JERK).", value_range=(0, 6), source="TrioBASIC help VP_MODE, JERK, "
+          "SRAMP", confidence="C", note="Power-up 0 (C). Other values than 0, 5 and 6: "
+          "Parameter out of range (D). Taken when a move loads. Modes 5 and 6 differ "
+          "only in VP_OPTIONS and SP-move parameter binding, not modelled: one jerk "
+          "profile (D); in 6 an SRAMP above 0 gives JERK = ACCEL/SRAMP (C: SRAMP page; "
+          "SRAMP 0 leaves JERK in force, D). Jerk shapes single-axis moves; merged and "
+          "interpolated paths keep linear ramps (D)."),
+    _axis("JERK", "Jerk limit of moves in VP_MODE 5 and 6, user units/s^3.",
+          value_range=(0, _BIG), source="TrioBASIC help JERK, VP_MODE", confidence="C",
+          note="A single-axis move's acceleration rises at JERK to ACCEL, holds and falls "
+          "at JERK (DECEL on the way down): a ramp to SPEED lasts SPEED/ACCEL + "
+          "ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is not reached (C); a move too "
+          "short to reach SPEED keeps the shares SPEED gives (D). 0: no jerk limit (D). "
+          "Ignored in VP_MODE 0 (C)."),
     _axis("FWD_JOG", "The input that jogs the axis forward while it is low; -1 none.",
           default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
           note="Active low (C: MC206 manual, JOGSPEED page); read as IN(n) reads it. The "
@@ -1308,10 +1442,11 @@ _ENTRIES: list[Keyword] = [
     _axis("JOGSPEED", "The slow jog speed, user units/s.", value_range=(0, _BIG),
           source=f"{TOK}; {MAN}", confidence="C", note="A jog at 0 does not start (D)."),
     _axis("SRAMP", "S-ramp time, ms: a single-axis move's acceleration rises to ACCEL "
-          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 250),
-          source=f"{TOK}; {MAN}", confidence="I",
-          note="Range 0..250 ms (I, as recalled). Taken when the move loads. A ramp to "
-          "SPEED then lasts SPEED/ACCEL + SRAMP (the shared S-curve profile); a move "
+          "(DECEL) over SRAMP, holds, and falls over SRAMP.", value_range=(0, 500),
+          source="TrioBASIC help SRAMP", confidence="C",
+          note="Range 0..500 ms (C). Taken when the move loads. VP_MODE 0: a "
+          "ramp to SPEED then lasts SPEED/ACCEL + SRAMP (C: SRAMP page's example; the "
+          "shared S-curve profile); VP_MODE 6: see VP_MODE (JERK = ACCEL/SRAMP); a move "
           "too short to reach SPEED keeps the shares SPEED gives (D). Interpolated and "
           "merged paths, CANCEL's ramp down and links stay linear (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
@@ -1354,30 +1489,36 @@ _ENTRIES: list[Keyword] = [
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
-          ("JERK", "Jerk limit of the axis's moves.",
-           "the page giving its units and how it combines with SRAMP was not found; "
-           "SRAMP shapes the S-ramps (stored, D)."),
-          ("STARTMOVE_SPEED", "Speed a speed-profiled move starts at.",
-           "the shared path planner joins merged moves at the next move's speed and has "
-           "no per-move start speed yet (stored, D)."),
-          ("ENDMOVE_SPEED", "Speed a speed-profiled move ends at.",
-           "as STARTMOVE_SPEED: no per-move end speed in the shared planner yet (stored, D)."),
-          ("CORNER_MODE", "How merged moves slow at corners (bits).",
-           "corners run at the planner's own speeds (MERGE); the corner rules "
-           "(DECEL_ANGLE, STOP_ANGLE, RAISE_ANGLE, FULL_SP_RADIUS) are not applied "
+          ("CORNER_STATE", "The corner state machine's handshake bits (CORNER_MODE bit 2).",
+           "the state machine holding the move loader for a program's handshake is not "
+           "modelled (stored, D)."),
+          ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
+          ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
+          ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
+           "a speed ramp across a whole move is not among the path planner's pieces "
            "(stored, D)."),
-          ("DECEL_ANGLE", "Corner angle where CORNER_MODE starts slowing.",
-           "see CORNER_MODE (stored, D)."),
-          ("STOP_ANGLE", "Corner angle where CORNER_MODE stops.", "see CORNER_MODE "
+          ("FORCE_DWELL", "A dwell (ms) at the end of the next SP move.",
+           "a dwell inside a merged path is not in the shared path planner (stored, D)."),
+          ("LOOKAHEAD_FACTOR", "A factor on the SP speeds in the move buffer.",
+           "re-factoring the SP speeds already buffered is not modelled (stored, D)."),
+          ("INTERP_FACTOR", "0 takes the axis out of the vector speed (a following axis).",
+           "every BASE axis takes part in the vector speed (stored, D)."),
+          ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
+           "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
+           "D)."),
+          ("MOVE_PA", "A value carried with each move loaded (MOVE_PA_CONT acts on it).",
+           "outputs and values switched as moves become active are not modelled "
            "(stored, D)."),
-          ("RAISE_ANGLE", "Corner angle where CORNER_MODE raises the tool.",
-           "see CORNER_MODE (stored, D)."),
-          ("FULL_SP_RADIUS", "Arc radius above which CORNER_MODE keeps full speed.",
-           "see CORNER_MODE (stored, D)."),
-          ("FHOLD_IN", "Feed-hold input: while it is active moves run at FHSPEED.",
-           "changing the speed of moves already planned is not in the shared planner "
-           "yet (stored, D)."),
-          ("FHSPEED", "The feed-hold speed.", "see FHOLD_IN (stored, D)."),
+          ("MOVE_PB", "As MOVE_PA.", "see MOVE_PA (stored, D)."),
+          ("MOVE_PA_CONT", "What MOVE_PA does when a move becomes active.",
+           "see MOVE_PA (stored, D)."),
+          ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB.", "see MOVE_PA (stored, D)."),
+          ("MOVE_PA_IDLE", "MOVE_PA's setting while the axis is idle.",
+           "see MOVE_PA (stored, D)."),
+          ("MOVE_PB_IDLE", "As MOVE_PA_IDLE, for MOVE_PB.", "see MOVE_PA (stored, D)."),
+          ("RAISE_ANGLE", "Corner angle beyond which CORNER_STATE starts its sequence.",
+           "the CORNER_STATE machine (CORNER_MODE bit 2), which holds the move loader "
+           "for a program's handshake, is not modelled (stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
            ROBOT_WHY + " (stored, D)."),
           ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),

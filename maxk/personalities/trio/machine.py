@@ -37,14 +37,17 @@ from maxk.firmware_model.world import World
 from . import encoders, geometry, moves, sequences, tangential
 from .cams import cam_motion, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
+from .feedhold import FEEDHOLD, FeedHold
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
+from .respeed import respeed
 from .runs import (
     SHAPE,
     Cambox,
@@ -56,6 +59,7 @@ from .runs import (
 )
 from .trace import PwmTrace
 
+HELD = 2 ** 62  # the end tick of a run held at speed 0 (it ends when it goes on)
 MOVE_BUFFER = 16  # moves an axis holds, running and buffered (D)
 MIN_RATE = 1e-6
 """The least SPEED, ACCEL or DECEL a move runs with, in counts per second (squared) (D: a
@@ -114,6 +118,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
+        self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -135,6 +140,10 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.reset()
         else:
             self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "feedhold"):
+            self.feedhold.reset()
+        else:
+            self.feedhold: FeedHold = FeedHold(self)
         if hasattr(self, "registration"):
             self.registration.reset()
         else:
@@ -167,6 +176,7 @@ class MC405Machine(Kinematics, Engine):
         self.registration.world_changed()
         self.drive.look(self.tick)
         self.jogs.look()
+        self.feedhold.look()
 
     @property
     def pwm(self) -> PwmBank:
@@ -240,6 +250,8 @@ class MC405Machine(Kinematics, Engine):
             return encoders.encoder(self, axis)
         if name in AXIS_READS:
             value = self.drive.axis_parameter(name, axis)
+            if name == "AXISSTATUS" and axis in self.feedhold.held:
+                value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
@@ -279,6 +291,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
+        elif name == "VP_MODE" and value not in VP_MODES:
+            raise ValueError("Parameter out of range")
         elif name == "REP_OPTION" and int(value) & 2:
             self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
             self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)
@@ -288,6 +302,12 @@ class MC405Machine(Kinematics, Engine):
         self.drive.look(self.tick)  # (a limit, an enable or ERRORMASK may act now)
         if name in _JOG_PARAMETERS:
             self.jogs.look()
+        if name in ("FHOLD_IN", "FHSPEED"):
+            self.feedhold.look()
+        if name in ("SPEED", "ACCEL", "DECEL"):
+            respeed(self, axis)  # the plain moves running take it at once (respeed.py)
+            if self.feedhold.held:
+                self.feedhold.look()  # (a feed hold's share of the new speed)
 
     def system_parameter(self, name: str) -> float:
         if name == "HW_TIMER_DONE":
@@ -668,12 +688,21 @@ class MC405Machine(Kinematics, Engine):
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
+        sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
+              else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
+        if sp is not None:  # CORNER_MODE and the directions (profiles_sp.py)
+            speed, sp, headings = cornered(base.params, base.units, speed, accel, sp,
+                                           tuple(float(d) for d in deltas), arc)
+            for name, value in zip(DIRECTIONS, headings, strict=True):
+                base.params[name] = value
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:
                 last.arcs[len(last.deltas)] = arc
             last.kinds[len(last.deltas)] = kind
+            if sp is not None:
+                last.sp[len(last.deltas)] = sp
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -684,13 +713,18 @@ class MC405Machine(Kinematics, Engine):
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
-                  sramp=max(0.0, base.params.get("SRAMP", 0.0)) / 1000.0, preset=preset)
+                  sramp=sramp_seconds(base.params),
+                  jerk=jerk_counts(base.params, base.units), preset=preset)
+        if sp is not None:
+            run.sp[0] = sp
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
+        if self.feedhold.held:
+            self.feedhold.look()  # (a move starting under a feed hold)
         self.changed()
 
     def _start_ready(self) -> None:
@@ -703,6 +737,7 @@ class MC405Machine(Kinematics, Engine):
                    and self.axes[a].pending_link is None for a in run.axes):
                 self._start(run)
                 self.drive.started(run)
+        moves.count_moves(self)  # MOVE_COUNT: the runs that started
 
     def _start(self, run: Run) -> None:
         now = self.tick
@@ -714,7 +749,8 @@ class MC405Machine(Kinematics, Engine):
         if run.single:
             axis = self.axes[run.base]
             run.profile = run.preset if run.preset is not None else single_profile(
-                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp)
+                run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp,
+                run.jerk)
             axis.begin(run.profile, self)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return
@@ -726,8 +762,9 @@ class MC405Machine(Kinematics, Engine):
         run.plan = plan
         run.arrays = PlanArrays(plan)
         run.plan_tick = now
-        end = plan.end_time if plan.end_time is not None else 0.0
-        run.end_tick = now + math.ceil(end / self.period - 1e-9)
+        end = plan.end_time
+        run.end_tick = (now + math.ceil(end / self.period - 1e-9) if end is not None
+                        else HELD)  # (held at speed 0: feed hold at FHSPEED 0)
         for k, a in enumerate(run.axes):
             axis = self.axes[a]
             axis.steps = axis.steps_at_tick(now, self.period)

@@ -40,6 +40,8 @@ class Host(LinkHost, Protocol):
     def _apply_plan(self, run: Run, plan: PathPlan) -> None: ...
     def can_load(self, axes: Sequence[int]) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
+    def vp_speed_at(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def axis_parameter(self, name: str, axis: int) -> float: ...
 
 # MTYPE/NTYPE codes (I: the manual's MTYPE table as recalled; see keywords.py)
 IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
@@ -47,8 +49,10 @@ FORWARD, REVERSE = 10, 11
 CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
+_UNCOUNTED = (FWD_JOG, REV_JOG)  # MOVE_COUNT leaves jogs out (C)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
-                     "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS"})
+                     "DEMAND_SPEED", "LINK_AXIS", "ADDAX_AXIS", "ENDMOVE_BUFFER", "VP_ACCEL",
+                     "VP_JERK", "IN_POS", "VECTOR_BUFFERED", "MSPEEDF"})
 
 
 def link_kind(link: Link) -> int:
@@ -141,12 +145,32 @@ def movemodify(m: Host, axis: int, position: float, min_rate: float) -> None:
     new = Run((axis,), [(d,) for d in deltas], speeds,  # type: ignore[misc]
               [accel] * len(deltas), params["DECEL"] * a.units, a.units, single=False)
     new.kinds = {j: MOVEMODIFY for j in range(len(deltas))}
+    new.counted = len(deltas) - 1  # (the move it modifies was counted)
     new.started = True
     new.start_tick = m.tick
     new.resolve((here,))
     queue[0] = new
     m._apply_plan(new, plan_path(new.segments, 0, 0.0, abs(velocity), 1.0))
     m.changed()
+
+
+def count_moves(m: Host) -> None:
+    """MOVE_COUNT: each move of a run that has become the running one (MTYPE) since the
+    last look counts once on every axis of its group; zero-length moves and jogs do not
+    (C: MOVE_COUNT page). Looked at when a run starts and at every motion event, which
+    every move boundary of a path is."""
+    for queue in m.queues:
+        run = queue[0] if queue else None
+        if run is None or not run.started:
+            continue  # (a group's run heads each of its axes' queues: counted once)
+        now = _current(m, run)
+        if now <= run.counted:
+            continue
+        moves = sum(1 for j in range(run.counted + 1, now + 1)
+                    if any(run.deltas[j]) and run.kinds.get(j, MOVE) not in _UNCOUNTED)
+        run.counted = now
+        for a in run.axes:
+            m.axes[a].params["MOVE_COUNT"] += moves
 
 
 def moves_left(m: Host, run: Run) -> int:
@@ -186,6 +210,15 @@ def report(m: Host, name: str, axis: int) -> float:
         index = (0 if name == "MTYPE" else 1) if executing else (None if name == "MTYPE"
                                                                   else 0)
         return float(kinds[index]) if index is not None and index < len(kinds) else 0.0
+    if name == "VECTOR_BUFFERED":
+        return _vector_buffered(m, axis)
+    if name == "IN_POS":  # (C: the IN_POS page's four conditions, strictly less)
+        executing, kinds = held(m, axis)
+        params = a.params
+        inside = (not executing and not kinds
+                  and abs(m.axis_parameter("FE", axis)) < params["IN_POS_DIST"]
+                  and abs(report(m, "MSPEED", axis)) < params["IN_POS_SPEED"])
+        return -1.0 if inside else 0.0
     if name == "LINK_AXIS":
         link = a.link
         leader = getattr(link, "link", getattr(link, "base", None))
@@ -194,7 +227,18 @@ def report(m: Host, name: str, axis: int) -> float:
         added = m.links.addax.get(axis)
         return float(added.link) if added is not None else -1.0
     now = m._now()
-    if name in ("MSPEED", "DEMAND_SPEED"):  # (the demand is what the axis measures: D)
+    if name == "ENDMOVE_BUFFER":  # the end of every move buffered, as DPOS reads (C)
+        return (m._end_counts(axis) + a.datum + m.links.shift[axis]) / a.units
+    if name in ("VP_ACCEL", "VP_JERK"):
+        # VP_SPEED's change over the servo cycle before now (and its change: D)
+        ticks = np.maximum(np.arange(m.tick - 2, m.tick + 1), 0)
+        v = m.vp_speed_at(axis, ticks)
+        accel = np.diff(v) / m.period
+        if name == "VP_ACCEL":
+            return float(accel[-1])
+        return float(accel[1] - accel[0]) / m.period if m.tick >= 2 else 0.0
+    if name in ("MSPEED", "DEMAND_SPEED", "MSPEEDF"):  # (the demand is what the axis
+        # measures, D; MSPEEDF is MSPEED with MSPEED_FILTER at 1, C, and unfiltered, D)
         if m.tick == 0:
             return 0.0
         ticks = np.array([m.tick - 1, m.tick])
@@ -206,6 +250,33 @@ def report(m: Host, name: str, axis: int) -> float:
         return abs(end - here) / a.units
     extra = float(m.demand_counts(axis, now)[0]) - here  # ADDAX's part, as DPOS has it
     return (end + extra + a.datum) / a.units  # ENDMOVE
+
+
+def _vector_buffered(m: Host, axis: int) -> float:
+    """The path length still to run of the moves of the group based on the axis, the
+    running one's remainder included (D: "available for deceleration"), in the base's
+    user units as each run loaded them."""
+    total = 0.0
+    for run in m.queues[axis]:
+        if run.base != axis or run.preset is not None:
+            continue
+        lengths = [_length(delta, run.arcs.get(j)) for j, delta in enumerate(run.deltas)]
+        left = sum(lengths)
+        if run.started:
+            s_done, _v = run.distance_speed(m._now(), m.period)
+            left = max(0.0, (run.length() if run.stopping else left) - float(s_done[0]))
+        total += left / run.units
+    return total
+
+
+def _length(delta: tuple[int, ...], arc: tuple[float, ...] | None) -> float:
+    """A move's path length (counts): a line's, an arc's (MOVECIRC: centre, turn) or an
+    MSPHERICAL's (centre in three axes, ..., turn last)."""
+    if arc is None:
+        return math.sqrt(sum(float(d) * float(d) for d in delta))
+    radius = math.sqrt(sum(c * c for c in arc[0:3])) if len(arc) > 3 else \
+        math.hypot(arc[0], arc[1])
+    return radius * abs(math.radians(arc[-1]))
 
 
 def _move_end(m: Host, axis: int, here: float) -> float:

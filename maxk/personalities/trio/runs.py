@@ -37,6 +37,7 @@ from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
 from maxk.firmware_model.servo import Gains
 
 from .geometry import sphere_definition
+from .profiles_sp import jerk_ramp, seam
 
 Ticks = np.ndarray  # integer servo ticks
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
@@ -55,6 +56,8 @@ class Run:
     units: float  # the base axis's UNITS when loaded: VP_SPEED is in its user units
     single: bool  # one axis, MERGE OFF: a closed-form profile, nothing merges into it
     sramp: float = 0.0  # SRAMP when loaded, seconds: the acceleration's rise (S-ramps)
+    scale: float = 1.0  # the path's speed scale (feed hold: FHSPEED's share, feedhold.py)
+    jerk: float = 0.0  # VP_MODE 5/6: the jerk limit when loaded, counts/s^3 (0: none)
     preset: Motion | None = None  # a CAM's own profile (in time), made when loaded
     started: bool = False
     stopping: bool = False  # CANCEL/RAPIDSTOP: ramping down, takes no more moves
@@ -69,6 +72,9 @@ class Run:
     # move index -> an arc's centre (counts from the move's start) and turn (degrees);
     # MSPHERICAL's: its centre, way on and end, then turn (geometry.py)
     kinds: dict[int, int] = field(default_factory=dict)  # move index -> MTYPE (1: MOVE)
+    counted: int = -1  # the last move MOVE_COUNT has counted (moves.count_moves)
+    sp: dict[int, tuple[float, float]] = field(default_factory=dict)
+    # an SP move's index -> its (STARTMOVE_SPEED, ENDMOVE_SPEED), counts/s (-1: unused)
 
     @property
     def base(self) -> int:
@@ -79,15 +85,21 @@ class Run:
         return not self.single and not self.stopping
 
     def definitions(self) -> list[SegmentDef]:
-        """Each move a relative straight segment; the first starts from rest (v_start 0),
-        the others go on at the speed the path has (MERGE: no stop in between)."""
+        """Each move a relative straight segment at its own speed (its top); the first
+        starts from rest (v_start 0), each hands over to the next at the seam speed
+        (MERGE: no stop in between; profiles_sp.seam)."""
+        last = len(self.deltas) - 1
         return [SegmentDef("line", tuple(float(d) for d in delta), True, 0.0,
-                           0.0 if j == 0 else None, self.speeds[j], self.accels[j], None)
+                           0.0 if j == 0 else None,
+                           seam(self.speeds, self.sp, j) if j < last else self.speeds[j],
+                           self.accels[j], None, self.speeds[j])
                 for j, delta in enumerate(self.deltas)]
 
     def resolve(self, origin: tuple[float, ...]) -> None:
         """Segments of every move loaded so far, from the group's start position."""
         defs = self.definitions()
+        if 0 < len(self.segments) < len(defs):  # the last one's seam: the move after it
+            self.segments[-1].v_end = defs[len(self.segments) - 1].v_end
         while len(self.segments) < len(defs):
             j = len(self.segments)
             defn = defs[j]
@@ -99,7 +111,7 @@ class Run:
                 dx, dy, angle = self.arcs[j]  # (MHELICAL: the third axis rises along it)
                 rise = tuple(float(d) for d in self.deltas[j][2:])
                 defn = SegmentDef("arc", (start[0] + dx, start[1] + dy, *rise), True, angle,
-                                  defn.v_start, defn.v_end, defn.accel, None)
+                                  defn.v_start, defn.v_end, defn.accel, None, defn.v_top)
             if self.segments:
                 last = self.segments[-1]
                 self.segments.append(Segment(defn, last.end, last.s0 + last.length, last.v_end))
@@ -158,24 +170,30 @@ class Run:
     def plan_new(self, now: int, stop: bool = False, period: float = 0.001) -> PathPlan:
         """The path planned from where it is now (from rest when it starts now)."""
         if self.plan is None:
-            return plan_path(self.segments, 0, 0.0, 0.0, 1.0)
+            return plan_path(self.segments, 0, 0.0, 0.0, self.scale)
         s, v = self.plan.state((now - self.plan_tick) * period)
         i = self.segment_index(s)
         if stop:
             return plan_stop(self.segments, i, s, v, 1.0)
-        return plan_path(self.segments, i, s, v, 1.0)
+        return plan_path(self.segments, i, s, v, self.scale)
 
     def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
         return ContourMotion(plan, k, float(origin))
 
 
 def single_profile(distance: int, speed: float, accel: float, decel: float,
-                   sramp: float = 0.0) -> Motion:
+                   sramp: float = 0.0, jerk: float = 0.0) -> Motion:
     """A single-axis move from rest: trapezoid (or triangle) at ACCEL/DECEL, linear ramps;
     with SRAMP (seconds) each ramp's acceleration rises linearly over `sramp`, holds at
     ACCEL/DECEL and falls over `sramp` (the shared S-curve whose jerk share p gives a
     rise of p/2 of the ramp: a ramp to SPEED lasts SPEED/ACCEL + sramp, so p = 2 sramp /
-    (SPEED/ACCEL + sramp), at most 1: I)."""
+    (SPEED/ACCEL + sramp), at most 1: I). With a jerk limit (VP_MODE 5/6, counts/s^3)
+    each ramp's acceleration rises at `jerk` (profiles_sp.jerk_ramp)."""
+    if jerk > 0:
+        up, share_up = jerk_ramp(speed, accel, jerk)
+        down, share_down = jerk_ramp(speed, decel, jerk)
+        return plan_move(distance, 0.0, speed, up, down, RampShape.SCURVE, share_up,
+                         share_down)
     if sramp <= 0:
         return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
     up = min(1.0, 2 * sramp / (speed / accel + sramp))

@@ -1,0 +1,173 @@
+"""Speed profiles of the MC405's moves: jerk-limited ramps (VP_MODE, JERK, SRAMP) and the
+advanced speed control of the SP moves (FORCE_SPEED, STARTMOVE_SPEED, ENDMOVE_SPEED).
+
+- VP_MODE 0 (the default): trapezoids, SRAMP blending each ramp over SRAMP ms (runs.py).
+  VP_MODE 5 and 6: jerk limited: a single-axis move's acceleration rises at JERK (user
+  units/s^3) to ACCEL, holds and falls at JERK, so a ramp to SPEED lasts SPEED/ACCEL +
+  ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is never reached (C: JERK and VP_MODE
+  pages); in mode 6 an SRAMP above 0 sets JERK = ACCEL/SRAMP for both ramps (C: SRAMP
+  page: with another DECEL the deceleration differs). JERK 0 in mode 5/6: no jerk limit,
+  linear ramps (D).
+- An SP move carries FORCE_SPEED as its own top speed and, when not -1, STARTMOVE_SPEED
+  and ENDMOVE_SPEED as the speeds it starts and ends at (C: their pages); the shared
+  path planner (`path.SegmentDef.v_top`) cruises each move at its top and joins merged
+  moves at the seam speeds `seam` gives, ramping within the moves on either side; the
+  last move known always ends at rest (C: ENDMOVE_SPEED page, "overwritten to zero").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+VP_MODES = frozenset({0.0, 5.0, 6.0})  # the modes the VP_MODE page lists
+DIRECTIONS = ("START_DIR_LAST", "END_DIR_LAST", "CHANGE_DIR_LAST")  # set as SP moves load
+UNSET = -1.0  # STARTMOVE_SPEED / ENDMOVE_SPEED: not used (their power-up value, C)
+
+
+def jerk_counts(params: Mapping[str, float], units: float) -> float:
+    """The jerk limit a move loaded now runs with, counts/s^3 (0: none)."""
+    mode = params.get("VP_MODE", 0.0)
+    if mode not in (5.0, 6.0):
+        return 0.0
+    sramp = params.get("SRAMP", 0.0)
+    if mode == 6.0 and sramp > 0:
+        return params["ACCEL"] * units / (sramp / 1000.0)
+    return max(0.0, params.get("JERK", 0.0)) * units
+
+
+def sramp_seconds(params: Mapping[str, float]) -> float:
+    """SRAMP's blend (s) of a move loaded now: VP_MODE 0 only (5/6 take a jerk)."""
+    if params.get("VP_MODE", 0.0) in (5.0, 6.0):
+        return 0.0
+    return max(0.0, params.get("SRAMP", 0.0)) / 1000.0
+
+
+def jerk_ramp(speed: float, accel: float, jerk: float) -> tuple[float, float]:
+    """(peak acceleration, the S-curve's jerk share) of a jerk-limited ramp from rest to
+    `speed`: ACCEL when the ramp reaches it (the acceleration rises over ACCEL/JERK),
+    else sqrt(SPEED x JERK), a triangle of acceleration (share 1)."""
+    peak = min(accel, math.sqrt(speed * jerk))
+    rise = peak / jerk
+    return peak, min(1.0, 2.0 * rise / (speed / peak + rise))
+
+
+def sp_speeds(params: Mapping[str, float], units: float) -> tuple[float, float]:
+    """(STARTMOVE_SPEED, ENDMOVE_SPEED) an SP move loaded now carries, counts/s; a
+    negative value (the -1 of power-up) is not used."""
+    start = params.get("STARTMOVE_SPEED", UNSET)
+    end = params.get("ENDMOVE_SPEED", UNSET)
+    return (start * units if start >= 0 else UNSET, end * units if end >= 0 else UNSET)
+
+
+def seam(speeds: list[float], sp: Mapping[int, tuple[float, float]], j: int) -> float:
+    """The speed at which move j hands over to move j + 1 of a merged run (counts/s).
+
+    An SP move runs at FORCE_SPEED from its start: the move before it ramps to it at its
+    end (C: FORCE_SPEED page, example 1); after an SP move a plain move starts at the SP
+    move's speed and ramps to its own (same example); two plain moves join at the first
+    one's speed (D: as before the SP moves). ENDMOVE_SPEED of move j and STARTMOVE_SPEED
+    of move j + 1, where used, cap the seam (C: their pages; both: the lower, D)."""
+    after = sp.get(j + 1)
+    before = sp.get(j)
+    speed = speeds[j + 1] if after is not None else speeds[j]
+    if before is not None and before[1] >= 0:
+        speed = min(speed, before[1])
+    if after is not None and after[0] >= 0:
+        speed = min(speed, after[0])
+    return speed
+
+
+# ---- CORNER_MODE: corner and radius speed control of SP moves -----------------------------
+def _direction(delta: tuple[float, ...], arc: tuple[float, ...] | None,
+               end: bool) -> tuple[float, float]:
+    """The direction (first two axes) a move starts (end False) or ends in: a line's
+    vector; an arc's tangent, from its centre (relative to its start) and its turn (an
+    MSPHERICAL's (centre, e2, end, turn): it leaves along e2, geometry.py)."""
+    if arc is None:
+        return (float(delta[0]), float(delta[1]) if len(delta) > 1 else 0.0)
+    if len(arc) > 3:
+        centre, e2, turn = arc[0:3], arc[3:6], math.radians(arc[9])
+        radius = math.sqrt(sum(c * c for c in centre)) or 1.0
+        e1 = [-c / radius for c in centre]  # the start, from the centre
+        if not end:
+            return (e2[0], e2[1])
+        return (-e1[0] * math.sin(turn) + e2[0] * math.cos(turn),
+                -e1[1] * math.sin(turn) + e2[1] * math.cos(turn))
+    cx, cy, turn = arc
+    rx, ry = -cx, -cy  # the start, from the centre
+    if end:
+        angle = math.radians(turn)
+        rx, ry = (rx * math.cos(angle) - ry * math.sin(angle),
+                  rx * math.sin(angle) + ry * math.cos(angle))
+    return (-ry, rx) if turn > 0 else (ry, -rx)
+
+
+def heading(direction: tuple[float, float]) -> float:
+    """A direction as START_DIR_LAST and END_DIR_LAST give it: radians from the Y axis
+    toward X (0 up Y, PI/2 up X, -PI..PI; C: their pages)."""
+    return math.atan2(direction[0], direction[1])
+
+
+def change_of_direction(before: float, after: float) -> float:
+    """The unsigned change (0..PI) from one heading to another (CHANGE_DIR_LAST, C)."""
+    return abs(math.remainder(after - before, 2.0 * math.pi))
+
+
+def corner_speed(params: Mapping[str, float], force: float, angle: float) -> float | None:
+    """CORNER_MODE bit 1: the STARTMOVE_SPEED (counts/s) a corner of `angle` gives a move
+    at FORCE_SPEED `force` (None: no slowing). Beyond STOP_ANGLE (when above 0) it stops;
+    beyond DECEL_ANGLE (when below STOP_ANGLE) the speed falls linearly from FORCE_SPEED
+    at DECEL_ANGLE to 0 at STOP_ANGLE (the DECEL_ANGLE page's proportional reduction: D,
+    its formula as printed gives 0 at DECEL_ANGLE, the reverse of its own text)."""
+    if not int(params.get("CORNER_MODE", 0.0)) & 2:
+        return None
+    stop = params.get("STOP_ANGLE", 0.0)
+    decel = params.get("DECEL_ANGLE", 0.0)
+    if stop > 0 and angle > stop:
+        return 0.0
+    if decel < stop and angle > decel:
+        return force * (stop - angle) / (stop - decel)
+    return None
+
+
+def radius_speed(params: Mapping[str, float], units: float, force: float, radius: float,
+                 accel: float) -> float:
+    """CORNER_MODE bit 3: an arc's FORCE_SPEED (counts/s) for its radius (counts): by the
+    ratio radius / FULL_SP_RADIUS (bit 4 clear), or so that v^2 / r stays within the
+    centripetal acceleration at FULL_SP_RADIUS (bit 4) or within ACCEL (bits 4 and 5);
+    (C: CORNER_MODE and FULL_SP_RADIUS pages)."""
+    mode = int(params.get("CORNER_MODE", 0.0))
+    if not mode & 8 or radius <= 0:
+        return force
+    full = params.get("FULL_SP_RADIUS", 0.0) * units
+    if mode & 16:
+        limit = accel if mode & 32 else (force * force / full if full > 0 else math.inf)
+        return min(force, math.sqrt(limit * radius))
+    if full > 0 and radius < full:
+        return force * radius / full
+    return force
+
+
+Arc = tuple[float, ...]  # an arc's centre from its start (counts) and turn (deg); or
+# an MSPHERICAL's (centre, e2, end, turn) (geometry.py)
+
+
+def cornered(params: Mapping[str, float], units: float, force: float, accel: float,
+             sp: tuple[float, float], delta: tuple[float, ...], arc: Arc | None
+             ) -> tuple[float, tuple[float, float], tuple[float, float, float]]:
+    """An SP move's FORCE_SPEED and (STARTMOVE_SPEED, ENDMOVE_SPEED) after CORNER_MODE
+    (an arc's radius speed control; the change of direction from END_DIR_LAST, the end
+    of the SP move loaded before, lowering its STARTMOVE_SPEED: C, the corner control
+    "operates by setting the next move's STARTMOVE_SPEED", at load), and its
+    (START_DIR_LAST, END_DIR_LAST, CHANGE_DIR_LAST)."""
+    start = heading(_direction(delta, arc, False))
+    end = heading(_direction(delta, arc, True))
+    change = change_of_direction(params.get("END_DIR_LAST", 0.0), start)
+    if arc is not None:
+        force = radius_speed(params, units, force, math.sqrt(sum(c * c for c in arc[0:3]))
+                             if len(arc) > 3 else math.hypot(arc[0], arc[1]), accel)
+    corner = corner_speed(params, force, change)
+    if corner is not None:
+        sp = (corner if sp[0] < 0 else min(sp[0], corner), sp[1])
+    return force, sp, (start, end, change)

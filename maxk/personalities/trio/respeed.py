@@ -1,0 +1,64 @@
+"""SPEED, ACCEL and DECEL changed while moves run (TrioBASIC help, VP_MODE: "all velocity
+profiling modes allow the SPEED/ACCEL/DECEL motion parameters to be changed while
+profiling non-SP move types"; the SP moves keep what they were loaded with).
+
+A write to the base axis's SPEED, ACCEL or DECEL takes effect at once on the moves of
+its BASE group that are not SP moves: the one running is re-planned from where it is, at
+the speed it has, toward the new speed at the new rate, and the moves buffered behind it
+run at the new values (D: the page names the profiling, not the buffered moves; a move
+reads them when it is profiled). A single-axis move (a closed-form profile) becomes a
+path of its remaining distance first, with linear ramps (D). Jogs (JOGSPEED), CAMs and
+MOVEMODIFY's re-plans keep theirs (D).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from .feedhold import _as_path, _current
+from .moves import CAM, FWD_JOG, MOVEMODIFY, REV_JOG
+
+_KEEP = frozenset({CAM, FWD_JOG, REV_JOG, MOVEMODIFY})
+
+
+def respeed(m: Any, axis: int) -> None:
+    """The base axis's SPEED/ACCEL/DECEL changed: its group's plain moves take them."""
+    a = m.axes[axis]
+    speed = a.params["SPEED"] * a.units
+    accel = a.params["ACCEL"] * a.units
+    decel = a.params["DECEL"] * a.units
+    if not min(speed, accel, decel) > 0:
+        return  # (a zero SPEED: the moves keep theirs; a new move is refused, D)
+    for run in list(m.queues[axis]):
+        if run.base != axis or run.stopping or run.preset is not None:
+            continue
+        first = _current(m, run) if run.started else 0
+        changed = False
+        for j in range(first, len(run.deltas)):
+            if j in run.sp or run.kinds.get(j, 1) in _KEEP:
+                continue
+            if run.speeds[j] != speed or run.accels[j] != accel:
+                run.speeds[j], run.accels[j] = speed, accel
+                changed = True
+        if run.decel != decel and not run.sp and run.kinds.get(0, 1) not in _KEEP:
+            run.decel = decel
+            changed = True
+        if not changed or not run.started:
+            continue
+        if run.profile is not None:
+            run = _as_path(m, run)
+            first = 0
+        defs = run.definitions()
+        for j in range(first, len(run.segments)):
+            seg, defn = run.segments[j], defs[j]
+            seg.ceiling = defn.v_top if defn.v_top is not None else seg.ceiling
+            seg.v_end = defn.v_end
+            seg.accel = defn.accel
+            if seg.radius > 0:
+                seg.arc_cap = math.sqrt(seg.accel * seg.radius)
+        m._apply_plan(run, run.plan_new(m.tick, period=m.period))
+        m.changed()
+
+
+__all__ = ["respeed"]
