@@ -382,6 +382,14 @@ def _ulpdiff(args: list[Value]) -> Value:
     return float(abs(_ulp_order(a) - _ulp_order(b)))
 
 
+def _vector_mag(args: list[Value]) -> Value:
+    """VECTOR_MAG(c1[, ... c6]): the square root of the sum of the squares (its page)."""
+    magnitude = math.hypot(*(_num_arg(a) for a in args))  # (no overflow on the way)
+    if not math.isfinite(magnitude):
+        raise TrioError("Parameter out of range")
+    return magnitude
+
+
 def _arity(low: int, high: int,
            function: Callable[[list[Value]], Value]) -> Callable[[list[Value]], Value]:
     def checked(args: list[Value]) -> Value:
@@ -408,6 +416,7 @@ _STRING_FUNCTIONS: dict[str, Callable[[list[Value]], Value]] = {
     "LENB": _arity(1, 1, lambda a: float(len(_str_arg(a[0]).encode("utf-8")))),
     "ROUND": _arity(1, 2, _round),
     "ULPDIFF": _arity(2, 2, _ulpdiff),
+    "VECTOR_MAG": _arity(1, 6, _vector_mag),
 }
 
 

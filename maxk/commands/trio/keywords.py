@@ -917,6 +917,11 @@ _ENTRIES: list[Keyword] = [
               source="TrioBASIC help ROUND", confidence="C",
               note="The page's formula and examples (C); PRINT shows a whole result "
               "without decimals, as every whole value here (D)."),
+    _function("VECTOR_MAG", "VECTOR_MAG(c1[, c2 ... c6]): the magnitude of a vector of 1 to 6 "
+              "components, the square root of the sum of their squares.", (1, 6),
+              source="TrioBASIC help VECTOR_MAG", confidence="C",
+              note="Its alternate name HYPOT is not in the MC405's token table (D: not "
+              "added); an infinite or NaN component: Parameter out of range (D)."),
     _function("ULPDIFF", "ULPDIFF(a, b): how many doubles lie between a and b (units in "
               "the last place).", (2, 2), source="TrioBASIC help ULPDIFF", confidence="C"),
     _function("LEFT", "LEFT(s, n): the first n characters.", (2, 2), source=f"{HELP}; {TOK}"),
@@ -1692,6 +1697,13 @@ _ROBOT = ("FRAME", "USER_FRAME", "WORLD_", "ROBOT_", "TCP_", "KINEMATIC_", "OBJE
           "ATTACH_OBJECT_FRAME", "SYNC_TO_OBJECT_FRAME", "AXIS_DPOS", "AXIS_FS_LIMIT",
           "AXIS_RS_LIMIT", "VOLUME_LIMIT", "TOOL_OFFSET")
 _OWN_WHY = {
+    **{name: "a robot (kinematic) system word with no help page found (D)" for name in (
+        "AXIS_ACCEL", "AXIS_DECEL", "AXIS_FASTDEC", "AXIS_JERK", "AXIS_JOGSPEED",
+        "AXIS_MAX_SPEED", "AXIS_SPEED", "COLLISION_OBJECT", "DISABLE_ROBOT", "ROBOTSTATUS",
+        "SYNC_TO_GTA", "TARGET", "TOOL_COLLISION")},
+    "MOVEC": "no help page found: neither its arguments nor its effect are known (D)",
+    "PATH_FLOW": "no help page found (D)",
+    "CRANK_CAM": "its page: a reserved keyword, no function given (D)",
     "MOVEABSFR": "its page: under development, to be used only on Trio's instruction; it "
                  "gives no behaviour (D)",
     "MOVEPICK": "its page gives the arch's corner rounding (overlap 0..0.9) and the speed "
