@@ -506,7 +506,19 @@ class ServoLoop:
                 self._commit(axis, sol, r, min(valid_until, to_tick) - tick0)
                 return
             self._cache = None
-        start, end, polynomial = self._piece(axis, board, self.tick)
+        tick = self.tick
+        motion_end = axis.motion_end
+        if (K.STEP is not None and self.recorder is None and axis.motion is not None
+                and motion_end is not None and tick < motion_end <= tick + KERNEL_SPAN):
+            # the rest of a short move: each of its pieces would be stepped compiled, one
+            # after the other (the kernel's ticks do not depend on where a call ends), so
+            # step them in one stretch, with one decision instead of one per piece
+            self._scalar(axis, board, matrices, friction, gains, min(motion_end, to_tick) - tick)
+            kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+            if kernel is not None:
+                self._remember(axis, board, motion_end, matrices, friction, gains, kernel)
+            return
+        start, end, polynomial = self._piece(axis, board, tick)
         limit = to_tick if end is None else min(end, to_tick)
         n = limit - self.tick
         if K.STEP is not None and self.recorder is None:
