@@ -39,6 +39,10 @@ SCENARIOS = {
                       "VL4000000; MR30000; GO;", "X"),
     "following-error trip": ("MAXk-4000", "AX PSM; LP0; KP1; KD0; KI0; CL1; AC8000000; "
                              "VL4000000; MR1000000; GO;", "X"),
+    "three axes, one trips": ("MAXk-4000", "AA PSM,M,M; LP0,0,0; KP1,100,10; KD0,400,160; "
+                              "KI0,40,1; KU400,400,400; KV0,680,0; CL1,1,1; "
+                              "AC8000000,500000,100000; VL4000000,50000,5000; "
+                              "MR1000000,7001,-3000; GO;", "XYZ"),
     "inverted output": ("MAXk-4000", "AX PSM; LP0; SVP-; CL1; MR100; GO;", "X"),
     "counters moved mid-move": ("MAXk-4000", "AX PSM; LP0; " + TUNED + " CL1; AC200000; "
                                 "VL20000; MR20000; GO; WT200; LP5000; LPE4000;", "X"),

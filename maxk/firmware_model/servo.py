@@ -370,6 +370,8 @@ class ServoLoop:
         # a stretch the kernel steps: (until, what it depends on, plant, friction, gains,
         # the kernel's inputs, the same dependencies as checks for the compiled pass)
         self._fast: tuple | None = None
+        # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
+        self._plant: tuple = (None, 0.0, 0, (), 0.0)
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -437,11 +439,18 @@ class ServoLoop:
                 return
             self._fast = None
         plant = board.world.axes[axis.index].motor
-        matrices = plant.discrete(board.period)
-        if axis.config.servo_polarity < 0:  # SVP-: the DAC output inverted
-            a11, a12, a21, a22, b1, b2 = matrices
-            matrices = (a11, a12, a21, a22, -b1, -b2)
-        friction = plant.coefficients()[2]
+        period = board.period
+        polarity = axis.config.servo_polarity
+        held = self._plant
+        if held[0] is plant and held[1] == period and held[2] == polarity:
+            matrices, friction = held[3], held[4]
+        else:  # (a frozen plant: the same object, the same matrices)
+            matrices = plant.discrete(period)
+            if polarity < 0:  # SVP-: the DAC output inverted
+                a11, a12, a21, a22, b1, b2 = matrices
+                matrices = (a11, a12, a21, a22, -b1, -b2)
+            friction = plant.coefficients()[2]
+            self._plant = (plant, period, polarity, matrices, friction)
         gains = axis.config.gains
         while self.tick < to_tick:
             if self.recorder is not None:
@@ -506,7 +515,20 @@ class ServoLoop:
                 self._commit(axis, sol, r, min(valid_until, to_tick) - tick0)
                 return
             self._cache = None
-        start, end, polynomial = self._piece(axis, board, self.tick)
+        tick = self.tick
+        motion_end = axis.motion_end
+        if (K.STEP is not None and self.recorder is None and axis.motion is not None
+                and motion_end is not None and tick < motion_end <= tick + KERNEL_SPAN):
+            # the rest of a short move: each of its pieces would be stepped compiled, one
+            # after the other (the kernel's ticks do not depend on where a call ends), so
+            # step them in one stretch, with one decision instead of one per piece
+            kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+            self._scalar(axis, board, matrices, friction, gains, min(motion_end, to_tick) - tick,
+                         kernel)
+            if kernel is not None:
+                self._remember(axis, board, motion_end, matrices, friction, gains, kernel)
+            return
+        start, end, polynomial = self._piece(axis, board, tick)
         limit = to_tick if end is None else min(end, to_tick)
         n = limit - self.tick
         if K.STEP is not None and self.recorder is None:
@@ -522,8 +544,8 @@ class ServoLoop:
             else:
                 count = 0
             if count:
-                self._scalar(axis, board, matrices, friction, gains, count)
                 kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+                self._scalar(axis, board, matrices, friction, gains, count, kernel)
                 if until is not None and kernel is not None:
                     self._remember(axis, board, until, matrices, friction, gains, kernel)
                 return
@@ -753,16 +775,19 @@ class ServoLoop:
         world = board.world
         world_axis = world.axes[axis.index]
         plant = world_axis.motor
-        key = (axis.motion, axis.motion_start, axis.motion_end, axis.rest_since, axis.steps,
-               axis.counter_offset, axis.encoder_offset, config.gains,
-               config.servo_polarity, plant, board.period)
-        checks = tuple((axis, name, value) for name, value in zip(
-            ("motion", "motion_start", "motion_end", "rest_since", "steps", "counter_offset",
-             "encoder_offset"), key, strict=False)) + (
-            (axis, "config", config), (config, "gains", config.gains),
-            (config, "servo_polarity", config.servo_polarity), (board, "world", world),
-            (world, "axes", world.axes), (world_axis, "motor", plant),
-            (board, "period", board.period))
+        motion, start, end, rest = axis.motion, axis.motion_start, axis.motion_end, \
+            axis.rest_since
+        steps, counter, encoder = axis.steps, axis.counter_offset, axis.encoder_offset
+        set_gains, polarity, period = config.gains, config.servo_polarity, board.period
+        key = (motion, start, end, rest, steps, counter, encoder, set_gains, polarity, plant,
+               period)
+        checks = ((axis, "motion", motion), (axis, "motion_start", start),
+                  (axis, "motion_end", end), (axis, "rest_since", rest),
+                  (axis, "steps", steps), (axis, "counter_offset", counter),
+                  (axis, "encoder_offset", encoder), (axis, "config", config),
+                  (config, "gains", set_gains), (config, "servo_polarity", polarity),
+                  (board, "world", world), (world, "axes", world.axes),
+                  (world_axis, "motor", plant), (board, "period", period))
         self._fast = (until, key, matrices, friction, gains, kernel, checks)
 
     def _step(self, params: array, program: array, count: int) -> None:
@@ -781,7 +806,9 @@ class ServoLoop:
         """The kernel's parameters and program for this axis, remade only when what they
         describe changed (None: the kernel cannot describe this motion)."""
         key = (matrices, friction, gains, axis.encoder_offset)
-        if self._params[0] != key:
+        held_key = self._params[0]
+        if not (held_key and held_key[0] is matrices and held_key[1] == friction
+                and held_key[2] is gains and held_key[3] == key[3]) and held_key != key:
             self._params = (key, K.params(matrices, friction, gains.kp, gains.kd,
                                           gains.ki_per_tick, gains.kv, gains.ka, gains.kf,
                                           gains.ko, gains.integral_sum_limit,

@@ -88,31 +88,60 @@ def program(motion: MotionPlan | None, base: int, motion_start: int,
         return None
     if motion is None:
         return array("d", (KIND_REST, base) + (0.0,) * 12)
-    kind = type(motion)
     final = motion.final_offset
     end_time = motion.end_time
     if abs(final) >= _EXACT or abs(base + final) >= _EXACT:
         return None
-    header = [0.0, float(base), float(motion_start),
-              float(motion_end) if motion_end is not None else 0.0,
-              1.0 if motion_end is not None else 0.0, period, float(final),
-              end_time if end_time is not None else 0.0, 1.0 if end_time is not None else 0.0]
+    described = _described(motion)
+    if described is None:
+        return None
+    kind, counts, body = described
+    return array("d", (kind, float(base), float(motion_start),
+                       float(motion_end) if motion_end is not None else 0.0,
+                       1.0 if motion_end is not None else 0.0, period, float(final),
+                       end_time if end_time is not None else 0.0,
+                       1.0 if end_time is not None else 0.0, *counts)) + body
+
+
+_DESCRIBED: dict[int, tuple[MotionPlan, tuple[float, tuple[float, ...], array] | None]] = {}
+"""Profile motions' descriptions by id (the motion held, so its id is not reused while
+here): a board's moves recur (their plans are memoised), and only the header changes from
+one to the next. Not contours: their plan is extended as the path gets made."""
+_DESCRIBED_MAX = 256
+
+
+def _described(motion: MotionPlan) -> tuple[float, tuple[float, ...], array] | None:
+    """(kind, the header's counts and geometry, the body) of a motion; None if the kernel
+    does not know it."""
+    if type(motion) is not Motion:
+        return _describe(motion)  # a contour's plan grows as the path gets made: anew
+    held = _DESCRIBED.get(id(motion))
+    if held is not None and held[0] is motion:
+        return held[1]
+    if len(_DESCRIBED) >= _DESCRIBED_MAX:
+        _DESCRIBED.clear()
+    described = _describe(motion)
+    _DESCRIBED[id(motion)] = (motion, described)
+    return described
+
+
+def _describe(motion: MotionPlan) -> tuple[float, tuple[float, ...], array] | None:
+    kind = type(motion)
     body: list[float] = []
     if kind is Motion:
         assert isinstance(motion, Motion)
-        header[0] = KIND_PROFILE
         if any(ph.param is not None for ph in motion.phases):
             return None  # PN/SS/PR curves: the kernel knows only the factory ones
         for ph in motion.phases:
             body += (ph.t0, ph.duration, ph.s0, ph.v1, ph.v2, float(ph.direction),
                      _SHAPES[ph.shape], 1.0 if ph.mirrored else 0.0)
-        header += (len(motion.phases), 0.0, 0.0, 0.0, 0.0)
-    elif kind is ContourMotion:
+        return (KIND_PROFILE, (float(len(motion.phases)), 0.0, 0.0, 0.0, 0.0),
+                array("d", body))
+    if kind is ContourMotion:
         assert isinstance(motion, ContourMotion)
         plan, k = motion.plan, motion.k
         if motion.scale != 1.0:
             return None  # a plan in user units (MM4005): the kernel knows counts only
-        header[0] = KIND_CONTOUR
         for pc in plan.pieces:
             body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)
         for seg in plan.segments:
@@ -125,8 +154,6 @@ def program(motion: MotionPlan | None, base: int, motion_start: int,
                      seg.cy, seg.radius, seg.theta0, seg.turn)
         if not plan.segments:
             return None
-        header += (len(plan.pieces), len(plan.segments), float(k), float(motion.origin),
-                   plan.s_end)
-    else:
-        return None
-    return array("d", header + body)
+        return (KIND_CONTOUR, (float(len(plan.pieces)), float(len(plan.segments)), float(k),
+                               float(motion.origin), plan.s_end), array("d", body))
+    return None
