@@ -3,6 +3,8 @@ driving an MC405 as a hostile user or a runaway program would, and stays as its 
 
 from __future__ import annotations
 
+import pytest
+
 from maxk.commands.trio.programs import MAX_PROGRAM_BYTES
 from maxk.controllers.trio import MC405
 
@@ -22,3 +24,12 @@ def test_a_file_written_without_line_ends_stops_at_the_programs_limit() -> None:
     assert reply == ["%[Process 2:Program LOGA Line 3] - Program too large", "0"]
     listing = trio.send("DIR")
     assert any(line.split()[:2] == ["OUTA", "0"] for line in listing)
+
+
+@pytest.mark.parametrize("channel", ["1e300", "2 ^ 40", "-65536"])
+def test_regist_20_refuses_a_channel_beyond_its_gate_inputs(channel: str) -> None:
+    """REGIST(20, channel, ...): channel 0 or 1, with the gate input in bits 16 and up.
+    1e300 or 2 ^ 40 (low 16 bits 0, a gate input far past the last) or -65536 were
+    taken as channel A: a channel whose gate is no input is 'Parameter out of range'."""
+    trio = MC405()
+    assert trio.send(f"REGIST(20, {channel}, 1, 0, 0)") == ["! Parameter out of range"]
