@@ -33,3 +33,24 @@ def test_regist_20_refuses_a_channel_beyond_its_gate_inputs(channel: str) -> Non
     taken as channel A: a channel whose gate is no input is 'Parameter out of range'."""
     trio = MC405()
     assert trio.send(f"REGIST(20, {channel}, 1, 0, 0)") == ["! Parameter out of range"]
+
+
+def test_a_pswitch_sequence_position_where_the_move_ends_switches_the_output() -> None:
+    """PSWITCH TABLE sequence (the page's example 4 form, mode 9 = bits 0 and 3, output
+    64 ON first): a move that stops exactly on the first position's whole count must set
+    the output on the tick it gets there. UNITS 1: TABLE 2.67 is reached at count 3;
+    MOVEABS(3) at SPEED 10, ACCEL = DECEL 1000 takes 10 ms + 0.29 s + 10 ms = 310 ticks
+    of 1 ms. The switch's event fell on the move's end and was lost: the output stayed
+    OFF with the axis at 3."""
+    trio = MC405()
+    assert trio.send("BASE(10): SPEED = 10: ACCEL = 1000: DECEL = 1000") == []
+    assert trio.send("TABLE(1000, 2.67, 9.07)") == []
+    assert trio.send("PSWITCH(1, 9, 10, 64, ON, 1000, 1001)") == []
+    start = trio.tick
+    assert trio.send("MOVEABS(3)") == []
+    trio.advance(ticks=start + 309 - trio.tick)
+    assert trio.send("PRINT READ_OP(64), DPOS") == ["0\t2.9995"]
+    trio.advance(ticks=1)
+    assert trio.send("PRINT READ_OP(64), DPOS") == ["1\t3"]
+    trio.advance(ticks=1000)
+    assert trio.send("PRINT READ_OP(64)") == ["1"]
