@@ -10,14 +10,14 @@ from maxk.controllers.trio import MC405
 
 
 def test_a_file_written_without_line_ends_stops_at_the_programs_limit() -> None:
-    """OPEN FOR OUTPUT then PRINT #5, text; for ever: the unfinished line may not grow
+    """OPEN FOR OUTPUT then PRINT #40, text; for ever: the unfinished line may not grow
     without end. 250 characters a write: the line passes MAX_PROGRAM_BYTES after
     MAX_PROGRAM_BYTES // 250 + 1 writes, well inside 2 * that many servo cycles; then the
     process stops with the store's error and the file holds nothing half-written."""
     trio = MC405()
     text = "x" * 250
-    assert trio.load("LOGA", f'OPEN #5 AS "OUTA" FOR OUTPUT\nWHILE TRUE\n'
-                             f'  PRINT #5, "{text}";\nWEND\n') == []
+    assert trio.load("LOGA", f'OPEN #40 AS "OUTA" FOR OUTPUT\nWHILE TRUE\n'
+                             f'  PRINT #40, "{text}";\nWEND\n') == []
     assert trio.send('RUN "LOGA", 2') == []
     trio.advance(ticks=2 * (MAX_PROGRAM_BYTES // 250 + 1))
     reply = trio.send("PRINT PROC_STATUS PROC(2)")
@@ -54,3 +54,16 @@ def test_a_pswitch_sequence_position_where_the_move_ends_switches_the_output() -
     assert trio.send("PRINT READ_OP(64), DPOS") == ["1\t3"]
     trio.advance(ticks=1000)
     assert trio.send("PRINT READ_OP(64)") == ["1"]
+
+
+@pytest.mark.parametrize("channel", [0, 5, 10, 39, 49, 255])
+def test_open_takes_a_file_only_on_the_file_channels(channel: int) -> None:
+    """OPEN's page: a file or string variable goes on channels 40 to 48. OPEN #5 AS a file
+    took the command line's channel 5 over (PRINT #5 then went into the file, and the
+    channel stayed taken): any other channel is 'Parameter out of range', nothing opened
+    and no file made; the same OPEN on #40 works."""
+    trio = MC405()
+    assert trio.send(f'OPEN #{channel} AS "LOGZ" FOR OUTPUT') == ["! Parameter out of range"]
+    assert not any(line.startswith("LOGZ") for line in trio.send("DIR"))
+    assert trio.send('OPEN #40 AS "LOGZ" FOR OUTPUT') == []
+    assert any(line.startswith("LOGZ") for line in trio.send("DIR"))
