@@ -67,3 +67,21 @@ def test_open_takes_a_file_only_on_the_file_channels(channel: int) -> None:
     assert not any(line.startswith("LOGZ") for line in trio.send("DIR"))
     assert trio.send('OPEN #40 AS "LOGZ" FOR OUTPUT') == []
     assert any(line.startswith("LOGZ") for line in trio.send("DIR"))
+
+
+@pytest.mark.parametrize("command", ['DEL "LOGX"', 'RENAME "LOGX" "LOGQ"'])
+def test_a_file_deleted_or_renamed_while_a_program_writes_it_stops_that_program(
+        command: str) -> None:
+    """A host DELs or RENAMEs the file a running program has OPEN FOR OUTPUT: the next
+    PRINT #40 raised a Python KeyError out of the servo cycle (a traceback). Now the
+    program stops on that line with the controller's error and the machine runs on."""
+    trio = MC405()
+    assert trio.load("W1", 'OPEN #40 AS "LOGX" FOR OUTPUT\nWHILE TRUE\n'
+                           '  PRINT #40, "line"; VR(1)\n  VR(1) = VR(1) + 1\n  WA(1)\nWEND\n') == []
+    assert trio.send('RUN "W1", 2') == []
+    trio.advance(ticks=5)
+    assert trio.send(command) == []
+    trio.advance(ticks=5)
+    assert trio.send("PRINT PROC_STATUS PROC(2)") == [
+        "%[Process 2:Program W1 Line 3] - Program not found", "0"]
+    assert trio.send("PRINT 1 + 1") == ["2"]
