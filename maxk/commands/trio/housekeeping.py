@@ -30,7 +30,7 @@ from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import Expr
-from .programs import ProgramStore
+from .programs import MAX_PROGRAM_BYTES, ProgramStore
 from .tasks import Step, Task
 
 DATA_FUNCTIONS = frozenset({"CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"})
@@ -203,6 +203,13 @@ class Housekeeping:
         if channel not in self.writing:
             return False
         name, pending = self.writing[channel]
+        if not self.programs.exists(name):  # DEL or RENAME from a host while open (D)
+            raise TrioError("Program not found")
+        if len(pending) + len(text) > MAX_PROGRAM_BYTES:  # a line no file could hold
+            raise TrioError("Program too large")
+        if "\n" not in text:  # no line ends: the unfinished line only grows
+            self.writing[channel] = (name, pending + text)
+            return True
         lines = (pending + text).replace("\r\n", "\n").split("\n")
         for line in lines[:-1]:
             self.programs.edit(name, len(self.programs.lines[name]), "R", line)
@@ -213,7 +220,7 @@ class Housekeeping:
     def close_file(self, channel: int) -> None:
         """CLOSE #n: an unfinished last line is written."""
         name, pending = self.writing.pop(channel, ("", ""))
-        if pending:
+        if pending and self.programs.exists(name):  # gone (DEL, RENAME): nothing to keep
             self.programs.edit(name, len(self.programs.lines[name]), "R", pending)
 
     def cmd_seek(self, args: list[Value]) -> None:

@@ -935,6 +935,8 @@ class Interpreter:
             name = self.evaluate(stmt.name, ctx)
             if not isinstance(name, str):
                 raise TrioError("Type mismatch")
+            if not 40 <= number <= 48:  # OPEN's page: files and strings on 40 to 48 (C)
+                raise TrioError("Parameter out of range")
             if number in files:
                 raise TrioError("Channel already open")
             if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):

@@ -964,7 +964,8 @@ _ENTRIES: list[Keyword] = [
              "OUTPUT[(mode)] creates the file (a .TXT program) or clears it, FOR APPEND "
              "needs it and writes after its lines; PRINT #n writes each finished line to "
              "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
-             "store, D). FIFO_WRITE accepts and drops what is written (D)."),
+             "store, D). FIFO_WRITE accepts and drops what is written (D). Channels 40 to 48 "
+             "only (C: help page OPEN); any other is 'Parameter out of range'."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "

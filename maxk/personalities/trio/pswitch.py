@@ -378,7 +378,10 @@ class PositionSwitches:
         m = self.m
         if isinstance(switch, Sequence_):
             out = [switch.pulse_end] if switch.pulse_end is not None else []
-            if switch.fifo:
+            if switch.fifo and switch.direction * (
+                    m.counts_at(switch.axis, m.tick) - switch.fifo[0]) >= 0:
+                out.append(m.tick)  # already there (a move that ended on it): due now
+            elif switch.fifo:
                 tick = self._reaching(switch.axis, switch.fifo[0], switch.direction, horizon)
                 if tick is not None:
                     out.append(tick)

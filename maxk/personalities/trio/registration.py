@@ -164,7 +164,7 @@ class Registration:
         gate, channel = channel >> 16, channel & 0xFFFF
         if channel < 0 or edge not in (0, 1) or not 0 <= window <= 4 or quantity < 0 \
                 or start < 0 or start + quantity > self.m.table.size \
-                or (window in (3, 4) and not 0 <= gate < INPUTS):
+                or not 0 <= gate < INPUTS:  # bits 16 up: an input, used by windows 3/4
             raise ValueError("Parameter out of range")
         if mode == 21:
             number = channel if source == 0 else source - 256 if 256 <= source < 256 + \
