@@ -883,13 +883,18 @@ _ENTRIES: list[Keyword] = [
              source=f"{TOK}; {MAN}", confidence="D",
              note="Kept by the language per controller; no analog world output (D)."),
     # ---- processes and errors ------------------------------------------------------------------
-    _system("RUN_ERROR", "The code of the last runtime error of this process (PROC(n): of "
-            "process n).", writable=False, confidence="D",
-            note="Set when ON BASICERROR GOTO catches an error. The numbers are ours (D): "
-            "1 Syntax error, 2 Parameter out of range, 3 Arithmetic error, 4 Divide by zero, "
-            "5 Invalid axis number ... (interpreter.ERROR_CODES)."),
-    _system("ERROR_LINE", "The program line of the last runtime error of this process.",
-            writable=False, note="Lines of an INCLUDEd program report the INCLUDE's line (D)."),
+    _system("RUN_ERROR", "The number of the last runtime error of this process (PROC(n): of "
+            "process n, also after the error stopped it; 31 after a normal stop, STOP or HALT).",
+            writable=False, source="TrioBASIC help RUN_ERROR", confidence="C",
+            note="Numbered as the page numbers the errors: each of our error texts has the "
+            "page's number (9 Divide by zero, 19 Parameter out of range, 7 Stack overflow ...), "
+            "with C/I/D per text in errorcodes.RUN_ERRORS; a text with none there is 62 (D). "
+            "A process that never ran a program reads 0 (D)."),
+    _system("ERROR_LINE", "The program line of the last runtime error of this process (PROC(n): "
+            "of process n, also after the error stopped it).", writable=False,
+            source="TrioBASIC help ERROR_LINE", confidence="C",
+            note="Lines of an INCLUDEd program report the INCLUDE's line (D); a normal stop "
+            "leaves it as it was (D)."),
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
     _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
