@@ -1582,6 +1582,15 @@ _ENTRIES: list[Keyword] = [
              "or REP_DIST is not positive: Parameter out of range (D). The link_axis form "
              "(the end copied from TANG_DIRECTION each servo cycle) is refused: a target "
              "moved every cycle is not a closed-form motion of the shared machine (D)."),
+    _axis("TABLE_POINTER", "The TABLE location the axis's CAMBOX or CAM is at, X.Y: the "
+          "location of the interval it is in and the share of that interval done.",
+          writable=False, source="TrioBASIC help TABLE_POINTER; tokentable", confidence="C",
+          note="CAMBOX: from the link axis's DPOS at this tick (a repeating one starts again "
+          "at its first location each cycle), its first location until its start comes (D); "
+          "CAM: from the time into the profile (each interval an equal time). 0 with neither "
+          "(D). The token table has it writable; writing is refused (D). TABLE values a "
+          "running CAMBOX has loaded are not read again (D), so the page's rewriting of "
+          "passed locations acts on the next CAMBOX, not the running one."),
     _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
           "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
           writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",
