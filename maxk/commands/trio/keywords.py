@@ -722,6 +722,14 @@ _ENTRIES: list[Keyword] = [
              "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
              "kept but the shared servo loop's feedback is not scaled (not modelled: the "
              "loop runs in the motor encoder's counts)."),
+    _axis("PP_STEP", "An integer multiplier on the encoder value: an encoder input's MPOS "
+          "counts PP_STEP x ENCODER_RATIO x its encoder's counts (UNITS then divides).",
+          default=1.0, source=f"{HELP} PP_STEP; {TOK}", confidence="I",
+          note="A whole number in the page's recommended -1024..1023, not 0 (D), else "
+          "'Parameter out of range'; MPOS keeps its value at the change, as for "
+          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it is kept but the shared "
+          "servo loop's feedback is not scaled (not modelled: the loop runs in the motor "
+          "encoder's counts, as ENCODER_RATIO)."),
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -291,6 +291,8 @@ class MC405Machine(Kinematics, Engine):
             self.registration.write_control(axis, value)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
+        elif name == "PP_STEP":
+            self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         elif name == "VP_MODE" and value not in VP_MODES:
@@ -431,9 +433,14 @@ class MC405Machine(Kinematics, Engine):
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         """ENCODER_RATIO(mpos_count, input_count): an encoder input's MPOS keeps its
         value at the change (its DEFPOS offset takes up the difference, D)."""
+        self._rescale_encoder(axis, lambda params: encoders.set_ratio(params, mpos_count,
+                                                                      input_count))
+
+    def _rescale_encoder(self, axis: int, change: Callable[[dict[str, float]], None]) -> None:
+        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D)."""
         a = self.axes[axis]
         before = self.encoder_counts(axis)
-        encoders.set_ratio(a.params, mpos_count, input_count)
+        change(a.params)
         after = self.encoder_counts(axis)
         if before is not None and after is not None:
             a.datum += before - after
