@@ -730,6 +730,29 @@ _ENTRIES: list[Keyword] = [
           "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it is kept but the shared "
           "servo loop's feedback is not scaled (not modelled: the loop runs in the motor "
           "encoder's counts, as ENCODER_RATIO)."),
+    _axis("AXIS_MODE", "Feature bits of the axis (its page's table); bit 14 ignores the "
+          "software limits, bit 8 compares DPOS with them.", source=f"{HELP} AXIS_MODE; {TOK}",
+          confidence="I",
+          note="Bit 14: FS_LIMIT/RS_LIMIT neither stop a move nor set AXISSTATUS bits 9/10 "
+          "while it is set (C; axismode.py). Bit 8: the limits are always compared with "
+          "DPOS (exact to the tick); clear, the page compares MPOS, which differs only on a "
+          "servo axis by its following error (not modelled, D). Stored, no effect (D): bits "
+          "1, 3 and 17 (limits stop only an axis's own buffered moves here: a CONNECT or "
+          "an ADDAX is never stopped by them, so neither the cancel nor the ratio 0 shows), "
+          "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
+          "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
+          "no rule for what they change in the following error), 10 (no robot jog), 11 "
+          "(a move's end is fixed when it is buffered), 12 (the page gives no rule for the "
+          "shortest way) and 16 (an inverted motor is the world's wiring)."),
+    *[_axis(name, summary, confidence="D", source=f"{HELP} {name}", note="Not modelled: "
+            "a delay line on DPOS needs each axis's demand of N servo cycles ago, which the "
+            "shared machine does not keep: it plans each move and link in closed form "
+            "between events and lets a plan go when it ends, so a delayed DPOS could not be "
+            "exact to the tick across a move's end or a link's start (stored).")
+      for name, summary in (
+          ("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
+           "newest and the delayed value."),
+          ("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles."))],
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "
