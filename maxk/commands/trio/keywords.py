@@ -823,6 +823,12 @@ _ENTRIES: list[Keyword] = [
            (0, 3), "the world takes a stepper's demand counts as its motor's steps "
            "everywhere (limits, index marks, shaft encoders); the shared machine carries "
            "no ratio between them (accepted, no effect)."),
+          ("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
+           "y_axis, y_div, y_dist, y_offset): a 2D TABLE correction superimposed on the "
+           "axis's motion.", (10, 10), "the correction follows the axes' measured "
+           "positions every servo cycle (interpolated in a TABLE grid), a feedback the "
+           "shared machine's closed-form demand between events has no place for; as "
+           "BACKLASH (accepted, no effect)."),
           ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
            "moves.", (1, 4), "the compensation move superimposed after each reversal of "
            "DPOS is not in the shared machine (accepted, no effect)."),
