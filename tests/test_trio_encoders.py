@@ -96,3 +96,28 @@ def test_endat_register_access_fails_with_no_endat_encoder_and_sets_parameter_mo
     assert trio.query("?ENCODER_CONTROL AXIS(1)") == "1"  # the write set it again
     assert trio.send("?ENCODER_READ(-1)") == ["! Parameter out of range"]
     assert trio.send("?ENCODER_READ(1,2)") == ["! Syntax error"]
+
+
+def test_pp_step_multiplies_the_encoder_value_with_encoder_ratio_and_units() -> None:
+    """PP_STEP (its page: an integer multiplier on the encoder value): 2 counts a step x
+    PP_STEP 4 x ENCODER_RATIO 3/2 = 12 MPOS counts a step, UNITS 6: 2 units a step."""
+    trio = encoder_stage(2.0)
+    trio.send("BASE(0): PP_STEP=4: ENCODER_RATIO(3,2): UNITS=6")
+    assert trio.query("?PP_STEP") == "4"
+    trio.send("MOVE(250) AXIS(4)")
+    assert trio.run_until_idle()
+    # 250 steps x 2 = 500 encoder counts; x 4 x 3/2 = 3000 MPOS counts; / 6 = 500 units
+    assert (trio.query("?ENCODER AXIS(0)"), trio.query("?MPOS AXIS(0)")) == ("500", "500")
+    trio.send("PP_STEP AXIS(0) = -1")  # MPOS keeps its value; the axis now counts down
+    trio.send("MOVE(100) AXIS(4)")
+    assert trio.run_until_idle()
+    # 200 more encoder counts x -1 x 3/2 = -300 MPOS counts = -50 units
+    assert trio.query("?MPOS AXIS(0)") == "450"
+
+
+def test_bad_pp_steps_are_refused_and_leave_it() -> None:
+    trio = encoder_stage()
+    trio.send("PP_STEP AXIS(0) = 3")
+    for bad in ("0", "1.5", "1024", "-1025"):
+        assert trio.send(f"PP_STEP AXIS(0) = {bad}") == ["! Parameter out of range"], bad
+    assert trio.query("?PP_STEP AXIS(0)") == "3"

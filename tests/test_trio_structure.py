@@ -144,7 +144,7 @@ PRINT "not reached"
 handler:
 PRINT RUN_ERROR; " "; ERROR_LINE
 z = 1 / 0""")
-    assert out == "4 3\r\n%[Process 19:Program P Line 7] - Divide by zero\r\n"
+    assert out == "9 3\r\n%[Process 19:Program P Line 7] - Divide by zero\r\n"  # page: 9
 
 
 def test_ticks_counts_down_a_servo_cycle_at_a_time() -> None:

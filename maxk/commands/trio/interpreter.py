@@ -29,6 +29,7 @@ from ...personalities.trio.sequences import NAMES as SEQUENCES
 from ...personalities.trio.sequences import axes_of
 from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
+from .errorcodes import RUN_ERRORS, run_error
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -108,19 +109,12 @@ FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an 
 PROGRAM_MEMORY = 8 * 1024 * 1024
 NUMBER_BYTES = 8
 
-# RUN_ERROR codes (D: the numbering is ours, one per error text the emulator gives; 0 none)
-ERROR_CODES = {text: n for n, text in enumerate((
-    "Syntax error", "Parameter out of range", "Arithmetic error", "Divide by zero",
-    "Invalid axis number", "Parameter is read only", "Structure error", "Label not found",
-    "Stack overflow", "RETURN without GOSUB", "Array index out of range",
-    "Variable not defined", "Type mismatch", "String too long", "Program not found",
-    "Program is running", "Invalid program name", "VR index out of range",
-    "TABLE index out of range", "Cannot assign to a constant", "Not enough memory"),
-    start=1)}
+# RUN_ERROR codes: the RUN_ERROR help page's numbers for our error texts (errorcodes.py)
+ERROR_CODES = {text: number for text, (number, _) in RUN_ERRORS.items()}
 
 
 def error_code(message: str) -> float:
-    return float(ERROR_CODES.get(message, len(ERROR_CODES) + 1))
+    return float(run_error(message))
 
 
 @dataclass
@@ -164,6 +158,11 @@ class SystemHook(Protocol):
     def system_parameter(self, name: str) -> float | None: ...
 
     def context_of(self, process: int) -> ProcessContext | None: ...
+
+    def ended_context(self, process: int) -> ProcessContext | None:
+        """The context of the program that last ran on a process now running none (its
+        RUN_ERROR and ERROR_LINE stay readable with PROC(n), as on the controller)."""
+        ...
 
     def memory_in_use(self, asking: ProcessContext) -> int:
         """Bytes the DIMs of every live context of the controller hold (PROGRAM_MEMORY)."""
@@ -779,8 +778,10 @@ class Interpreter:
                 if number != int(number) or not 0 <= number < 64:
                     raise TrioError("Parameter out of range")
                 other = self.hook.context_of(int(number))
+                if other is None and keyword.name in ("RUN_ERROR", "ERROR_LINE"):
+                    other = self.hook.ended_context(int(number))  # why it stopped
                 if other is None:
-                    return 0.0  # a process with no program: stopped, no error
+                    return 0.0  # a process that never ran a program: stopped, no error
                 ctx = other
             return self.process_parameter(keyword.name, ctx)
         if keyword.kind is Kind.SYSTEM_PARAMETER:

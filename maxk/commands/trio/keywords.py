@@ -722,6 +722,37 @@ _ENTRIES: list[Keyword] = [
              "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
              "kept but the shared servo loop's feedback is not scaled (not modelled: the "
              "loop runs in the motor encoder's counts)."),
+    _axis("PP_STEP", "An integer multiplier on the encoder value: an encoder input's MPOS "
+          "counts PP_STEP x ENCODER_RATIO x its encoder's counts (UNITS then divides).",
+          default=1.0, source=f"{HELP} PP_STEP; {TOK}", confidence="I",
+          note="A whole number in the page's recommended -1024..1023, not 0 (D), else "
+          "'Parameter out of range'; MPOS keeps its value at the change, as for "
+          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it is kept but the shared "
+          "servo loop's feedback is not scaled (not modelled: the loop runs in the motor "
+          "encoder's counts, as ENCODER_RATIO)."),
+    _axis("AXIS_MODE", "Feature bits of the axis (its page's table); bit 14 ignores the "
+          "software limits, bit 8 compares DPOS with them.", source=f"{HELP} AXIS_MODE; {TOK}",
+          confidence="I",
+          note="Bit 14: FS_LIMIT/RS_LIMIT neither stop a move nor set AXISSTATUS bits 9/10 "
+          "while it is set (C; axismode.py). Bit 8: the limits are always compared with "
+          "DPOS (exact to the tick); clear, the page compares MPOS, which differs only on a "
+          "servo axis by its following error (not modelled, D). Stored, no effect (D): bits "
+          "1, 3 and 17 (limits stop only an axis's own buffered moves here: a CONNECT or "
+          "an ADDAX is never stopped by them, so neither the cancel nor the ratio 0 shows), "
+          "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
+          "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
+          "no rule for what they change in the following error), 10 (no robot jog), 11 "
+          "(a move's end is fixed when it is buffered), 12 (the page gives no rule for the "
+          "shortest way) and 16 (an inverted motor is the world's wiring)."),
+    *[_axis(name, summary, confidence="D", source=f"{HELP} {name}", note="Not modelled: "
+            "a delay line on DPOS needs each axis's demand of N servo cycles ago, which the "
+            "shared machine does not keep: it plans each move and link in closed form "
+            "between events and lets a plan go when it ends, so a delayed DPOS could not be "
+            "exact to the tick across a move's end or a link's start (stored).")
+      for name, summary in (
+          ("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
+           "newest and the delayed value."),
+          ("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles."))],
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "
@@ -792,6 +823,12 @@ _ENTRIES: list[Keyword] = [
            (0, 3), "the world takes a stepper's demand counts as its motor's steps "
            "everywhere (limits, index marks, shaft encoders); the shared machine carries "
            "no ratio between them (accepted, no effect)."),
+          ("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
+           "y_axis, y_div, y_dist, y_offset): a 2D TABLE correction superimposed on the "
+           "axis's motion.", (10, 10), "the correction follows the axes' measured "
+           "positions every servo cycle (interpolated in a TABLE grid), a feedback the "
+           "shared machine's closed-form demand between events has no place for; as "
+           "BACKLASH (accepted, no effect)."),
           ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
            "moves.", (1, 4), "the compensation move superimposed after each reversal of "
            "DPOS is not in the shared machine (accepted, no effect)."),
@@ -883,13 +920,18 @@ _ENTRIES: list[Keyword] = [
              source=f"{TOK}; {MAN}", confidence="D",
              note="Kept by the language per controller; no analog world output (D)."),
     # ---- processes and errors ------------------------------------------------------------------
-    _system("RUN_ERROR", "The code of the last runtime error of this process (PROC(n): of "
-            "process n).", writable=False, confidence="D",
-            note="Set when ON BASICERROR GOTO catches an error. The numbers are ours (D): "
-            "1 Syntax error, 2 Parameter out of range, 3 Arithmetic error, 4 Divide by zero, "
-            "5 Invalid axis number ... (interpreter.ERROR_CODES)."),
-    _system("ERROR_LINE", "The program line of the last runtime error of this process.",
-            writable=False, note="Lines of an INCLUDEd program report the INCLUDE's line (D)."),
+    _system("RUN_ERROR", "The number of the last runtime error of this process (PROC(n): of "
+            "process n, also after the error stopped it; 31 after a normal stop, STOP or HALT).",
+            writable=False, source="TrioBASIC help RUN_ERROR", confidence="C",
+            note="Numbered as the page numbers the errors: each of our error texts has the "
+            "page's number (9 Divide by zero, 19 Parameter out of range, 7 Stack overflow ...), "
+            "with C/I/D per text in errorcodes.RUN_ERRORS; a text with none there is 62 (D). "
+            "A process that never ran a program reads 0 (D)."),
+    _system("ERROR_LINE", "The program line of the last runtime error of this process (PROC(n): "
+            "of process n, also after the error stopped it).", writable=False,
+            source="TrioBASIC help ERROR_LINE", confidence="C",
+            note="Lines of an INCLUDEd program report the INCLUDE's line (D); a normal stop "
+            "leaves it as it was (D)."),
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
     _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
@@ -1577,6 +1619,15 @@ _ENTRIES: list[Keyword] = [
              "or REP_DIST is not positive: Parameter out of range (D). The link_axis form "
              "(the end copied from TANG_DIRECTION each servo cycle) is refused: a target "
              "moved every cycle is not a closed-form motion of the shared machine (D)."),
+    _axis("TABLE_POINTER", "The TABLE location the axis's CAMBOX or CAM is at, X.Y: the "
+          "location of the interval it is in and the share of that interval done.",
+          writable=False, source="TrioBASIC help TABLE_POINTER; tokentable", confidence="C",
+          note="CAMBOX: from the link axis's DPOS at this tick (a repeating one starts again "
+          "at its first location each cycle), its first location until its start comes (D); "
+          "CAM: from the time into the profile (each interval an equal time). 0 with neither "
+          "(D). The token table has it writable; writing is refused (D). TABLE values a "
+          "running CAMBOX has loaded are not read again (D), so the page's rewriting of "
+          "passed locations acts on the next CAMBOX, not the running one."),
     _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
           "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
           writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",

@@ -11,8 +11,9 @@ from collections.abc import Callable, Generator
 
 from ...personalities.trio import geometry, splines
 from .datawords import CrcSetup
+from .errorcodes import PROGRAM_STOPPED
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
-from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake
+from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -38,6 +39,7 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         self.interpreter: Interpreter | None = None  # runs the programs (set by the owner)
         self.selected: str | None = None
         self.tasks: dict[int, Task] = {}
+        self.ended: dict[int, ProcessContext] = {}  # each idle process's last program
         self.compiled: dict[str, list[Step]] = {}
         self.broken: set[str] = set()  # libraries that failed to compile since their edit
         self.defined: dict[str, int] = {}  # each GLOBAL/CONSTANT's number (LIST_GLOBAL)
@@ -74,6 +76,16 @@ class ProgramCommands(Housekeeping, TimersAndScope):
     def context_of(self, process: int) -> ProcessContext | None:
         task = self.tasks.get(process)
         return task.ctx if task is not None else None
+
+    def ended_context(self, process: int) -> ProcessContext | None:
+        return self.ended.get(process)
+
+    def _ended(self, process: int, task: Task, code: float = PROGRAM_STOPPED) -> None:
+        """A process's program stopped: RUN_ERROR PROC(n) reads why (help page RUN_ERROR:
+        31 a normal stop, STOP or HALT; an error's number), ERROR_LINE its line."""
+        ctx = task.ctx  # (only what PROC(n) reads is kept: the DIMs are let go)
+        self.ended[process] = ProcessContext(process=process, program=ctx.program,
+                                             run_error=code, error_line=ctx.error_line)
 
     # ---- SystemHook ---------------------------------------------------------------------
     def system_parameter(self, name: str) -> float | None:
@@ -321,14 +333,16 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         for process, task in list(self.tasks.items()):
             if task.ctx.program == name:
                 task.ctx.stopped = True
+                self._ended(process, task)
                 del self.tasks[process]
 
     def halt(self) -> None:
         """Every program stops, and every command line's waiting statement is given up
         (its prompt comes now): a paused clock or a long WA never leaves a host's prompt
         dead (D, issue 34: HALT is the controller's stop, from whichever host)."""
-        for task in self.tasks.values():
+        for process, task in self.tasks.items():
             task.ctx.stopped = True
+            self._ended(process, task)
         self.tasks.clear()
         if self._halting:
             return
@@ -389,6 +403,11 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         except TrioError as exc:
             self.process_output(f"%[Process {process}:Program {task.ctx.program} "
                                 f"Line {exc.line}] - {exc.message}\r\n")
+            task.ctx.error_line = float(exc.line or 0)
+            self._ended(process, task, error_code(exc.message))
+        else:
+            if task.finished:
+                self._ended(process, task)
         if task.finished and self.tasks.get(process) is task:
             del self.tasks[process]
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from maxk.firmware_model.profiles import Motion, Phase, RampShape
 
-from .runs import Cambox, Follow
+from .runs import Cambox, Follow, Run
 
 MARK_START, ABSOLUTE, REPEAT, PATTERN = 1, 2, 4, 8
 OFFSET_START, MARKB_START, R_MARK_START, FOLLOW_DPOS = 128, 256, 512, 8192
@@ -66,7 +66,7 @@ def cambox_from(args: Sequence[float], read_table: Callable[[int], float],
     cam = Cambox(values, multiplier, distance, int(link_axis), None, 0.0,
                  repeat=bool(bits & REPEAT) and pattern is None,
                  offset=offset if bits & OFFSET_START else 0.0, pattern=pattern,
-                 follow=follow)
+                 follow=follow, table_start=int(start))
     if bits & MARK_START:
         cam.wait = "MARK"
     elif bits & MARKB_START:
@@ -160,4 +160,14 @@ def cam_motion(args: Sequence[float], read_run: Callable[[int, int], Sequence[fl
     return Motion(phases, duration, final, duration, 1 if final >= 0 else -1)
 
 
-__all__ = ["cam_motion", "cambox_from", "multi_axis", "next_pattern"]
+def cam_pointer(run: Run, elapsed: float) -> float:
+    """TABLE_POINTER of a running CAM `elapsed` seconds in: each TABLE interval takes an
+    equal share of its time (cam_motion), so the index of the one it is in plus the share
+    of it done (help TABLE_POINTER)."""
+    assert run.table is not None and run.profile is not None
+    intervals = len(run.profile.phases)
+    step = run.profile.phases[0].duration  # (every interval the same: cam_motion)
+    return run.table + min(max(elapsed / step, 0.0), float(intervals))
+
+
+__all__ = ["cam_motion", "cam_pointer", "cambox_from", "multi_axis", "next_pattern"]

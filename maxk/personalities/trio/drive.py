@@ -12,6 +12,7 @@ What a Trio controller does, as docs/trio.md records it (source and confidence t
   limit. A move that would start into an active limit is cancelled as it starts (it
   makes no step); moves away from the limit run. AXISSTATUS shows bit 4/5 while the
   switch is active and bit 9/10 while DPOS is beyond the software limit.
+  AXIS_MODE bit 14 turns the software limits off (`axismode.py`).
 - **Motion errors**: each time the machine looks (every event), an axis whose AXISSTATUS
   gains a bit that its ERRORMASK holds (default 268: following error exceeded, remote
   drive errors) goes into motion error: every axis stops at once, the buffered moves are
@@ -43,6 +44,7 @@ import numpy as np
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
+from .axismode import soft_limits
 from .following import SERVO_ATYPES, Following
 from .runs import Run, TrioAxis
 
@@ -145,10 +147,10 @@ class Drive:
             wired = params[name]
             if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
                 bits |= bit
-        dpos = m.dpos(axis)
-        if dpos > params["FS_LIMIT"]:
+        dpos, (fs, rs) = m.dpos(axis), soft_limits(params)  # (AXIS_MODE bit 14)
+        if dpos > fs:
             bits |= FWD_SOFT
-        if dpos < params["RS_LIMIT"]:
+        if dpos < rs:
             bits |= REV_SOFT
         if self.searching(axis) is not None:
             bits |= DATUMING
@@ -213,10 +215,8 @@ class Drive:
         wired = params["FWD_IN" if direction > 0 else "REV_IN"]
         if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
             return True
-        dpos = (a.steps + a.datum) / a.units
-        if direction > 0:
-            return dpos > params["FS_LIMIT"]
-        return dpos < params["RS_LIMIT"]
+        dpos, (fs, rs) = (a.steps + a.datum) / a.units, soft_limits(params)
+        return dpos > fs if direction > 0 else dpos < rs
 
     def datum(self, axis: int, mode: int) -> None:
         """DATUM(0) clears every motion error; DATUM(1)/(2) start a Z-mark search forward /
@@ -277,7 +277,7 @@ class Drive:
             edge = _edge(switch, side)
             if edge is not None:
                 found.append(edge + stage.lost_steps)
-        soft = params["FS_LIMIT" if side > 0 else "RS_LIMIT"] * a.units - a.datum
+        soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
         if abs(soft) < 2.0 ** 62:
             found.append(math.ceil(soft) if side > 0 else math.floor(soft))
         reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
@@ -294,7 +294,7 @@ class Drive:
         p = a.params
         stage = m.world.axes[i]
         queue = m.queues[i]
-        return (p["FWD_IN"], p["REV_IN"], p["FS_LIMIT"], p["RS_LIMIT"], a.units, a.datum,
+        return (p["FWD_IN"], p["REV_IN"], soft_limits(p), a.units, a.datum,
                 stage.plus_limit, stage.plus_limit.fault, stage.minus_limit,
                 stage.minus_limit.fault, stage.lost_steps, bool(queue and queue[0].stopping),
                 frozenset(m.world.digital), frozenset(m.inverted_inputs))

@@ -11,6 +11,8 @@
   MPOS counts = mpos_count / input_count x the input's counts. Power-up 1:1. It is kept
   per axis as two entries of the axis's parameters (names no program can type), so it
   goes back to 1:1 at power-up with the others.
+- PP_STEP (help PP_STEP) is an integer multiplier on the same encoder value: MPOS counts
+  = ENCODER_RATIO x PP_STEP x the input's counts; UNITS then divides as for any axis.
 """
 
 from __future__ import annotations
@@ -34,8 +36,18 @@ class EncoderHost(Protocol):
 
 
 def ratio(params: dict[str, float]) -> float:
-    """MPOS counts per input count."""
-    return params.get(NUMERATOR, 1.0) / params.get(DENOMINATOR, 1.0)
+    """MPOS counts per input count: ENCODER_RATIO times PP_STEP."""
+    return params.get(NUMERATOR, 1.0) / params.get(DENOMINATOR, 1.0) \
+        * params.get("PP_STEP", 1.0)
+
+
+def set_pp_step(params: dict[str, float], value: float) -> None:
+    """PP_STEP: a whole multiplier in the page's recommended -1024..1023, not 0 (D: 0
+    would stop MPOS); refused whole otherwise."""
+    if not math.isfinite(value) or value != int(value) or not -1024 <= value <= 1023 \
+            or value == 0:
+        raise ValueError("Parameter out of range")
+    params["PP_STEP"] = float(value)
 
 
 def set_ratio(params: dict[str, float], mpos_count: float, input_count: float) -> None:
@@ -75,4 +87,5 @@ def endat(name: str, args: list[float]) -> float:
     return -1.0 if name == "ENCODER_READ" else 0.0
 
 
-__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "endat", "ratio", "set_ratio"]
+__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "endat", "ratio", "set_pp_step",
+           "set_ratio"]

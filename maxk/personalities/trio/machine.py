@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -35,7 +35,7 @@ from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from . import encoders, geometry, moves, sequences, tangential
-from .cams import cam_motion, cambox_from, multi_axis, next_pattern
+from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .jogs import Jogs
@@ -83,7 +83,7 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
-_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POINTER"})
 DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
 """Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
@@ -260,6 +260,8 @@ class MC405Machine(Kinematics, Engine):
             return self.vp_speed(axis)
         if name == "TANG_DIRECTION":
             return tangential.direction(self, axis)
+        if name == "TABLE_POINTER":
+            return self.table_pointer(axis)
         if name in moves.REPORTS:
             return moves.report(self, name, axis)
         if name == "FE_LATCH":
@@ -289,6 +291,8 @@ class MC405Machine(Kinematics, Engine):
             self.registration.write_control(axis, value)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
+        elif name == "PP_STEP":
+            self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         elif name == "VP_MODE" and value not in VP_MODES:
@@ -429,9 +433,14 @@ class MC405Machine(Kinematics, Engine):
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         """ENCODER_RATIO(mpos_count, input_count): an encoder input's MPOS keeps its
         value at the change (its DEFPOS offset takes up the difference, D)."""
+        self._rescale_encoder(axis, lambda params: encoders.set_ratio(params, mpos_count,
+                                                                      input_count))
+
+    def _rescale_encoder(self, axis: int, change: Callable[[dict[str, float]], None]) -> None:
+        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D)."""
         a = self.axes[axis]
         before = self.encoder_counts(axis)
-        encoders.set_ratio(a.params, mpos_count, input_count)
+        change(a.params)
         after = self.encoder_counts(axis)
         if before is not None and after is not None:
             a.datum += before - after
@@ -671,6 +680,20 @@ class MC405Machine(Kinematics, Engine):
         motion = cam_motion(args, self.table.read_run, a.params["SPEED"] * a.units,
                             a.units)
         self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
+        for run in self.queues[axis]:
+            if run.preset is motion:
+                run.table = int(args[0])
+
+    def table_pointer(self, axis: int) -> float:
+        """TABLE_POINTER: where in its TABLE the axis's CAMBOX or running CAM is; 0 with
+        neither (D)."""
+        link = self.axes[axis].link
+        if isinstance(link, Cambox):
+            return link.pointer(float(self.dpos_at(link.link, self._now())[0]))
+        run = self.queues[axis][0] if self.queues[axis] else None
+        if run is None or run.table is None or not run.started or run.profile is None:
+            return 0.0
+        return cam_pointer(run, (self.tick - self.axes[axis].motion_start) * self.period)
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
               arc: tuple[float, ...] | None = None, kind: int = moves.MOVE,

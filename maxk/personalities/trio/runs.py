@@ -59,6 +59,7 @@ class Run:
     scale: float = 1.0  # the path's speed scale (feed hold: FHSPEED's share, feedhold.py)
     jerk: float = 0.0  # VP_MODE 5/6: the jerk limit when loaded, counts/s^3 (0: none)
     preset: Motion | None = None  # a CAM's own profile (in time), made when loaded
+    table: int | None = None  # a CAM's first TABLE index (TABLE_POINTER)
     started: bool = False
     stopping: bool = False  # CANCEL/RAPIDSTOP: ramping down, takes no more moves
     start_tick: int = 0
@@ -279,9 +280,24 @@ class Cambox:
     channel: int = 0  # bit 9: the R_MARK channel
     start_pos: float | None = None  # bit 1: the link DPOS it starts at
     follow: Follow | None = None  # bits 5/14: only the link's forward movement counts
+    table_start: int = 0  # the TABLE index of values[0] (TABLE_POINTER)
 
     def __post_init__(self) -> None:
         self.values = np.asarray(self.values, dtype=float) - float(self.values[0])
+
+    def pointer(self, link_dpos: float) -> float:
+        """TABLE_POINTER: the TABLE index of the interval the link is in, plus the share
+        of it done (help TABLE_POINTER); at its first value until the start comes (D)."""
+        if self.link_origin is None:
+            return float(self.table_start)
+        link = np.array([link_dpos])
+        if self.follow is not None:
+            link = self.follow.effective(link)
+        u = float(link[0]) - self.link_origin
+        if self.repeat:
+            u -= np.floor(u / self.distance) * self.distance
+        x = min(max(u / self.distance, 0.0), 1.0) * (len(self.values) - 1)
+        return self.table_start + x
 
     @property
     def span(self) -> float:
