@@ -146,6 +146,62 @@ def test_a_pacing_pass_steps_a_boards_axes_in_one_compiled_call(monkeypatch):
     assert advanced == [0]
 
 
+def paced(scenario: str, passes: int, ticks: int) -> tuple[list, list]:
+    """RE and EA replies and the loops' exact states (with trip tick and flag) after each of
+    `passes` short advances of `ticks` ticks: a door's pacing, the compiled pass's case."""
+    model, script, letters = SCENARIOS[scenario]
+    board = MAXk(model)
+    board.send(script)
+    replies, states = [], []
+    for _ in range(passes):
+        board.advance(ticks=ticks)
+        replies += board.send("AA RE; AX EA;")
+        states.append([(loop.p, loop.w, loop.s, loop.q, loop.dac, loop.tick, loop.trip_tick,
+                        loop.tripped)
+                       for letter in letters
+                       if (loop := board.board.axis(letter).servo) is not None])
+    assert not board.command_error, board.last_error
+    return replies, states
+
+
+@compiled
+def test_a_loop_tripping_inside_a_compiled_pass_stops_there_and_the_others_go_on(monkeypatch):
+    """Three axes stepped together by one compiled pass (`step_axes`), X's following error
+    tripping on a tick inside the pass: X stops on that tick, Y and Z are stepped to the
+    pass's end, and every state after every pass is the Python loop's to the bit."""
+    real = servo_kernel.STEP_AXES
+    assert real is not None
+    trips = []  # (the pass's end, loops it stepped, (tick, trip tick) of each after it)
+
+    def watching(axes, limit):
+        before = [(a.servo.tick, a.servo.trip_tick) for a in axes]
+        rest = real(axes, limit)
+        after = [(a.servo.tick, a.servo.trip_tick) for a in axes]
+        stepped = sum(b[0] != a[0] for b, a in zip(before, after, strict=True))
+        if any(b[1] is None and a[1] is not None for b, a in zip(before, after, strict=True)):
+            trips.append((limit, stepped, after))
+        return rest
+
+    monkeypatch.setattr(servo_kernel, "STEP_AXES", watching)
+    replies, states = paced("three axes, one trips", 200, 5)
+    [(limit, stepped, after)] = trips  # X tripped once, inside a compiled pass
+    assert stepped == 3
+    (x_tick, x_trip), (y_tick, y_trip), (z_tick, z_trip) = after
+    assert x_trip == x_tick < limit  # stopped on its trip tick, mid-pass
+    assert (y_tick, y_trip, z_tick, z_trip) == (limit, None, limit, None)
+    with monkeypatch.context() as patch:
+        python_steps(patch)
+        patch.setattr(servo_kernel, "STEP", refuse)
+        reference_replies, reference_states = paced("three axes, one trips", 200, 5)
+    assert replies == reference_replies
+    assert [loop[7] for loop in reference_states[-1]] == [True, False, False]
+    for ours, theirs in zip(states, reference_states, strict=True):
+        for a, b in zip(ours, theirs, strict=True):
+            assert a[5:] == b[5:]  # the same tick, the same trip
+            assert all(math.isclose(x, y, rel_tol=0.0, abs_tol=1e-9) for x, y in
+                       zip(a[:5], b[:5], strict=True)), (a, b)
+
+
 @compiled
 @pytest.mark.parametrize("scenario", ["short moves", "cosine ramps, parabolic", "circle",
                                       "following-error trip"])
