@@ -307,3 +307,23 @@ def test_homing_a_servo_loads_the_counters_without_a_kick():
     assert board.board.axis("X").homing is None
     assert max(abs(r[6]) for r in loop.recorder) < 5000
     assert int(board.query("AX RP")) < -300_000 + 2000  # loaded at home, then ramped down
+
+
+def _open_loop_counts(setup: str) -> list[int]:
+    """RE every 50 ms of an open-loop servo axis holding a constant output (KO)."""
+    board = MAXk()
+    board.send(f"AX PSM; LP0; {setup} CL0;")
+    counts = []
+    for _ in range(20):
+        board.advance(0.05)
+        counts.append(int(board.query("AX RE")))
+    return counts
+
+
+def test_an_inverted_output_driven_the_other_way_moves_the_motor_alike():
+    """SVP- only inverts the DAC: the motor cannot tell SVP- with KO -u from SVP+ with
+    KO +u, friction included (it opposes the motor's motion either way)."""
+    normal = _open_loop_counts("SVP+; KO6000;")
+    inverted = _open_loop_counts("SVP-; KO-6000;")
+    assert normal[-1] > 0  # 1.8 V on the default motor moves it forward
+    assert inverted == normal

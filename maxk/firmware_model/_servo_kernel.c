@@ -19,7 +19,7 @@
 
 enum { P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK,
        STATE_SIZE };
-enum { A11, A12, A21, A22, B1, B2, FRICTION, KP, KD, KI, KV, KA, KF, KO, CAP, EO,
+enum { A11, A12, A21, A22, B1, B2, FRICTION, KP, KD, KI, KV, KA, KF, KO, CAP, EO, FDIR,
        PARAM_SIZE };
 /* program header */
 enum { KIND, BASE, MSTART, MEND, HAS_MEND, PERIOD, FINAL, END_TIME, HAS_END_TIME, COUNT1,
@@ -169,7 +169,7 @@ static ALWAYS_INLINE double commanded(const double *prog, long long tick, Cursor
 
 /* One loop's state, parameters and program while the kernel steps it. */
 typedef struct {
-    double a11, a12, a21, a22, b1, b2, friction, kp, kd, ki, kv, ka, kf, ko, cap, eo;
+    double a11, a12, a21, a22, b1, b2, friction, kp, kd, ki, kv, ka, kf, ko, cap, eo, fdir;
     double p, w, s, q, dac, r_prev, r_prev2;
     int has_prev, has_prev2, closed, tripped, stuck;
     const double *prog;
@@ -184,7 +184,7 @@ static void load(Loop *L, double *x, const double *k, const double *prog, long l
     L->a11 = k[A11]; L->a12 = k[A12]; L->a21 = k[A21]; L->a22 = k[A22]; L->b1 = k[B1];
     L->b2 = k[B2]; L->friction = k[FRICTION]; L->kp = k[KP]; L->kd = k[KD]; L->ki = k[KI];
     L->kv = k[KV]; L->ka = k[KA]; L->kf = k[KF]; L->ko = k[KO]; L->cap = k[CAP];
-    L->eo = k[EO];
+    L->eo = k[EO]; L->fdir = k[FDIR];
     L->p = x[P]; L->w = x[W]; L->s = x[S]; L->q = x[Q]; L->dac = x[DAC];
     L->r_prev = x[RPREV]; L->r_prev2 = x[RPREV2];
     L->has_prev = x[HAS_PREV] != 0.0; L->has_prev2 = x[HAS_PREV2] != 0.0;
@@ -253,7 +253,9 @@ static ALWAYS_INLINE int once(Loop *L)
     }
     double drive, w0 = w;
     if (friction != 0.0) {
-        double direction = w0 != 0.0 ? (w0 > 0 ? 1.0 : -1.0) : (u > 0 ? 1.0 : -1.0);
+        /* moving: friction opposes the motor; in drive terms that is fdir * sign(w),
+         * fdir -1 when the output is inverted (SVP-: the plant's b terms negated) */
+        double direction = w0 != 0.0 ? (w0 > 0 ? L->fdir : -L->fdir) : (u > 0 ? 1.0 : -1.0);
         drive = u - friction * direction;
         if (w0 == 0.0 && fabs(u) <= friction) {
             L->stuck = 1;

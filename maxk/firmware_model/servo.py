@@ -371,7 +371,7 @@ class ServoLoop:
         # the kernel's inputs, the same dependencies as checks for the compiled pass)
         self._fast: tuple | None = None
         # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
-        self._plant: tuple = (None, 0.0, 0, (), 0.0)
+        self._plant: tuple = (None, 0.0, 1, (), 0.0)
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -643,7 +643,9 @@ class ServoLoop:
         if not modal.ok:
             return False
         sign = (1.0 if self.w > 0 else -1.0) if friction else 0.0
-        inputs = self._inputs(axis, board, n, gains, friction * sign)
+        # friction opposes the motor: in drive terms along polarity * sign(w)
+        inputs = self._inputs(axis, board, n, gains,
+                              friction * sign * (-1.0 if self._plant[2] < 0 else 1.0))
         if inputs is None:
             return None
         r, ff = inputs
@@ -812,7 +814,7 @@ class ServoLoop:
             self._params = (key, K.params(matrices, friction, gains.kp, gains.kd,
                                           gains.ki_per_tick, gains.kv, gains.ka, gains.kf,
                                           gains.ko, gains.integral_sum_limit,
-                                          axis.encoder_offset))
+                                          axis.encoder_offset, self._plant[2]))
         motion = axis.motion
         base = axis.steps + axis.counter_offset
         where = (motion, axis.motion_start, axis.motion_end, base, board.period)
@@ -831,6 +833,7 @@ class ServoLoop:
         """Step tick by tick in Python: the reference semantics (the compiled kernel does
         exactly this arithmetic), and the loop where no kernel was built."""
         a11, a12, a21, a22, b1, b2 = matrices
+        fdir = -1.0 if self._plant[2] < 0 else 1.0  # SVP-: friction's sign in drive terms
         eo = axis.encoder_offset
         kp, kd, ki, kv, ka, kf, ko = (gains.kp, gains.kd, gains.ki_per_tick, gains.kv,
                                       gains.ka, gains.kf, gains.ko)
@@ -875,7 +878,7 @@ class ServoLoop:
                 stuck = False
             w0 = w
             if friction:
-                direction = (1.0 if w0 > 0 else -1.0) if w0 else (1.0 if u > 0 else -1.0)
+                direction = (fdir if w0 > 0 else -fdir) if w0 else (1.0 if u > 0 else -1.0)
                 drive = u - friction * direction
                 if w0 == 0.0 and abs(u) <= friction:
                     stuck = True

@@ -71,12 +71,14 @@ _EXACT = float(2 ** 53)  # integers beyond this are not exact doubles
 
 def params(matrices: tuple[float, ...], friction: float, kp: float, kd: float,
            ki_per_tick: float, kv: float, ka: float, kf: float, ko: float, cap: float,
-           encoder_offset: int) -> array | None:
-    """The filter and plant as the kernel reads them (None: offset not exact)."""
+           encoder_offset: int, polarity: int = 1) -> array | None:
+    """The filter and plant as the kernel reads them (None: offset not exact). `polarity`
+    -1: the output is inverted (the matrices' b terms negated), so a moving motor's
+    friction acts along -sign(w) in drive terms."""
     if abs(encoder_offset) >= _EXACT:
         return None
     return array("d", (*matrices, friction, kp, kd, ki_per_tick, kv, ka, kf, ko, cap,
-                       float(encoder_offset)))
+                       float(encoder_offset), -1.0 if polarity < 0 else 1.0))
 
 
 def program(motion: MotionPlan | None, base: int, motion_start: int,
