@@ -39,6 +39,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from maxk.firmware_model.axis import first_tick
+
 from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
 
 
@@ -443,16 +445,9 @@ class LinkedMoves:
         now = m.tick
         if self._done(link, now):
             return now
-        if horizon is None or horizon <= now or not self._done(link, horizon):
+        if horizon is None or horizon <= now:
             return None
-        lo, hi = now, horizon
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if self._done(link, mid):
-                hi = mid
-            else:
-                lo = mid
-        return hi
+        return first_tick(lambda tick: self._done(link, tick), now + 1, horizon)
 
     def next_event(self) -> int | None:
         m = self.machine

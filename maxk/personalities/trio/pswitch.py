@@ -48,6 +48,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from maxk.firmware_model.axis import first_tick
+
 SWITCHES = 64  # PSWITCH numbers 0..63 (C: page)
 FIFO_DEPTH = 512  # HW_PSWITCH positions held (C: page)
 HW_OUTPUT = 8  # axis n's HW_PSWITCH output is 8 + n (C: page note 1, the MC405)
@@ -476,19 +478,8 @@ def _whole(value: float, low: int, high: int) -> int:
 
 
 def _first(reached: Callable[[int], bool], now: int, horizon: int) -> int | None:
-    if not reached(horizon):
-        return None
-    lo, hi = now, horizon
-    if reached(lo + 1):
-        return lo + 1
-    lo += 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if reached(mid):
-            hi = mid
-        else:
-            lo = mid
-    return hi
+    """The first tick after `now`, up to the horizon, the switch's position is reached."""
+    return first_tick(reached, now + 1, horizon)
 
 
 __all__ = ["FIFO_DEPTH", "HW_OUTPUT", "SWITCHES", "PositionSwitches", "Timer"]

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from maxk.firmware_model.axis import first_tick
 from maxk.firmware_model.outputs import next_periodic_marks
 
 
@@ -338,18 +339,7 @@ class Registration:
         def reached(tick: int) -> bool:
             return direction * (self._counts_at(axis, tick) - position) >= 0
 
-        if not reached(horizon):
-            return None
-        lo, hi = m.tick, horizon
-        if reached(lo):
-            return lo + 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if reached(mid):
-                hi = mid
-            else:
-                lo = mid
-        return hi
+        return first_tick(reached, m.tick + 1, horizon)
 
     def _counts_at(self, axis: int, tick: int) -> float:
         """Where the axis's capture latches, in counts: the encoder the world mounts on
