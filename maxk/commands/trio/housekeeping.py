@@ -26,7 +26,7 @@ from .datawords import (
     read_number,
     table_values,
 )
-from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value
+from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value, number_arg
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import Expr
@@ -255,7 +255,7 @@ class Housekeeping:
         self.data_function("CRC16", args)
 
     def data_function(self, name: str, args: list[Value]) -> float:
-        numbers = [_number(a) for a in args]
+        numbers = [number_arg(a) for a in args]
         if name == "IEEE_IN":
             return ieee_in(numbers)
         if name == "IEEE_OUT":
@@ -344,14 +344,10 @@ class Housekeeping:
         return "".join(out)
 
 
-def _number(value: Value) -> float:
-    if isinstance(value, str):
-        raise TrioError("Type mismatch")
-    return value
 
 
 def _whole(value: Value) -> int:
-    number = _number(value)
+    number = number_arg(value)
     if number != int(number):
         raise TrioError("Parameter out of range")
     return int(number)

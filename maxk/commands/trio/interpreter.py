@@ -352,7 +352,9 @@ def _instr(args: list[Value]) -> Value:
     return -1.0
 
 
-def _num_arg(value: Value) -> float:
+def number_arg(value: Value) -> float:
+    """A number argument; a string where a number belongs is a Type mismatch (every
+    statement and function of the language checks it so)."""
     if isinstance(value, str):
         raise TrioError("Type mismatch")
     return value
@@ -360,7 +362,7 @@ def _num_arg(value: Value) -> float:
 
 def _round(args: list[Value]) -> Value:
     """ROUND(v[, p]): INT(v * 10^p +- 0.5) / 10^p, the sign's way (help ROUND)."""
-    value = _num_arg(args[0])
+    value = number_arg(args[0])
     places = _int_arg(args[1]) if len(args) > 1 else 0
     if not -308 <= places <= 308:
         raise TrioError("Parameter out of range")
@@ -377,13 +379,13 @@ def _ulp_order(value: float) -> int:
 
 def _ulpdiff(args: list[Value]) -> Value:
     """ULPDIFF(a, b): how many doubles apart a and b are (help ULPDIFF)."""
-    a, b = _num_arg(args[0]), _num_arg(args[1])
+    a, b = number_arg(args[0]), number_arg(args[1])
     return float(abs(_ulp_order(a) - _ulp_order(b)))
 
 
 def _vector_mag(args: list[Value]) -> Value:
     """VECTOR_MAG(c1[, ... c6]): the square root of the sum of the squares (its page)."""
-    magnitude = math.hypot(*(_num_arg(a) for a in args))  # (no overflow on the way)
+    magnitude = math.hypot(*(number_arg(a) for a in args))  # (no overflow on the way)
     if not math.isfinite(magnitude):
         raise TrioError("Parameter out of range")
     return magnitude

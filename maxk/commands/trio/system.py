@@ -13,7 +13,7 @@ from ...personalities.trio import geometry, splines
 from .datawords import CrcSetup
 from .errorcodes import PROGRAM_STOPPED
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
-from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code
+from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -383,7 +383,7 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         raise TrioError("Syntax error")  # EX restarts only when alone on its line (D)
 
     def cmd_ethercat(self, args: list[Value]) -> None:
-        numbers = [_number(a) for a in args]
+        numbers = [number_arg(a) for a in args]
         if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:
             self.output("0\r\n")  # no EtherCAT network: state 0 (D)
 
@@ -423,14 +423,10 @@ def _name(args: list[Value]) -> str:
     return args[0].upper()
 
 
-def _number(value: Value) -> float:
-    if isinstance(value, str):
-        raise TrioError("Syntax error")
-    return value
 
 
 def _integer(value: Value) -> int:
-    number = _number(value)
+    number = number_arg(value)
     if number != int(number):
         raise TrioError("Parameter out of range")
     return int(number)

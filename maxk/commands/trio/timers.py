@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...personalities.trio.memory import TABLE_SIZE
-from .interpreter import Interpreter, ProcessContext, Value
+from .interpreter import Interpreter, ProcessContext, Value, number_arg
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import Expr
@@ -44,8 +44,8 @@ class TimersAndScope:
         alone, another number a bit array of outputs from `output` up. The time is
         rounded up to whole servo cycles (D, as WA); a slot set again while it runs
         starts over (D)."""
-        slot, first, pattern, ms = (_number(a) for a in args[:4])
-        option = _number(args[4]) if len(args) > 4 else 0.0
+        slot, first, pattern, ms = (number_arg(a) for a in args[:4])
+        option = number_arg(args[4]) if len(args) > 4 else 0.0
         period = self.machine.servo_period_us()
         if not (0 <= slot <= 127 and 0 <= first <= 255 and 0 <= pattern <= 65535
                 and 0 <= ms <= 1e9 and option in (0, 1)) or \
@@ -141,7 +141,3 @@ class TimersAndScope:
                     self.machine.set_output(n, level)
 
 
-def _number(value: Value) -> float:
-    if isinstance(value, str):
-        raise TrioError("Parameter out of range")
-    return value
