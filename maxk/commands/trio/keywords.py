@@ -1534,6 +1534,34 @@ _ENTRIES: list[Keyword] = [
     _command("MHELICALSP", "MHELICALSP(...): MHELICAL at the base axis's FORCE_SPEED.",
              (6, 9), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MHELICAL, its path speed FORCE_SPEED (as MOVESP)."),
+    *[_axis(name, summary, value_range=(0, 2.0 ** 52), source="TrioBASIC help " + page,
+            confidence="C", note=note)
+      for name, summary, page, note in (
+          ("MOVE_PA", "A value each move loaded carries, acted on when the move becomes "
+           "active (MOVE_PA_CONT).", "MOVE_PA, MOVE_PA_CONT",
+           "Copied into every move loaded, on each of its axes (C); acted on at the servo "
+           "tick the move becomes active (its run starts, or the move before it ends) by "
+           "the axis's MOVE_PA_CONT read then (D; move_pa.py)."),
+          ("MOVE_PB", "As MOVE_PA: a second value each move carries (MOVE_PB_CONT).",
+           "MOVE_PB, MOVE_PB_CONT", "As MOVE_PA (C; move_pa.py)."),
+          ("MOVE_PA_IDLE", "What MOVE_PA_CONT acts on when the axis's last move ends.",
+           "MOVE_PA_IDLE", "Acted on at the tick the axis's last buffered move ends "
+           "(MTYPE 0), read then (C; D: not when set on an idle axis)."),
+          ("MOVE_PB_IDLE", "As MOVE_PA_IDLE, for MOVE_PB.", "MOVE_PB_IDLE",
+           "As MOVE_PA_IDLE (C)."),
+      )],
+    *[_axis(name, summary, value_range=(0, 6), source="TrioBASIC help " + page,
+            confidence="C", note=note)
+      for name, summary, page, note in (
+          ("MOVE_PA_CONT", "What MOVE_PA / MOVE_PA_IDLE do when a move becomes active or "
+           "the axis idle: 0 nothing, 1/3 one output, 4 an output pattern.", "MOVE_PA_CONT",
+           "1 and 3: bits 0..11 the output, bit 12 its level; 4: bits 0..11 the first "
+           "output, 12..19 how many, 20..51 the pattern (C). 3 acts as 1 (D: its VP_SPEED "
+           "= 0 case is the idle one). 2 (AXIS_DEBUG_A, reserved here), 5 and 6 (analogue "
+           "outputs, none modelled): nothing (D)."),
+          ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB / MOVE_PB_IDLE.", "MOVE_PB_CONT",
+           "As MOVE_PA_CONT (C)."),
+      )],
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
@@ -1554,16 +1582,6 @@ _ENTRIES: list[Keyword] = [
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
            "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
            "D)."),
-          ("MOVE_PA", "A value carried with each move loaded (MOVE_PA_CONT acts on it).",
-           "outputs and values switched as moves become active are not modelled "
-           "(stored, D)."),
-          ("MOVE_PB", "As MOVE_PA.", "see MOVE_PA (stored, D)."),
-          ("MOVE_PA_CONT", "What MOVE_PA does when a move becomes active.",
-           "see MOVE_PA (stored, D)."),
-          ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB.", "see MOVE_PA (stored, D)."),
-          ("MOVE_PA_IDLE", "MOVE_PA's setting while the axis is idle.",
-           "see MOVE_PA (stored, D)."),
-          ("MOVE_PB_IDLE", "As MOVE_PA_IDLE, for MOVE_PB.", "see MOVE_PA (stored, D)."),
           ("RAISE_ANGLE", "Corner angle beyond which CORNER_STATE starts its sequence.",
            "the CORNER_STATE machine (CORNER_MODE bit 2), which holds the move loader "
            "for a program's handshake, is not modelled (stored, D)."),

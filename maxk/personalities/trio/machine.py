@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import encoders, geometry, moves, sequences, tangential
+from . import encoders, geometry, move_pa, moves, sequences, tangential
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
@@ -42,6 +42,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .move_pa import MovePa
 from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -156,6 +157,10 @@ class MC405Machine(Kinematics, Engine):
             self.outputs.reset()
         if hasattr(self, "drive"):
             self.drive.reset()
+        if hasattr(self, "move_pa"):
+            self.move_pa.reset()
+        else:
+            self.move_pa: MovePa = MovePa(self)
         self.changed()
 
     def restart(self) -> None:
@@ -480,6 +485,9 @@ class MC405Machine(Kinematics, Engine):
         self.digital_outputs[number] = on
         self.changed()
 
+    def params_of(self, axis: int) -> Mapping[str, float]:
+        return self.axes[axis].params
+
     def axis_idle(self, axis: int) -> bool:
         a = self.axes[axis]
         return (not self.queues[axis] and a.link is None and a.pending_link is None
@@ -711,6 +719,7 @@ class MC405Machine(Kinematics, Engine):
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
+        carried = {a: move_pa.copies(self.axes[a].params) for a in axes}  # (move_pa.py)
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
@@ -726,6 +735,7 @@ class MC405Machine(Kinematics, Engine):
             last.kinds[len(last.deltas)] = kind
             if sp is not None:
                 last.sp[len(last.deltas)] = sp
+            last.carried[len(last.deltas)] = carried
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -743,6 +753,7 @@ class MC405Machine(Kinematics, Engine):
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind
+        run.carried[0] = carried
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()
@@ -761,6 +772,7 @@ class MC405Machine(Kinematics, Engine):
                 self._start(run)
                 self.drive.started(run)
         moves.count_moves(self)  # MOVE_COUNT: the runs that started
+        self.move_pa.update()  # MOVE_PA/MOVE_PB of the moves that became active
 
     def _start(self, run: Run) -> None:
         now = self.tick

@@ -1,0 +1,98 @@
+"""The MC405's move loader from the TrioBASIC help: MOVE_PA / MOVE_PB switching outputs
+as each move becomes active (MOVE_PA_CONT, MOVE_PA_IDLE).
+
+Every tick is hand arithmetic: a merged path at SPEED v with ACCEL a ramps over v/a s
+(v^2 / 2a units), cruises, and a move boundary's tick is the first servo tick at or after
+the time the path reaches the move's end (1 ms ticks).
+"""
+
+from __future__ import annotations
+
+import math
+
+from maxk.controllers.trio import MC405
+
+
+def at(trio: MC405, tick: int) -> None:
+    trio.advance(ticks=tick - trio.tick)
+
+
+def op(trio: MC405, number: int) -> bool:
+    return trio.machine.output(number)
+
+
+def tick_of(seconds: float) -> int:
+    return math.ceil(seconds * 1000 - 1e-6)
+
+
+# ---- MOVE_PA / MOVE_PA_CONT -------------------------------------------------------------
+SET_UP = ("BASE(0): UNITS=1: SPEED=15: FORCE_SPEED=15: ENDMOVE_SPEED=15: MERGE=ON: "
+          "ACCEL=300: DECEL=300")
+
+
+def test_move_pa_page_example_switches_output_10_as_each_move_starts() -> None:
+    """The MOVE_PA page's first example: output 10 on with the 200 move, off with the 20
+    move, on again with the 100 move; MOVE_PA_IDLE (output 10, bit 12 clear) turns it off
+    when the last move ends. Ramps: 15/300 = 0.05 s over 0.375 units."""
+    trio = MC405()
+    assert trio.send(SET_UP) == []
+    assert trio.send("MOVE_PA = 10: MOVE_PA_CONT = 1: MOVE_PA_IDLE = 10") == []
+    assert not op(trio, 10)
+    assert trio.send("MOVE_PA.12 = ON: MOVESP(200): MOVE_PA.12 = OFF: MOVESP(20): "
+                     "MOVE_PA.12 = ON: MOVESP(100)") == []
+    assert op(trio, 10)  # the first move is active from the tick it is loaded
+    first = tick_of(0.05 + (200 - 0.375) / 15)
+    second = tick_of(0.05 + (220 - 0.375) / 15)
+    end = tick_of(0.05 + (320 - 0.75) / 15 + 0.05)
+    assert (first, second, end) == (13359, 14692, 21384)
+    at(trio, first - 1)
+    assert op(trio, 10)
+    at(trio, first)
+    assert not op(trio, 10)
+    at(trio, second - 1)
+    assert not op(trio, 10)
+    at(trio, second)
+    assert op(trio, 10)
+    at(trio, end - 1)
+    assert op(trio, 10)
+    at(trio, end)
+    assert not op(trio, 10)
+    assert float(trio.query("?MTYPE")) == 0
+
+
+def test_move_pa_is_copied_when_the_move_loads_not_when_it_starts() -> None:
+    """MOVE_PA changed after a move is loaded does not change what that move switches."""
+    trio = MC405()
+    assert trio.send(SET_UP + ": MOVE_PA_CONT = 1") == []
+    assert trio.send("MOVE_PA = 4096 + 9: MOVE(30): MOVE_PA = 4096 + 11: MOVE(30): "
+                     "MOVE_PA = 12") == []
+    assert op(trio, 9) and not op(trio, 11)
+    boundary = tick_of(0.05 + (30 - 0.375) / 15)
+    at(trio, boundary - 1)
+    assert not op(trio, 11)
+    at(trio, boundary)
+    assert op(trio, 11) and op(trio, 9) and not op(trio, 12)
+
+
+def test_move_pa_cont_4_sets_a_pattern_on_outputs_8_to_15() -> None:
+    """The page's second example: $AA on the 8 outputs from 8 as the move starts."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: SPEED=15: ACCEL=300: DECEL=300: OP(9, ON)") == []
+    assert trio.send("MOVE_PA_CONT = 4: MOVE_PA = ($AA << 20) + (8 << 12) + 8") == []
+    assert [op(trio, n) for n in range(8, 16)] == [False, True] + [False] * 6
+    assert trio.send("MOVE(200)") == []
+    assert [op(trio, n) for n in range(8, 16)] == [False, True] * 4
+
+
+def test_move_pb_acts_alongside_move_pa_and_mode_0_does_nothing() -> None:
+    trio = MC405()
+    assert trio.send(SET_UP + ": MOVE_PB_CONT = 3: MOVE_PB = 4096 + 20: MOVE_PA = 4096 + 21")\
+        == []
+    assert trio.send("MOVE(10)") == []
+    assert op(trio, 20) and not op(trio, 21)
+
+
+def test_move_pa_cont_out_of_range_is_refused() -> None:
+    trio = MC405()
+    assert trio.send("MOVE_PA_CONT = 7") != []
+    assert float(trio.query("?MOVE_PA_CONT")) == 0
