@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from maxk.controllers.trio import MC405
 
 
@@ -96,3 +98,46 @@ def test_move_pa_cont_out_of_range_is_refused() -> None:
     trio = MC405()
     assert trio.send("MOVE_PA_CONT = 7") != []
     assert float(trio.query("?MOVE_PA_CONT")) == 0
+
+
+# ---- INTERP_FACTOR ----------------------------------------------------------------------
+def test_interp_factor_0_leaves_z_out_of_the_vector_speed() -> None:
+    """The INTERP_FACTOR page's example: X 30, Y 40, Z 120 at SPEED 10 with Z out of the
+    interpolation: X and Y run their 50 at 10 (ACCEL 100: 0.1 s ramps over 0.5 units)
+    and Z ends with them; VP_SPEED reads the XY speed."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1, 2): UNITS AXIS(0)=1: UNITS AXIS(1)=1: UNITS AXIS(2)=1: "
+                     "SPEED=10: ACCEL=100: DECEL=100") == []
+    assert float(trio.query("?INTERP_FACTOR AXIS(2)")) == 1
+    assert trio.send("INTERP_FACTOR AXIS(2) = 0: MOVEABS(30, 40, 120)") == []
+    end = tick_of(0.1 + (50 - 1.0) / 10 + 0.1)
+    assert end == 5100
+    at(trio, 1000)  # cruising: XY 0.5 + 10 x 0.9 = 9.5 of 50
+    assert trio.machine.dpos(0) == pytest.approx(9.5 * 30 / 50, abs=1e-9)
+    assert trio.machine.dpos(1) == pytest.approx(9.5 * 40 / 50, abs=1e-9)
+    assert trio.machine.dpos(2) == pytest.approx(9.5 * 120 / 50, abs=1e-9)
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(10, abs=1e-9)
+    at(trio, end - 1)
+    assert trio.machine.dpos(2) < 120
+    at(trio, end)
+    assert [trio.machine.dpos(a) for a in range(3)] == [30, 40, 120]
+
+
+def test_with_every_axis_interpolated_the_vector_is_the_whole_path() -> None:
+    """The same move with INTERP_FACTOR 1: 130 units at 10 (the 3-4-12 path is 130)."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1, 2): UNITS AXIS(0)=1: UNITS AXIS(1)=1: UNITS AXIS(2)=1: "
+                     "SPEED=10: ACCEL=100: DECEL=100: MOVEABS(30, 40, 120)") == []
+    at(trio, tick_of(0.1 + (130 - 1.0) / 10 + 0.1) - 1)
+    assert trio.machine.dpos(2) < 120
+    at(trio, 13200)
+    assert [trio.machine.dpos(a) for a in range(3)] == [30, 40, 120]
+
+
+def test_a_move_of_only_non_interpolated_axes_completes_without_moving() -> None:
+    trio = MC405()
+    assert trio.send("BASE(0, 1): UNITS AXIS(0)=1: UNITS AXIS(1)=1: SPEED=10: ACCEL=100: "
+                     "DECEL=100: INTERP_FACTOR AXIS(1) = 0: MOVE(0, 50)") == []
+    assert float(trio.query("?MTYPE")) == 0
+    at(trio, 100)
+    assert trio.machine.dpos(1) == 0

@@ -1562,6 +1562,15 @@ _ENTRIES: list[Keyword] = [
           ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB / MOVE_PB_IDLE.", "MOVE_PB_CONT",
            "As MOVE_PA_CONT (C)."),
       )],
+    _axis("INTERP_FACTOR", "1: the axis takes part in the vector speed of MOVE and MOVEABS "
+          "(and MOVESP, MOVEABSSP); 0: it follows, ending with the others.", default=1.0,
+          value_range=(0, 1), source="TrioBASIC help INTERP_FACTOR", confidence="C",
+          note="Power-up 1 (C: the page's example restores it). The vector SPEED, ACCEL, "
+          "FORCE_SPEED, STARTMOVE_SPEED and ENDMOVE_SPEED hold along the interpolated axes' "
+          "share of each straight move, VP_SPEED reads that speed (C); a move in which no "
+          "such axis moves completes at once without moving (C). Arcs ignore it (C); "
+          "MHELICAL's path speed is the circle's whatever the third axis's setting (D). "
+          "Path distance (CONNPATH, DISTANCE) stays the whole path's (D)."),
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
@@ -1577,8 +1586,6 @@ _ENTRIES: list[Keyword] = [
            "a dwell inside a merged path is not in the shared path planner (stored, D)."),
           ("LOOKAHEAD_FACTOR", "A factor on the SP speeds in the move buffer.",
            "re-factoring the SP speeds already buffered is not modelled (stored, D)."),
-          ("INTERP_FACTOR", "0 takes the axis out of the vector speed (a following axis).",
-           "every BASE axis takes part in the vector speed (stored, D)."),
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
            "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
            "D)."),

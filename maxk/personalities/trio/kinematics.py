@@ -103,7 +103,12 @@ class Kinematics:
         run = queue[0] if queue else None
         if run is None or not run.started:
             return np.zeros(ticks.shape)
-        _s, v = run.distance_speed(ticks, self.period)
+        s, v = run.distance_speed(ticks, self.period)
+        if run.interp and run.segments:  # INTERP_FACTOR: the interpolated axes' speed
+            ends = np.array([seg.s0 + seg.length for seg in run.segments[:-1]])
+            index = np.searchsorted(ends, s + 1e-9, side="right")
+            share = np.array([run.interp.get(j, 1.0) for j in range(len(run.segments))])
+            v = v * share[index]
         return v / run.units
 
     def path_speed(self, base: int, ticks: np.ndarray) -> np.ndarray:

@@ -43,7 +43,15 @@ from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .move_pa import MovePa
-from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
+from .profiles_sp import (
+    DIRECTIONS,
+    VP_MODES,
+    cornered,
+    interp_share,
+    jerk_counts,
+    sp_speeds,
+    sramp_seconds,
+)
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
@@ -718,11 +726,20 @@ class MC405Machine(Kinematics, Engine):
             if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
                     and abs(end) <= MAX_PHYSICAL):
                 raise ValueError("Parameter out of range")
+        share = 1.0
+        if arc is None and kind in (moves.MOVE, moves.MOVEABS):  # INTERP_FACTOR (C)
+            share = interp_share([self.axes[a].params.get("INTERP_FACTOR", 1.0)
+                                  for a in axes], [float(d) for d in deltas])
+            if share == 0:
+                return  # no interpolated axis moves: done at once, nothing moves (C)
+            speed, accel = speed / share, accel / share
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
         carried = {a: move_pa.copies(self.axes[a].params) for a in axes}  # (move_pa.py)
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
+        if sp is not None and share != 1.0:
+            sp = (sp[0] / share if sp[0] >= 0 else sp[0], sp[1] / share if sp[1] >= 0 else sp[1])
         if sp is not None:  # CORNER_MODE and the directions (profiles_sp.py)
             speed, sp, headings = cornered(base.params, base.units, speed, accel, sp,
                                            tuple(float(d) for d in deltas), arc)
@@ -736,6 +753,8 @@ class MC405Machine(Kinematics, Engine):
             if sp is not None:
                 last.sp[len(last.deltas)] = sp
             last.carried[len(last.deltas)] = carried
+            if share != 1.0:
+                last.interp[len(last.deltas)] = share
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
@@ -754,6 +773,8 @@ class MC405Machine(Kinematics, Engine):
             run.arcs[0] = arc
         run.kinds[0] = kind
         run.carried[0] = carried
+        if share != 1.0:
+            run.interp[0] = share
         for a in axes:
             self.queues[a].append(run)
         self._start_ready()

@@ -18,7 +18,7 @@ advanced speed control of the SP moves (FORCE_SPEED, STARTMOVE_SPEED, ENDMOVE_SP
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 VP_MODES = frozenset({0.0, 5.0, 6.0})  # the modes the VP_MODE page lists
 DIRECTIONS = ("START_DIR_LAST", "END_DIR_LAST", "CHANGE_DIR_LAST")  # set as SP moves load
@@ -50,6 +50,17 @@ def jerk_ramp(speed: float, accel: float, jerk: float) -> tuple[float, float]:
     peak = min(accel, math.sqrt(speed * jerk))
     rise = peak / jerk
     return peak, min(1.0, 2.0 * rise / (speed / peak + rise))
+
+
+def interp_share(factors: Sequence[float], deltas: Sequence[float]) -> float:
+    """INTERP_FACTOR: the share of a straight move's length that its interpolated axes
+    (INTERP_FACTOR not 0) make; the vector speed and acceleration hold along that share,
+    so the whole path runs 1/share faster and every axis still ends together (C: the
+    INTERP_FACTOR page's X-only speed graph). 0: no interpolated axis moves."""
+    whole = math.sqrt(sum(d * d for d in deltas))
+    if whole == 0:
+        return 1.0
+    return math.sqrt(sum(d * d for f, d in zip(factors, deltas, strict=True) if f != 0)) / whole
 
 
 def sp_speeds(params: Mapping[str, float], units: float) -> tuple[float, float]:

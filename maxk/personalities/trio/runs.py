@@ -76,6 +76,8 @@ class Run:
     counted: int = -1  # the last move MOVE_COUNT has counted (moves.count_moves)
     sp: dict[int, tuple[float, float]] = field(default_factory=dict)
     # an SP move's index -> its (STARTMOVE_SPEED, ENDMOVE_SPEED), counts/s (-1: unused)
+    interp: dict[int, float] = field(default_factory=dict)
+    # move index -> its interpolated axes' share of its length (INTERP_FACTOR, < 1 only)
     carried: dict[int, dict[int, tuple[float, float]]] = field(default_factory=dict)
     # move index -> axis -> its (MOVE_PA, MOVE_PB) when the move loaded (move_pa.py)
 
