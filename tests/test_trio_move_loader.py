@@ -141,3 +141,43 @@ def test_a_move_of_only_non_interpolated_axes_completes_without_moving() -> None
     assert float(trio.query("?MTYPE")) == 0
     at(trio, 100)
     assert trio.machine.dpos(1) == 0
+
+
+# ---- FORCE_DWELL ------------------------------------------------------------------------
+def test_force_dwell_page_example_pauses_25_ms_after_the_third_move() -> None:
+    """The FORCE_DWELL page's sequence, merged: the first three 50-unit moves run as one
+    path (ramps 100/1000 = 0.1 s over 5 units) that ends at rest on the third (its dwell),
+    waits 25 ms, then the fourth (20 units: 0.1 s up, 0.1 s at 100, 0.1 s down) starts
+    from rest."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: SPEED=100: FORCE_SPEED=100: ACCEL=1000: "
+                     "DECEL=1000: MERGE=ON") == []
+    assert trio.send("MOVESP(50): MOVESP(50): FORCE_DWELL = 25: MOVESP(50): "
+                     "FORCE_DWELL = 0: MOVESP(20)") == []
+    third = tick_of(0.1 + (150 - 10) / 100 + 0.1)
+    assert third == 1600
+    at(trio, third - 1)
+    assert trio.machine.dpos(0) < 150
+    at(trio, third)
+    assert trio.machine.dpos(0) == pytest.approx(150, abs=1e-9)
+    at(trio, third + 25)  # the dwell's last tick: the fourth move starts here
+    assert trio.machine.dpos(0) == pytest.approx(150, abs=1e-9)
+    at(trio, third + 26)  # one servo cycle of ACCEL from rest
+    assert trio.machine.dpos(0) == pytest.approx(150 + 1000 * 0.001 ** 2 / 2, abs=1e-9)
+    end = third + 25 + tick_of(0.3)
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 170
+    at(trio, end)
+    assert trio.machine.dpos(0) == pytest.approx(170, abs=1e-9)
+
+
+def test_force_dwell_acts_on_sp_moves_only() -> None:
+    """A plain MOVE ignores FORCE_DWELL: the two moves merge without a stop (the path of
+    100 at 100 with 0.1 s ramps ends at 1.1 s)."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: SPEED=100: ACCEL=1000: DECEL=1000: MERGE=ON: "
+                     "FORCE_DWELL = 25: MOVE(50): MOVE(50)") == []
+    at(trio, 1099)
+    assert trio.machine.dpos(0) < 100
+    at(trio, 1100)
+    assert trio.machine.dpos(0) == pytest.approx(100, abs=1e-9)

@@ -1571,6 +1571,12 @@ _ENTRIES: list[Keyword] = [
           "such axis moves completes at once without moving (C). Arcs ignore it (C); "
           "MHELICAL's path speed is the circle's whatever the third axis's setting (D). "
           "Path distance (CONNPATH, DISTANCE) stays the whole path's (D)."),
+    _axis("FORCE_DWELL", "A dwell (ms) at the end of each SP move loaded while it is set.",
+          value_range=(0, _BIG), source="TrioBASIC help FORCE_DWELL", confidence="C",
+          note="An SP move (MOVESP, MOVEABSSP, MOVECIRCSP, MHELICALSP, MSPHERICALSP) loaded "
+          "with FORCE_DWELL above 0 ends at rest, nothing merges into it, and the next "
+          "move starts that many ms later (C), rounded up to the servo cycle (D). Plain "
+          "moves ignore it (C: SP moves). CANCEL drops a dwell waiting (D)."),
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
@@ -1582,8 +1588,6 @@ _ENTRIES: list[Keyword] = [
           ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
            "a speed ramp across a whole move is not among the path planner's pieces "
            "(stored, D)."),
-          ("FORCE_DWELL", "A dwell (ms) at the end of the next SP move.",
-           "a dwell inside a merged path is not in the shared path planner (stored, D)."),
           ("LOOKAHEAD_FACTOR", "A factor on the SP speeds in the move buffer.",
            "re-factoring the SP speeds already buffered is not modelled (stored, D)."),
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "

@@ -738,6 +738,8 @@ class MC405Machine(Kinematics, Engine):
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
+        dwell = max(0.0, base.params.get("FORCE_DWELL", 0.0)) / 1000.0 if sp is not None \
+            else 0.0  # (an SP move's dwell at its end, FORCE_DWELL page: C)
         if sp is not None and share != 1.0:
             sp = (sp[0] / share if sp[0] >= 0 else sp[0], sp[1] / share if sp[1] >= 0 else sp[1])
         if sp is not None:  # CORNER_MODE and the directions (profiles_sp.py)
@@ -758,6 +760,7 @@ class MC405Machine(Kinematics, Engine):
             last.deltas.append(tuple(deltas))
             last.speeds.append(speed)
             last.accels.append(accel)
+            last.dwell = dwell
             if last.started:
                 last.resolve(())
                 self._apply_plan(last, last.plan_new(self.tick, period=self.period))
@@ -773,6 +776,7 @@ class MC405Machine(Kinematics, Engine):
             run.arcs[0] = arc
         run.kinds[0] = kind
         run.carried[0] = carried
+        run.dwell = dwell
         if share != 1.0:
             run.interp[0] = share
         for a in axes:
@@ -808,7 +812,8 @@ class MC405Machine(Kinematics, Engine):
                 run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp,
                 run.jerk)
             axis.begin(run.profile, self)
-            run.end_tick = axis.motion_end if axis.motion_end is not None else now
+            run.end_tick = (axis.motion_end if axis.motion_end is not None else now) \
+                + self._dwell_ticks(run)
             return
         run.resolve(tuple(float(self.axes[a].steps) for a in run.axes))
         self._apply_plan(run, run.plan_new(now, period=self.period))
@@ -819,17 +824,24 @@ class MC405Machine(Kinematics, Engine):
         run.arrays = PlanArrays(plan)
         run.plan_tick = now
         end = plan.end_time
-        run.end_tick = (now + math.ceil(end / self.period - 1e-9) if end is not None
-                        else HELD)  # (held at speed 0: feed hold at FHSPEED 0)
+        run.end_tick = (now + math.ceil(end / self.period - 1e-9) + self._dwell_ticks(run)
+                        if end is not None else HELD)  # (held at speed 0: feed hold)
         for k, a in enumerate(run.axes):
             axis = self.axes[a]
             axis.steps = axis.steps_at_tick(now, self.period)
             axis.begin(run.motion_for(plan, k, axis.steps), self)
 
+    def _dwell_ticks(self, run: Run) -> int:
+        """FORCE_DWELL's wait after the run's last move, whole servo ticks (D: rounded
+        up to the servo cycle)."""
+        return math.ceil(run.dwell / self.period - 1e-9) if run.dwell > 0 else 0
+
     def _stop(self, run: Run, decel: float | None = None) -> None:
         """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
-        DECEL, or `decel` counts/s^2); the moves buffered behind it then run."""
+        DECEL, or `decel` counts/s^2); the moves buffered behind it then run (a FORCE_DWELL
+        waiting is dropped, D)."""
         run.stopping = True
+        run.dwell = 0.0
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)

@@ -76,6 +76,7 @@ class Run:
     counted: int = -1  # the last move MOVE_COUNT has counted (moves.count_moves)
     sp: dict[int, tuple[float, float]] = field(default_factory=dict)
     # an SP move's index -> its (STARTMOVE_SPEED, ENDMOVE_SPEED), counts/s (-1: unused)
+    dwell: float = 0.0  # FORCE_DWELL of its last move, seconds: it ends at rest and waits
     interp: dict[int, float] = field(default_factory=dict)
     # move index -> its interpolated axes' share of its length (INTERP_FACTOR, < 1 only)
     carried: dict[int, dict[int, tuple[float, float]]] = field(default_factory=dict)
@@ -87,7 +88,7 @@ class Run:
 
     @property
     def mergeable(self) -> bool:
-        return not self.single and not self.stopping
+        return not self.single and not self.stopping and self.dwell == 0
 
     def definitions(self) -> list[SegmentDef]:
         """Each move a relative straight segment at its own speed (its top); the first
