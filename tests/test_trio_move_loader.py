@@ -181,3 +181,83 @@ def test_force_dwell_acts_on_sp_moves_only() -> None:
     assert trio.machine.dpos(0) < 100
     at(trio, 1100)
     assert trio.machine.dpos(0) == pytest.approx(100, abs=1e-9)
+
+
+# ---- CORNER_MODE bit 2: CORNER_STATE and RAISE_ANGLE ------------------------------------
+XY = ("BASE(0, 1): UNITS AXIS(0)=1: UNITS AXIS(1)=1: SPEED=10: ACCEL=100: DECEL=100: "
+      "MERGE=ON: CORNER_MODE = 4")
+
+
+def xy(trio: MC405) -> tuple[float, float]:
+    return (trio.machine.dpos(0), trio.machine.dpos(1))
+
+
+def test_corner_state_handshake_holds_the_move_after_a_sharp_corner() -> None:
+    """The CORNER_STATE page's sequence on a 90 degree corner beyond RAISE_ANGLE 15: the
+    first 20 (0.1 s ramps over 0.5) ends at rest at 2.1 s; the held move waits for 3,
+    loads at zero speed (state 7, MTYPE MOVEABS, TANG_DIRECTION up Y = 0), and ramps up
+    from the tick the program writes 0."""
+    trio = MC405()
+    assert trio.send(XY + ": RAISE_ANGLE = 15 * PI / 180") == []
+    assert trio.send("MOVEABS(20, 0): MOVEABS(20, 20)") == []
+    assert float(trio.query("?CORNER_STATE")) == 1  # the held move is the next one
+    at(trio, 2099)
+    assert xy(trio)[0] < 20
+    at(trio, 2100)
+    assert xy(trio) == (20, 0)
+    assert float(trio.query("?MTYPE")) == 0  # the path stopped: the move is not loaded
+    at(trio, 2150)
+    assert xy(trio) == (20, 0)
+    assert trio.send("CORNER_STATE = 3") == []
+    assert float(trio.query("?CORNER_STATE")) == 7
+    assert float(trio.query("?MTYPE")) == 2
+    assert float(trio.query("?VP_SPEED")) == 0
+    assert float(trio.query("?TANG_DIRECTION")) == 0
+    at(trio, 2200)
+    assert xy(trio) == (20, 0)
+    assert trio.send("CORNER_STATE = 0") == []
+    at(trio, 2300)  # 0.1 s of ACCEL 100
+    assert xy(trio) == (20, pytest.approx(0.5, abs=1e-9))
+    at(trio, 4299)
+    assert xy(trio)[1] < 20
+    at(trio, 4300)
+    assert xy(trio) == (20, 20)
+    assert float(trio.query("?CORNER_STATE")) == 0
+
+
+def test_a_corner_within_raise_angle_merges_and_raise_angle_0_never_holds() -> None:
+    """45 degrees under RAISE_ANGLE 60: one merged path (20 + 28.28 at 10, no stop)."""
+    length = 20 + 20 * math.sqrt(2)
+    for raise_angle in ("60 * PI / 180", "0"):
+        trio = MC405()
+        assert trio.send(XY + f": RAISE_ANGLE = {raise_angle}") == []
+        assert trio.send("MOVE(20, 0): MOVE(20, 20)") == []
+        end = tick_of(0.1 + (length - 1.0) / 10 + 0.1)
+        at(trio, end - 1)
+        assert float(trio.query("?CORNER_STATE")) == 0
+        assert xy(trio)[1] < 20
+        at(trio, end)
+        assert xy(trio) == (pytest.approx(40, abs=1e-9), pytest.approx(20, abs=1e-9))
+
+
+def test_a_knife_program_runs_the_handshake_at_each_corner_of_a_square() -> None:
+    """A program of our own in the page's shape: one task feeds a square, another lifts,
+    turns and lowers a knife (VRs count it) at each of its three corners."""
+    trio = MC405()
+    assert trio.send(XY + ": RAISE_ANGLE = 15 * PI / 180") == []
+    trio.load("KNIFE", "BASE(0)\nREPEAT\n  WAIT UNTIL CORNER_STATE > 0\n"
+              "  WAIT UNTIL MTYPE = 0\n  VR(20 + VR(10)) = DPOS AXIS(0) * 100 + DPOS AXIS(1)\n"
+              "  VR(10) = VR(10) + 1\n  WA(20)\n  CORNER_STATE = 3\n"
+              "  WAIT UNTIL CORNER_STATE = 7\n  VR(30 + VR(10)) = TANG_DIRECTION\n  WA(20)\n"
+              "  CORNER_STATE = 0\nUNTIL VR(10) = 3\n")
+    trio.load("FEED", "BASE(0, 1)\nMOVEABS(20, 0)\nMOVEABS(20, 20)\nMOVEABS(0, 20)\n"
+              "MOVEABS(0, 0)\n")
+    assert trio.send('RUN "KNIFE", 1') == []
+    assert trio.send('RUN "FEED", 2') == []
+    trio.advance(12.0)  # 4 x 2.1 s of moves, 3 x about 45 ms of knife
+    assert xy(trio) == (0, 0)
+    assert float(trio.query("?VR(10)")) == 3
+    corners = [float(trio.query(f"?VR({20 + k})")) for k in range(3)]
+    assert corners == [2000, 2020, 20]  # (20, 0), (20, 20), (0, 20)
+    turns = [trio.machine.vr_read(30 + k) for k in range(1, 4)]
+    assert turns == pytest.approx([0, -math.pi / 2, math.pi], abs=1e-6)

@@ -1384,8 +1384,9 @@ _ENTRIES: list[Keyword] = [
           "arc's FORCE_SPEED by radius / FULL_SP_RADIUS, or (bit 4) v^2/r within the "
           "centripetal acceleration at FULL_SP_RADIUS, or (bits 4, 5) within ACCEL (C; "
           "every arc of the shared planner is held within sqrt(ACCEL x radius) anyway, "
-          "D). Bits 2 (the CORNER_STATE machine) and 6 (vector radius control: the page "
-          "does not give its radius of two vectors) are stored, no effect (D)."),
+          "D). Bit 2: the CORNER_STATE handshake at corners beyond RAISE_ANGLE, on every "
+          "move of a group of 2+ axes (C; corner_state.py). Bit 6 (vector radius control: "
+          "the page does not give its radius of two vectors) is stored, no effect (D)."),
     _axis("DECEL_ANGLE", "The change of direction (radians) beyond which CORNER_MODE "
           "slows a corner.", value_range=(0, _BIG), source="TrioBASIC help DECEL_ANGLE",
           confidence="C", note="Between DECEL_ANGLE and STOP_ANGLE the corner's speed "
@@ -1577,12 +1578,24 @@ _ENTRIES: list[Keyword] = [
           "with FORCE_DWELL above 0 ends at rest, nothing merges into it, and the next "
           "move starts that many ms later (C), rounded up to the servo cycle (D). Plain "
           "moves ignore it (C: SP moves). CANCEL drops a dwell waiting (D)."),
+    _axis("CORNER_STATE", "The corner handshake of CORNER_MODE bit 2: 1 the held move is "
+          "next, 3 the program lets it load at zero speed, 7 loaded, 0 the program lets it "
+          "run.", value_range=(0, 7), source="TrioBASIC help CORNER_STATE",
+          confidence="C", note="The move after a corner beyond RAISE_ANGLE is held out of "
+          "the path (it ends at rest there); the system sets 1 when the moves before it "
+          "are on their last, loads it at zero speed (MTYPE, TANG_DIRECTION read it) once "
+          "they end after the program sets bit 1, and sets 7; the program's 0 ramps the "
+          "path up (C; corner_state.py). A move from rest has no corner; one corner at a "
+          "time per base axis; other writes are stored (D)."),
+    _axis("RAISE_ANGLE", "The change of direction (radians) beyond which CORNER_MODE bit 2 "
+          "holds the next move for the CORNER_STATE handshake.", value_range=(0, _BIG),
+          source="TrioBASIC help RAISE_ANGLE", confidence="C", note="0 (power-up): no "
+          "handshake (C). Measured as CHANGE_DIR_LAST, first two axes, from the end of "
+          "the move loaded before (C), on every move, not only SP moves (C: the page's "
+          "example uses MOVEABS)."),
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
-          ("CORNER_STATE", "The corner state machine's handshake bits (CORNER_MODE bit 2).",
-           "the state machine holding the move loader for a program's handshake is not "
-           "modelled (stored, D)."),
           ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
@@ -1593,9 +1606,6 @@ _ENTRIES: list[Keyword] = [
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
            "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
            "D)."),
-          ("RAISE_ANGLE", "Corner angle beyond which CORNER_STATE starts its sequence.",
-           "the CORNER_STATE machine (CORNER_MODE bit 2), which holds the move loader "
-           "for a program's handshake, is not modelled (stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
            ROBOT_WHY + " (stored, D)."),
           ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),

@@ -36,6 +36,7 @@ from maxk.firmware_model.world import World
 
 from . import encoders, geometry, move_pa, moves, sequences, tangential
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
+from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .jogs import Jogs
@@ -58,6 +59,7 @@ from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
 from .respeed import respeed
 from .runs import (
+    CORNER_HELD,
     SHAPE,
     Cambox,
     Connpath,
@@ -165,6 +167,10 @@ class MC405Machine(Kinematics, Engine):
             self.outputs.reset()
         if hasattr(self, "drive"):
             self.drive.reset()
+        if hasattr(self, "corners"):
+            self.corners.reset()
+        else:
+            self.corners: CornerState = CornerState(self)
         if hasattr(self, "move_pa"):
             self.move_pa.reset()
         else:
@@ -306,6 +312,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
+        elif name == "CORNER_STATE":
+            self.corners.write(axis, value)  # the corner handshake (corner_state.py)
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
         elif name == "VP_MODE" and value not in VP_MODES:
@@ -491,6 +499,10 @@ class MC405Machine(Kinematics, Engine):
 
     def set_output(self, number: int, on: bool) -> None:
         self.digital_outputs[number] = on
+        self.changed()
+
+    def set_corner_state(self, axis: int, value: float) -> None:
+        self.axes[axis].params["CORNER_STATE"] = value
         self.changed()
 
     def params_of(self, axis: int) -> Mapping[str, float]:
@@ -734,6 +746,8 @@ class MC405Machine(Kinematics, Engine):
                 return  # no interpolated axis moves: done at once, nothing moves (C)
             speed, accel = speed / share, accel / share
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
+        corner = self.corners.holds(axes, deltas, arc)  # held behind a corner (C)
+        merge = merge and not corner
         carried = {a: move_pa.copies(self.axes[a].params) for a in axes}  # (move_pa.py)
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
@@ -776,6 +790,7 @@ class MC405Machine(Kinematics, Engine):
             run.arcs[0] = arc
         run.kinds[0] = kind
         run.carried[0] = carried
+        run.corner = CORNER_HELD if corner else 0
         run.dwell = dwell
         if share != 1.0:
             run.interp[0] = share
@@ -790,7 +805,7 @@ class MC405Machine(Kinematics, Engine):
         """Start every run at the head of all its axes' queues whose axes are free."""
         for queue in self.queues:
             run = queue[0] if queue else None
-            if run is None or run.started:
+            if run is None or run.started or run.corner == CORNER_HELD:
                 continue
             if all(self.queues[a][0] is run and self.axes[a].link is None
                    and self.axes[a].pending_link is None for a in run.axes):
@@ -798,6 +813,7 @@ class MC405Machine(Kinematics, Engine):
                 self.drive.started(run)
         moves.count_moves(self)  # MOVE_COUNT: the runs that started
         self.move_pa.update()  # MOVE_PA/MOVE_PB of the moves that became active
+        self.corners.update()  # CORNER_STATE: a held corner move next, or loaded
 
     def _start(self, run: Run) -> None:
         now = self.tick

@@ -90,7 +90,7 @@ def seam(speeds: list[float], sp: Mapping[int, tuple[float, float]], j: int) -> 
 
 
 # ---- CORNER_MODE: corner and radius speed control of SP moves -----------------------------
-def _direction(delta: tuple[float, ...], arc: tuple[float, ...] | None,
+def direction(delta: tuple[float, ...], arc: tuple[float, ...] | None,
                end: bool) -> tuple[float, float]:
     """The direction (first two axes) a move starts (end False) or ends in: a line's
     vector; an arc's tangent, from its centre (relative to its start) and its turn (an
@@ -172,8 +172,8 @@ def cornered(params: Mapping[str, float], units: float, force: float, accel: flo
     of the SP move loaded before, lowering its STARTMOVE_SPEED: C, the corner control
     "operates by setting the next move's STARTMOVE_SPEED", at load), and its
     (START_DIR_LAST, END_DIR_LAST, CHANGE_DIR_LAST)."""
-    start = heading(_direction(delta, arc, False))
-    end = heading(_direction(delta, arc, True))
+    start = heading(direction(delta, arc, False))
+    end = heading(direction(delta, arc, True))
     change = change_of_direction(params.get("END_DIR_LAST", 0.0), start)
     if arc is not None:
         force = radius_speed(params, units, force, math.sqrt(sum(c * c for c in arc[0:3]))

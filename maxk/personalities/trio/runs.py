@@ -40,6 +40,10 @@ from .geometry import sphere_definition
 from .profiles_sp import jerk_ramp, seam
 
 Ticks = np.ndarray  # integer servo ticks
+CORNER_HELD, CORNER_RELEASED, CORNER_LOADED = 1, 2, 3
+"""A run behind a corner beyond RAISE_ANGLE: held out of the motion generator, let in at
+zero speed by the program (CORNER_STATE 3), loaded and waiting at zero speed
+(corner_state.py)."""
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
 
 
@@ -76,6 +80,7 @@ class Run:
     counted: int = -1  # the last move MOVE_COUNT has counted (moves.count_moves)
     sp: dict[int, tuple[float, float]] = field(default_factory=dict)
     # an SP move's index -> its (STARTMOVE_SPEED, ENDMOVE_SPEED), counts/s (-1: unused)
+    corner: int = 0  # the CORNER_STATE handshake: CORNER_HELD, CORNER_LOADED (or 0)
     dwell: float = 0.0  # FORCE_DWELL of its last move, seconds: it ends at rest and waits
     interp: dict[int, float] = field(default_factory=dict)
     # move index -> its interpolated axes' share of its length (INTERP_FACTOR, < 1 only)
@@ -85,6 +90,12 @@ class Run:
     @property
     def base(self) -> int:
         return self.axes[0]
+
+    @property
+    def path_scale(self) -> float:
+        """The planner's speed scale: the feed hold's, or 0 while the corner handshake
+        holds the run's first move at zero speed (corner_state.py)."""
+        return 0.0 if self.corner == CORNER_LOADED else self.scale
 
     @property
     def mergeable(self) -> bool:
@@ -176,12 +187,12 @@ class Run:
     def plan_new(self, now: int, stop: bool = False, period: float = 0.001) -> PathPlan:
         """The path planned from where it is now (from rest when it starts now)."""
         if self.plan is None:
-            return plan_path(self.segments, 0, 0.0, 0.0, self.scale)
+            return plan_path(self.segments, 0, 0.0, 0.0, self.path_scale)
         s, v = self.plan.state((now - self.plan_tick) * period)
         i = self.segment_index(s)
         if stop:
             return plan_stop(self.segments, i, s, v, 1.0)
-        return plan_path(self.segments, i, s, v, self.scale)
+        return plan_path(self.segments, i, s, v, self.path_scale)
 
     def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
         return ContourMotion(plan, k, float(origin))
