@@ -261,3 +261,70 @@ def test_a_knife_program_runs_the_handshake_at_each_corner_of_a_square() -> None
     assert corners == [2000, 2020, 20]  # (20, 0), (20, 20), (0, 20)
     turns = [trio.machine.vr_read(30 + k) for k in range(1, 4)]
     assert turns == pytest.approx([0, -math.pi / 2, math.pi], abs=1e-6)
+
+
+# ---- FORCE_RAMP and LOOKAHEAD_FACTOR ----------------------------------------------------
+def test_force_ramp_page_example_slows_from_100_to_75_over_the_move() -> None:
+    """The FORCE_RAMP page's ramp on a 10-unit move after a move ending at 100: the rate
+    (75^2 - 100^2) / (2 x 10) = -218.75 over 20/175 s; the first move (50, 0.1 s ramp
+    over 5 units) reaches its end at 0.55 s; the last (30 at 75) cruises and stops at
+    ACCEL 1000 (0.075 s over 2.8125 units)."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: ACCEL=1000: DECEL=1000: MERGE=ON: SPEED=100: "
+                     "FORCE_SPEED=100: ENDMOVE_SPEED=100: MOVESP(50)") == []
+    ramp = (75 ** 2 - 100 ** 2) / (2 * 10)
+    assert trio.send(f"ENDMOVE_SPEED=75: FORCE_RAMP={ramp}: MOVESP(10)") == []
+    assert trio.send("FORCE_RAMP=0: FORCE_SPEED=75: ENDMOVE_SPEED=-1: MOVESP(30)") == []
+    at(trio, 600)  # 0.05 s into the ramp
+    assert trio.machine.dpos(0) == pytest.approx(50 + 100 * 0.05 + ramp * 0.05 ** 2 / 2,
+                                                 abs=1e-9)
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(100 + ramp * 0.05, abs=1e-3)
+    ramp_end = 0.55 + 10 * 2 / 175
+    at(trio, 700)  # past it: at 75
+    assert trio.machine.dpos(0) == pytest.approx(60 + 75 * (0.7 - ramp_end), abs=1e-9)
+    end = tick_of(ramp_end + (30 - 2.8125) / 75 + 0.075)
+    assert end == 1102
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 90
+    at(trio, end)
+    assert trio.machine.dpos(0) == pytest.approx(90, abs=1e-9)
+
+
+def test_lookahead_factor_halves_the_sp_moves_in_the_buffer_as_they_run() -> None:
+    """Two 100-unit SP moves at FORCE_SPEED 100 (ACCEL 1000); at 0.5 s the factor 0.5:
+    the path slows from 100 to 50 at ACCEL (0.05 s over 3.75 units), and a plain move
+    behind them keeps SPEED 100."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: ACCEL=1000: DECEL=1000: MERGE=ON: SPEED=100: "
+                     "FORCE_SPEED=100: MOVESP(100): MOVESP(100)") == []
+    at(trio, 500)
+    here = 5 + 100 * 0.4
+    assert trio.machine.dpos(0) == pytest.approx(here, abs=1e-9)
+    assert trio.send("LOOKAHEAD_FACTOR = 0.5") == []
+    at(trio, 550)
+    assert trio.machine.dpos(0) == pytest.approx(here + 3.75, abs=1e-9)
+    at(trio, 1550)
+    assert trio.machine.dpos(0) == pytest.approx(here + 3.75 + 50, abs=1e-9)
+    # the rest at 50: 200 - 98.75 less the final ramp (50/1000 s over 1.25)
+    end = tick_of(0.55 + (200 - here - 3.75 - 1.25) / 50 + 0.05)
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 200
+    at(trio, end)
+    assert trio.machine.dpos(0) == pytest.approx(200, abs=1e-9)
+
+
+def test_lookahead_factor_is_taken_by_sp_moves_loaded_after_it() -> None:
+    """LOOKAHEAD_FACTOR 2 on FORCE_SPEED 50: a 100-unit MOVESP runs at 100 (0.1 s ramps
+    at 1000 over 5 units: 1.1 s), a plain MOVE at its SPEED 50."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: ACCEL=1000: DECEL=1000: SPEED=50: FORCE_SPEED=50:"
+                     " LOOKAHEAD_FACTOR = 2: MOVESP(100)") == []
+    at(trio, 1099)
+    assert trio.machine.dpos(0) < 100
+    at(trio, 1100)
+    assert trio.machine.dpos(0) == pytest.approx(100, abs=1e-9)
+    assert trio.send("MOVE(100)") == []  # 0.05 s ramps over 1.25: 2.05 s
+    at(trio, 1100 + 2049)
+    assert trio.machine.dpos(0) < 200
+    at(trio, 1100 + 2050)
+    assert trio.machine.dpos(0) == pytest.approx(200, abs=1e-9)

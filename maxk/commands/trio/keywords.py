@@ -1593,16 +1593,26 @@ _ENTRIES: list[Keyword] = [
           "handshake (C). Measured as CHANGE_DIR_LAST, first two axes, from the end of "
           "the move loaded before (C), on every move, not only SP moves (C: the page's "
           "example uses MOVEABS)."),
+    _axis("FORCE_RAMP", "The acceleration (user units/s^2, negative slowing) over the "
+          "whole length of each SP move loaded while it is set: FORCE_SPEED to "
+          "ENDMOVE_SPEED.", source="TrioBASIC help FORCE_RAMP", confidence="C",
+          note="The move runs at the constant rate |FORCE_RAMP| (instead of ACCEL) with "
+          "its top the higher of FORCE_SPEED and ENDMOVE_SPEED, so with the page's rate "
+          "(end^2 - start^2) / (2 x distance) it ramps from the one to the other over its "
+          "length (C); another rate is the path planner's best at that rate (D). 0: none "
+          "(C). Plain moves ignore it (C)."),
+    _axis("LOOKAHEAD_FACTOR", "A factor on the FORCE_SPEED, STARTMOVE_SPEED and "
+          "ENDMOVE_SPEED of the SP moves in the buffer.", default=1.0,
+          value_range=(0, _BIG), source="TrioBASIC help LOOKAHEAD_FACTOR", confidence="C",
+          note="Power-up 1 (C: the page's example restores it). Taken by SP moves loaded "
+          "and, when written, by every SP move of the base axis's group not yet done; the "
+          "one running changes speed from where it is at its ACCEL (C; D: the rate). "
+          "Below 0.001 it acts as 0.001 (D)."),
     # ---- motion words stored but not acted on, each with why (issue 35) ----------------
     *[_axis(name, summary, confidence="D", note="Not modelled: " + why)
       for name, summary, why in (
           ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
-          ("FORCE_RAMP", "A change of FORCE_SPEED over the length of an SP move.",
-           "a speed ramp across a whole move is not among the path planner's pieces "
-           "(stored, D)."),
-          ("LOOKAHEAD_FACTOR", "A factor on the SP speeds in the move buffer.",
-           "re-factoring the SP speeds already buffered is not modelled (stored, D)."),
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
            "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
            "D)."),

@@ -50,6 +50,8 @@ from .profiles_sp import (
     cornered,
     interp_share,
     jerk_counts,
+    lookahead,
+    sp_adjusted,
     sp_speeds,
     sramp_seconds,
 )
@@ -57,7 +59,7 @@ from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
-from .respeed import respeed
+from .respeed import refactor, respeed
 from .runs import (
     CORNER_HELD,
     SHAPE,
@@ -329,6 +331,8 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.look()
         if name in ("FHOLD_IN", "FHSPEED"):
             self.feedhold.look()
+        if name == "LOOKAHEAD_FACTOR":
+            refactor(self, axis)  # the SP moves buffered take it (respeed.py)
         if name in ("SPEED", "ACCEL", "DECEL"):
             respeed(self, axis)  # the plain moves running take it at once (respeed.py)
             if self.feedhold.held:
@@ -754,8 +758,8 @@ class MC405Machine(Kinematics, Engine):
         last = self.queues[axes[0]][-1] if self.queues[axes[0]] else None
         dwell = max(0.0, base.params.get("FORCE_DWELL", 0.0)) / 1000.0 if sp is not None \
             else 0.0  # (an SP move's dwell at its end, FORCE_DWELL page: C)
-        if sp is not None and share != 1.0:
-            sp = (sp[0] / share if sp[0] >= 0 else sp[0], sp[1] / share if sp[1] >= 0 else sp[1])
+        if sp is not None:  # INTERP_FACTOR, LOOKAHEAD_FACTOR, FORCE_RAMP (profiles_sp.py)
+            speed, accel, sp = sp_adjusted(base.params, base.units, speed, accel, sp, share)
         if sp is not None:  # CORNER_MODE and the directions (profiles_sp.py)
             speed, sp, headings = cornered(base.params, base.units, speed, accel, sp,
                                            tuple(float(d) for d in deltas), arc)
@@ -768,6 +772,7 @@ class MC405Machine(Kinematics, Engine):
             last.kinds[len(last.deltas)] = kind
             if sp is not None:
                 last.sp[len(last.deltas)] = sp
+                last.factored[len(last.deltas)] = lookahead(base.params)
             last.carried[len(last.deltas)] = carried
             if share != 1.0:
                 last.interp[len(last.deltas)] = share
@@ -786,6 +791,7 @@ class MC405Machine(Kinematics, Engine):
                   jerk=jerk_counts(base.params, base.units), preset=preset)
         if sp is not None:
             run.sp[0] = sp
+            run.factored[0] = lookahead(base.params)
         if arc is not None:
             run.arcs[0] = arc
         run.kinds[0] = kind

@@ -63,6 +63,36 @@ def interp_share(factors: Sequence[float], deltas: Sequence[float]) -> float:
     return math.sqrt(sum(d * d for f, d in zip(factors, deltas, strict=True) if f != 0)) / whole
 
 
+MIN_FACTOR = 1e-3
+"""The least LOOKAHEAD_FACTOR applied (D: 0, an operator's knob at its end stop, would
+stop the SP moves for ever; they crawl at a thousandth of their speeds instead)."""
+
+
+def lookahead(params: Mapping[str, float]) -> float:
+    """LOOKAHEAD_FACTOR as applied to the SP moves' speeds."""
+    return max(MIN_FACTOR, params.get("LOOKAHEAD_FACTOR", 1.0))
+
+
+def sp_adjusted(params: Mapping[str, float], units: float, speed: float, accel: float,
+                sp: tuple[float, float], share: float
+                ) -> tuple[float, float, tuple[float, float]]:
+    """An SP move's (FORCE_SPEED, ACCEL, (STARTMOVE_SPEED, ENDMOVE_SPEED)) as loaded, in
+    counts: its speeds over the interpolated share (INTERP_FACTOR) and by LOOKAHEAD_FACTOR
+    (C: the three speeds); with FORCE_RAMP the move's rate is |FORCE_RAMP| and its top
+    the higher of FORCE_SPEED and ENDMOVE_SPEED, so it ramps over its whole length from
+    the one to the other (C: the FORCE_RAMP page's rate is (end^2 - start^2) / 2 dist, a
+    constant acceleration over the move)."""
+    factor = lookahead(params)
+    start, end = (v / share * factor if v >= 0 else v for v in sp)
+    speed *= factor
+    ramp = params.get("FORCE_RAMP", 0.0)
+    if ramp != 0:
+        accel = abs(ramp) * units / share
+        if end >= 0:
+            speed = max(speed, end)
+    return speed, accel, (start, end)
+
+
 def sp_speeds(params: Mapping[str, float], units: float) -> tuple[float, float]:
     """(STARTMOVE_SPEED, ENDMOVE_SPEED) an SP move loaded now carries, counts/s; a
     negative value (the -1 of power-up) is not used."""

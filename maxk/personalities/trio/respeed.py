@@ -18,6 +18,7 @@ from typing import Any
 
 from .feedhold import _as_path, _current
 from .moves import CAM, FWD_JOG, MOVEMODIFY, REV_JOG
+from .profiles_sp import lookahead
 
 _KEEP = frozenset({CAM, FWD_JOG, REV_JOG, MOVEMODIFY})
 
@@ -44,21 +45,52 @@ def respeed(m: Any, axis: int) -> None:
         if run.decel != decel and not run.sp and run.kinds.get(0, 1) not in _KEEP:
             run.decel = decel
             changed = True
-        if not changed or not run.started:
+        if changed and run.started:
+            _replan(m, run, first)
+
+
+def refactor(m: Any, axis: int) -> None:
+    """LOOKAHEAD_FACTOR changed on a base axis: every SP move of its group not yet done
+    carries the new factor on its FORCE_SPEED, STARTMOVE_SPEED and ENDMOVE_SPEED (C: its
+    page, "all speeds in the motion buffer"); the one running is re-planned from where it
+    is, at the speed it has, at its ACCEL (as SPEED above, D)."""
+    factor = lookahead(m.axes[axis].params)
+    for run in list(m.queues[axis]):
+        if run.base != axis or run.stopping:
             continue
-        if run.profile is not None:
-            run = _as_path(m, run)
-            first = 0
-        defs = run.definitions()
-        for j in range(first, len(run.segments)):
-            seg, defn = run.segments[j], defs[j]
-            seg.ceiling = defn.v_top if defn.v_top is not None else seg.ceiling
-            seg.v_end = defn.v_end
-            seg.accel = defn.accel
-            if seg.radius > 0:
-                seg.arc_cap = math.sqrt(seg.accel * seg.radius)
-        m._apply_plan(run, run.plan_new(m.tick, period=m.period))
-        m.changed()
+        first = _current(m, run) if run.started else 0
+        changed = False
+        for j in range(first, len(run.deltas)):
+            old = run.factored.get(j)
+            if j not in run.sp or old is None or old == factor:
+                continue
+            ratio = factor / old
+            run.speeds[j] *= ratio
+            start, end = run.sp[j]
+            run.sp[j] = (start * ratio if start >= 0 else start,
+                         end * ratio if end >= 0 else end)
+            run.factored[j] = factor
+            changed = True
+        if changed and run.started:
+            _replan(m, run, first)
 
 
-__all__ = ["respeed"]
+def _replan(m: Any, run: Any, first: int) -> None:
+    """The run's segments from move `first` on take their moves' new speeds, and the
+    path is planned again from where it is."""
+    if run.profile is not None:
+        run = _as_path(m, run)
+        first = 0
+    defs = run.definitions()
+    for j in range(first, len(run.segments)):
+        seg, defn = run.segments[j], defs[j]
+        seg.ceiling = defn.v_top if defn.v_top is not None else seg.ceiling
+        seg.v_end = defn.v_end
+        seg.accel = defn.accel
+        if seg.radius > 0:
+            seg.arc_cap = math.sqrt(seg.accel * seg.radius)
+    m._apply_plan(run, run.plan_new(m.tick, period=m.period))
+    m.changed()
+
+
+__all__ = ["refactor", "respeed"]

@@ -84,6 +84,8 @@ class Run:
     dwell: float = 0.0  # FORCE_DWELL of its last move, seconds: it ends at rest and waits
     interp: dict[int, float] = field(default_factory=dict)
     # move index -> its interpolated axes' share of its length (INTERP_FACTOR, < 1 only)
+    factored: dict[int, float] = field(default_factory=dict)
+    # an SP move's index -> the LOOKAHEAD_FACTOR its speeds carry
     carried: dict[int, dict[int, tuple[float, float]]] = field(default_factory=dict)
     # move index -> axis -> its (MOVE_PA, MOVE_PB) when the move loaded (move_pa.py)
 
