@@ -328,3 +328,30 @@ def test_lookahead_factor_is_taken_by_sp_moves_loaded_after_it() -> None:
     assert trio.machine.dpos(0) < 200
     at(trio, 1100 + 2050)
     assert trio.machine.dpos(0) == pytest.approx(200, abs=1e-9)
+
+
+# ---- LIMIT_BUFFERED ---------------------------------------------------------------------
+def test_limit_buffered_1_makes_the_third_move_wait_for_the_first_to_end() -> None:
+    """LIMIT_BUFFERED 1: one move behind the running one. Three 10-unit moves (MERGE
+    OFF: 0.1 s ramps over 0.5 units, 1.1 s each): the command line hands over the third
+    only when the first ends, at tick 1100; with the power-up depth it returns at once."""
+    trio = MC405()
+    assert float(trio.query("?LIMIT_BUFFERED")) == 15
+    assert trio.send("BASE(0): UNITS=1: SPEED=10: ACCEL=100: DECEL=100") == []
+    assert trio.send("MOVE(10): MOVE(10): MOVE(10)") == []
+    assert trio.tick == 0 and float(trio.query("?MOVES_BUFFERED")) == 2
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: SPEED=10: ACCEL=100: DECEL=100: "
+                     "LIMIT_BUFFERED = 1") == []
+    assert trio.send("MOVE(10): MOVE(10): MOVE(10)") == []
+    assert trio.tick == 1100
+    assert trio.machine.dpos(0) == 10
+    assert float(trio.query("?MOVES_BUFFERED")) == 1
+
+
+def test_limit_buffered_outside_1_to_64_is_refused() -> None:
+    trio = MC405()
+    for value in ("0", "65"):
+        reply = trio.send(f"LIMIT_BUFFERED = {value}")
+        assert reply and reply[0].endswith("Parameter out of range")
+    assert float(trio.query("?LIMIT_BUFFERED")) == 15

@@ -1450,11 +1450,14 @@ _ENTRIES: list[Keyword] = [
           default=1.0, value_range=(0, 1), source="TrioBASIC help MSPEED_FILTER",
           confidence="C", note="Power-up 1 (C); values below 1 are stored, not applied "
           "(see MSPEEDF, D)."),
-    _system("LIMIT_BUFFERED", "The most moves the controller buffers (1..BUFFERSIZE).",
-            default=1, value_range=(1, 64), source="TrioBASIC help LIMIT_BUFFERED",
-            confidence="D", note="Not modelled: the machine's buffer depth is fixed at "
-            "16 moves per axis, the running one included (docs/trio.md), whatever it "
-            "says; power-up 1 as the page, 1..64 (stored, D)."),
+    _system("LIMIT_BUFFERED", "The most moves an axis buffers behind the one running "
+            "(1..BUFFERSIZE).", default=15, value_range=(1, 64),
+            source="TrioBASIC help LIMIT_BUFFERED", confidence="D",
+            note="A move loaded while an axis of its group holds LIMIT_BUFFERED moves behind "
+            "the running one waits for one to finish (C; the command line and the program "
+            "wait). Power-up 15, not the page's 1 (D: the emulator's depth of 16 moves an "
+            "axis, running included, that its programs and tests were written against). "
+            "Lowering it below what is buffered drops nothing (D). 1..64 (D)."),
     _axis("MOVE_COUNT", "Counts the moves that became the running one (MTYPE); "
           "writable.", source="TrioBASIC help MOVE_COUNT", confidence="I",
           note="Each buffered move (MOVE..., SP moves, arcs, CAM) counts once on every "

@@ -353,7 +353,8 @@ class MC405Machine(Kinematics, Engine):
         self.drive.look(self.tick)
 
     def can_load(self, axes: Sequence[int]) -> bool:
-        return all(self._buffered(a) < MOVE_BUFFER and self.axes[a].link is None
+        depth = int(self.system.get("LIMIT_BUFFERED", 1)) + 1
+        return all(self._buffered(a) < depth and self.axes[a].link is None
                    and self.axes[a].pending_link is None for a in axes)
 
     def _buffered(self, axis: int) -> int:
