@@ -123,6 +123,30 @@ def test_interp_factor_0_leaves_z_out_of_the_vector_speed() -> None:
     assert [trio.machine.dpos(a) for a in range(3)] == [30, 40, 120]
 
 
+def test_a_merged_seam_between_shares_is_taken_at_the_lower_path_speed() -> None:
+    """The page's move merged into a plain XY move: the first runs its 130 of path at 26
+    (XY 10; path ACCEL 260) and slows to the second's 10 at its end ((26^2 - 10^2) / 520
+    of path in 16/260 s), so XY never runs over 10; the second runs 50 at 10."""
+    trio = MC405()
+    assert trio.send("BASE(0, 1, 2): UNITS AXIS(0)=1: UNITS AXIS(1)=1: UNITS AXIS(2)=1: "
+                     "SPEED=10: ACCEL=100: DECEL=100: MERGE=ON") == []
+    assert trio.send("INTERP_FACTOR AXIS(2) = 0: MOVE(30, 40, 120): MOVE(50, 0, 0)") == []
+    slow = (26 ** 2 - 10 ** 2) / 520
+    seam = 0.1 + (130 - 1.3 - slow) / 26 + 16 / 260
+    end = tick_of(seam + (50 - 0.5) / 10 + 0.1)
+    assert end == 10119
+    at(trio, tick_of(seam) - 1)
+    assert trio.machine.dpos(2) < 120
+    assert float(trio.query("?VP_SPEED")) < 10
+    at(trio, tick_of(seam) + 100)
+    assert trio.machine.dpos(2) == pytest.approx(120, abs=1e-9)
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(10, abs=1e-9)
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 80
+    at(trio, end)
+    assert [trio.machine.dpos(a) for a in range(3)] == pytest.approx([80, 40, 120], abs=1e-9)
+
+
 def test_with_every_axis_interpolated_the_vector_is_the_whole_path() -> None:
     """The same move with INTERP_FACTOR 1: 130 units at 10 (the 3-4-12 path is 130)."""
     trio = MC405()

@@ -1574,7 +1574,9 @@ _ENTRIES: list[Keyword] = [
           "share of each straight move, VP_SPEED reads that speed (C); a move in which no "
           "such axis moves completes at once without moving (C). Arcs ignore it (C); "
           "MHELICAL's path speed is the circle's whatever the third axis's setting (D). "
-          "Path distance (CONNPATH, DISTANCE) stays the whole path's (D)."),
+          "Merged moves of different shares join at the lower of their path speeds (D: "
+          "the planner has one path speed at a seam). Path distance (CONNPATH, DISTANCE) "
+          "stays the whole path's (D)."),
     _axis("FORCE_DWELL", "A dwell (ms) at the end of each SP move loaded while it is set.",
           value_range=(0, _BIG), source="TrioBASIC help FORCE_DWELL", confidence="C",
           note="An SP move (MOVESP, MOVEABSSP, MOVECIRCSP, MHELICALSP, MSPHERICALSP) loaded "
@@ -1617,8 +1619,8 @@ _ENTRIES: list[Keyword] = [
           ("VP_POSITION", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("SPEED_SIGN", "Reserved.", "its page says only 'reserved keyword' (stored, D)."),
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
-           "(MOVECONTOUR).", "MOVECONTOUR's embedded profiles are not modelled (stored, "
-           "D)."),
+           "(MOVECONTOUR).", "it acts only on embedded speed profiles (MOVECONTOUR, "
+           "MOVEABSSEQ's option bit 0), neither of which is modelled (stored, D)."),
           ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
            ROBOT_WHY + " (stored, D)."),
           ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),

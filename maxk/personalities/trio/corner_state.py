@@ -109,6 +109,6 @@ class CornerState:
                 run.corner = CORNER_LOADED
             elif run.corner == CORNER_LOADED and int(value) == 0:
                 run.corner = 0
-                if run.started:
+                if run.started and not run.stopping:
                     m._apply_plan(run, run.plan_new(m.tick, period=m.period))
         m._start_ready()

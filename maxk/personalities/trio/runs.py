@@ -110,9 +110,19 @@ class Run:
         last = len(self.deltas) - 1
         return [SegmentDef("line", tuple(float(d) for d in delta), True, 0.0,
                            0.0 if j == 0 else None,
-                           seam(self.speeds, self.sp, j) if j < last else self.speeds[j],
+                           self.seam(j) if j < last else self.speeds[j],
                            self.accels[j], None, self.speeds[j])
                 for j, delta in enumerate(self.deltas)]
+
+    def seam(self, j: int) -> float:
+        """The path speed move j hands over to move j + 1 at (profiles_sp.seam); where
+        INTERP_FACTOR gives the two moves different path speeds for one vector speed, at
+        most the lower, so the interpolated axes never run over either (D: one path
+        speed at the seam)."""
+        speed = seam(self.speeds, self.sp, j)
+        if j in self.interp or j + 1 in self.interp:
+            speed = min(speed, self.speeds[j], self.speeds[j + 1])
+        return speed
 
     def resolve(self, origin: tuple[float, ...]) -> None:
         """Segments of every move loaded so far, from the group's start position."""
