@@ -379,3 +379,13 @@ def test_limit_buffered_outside_1_to_64_is_refused() -> None:
         reply = trio.send(f"LIMIT_BUFFERED = {value}")
         assert reply and reply[0].endswith("Parameter out of range")
     assert float(trio.query("?LIMIT_BUFFERED")) == 15
+
+
+def test_the_move_loader_example_script_runs_clean() -> None:
+    """examples/mc405_move_loader.maxk under `maxk run`: every expected reply matches."""
+    from pathlib import Path
+
+    from maxk.cli import main
+
+    script = Path(__file__).parent.parent / "examples" / "mc405_move_loader.maxk"
+    assert main(["run", str(script)]) == 0
