@@ -40,10 +40,7 @@ from .geometry import sphere_definition
 from .profiles_sp import jerk_ramp, seam
 
 Ticks = np.ndarray  # integer servo ticks
-CORNER_HELD, CORNER_RELEASED, CORNER_LOADED = 1, 2, 3
-"""A run behind a corner beyond RAISE_ANGLE: held out of the motion generator, let in at
-zero speed by the program (CORNER_STATE 3), loaded and waiting at zero speed
-(corner_state.py)."""
+CORNER_HELD, CORNER_LOADED = 1, 3  # a run behind a corner: held, or let in at 0 speed
 SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
 
 
@@ -95,8 +92,7 @@ class Run:
 
     @property
     def path_scale(self) -> float:
-        """The planner's speed scale: the feed hold's, or 0 while the corner handshake
-        holds the run's first move at zero speed (corner_state.py)."""
+        """The feed hold's speed scale, or 0 while let in at zero speed (corner_state)."""
         return 0.0 if self.corner == CORNER_LOADED else self.scale
 
     @property
@@ -115,10 +111,8 @@ class Run:
                 for j, delta in enumerate(self.deltas)]
 
     def seam(self, j: int) -> float:
-        """The path speed move j hands over to move j + 1 at (profiles_sp.seam); where
-        INTERP_FACTOR gives the two moves different path speeds for one vector speed, at
-        most the lower, so the interpolated axes never run over either (D: one path
-        speed at the seam)."""
+        """profiles_sp.seam; where INTERP_FACTOR gives the moves different path speeds,
+        at most the lower (D: the interpolated axes never run over SPEED)."""
         speed = seam(self.speeds, self.sp, j)
         if j in self.interp or j + 1 in self.interp:
             speed = min(speed, self.speeds[j], self.speeds[j + 1])
