@@ -94,6 +94,23 @@ def test_move_pb_acts_alongside_move_pa_and_mode_0_does_nothing() -> None:
     assert op(trio, 20) and not op(trio, 21)
 
 
+def test_move_pa_cont_2_copies_the_values_into_axis_debug_a_and_b() -> None:
+    """Mode 2: MOVE_PA into AXIS_DEBUG_A, MOVE_PB into AXIS_DEBUG_B as the move becomes
+    active (the second 30 of a merged pair: 0.05 + 29.625 / 15 s)."""
+    trio = MC405()
+    assert trio.send(SET_UP + ": MOVE_PA_CONT = 2: MOVE_PB_CONT = 2") == []
+    assert trio.send("MOVE_PA = 7: MOVE_PB = 70: MOVE(30): MOVE_PA = 8: MOVE_PB = 80: "
+                     "MOVE(30)") == []
+    assert float(trio.query("?AXIS_DEBUG_A")) == 7
+    assert float(trio.query("?AXIS_DEBUG_B")) == 70
+    boundary = tick_of(0.05 + (30 - 0.375) / 15)
+    at(trio, boundary - 1)
+    assert float(trio.query("?AXIS_DEBUG_A")) == 7
+    at(trio, boundary)
+    assert float(trio.query("?AXIS_DEBUG_A")) == 8
+    assert float(trio.query("?AXIS_DEBUG_B")) == 80
+
+
 def test_move_pa_cont_out_of_range_is_refused() -> None:
     trio = MC405()
     assert trio.send("MOVE_PA_CONT = 7") != []

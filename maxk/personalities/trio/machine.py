@@ -510,7 +510,7 @@ class MC405Machine(Kinematics, Engine):
         self.axes[axis].params["CORNER_STATE"] = value
         self.changed()
 
-    def params_of(self, axis: int) -> Mapping[str, float]:
+    def params_of(self, axis: int) -> dict[str, float]:
         return self.axes[axis].params
 
     def axis_idle(self, axis: int) -> bool:

@@ -12,21 +12,22 @@ axis's MOVE_PA_CONT / MOVE_PB_CONT read then (D: the page says the control appli
   between moves has the next move active at that same tick);
 - 4: bits 0..11 the first output, bits 12..19 how many, bits 20.. their pattern, lowest
   bit to the first output (C);
-- 2 (AXIS_DEBUG_A), 5 and 6 (analogue outputs): nothing (D: AXIS_DEBUG_A is reserved
-  and the MC405 here has no analogue outputs).
+- 2: the value is copied into AXIS_DEBUG_A (MOVE_PB: AXIS_DEBUG_B) (C);
+- 5 and 6 (analogue outputs): nothing (D: the MC405 here has no analogue outputs).
 When the axis's last move ends (MTYPE 0) it acts on MOVE_PA_IDLE / MOVE_PB_IDLE the same
 way, read then (C).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, MutableMapping
 from typing import Protocol
 
 from .runs import Run
 
 PAIRS = (("MOVE_PA", "MOVE_PA_CONT", "MOVE_PA_IDLE"),
          ("MOVE_PB", "MOVE_PB_CONT", "MOVE_PB_IDLE"))
+DEBUG = ("AXIS_DEBUG_A", "AXIS_DEBUG_B")  # mode 2's copy of MOVE_PA, MOVE_PB (C)
 OUTPUT_BITS = 12  # bits 0..11: an output's number (C)
 MAX_PATTERN = 32  # mode 4: bits 20..51 hold the pattern (C)
 
@@ -37,7 +38,7 @@ class Host(Protocol):
     period: float
 
     def set_output(self, number: int, on: bool) -> None: ...
-    def params_of(self, axis: int) -> Mapping[str, float]: ...
+    def params_of(self, axis: int) -> MutableMapping[str, float]: ...
 
 
 def copies(params: Mapping[str, float]) -> tuple[float, float]:
@@ -45,10 +46,12 @@ def copies(params: Mapping[str, float]) -> tuple[float, float]:
     return (params.get("MOVE_PA", 0.0), params.get("MOVE_PB", 0.0))
 
 
-def act(m: Host, mode: float, value: float) -> None:
-    """One MOVE_PA/MOVE_PB (or idle) value acted on by its control mode."""
+def act(m: Host, mode: float, value: float, axis: int, k: int) -> None:
+    """One MOVE_PA (k 0) / MOVE_PB (k 1) value, or its idle one, acted on by its mode."""
     code = int(value)
-    if mode in (1.0, 3.0):
+    if mode == 2.0:
+        m.params_of(axis)[DEBUG[k]] = value
+    elif mode in (1.0, 3.0):
         m.set_output(code & ((1 << OUTPUT_BITS) - 1), bool(code >> OUTPUT_BITS & 1))
     elif mode == 4.0:
         first = code & ((1 << OUTPUT_BITS) - 1)
@@ -78,8 +81,8 @@ class MovePa:
                 if was is not None:
                     del self.active[a]
                     params = m.params_of(a)
-                    for _value, control, idle in PAIRS:
-                        act(m, params.get(control, 0.0), params.get(idle, 0.0))
+                    for k, (_value, control, idle) in enumerate(PAIRS):
+                        act(m, params.get(control, 0.0), params.get(idle, 0.0), a, k)
                 continue
             index = len(run.deltas) - run.moves_left(m.tick, m.period)
             if was is not None and was[0] is run and was[1] == index:
@@ -90,4 +93,4 @@ class MovePa:
                 continue
             params = m.params_of(a)
             for k, (_value, control, _idle) in enumerate(PAIRS):
-                act(m, params.get(control, 0.0), carried[k])
+                act(m, params.get(control, 0.0), carried[k], a, k)
