@@ -45,7 +45,7 @@ from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
 from .axismode import soft_limits
-from .following import SERVO_ATYPES, Following
+from .following import SERVO_ATYPES, Following, MotorHost
 from .runs import Run, TrioAxis
 
 
@@ -53,7 +53,7 @@ class _Encoders(Protocol):
     def sync_all(self) -> None: ...
 
 
-class DriveHost(Protocol):
+class DriveHost(MotorHost, Protocol):
     """What the drive needs of the machine (`MC405Machine`)."""
 
     axes: list[TrioAxis]
