@@ -135,3 +135,139 @@ def test_frame_5_rotated_axes_from_a_program() -> None:
     x, y = x0 + 40, y0 + 30
     assert world(trio) == pytest.approx([x, y], abs=1e-9)
     assert motors(trio) == pytest.approx([x * c + y * s, -x * s + y * c], abs=1e-9)
+
+
+POLAR = ("UNITS AXIS(0) = 4000: AXIS_UNITS AXIS(0) = 4000: UNITS AXIS(1) = 1000000 * 2 * PI "
+         "/ 360: AXIS_UNITS AXIS(1) = 4000: TABLE(0, 1000000)")
+
+
+def test_frame_6_polar_programming_of_an_xy_gantry() -> None:
+    """The page's examples: a gantry programmed in mm and degrees (TABLE(0) = 1e6 counts
+    per radian of the world angle); MOVEABS(150, 0) takes the tool 150 mm along X,
+    then MOVE 360 degrees on the angle takes it round a circle about the origin:
+    X = 150 cos(angle), Y = 150 sin(angle), in mm (AXIS_UNITS 4000)."""
+    trio = machine(POLAR)
+    assert trio.send("FRAME = 6") == []
+    assert world(trio) == [0.0, 0.0]
+    assert trio.send("MOVEABS(150, 0)") == [] and trio.run_until_idle()
+    assert world(trio) == pytest.approx([150.0, 0.0], abs=1e-9)
+    assert motors(trio) == pytest.approx([150.0, 0.0], abs=1e-9)
+    assert trio.send("SPEED AXIS(1) = 90: ACCEL AXIS(1) = 1e6: DECEL AXIS(1) = 1e6") == []
+    start = trio.tick
+    assert trio.send("MOVE(360) AXIS(1)") == []
+    for tick in (start + 1, start + 1000, start + 2500, start + 3999):
+        at(trio, tick)
+        degrees = 90 * (tick - start) / 1000 - 90 * 90 / 2e6
+        angle = math.radians(degrees)
+        assert trio.machine.dpos(1) == pytest.approx(degrees, abs=1e-9)
+        assert motors(trio) == pytest.approx([150 * math.cos(angle), 150 * math.sin(angle)],
+                                             abs=1e-9)
+    assert trio.run_until_idle()  # a move goes whole counts: 360 degrees is 6283185
+    assert world(trio) == pytest.approx([150.0, 6283185 / (1e6 * 2 * math.pi / 360)],
+                                        abs=1e-9)
+    angle = 6283185 / 1e6
+    assert motors(trio) == pytest.approx([150 * math.cos(angle), 150 * math.sin(angle)],
+                                         abs=1e-9)
+
+
+CYLINDER = ("UNITS AXIS(0) = 4000: AXIS_UNITS AXIS(0) = 4000: UNITS AXIS(1) = 4000: "
+            "AXIS_UNITS AXIS(1) = 4000 / 360: TABLE(0, 4000 / (2 * PI))")
+
+
+def test_frame_10_xy_programming_of_a_cylindrical_robot_counts_whole_turns() -> None:
+    """The page's example: the arm's radius in mm, its rotation 4000 counts a turn
+    (4000 / 2 pi per radian), AXIS_UNITS so the rotation reads degrees. Homed at radius
+    100, angle 0: FRAME = 10 puts the tool at (100, 0). Two full circles about the
+    origin (MOVECIRC, centre -100 from the start) turn the arm twice: the rotation motor
+    ends 720 degrees round, not back at 0; on the way it stands at the circle's angle."""
+    trio = machine(CYLINDER)
+    assert trio.send("DEFPOS(100, 0)") == []
+    assert trio.send("FRAME = 10") == []
+    assert world(trio) == pytest.approx([100.0, 0.0], abs=1e-12)
+    assert motors(trio) == pytest.approx([100.0, 0.0], abs=1e-12)
+    start = trio.tick
+    assert trio.send("MOVECIRC(0, 0, -100, 0, 1)") == []
+    at(trio, start + 1)
+    sign = 1 if world(trio)[1] > 0 else -1  # (which way round: MOVECIRC's direction)
+    for tick in (start + 1000, start + 3000, start + 5000):
+        at(trio, tick)
+        phi = path(tick, start) / 100  # radians round the circle
+        x, y = world(trio)
+        assert [x, y] == pytest.approx([100 * math.cos(phi), sign * 100 * math.sin(phi)],
+                                       abs=1e-9)
+        assert motors(trio) == pytest.approx([100.0, sign * math.degrees(phi)], abs=1e-9)
+    assert trio.run_until_idle()
+    assert motors(trio) == pytest.approx([100.0, sign * 360.0], abs=1e-9)
+    assert trio.send("MOVECIRC(0, 0, -100, 0, 1)") == [] and trio.run_until_idle()
+    assert world(trio) == pytest.approx([100.0, 0.0], abs=1e-9)
+    assert motors(trio) == pytest.approx([100.0, sign * 720.0], abs=1e-9)
+    # FRAME = 0: the positions are the motors' again, two turns round
+    assert trio.send("FRAME = 0") == []
+    assert world(trio) == pytest.approx([100.0, sign * 720 * 4000 / 360 / 4000], abs=1e-9)
+
+
+def test_frame_trans_runs_a_frame_on_table_values() -> None:
+    """FRAME_TRANS(frame, in, out, direction[, offset]): frame 2's inverse of world
+    (30, 10) is motors (40, 20), its forward back (30, 10); frame 5's matrices read at
+    the offset given (a 90 degree turn: (x', y') = (x, y) [[0, -1], [1, 0]] = (y, -x))."""
+    trio = machine()
+    assert trio.send("TABLE(1000, 30, 10)") == []
+    assert trio.send("FRAME_TRANS(2, 1000, 2000, 0)") == []
+    assert [trio.machine.table_read(2000 + k) for k in range(2)] == [40.0, 20.0]
+    assert trio.send("FRAME_TRANS(2, 2000, 3000, 1)") == []
+    assert [trio.machine.table_read(3000 + k) for k in range(2)] == [30.0, 10.0]
+    assert trio.send("TABLE(100, 0, -1, 1, 0, 0, 1, -1, 0)") == []
+    assert trio.send("FRAME_TRANS(5, 1000, 4000, 0, 100)") == []
+    assert [trio.machine.table_read(4000 + k) for k in range(2)] == [10.0, -30.0]
+    assert trio.send("FRAME_TRANS(5, 4000, 5000, 1, 100)") == []
+    assert [trio.machine.table_read(5000 + k) for k in range(2)] == [30.0, 10.0]
+    assert trio.query("?FRAME_TRANS(2, 1000, 6000, 0)") == "0"
+    for bad in ("FRAME_TRANS(2, 1000, 2000, 3)", "FRAME_TRANS(1, 1000, 2000, 0)",
+                "FRAME_TRANS(6, 1000, 2000, 0, 900)"):  # (frame 6: TABLE(900) = 0 scale)
+        assert trio.send("TABLE(2000, 7, 7)") == []
+        assert trio.send(bad) == ["! Parameter out of range"]
+        assert [trio.machine.table_read(2000 + k) for k in range(2)] == [7.0, 7.0]
+
+
+def test_frame_group_places_a_frame_on_chosen_axes_and_table_offset() -> None:
+    """FRAME_GROUP(0, 100, 2, 3): frame 2 on axes 2 and 3 (FRAME on either sets both),
+    its data from TABLE(100); FRAME_GROUP(0) prints the group; FRAME_GROUP(0, -1)
+    deletes it, the frame off: DPOS is MPOS again."""
+    trio = machine()
+    assert trio.send("FRAME_GROUP(0, 100, 2, 3)") == []
+    assert trio.send("BASE(2, 3): DEFPOS(6, 2)") == []
+    assert trio.send("FRAME AXIS(3) = 2") == []
+    assert trio.query("?FRAME AXIS(2)") == "2" and trio.query("?FRAME AXIS(0)") == "0"
+    assert [trio.machine.dpos(a) for a in (2, 3)] == [4.0, 2.0]
+    assert [trio.machine.axis_parameter("AXIS_DPOS", a) for a in (2, 3)] == [6.0, 2.0]
+    assert trio.send("FRAME_GROUP(0)") == [
+        "0 [100] : 2, 3 {0:0.00000, 0.00000, 0.00000, 0.00000, 0.00000, 0.00000} "
+        "TO={0:0.00000, 0.00000, 0.00000} VL={0, 0}"]
+    assert trio.send("SPEED = 100: ACCEL = 1e6: DECEL = 1e6: MOVE(1, 0)") == []
+    assert trio.run_until_idle()
+    assert [trio.machine.axis_parameter("AXIS_DPOS", a) for a in (2, 3)] == \
+        pytest.approx([7.0, 3.0])
+    assert trio.send("FRAME_GROUP(0, -1)") == []
+    assert trio.query("?FRAME AXIS(2)") == "0"
+    assert [trio.machine.dpos(a) for a in (2, 3)] == pytest.approx([7.0, 3.0])
+
+
+def test_refusals_leave_everything_as_it_was() -> None:
+    """A frame the page gives no equations for, a frame change while the axes move,
+    AXIS_UNITS 0, a write to AXIS_DPOS, FRAME_GROUP with axes not ascending: each is
+    the controller's error, nothing changed."""
+    trio = machine()
+    assert trio.send("DEFPOS(150, 50)") == []
+    assert trio.send("FRAME = 1") == ["! Parameter out of range"]
+    assert trio.query("?FRAME") == "0" and world(trio) == [150.0, 50.0]
+    assert trio.send("MOVE(10, 0)") == []
+    assert trio.send("FRAME = 2") == ["! Parameter out of range"]
+    assert trio.query("?FRAME") == "0"
+    assert trio.run_until_idle()
+    assert trio.send("AXIS_UNITS = 0") == ["! Parameter out of range"]
+    assert trio.query("?AXIS_UNITS") == "1"
+    assert trio.send("AXIS_DPOS = 3") == ["! Parameter is read only"]
+    assert trio.send("FRAME_GROUP(1, 0, 5, 4)") == ["! Parameter out of range"]
+    assert trio.send("FRAME_GROUP(8, 0, 4, 5)") == ["! Parameter out of range"]
+    assert trio.send("FRAME = 2") == []
+    assert world(trio) == [105.0, 55.0]
