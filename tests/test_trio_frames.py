@@ -271,3 +271,36 @@ def test_refusals_leave_everything_as_it_was() -> None:
     assert trio.send("FRAME_GROUP(8, 0, 4, 5)") == ["! Parameter out of range"]
     assert trio.send("FRAME = 2") == []
     assert world(trio) == [105.0, 55.0]
+
+
+def test_a_servo_axis_in_a_frame_follows_its_motor_demand() -> None:
+    """Servo axes (ATYPE 36, loop closed) in FRAME 2: MPOS reads AXIS_DPOS and FE is 0
+    all along the move (D: a servo axis in a frame follows its motor demand exactly),
+    and no following error trips with FE_LIMIT 1."""
+    trio = machine("ATYPE AXIS(0) = 36: ATYPE AXIS(1) = 36: P_GAIN AXIS(0) = 1: "
+                   "P_GAIN AXIS(1) = 1: FE_LIMIT AXIS(0) = 1: FE_LIMIT AXIS(1) = 1: "
+                   "SERVO AXIS(0) = ON: SERVO AXIS(1) = ON: WDOG = ON")
+    assert trio.send("DEFPOS(150, 50): FRAME = 2") == []
+    start = trio.tick
+    assert trio.send("MOVE(0, 100)") == []
+    for tick in (start + 300, start + 900):
+        at(trio, tick)
+        y = 50 + path(tick, start)
+        assert motors(trio, "MPOS") == pytest.approx([100 + y, 100 - y], abs=1e-9)
+        assert motors(trio, "FE") == [0.0, 0.0]
+    assert trio.run_until_idle()
+    assert trio.query("?MOTION_ERROR") == "0"
+
+
+def test_the_limit_inputs_see_the_motor_not_the_world() -> None:
+    """FRAME page: FWD_IN acts on the motor's position. In FRAME 2 a world MOVE(0, 100)
+    along Y drives motor 0 from 150 to 250 while world X stays 100: a forward limit
+    switch on motor 0 at 200 opens (IN reads 0, AXISSTATUS bit 4) though X never moved."""
+    trio = machine("FWD_IN AXIS(0) = 3")
+    trio.machine.world.axes[0].set_plus_limit(50)  # counts from power-up: AXIS_DPOS 200
+    assert trio.send("DEFPOS(150, 50): FRAME = 2") == []
+    assert trio.query("?IN(3)") == "1"
+    assert trio.send("MOVE(0, 100)") == [] and trio.run_until_idle()
+    assert trio.machine.dpos(0) == 100.0
+    assert trio.query("?IN(3)") == "0"
+    assert int(float(trio.query("?AXISSTATUS AXIS(0)"))) & 16

@@ -47,7 +47,7 @@ from .runs import ServoGains, TrioAxis
 class MotorHost(Protocol):
     """The motor's demand: the axis's, or with a FRAME on its inverse transform."""
 
-    def motor(self, axis: int) -> float: ...
+    def motor(self, axis: int, tick: int | None = None) -> float: ...
 
     def framed(self, axis: int) -> bool: ...
 
@@ -227,7 +227,8 @@ class Following:
             assert loop is not None
             if a.link is not None or m.framed(a.index):  # a linked servo axis, or one
                 # in a FRAME, follows its (motor) demand (D)
-                loop.p, loop.w, loop.tick = m.motor(a.index), 0.0, limit
+                framed = limit if m.framed(a.index) else None  # (its demand at the end)
+                loop.p, loop.w, loop.tick = m.motor(a.index, framed), 0.0, limit
                 continue
             before = loop.q  # the error of the cycle before the stretch
             if a.index in watched:

@@ -127,8 +127,10 @@ class Kinematics:
         """Is a FRAME on the axis (its motor no longer follows DPOS 1:1)?"""
         return self.frames.framed(axis)
 
-    def motor(self, axis: int) -> float:
-        return float(self.motor_counts(axis, self._now())[0])
+    def motor(self, axis: int, tick: int | None = None) -> float:
+        """The motor's demand now (or at `tick`, between now and the next event)."""
+        ticks = self._now() if tick is None else np.array([tick])
+        return float(self.motor_counts(axis, ticks)[0])
 
     def own_demand(self, axis: int) -> float:
         return float(self.own_counts(axis, self._now())[0])
