@@ -304,3 +304,16 @@ def test_the_limit_inputs_see_the_motor_not_the_world() -> None:
     assert trio.machine.dpos(0) == 100.0
     assert trio.query("?IN(3)") == "0"
     assert int(float(trio.query("?AXISSTATUS AXIS(0)"))) & 16
+
+
+def test_frame_on_a_group_of_another_size_or_without_its_table_is_refused() -> None:
+    """FRAME_GROUP page: the group's axes must match the frame's; a polar frame with no
+    counts per radian in TABLE cannot be computed: both refused, nothing changed."""
+    trio = machine()
+    assert trio.send("FRAME = 6") == ["! Parameter out of range"]  # TABLE(0) is 0
+    assert trio.send("FRAME = 10") == ["! Parameter out of range"]
+    assert trio.query("?FRAME") == "0"
+    assert trio.send("FRAME_GROUP(0)") == ["0 [-1] :"]
+    assert trio.send("FRAME_GROUP(1, 0, 4, 5, 6)") == []
+    assert trio.send("FRAME AXIS(5) = 2") == ["! Parameter out of range"]
+    assert trio.query("?FRAME AXIS(4)") == "0"

@@ -1631,7 +1631,8 @@ _ENTRIES: list[Keyword] = [
              note="Groups 0-7, axes ascending (C); an axis in two groups is refused (D); "
              "redefining or deleting a group turns its frame off first (I). The printed "
              "line has the page's form, with the identity USER_FRAME, TOOL_OFFSET and "
-             "VOLUME_LIMIT (none is modelled, D). As a function it returns 0 (D)."),
+             "VOLUME_LIMIT (none is modelled, D); a group not defined prints 'n [-1] :' (D). As "
+             "a function it returns 0 (D)."),
     # ---- geometric moves (personalities/trio/geometry.py) ------------------------------------
     _command("MSPHERICAL", "MSPHERICAL(x, y, z, u, v, w, mode[, gtpi[, rotau[, rotav[, "
              "rotaw]]]]): an arc of a circle anywhere in the space of the first three BASE "

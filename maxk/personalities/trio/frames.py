@@ -239,16 +239,35 @@ class Frames:
         if frame != value or frame != 0 and frame not in SIZES:
             raise ValueError("Parameter out of range")
         group = self.group_of(axis)
-        if group is None or frame and len(group.axes) != SIZES[frame]:
-            if frame == 0:
-                return  # (no group, no frame: nothing to turn off)
-            group = FrameGroup(0, tuple(range(SIZES[frame])))
-            old = self.groups.get(0)
-            if old is not None and old.frame:
-                self.set_group_frame(old, 0)
-            self.check_axes(group.axes)
-            self.groups[0] = group
-        self.set_group_frame(group, frame)
+        if group is not None:
+            if frame and len(group.axes) != SIZES[frame]:
+                raise ValueError("Parameter out of range")  # (page: sizes must match)
+            self.set_group_frame(group, frame)
+            return
+        if frame == 0:
+            return  # (no group, no frame: nothing to turn off)
+        # the default group: the lowest axes, table offset 0, in place of group 0 (page)
+        old = self.groups.get(0)
+        axes = tuple(range(SIZES[frame]))
+        self.check_axes(axes)
+        if any(self.group_of(a) not in (None, old) for a in axes):
+            raise ValueError("Parameter out of range")  # (D: an axis in one group only)
+        moving = axes + (old.axes if old is not None else ())
+        if not all(self.m.axis_idle(a) for a in moving) or frame in (6, 10) \
+                and self.m.table_read(0) == 0:
+            raise ValueError("Parameter out of range")  # (before anything changes)
+        if old is not None and old.frame:
+            self.set_group_frame(old, 0)
+        group = FrameGroup(0, axes)
+        self.groups[0] = group
+        try:
+            self.set_group_frame(group, frame)
+        except ValueError:
+            if old is None:
+                del self.groups[0]
+            else:
+                self.groups[0] = old
+            raise
 
     def check_axes(self, axes: Sequence[int]) -> None:
         if not all(0 <= a < len(self.m.axes) for a in axes):
