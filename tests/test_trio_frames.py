@@ -294,15 +294,24 @@ def test_a_servo_axis_in_a_frame_follows_its_motor_demand() -> None:
 
 def test_the_limit_inputs_see_the_motor_not_the_world() -> None:
     """FRAME page: FWD_IN acts on the motor's position. In FRAME 2 a world MOVE(0, 100)
-    along Y drives motor 0 from 150 to 250 while world X stays 100: a forward limit
-    switch on motor 0 at 200 opens (IN reads 0, AXISSTATUS bit 4) though X never moved."""
+    along Y drives motor 0 = 100 + Y while world X stays 100: a forward limit switch on
+    motor 0 at AXIS_DPOS 200 (50 counts from power-up: DEFPOS named it 150) opens when Y
+    reaches 100, path 50: on tick 501 (50.095 gone) the move is cancelled (IN reads 0,
+    AXISSTATUS bit 4) though X never moved; the MOVE buffered behind is dropped."""
     trio = machine("FWD_IN AXIS(0) = 3")
-    trio.machine.world.axes[0].set_plus_limit(50)  # counts from power-up: AXIS_DPOS 200
+    trio.machine.world.axes[0].set_plus_limit(50)
     assert trio.send("DEFPOS(150, 50): FRAME = 2") == []
     assert trio.query("?IN(3)") == "1"
-    assert trio.send("MOVE(0, 100)") == [] and trio.run_until_idle()
+    start = trio.tick
+    assert trio.send("MOVE(0, 100): MOVE(0, 100)") == []
+    at(trio, start + 500)
+    assert trio.query("?IN(3)") == "1" and not trio.machine.queues[0][0].stopping
+    at(trio, start + 501)
+    assert trio.query("?IN(3)") == "0" and trio.machine.queues[0][0].stopping
+    assert len(trio.machine.queues[0]) == 1
+    assert trio.run_until_idle()
     assert trio.machine.dpos(0) == 100.0
-    assert trio.query("?IN(3)") == "0"
+    assert abs(trio.machine.dpos(1) - (50 + path(start + 501, start))) <= 0.1
     assert int(float(trio.query("?AXISSTATUS AXIS(0)"))) & 16
 
 
@@ -317,3 +326,29 @@ def test_frame_on_a_group_of_another_size_or_without_its_table_is_refused() -> N
     assert trio.send("FRAME_GROUP(1, 0, 4, 5, 6)") == []
     assert trio.send("FRAME AXIS(5) = 2") == ["! Parameter out of range"]
     assert trio.query("?FRAME AXIS(4)") == "0"
+
+
+def test_a_joint_passing_axis_fs_limit_cancels_the_groups_moves_on_that_tick() -> None:
+    """AXIS_FS_LIMIT page: with a frame on, the tick AXIS_DPOS passes AXIS_FS_LIMIT every
+    move of the frame group is cancelled and AXISSTATUS bit 16 is set. In FRAME 2 from
+    world (100, 50), MOVE(0, 100) raises motor 0 = 100 + Y: it passes 180 when Y passes
+    80, path 30: on tick 301 (30.095 gone); the path then stops (the shared path stop
+    lands on a whole count, within 0.1 of there) and the MOVE buffered behind is
+    dropped. A move back runs."""
+    trio = machine("AXIS_FS_LIMIT AXIS(0) = 180")
+    assert trio.send("DEFPOS(150, 50): FRAME = 2") == []
+    start = trio.tick
+    assert trio.send("MOVE(0, 100): MOVE(0, 100)") == []
+    at(trio, start + 300)
+    assert trio.machine.queues[0] and not trio.machine.queues[0][0].stopping
+    at(trio, start + 301)
+    assert trio.machine.queues[0][0].stopping
+    assert len(trio.machine.queues[0]) == 1  # the buffered move is gone
+    assert int(float(trio.query("?AXISSTATUS AXIS(0)"))) & (1 << 16)  # 180.095 > 180
+    assert trio.run_until_idle()
+    y = trio.machine.dpos(1)
+    assert abs(y - (50 + path(start + 301, start))) <= 0.1
+    assert motors(trio)[0] == pytest.approx(100 + y, abs=1e-9)
+    assert trio.send("MOVE(0, -10)") == [] and trio.run_until_idle()
+    assert trio.machine.dpos(1) == pytest.approx(y - 10, abs=1e-9)
+    assert not int(float(trio.query("?AXISSTATUS AXIS(0)"))) & (1 << 16)

@@ -1604,7 +1604,9 @@ _ENTRIES: list[Keyword] = [
           "table offset 0 (C). A change is refused with 'Parameter out of range' unless "
           "the group's axes are idle, and so is a frame whose equations the page does not "
           "give (1, 3, 13 ...) (D). MPOS reads AXIS_DPOS, FE 0: a servo axis in a frame "
-          "follows its motor demand exactly (D)."),
+          "follows its motor demand exactly (D). The FWD_IN / REV_IN switches act on the "
+          "motor (C): the tick a joint reaches one going towards it is found as for "
+          "AXIS_FS_LIMIT and cancels the group's moves the same way (I)."),
     _axis("AXIS_UNITS", "Counts per unit of the axis (motor) positions while a FRAME is on: "
           "AXIS_DPOS and MPOS.", default=1.0, source=f"{TOK}; {HELP} AXIS_UNITS, FRAME",
           confidence="C", note="0 is refused with 'Parameter out of range' (D, as UNITS)."),
@@ -1616,6 +1618,17 @@ _ENTRIES: list[Keyword] = [
           "AXIS_DPOS).", writable=False, source=f"{TOK}; {HELP} WORLD_DPOS",
           confidence="C", note="Equal to DPOS: no USER_FRAME or TOOL_OFFSET is modelled "
           "(see them) (I)."),
+    *[_axis(name, f"The joint's {side} software limit in AXIS_UNITS, only with a FRAME on.",
+            default=sign * 200000000000, source=f"{TOK}; {HELP} {name}", confidence="C",
+            note=f"While AXIS_DPOS is {beyond} it AXISSTATUS bit {bit} is set (C). The tick a "
+            "joint passes it going out (found exactly: the motor demand searched tick by "
+            "tick, 1024 ticks at a time) every move of its FRAME_GROUP is cancelled: the "
+            "running ones ramp down at the base's FASTDEC, or DECEL when it is 0 (a path "
+            "along itself at its ACCEL), the buffered ones are dropped (I); moves back "
+            "run (D). Off when beyond REP_DIST (C; -REP_DIST for the reverse one, I).")
+      for name, side, sign, beyond, bit in (
+          ("AXIS_FS_LIMIT", "forward", 1, "above", 16),
+          ("AXIS_RS_LIMIT", "reverse", -1, "below", 17))],
     _command("FRAME_TRANS", "FRAME_TRANS(frame, table_in, table_out, direction[, "
              "table_offset]): a frame's forward (1: AXIS_DPOS to DPOS) or inverse (0) "
              "transform of raw positions in TABLE, its parameters at table_offset.", (4, 5),

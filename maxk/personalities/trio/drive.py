@@ -270,9 +270,9 @@ class Drive:
         a = m.axes[axis.index]
         params = a.params
         found: list[float] = []
-        wired = params["FWD_IN" if side > 0 else "REV_IN"]
+        wired = -1 if m.framed(axis.index) else params["FWD_IN" if side > 0 else "REV_IN"]
         if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
-            stage = m.world.axes[axis.index]
+            stage = m.world.axes[axis.index]  # (a joint in a FRAME: frames.py finds it)
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
             if edge is not None:

@@ -27,13 +27,17 @@ AXIS_UNITS, WORLD_DPOS), as built here:
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
 
-from .runs import TrioAxis
+from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, World
+
+from .drive import INPUTS
+from .runs import Run, TrioAxis
 
 SIZES = {2: 2, 5: 2, 6: 2, 10: 2}
 """Axes each built frame transforms (FRAME page)."""
@@ -43,13 +47,21 @@ GROUPS = 8  # FRAME_GROUP 0..7 (page)
 READS = frozenset({"FRAME", "AXIS_DPOS", "TRANS_DPOS", "WORLD_DPOS"})
 TWO_PI = 2.0 * math.pi
 STRETCH_CHUNK = 65536  # servo ticks frame 10 follows at once (bounds the arrays)
+LOOK_AHEAD = 1024  # servo ticks searched at once for a joint limit (then looked at again)
+AXIS_FS_BIT, AXIS_RS_BIT = 1 << 16, 1 << 17  # AXISSTATUS (AXIS_FS_LIMIT, AXIS_RS_LIMIT pages)
 
 
 class FrameHost(Protocol):
     """What the frames need of the machine (`MC405Machine`)."""
 
     axes: list[TrioAxis]
+    queues: list[deque[Run]]
     tick: int
+    revision: int
+    world: World
+    inverted_inputs: set[int]
+
+    def _stop(self, run: Run, decel: float | None = None) -> None: ...
 
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
 
@@ -150,10 +162,14 @@ class Frames:
     def __init__(self, machine: FrameHost) -> None:
         self.m = machine
         self.groups: dict[int, FrameGroup] = {}
+        self._looked: tuple[int, int, int | None] = (-1, -1, None)  # revision, tick, event
+        self._acted = -1  # the tick on_event last looked at (searched from the next one)
 
     def reset(self) -> None:
         """Power-up: no groups, no frame."""
         self.groups.clear()
+        self._looked = (-1, -1, None)
+        self._acted = -1
 
     # ---- which axes are in a frame ------------------------------------------------------
     def group_of(self, axis: int) -> FrameGroup | None:
@@ -301,6 +317,111 @@ class Frames:
             group.frame = frame
             group.near = raw
         m.changed()
+
+    # ---- the joints' software limits (AXIS_FS_LIMIT, AXIS_RS_LIMIT) ---------------------------
+    def joint_limits(self, axis: int) -> tuple[float, float]:
+        """(AXIS_FS_LIMIT, AXIS_RS_LIMIT) as they act, in AXIS_UNITS: only in a frame, and
+        one beyond REP_DIST is off (pages; the reverse one below -REP_DIST, I)."""
+        p = self.m.axes[axis].params
+        fs, rs, rep = p["AXIS_FS_LIMIT"], p["AXIS_RS_LIMIT"], p["REP_DIST"]
+        return (fs if fs <= rep else math.inf, rs if rs >= -rep else -math.inf)
+
+    def status_bits(self, axis: int) -> int:
+        """AXISSTATUS bits 16 / 17 while AXIS_DPOS is beyond AXIS_FS_LIMIT / AXIS_RS_LIMIT."""
+        if not self.framed(axis):
+            return 0
+        fs, rs = self.joint_limits(axis)
+        here = self.axis_dpos(axis)
+        return (AXIS_FS_BIT if here > fs else 0) | (AXIS_RS_BIT if here < rs else 0)
+
+    def _switches(self, axis: int) -> list[tuple[int, float]]:
+        """The joint's limit switches wired through FWD_IN / REV_IN, as (side, the motor
+        position, counts, where each begins): FRAME page, they act on the motor (one the
+        world drives as a level, or stuck, acts when looked at, drive.py)."""
+        m = self.m
+        params, stage = m.axes[axis].params, m.world.axes[axis]
+        found = []
+        for side, name, switch in ((1, "FWD_IN", stage.plus_limit),
+                                   (-1, "REV_IN", stage.minus_limit)):
+            wired = params[name]
+            edge = switch.low if side > 0 else switch.high
+            if (0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs)
+                    and switch.fault not in (STUCK_ACTIVE, STUCK_INACTIVE) and edge is not None):
+                found.append((side, float(edge)))
+        return found
+
+    def _running(self, group: FrameGroup) -> list[Run]:
+        runs: list[Run] = []
+        for a in group.axes:
+            queue = self.m.queues[a]
+            if queue and queue[0].started and not queue[0].stopping and queue[0] not in runs:
+                runs.append(queue[0])
+        return runs
+
+    def _outward(self, group: FrameGroup, first: int, last: int) -> int | None:
+        """The first tick in first..last on which a joint is beyond its limit and going
+        further out (D: moves back from beyond it run), or None."""
+        limits = [self.joint_limits(a) for a in group.axes]
+        if all(lim == (math.inf, -math.inf) and not self._switches(a)
+               for a, lim in zip(group.axes, limits, strict=True)):
+            return None
+        ticks = np.arange(first - 1, last + 1)
+        raw = self.axis_raw(group, ticks)
+        found: int | None = None
+        for k, a in enumerate(group.axes):
+            fs, rs = limits[k]
+            pos = raw[k] / self.m.axes[a].params["AXIS_UNITS"]
+            step = np.diff(pos)
+            out = ((pos[1:] > fs) & (step > 0)) | ((pos[1:] < rs) & (step < 0))
+            motor = raw[k][1:] - group.motor_datum[k] - self.m.world.axes[a].lost_steps
+            for side, edge in self._switches(a):
+                out |= (side * (motor - edge) >= 0) & (side * step > 0)
+            if out.any():
+                tick = first + int(np.argmax(out))
+                found = tick if found is None else min(found, tick)
+        return found
+
+    def next_event(self) -> int | None:
+        """The tick a joint passes its software limit while its group moves, exact to the
+        tick (searched LOOK_AHEAD ticks at a time: none found, looked at again then)."""
+        m = self.m
+        revision, tick, event = self._looked
+        if revision == m.revision and tick == m.tick:
+            return event
+        event = None
+        first = m.tick + 1 if self._acted == m.tick else m.tick
+        for group in self.groups.values():
+            if not group.frame or not self._running(group):
+                continue
+            found = self._outward(group, first, m.tick + LOOK_AHEAD)
+            if found is None and any(self.joint_limits(a) != (math.inf, -math.inf)
+                                     or self._switches(a) for a in group.axes):
+                found = m.tick + LOOK_AHEAD  # (look again)
+            if found is not None and (event is None or found < event):
+                event = found
+        self._looked = (m.revision, m.tick, event)
+        return event
+
+    def on_event(self, now: int) -> None:
+        """A joint passed its limit: every move of its group is cancelled, the running
+        ones ramping down at the base's FASTDEC, or DECEL when FASTDEC is 0 (a path
+        along itself at its ACCEL), the buffered ones dropped (pages: CANCEL all moves
+        on the FRAME_GROUP, I)."""
+        m = self.m
+        for group in self.groups.values():
+            runs = self._running(group) if group.frame else []
+            if not runs or self._outward(group, now, now) is None:
+                continue
+            for run in runs:
+                fast = m.axes[run.base].params["FASTDEC"] * run.units
+                m._stop(run, decel=fast if fast > 0 else None)
+            for a in group.axes:
+                queue = m.queues[a]
+                while queue and not queue[-1].started:
+                    queue.pop()
+            m.changed()
+        self._looked = (-1, -1, None)
+        self._acted = now  # (never the same tick again: no event that acts on nothing)
 
     # ---- FRAME_GROUP ----------------------------------------------------------------------
     def frame_group(self, group: int, offset: float, axes: Sequence[int]) -> None:

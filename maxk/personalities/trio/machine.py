@@ -121,6 +121,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
+        self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -263,6 +264,8 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
+            if name == "AXISSTATUS":
+                value = float(int(value) | self.frames.status_bits(axis))  # frames.py
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
