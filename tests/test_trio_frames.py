@@ -352,3 +352,11 @@ def test_a_joint_passing_axis_fs_limit_cancels_the_groups_moves_on_that_tick() -
     assert trio.send("MOVE(0, -10)") == [] and trio.run_until_idle()
     assert trio.machine.dpos(1) == pytest.approx(y - 10, abs=1e-9)
     assert not int(float(trio.query("?AXISSTATUS AXIS(0)"))) & (1 << 16)
+
+
+def test_frame_scale_reads_its_power_up_value_so_units_can_take_it() -> None:
+    """FRAME_SCALE page: power-up 1000000000; its example sets UNITS = FRAME_SCALE."""
+    trio = MC405()
+    assert trio.query("?FRAME_SCALE AXIS(3)") == "1000000000"
+    assert trio.send("BASE(3): UNITS = FRAME_SCALE") == []
+    assert trio.query("?UNITS AXIS(3)") == "1000000000"

@@ -1589,10 +1589,10 @@ _ENTRIES: list[Keyword] = [
            "RPS robot, whose kinematic model is not in the pages); WORLD_DPOS takes none "
            "(accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
-           "its page gives the ZYX rotation and offset, but each move is loaded with the "
-           "USER_FRAME selected then and the active one follows MTYPE: user frames riding "
-           "on the buffered moves are not built, so DPOS stays the world (accepted, "
-           "returns 0, D)."),
+           "its page does not settle the rotation: its examples turn a conveyor about Z "
+           "with the fifth argument, which the syntax names x_rotation; and each move is "
+           "loaded with the USER_FRAME selected then, the active one following MTYPE. "
+           "Not built: DPOS stays the world (accepted, returns 0, D)."),
       )],
     # ---- robot frames (personalities/trio/frames.py) -------------------------------------
     _axis("FRAME", "The robot (kinematic) frame of the axes' frame group (0: none).",
@@ -1629,6 +1629,10 @@ _ENTRIES: list[Keyword] = [
       for name, side, sign, beyond, bit in (
           ("AXIS_FS_LIMIT", "forward", 1, "above", 16),
           ("AXIS_RS_LIMIT", "reverse", -1, "below", 17))],
+    _axis("FRAME_SCALE", "The resolution of the high-accuracy frames (100 and up).",
+          default=1000000000, source=f"{TOK}; {HELP} FRAME_SCALE", confidence="C",
+          note="Power-up 1000000000 (C: page), so UNITS = FRAME_SCALE (its example) works; "
+          "stored: no frame of 100 and up is built (D)."),
     _command("FRAME_TRANS", "FRAME_TRANS(frame, table_in, table_out, direction[, "
              "table_offset]): a frame's forward (1: AXIS_DPOS to DPOS) or inverse (0) "
              "transform of raw positions in TABLE, its parameters at table_offset.", (4, 5),
@@ -1821,6 +1825,11 @@ _OWN_WHY = {
     "MOVECONTOUR": "its contour speed profiling (corner_acc, STOP_ANGLE, RAISE_ANGLE, the "
                    "spline modes) is described, not given exactly; 5-axis needs a licence "
                    "(D)",
+    "VOLUME_LIMIT": "its page gives the cylinder-with-cone volume by a picture and a "
+                    "table of sizes: which way Z runs from the top centre origin is not "
+                    "given, so the limit cannot be exact (D)",
+    "FRAME_REP_DIST": "it folds a robot's orientation axes (REP_OPTION bit 3); the "
+                      "frames built have none, so DPOS is not folded by it (D)",
     "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
                      "only their own axes are not built (D)",
 }
