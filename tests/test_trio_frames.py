@@ -360,3 +360,22 @@ def test_frame_scale_reads_its_power_up_value_so_units_can_take_it() -> None:
     assert trio.query("?FRAME_SCALE AXIS(3)") == "1000000000"
     assert trio.send("BASE(3): UNITS = FRAME_SCALE") == []
     assert trio.query("?UNITS AXIS(3)") == "1000000000"
+
+
+def test_the_cylindrical_robots_turning_joint_stops_at_its_reverse_limit_past_a_half_turn(
+        ) -> None:
+    """FRAME 10 as above with AXIS_RS_LIMIT AXIS(1) = -270 (degrees): the circle turns
+    the arm the negative way (MOVECIRC direction 1 here), so the joint passes -270 when
+    the path passes 100 * 3 pi / 2 = 471.239: on tick 4713 (471.295 gone, the joint at
+    -270.03; atan2 alone would read +89.97 there). The circle is cancelled on that tick."""
+    trio = machine(CYLINDER + ": AXIS_RS_LIMIT AXIS(1) = -270")
+    assert trio.send("DEFPOS(100, 0): FRAME = 10") == []
+    start = trio.tick
+    assert trio.send("MOVECIRC(0, 0, -100, 0, 1)") == []
+    at(trio, start + 4712)
+    assert motors(trio)[1] == pytest.approx(-math.degrees(path(start + 4712, start) / 100))
+    assert not trio.machine.queues[0][0].stopping
+    at(trio, start + 4713)
+    assert motors(trio)[1] == pytest.approx(-math.degrees(path(start + 4713, start) / 100))
+    assert trio.machine.queues[0][0].stopping
+    assert int(float(trio.query("?AXISSTATUS AXIS(1)"))) & (1 << 17)

@@ -83,8 +83,9 @@ def _branch(angle: np.ndarray, near: float) -> np.ndarray:
 def to_axes(frame: int, table: Sequence[float], world: Arrays,
             near: Sequence[float] | None = None) -> Arrays:
     """Inverse kinematics: raw world positions (DPOS * UNITS) to raw axis positions
-    (AXIS_DPOS * AXIS_UNITS). `near`: raw axis positions a turning axis's angle is kept
-    nearest (frame 10's whole revolutions, TABLE offset 1 and 2 on the controller)."""
+    (AXIS_DPOS * AXIS_UNITS). `near`: raw axis positions at the tick before the first
+    one asked for, from which a turning axis's angle is followed turn by turn along the
+    ticks (frame 10's whole revolutions, TABLE offset 1 and 2 on the controller)."""
     x, y = world
     if frame == 2:  # X = (A0 + A1) / 2, Y = (A0 - A1) / 2 (page)
         return [x + y, x - y]
@@ -96,8 +97,9 @@ def to_axes(frame: int, table: Sequence[float], world: Arrays,
     if frame == 10:  # world X, Y to (radius, angle * edges per radian) (page)
         scale = _scale(table[0])
         angle = np.arctan2(y, x)
-        if near is not None:
-            angle = _branch(angle, near[1] / scale)
+        if near is not None:  # (ticks in order from the reference: followed turn by turn)
+            followed = np.unwrap(np.concatenate(([near[1] / scale], np.ravel(angle))))
+            angle = followed[1:].reshape(np.shape(angle))
         return [np.hypot(x, y), angle * scale]
     raise ValueError("Parameter out of range")
 
@@ -185,9 +187,6 @@ class Frames:
 
     def framed(self, axis: int) -> bool:
         return self.active(axis) is not None
-
-    def any_active(self) -> bool:
-        return any(g.frame for g in self.groups.values())
 
     # ---- the motor's demand ---------------------------------------------------------------
     def table(self, group: FrameGroup, frame: int) -> list[float]:
