@@ -243,6 +243,7 @@ def test_frame_group_places_a_frame_on_chosen_axes_and_table_offset() -> None:
     assert trio.send("FRAME_GROUP(0)") == [
         "0 [100] : 2, 3 {0:0.00000, 0.00000, 0.00000, 0.00000, 0.00000, 0.00000} "
         "TO={0:0.00000, 0.00000, 0.00000} VL={0, 0}"]
+    assert trio.send("PRINT FRAME_GROUP(0)")[1:] == ["0"]  # (page example 3: the line, 0)
     assert trio.send("SPEED = 100: ACCEL = 1e6: DECEL = 1e6: MOVE(1, 0)") == []
     assert trio.run_until_idle()
     assert [trio.machine.axis_parameter("AXIS_DPOS", a) for a in (2, 3)] == \
