@@ -309,6 +309,9 @@ class FakeTrioMachine:
     def input_function(self, number: int) -> bool:
         return not self.digital_input(number)
 
+    def frame_group(self, args: Sequence[float]) -> str:
+        raise ValueError("Parameter out of range")  # (the fake has no robot frames)
+
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         if input_count <= 0 or mpos_count == 0:
             raise ValueError("Parameter out of range")

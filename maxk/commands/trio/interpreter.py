@@ -22,6 +22,9 @@ from functools import partial
 from typing import Protocol
 
 from ...personalities.trio.encoders import endat
+from ...personalities.trio.frames import PARAMETERS as FRAME_TABLE
+from ...personalities.trio.frames import SIZES as FRAME_SIZES
+from ...personalities.trio.frames import transform as frame_transform
 from ...personalities.trio.geometry import NAMES as GEOMETRIC
 from ...personalities.trio.geometry import group_size
 from ...personalities.trio.memory import VR_COUNT
@@ -210,6 +213,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
                                "HW_TIMER", *GEOMETRIC, *SEQUENCES})
+_FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -561,6 +565,10 @@ class Interpreter:
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
+        if name in _FRAME_WORDS:
+            if len(numbers) != len(args):
+                raise TrioError("Type mismatch")
+            return self.frame_word(name, [float(a) for a in numbers], ctx)
         if name == "DLINK":
             return self.drive_link(args)
         if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
@@ -606,6 +614,38 @@ class Interpreter:
             return answer([float(a) for a in args], self.machine.axis_count)
         except ValueError as exc:
             raise TrioError(_machine_text(exc)) from None
+
+    def frame_word(self, name: str, args: list[float], ctx: ProcessContext) -> float:
+        """FRAME_TRANS(frame, table_in, table_out, direction[, table_offset]): a frame's
+        forward (1) or inverse (0) transform of TABLE values (personalities/trio/
+        frames.py); FRAME_GROUP(group[, table_offset, axes...]): define, delete or print
+        a frame group. Both return 0 as functions (D: their pages give no value)."""
+        if not all(math.isfinite(a) for a in args):
+            raise TrioError("Parameter out of range")
+        m = self.machine
+        if name == "FRAME_GROUP":
+            try:
+                text = m.frame_group(args)
+            except ValueError as exc:
+                raise TrioError(_machine_text(exc)) from None
+            if text and not self.hook.write_file(ctx.outdevice, text + "\r\n"):
+                self.output(text + "\r\n")
+            return 0.0
+        if len(args) not in (4, 5):
+            raise TrioError("Syntax error")
+        frame, table_in, table_out, direction = args[:4]
+        offset = args[4] if len(args) == 5 else 0.0
+        if frame not in FRAME_SIZES or direction not in (0, 1):
+            raise TrioError("Parameter out of range")
+        size = FRAME_SIZES[int(frame)]
+        first = [self._index(v) for v in (table_in, table_out, offset)]
+        def act() -> None:
+            values = [m.table_read(first[0] + k) for k in range(size)]
+            table = [m.table_read(first[2] + k) for k in range(FRAME_TABLE[int(frame)])]
+            m.table_write(first[1], frame_transform(int(frame), table, values,
+                                                    direction == 1))
+        self._act(act)
+        return 0.0
 
     def vr_write_string(self, first: int, text: str) -> None:
         """VR(n) = "text": one character code a VR from VR(n) on and a 0 after them, so
@@ -1228,6 +1268,9 @@ class Interpreter:
             return
         if name == "DLINK":
             self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
+            return
+        if name in _FRAME_WORDS:
+            self.frame_word(name, [self.number(a, ctx) for a in stmt.args], ctx)
             return
         if name == "ENCODER_RATIO":  # (no arguments: 1:1, D)
             ratio = [self.number(a, ctx) for a in stmt.args] or [1.0, 1.0]

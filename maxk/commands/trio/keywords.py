@@ -118,12 +118,14 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
                "cancelled as it starts (no step); moves away from it run (I). An input the "
                "world drives as a level acts when it changes (D).")
 
-ROBOT_WHY = ("the robot (kinematic) system: the FRAME page gives frames 2, 5 and 6 (and 1, "
-             "the SCARA, from its TABLE data) exactly, but every robot word needs world "
-             "positions (DPOS, UNITS) kept apart from motor positions (AXIS_DPOS, MPOS by "
-             "AXIS_UNITS), which the shared machine does not do yet (not built, D); the RPS "
-             "robots' kinematic models (KINEMATIC_GROUP robot types) are not in the help "
-             "pages")
+ROBOT_WHY = ("the robot (kinematic) system beyond FRAME 2, 5, 6 and 10 (personalities/trio/"
+             "frames.py): the other frames' equations, USER_FRAME, TOOL_OFFSET and "
+             "VOLUME_LIMIT, and the RPS robots' kinematic models (KINEMATIC_GROUP robot "
+             "types) are not built (D)")
+_FRAMES = ("FRAME 2 (XY single belt), 5 (2x2 rotation matrix and its inverse from TABLE), 6 "
+           "(polar programming of an XY machine) and 10 (XY programming of a polar machine, "
+           "its whole turns counted every servo cycle) are modelled, the equations of the "
+           "FRAME page, on raw positions (DPOS * UNITS world, AXIS_DPOS * AXIS_UNITS axis)")
 _ENTRIES: list[Keyword] = [
     # ---- axis parameters ------------------------------------------------------------
     _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
@@ -1621,9 +1623,6 @@ _ENTRIES: list[Keyword] = [
           ("FEED_OVERRIDE", "The feed-rate override of embedded speed profiles "
            "(MOVECONTOUR).", "it acts only on embedded speed profiles (MOVECONTOUR, "
            "MOVEABSSEQ's option bit 0), neither of which is modelled (stored, D)."),
-          ("AXIS_UNITS", "Units of an axis in the robot (kinematic) system.",
-           ROBOT_WHY + " (stored, D)."),
-          ("FRAME", "The robot (kinematic) frame of the axes.", ROBOT_WHY + " (stored, D)."),
       )],
     *[_command(name, summary, arity, axis=axis, confidence="D", note="Not modelled: " + why)
       for name, summary, arity, axis, why in (
@@ -1631,20 +1630,80 @@ _ENTRIES: list[Keyword] = [
            "no help page for it was found, so neither its arguments nor its effect are "
            "known (accepted, no effect, D)."),
           ("MOVEL", "MOVEL: a straight move in the robot frame.", (0, 0), True,
-           "an RPS statement (MOVEL target [S:= T:= ...], GTA targets) on a robot chosen "
-           "by ROBOT and KINEMATIC_GROUP: the robot types' kinematic models are not in "
-           "the help pages and the RPS target syntax is not parsed (accepted bare, no "
-           "effect, D)."),
+           "an RPS statement (MOVEL target [S:= T:= O:= ZT:= ...], GTA targets) on a robot "
+           "chosen by ROBOT and KINEMATIC_GROUP: the robot types' kinematic models are not "
+           "in the help pages, its profile is jerk-limited by WORLD_POS_MAX_JERK and "
+           "blended by radius in ways the page names but does not give, and the RPS "
+           "target syntax is not parsed (accepted bare, no effect, D)."),
           ("MOVEJ", "MOVEJ: a joint move in the robot frame.", (0, 0), True,
            "as MOVEL: an RPS statement on a robot whose kinematic model is not in the help "
            "pages (accepted bare, no effect, D)."),
-          ("FRAME_TRANS", "FRAME_TRANS(...): a robot frame's transform.", (4, 5), False,
-           ROBOT_WHY + " (accepted, returns 0, D)."),
           ("TOOL_OFFSET", "TOOL_OFFSET(...): the robot's tool offset.", (0, 8), True,
-           ROBOT_WHY + " (accepted, returns 0, D)."),
+           "its TrioBASIC page was not found, only the RPS one (a named tool frame of an "
+           "RPS robot, whose kinematic model is not in the pages); WORLD_DPOS takes none "
+           "(accepted, returns 0, D)."),
           ("USER_FRAME", "USER_FRAME(...): the robot's user frame.", (0, 8), True,
-           ROBOT_WHY + " (accepted, returns 0, D)."),
+           "its page does not settle the rotation: its examples turn a conveyor about Z "
+           "with the fifth argument, which the syntax names x_rotation; and each move is "
+           "loaded with the USER_FRAME selected then, the active one following MTYPE. "
+           "Not built: DPOS stays the world (accepted, returns 0, D)."),
       )],
+    # ---- robot frames (personalities/trio/frames.py) -------------------------------------
+    _axis("FRAME", "The robot (kinematic) frame of the axes' frame group (0: none).",
+          source=f"{TOK}; {HELP} FRAME", confidence="C",
+          note=_FRAMES + " (C). With a frame on, DPOS (by UNITS) is the world position the "
+          "moves plan and the motors follow the inverse transform every servo tick; "
+          "enabling sets DPOS to the forward transform of AXIS_DPOS, FRAME = 0 sets DPOS "
+          "to MPOS (C). FRAME on an axis of no FRAME_GROUP makes group 0 the lowest axes, "
+          "table offset 0 (C). A change is refused with 'Parameter out of range' unless "
+          "the group's axes are idle, and so is a frame whose equations the page does not "
+          "give (1, 3, 13 ...) (D). MPOS reads AXIS_DPOS, FE 0: a servo axis in a frame "
+          "follows its motor demand exactly (D). The FWD_IN / REV_IN switches act on the "
+          "motor (C): the tick a joint reaches one going towards it is found as for "
+          "AXIS_FS_LIMIT and cancels the group's moves the same way (I)."),
+    _axis("AXIS_UNITS", "Counts per unit of the axis (motor) positions while a FRAME is on: "
+          "AXIS_DPOS and MPOS.", default=1.0, source=f"{TOK}; {HELP} AXIS_UNITS, FRAME",
+          confidence="C", note="0 is refused with 'Parameter out of range' (D, as UNITS)."),
+    _axis("AXIS_DPOS", "The axis (motor) demand at the output of the FRAME transform, in "
+          "AXIS_UNITS; DPOS while FRAME is 0.", writable=False,
+          source=f"{TOK}; {HELP} AXIS_DPOS", confidence="C",
+          note="Exact at every servo tick (the inverse transform of the world demand)."),
+    _axis("WORLD_DPOS", "The demand in the FRAME's coordinate system (between DPOS and "
+          "AXIS_DPOS).", writable=False, source=f"{TOK}; {HELP} WORLD_DPOS",
+          confidence="C", note="Equal to DPOS: no USER_FRAME or TOOL_OFFSET is modelled "
+          "(see them) (I)."),
+    *[_axis(name, f"The joint's {side} software limit in AXIS_UNITS, only with a FRAME on.",
+            default=sign * 200000000000, source=f"{TOK}; {HELP} {name}", confidence="C",
+            note=f"While AXIS_DPOS is {beyond} it AXISSTATUS bit {bit} is set (C). The tick a "
+            "joint passes it going out (found exactly: the motor demand searched tick by "
+            "tick, 1024 ticks at a time) every move of its FRAME_GROUP is cancelled: the "
+            "running ones ramp down at the base's FASTDEC, or DECEL when it is 0 (a path "
+            "along itself at its ACCEL), the buffered ones are dropped (I); moves back "
+            "run (D). Off when beyond REP_DIST (C; -REP_DIST for the reverse one, I).")
+      for name, side, sign, beyond, bit in (
+          ("AXIS_FS_LIMIT", "forward", 1, "above", 16),
+          ("AXIS_RS_LIMIT", "reverse", -1, "below", 17))],
+    _axis("FRAME_SCALE", "The resolution of the high-accuracy frames (100 and up).",
+          default=1000000000, source=f"{TOK}; {HELP} FRAME_SCALE", confidence="C",
+          note="Power-up 1000000000 (C: page), so UNITS = FRAME_SCALE (its example) works; "
+          "stored: no frame of 100 and up is built (D)."),
+    _command("FRAME_TRANS", "FRAME_TRANS(frame, table_in, table_out, direction[, "
+             "table_offset]): a frame's forward (1: AXIS_DPOS to DPOS) or inverse (0) "
+             "transform of raw positions in TABLE, its parameters at table_offset.", (4, 5),
+             source=f"{TOK}; {HELP} FRAME_TRANS", confidence="C",
+             note="For the frames FRAME models (2, 5, 6, 10); another frame, a direction "
+             "other than 0 or 1, or a result that is not a number is 'Parameter out of "
+             "range', nothing written (D); frame 6's forward angle is atan2's, -pi..pi "
+             "times the scale (D). As a function it returns 0 (D: the page gives none)."),
+    _command("FRAME_GROUP", "FRAME_GROUP(group[, table_offset, axis0 ...]): the axes and "
+             "TABLE offset of a FRAME; table_offset -1 deletes the group (its frame off); "
+             "the group alone prints it.", (1, 128),
+             source=f"{TOK}; {HELP} FRAME_GROUP", confidence="C",
+             note="Groups 0-7, axes ascending (C); an axis in two groups is refused (D); "
+             "redefining or deleting a group turns its frame off first (I). The printed "
+             "line has the page's form, with the identity USER_FRAME, TOOL_OFFSET and "
+             "VOLUME_LIMIT (none is modelled, D); a group not defined prints 'n [-1] :' (D). As "
+             "a function it returns 0 (D)."),
     # ---- geometric moves (personalities/trio/geometry.py) ------------------------------------
     _command("MSPHERICAL", "MSPHERICAL(x, y, z, u, v, w, mode[, gtpi[, rotau[, rotav[, "
              "rotaw]]]]): an arc of a circle anywhere in the space of the first three BASE "
@@ -1820,6 +1879,11 @@ _OWN_WHY = {
     "MOVECONTOUR": "its contour speed profiling (corner_acc, STOP_ANGLE, RAISE_ANGLE, the "
                    "spline modes) is described, not given exactly; 5-axis needs a licence "
                    "(D)",
+    "VOLUME_LIMIT": "its page gives the cylinder-with-cone volume by a picture and a "
+                    "table of sizes: which way Z runs from the top centre origin is not "
+                    "given, so the limit cannot be exact (D)",
+    "FRAME_REP_DIST": "it folds a robot's orientation axes (REP_OPTION bit 3); the "
+                      "frames built have none, so DPOS is not folded by it (D)",
     "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
                      "only their own axes are not built (D)",
 }

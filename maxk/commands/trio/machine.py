@@ -194,6 +194,11 @@ class TrioMachine(Protocol):
         inputs are active low, on while IN(n) reads 0."""
         ...
 
+    def frame_group(self, args: Sequence[float]) -> str:
+        """FRAME_GROUP(group[, table_offset, axes...]): define or delete (offset -1) a
+        robot frame group; with the group alone, the line it prints."""
+        ...
+
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         """ENCODER_RATIO(mpos_count, input_count): MPOS counts per encoder count."""
         ...

@@ -45,7 +45,7 @@ from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
 from .axismode import soft_limits
-from .following import SERVO_ATYPES, Following
+from .following import SERVO_ATYPES, Following, MotorHost
 from .runs import Run, TrioAxis
 
 
@@ -53,7 +53,7 @@ class _Encoders(Protocol):
     def sync_all(self) -> None: ...
 
 
-class DriveHost(Protocol):
+class DriveHost(MotorHost, Protocol):
     """What the drive needs of the machine (`MC405Machine`)."""
 
     axes: list[TrioAxis]
@@ -270,9 +270,9 @@ class Drive:
         a = m.axes[axis.index]
         params = a.params
         found: list[float] = []
-        wired = params["FWD_IN" if side > 0 else "REV_IN"]
+        wired = -1 if m.framed(axis.index) else params["FWD_IN" if side > 0 else "REV_IN"]
         if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
-            stage = m.world.axes[axis.index]
+            stage = m.world.axes[axis.index]  # (a joint in a FRAME: frames.py finds it)
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
             if edge is not None:

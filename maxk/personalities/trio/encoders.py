@@ -32,7 +32,7 @@ class EncoderHost(Protocol):
     axes: list[TrioAxis]
 
     def raw_encoder(self, axis: int) -> float | None: ...
-    def demand(self, axis: int) -> float: ...
+    def motor(self, axis: int) -> float: ...
 
 
 def ratio(params: dict[str, float]) -> float:
@@ -70,7 +70,7 @@ def encoder(machine: EncoderHost, axis: int) -> float:
         counts = float(loop.encoder_counts())
     else:
         raw = machine.raw_encoder(axis)
-        counts = math.floor((machine.demand(axis) if raw is None else raw) + 0.5)
+        counts = math.floor((machine.motor(axis) if raw is None else raw) + 0.5)
     wrapped = (int(counts) + REGISTER // 2) % REGISTER - REGISTER // 2
     return float(wrapped)
 

@@ -44,7 +44,15 @@ from maxk.firmware_model.world import World
 from .runs import ServoGains, TrioAxis
 
 
-class ServoHost(Protocol):
+class MotorHost(Protocol):
+    """The motor's demand: the axis's, or with a FRAME on its inverse transform."""
+
+    def motor(self, axis: int, tick: int | None = None) -> float: ...
+
+    def framed(self, axis: int) -> bool: ...
+
+
+class ServoHost(MotorHost, Protocol):
     """What the loops need of the machine: its axes, time, world and demand."""
 
     axes: list[TrioAxis]
@@ -53,7 +61,6 @@ class ServoHost(Protocol):
     world: World
     system: dict[str, float]
 
-    def demand(self, axis: int) -> float: ...
 
 SERVO_ATYPES = frozenset({36, 77})
 """Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
@@ -144,7 +151,7 @@ class Following:
                 a.config = ServoGains(gains, sign)
             loop = a.servo
             if loop is None:
-                loop = a.servo = ServoLoop(m.demand(i), m.tick)
+                loop = a.servo = ServoLoop(m.motor(i), m.tick)
                 loop.closed = False
             enabled = self.enabled(i)
             if enabled and not loop.closed:
@@ -159,7 +166,7 @@ class Following:
             delta = here - (a.steps + a.fraction)
             a.steps, a.fraction = int(here), 0.0
             loop.counters_moved(delta, 0.0)
-        loop.reset_filter(self.m.demand(a.index) - loop.p)
+        loop.reset_filter(self.m.motor(a.index) - loop.p)
         loop.closed = True
 
     def rearm(self) -> None:
@@ -170,7 +177,7 @@ class Following:
             if loop.tripped or loop.trip_tick is not None:
                 loop.tripped = False
                 loop.trip_tick = None
-                loop.reset_filter(self.m.demand(a.index) - loop.p)
+                loop.reset_filter(self.m.motor(a.index) - loop.p)
 
     # ---- readings ---------------------------------------------------------------------
     def measured(self, axis: int) -> float | None:
@@ -181,7 +188,7 @@ class Following:
     def error_counts(self, axis: int) -> float:
         """FE in counts: demand - encoder (0 for a profile-only axis)."""
         measured = self.measured(axis)
-        return 0.0 if measured is None else self.m.demand(axis) - measured
+        return 0.0 if measured is None else self.m.motor(axis) - measured
 
     def open_error(self, axis: int) -> float:
         """Demand less encoder, counts, while the axis's loop is open (0 otherwise): DPOS
@@ -209,7 +216,7 @@ class Following:
         servos = self.servos
         if not servos:
             return None
-        free = [a for a in servos if a.link is None]
+        free = [a for a in servos if a.link is None and not m.framed(a.index)]
         watched = {a.index for a in free if self._watched(a)}
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
                  if a.servo is not None} if watched else {}
@@ -218,8 +225,10 @@ class Following:
         for a in servos:
             loop = a.servo
             assert loop is not None
-            if a.link is not None:  # a linked servo axis follows its demand (D)
-                loop.p, loop.w, loop.tick = m.demand(a.index), 0.0, limit
+            if a.link is not None or m.framed(a.index):  # a linked servo axis, or one
+                # in a FRAME, follows its (motor) demand (D)
+                framed = limit if m.framed(a.index) else None  # (its demand at the end)
+                loop.p, loop.w, loop.tick = m.motor(a.index, framed), 0.0, limit
                 continue
             before = loop.q  # the error of the cycle before the stretch
             if a.index in watched:

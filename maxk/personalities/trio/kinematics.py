@@ -15,6 +15,7 @@ import numpy as np
 
 from maxk.firmware_model.sampling import profile_offset_speed
 
+from .frames import Frames
 from .links import LinkedMoves
 from .runs import Cambox, Connect, Connpath, Movelink, Run, TrioAxis
 
@@ -26,6 +27,7 @@ class Kinematics:
     queues: list[deque[Run]]
     distance_done: list[float]
     links: LinkedMoves
+    frames: Frames
     tick: int
     period: float
 
@@ -37,6 +39,11 @@ class Kinematics:
         """The exact demand position (physical counts, DEFPOS not applied) at ticks
         between now and the next event: the axis's own, and what ADDAX adds."""
         return self.links.superimpose(axis, ticks, self.own_counts(axis, ticks))
+
+    def motor_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """The motor's demand (physical counts): `demand_counts`, or with a FRAME on the
+        axis the frame's inverse transform of the world demand (frames.py)."""
+        return self.frames.motor_counts(axis, ticks)
 
     def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray:
         """The demand of the axis's own moves and links (ADDAX's part not included)."""
@@ -120,6 +127,15 @@ class Kinematics:
 
     def demand(self, axis: int) -> float:
         return float(self.demand_counts(axis, self._now())[0])
+
+    def framed(self, axis: int) -> bool:
+        """Is a FRAME on the axis (its motor no longer follows DPOS 1:1)?"""
+        return self.frames.framed(axis)
+
+    def motor(self, axis: int, tick: int | None = None) -> float:
+        """The motor's demand now (or at `tick`, between now and the next event)."""
+        ticks = self._now() if tick is None else np.array([tick])
+        return float(self.motor_counts(axis, ticks)[0])
 
     def own_demand(self, axis: int) -> float:
         return float(self.own_counts(axis, self._now())[0])

@@ -39,6 +39,8 @@ from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
+from .frames import READS as FRAME_READS
+from .frames import Frames
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
@@ -132,6 +134,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
+        self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -157,6 +160,10 @@ class MC405Machine(Kinematics, Engine):
             self.feedhold.reset()
         else:
             self.feedhold: FeedHold = FeedHold(self)
+        if hasattr(self, "frames"):
+            self.frames.reset()
+        else:
+            self.frames: Frames = Frames(self)
         if hasattr(self, "registration"):
             self.registration.reset()
         else:
@@ -223,6 +230,7 @@ class MC405Machine(Kinematics, Engine):
         error stops time at its tick."""
         stop = self.drive.following.integrate(limit)
         end = limit if stop is None else stop
+        self.frames.stretch(end)  # (frame 10 counts its turns: frames.py)
         if self.tracer is not None and end > self.tick:
             self.tracer.stretch(self.tick + 1, end)
         if stop is None:
@@ -254,6 +262,10 @@ class MC405Machine(Kinematics, Engine):
 
     def axis_parameter(self, name: str, axis: int) -> float:
         name = DAC_ALIASES.get(name, name)
+        if name in FRAME_READS:
+            return self.frames.read(name, axis, self.axis_parameter("DPOS", axis))
+        if name in ("MPOS", "FE") and self.frames.framed(axis):  # the motor (frames.py)
+            return self.frames.axis_dpos(axis) if name == "MPOS" else 0.0
         if name in ("MPOS", "DPOS", "FE") and (counts := self.encoder_counts(axis)) is not None:
             a = self.axes[axis]
             return 0.0 if name == "FE" else (counts + a.datum) / a.units
@@ -273,6 +285,8 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
+            if name == "AXISSTATUS":
+                value = float(int(value) | self.frames.status_bits(axis))  # frames.py
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
@@ -310,6 +324,10 @@ class MC405Machine(Kinematics, Engine):
             self.axes[axis].params[name] = value
         elif name == "REGIST_CONTROL":
             self.registration.write_control(axis, value)
+        elif name == "FRAME":
+            self.frames.set_frame(axis, value)
+        elif name == "AXIS_UNITS" and not (value != 0 and math.isfinite(value)):
+            raise ValueError("Parameter out of range")
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
@@ -441,7 +459,7 @@ class MC405Machine(Kinematics, Engine):
                 if params.get(name, -1) == number:
                     wired = True
                     stage = self.world.axes[i]
-                    if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
+                    if getattr(stage, switch).active(self.motor(i) - stage.lost_steps):
                         return False  # the normally closed switch has opened
         return wired
 
@@ -455,6 +473,16 @@ class MC405Machine(Kinematics, Engine):
         (`encoders.py`); None when the axis is no encoder input with an encoder."""
         raw = self.raw_encoder(axis)
         return None if raw is None else raw * encoders.ratio(self.axes[axis].params)
+
+    def frame_group(self, args: Sequence[float]) -> str:
+        """FRAME_GROUP (frames.py): the group alone prints its line."""
+        if not args or any(a != int(a) for a in args):
+            raise ValueError("Parameter out of range")
+        group = int(args[0])
+        if len(args) == 1:
+            return self.frames.describe(group)
+        self.frames.frame_group(group, args[1], [int(a) for a in args[2:]])
+        return ""
 
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         """ENCODER_RATIO(mpos_count, input_count): an encoder input's MPOS keeps its
@@ -480,7 +508,7 @@ class MC405Machine(Kinematics, Engine):
             return None
         if not 0 <= mount.motor < self.axis_count:
             return None
-        return mount.counts(self.demand(mount.motor) - self.world.axes[mount.motor].lost_steps)
+        return mount.counts(self.motor(mount.motor) - self.world.axes[mount.motor].lost_steps)
 
     def input_inverted(self, number: int) -> bool:
         return number in self.inverted_inputs
