@@ -50,7 +50,7 @@ enum { SG_S0, SG_LENGTH, SG_ARC, SG_START, SG_UNIT, SG_END, SG_CX, SG_CY, SG_RAD
 static inline double py_min(double a, double b) { return b < a ? b : a; }
 static inline double py_max(double a, double b) { return b > a ? b : a; }
 
-static double shape_integral(int shape, double u)
+static ALWAYS_INLINE double shape_integral(int shape, double u)
 {
     switch (shape) {
     case SHAPE_LINEAR:
@@ -69,7 +69,7 @@ static double shape_integral(int shape, double u)
     }
 }
 
-static double phase_distance(const double *ph, double tau)
+static ALWAYS_INLINE double phase_distance(const double *ph, double tau)
 {
     double v1 = ph[PH_V1], v2 = ph[PH_V2];
     if (v1 == v2)
@@ -102,19 +102,35 @@ typedef struct {
     Py_ssize_t phase, piece, segment;
 } Cursors;
 
-static double profile_offset(const double *prog, double t, Cursors *c)
+/* The phase a profile is in, held from one tick to the next: phase `ph` holds for t in
+ * [lo, hi) (lo -inf for the first phase, hi +inf for the last), which is where locate()
+ * would find it. */
+typedef struct {
+    const double *ph;
+    double lo, hi;
+} PhaseCache;
+
+static ALWAYS_INLINE double profile_offset(const double *prog, double t, Cursors *c,
+                                           PhaseCache *pc)
 {
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME])
         return prog[FINAL];
     Py_ssize_t n = (Py_ssize_t)prog[COUNT1];
     if (n == 0)
         return prog[FINAL];
-    const double *phases = prog + HEADER;
-    const double *ph = phases + locate(phases + PH_T0, n, PHASE_SIZE, t, &c->phase) * PHASE_SIZE;
+    const double *ph = pc->ph;
+    if (ph == NULL || !(t >= pc->lo && t < pc->hi)) {
+        const double *phases = prog + HEADER;
+        Py_ssize_t i = locate(phases + PH_T0, n, PHASE_SIZE, t, &c->phase);
+        ph = phases + i * PHASE_SIZE;
+        pc->ph = ph;
+        pc->lo = i == 0 ? -HUGE_VAL : ph[PH_T0];
+        pc->hi = i + 1 < n ? phases[(i + 1) * PHASE_SIZE + PH_T0] : HUGE_VAL;
+    }
     return ph[PH_S0] + ph[PH_DIRECTION] * phase_distance(ph, t - ph[PH_T0]);
 }
 
-static double contour_offset(const double *prog, double t, Cursors *c)
+static ALWAYS_INLINE double contour_offset(const double *prog, double t, Cursors *c)
 {
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME])
         return prog[FINAL];
@@ -154,17 +170,40 @@ static double contour_offset(const double *prog, double t, Cursors *c)
     return point - prog[ORIGIN];
 }
 
-/* ServoLoop._commanded: the commanded position (counter frame) at a tick */
-static ALWAYS_INLINE double commanded(const double *prog, long long tick, Cursors *c)
+/* The program's header, decoded once per call rather than at every tick. */
+typedef struct {
+    int kind, has_mend;
+    long long mstart;
+    double base, mend, period, end_position;
+    PhaseCache phase;
+} Header;
+
+static void decode(Header *h, const double *prog)
 {
-    int kind = (int)prog[KIND];
+    h->kind = (int)prog[KIND];
+    h->has_mend = prog[HAS_MEND] != 0.0;
+    h->mstart = h->kind == KIND_REST ? 0 : (long long)prog[MSTART];
+    h->base = prog[BASE];
+    h->mend = prog[MEND];
+    h->period = prog[PERIOD];
+    h->end_position = prog[BASE] + prog[FINAL];
+    h->phase.ph = NULL;
+    h->phase.lo = h->phase.hi = 0.0;
+}
+
+/* ServoLoop._commanded: the commanded position (counter frame) at a tick */
+static ALWAYS_INLINE double commanded(const double *prog, Header *h, long long tick,
+                                      Cursors *c)
+{
+    int kind = h->kind;
     if (kind == KIND_REST)
-        return prog[BASE];
-    if (prog[HAS_MEND] != 0.0 && (double)tick >= prog[MEND])
-        return prog[BASE] + prog[FINAL];
-    double t = (double)(tick - (long long)prog[MSTART]) * prog[PERIOD];
-    double offset = kind == KIND_PROFILE ? profile_offset(prog, t, c) : contour_offset(prog, t, c);
-    return prog[BASE] + offset;
+        return h->base;
+    if (h->has_mend && (double)tick >= h->mend)
+        return h->end_position;
+    double t = (double)(tick - h->mstart) * h->period;
+    double offset = kind == KIND_PROFILE ? profile_offset(prog, t, c, &h->phase)
+                                         : contour_offset(prog, t, c);
+    return h->base + offset;
 }
 
 /* One loop's state, parameters and program while the kernel steps it. */
@@ -173,6 +212,7 @@ typedef struct {
     double p, w, s, q, dac, r_prev, r_prev2;
     int has_prev, has_prev2, closed, tripped, stuck;
     const double *prog;
+    Header header;
     double *x;
     Cursors cursors;
     long long tick, done, count, result;
@@ -190,6 +230,7 @@ static void load(Loop *L, double *x, const double *k, const double *prog, long l
     L->has_prev = x[HAS_PREV] != 0.0; L->has_prev2 = x[HAS_PREV2] != 0.0;
     L->closed = x[CLOSED] != 0.0; L->tripped = x[TRIPPED] != 0.0; L->stuck = x[STUCK] != 0.0;
     L->prog = prog;
+    decode(&L->header, prog);
     L->x = x;
     L->cursors.phase = L->cursors.piece = L->cursors.segment = 0;
     L->tick = tick0;
@@ -210,7 +251,7 @@ static void store(const Loop *L)
  * tripped at this tick (not stepped: L->result says so). */
 static ALWAYS_INLINE int once(Loop *L)
 {
-    double r_abs = commanded(L->prog, L->tick, &L->cursors);
+    double r_abs = commanded(L->prog, &L->header, L->tick, &L->cursors);
     double r = r_abs - L->eo;
     double v = L->has_prev ? r_abs - L->r_prev : 0.0;
     double v_prev = L->has_prev && L->has_prev2 ? L->r_prev - L->r_prev2 : 0.0;
