@@ -15,6 +15,7 @@
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <limits.h>
 #include <math.h>
 
 enum { P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK,
@@ -44,6 +45,16 @@ enum { SG_S0, SG_LENGTH, SG_ARC, SG_START, SG_UNIT, SG_END, SG_CX, SG_CY, SG_RAD
 #define FOLLOWING_ERROR_LIMIT 32768.0
 #define DAC_LIMIT 32767.0
 #define SETTLED_ERROR 1e-3
+#define JUMP_MIN 256      /* ticks: a shorter stretch is stepped */
+#define JUMP_BACKOFF 64   /* ticks stepped before trying again where a bound failed */
+#define JUMP_BACKOFF_MAX 8192
+#define NEVER LLONG_MAX
+#ifdef JUMP_DEBUG
+#include <stdio.h>
+#define DBG(l) fprintf(stderr, "jump: no at %d tick %lld\n", l, L->tick)
+#else
+#define DBG(l)
+#endif
 
 /* Python's min(a, b) and max(a, b): the first argument unless the second is strictly
  * smaller (larger); this keeps the sign of zero as Python does. */
@@ -216,10 +227,15 @@ typedef struct {
     double *x;
     Cursors cursors;
     long long tick, done, count, result;
+    const double *modal;  /* the closed loop's modes (jump()), or NULL: step every tick */
+    int n_modes;
+    long long next_try, backoff;  /* when jump() is tried next, and how far it then waits */
 } Loop;
 
-static void load(Loop *L, double *x, const double *k, const double *prog, long long tick0,
-                 long long count)
+static const double *modes_of(const double *k, Py_ssize_t k_len, int *n);
+
+static void load(Loop *L, double *x, const double *k, Py_ssize_t k_len, const double *prog,
+                 long long tick0, long long count)
 {
     L->a11 = k[A11]; L->a12 = k[A12]; L->a21 = k[A21]; L->a22 = k[A22]; L->b1 = k[B1];
     L->b2 = k[B2]; L->friction = k[FRICTION]; L->kp = k[KP]; L->kd = k[KD]; L->ki = k[KI];
@@ -237,6 +253,9 @@ static void load(Loop *L, double *x, const double *k, const double *prog, long l
     L->done = 0;
     L->count = count;
     L->result = count;
+    L->modal = modes_of(k, k_len, &L->n_modes);
+    L->next_try = tick0;
+    L->backoff = JUMP_BACKOFF;
 }
 
 static void store(const Loop *L)
@@ -316,22 +335,264 @@ static ALWAYS_INLINE int once(Loop *L)
     return 0;
 }
 
+/* ---- the closed-form jump over a slew ------------------------------------------------
+ *
+ * While a profile slews (the commanded position a straight line in the tick), the loop is
+ * closed and linear (no saturation, the sum inside its cap, the motor moving one way so
+ * friction is a constant force), its state has a closed form: per mode of the closed loop
+ * (X' = A X + B [r, ff], diagonalised by servo.py's _Modal), z(j) = P0 + P1 j + delta
+ * lambda^j. jump() takes a whole slew (or what is left of it in this call) at once, where
+ * a bound says the loop stays linear all the way (the particular part is a line, the
+ * transient decays from |delta|); where it does not, the ticks are stepped and the jump
+ * tried again a little later. Its result differs from stepping by rounding (about 1e-9
+ * counts): the stepped ticks are the bit-exact twin of the Python loop, the jump is not
+ * (tests/test_servo_kernel.py compares them with jumps switched off, and the jump against
+ * stepping to a tolerance).
+ *
+ * The modes follow the parameters (servo_kernel.params): n, then lambda (n complex),
+ * V (n x n), V^-1 (n x n), V^-1 B (n x 2), the output rows u, e, w, s (4 x n) and their
+ * direct terms (4 x 2 real). Complex numbers are (re, im) pairs. */
+
+typedef struct {
+    double re, im;
+} Cx;
+
+static inline Cx cx(double re, double im) { Cx c = {re, im}; return c; }
+static inline Cx cadd(Cx a, Cx b) { return cx(a.re + b.re, a.im + b.im); }
+static inline Cx csub(Cx a, Cx b) { return cx(a.re - b.re, a.im - b.im); }
+static inline Cx cmul(Cx a, Cx b) { return cx(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re); }
+static inline Cx cscale(Cx a, double k) { return cx(a.re * k, a.im * k); }
+static inline double cabs2(Cx a) { return hypot(a.re, a.im); }
+static inline Cx cdiv(Cx a, Cx b)
+{
+    double d = b.re * b.re + b.im * b.im;
+    return cx((a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d);
+}
+/* lambda^j for a mode inside the unit circle (0 where it has decayed below any double) */
+static inline Cx cpow_int(Cx lam, double j)
+{
+    double mag = cabs2(lam);
+    if (mag == 0.0)
+        return cx(j == 0.0 ? 1.0 : 0.0, 0.0);
+    double r = exp(j * log(mag)), phi = j * atan2(lam.im, lam.re);
+    return cx(r * cos(phi), r * sin(phi));
+}
+
+static Py_ssize_t modes_size(int n) { return 1 + 2 * n + 4 * n * n + 4 * n + 8 * n + 8; }
+
+static const double *modes_of(const double *k, Py_ssize_t k_len, int *n)
+{
+    *n = 0;
+    if (k_len < PARAM_SIZE + 1)
+        return NULL;
+    int m = (int)k[PARAM_SIZE];
+    if ((m != 3 && m != 4) || k_len < PARAM_SIZE + modes_size(m))
+        return NULL;
+    *n = m;
+    return k + PARAM_SIZE + 1;
+}
+
+enum { OUT_U, OUT_E, OUT_W, OUT_S, OUTPUTS };
+
+/* Tick of a profile's time t (the commanded position's clock). */
+static inline double time_of(const Header *h, long long tick)
+{
+    return (double)(tick - h->mstart) * h->period;
+}
+
+/* Try to take the ticks from L->tick to the end of its slew (or of this call) in closed
+ * form: 1 if it did; 0 if not (then L->next_try says when to try again). */
+static int jump(Loop *L)
+{
+    Header *h = &L->header;
+    const double *prog = L->prog;
+    long long T = L->tick, remaining = L->count - L->done;
+    long long retry = T + L->backoff;
+    if (h->kind != KIND_PROFILE || !L->closed || L->tripped) {
+        L->next_try = NEVER;
+        { DBG(__LINE__); return 0; }
+    }
+    if (h->has_mend && (double)T >= h->mend) {
+        L->next_try = NEVER;
+        { DBG(__LINE__); return 0; }
+    }
+    double t = time_of(h, T);
+    if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME]) {
+        L->next_try = NEVER;
+        { DBG(__LINE__); return 0; }
+    }
+    if ((Py_ssize_t)prog[COUNT1] == 0) {
+        L->next_try = NEVER;
+        { DBG(__LINE__); return 0; }
+    }
+    double r_abs0 = h->base + profile_offset(prog, t, &L->cursors, &h->phase);
+    const double *ph = h->phase.ph;
+    /* where this phase (or the motion) ends: the first tick at or after it */
+    double stop_t = h->phase.hi;
+    if (prog[HAS_END_TIME] != 0.0 && prog[END_TIME] < stop_t)
+        stop_t = prog[END_TIME];
+    long long E = T + remaining;
+    if (stop_t < HUGE_VAL) {
+        double guess = ceil(stop_t / h->period);
+        if (!(fabs(guess) < 4e15)) {
+            L->next_try = NEVER;
+            { DBG(__LINE__); return 0; }
+        }
+        long long e = h->mstart + (long long)guess;
+        while (e > T && time_of(h, e - 1) >= stop_t)
+            e--;
+        while (time_of(h, e) < stop_t)
+            e++;
+        if (e < E)
+            E = e;
+    }
+    if (h->has_mend && h->mend < (double)E)
+        E = (long long)ceil(h->mend);
+    if (ph[PH_V1] != ph[PH_V2] || L->stuck || !L->has_prev || !L->has_prev2) {
+        L->next_try = ph[PH_V1] != ph[PH_V2] ? E : retry;  /* a ramp: at its end */
+        { DBG(__LINE__); return 0; }
+    }
+    double t2 = time_of(h, T - 2);
+    if (!(t2 >= h->phase.lo && t2 >= ph[PH_T0])) {
+        L->next_try = T + 2;  /* the history comes onto the slew in two ticks */
+        { DBG(__LINE__); return 0; }
+    }
+    long long m = E - T;
+    if (m < JUMP_MIN) {
+        L->next_try = E;
+        { DBG(__LINE__); return 0; }
+    }
+    Cursors c = L->cursors;
+    Header hh = *h;
+    double r_abs1 = commanded(prog, &hh, T - 1, &c), r_abs2 = commanded(prog, &hh, T - 2, &c);
+    double r_last = commanded(prog, &hh, T + m - 1, &c);
+    double r_last2 = commanded(prog, &hh, T + m - 2, &c);
+    if (fabs(L->r_prev - r_abs1) > 1e-9 * py_max(1.0, fabs(r_abs1))
+        || fabs(L->r_prev2 - r_abs2) > 1e-9 * py_max(1.0, fabs(r_abs2))) {
+        L->next_try = retry;  /* the counters moved: step until the history is on it */
+        { DBG(__LINE__); return 0; }
+    }
+    double friction = L->friction, w = L->w;
+    if (friction != 0.0 && w == 0.0) {
+        L->next_try = retry;
+        { DBG(__LINE__); return 0; }
+    }
+    /* the inputs: r(j) = r0 + c1 j (loop frame), the feed-forward and friction constant */
+    double r0 = r_abs0 - L->eo, c1 = (r_last - r_abs0) / (double)(m - 1);
+    double sign_v = c1 > 1e-12 ? 1.0 : c1 < -1e-12 ? -1.0 : 0.0;
+    double fric = friction != 0.0 ? friction * (w > 0 ? L->fdir : -L->fdir) : 0.0;
+    double ff = L->kv * c1 + L->kf * sign_v + L->ko - fric;
+    int n = L->n_modes;
+    const double *md = L->modal;
+    const Cx *lam = (const Cx *)md;
+    const Cx *V = lam + n, *Vinv = V + n * n, *VB = Vinv + n * n, *G = VB + 2 * n;
+    const double *DW = (const double *)(G + OUTPUTS * n);
+    double X0[4];
+    if (n == 4) {
+        X0[0] = L->p; X0[1] = w; X0[2] = L->s; X0[3] = L->q;
+    } else {
+        X0[0] = L->p; X0[1] = w; X0[2] = L->q;
+    }
+    Cx P0[4], P1[4], delta[4];
+    for (int i = 0; i < n; i++) {
+        if (!(cabs2(lam[i]) < 1.0)) {
+            L->next_try = NEVER;  /* not decaying: no bound */
+            { DBG(__LINE__); return 0; }
+        }
+        Cx z0 = cx(0.0, 0.0);
+        for (int j = 0; j < n; j++)
+            z0 = cadd(z0, cscale(Vinv[i * n + j], X0[j]));
+        Cx D0 = cadd(cscale(VB[2 * i], r0), cscale(VB[2 * i + 1], ff));
+        Cx D1 = cscale(VB[2 * i], c1);
+        Cx one_minus = csub(cx(1.0, 0.0), lam[i]);
+        P1[i] = cdiv(D1, one_minus);
+        P0[i] = cdiv(csub(D0, P1[i]), one_minus);
+        delta[i] = csub(z0, P0[i]);
+    }
+    /* each checked output over j in [0, m]: a line plus a transient no larger than at j=0 */
+    double mm = (double)m;
+    double lows[OUTPUTS] = {-DAC_LIMIT, -FOLLOWING_ERROR_LIMIT, -HUGE_VAL, -L->cap};
+    double highs[OUTPUTS] = {DAC_LIMIT, FOLLOWING_ERROR_LIMIT, HUGE_VAL, L->cap};
+    if (friction != 0.0) {
+        if (w > 0)
+            lows[OUT_W] = 0.0;
+        else
+            highs[OUT_W] = 0.0;
+    }
+    for (int o = 0; o < OUTPUTS; o++) {
+        if (o == OUT_S && (n == 3 || L->ki <= 0))
+            continue;
+        const Cx *g = G + o * n;
+        double a0 = DW[2 * o] * r0 + DW[2 * o + 1] * ff, a1 = DW[2 * o] * c1, bound = 0.0;
+        if (o == OUT_U)
+            a0 += fric;  /* the DAC's output: the friction is the plant's, not the filter's */
+        for (int i = 0; i < n; i++) {
+            a0 += cmul(g[i], P0[i]).re;
+            a1 += cmul(g[i], P1[i]).re;
+            bound += cabs2(g[i]) * cabs2(delta[i]);
+        }
+        double end = a0 + a1 * mm;
+        double lo = py_min(a0, end) - bound, hi = py_max(a0, end) + bound;
+        /* a margin for the closed form's rounding against the stepped loop's */
+        double slack = 1e-9 * (fabs(a0) + fabs(end) + bound) + 1e-9;
+        if (!(lo - slack > lows[o] && hi + slack < highs[o])) {
+            L->next_try = retry;
+            L->backoff = L->backoff * 2 > JUMP_BACKOFF_MAX ? JUMP_BACKOFF_MAX : L->backoff * 2;
+            { DBG(__LINE__); return 0; }
+        }
+    }
+    /* the state m ticks on, and the output of the tick before */
+    double X[4] = {0.0, 0.0, 0.0, 0.0}, u = 0.0;
+    const Cx *gu = G + OUT_U * n;
+    for (int i = 0; i < n; i++) {
+        Cx lm = cpow_int(lam[i], mm - 1.0);
+        Cx z_before = cadd(cadd(P0[i], cscale(P1[i], mm - 1.0)), cmul(delta[i], lm));
+        Cx z = cadd(cadd(P0[i], cscale(P1[i], mm)), cmul(cmul(delta[i], lm), lam[i]));
+        u += cmul(gu[i], z_before).re;
+        for (int j = 0; j < n; j++)
+            X[j] += cmul(V[j * n + i], z).re;
+    }
+    u += DW[2 * OUT_U] * (r0 + c1 * (mm - 1.0)) + DW[2 * OUT_U + 1] * ff + fric;
+    L->p = X[0];
+    L->w = X[1];
+    if (n == 4) {
+        L->s = X[2];
+        L->q = X[3];
+    } else {
+        L->q = X[2];
+    }
+    L->dac = py_max(-DAC_LIMIT, py_min(DAC_LIMIT, u));
+    L->r_prev = r_last;
+    L->r_prev2 = r_last2;
+    L->tick += m;
+    L->done += m;
+    L->next_try = L->tick;
+    L->backoff = JUMP_BACKOFF;
+    return 1;
+}
+
+/* One tick, or a jump where one is due (each loop's ticks are the same either way) */
+static ALWAYS_INLINE int advance_loop(Loop *L)
+{
+    if (L->modal != NULL && L->tick >= L->next_try && L->count - L->done >= JUMP_MIN
+        && jump(L))
+        return 0;
+    return once(L);
+}
+
 /* Step one loop `count` ticks: the ticks stepped, or -(ticks + 1) on a trip. */
-static long long run(double *x, const double *k, const double *prog, long long tick0,
-                     long long count)
+static long long run(double *x, const double *k, Py_ssize_t k_len, const double *prog,
+                     long long tick0, long long count)
 {
     Loop L;
-    load(&L, x, k, prog, tick0, count);
+    load(&L, x, k, k_len, prog, tick0, count);
     while (L.done < count)
-        if (once(&L))
+        if (advance_loop(&L))
             break;
     store(&L);
     return L.result;
 }
 
-/* Step several loops, tick by tick in turn: their ticks are independent, so the
- * processor overlaps one loop's arithmetic with another's (one loop alone waits on each
- * operation's result). Each loop's own arithmetic is run()'s, in its order. */
 /* Step several loops, one tick of each in turn: their ticks are independent, so the
  * processor overlaps one loop's arithmetic with another's, where one loop alone waits on
  * each result (about 12% faster over a board's ten axes). Each loop's own arithmetic is
@@ -344,7 +605,7 @@ static void run_many(Loop *loops, Py_ssize_t n)
             Loop *L = &loops[i];
             if (L->done < L->count) {
                 any = 1;
-                if (once(L))
+                if (advance_loop(L))
                     L->count = L->done;  /* tripped: no more ticks */
             }
         }
@@ -421,7 +682,8 @@ static PyObject *step(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
     long long result = 0;
     int ok = size >= 0 && size <= program.len / (Py_ssize_t)sizeof(double);
     if (ok && count > 0)
-        result = run(state.buf, params.buf, prog, tick, count);
+        result = run(state.buf, params.buf, params.len / (Py_ssize_t)sizeof(double), prog, tick,
+                     count);
     PyBuffer_Release(&state);
     PyBuffer_Release(&params);
     PyBuffer_Release(&program);
@@ -625,7 +887,8 @@ static PyObject *step_axes(PyObject *module, PyObject *const *args, Py_ssize_t n
                 break;
             }
             if (ready == 1) {
-                load(&loops[m], job->state.buf, job->params.buf, job->program.buf, tick,
+                load(&loops[m], job->state.buf, job->params.buf,
+                     job->params.len / (Py_ssize_t)sizeof(double), job->program.buf, tick,
                      limit - tick);
                 m++;
             }

@@ -309,6 +309,34 @@ def _closed_loop(gains: Gains, plant_matrices: tuple[float, ...]) -> _Modal:
     return _Modal(A, B, outputs)
 
 
+def _kernel_modes(gains: Gains, plant_matrices: tuple[float, ...]) -> tuple[float, ...]:
+    """The closed loop's modes as the compiled kernel's closed-form jump over a slew
+    reads them (`_servo_kernel.c`, "the closed-form jump"): the number of modes, then
+    lambda, V, V^-1, V^-1 B, the output rows u, e, w, s (complex, as re, im pairs) and
+    their direct terms. Empty where the kernel should not jump (switched off, an
+    ill-conditioned or undecaying loop)."""
+    return _modes(gains, plant_matrices) if K.JUMPS else ()
+
+
+@lru_cache(maxsize=512)
+def _modes(gains: Gains, plant_matrices: tuple[float, ...]) -> tuple[float, ...]:
+    modal = _closed_loop(gains, plant_matrices)
+    if not modal.ok or not modal.stable or modal.unit.any():
+        return ()
+    n = modal.n
+    names = ["u", "e", "w", "s"]
+    G = np.zeros((4, n), dtype=complex)
+    DW = np.zeros((4, 2))
+    for row, name in enumerate(names):
+        if name in modal.index:
+            G[row] = modal.G[modal.index[name]]
+            DW[row] = modal.DW[modal.index[name]]
+    parts = [modal.lam, modal.V.ravel(), modal.Vinv.ravel(),
+             np.asarray(modal.VB, dtype=complex).ravel(), G.ravel()]
+    values = np.concatenate([part.astype(complex).view(float) for part in parts])
+    return (float(n), *values.tolist(), *DW.ravel().tolist())
+
+
 @lru_cache(maxsize=256)
 def _open_loop(plant_matrices: tuple[float, ...]) -> _Modal:
     a11, a12, a21, a22, b1, b2 = plant_matrices
@@ -814,7 +842,8 @@ class ServoLoop:
             self._params = (key, K.params(matrices, friction, gains.kp, gains.kd,
                                           gains.ki_per_tick, gains.kv, gains.ka, gains.kf,
                                           gains.ko, gains.integral_sum_limit,
-                                          axis.encoder_offset, self._plant[2]))
+                                          axis.encoder_offset, self._plant[2],
+                                          _kernel_modes(gains, matrices)))
         motion = axis.motion
         base = axis.steps + axis.counter_offset
         where = (motion, axis.motion_start, axis.motion_end, base, board.period)
