@@ -45,16 +45,10 @@ enum { SG_S0, SG_LENGTH, SG_ARC, SG_START, SG_UNIT, SG_END, SG_CX, SG_CY, SG_RAD
 #define FOLLOWING_ERROR_LIMIT 32768.0
 #define DAC_LIMIT 32767.0
 #define SETTLED_ERROR 1e-3
-#define JUMP_MIN 256      /* ticks: a shorter stretch is stepped */
+#define JUMP_MIN 64       /* ticks: a shorter stretch is stepped */
 #define JUMP_BACKOFF 64   /* ticks stepped before trying again where a bound failed */
 #define JUMP_BACKOFF_MAX 8192
 #define NEVER LLONG_MAX
-#ifdef JUMP_DEBUG
-#include <stdio.h>
-#define DBG(l) fprintf(stderr, "jump: no at %d tick %lld\n", l, L->tick)
-#else
-#define DBG(l)
-#endif
 
 /* Python's min(a, b) and max(a, b): the first argument unless the second is strictly
  * smaller (larger); this keeps the sign of zero as Python does. */
@@ -337,12 +331,14 @@ static ALWAYS_INLINE int once(Loop *L)
 
 /* ---- the closed-form jump over a slew ------------------------------------------------
  *
- * While a profile slews (the commanded position a straight line in the tick), the loop is
+ * While a profile slews or ramps linearly (the commanded position a polynomial of degree
+ * at most 2 in the tick), the loop is
  * closed and linear (no saturation, the sum inside its cap, the motor moving one way so
  * friction is a constant force), its state has a closed form: per mode of the closed loop
- * (X' = A X + B [r, ff], diagonalised by servo.py's _Modal), z(j) = P0 + P1 j + delta
- * lambda^j. jump() takes a whole slew (or what is left of it in this call) at once, where
- * a bound says the loop stays linear all the way (the particular part is a line, the
+ * (X' = A X + B [r, ff], diagonalised by servo.py's _Modal), z(j) = P0 + P1 j + P2 j^2
+ * + delta lambda^j. jump() takes a whole phase (or what is left of it in this call) at
+ * once, where a bound says the loop stays linear all the way (the particular part is a
+ * polynomial, the
  * transient decays from |delta|); where it does not, the ticks are stepped and the jump
  * tried again a little later. Its result differs from stepping by rounding (about 1e-9
  * counts): the stepped ticks are the bit-exact twin of the Python loop, the jump is not
@@ -410,20 +406,20 @@ static int jump(Loop *L)
     long long retry = T + L->backoff;
     if (h->kind != KIND_PROFILE || !L->closed || L->tripped) {
         L->next_try = NEVER;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     if (h->has_mend && (double)T >= h->mend) {
         L->next_try = NEVER;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     double t = time_of(h, T);
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME]) {
         L->next_try = NEVER;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     if ((Py_ssize_t)prog[COUNT1] == 0) {
         L->next_try = NEVER;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     double r_abs0 = h->base + profile_offset(prog, t, &L->cursors, &h->phase);
     const double *ph = h->phase.ph;
@@ -436,7 +432,7 @@ static int jump(Loop *L)
         double guess = ceil(stop_t / h->period);
         if (!(fabs(guess) < 4e15)) {
             L->next_try = NEVER;
-            { DBG(__LINE__); return 0; }
+            return 0;
         }
         long long e = h->mstart + (long long)guess;
         while (e > T && time_of(h, e - 1) >= stop_t)
@@ -448,40 +444,65 @@ static int jump(Loop *L)
     }
     if (h->has_mend && h->mend < (double)E)
         E = (long long)ceil(h->mend);
-    if (ph[PH_V1] != ph[PH_V2] || L->stuck || !L->has_prev || !L->has_prev2) {
-        L->next_try = ph[PH_V1] != ph[PH_V2] ? E : retry;  /* a ramp: at its end */
-        { DBG(__LINE__); return 0; }
+    int ramp = ph[PH_V1] != ph[PH_V2];
+    if (ramp && (int)ph[PH_SHAPE] != SHAPE_LINEAR) {
+        L->next_try = E;  /* not a polynomial of degree 2: stepped to its end */
+        return 0;
+    }
+    if (L->stuck || !L->has_prev || !L->has_prev2) {
+        L->next_try = retry;
+        return 0;
     }
     double t2 = time_of(h, T - 2);
     if (!(t2 >= h->phase.lo && t2 >= ph[PH_T0])) {
-        L->next_try = T + 2;  /* the history comes onto the slew in two ticks */
-        { DBG(__LINE__); return 0; }
+        L->next_try = T + 2;  /* the history comes onto this phase in two ticks */
+        return 0;
     }
     long long m = E - T;
     if (m < JUMP_MIN) {
         L->next_try = E;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     Cursors c = L->cursors;
     Header hh = *h;
+    long long mid = (m - 1) / 2;
     double r_abs1 = commanded(prog, &hh, T - 1, &c), r_abs2 = commanded(prog, &hh, T - 2, &c);
+    double r_mid = commanded(prog, &hh, T + mid, &c);
     double r_last = commanded(prog, &hh, T + m - 1, &c);
     double r_last2 = commanded(prog, &hh, T + m - 2, &c);
     if (fabs(L->r_prev - r_abs1) > 1e-9 * py_max(1.0, fabs(r_abs1))
         || fabs(L->r_prev2 - r_abs2) > 1e-9 * py_max(1.0, fabs(r_abs2))) {
         L->next_try = retry;  /* the counters moved: step until the history is on it */
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
     double friction = L->friction, w = L->w;
     if (friction != 0.0 && w == 0.0) {
         L->next_try = retry;
-        { DBG(__LINE__); return 0; }
+        return 0;
     }
-    /* the inputs: r(j) = r0 + c1 j (loop frame), the feed-forward and friction constant */
-    double r0 = r_abs0 - L->eo, c1 = (r_last - r_abs0) / (double)(m - 1);
-    double sign_v = c1 > 1e-12 ? 1.0 : c1 < -1e-12 ? -1.0 : 0.0;
+    /* the inputs, polynomials in j: the commanded position r0 + r1 j + r2 j^2 (loop
+     * frame; a line on a slew), through three of its exact values; its velocity
+     * r(j) - r(j-1) and acceleration as the stepped loop takes them; friction constant */
+    double jm = (double)mid, jl = (double)(m - 1), r1, r2;
+    if (ramp) {
+        double d1 = (r_mid - r_abs0) / jm, d2 = (r_last - r_mid) / (jl - jm);
+        r2 = (d2 - d1) / jl;
+        r1 = d1 - r2 * jm;
+    } else {
+        r2 = 0.0;
+        r1 = (r_last - r_abs0) / jl;
+    }
+    double r0 = r_abs0 - L->eo;
+    double v_first = r1 - r2, v_last = r1 - r2 + 2.0 * r2 * jl;
+    if (!((v_first > 1e-9 && v_last > 1e-9) || (v_first < -1e-9 && v_last < -1e-9)
+          || (!ramp && v_first == 0.0))) {
+        L->next_try = retry;  /* the commanded velocity at or through zero */
+        return 0;
+    }
+    double sign_v = v_first > 1e-12 ? 1.0 : v_first < -1e-12 ? -1.0 : 0.0;
     double fric = friction != 0.0 ? friction * (w > 0 ? L->fdir : -L->fdir) : 0.0;
-    double ff = L->kv * c1 + L->kf * sign_v + L->ko - fric;
+    double ff0 = L->kv * v_first + L->ka * (2.0 * r2) + L->kf * sign_v + L->ko - fric;
+    double ff1 = L->kv * (2.0 * r2);
     int n = L->n_modes;
     const double *md = L->modal;
     const Cx *lam = (const Cx *)md;
@@ -493,20 +514,23 @@ static int jump(Loop *L)
     } else {
         X0[0] = L->p; X0[1] = w; X0[2] = L->q;
     }
-    Cx P0[4], P1[4], delta[4];
+    /* per mode z(j) = P0 + P1 j + P2 j^2 + delta lambda^j */
+    Cx P0[4], P1[4], P2[4], delta[4];
     for (int i = 0; i < n; i++) {
         if (!(cabs2(lam[i]) < 1.0)) {
             L->next_try = NEVER;  /* not decaying: no bound */
-            { DBG(__LINE__); return 0; }
+            return 0;
         }
         Cx z0 = cx(0.0, 0.0);
         for (int j = 0; j < n; j++)
             z0 = cadd(z0, cscale(Vinv[i * n + j], X0[j]));
-        Cx D0 = cadd(cscale(VB[2 * i], r0), cscale(VB[2 * i + 1], ff));
-        Cx D1 = cscale(VB[2 * i], c1);
+        Cx D0 = cadd(cscale(VB[2 * i], r0), cscale(VB[2 * i + 1], ff0));
+        Cx D1 = cadd(cscale(VB[2 * i], r1), cscale(VB[2 * i + 1], ff1));
+        Cx D2 = cscale(VB[2 * i], r2);
         Cx one_minus = csub(cx(1.0, 0.0), lam[i]);
-        P1[i] = cdiv(D1, one_minus);
-        P0[i] = cdiv(csub(D0, P1[i]), one_minus);
+        P2[i] = cdiv(D2, one_minus);
+        P1[i] = cdiv(csub(D1, cscale(P2[i], 2.0)), one_minus);
+        P0[i] = cdiv(csub(csub(D0, P1[i]), P2[i]), one_minus);
         delta[i] = csub(z0, P0[i]);
     }
     /* each checked output over j in [0, m]: a line plus a transient no larger than at j=0 */
@@ -523,36 +547,52 @@ static int jump(Loop *L)
         if (o == OUT_S && (n == 3 || L->ki <= 0))
             continue;
         const Cx *g = G + o * n;
-        double a0 = DW[2 * o] * r0 + DW[2 * o + 1] * ff, a1 = DW[2 * o] * c1, bound = 0.0;
+        double a0 = DW[2 * o] * r0 + DW[2 * o + 1] * ff0, a1 = DW[2 * o] * r1
+            + DW[2 * o + 1] * ff1, a2 = DW[2 * o] * r2, bound = 0.0;
         if (o == OUT_U)
             a0 += fric;  /* the DAC's output: the friction is the plant's, not the filter's */
         for (int i = 0; i < n; i++) {
             a0 += cmul(g[i], P0[i]).re;
             a1 += cmul(g[i], P1[i]).re;
+            a2 += cmul(g[i], P2[i]).re;
             bound += cabs2(g[i]) * cabs2(delta[i]);
         }
-        double end = a0 + a1 * mm;
-        double lo = py_min(a0, end) - bound, hi = py_max(a0, end) + bound;
+        double end = a0 + (a1 + a2 * mm) * mm;
+        double lo = py_min(a0, end), hi = py_max(a0, end);
+        if (a2 != 0.0) {
+            double vertex = -a1 / (2.0 * a2);
+            if (vertex > 0.0 && vertex < mm) {
+                double at = a0 + (a1 + a2 * vertex) * vertex;
+                lo = py_min(lo, at);
+                hi = py_max(hi, at);
+            }
+        }
         /* a margin for the closed form's rounding against the stepped loop's */
-        double slack = 1e-9 * (fabs(a0) + fabs(end) + bound) + 1e-9;
-        if (!(lo - slack > lows[o] && hi + slack < highs[o])) {
+        double slack = 1e-9 * (fabs(lo) + fabs(hi) + bound) + 1e-9;
+        lo -= bound + slack;
+        hi += bound + slack;
+        if (!(lo > lows[o] && hi < highs[o])) {
             L->next_try = retry;
             L->backoff = L->backoff * 2 > JUMP_BACKOFF_MAX ? JUMP_BACKOFF_MAX : L->backoff * 2;
-            { DBG(__LINE__); return 0; }
+            return 0;
         }
     }
     /* the state m ticks on, and the output of the tick before */
     double X[4] = {0.0, 0.0, 0.0, 0.0}, u = 0.0;
     const Cx *gu = G + OUT_U * n;
+    double before = mm - 1.0;
     for (int i = 0; i < n; i++) {
-        Cx lm = cpow_int(lam[i], mm - 1.0);
-        Cx z_before = cadd(cadd(P0[i], cscale(P1[i], mm - 1.0)), cmul(delta[i], lm));
-        Cx z = cadd(cadd(P0[i], cscale(P1[i], mm)), cmul(cmul(delta[i], lm), lam[i]));
+        Cx lm = cpow_int(lam[i], before);
+        Cx z_before = cadd(cadd(P0[i], cscale(P1[i], before)),
+                           cadd(cscale(P2[i], before * before), cmul(delta[i], lm)));
+        Cx z = cadd(cadd(P0[i], cscale(P1[i], mm)),
+                    cadd(cscale(P2[i], mm * mm), cmul(cmul(delta[i], lm), lam[i])));
         u += cmul(gu[i], z_before).re;
         for (int j = 0; j < n; j++)
             X[j] += cmul(V[j * n + i], z).re;
     }
-    u += DW[2 * OUT_U] * (r0 + c1 * (mm - 1.0)) + DW[2 * OUT_U + 1] * ff + fric;
+    u += DW[2 * OUT_U] * (r0 + (r1 + r2 * before) * before)
+        + DW[2 * OUT_U + 1] * (ff0 + ff1 * before) + fric;
     L->p = X[0];
     L->w = X[1];
     if (n == 4) {
