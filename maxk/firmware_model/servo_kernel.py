@@ -12,6 +12,11 @@ by the loop itself), its parameters (gains, plant, friction, encoder offset) and
 *program*: the commanded position as a motion's description (a profile's phases, or a
 contour's pieces and segments for one axis). Anything it cannot describe (another kind
 of motion, counts beyond 2**53) gets no program, and the Python loop steps it.
+
+Given the closed loop's modes (servo.py's `_kernel_modes`, after the parameters), the
+kernel also takes a profile's slews and linear ramps in closed form where a bound keeps
+the loop linear (`_servo_kernel.c`, "the closed-form jump"): not the Python loop's bits
+there, but within rounding of them; `JUMPS` off, it steps every tick.
 """
 
 from __future__ import annotations
@@ -68,6 +73,7 @@ CLOSED: int = 9
 TRIPPED: int = 10
 STUCK: int = 11
 STATE_SIZE = 12
+PARAM_SIZE = 17  # the parameters before the closed loop's modes (the C enum's)
 
 KIND_REST, KIND_PROFILE, KIND_CONTOUR = 0, 1, 2
 _SHAPES = {RampShape.LINEAR: 0.0, RampShape.PARABOLIC: 1.0, RampShape.SCURVE: 2.0,
