@@ -6,6 +6,10 @@ scenarios run once with the kernel and once with every one of those steps taken 
 Python loop instead (the same choice of stretches), and the motors must agree: the same
 RE replies, positions to 1e-9 counts (they agree to the bit: the kernel does the same
 arithmetic in the same order). The compiled half is skipped where no kernel was built.
+
+The kernel also takes a profile's slews in closed form (its jump): those comparisons switch
+the jumps off, and the jumps are held against the kernel's own steps (same replies, same
+ticks, positions within a micro-count).
 """
 
 from __future__ import annotations
@@ -90,6 +94,7 @@ compiled = pytest.mark.skipif(servo_kernel.STEP is None,
 @compiled
 @pytest.mark.parametrize("scenario", list(SCENARIOS))
 def test_the_kernel_steps_exactly_as_the_python_loop(scenario, monkeypatch):
+    monkeypatch.setattr(servo_kernel, "JUMPS", False)  # every tick stepped
     replies, states = run(scenario)
     with monkeypatch.context() as patch:
         python_steps(patch)
@@ -171,6 +176,7 @@ def test_a_loop_tripping_inside_a_compiled_pass_stops_there_and_the_others_go_on
     pass's end, and every state after every pass is the Python loop's to the bit."""
     real = servo_kernel.STEP_AXES
     assert real is not None
+    monkeypatch.setattr(servo_kernel, "JUMPS", False)  # every tick stepped
     trips = []  # (the pass's end, loops it stepped, (tick, trip tick) of each after it)
 
     def watching(axes, limit):
@@ -200,6 +206,53 @@ def test_a_loop_tripping_inside_a_compiled_pass_stops_there_and_the_others_go_on
             assert a[5:] == b[5:]  # the same tick, the same trip
             assert all(math.isclose(x, y, rel_tol=0.0, abs_tol=1e-9) for x, y in
                        zip(a[:5], b[:5], strict=True)), (a, b)
+
+
+SLEWS = {
+    "long slews, tuned": ("MAXk-4000", "AX PSM; LP0; " + TUNED + " CL1; AC500000; VL50000; "
+                          "MR64000; GO; MR-20000; GO;", "X"),
+    "long slew, factory gains": ("MAXk-4000", "AX PSM; LP0; CL1; AC100000; VL20000; "
+                                 "MR30000; GO;", "X"),
+    "slew saturating the DAC": ("MAXk-4000", "AX PSM; LP0; KP200; KD400; KI0; CL1; "
+                                "AC4000000; VL400000; MR300000; GO;", "X"),
+    "slew, the integral capped": ("MAXk-4000", "AX PSM; LP0; KP100; KD400; "
+                                   "KI400; KU20; KV680; CL1; AC500000; VL50000; "
+                                   "MR-40000; GO;", "X"),
+}
+
+
+@compiled
+@pytest.mark.parametrize("scenario", list(SCENARIOS) + list(SLEWS))
+@pytest.mark.parametrize("step", [0.02, 0.25])
+def test_the_kernels_jumps_agree_with_its_steps(scenario, step, monkeypatch):
+    """The closed form over a slew against stepping every tick of it: the same replies,
+    the same ticks, the loop's state within a micro-count (rounding, not a different
+    loop: the jump is taken only where a bound keeps the loop linear)."""
+    monkeypatch.setitem(SCENARIOS, scenario, {**SCENARIOS, **SLEWS}[scenario])
+    replies, states = run(scenario, 2.0, step)
+    monkeypatch.setattr(servo_kernel, "JUMPS", False)
+    stepped_replies, stepped_states = run(scenario, 2.0, step)
+    assert replies == stepped_replies
+    for ours, theirs in zip(states, stepped_states, strict=True):
+        for a, b in zip(ours, theirs, strict=True):
+            assert a[5] == b[5]
+            assert all(math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-6) for x, y in
+                       zip(a[:5], b[:5], strict=True)), (a, b)
+
+
+@compiled
+def test_the_kernel_jumps_over_a_slew(monkeypatch):
+    """The jump is taken (its rounding shows in the last bits against stepping), and the
+    state after it is the stepped loop's to a micro-count, mid-slew and after the move."""
+    monkeypatch.setitem(SCENARIOS, "long slews, tuned", SLEWS["long slews, tuned"])
+    _, states = run("long slews, tuned", 2.0, 0.25)
+    monkeypatch.setattr(servo_kernel, "JUMPS", False)
+    _, stepped = run("long slews, tuned", 2.0, 0.25)
+    assert states[1] != stepped[1]  # 0.5 s: mid-slew, jumped
+    [(p, w, *_)] = states[1]
+    [(p_stepped, w_stepped, *_)] = stepped[1]
+    assert abs(p - p_stepped) < 1e-6 and abs(w - w_stepped) < 1e-6
+    assert 20000 < p < 30000  # 0.05 s of ramp, then 50,000 counts/s
 
 
 @compiled

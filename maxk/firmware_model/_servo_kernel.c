@@ -15,6 +15,7 @@
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <limits.h>
 #include <math.h>
 
 enum { P, W, S, Q, DAC, RPREV, RPREV2, HAS_PREV, HAS_PREV2, CLOSED, TRIPPED, STUCK,
@@ -44,13 +45,17 @@ enum { SG_S0, SG_LENGTH, SG_ARC, SG_START, SG_UNIT, SG_END, SG_CX, SG_CY, SG_RAD
 #define FOLLOWING_ERROR_LIMIT 32768.0
 #define DAC_LIMIT 32767.0
 #define SETTLED_ERROR 1e-3
+#define JUMP_MIN 64       /* ticks: a shorter stretch is stepped */
+#define JUMP_BACKOFF 64   /* ticks stepped before trying again where a bound failed */
+#define JUMP_BACKOFF_MAX 8192
+#define NEVER LLONG_MAX
 
 /* Python's min(a, b) and max(a, b): the first argument unless the second is strictly
  * smaller (larger); this keeps the sign of zero as Python does. */
 static inline double py_min(double a, double b) { return b < a ? b : a; }
 static inline double py_max(double a, double b) { return b > a ? b : a; }
 
-static double shape_integral(int shape, double u)
+static ALWAYS_INLINE double shape_integral(int shape, double u)
 {
     switch (shape) {
     case SHAPE_LINEAR:
@@ -69,7 +74,7 @@ static double shape_integral(int shape, double u)
     }
 }
 
-static double phase_distance(const double *ph, double tau)
+static ALWAYS_INLINE double phase_distance(const double *ph, double tau)
 {
     double v1 = ph[PH_V1], v2 = ph[PH_V2];
     if (v1 == v2)
@@ -102,19 +107,35 @@ typedef struct {
     Py_ssize_t phase, piece, segment;
 } Cursors;
 
-static double profile_offset(const double *prog, double t, Cursors *c)
+/* The phase a profile is in, held from one tick to the next: phase `ph` holds for t in
+ * [lo, hi) (lo -inf for the first phase, hi +inf for the last), which is where locate()
+ * would find it. */
+typedef struct {
+    const double *ph;
+    double lo, hi;
+} PhaseCache;
+
+static ALWAYS_INLINE double profile_offset(const double *prog, double t, Cursors *c,
+                                           PhaseCache *pc)
 {
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME])
         return prog[FINAL];
     Py_ssize_t n = (Py_ssize_t)prog[COUNT1];
     if (n == 0)
         return prog[FINAL];
-    const double *phases = prog + HEADER;
-    const double *ph = phases + locate(phases + PH_T0, n, PHASE_SIZE, t, &c->phase) * PHASE_SIZE;
+    const double *ph = pc->ph;
+    if (ph == NULL || !(t >= pc->lo && t < pc->hi)) {
+        const double *phases = prog + HEADER;
+        Py_ssize_t i = locate(phases + PH_T0, n, PHASE_SIZE, t, &c->phase);
+        ph = phases + i * PHASE_SIZE;
+        pc->ph = ph;
+        pc->lo = i == 0 ? -HUGE_VAL : ph[PH_T0];
+        pc->hi = i + 1 < n ? phases[(i + 1) * PHASE_SIZE + PH_T0] : HUGE_VAL;
+    }
     return ph[PH_S0] + ph[PH_DIRECTION] * phase_distance(ph, t - ph[PH_T0]);
 }
 
-static double contour_offset(const double *prog, double t, Cursors *c)
+static ALWAYS_INLINE double contour_offset(const double *prog, double t, Cursors *c)
 {
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME])
         return prog[FINAL];
@@ -154,17 +175,40 @@ static double contour_offset(const double *prog, double t, Cursors *c)
     return point - prog[ORIGIN];
 }
 
-/* ServoLoop._commanded: the commanded position (counter frame) at a tick */
-static ALWAYS_INLINE double commanded(const double *prog, long long tick, Cursors *c)
+/* The program's header, decoded once per call rather than at every tick. */
+typedef struct {
+    int kind, has_mend;
+    long long mstart;
+    double base, mend, period, end_position;
+    PhaseCache phase;
+} Header;
+
+static void decode(Header *h, const double *prog)
 {
-    int kind = (int)prog[KIND];
+    h->kind = (int)prog[KIND];
+    h->has_mend = prog[HAS_MEND] != 0.0;
+    h->mstart = h->kind == KIND_REST ? 0 : (long long)prog[MSTART];
+    h->base = prog[BASE];
+    h->mend = prog[MEND];
+    h->period = prog[PERIOD];
+    h->end_position = prog[BASE] + prog[FINAL];
+    h->phase.ph = NULL;
+    h->phase.lo = h->phase.hi = 0.0;
+}
+
+/* ServoLoop._commanded: the commanded position (counter frame) at a tick */
+static ALWAYS_INLINE double commanded(const double *prog, Header *h, long long tick,
+                                      Cursors *c)
+{
+    int kind = h->kind;
     if (kind == KIND_REST)
-        return prog[BASE];
-    if (prog[HAS_MEND] != 0.0 && (double)tick >= prog[MEND])
-        return prog[BASE] + prog[FINAL];
-    double t = (double)(tick - (long long)prog[MSTART]) * prog[PERIOD];
-    double offset = kind == KIND_PROFILE ? profile_offset(prog, t, c) : contour_offset(prog, t, c);
-    return prog[BASE] + offset;
+        return h->base;
+    if (h->has_mend && (double)tick >= h->mend)
+        return h->end_position;
+    double t = (double)(tick - h->mstart) * h->period;
+    double offset = kind == KIND_PROFILE ? profile_offset(prog, t, c, &h->phase)
+                                         : contour_offset(prog, t, c);
+    return h->base + offset;
 }
 
 /* One loop's state, parameters and program while the kernel steps it. */
@@ -173,13 +217,19 @@ typedef struct {
     double p, w, s, q, dac, r_prev, r_prev2;
     int has_prev, has_prev2, closed, tripped, stuck;
     const double *prog;
+    Header header;
     double *x;
     Cursors cursors;
     long long tick, done, count, result;
+    const double *modal;  /* the closed loop's modes (jump()), or NULL: step every tick */
+    int n_modes;
+    long long next_try, backoff;  /* when jump() is tried next, and how far it then waits */
 } Loop;
 
-static void load(Loop *L, double *x, const double *k, const double *prog, long long tick0,
-                 long long count)
+static const double *modes_of(const double *k, Py_ssize_t k_len, int *n);
+
+static void load(Loop *L, double *x, const double *k, Py_ssize_t k_len, const double *prog,
+                 long long tick0, long long count)
 {
     L->a11 = k[A11]; L->a12 = k[A12]; L->a21 = k[A21]; L->a22 = k[A22]; L->b1 = k[B1];
     L->b2 = k[B2]; L->friction = k[FRICTION]; L->kp = k[KP]; L->kd = k[KD]; L->ki = k[KI];
@@ -190,12 +240,16 @@ static void load(Loop *L, double *x, const double *k, const double *prog, long l
     L->has_prev = x[HAS_PREV] != 0.0; L->has_prev2 = x[HAS_PREV2] != 0.0;
     L->closed = x[CLOSED] != 0.0; L->tripped = x[TRIPPED] != 0.0; L->stuck = x[STUCK] != 0.0;
     L->prog = prog;
+    decode(&L->header, prog);
     L->x = x;
     L->cursors.phase = L->cursors.piece = L->cursors.segment = 0;
     L->tick = tick0;
     L->done = 0;
     L->count = count;
     L->result = count;
+    L->modal = modes_of(k, k_len, &L->n_modes);
+    L->next_try = tick0;
+    L->backoff = JUMP_BACKOFF;
 }
 
 static void store(const Loop *L)
@@ -210,7 +264,7 @@ static void store(const Loop *L)
  * tripped at this tick (not stepped: L->result says so). */
 static ALWAYS_INLINE int once(Loop *L)
 {
-    double r_abs = commanded(L->prog, L->tick, &L->cursors);
+    double r_abs = commanded(L->prog, &L->header, L->tick, &L->cursors);
     double r = r_abs - L->eo;
     double v = L->has_prev ? r_abs - L->r_prev : 0.0;
     double v_prev = L->has_prev && L->has_prev2 ? L->r_prev - L->r_prev2 : 0.0;
@@ -275,22 +329,310 @@ static ALWAYS_INLINE int once(Loop *L)
     return 0;
 }
 
+/* ---- the closed-form jump over a slew ------------------------------------------------
+ *
+ * While a profile slews or ramps linearly (the commanded position a polynomial of degree
+ * at most 2 in the tick), the loop is
+ * closed and linear (no saturation, the sum inside its cap, the motor moving one way so
+ * friction is a constant force), its state has a closed form: per mode of the closed loop
+ * (X' = A X + B [r, ff], diagonalised by servo.py's _Modal), z(j) = P0 + P1 j + P2 j^2
+ * + delta lambda^j. jump() takes a whole phase (or what is left of it in this call) at
+ * once, where a bound says the loop stays linear all the way (the particular part is a
+ * polynomial, the
+ * transient decays from |delta|); where it does not, the ticks are stepped and the jump
+ * tried again a little later. Its result differs from stepping by rounding (about 1e-9
+ * counts): the stepped ticks are the bit-exact twin of the Python loop, the jump is not
+ * (tests/test_servo_kernel.py compares them with jumps switched off, and the jump against
+ * stepping to a tolerance).
+ *
+ * The modes follow the parameters (servo_kernel.params): n, then lambda (n complex),
+ * V (n x n), V^-1 (n x n), V^-1 B (n x 2), the output rows u, e, w, s (4 x n) and their
+ * direct terms (4 x 2 real). Complex numbers are (re, im) pairs. */
+
+typedef struct {
+    double re, im;
+} Cx;
+
+static inline Cx cx(double re, double im) { Cx c = {re, im}; return c; }
+static inline Cx cadd(Cx a, Cx b) { return cx(a.re + b.re, a.im + b.im); }
+static inline Cx csub(Cx a, Cx b) { return cx(a.re - b.re, a.im - b.im); }
+static inline Cx cmul(Cx a, Cx b) { return cx(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re); }
+static inline Cx cscale(Cx a, double k) { return cx(a.re * k, a.im * k); }
+static inline double cabs2(Cx a) { return hypot(a.re, a.im); }
+static inline Cx cdiv(Cx a, Cx b)
+{
+    double d = b.re * b.re + b.im * b.im;
+    return cx((a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d);
+}
+/* lambda^j for a mode inside the unit circle (0 where it has decayed below any double) */
+static inline Cx cpow_int(Cx lam, double j)
+{
+    double mag = cabs2(lam);
+    if (mag == 0.0)
+        return cx(j == 0.0 ? 1.0 : 0.0, 0.0);
+    double r = exp(j * log(mag)), phi = j * atan2(lam.im, lam.re);
+    return cx(r * cos(phi), r * sin(phi));
+}
+
+static Py_ssize_t modes_size(int n) { return 1 + 2 * n + 4 * n * n + 4 * n + 8 * n + 8; }
+
+static const double *modes_of(const double *k, Py_ssize_t k_len, int *n)
+{
+    *n = 0;
+    if (k_len < PARAM_SIZE + 1)
+        return NULL;
+    int m = (int)k[PARAM_SIZE];
+    if ((m != 3 && m != 4) || k_len < PARAM_SIZE + modes_size(m))
+        return NULL;
+    *n = m;
+    return k + PARAM_SIZE + 1;
+}
+
+enum { OUT_U, OUT_E, OUT_W, OUT_S, OUTPUTS };
+
+/* Tick of a profile's time t (the commanded position's clock). */
+static inline double time_of(const Header *h, long long tick)
+{
+    return (double)(tick - h->mstart) * h->period;
+}
+
+/* Try to take the ticks from L->tick to the end of its slew (or of this call) in closed
+ * form: 1 if it did; 0 if not (then L->next_try says when to try again). */
+static int jump(Loop *L)
+{
+    Header *h = &L->header;
+    const double *prog = L->prog;
+    long long T = L->tick, remaining = L->count - L->done;
+    long long retry = T + L->backoff;
+    if (h->kind != KIND_PROFILE || !L->closed || L->tripped) {
+        L->next_try = NEVER;
+        return 0;
+    }
+    if (h->has_mend && (double)T >= h->mend) {
+        L->next_try = NEVER;
+        return 0;
+    }
+    double t = time_of(h, T);
+    if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME]) {
+        L->next_try = NEVER;
+        return 0;
+    }
+    if ((Py_ssize_t)prog[COUNT1] == 0) {
+        L->next_try = NEVER;
+        return 0;
+    }
+    double r_abs0 = h->base + profile_offset(prog, t, &L->cursors, &h->phase);
+    const double *ph = h->phase.ph;
+    /* where this phase (or the motion) ends: the first tick at or after it */
+    double stop_t = h->phase.hi;
+    if (prog[HAS_END_TIME] != 0.0 && prog[END_TIME] < stop_t)
+        stop_t = prog[END_TIME];
+    long long E = T + remaining;
+    if (stop_t < HUGE_VAL) {
+        double guess = ceil(stop_t / h->period);
+        if (!(fabs(guess) < 4e15)) {
+            L->next_try = NEVER;
+            return 0;
+        }
+        long long e = h->mstart + (long long)guess;
+        while (e > T && time_of(h, e - 1) >= stop_t)
+            e--;
+        while (time_of(h, e) < stop_t)
+            e++;
+        if (e < E)
+            E = e;
+    }
+    if (h->has_mend && h->mend < (double)E)
+        E = (long long)ceil(h->mend);
+    int ramp = ph[PH_V1] != ph[PH_V2];
+    if (ramp && (int)ph[PH_SHAPE] != SHAPE_LINEAR) {
+        L->next_try = E;  /* not a polynomial of degree 2: stepped to its end */
+        return 0;
+    }
+    if (L->stuck || !L->has_prev || !L->has_prev2) {
+        L->next_try = retry;
+        return 0;
+    }
+    double t2 = time_of(h, T - 2);
+    if (!(t2 >= h->phase.lo && t2 >= ph[PH_T0])) {
+        L->next_try = T + 2;  /* the history comes onto this phase in two ticks */
+        return 0;
+    }
+    long long m = E - T;
+    if (m < JUMP_MIN) {
+        L->next_try = E;
+        return 0;
+    }
+    Cursors c = L->cursors;
+    Header hh = *h;
+    long long mid = (m - 1) / 2;
+    double r_abs1 = commanded(prog, &hh, T - 1, &c), r_abs2 = commanded(prog, &hh, T - 2, &c);
+    double r_mid = commanded(prog, &hh, T + mid, &c);
+    double r_last = commanded(prog, &hh, T + m - 1, &c);
+    double r_last2 = commanded(prog, &hh, T + m - 2, &c);
+    if (fabs(L->r_prev - r_abs1) > 1e-9 * py_max(1.0, fabs(r_abs1))
+        || fabs(L->r_prev2 - r_abs2) > 1e-9 * py_max(1.0, fabs(r_abs2))) {
+        L->next_try = retry;  /* the counters moved: step until the history is on it */
+        return 0;
+    }
+    double friction = L->friction, w = L->w;
+    if (friction != 0.0 && w == 0.0) {
+        L->next_try = retry;
+        return 0;
+    }
+    /* the inputs, polynomials in j: the commanded position r0 + r1 j + r2 j^2 (loop
+     * frame; a line on a slew), through three of its exact values; its velocity
+     * r(j) - r(j-1) and acceleration as the stepped loop takes them; friction constant */
+    double jm = (double)mid, jl = (double)(m - 1), r1, r2;
+    if (ramp) {
+        double d1 = (r_mid - r_abs0) / jm, d2 = (r_last - r_mid) / (jl - jm);
+        r2 = (d2 - d1) / jl;
+        r1 = d1 - r2 * jm;
+    } else {
+        r2 = 0.0;
+        r1 = (r_last - r_abs0) / jl;
+    }
+    double r0 = r_abs0 - L->eo;
+    double v_first = r1 - r2, v_last = r1 - r2 + 2.0 * r2 * jl;
+    if (!((v_first > 1e-9 && v_last > 1e-9) || (v_first < -1e-9 && v_last < -1e-9)
+          || (!ramp && v_first == 0.0))) {
+        L->next_try = retry;  /* the commanded velocity at or through zero */
+        return 0;
+    }
+    double sign_v = v_first > 1e-12 ? 1.0 : v_first < -1e-12 ? -1.0 : 0.0;
+    double fric = friction != 0.0 ? friction * (w > 0 ? L->fdir : -L->fdir) : 0.0;
+    double ff0 = L->kv * v_first + L->ka * (2.0 * r2) + L->kf * sign_v + L->ko - fric;
+    double ff1 = L->kv * (2.0 * r2);
+    int n = L->n_modes;
+    const double *md = L->modal;
+    const Cx *lam = (const Cx *)md;
+    const Cx *V = lam + n, *Vinv = V + n * n, *VB = Vinv + n * n, *G = VB + 2 * n;
+    const double *DW = (const double *)(G + OUTPUTS * n);
+    double X0[4];
+    if (n == 4) {
+        X0[0] = L->p; X0[1] = w; X0[2] = L->s; X0[3] = L->q;
+    } else {
+        X0[0] = L->p; X0[1] = w; X0[2] = L->q;
+    }
+    /* per mode z(j) = P0 + P1 j + P2 j^2 + delta lambda^j */
+    Cx P0[4], P1[4], P2[4], delta[4];
+    for (int i = 0; i < n; i++) {
+        if (!(cabs2(lam[i]) < 1.0)) {
+            L->next_try = NEVER;  /* not decaying: no bound */
+            return 0;
+        }
+        Cx z0 = cx(0.0, 0.0);
+        for (int j = 0; j < n; j++)
+            z0 = cadd(z0, cscale(Vinv[i * n + j], X0[j]));
+        Cx D0 = cadd(cscale(VB[2 * i], r0), cscale(VB[2 * i + 1], ff0));
+        Cx D1 = cadd(cscale(VB[2 * i], r1), cscale(VB[2 * i + 1], ff1));
+        Cx D2 = cscale(VB[2 * i], r2);
+        Cx one_minus = csub(cx(1.0, 0.0), lam[i]);
+        P2[i] = cdiv(D2, one_minus);
+        P1[i] = cdiv(csub(D1, cscale(P2[i], 2.0)), one_minus);
+        P0[i] = cdiv(csub(csub(D0, P1[i]), P2[i]), one_minus);
+        delta[i] = csub(z0, P0[i]);
+    }
+    /* each checked output over j in [0, m]: a line plus a transient no larger than at j=0 */
+    double mm = (double)m;
+    double lows[OUTPUTS] = {-DAC_LIMIT, -FOLLOWING_ERROR_LIMIT, -HUGE_VAL, -L->cap};
+    double highs[OUTPUTS] = {DAC_LIMIT, FOLLOWING_ERROR_LIMIT, HUGE_VAL, L->cap};
+    if (friction != 0.0) {
+        if (w > 0)
+            lows[OUT_W] = 0.0;
+        else
+            highs[OUT_W] = 0.0;
+    }
+    for (int o = 0; o < OUTPUTS; o++) {
+        if (o == OUT_S && (n == 3 || L->ki <= 0))
+            continue;
+        const Cx *g = G + o * n;
+        double a0 = DW[2 * o] * r0 + DW[2 * o + 1] * ff0, a1 = DW[2 * o] * r1
+            + DW[2 * o + 1] * ff1, a2 = DW[2 * o] * r2, bound = 0.0;
+        if (o == OUT_U)
+            a0 += fric;  /* the DAC's output: the friction is the plant's, not the filter's */
+        for (int i = 0; i < n; i++) {
+            a0 += cmul(g[i], P0[i]).re;
+            a1 += cmul(g[i], P1[i]).re;
+            a2 += cmul(g[i], P2[i]).re;
+            bound += cabs2(g[i]) * cabs2(delta[i]);
+        }
+        double end = a0 + (a1 + a2 * mm) * mm;
+        double lo = py_min(a0, end), hi = py_max(a0, end);
+        if (a2 != 0.0) {
+            double vertex = -a1 / (2.0 * a2);
+            if (vertex > 0.0 && vertex < mm) {
+                double at = a0 + (a1 + a2 * vertex) * vertex;
+                lo = py_min(lo, at);
+                hi = py_max(hi, at);
+            }
+        }
+        /* a margin for the closed form's rounding against the stepped loop's */
+        double slack = 1e-9 * (fabs(lo) + fabs(hi) + bound) + 1e-9;
+        lo -= bound + slack;
+        hi += bound + slack;
+        if (!(lo > lows[o] && hi < highs[o])) {
+            L->next_try = retry;
+            L->backoff = L->backoff * 2 > JUMP_BACKOFF_MAX ? JUMP_BACKOFF_MAX : L->backoff * 2;
+            return 0;
+        }
+    }
+    /* the state m ticks on, and the output of the tick before */
+    double X[4] = {0.0, 0.0, 0.0, 0.0}, u = 0.0;
+    const Cx *gu = G + OUT_U * n;
+    double before = mm - 1.0;
+    for (int i = 0; i < n; i++) {
+        Cx lm = cpow_int(lam[i], before);
+        Cx z_before = cadd(cadd(P0[i], cscale(P1[i], before)),
+                           cadd(cscale(P2[i], before * before), cmul(delta[i], lm)));
+        Cx z = cadd(cadd(P0[i], cscale(P1[i], mm)),
+                    cadd(cscale(P2[i], mm * mm), cmul(cmul(delta[i], lm), lam[i])));
+        u += cmul(gu[i], z_before).re;
+        for (int j = 0; j < n; j++)
+            X[j] += cmul(V[j * n + i], z).re;
+    }
+    u += DW[2 * OUT_U] * (r0 + (r1 + r2 * before) * before)
+        + DW[2 * OUT_U + 1] * (ff0 + ff1 * before) + fric;
+    L->p = X[0];
+    L->w = X[1];
+    if (n == 4) {
+        L->s = X[2];
+        L->q = X[3];
+    } else {
+        L->q = X[2];
+    }
+    L->dac = py_max(-DAC_LIMIT, py_min(DAC_LIMIT, u));
+    L->r_prev = r_last;
+    L->r_prev2 = r_last2;
+    L->tick += m;
+    L->done += m;
+    L->next_try = L->tick;
+    L->backoff = JUMP_BACKOFF;
+    return 1;
+}
+
+/* One tick, or a jump where one is due (each loop's ticks are the same either way) */
+static ALWAYS_INLINE int advance_loop(Loop *L)
+{
+    if (L->modal != NULL && L->tick >= L->next_try && L->count - L->done >= JUMP_MIN
+        && jump(L))
+        return 0;
+    return once(L);
+}
+
 /* Step one loop `count` ticks: the ticks stepped, or -(ticks + 1) on a trip. */
-static long long run(double *x, const double *k, const double *prog, long long tick0,
-                     long long count)
+static long long run(double *x, const double *k, Py_ssize_t k_len, const double *prog,
+                     long long tick0, long long count)
 {
     Loop L;
-    load(&L, x, k, prog, tick0, count);
+    load(&L, x, k, k_len, prog, tick0, count);
     while (L.done < count)
-        if (once(&L))
+        if (advance_loop(&L))
             break;
     store(&L);
     return L.result;
 }
 
-/* Step several loops, tick by tick in turn: their ticks are independent, so the
- * processor overlaps one loop's arithmetic with another's (one loop alone waits on each
- * operation's result). Each loop's own arithmetic is run()'s, in its order. */
 /* Step several loops, one tick of each in turn: their ticks are independent, so the
  * processor overlaps one loop's arithmetic with another's, where one loop alone waits on
  * each result (about 12% faster over a board's ten axes). Each loop's own arithmetic is
@@ -303,7 +645,7 @@ static void run_many(Loop *loops, Py_ssize_t n)
             Loop *L = &loops[i];
             if (L->done < L->count) {
                 any = 1;
-                if (once(L))
+                if (advance_loop(L))
                     L->count = L->done;  /* tripped: no more ticks */
             }
         }
@@ -380,7 +722,8 @@ static PyObject *step(PyObject *module, PyObject *const *args, Py_ssize_t nargs)
     long long result = 0;
     int ok = size >= 0 && size <= program.len / (Py_ssize_t)sizeof(double);
     if (ok && count > 0)
-        result = run(state.buf, params.buf, prog, tick, count);
+        result = run(state.buf, params.buf, params.len / (Py_ssize_t)sizeof(double), prog, tick,
+                     count);
     PyBuffer_Release(&state);
     PyBuffer_Release(&params);
     PyBuffer_Release(&program);
@@ -584,7 +927,8 @@ static PyObject *step_axes(PyObject *module, PyObject *const *args, Py_ssize_t n
                 break;
             }
             if (ready == 1) {
-                load(&loops[m], job->state.buf, job->params.buf, job->program.buf, tick,
+                load(&loops[m], job->state.buf, job->params.buf,
+                     job->params.len / (Py_ssize_t)sizeof(double), job->program.buf, tick,
                      limit - tick);
                 m++;
             }

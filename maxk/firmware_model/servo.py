@@ -26,7 +26,9 @@ nanoseconds a tick against a closed-form jump's few hundred microseconds, so it 
 every piece shorter than `KERNEL_SPAN`, every non-polynomial piece (arcs, cosine ramps)
 and the first `SETTLE_SPAN` ticks at rest, and jumps only over long linear stretches.
 Which ticks the kernel steps depends on the piece and the tick, not on how a host
-slices time.
+slices time. The kernel also jumps by itself, in C, over a profile's slews and linear
+ramps (the closed loop's modes from `_kernel_modes` in its parameters: about a
+microsecond a jump), so a closed-loop profile move of any length is one stretch for it.
 
 Long module: one algorithm (the loop, its closed-form solution, the checks that decide
 where it holds and the scalar steps where it does not) whose parts share the solution's
@@ -45,7 +47,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from maxk.firmware_model import servo_kernel as K
-from maxk.firmware_model.profiles import Phase, RampShape
+from maxk.firmware_model.profiles import Motion, Phase, RampShape
 
 if TYPE_CHECKING:
     from maxk.firmware_model.motion import MotionPlan
@@ -309,6 +311,34 @@ def _closed_loop(gains: Gains, plant_matrices: tuple[float, ...]) -> _Modal:
     return _Modal(A, B, outputs)
 
 
+def _kernel_modes(gains: Gains, plant_matrices: tuple[float, ...]) -> tuple[float, ...]:
+    """The closed loop's modes as the compiled kernel's closed-form jump over a slew
+    reads them (`_servo_kernel.c`, "the closed-form jump"): the number of modes, then
+    lambda, V, V^-1, V^-1 B, the output rows u, e, w, s (complex, as re, im pairs) and
+    their direct terms. Empty where the kernel should not jump (switched off, an
+    ill-conditioned or undecaying loop)."""
+    return _modes(gains, plant_matrices) if K.JUMPS else ()
+
+
+@lru_cache(maxsize=512)
+def _modes(gains: Gains, plant_matrices: tuple[float, ...]) -> tuple[float, ...]:
+    modal = _closed_loop(gains, plant_matrices)
+    if not modal.ok or not modal.stable or modal.unit.any():
+        return ()
+    n = modal.n
+    names = ["u", "e", "w", "s"]
+    G = np.zeros((4, n), dtype=complex)
+    DW = np.zeros((4, 2))
+    for row, name in enumerate(names):
+        if name in modal.index:
+            G[row] = modal.G[modal.index[name]]
+            DW[row] = modal.DW[modal.index[name]]
+    parts = [modal.lam, modal.V.ravel(), modal.Vinv.ravel(),
+             np.asarray(modal.VB, dtype=complex).ravel(), G.ravel()]
+    values = np.concatenate([part.astype(complex).view(float) for part in parts])
+    return (float(n), *values.tolist(), *DW.ravel().tolist())
+
+
 @lru_cache(maxsize=256)
 def _open_loop(plant_matrices: tuple[float, ...]) -> _Modal:
     a11, a12, a21, a22, b1, b2 = plant_matrices
@@ -518,10 +548,13 @@ class ServoLoop:
         tick = self.tick
         motion_end = axis.motion_end
         if (K.STEP is not None and self.recorder is None and axis.motion is not None
-                and motion_end is not None and tick < motion_end <= tick + KERNEL_SPAN):
+                and motion_end is not None and tick < motion_end
+                and (motion_end <= tick + KERNEL_SPAN
+                     or self._kernel_jumps(axis, board, matrices, friction, gains))):
             # the rest of a short move: each of its pieces would be stepped compiled, one
             # after the other (the kernel's ticks do not depend on where a call ends), so
-            # step them in one stretch, with one decision instead of one per piece
+            # step them in one stretch, with one decision instead of one per piece; a
+            # move of any length where the kernel jumps its linear ramps and slews itself
             kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
             self._scalar(axis, board, matrices, friction, gains, min(motion_end, to_tick) - tick,
                          kernel)
@@ -577,6 +610,16 @@ class ServoLoop:
             # off the polynomial (a new piece): two ticks; nonlinear: a few more
             self._scalar(axis, board, matrices, friction, gains,
                          min(n, 2 if taken is None else 16))
+
+    def _kernel_jumps(self, axis: ServoAxis, board: ServoHost, matrices: tuple,
+                      friction: float, gains: Gains) -> bool:
+        """Whether the kernel takes this motion's linear ramps and slews in closed form
+        itself (a profile, the loop closed, the closed loop's modes in its parameters)."""
+        if (not K.JUMPS or type(axis.motion) is not Motion or not self.closed
+                or self.tripped):
+            return False
+        kernel = self._kernel_inputs(axis, board, matrices, friction, gains)
+        return kernel is not None and len(kernel[0]) > K.PARAM_SIZE
 
     def _inputs(self, axis: ServoAxis, board: ServoHost, n: int, gains: Gains,
                 friction_drive: float) -> tuple[list[float], list[float]] | None:
@@ -814,7 +857,8 @@ class ServoLoop:
             self._params = (key, K.params(matrices, friction, gains.kp, gains.kd,
                                           gains.ki_per_tick, gains.kv, gains.ka, gains.kf,
                                           gains.ko, gains.integral_sum_limit,
-                                          axis.encoder_offset, self._plant[2]))
+                                          axis.encoder_offset, self._plant[2],
+                                          _kernel_modes(gains, matrices)))
         motion = axis.motion
         base = axis.steps + axis.counter_offset
         where = (motion, axis.motion_start, axis.motion_end, base, board.period)

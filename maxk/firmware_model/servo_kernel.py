@@ -12,6 +12,11 @@ by the loop itself), its parameters (gains, plant, friction, encoder offset) and
 *program*: the commanded position as a motion's description (a profile's phases, or a
 contour's pieces and segments for one axis). Anything it cannot describe (another kind
 of motion, counts beyond 2**53) gets no program, and the Python loop steps it.
+
+Given the closed loop's modes (servo.py's `_kernel_modes`, after the parameters), the
+kernel also takes a profile's slews and linear ramps in closed form where a bound keeps
+the loop linear (`_servo_kernel.c`, "the closed-form jump"): not the Python loop's bits
+there, but within rounding of them; `JUMPS` off, it steps every tick.
 """
 
 from __future__ import annotations
@@ -46,6 +51,12 @@ STEP, STEP_AXES = _load()
 """The compiled step of one loop and the compiled pass over a board's servo axes, or
 None (no compiler at install time, or switched off)."""
 
+JUMPS = os.environ.get("MAXK_SERVO_JUMPS", "1") != "0"
+"""Whether the kernel takes a profile's slews in closed form (its `jump`: the closed
+loop's modes ride along in the parameters) instead of stepping every tick; read when a
+loop's parameters are made. The tests that compare the kernel's steps bit for bit with
+the Python loop switch it off."""
+
 # the state's slots (the C enum's order)
 # annotated one by one: mypy then knows their type wherever an import cycle puts this
 # module (setup.py's mypyc build checks these modules without a cache)
@@ -62,6 +73,7 @@ CLOSED: int = 9
 TRIPPED: int = 10
 STUCK: int = 11
 STATE_SIZE = 12
+PARAM_SIZE = 17  # the parameters before the closed loop's modes (the C enum's)
 
 KIND_REST, KIND_PROFILE, KIND_CONTOUR = 0, 1, 2
 _SHAPES = {RampShape.LINEAR: 0.0, RampShape.PARABOLIC: 1.0, RampShape.SCURVE: 2.0,
@@ -71,14 +83,17 @@ _EXACT = float(2 ** 53)  # integers beyond this are not exact doubles
 
 def params(matrices: tuple[float, ...], friction: float, kp: float, kd: float,
            ki_per_tick: float, kv: float, ka: float, kf: float, ko: float, cap: float,
-           encoder_offset: int, polarity: int = 1) -> array | None:
+           encoder_offset: int, polarity: int = 1,
+           modes: Sequence[float] = ()) -> array | None:
     """The filter and plant as the kernel reads them (None: offset not exact). `polarity`
     -1: the output is inverted (the matrices' b terms negated), so a moving motor's
-    friction acts along -sign(w) in drive terms."""
+    friction acts along -sign(w) in drive terms. `modes`: the closed loop's modal
+    decomposition as `_servo_kernel.c`'s jump reads it (servo.py's `_kernel_modes`);
+    empty: the kernel steps every tick."""
     if abs(encoder_offset) >= _EXACT:
         return None
     return array("d", (*matrices, friction, kp, kd, ki_per_tick, kv, ka, kf, ko, cap,
-                       float(encoder_offset), -1.0 if polarity < 0 else 1.0))
+                       float(encoder_offset), -1.0 if polarity < 0 else 1.0, *modes))
 
 
 def program(motion: MotionPlan | None, base: int, motion_start: int,
