@@ -309,6 +309,9 @@ class FakeTrioMachine:
     def input_function(self, number: int) -> bool:
         return not self.digital_input(number)
 
+    def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
+        pass  # (the fake has no step output: accepted)
+
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         if input_count <= 0 or mpos_count == 0:
             raise ValueError("Parameter out of range")

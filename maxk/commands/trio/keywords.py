@@ -796,8 +796,6 @@ _ENTRIES: list[Keyword] = [
            "invisible to it (stored)."),
           ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
            "MICROSTEP): stored."),
-          ("BACKLASH_DIST", "The backlash compensation being applied.", True, 0.0,
-           "BACKLASH is not modelled: reads what was written."),
           ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.", True,
            0.0, "an offset inside the servo filter's output; the shared filter has none "
            "(stored)."),
@@ -819,19 +817,12 @@ _ENTRIES: list[Keyword] = [
     *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
-          ("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand count.",
-           (0, 3), "the world takes a stepper's demand counts as its motor's steps "
-           "everywhere (limits, index marks, shaft encoders); the shared machine carries "
-           "no ratio between them (accepted, no effect)."),
           ("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
            "y_axis, y_div, y_dist, y_offset): a 2D TABLE correction superimposed on the "
            "axis's motion.", (10, 10), "the correction follows the axes' measured "
            "positions every servo cycle (interpolated in a TABLE grid), a feedback the "
            "shared machine's closed-form demand between events has no place for; as "
            "BACKLASH (accepted, no effect)."),
-          ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
-           "moves.", (1, 4), "the compensation move superimposed after each reversal of "
-           "DPOS is not in the shared machine (accepted, no effect)."),
           ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
            "the shared servo loop drives one motor from one filter; summing two filters "
            "onto one motor is not in it (accepted, no effect)."),
@@ -843,6 +834,36 @@ _ENTRIES: list[Keyword] = [
           ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
            "'Reserved Keyword'): accepted, no effect, returns 0."),
       )],
+    # ---- a stepper's output stage (issue 35: stepratio.py, backlash.py) ------------------
+    _command("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand "
+             "count.", (0, 3), axis=True, source=f"{HELP} STEP_RATIO; {TOK}", confidence="I",
+             note="The axis's world motor turns demand counts x output_count / dpos_count "
+             "steps: its limit switches (found to the tick) and the encoder the world mounts "
+             "on its shaft see that (C); DPOS, UNITS and moves are unchanged (C). The world's "
+             "steps are the step generator's counts: the page's divide by 16 is not applied "
+             "(D). A change leaves the motor where it is (D). Whole counts 0..16777215, "
+             "dpos_count above 0, else 'Parameter out of range'; no arguments: 1:1, one or "
+             "three: 'Syntax error' (D). Power-up 1:1. Not on a servo axis's loop (the "
+             "shared loop runs in the motor encoder's counts) nor the Z mark searches (D)."),
+    _command("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
+             "moves.", (1, 4), axis=True, source=f"{HELP} BACKLASH; {TOK}", confidence="I",
+             note="After each reversal of the axis's own motion (a move, a path, a stop; "
+             "the plan's direction changes, exact to the instant) a trapezoidal move at "
+             "speed and accel (user units) takes the compensation to +distance going "
+             "forward, 0 in reverse, superimposed on the output (C: page); a reversal "
+             "during one starts the next from there, from rest (D). The first motion after "
+             "ON counts when it goes forward (D: the page's example). MPOS of an axis "
+             "without a servo loop reads DPOS + BACKLASH_DIST, a stepper's world motor (its "
+             "switches, a shaft encoder) turns it (C); DPOS never does. Values not given "
+             "keep the last ones (power-up 0, D); speed or accel 0: at once (D); OFF takes "
+             "it back to 0 at its speed (D); a negative speed or accel is 'Parameter out "
+             "of range'. Not modelled: reversals of a linked axis (CONNECT, CAMBOX ...), "
+             "the compensation in a servo axis's loop, and in the limit search (D)."),
+    _axis("BACKLASH_DIST", "The backlash compensation being applied, user units.",
+          writable=False, source=f"{HELP} BACKLASH_DIST; {HELP} BACKLASH", confidence="I",
+          note="BACKLASH's compensation at the servo tick it is read (exact: the "
+          "compensation move is closed form). Read only (D: the page gives it as what "
+          "is applied). 0 with no BACKLASH."),
     _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
              "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
              "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",

@@ -44,6 +44,7 @@ import numpy as np
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
+from . import stepratio
 from .axismode import soft_limits
 from .following import SERVO_ATYPES, Following
 from .runs import Run, TrioAxis
@@ -275,8 +276,10 @@ class Drive:
             stage = m.world.axes[axis.index]
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
-            if edge is not None:
-                found.append(edge + stage.lost_steps)
+            at = None if edge is None else stepratio.demand_for(params, edge + stage.lost_steps,
+                                                                 side)
+            if at is not None:  # (the switch in the motor's steps: STEP_RATIO's demand)
+                found.append(at)
         soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
         if abs(soft) < 2.0 ** 62:
             found.append(math.ceil(soft) if side > 0 else math.floor(soft))

@@ -34,7 +34,8 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import encoders, geometry, moves, sequences, tangential
+from . import encoders, geometry, moves, sequences, stepratio, tangential
+from .backlash import Backlash
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
@@ -83,7 +84,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
-_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POINTER"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POINTER",
+                       "BACKLASH_DIST"})
 DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
 """Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
@@ -132,6 +134,7 @@ class MC405Machine(Kinematics, Engine):
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
+        self.backlash = Backlash(self._axis_count)  # BACKLASH (backlash.py)
         if hasattr(self, "links"):
             self.links.reset()
         else:
@@ -252,7 +255,11 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
+            if name == "MPOS" and self.axes[axis].servo is None:
+                value += self.compensation(axis) / self.axes[axis].units  # (backlash.py)
             return self.wrapped(axis, value) if name == "MPOS" else value
+        if name == "BACKLASH_DIST":
+            return self.compensation(axis) / self.axes[axis].units
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
             return self.wrapped(axis, self.dpos(axis) - open_error)
@@ -415,7 +422,7 @@ class MC405Machine(Kinematics, Engine):
                 if params.get(name, -1) == number:
                     wired = True
                     stage = self.world.axes[i]
-                    if getattr(stage, switch).active(self.demand(i) - stage.lost_steps):
+                    if getattr(stage, switch).active(self.motor_steps(i) - stage.lost_steps):
                         return False  # the normally closed switch has opened
         return wired
 
@@ -454,7 +461,36 @@ class MC405Machine(Kinematics, Engine):
             return None
         if not 0 <= mount.motor < self.axis_count:
             return None
-        return mount.counts(self.demand(mount.motor) - self.world.axes[mount.motor].lost_steps)
+        return mount.counts(self.motor_steps(mount.motor)
+                            - self.world.axes[mount.motor].lost_steps)
+
+    def motor_steps_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """Where the axis's world motor is at `ticks` (its steps before the stage's lost
+        steps): the demand, with BACKLASH's compensation, through STEP_RATIO."""
+        counts = self.demand_counts(axis, ticks)
+        comp = self.backlash.counts(axis, ticks, self.period)
+        if comp is not None:
+            counts = counts + comp
+        return stepratio.motor(self.axes[axis].params, counts)
+
+    def motor_steps(self, axis: int) -> float:
+        return float(self.motor_steps_at(axis, self._now())[0])
+
+    def compensation(self, axis: int) -> float:
+        """BACKLASH's compensation on the axis now, counts."""
+        comp = self.backlash.counts(axis, self._now(), self.period)
+        return 0.0 if comp is None else float(comp[0])
+
+    def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """STEP_RATIO(output_count, dpos_count) or BACKLASH(enable, ...) on an axis."""
+        a = self.axes[axis]
+        if name == "STEP_RATIO":
+            stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
+        elif name == "BACKLASH":
+            self.backlash.command(axis, args, a.units, self.tick * self.period)
+        else:
+            raise ValueError("Syntax error")
+        self.changed()
 
     def input_inverted(self, number: int) -> bool:
         return number in self.inverted_inputs
@@ -775,6 +811,7 @@ class MC405Machine(Kinematics, Engine):
                 run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp,
                 run.jerk)
             axis.begin(run.profile, self)
+            self.backlash.began(run.base, run.profile, now * self.period)
             run.end_tick = axis.motion_end if axis.motion_end is not None else now
             return
         run.resolve(tuple(float(self.axes[a].steps) for a in run.axes))
@@ -792,6 +829,8 @@ class MC405Machine(Kinematics, Engine):
             axis = self.axes[a]
             axis.steps = axis.steps_at_tick(now, self.period)
             axis.begin(run.motion_for(plan, k, axis.steps), self)
+            if axis.motion is not None:
+                self.backlash.began(a, axis.motion, now * self.period)
 
     def _stop(self, run: Run, decel: float | None = None) -> None:
         """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
@@ -804,6 +843,7 @@ class MC405Machine(Kinematics, Engine):
                                        run.decel if decel is None else decel, SHAPE)
             run.start_tick = self.tick
             axis.begin(run.profile, self)
+            self.backlash.began(run.base, run.profile, self.tick * self.period)
             run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
             run.deltas = run.deltas[:1]
             return
