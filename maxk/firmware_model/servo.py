@@ -630,6 +630,16 @@ class ServoLoop:
         self.r_prev = _poly_eval(r, j - 1) + axis.encoder_offset
         self.r_prev2 = _poly_eval(r, j - 2) + axis.encoder_offset
         self.tick = sol.tick0 + j
+        if j > 0 and "u" in sol.modal.index:  # the output of the last tick jumped over,
+            # so what reads it (an MC405's DAC_OUT) is never a tick's before the jump: the
+            # solution's u is the drive (friction taken off along the motor's way, which a
+            # jump's checks keep); no saturation (its checks keep u inside +/-DAC_LIMIT)
+            u = float(sol.outputs_per_tick(["u"], j - 1, j)["u"][0])
+            friction = self._plant[4]
+            if friction:
+                u += friction * (1.0 if self.w > 0 else -1.0) * (-1.0 if self._plant[2] < 0
+                                                                   else 1.0)
+            self.dac = u
 
     def _jump(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
               gains: Gains, n: int, wanted: int) -> bool | None:

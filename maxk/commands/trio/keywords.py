@@ -671,7 +671,9 @@ _ENTRIES: list[Keyword] = [
           writable=False, source=f"{HELP} DAC_OUT", confidence="I",
           note="SERVO OFF: the DAC value within OUTLIMIT (0 with WDOG or AXIS_ENABLE OFF, "
           "C); SERVO ON: the closed loop's last output / 16 (the shared 16-bit output in "
-          "12-bit counts, D), times DAC_SCALE's sign. 0 on an axis without a loop (D)."),
+          "12-bit counts, D), times DAC_SCALE's sign, the output of the servo cycle before "
+          "the one read also where the loop ran in closed form (C). 0 on an axis without "
+          "a loop (D)."),
     _axis("DAC_SCALE", "Multiplier of the closed loop's output (its sign: polarity).",
           default=1, value_range=(-16, 16), source=f"{HELP} DAC_SCALE", confidence="I",
           note="Power-up 1 (MC405, C). The gains act times |DAC_SCALE| (integer part) and "
