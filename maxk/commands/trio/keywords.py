@@ -746,15 +746,21 @@ _ENTRIES: list[Keyword] = [
           "no rule for what they change in the following error), 10 (no robot jog), 11 "
           "(a move's end is fixed when it is buffered), 12 (the page gives no rule for the "
           "shortest way) and 16 (an inverted motor is the world's wiring)."),
-    *[_axis(name, summary, confidence="D", source=f"{HELP} {name}", note="Not modelled: "
-            "a delay line on DPOS needs each axis's demand of N servo cycles ago, which the "
-            "shared machine does not keep: it plans each move and link in closed form "
-            "between events and lets a plan go when it ends, so a delayed DPOS could not be "
-            "exact to the tick across a move's end or a link's start (stored).")
-      for name, summary in (
-          ("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
-           "newest and the delayed value."),
-          ("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles."))],
+    _axis("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
+          "newest and the delayed value.", value_range=(0, 2),
+          source=f"{HELP} POSI_SEQ_MODE", confidence="I",
+          note="1: the axis puts out its demand of POSI_SEQ_DELAY servo cycles ago, 2: the "
+          "mean of that and the newest (C); not delayed until the buffer is full (C). The "
+          "demand of every cycle is kept while it is on (bounded: the delay + 1 values, "
+          "posiseq.py), so the output is exact to the tick. DPOS reads the output (C: "
+          "'overwrite demand position'), as do MPOS of an axis without a servo loop and a "
+          "stepper's world motor (I); moves and links plan from the undelayed demand, and "
+          "a limit switch is found where the undelayed demand meets it (D). The buffer "
+          "restarts when the mode or the delay is written (D). Power-up 0 (C)."),
+    _axis("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles.",
+          value_range=(0, 10000), source=f"{HELP} POSI_SEQ_DELAY", confidence="I",
+          note="Whole servo cycles (a fraction is cut, D), 0..10000 (D: a bound on the "
+          "buffer), else 'Parameter out of range'; 0 delays nothing. Power-up 0 (C)."),
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "

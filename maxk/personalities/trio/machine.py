@@ -43,6 +43,7 @@ from .jogs import Jogs
 from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
+from .posiseq import DelayLine
 from .profiles_sp import DIRECTIONS, VP_MODES, cornered, jerk_counts, sp_speeds, sramp_seconds
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -121,6 +122,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
+        self.add_source(self.posiseq)  # POSI_SEQ delay lines: every cycle while on (last)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -135,6 +137,12 @@ class MC405Machine(Kinematics, Engine):
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
         self.backlash = Backlash(self._axis_count)  # BACKLASH (backlash.py)
+        if hasattr(self, "posiseq"):
+            self.posiseq.reset()
+        else:
+            self.posiseq: DelayLine = DelayLine(
+                self._axis_count, lambda: self.tick, lambda axis: self.axes[axis].params,
+                self.demand_counts)
         if hasattr(self, "links"):
             self.links.reset()
         else:
@@ -255,14 +263,18 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
-            if name == "MPOS" and self.axes[axis].servo is None:
-                value += self.compensation(axis) / self.axes[axis].units  # (backlash.py)
+            if name == "MPOS" and self.axes[axis].servo is None:  # backlash.py, posiseq.py
+                value += (self.compensation(axis) + self.output_counts(axis)
+                          - self.demand(axis)) / self.axes[axis].units
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "BACKLASH_DIST":
             return self.compensation(axis) / self.axes[axis].units
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
-            return self.wrapped(axis, self.dpos(axis) - open_error)
+            a = self.axes[axis]
+            dpos = ((self.output_counts(axis) + a.datum) / a.units if axis in self.posiseq.lines
+                    else self.dpos(axis))  # (a POSI_SEQ delay: posiseq.py)
+            return self.wrapped(axis, dpos - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name == "TANG_DIRECTION":
@@ -467,11 +479,18 @@ class MC405Machine(Kinematics, Engine):
     def motor_steps_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
         """Where the axis's world motor is at `ticks` (its steps before the stage's lost
         steps): the demand, with BACKLASH's compensation, through STEP_RATIO."""
-        counts = self.demand_counts(axis, ticks)
+        counts = self.output_counts_at(axis, ticks)
         comp = self.backlash.counts(axis, ticks, self.period)
         if comp is not None:
             counts = counts + comp
         return stepratio.motor(self.axes[axis].params, counts)
+
+    def output_counts_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """The demand the axis puts out: through its POSI_SEQ delay line (posiseq.py)."""
+        return self.posiseq.delayed(axis, ticks, self.demand_counts(axis, ticks))
+
+    def output_counts(self, axis: int) -> float:
+        return float(self.output_counts_at(axis, self._now())[0])
 
     def motor_steps(self, axis: int) -> float:
         return float(self.motor_steps_at(axis, self._now())[0])
