@@ -100,6 +100,25 @@ SETTLE_SPAN = 8192  # ticks at rest after a piece starts that are stepped, compi
 
 
 @dataclass(frozen=True)
+class SwitchedTerms:
+    """Terms that switch inside the filter (an MC405's D_ZONE_MIN/MAX dead band, in
+    counts of error, and its POS_OFFSET/NEG_OFFSET, in output counts). A loop without
+    them (every MAXk) is linear and runs compiled and in closed form; a loop with them
+    (`ServoLoop.switched`) is stepped in Python, the only place they act, and never
+    jumps. Kept out of the kernel so that its arithmetic stays the linear filter's, and
+    out of `Gains` so that a MAXk's archived gains stay KP..KO."""
+
+    dead_band: float = 0.0  # |error| below which an idle axis's output clamps to 0
+    live_band: float = 0.0  # |error| above which the clamped output is released
+    pos_offset: float = 0.0  # added to a positive output (after the polarity)
+    neg_offset: float = 0.0  # added to a negative output (after the polarity)
+
+    @property
+    def active(self) -> bool:
+        return bool(self.dead_band or self.pos_offset or self.neg_offset)
+
+
+@dataclass(frozen=True)
 class Gains:
     """The filter coefficients of one axis, as the KP..KO commands set them."""
 
@@ -372,6 +391,8 @@ class ServoLoop:
         self._fast: tuple | None = None
         # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
         self._plant: tuple = (None, 0.0, 1, (), 0.0)
+        self.switched: SwitchedTerms | None = None  # a dead band, offsets (None: linear)
+        self.clamped = False  # in the dead band: the output held at 0
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -396,13 +417,13 @@ class ServoLoop:
         self.q = error
         self._cache = None
 
-    def snapshot(self) -> tuple[array, int, int | None]:
+    def snapshot(self) -> tuple[array, int, int | None, bool]:
         """The loop's state now: run it ahead, then `restore` it to go again only as far
         as something found on the way (an MC405 FE_LIMIT passed on some tick)."""
-        return array("d", self.x), self.tick, self.trip_tick
+        return array("d", self.x), self.tick, self.trip_tick, self.clamped
 
-    def restore(self, state: tuple[array, int, int | None]) -> None:
-        x, self.tick, self.trip_tick = state
+    def restore(self, state: tuple[array, int, int | None, bool]) -> None:
+        x, self.tick, self.trip_tick, self.clamped = state
         self.x[:] = x
         self._cache = None  # (solutions and stretches found from the later state)
         self._fast = None
@@ -452,6 +473,10 @@ class ServoLoop:
             friction = plant.coefficients()[2]
             self._plant = (plant, period, polarity, matrices, friction)
         gains = axis.config.gains
+        if self.switched is not None:  # (a dead band or output offsets: SwitchedTerms)
+            self._cache = None
+            self._scalar_python(axis, board, matrices, friction, gains, to_tick - self.tick)
+            return
         while self.tick < to_tick:
             if self.recorder is not None:
                 self._scalar(axis, board, matrices, friction, gains, to_tick - self.tick)
@@ -876,6 +901,8 @@ class ServoLoop:
                 u = (kp * e + kd * (e - q) + ki * s_new + kv * v + ka * a + kf * sign_v
                      + ko)
                 s, q = s_new, e
+                if self.switched is not None:
+                    u = self._switched(axis, self.switched, tick, e, u)
             u = max(-DAC_LIMIT, min(DAC_LIMIT, u))
             dac = u
             r_prev2, r_prev = r_prev, r_abs
@@ -904,6 +931,32 @@ class ServoLoop:
         x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC] = p, w, s, q, dac
         self.r_prev, self.r_prev2, self.stuck = r_prev, r_prev2, stuck
         self.tick = tick
+
+
+    def _switched(self, axis: ServoAxis, terms: SwitchedTerms, tick: int, e: float,
+                  u: float) -> float:
+        """The closed loop's output through the dead band and the output offsets (see
+        SwitchedTerms): clamped to 0 once the axis's motion is over and |e| fell below the dead
+        band, until |e| passes the live band or a motion runs; an offset added by the
+        sign of the output as put out (after the polarity)."""
+        running = axis.motion is not None and (axis.motion_end is None
+                                               or tick < axis.motion_end)
+        if terms.dead_band:
+            clamped = self.clamped
+            if running or (clamped and abs(e) > terms.live_band):
+                clamped = False
+            elif not clamped and abs(e) < terms.dead_band:
+                clamped = True
+            self.clamped = clamped
+            if clamped:
+                return 0.0
+        polarity = -1.0 if self._plant[2] < 0 else 1.0
+        out = u * polarity
+        if out > 0:
+            out += terms.pos_offset
+        elif out < 0:
+            out += terms.neg_offset
+        return out * polarity
 
 
 def advance_servo_axes(axes: Sequence[ServoAxis], board: ServoHost, limit: int) -> None:

@@ -690,6 +690,26 @@ _ENTRIES: list[Keyword] = [
             note=f"Another name of {same}: reads and writes {same} itself.")
       for name, same in (("S_REF", "DAC"), ("T_REF", "DAC"), ("S_REF_OUT", "DAC_OUT"),
                          ("T_REF_OUT", "DAC_OUT"))],
+    *[_axis(name, summary, source=f"{HELP} {name}", confidence="I", note=note)
+      for name, summary, note in (
+          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.",
+           "Once the axis's motion is over and |following error| is below it, the closed "
+           "loop's output is 0 (C) until the error passes D_ZONE_MAX or a motion starts "
+           "(C), decided every servo cycle on the loop's own error. In user units of "
+           "following error, as FE (x UNITS: counts, D). While it or an offset is set the "
+           "shared loop is stepped cycle by cycle (the filter is no longer linear). 0 "
+           "(power-up): no dead band."),
+          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.",
+           "See D_ZONE_MIN. Below D_ZONE_MIN it is taken as D_ZONE_MIN (D)."),
+          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.",
+           "Added to the closed loop's output on each servo cycle it is positive, after "
+           "DAC_SCALE (C): in the MC405's DAC counts (x16 on the shared output, as DAC, D); "
+           "DAC_OUT shows it; the open-loop DAC is not offset (D). Stepped cycle by cycle "
+           "as D_ZONE_MIN."),
+          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.",
+           "As POS_OFFSET on each cycle the output is negative (the page: a negative "
+           "value; any value is taken, D)."),
+      )],
     _axis("FE_LIMIT_MODE", "1: FE_LIMIT must be exceeded on two servo cycles in a row.",
           value_range=(0, 1), source=f"{HELP} FE_LIMIT_MODE", confidence="C",
           note="0 (power-up): AXISSTATUS bit 8 on the first cycle |FE| passes FE_LIMIT; 1: "
@@ -777,11 +797,6 @@ _ENTRIES: list[Keyword] = [
            20000.0, "it bounds DRIVE_FE, the error a fieldbus (EtherCAT) drive reports; the "
            "world has no remote drive, so DRIVE_FE is never reported (the controller's own "
            "FE_LIMIT acts). Power-up 20000 (C)."),
-          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.", True, 0.0,
-           "a dead band is a switch inside the servo filter; the shared filter (whose "
-           "closed-form stretches assume a linear loop) has none (stored)."),
-          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.", True, 0.0,
-           "see D_ZONE_MIN (stored)."),
           ("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.", True, 0.0,
            "absolute encoders only; the world's encoders are incremental (stored)."),
           ("ENCODER_CONTROL", "EnDat encoder mode: 0 position, 1 parameter read/write.", True,
@@ -804,11 +819,6 @@ _ENTRIES: list[Keyword] = [
            "invisible to it (stored)."),
           ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
            "MICROSTEP): stored."),
-          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.", True,
-           0.0, "an offset inside the servo filter's output; the shared filter has none "
-           "(stored)."),
-          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.", True,
-           0.0, "see POS_OFFSET (stored)."),
           ("PLM_OFFSET", "SLM/PLM motor encoder offset.", True, 0.0,
            "SLM interface only; the MC405 has no SLM (see DLINK; stored)."),
           ("AXIS_ERROR_COUNT", "Communication errors counted on a digital axis.", True, 0.0,
@@ -832,8 +842,11 @@ _ENTRIES: list[Keyword] = [
            "shared machine's closed-form demand between events has no place for; as "
            "BACKLASH (accepted, no effect)."),
           ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
-           "the shared servo loop drives one motor from one filter; summing two filters "
-           "onto one motor is not in it (accepted, no effect)."),
+           "the page's use (dual feedback: a measuring wheel's loop summed onto the motor's "
+           "output) needs two loops solved together on one world motor, each reading its "
+           "own encoder of it; the shared servo loop drives one motor from one filter, and "
+           "a second loop on an encoder input has no motor of its own (accepted, no "
+           "effect)."),
           ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
            "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
            "parameters UNITS scales is not listed on the page (the VRs are not written)."),

@@ -38,7 +38,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Protocol
 
-from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop
+from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
 from .runs import ServoGains, TrioAxis
@@ -78,6 +78,18 @@ def gains_of(params: dict[str, float], open_output: float = 0.0,
                  kd=(params["D_GAIN"] - ov) * scale, ku=DAC_LIMIT / 4.0,
                  kv=(params["VFF_GAIN"] + ov) * scale, ka=params["AFF_GAIN"] * scale,
                  ko=open_output)
+
+
+def switched(params: dict[str, float]) -> SwitchedTerms | None:
+    """D_ZONE_MIN/D_ZONE_MAX (user units of following error, as FE: counts x UNITS, D)
+    and POS_OFFSET/NEG_OFFSET (MC405 DAC counts, as DAC: x DAC_STEP on the shared
+    output) as the shared filter's switched terms (help D_ZONE_MIN, POS_OFFSET); None
+    when all are 0 (the linear loop, compiled and in closed form)."""
+    units = abs(params["UNITS"])
+    dead = max(0.0, params["D_ZONE_MIN"]) * units
+    terms = SwitchedTerms(dead, max(dead, params["D_ZONE_MAX"] * units),
+                          params["POS_OFFSET"] * DAC_STEP, params["NEG_OFFSET"] * DAC_STEP)
+    return terms if terms.active else None
 
 
 def polarity(params: dict[str, float]) -> int:
@@ -146,6 +158,9 @@ class Following:
             if loop is None:
                 loop = a.servo = ServoLoop(m.demand(i), m.tick)
                 loop.closed = False
+            terms = switched(a.params)
+            if loop.switched != terms:
+                loop.switched, loop.clamped = terms, False
             enabled = self.enabled(i)
             if enabled and not loop.closed:
                 self._close(a, loop)
