@@ -392,6 +392,9 @@ class ServoLoop:
         # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
         self._plant: tuple = (None, 0.0, 1, (), 0.0)
         self.switched: SwitchedTerms | None = None  # a dead band, offsets (None: linear)
+        # the loop's counts per motor encoder count (an MC405's ENCODER_RATIO on a servo
+        # axis: its MPOS counts): p and w are in those counts; 1 for every MAXk
+        self.feedback_scale = 1.0
         self.clamped = False  # in the dead band: the output held at 0
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
@@ -409,6 +412,20 @@ class ServoLoop:
     def encoder_counts(self) -> int:
         """The encoder counter: the count whose cell holds the position."""
         return math.floor(self.p + 0.5)
+
+    def set_feedback_scale(self, scale: float) -> None:
+        """Take a new feedback scale (see `feedback_scale`): the motor does not move, so
+        its position and speed in the loop's counts scale with it; what was solved or
+        kept for the old one is dropped."""
+        if scale == self.feedback_scale:
+            return
+        k = scale / self.feedback_scale
+        self.p *= k
+        self.w *= k
+        self.feedback_scale = scale
+        self._plant = (None, 0.0, 1, (), 0.0)
+        self._cache = None
+        self._fast = None
 
     def reset_filter(self, error: float) -> None:
         """CL1 closing an open loop: start the filter afresh (no accumulated sum, no
@@ -462,16 +479,19 @@ class ServoLoop:
         plant = board.world.axes[axis.index].motor
         period = board.period
         polarity = axis.config.servo_polarity
+        scale = self.feedback_scale
+        sign = polarity if scale > 0 else -polarity  # friction's sign in drive terms
         held = self._plant
-        if held[0] is plant and held[1] == period and held[2] == polarity:
+        if held[0] is plant and held[1] == period and held[2] == sign:
             matrices, friction = held[3], held[4]
         else:  # (a frozen plant: the same object, the same matrices)
             matrices = plant.discrete(period)
-            if polarity < 0:  # SVP-: the DAC output inverted
-                a11, a12, a21, a22, b1, b2 = matrices
-                matrices = (a11, a12, a21, a22, -b1, -b2)
+            if polarity < 0 or scale != 1.0:  # SVP-: the DAC output inverted; a feedback
+                a11, a12, a21, a22, b1, b2 = matrices  # scale: the plant in its counts
+                f = polarity * scale
+                matrices = (a11, a12, a21, a22, f * b1, f * b2)
             friction = plant.coefficients()[2]
-            self._plant = (plant, period, polarity, matrices, friction)
+            self._plant = (plant, period, sign, matrices, friction)
         gains = axis.config.gains
         if self.switched is not None:  # (a dead band or output offsets: SwitchedTerms)
             self._cache = None
@@ -950,7 +970,7 @@ class ServoLoop:
             self.clamped = clamped
             if clamped:
                 return 0.0
-        polarity = -1.0 if self._plant[2] < 0 else 1.0
+        polarity = -1.0 if axis.config.servo_polarity < 0 else 1.0
         out = u * polarity
         if out > 0:
             out += terms.pos_offset

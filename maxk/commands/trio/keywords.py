@@ -741,17 +741,19 @@ _ENTRIES: list[Keyword] = [
              "changes (DEFPOS's offset takes the difference, D). Whole numbers up to "
              "16777215, input_count above 0, mpos_count not 0 (negative reverses the "
              "axis, C), else 'Parameter out of range'; no arguments: 1:1 (D); 1 or 3 "
-             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
-             "kept but the shared servo loop's feedback is not scaled (not modelled: the "
-             "loop runs in the motor encoder's counts)."),
+             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis MPOS counts the "
+             "ratio x the motor encoder's edges and the loop closes on MPOS, its gains per "
+             "MPOS count (C: 'affects all motion commands', the gains to adjust): the "
+             "shared loop runs in MPOS counts; a change at rest keeps the motor, DPOS and "
+             "MPOS (to half a count: DEFPOS's offset takes it up, D) and is refused with "
+             "'Parameter out of range' while the axis moves (D)."),
     _axis("PP_STEP", "An integer multiplier on the encoder value: an encoder input's MPOS "
           "counts PP_STEP x ENCODER_RATIO x its encoder's counts (UNITS then divides).",
           default=1.0, source=f"{HELP} PP_STEP; {TOK}", confidence="I",
           note="A whole number in the page's recommended -1024..1023, not 0 (D), else "
           "'Parameter out of range'; MPOS keeps its value at the change, as for "
-          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it is kept but the shared "
-          "servo loop's feedback is not scaled (not modelled: the loop runs in the motor "
-          "encoder's counts, as ENCODER_RATIO)."),
+          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it scales the loop's "
+          "feedback as ENCODER_RATIO does (I: the page's note on servo gains)."),
     _axis("AXIS_MODE", "Feature bits of the axis (its page's table); bit 14 ignores the "
           "software limits, bit 8 compares DPOS with them.", source=f"{HELP} AXIS_MODE; {TOK}",
           confidence="I",

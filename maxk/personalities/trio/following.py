@@ -41,6 +41,7 @@ from typing import Protocol
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
+from . import encoders
 from .runs import ServoGains, TrioAxis
 
 
@@ -158,6 +159,7 @@ class Following:
             if loop is None:
                 loop = a.servo = ServoLoop(m.demand(i), m.tick)
                 loop.closed = False
+                loop.feedback_scale = encoders.ratio(a.params)  # (MPOS counts: p is)
             terms = switched(a.params)
             if loop.switched != terms:
                 loop.switched, loop.clamped = terms, False
@@ -191,7 +193,7 @@ class Following:
     def measured(self, axis: int) -> float | None:
         """MPOS in counts without DEFPOS (None: not a servo, MPOS = DPOS)."""
         loop = self.m.axes[axis].servo
-        return None if loop is None else float(loop.encoder_counts())
+        return None if loop is None else encoders.measured(loop)  # (ENCODER_RATIO)
 
     def error_counts(self, axis: int) -> float:
         """FE in counts: demand - encoder (0 for a profile-only axis)."""

@@ -456,8 +456,13 @@ class MC405Machine(Kinematics, Engine):
                                                                       input_count))
 
     def _rescale_encoder(self, axis: int, change: Callable[[dict[str, float]], None]) -> None:
-        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D)."""
+        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D).
+        On a servo axis the loop runs in MPOS counts (encoders.servo_rescale)."""
         a = self.axes[axis]
+        if a.servo is not None:
+            encoders.servo_rescale(a, change)
+            self.changed()
+            return
         before = self.encoder_counts(axis)
         change(a.params)
         after = self.encoder_counts(axis)
