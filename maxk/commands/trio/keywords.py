@@ -758,11 +758,14 @@ _ENTRIES: list[Keyword] = [
           "software limits, bit 8 compares DPOS with them.", source=f"{HELP} AXIS_MODE; {TOK}",
           confidence="I",
           note="Bit 14: FS_LIMIT/RS_LIMIT neither stop a move nor set AXISSTATUS bits 9/10 "
-          "while it is set (C; axismode.py). Bit 8: the limits are always compared with "
-          "DPOS (exact to the tick); clear, the page compares MPOS, which differs only on a "
-          "servo axis by its following error (not modelled, D). Stored, no effect (D): bits "
-          "1, 3 and 17 (limits stop only an axis's own buffered moves here: a CONNECT or "
-          "an ADDAX is never stopped by them, so neither the cancel nor the ratio 0 shows), "
+          "while it is set (C; axismode.py). Bit 8 set: the limits are compared with DPOS "
+          "(exact to the tick, C); clear (power-up): with MPOS (C), which differs only on "
+          "a servo axis: its loop's measured position is watched on every servo cycle of "
+          "its own move, the move ramps down (FASTDEC/DECEL) from the cycle MPOS reaches "
+          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Stored, no effect (D): bits "
+          "1, 3 and 17 (what they change is how a limit acts on a CONNECT or an ADDAX, and "
+          "limits stop only an axis's own buffered moves here: a linked axis's demand is "
+          "never stopped by them, so neither the cancel nor the ratio 0 can show), "
           "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
           "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
           "no rule for what they change in the following error), 10 (no robot jog), 11 "
@@ -817,8 +820,10 @@ _ENTRIES: list[Keyword] = [
           ("PS_ENCODER", "Raw copy of the hardware position-switch encoder.", False, 0.0,
            "the hardware position switch (HW_PSWITCH) is not modelled: reads 0."),
           ("INVERT_STEP", "Rising (ON) or falling step edge active.", True, 0.0,
-           "the world's stepper turns on whole steps, not on pulse edges: the edge is "
-           "invisible to it (stored)."),
+           "the world's stepper turns on whole steps, not on pulse edges; the only effect "
+           "the manual gives (a step lost at a reversal when the setting does not match "
+           "the drive, 'may') depends on the drive's active edge, which the world does "
+           "not describe (stored)."),
           ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
            "MICROSTEP): stored."),
           ("PLM_OFFSET", "SLM/PLM motor encoder offset.", True, 0.0,

@@ -42,6 +42,7 @@ from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
 from . import encoders
+from .axismode import first_reached, mpos_bounds, mpos_compared
 from .runs import ServoGains, TrioAxis
 
 
@@ -102,11 +103,15 @@ class Following:
     """The servo loops of one MC405's servo axes."""
 
     def __init__(self, machine: ServoHost, enabled: Callable[[int], bool],
-                 in_error: Callable[[int], bool]) -> None:
+                 in_error: Callable[[int], bool],
+                 moving: Callable[[int], bool] = lambda axis: False) -> None:
         self.m = machine
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
+        self.moving = moving  # is the axis on its own move, not stopping (soft limits)?
         self.over: list[int] = []  # axes whose following error stopped the last stretch
+        self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
+        # (AXIS_MODE bit 8 clear) that stopped the last stretch
         self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
         self.driven: set[int] = set()  # axes an open-loop output gave a loop (kept, D)
 
@@ -228,10 +233,12 @@ class Following:
             return None
         free = [a for a in servos if a.link is None]
         watched = {a.index for a in free if self._watched(a)}
+        soft = {a.index for a in free if self._soft_watched(a)}  # (AXIS_MODE bit 8 clear)
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
-                 if a.servo is not None} if watched else {}
+                 if a.servo is not None} if watched or soft else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
         errors: dict[int, float] = {}  # axis -> its FE (counts) on that tick
+        reached: dict[int, tuple[int, int]] = {}  # axis -> (tick, side) MPOS met a limit
         for a in servos:
             loop = a.servo
             assert loop is not None
@@ -239,21 +246,32 @@ class Following:
                 loop.p, loop.w, loop.tick = m.demand(a.index), 0.0, limit
                 continue
             before = loop.q  # the error of the cycle before the stretch
-            if a.index in watched:
+            start = encoders.measured(loop)
+            if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
             passed = self._first_over(a, loop, before) if a.index in watched else None
             over = None if passed is None else passed[0]
+            if a.index in soft and loop.recorder:  # (each sample: the state before its
+                # tick's step; the stretch's last state is the loop's now)
+                eo = a.encoder_offset
+                positions = [(int(x[0]), x[2] - eo) for x in loop.recorder[1:]]
+                positions.append((loop.tick, loop.p))
+                meets = first_reached(positions, mpos_bounds(a.params, a.units, a.datum),
+                                      loop.feedback_scale, start)
+                if meets is not None:
+                    reached[a.index] = meets
             loop.recorder = None
             ticks = [t for t in (over, loop.trip_tick) if t is not None]
             if ticks:
                 found[a.index] = min(ticks)
             if passed is not None and over == found[a.index]:
                 errors[a.index] = passed[1]
-        if not found:
+        if not found and not reached:
             return None
-        first = min(found.values())
+        first = min([*found.values(), *(tick for tick, _side in reached.values())])
         self.over = [axis for axis, tick in found.items() if tick == first]
+        self.soft = {axis: side for axis, (tick, side) in reached.items() if tick == first}
         if first < limit and saved:  # run the loops again, only as far as the error
             for a in free:
                 loop = a.servo
@@ -272,6 +290,15 @@ class Following:
         return (loop.closed and not loop.tripped and a.link is None
                 and not self.in_error(a.index)
                 and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
+
+    def _soft_watched(self, a: TrioAxis) -> bool:
+        """Is the axis's MPOS compared with its software limits on every cycle now (a
+        servo axis with AXIS_MODE bit 8 clear, closed loop, on its own move)?"""
+        loop = a.servo
+        assert loop is not None
+        return (loop.closed and not loop.tripped and a.link is None and a.motion is not None
+                and not self.in_error(a.index) and mpos_compared(a.params, True)
+                and self.moving(a.index))
 
     @staticmethod
     def _first_over(a: TrioAxis, loop: ServoLoop, before: float) -> tuple[int, float] | None:
