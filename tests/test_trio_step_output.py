@@ -48,6 +48,7 @@ def test_the_page_s_degrees_example_turns_400_steps_a_turn_for_360_counts() -> N
     trio.send("MOVE(360*16)")
     assert trio.run_until_idle()
     assert (trio.query("?DPOS"), motor(trio)) == ("5760", "6400")
+    assert trio.world_view().reading("4").position == 6400  # the stage, as the world shows it
 
 
 def test_a_limit_switch_is_met_where_the_motor_reaches_it() -> None:

@@ -443,8 +443,8 @@ class MC405WorldView(WorldView):
     def reading(self, name: str) -> AxisReading:
         i = self.index(name)
         machine = self.machine
-        now = machine.demand(i)
-        ahead = float(machine.demand_counts(i, np.array([machine.tick + 1]))[0])
+        now = machine.motor_steps(i)  # the world's motor (STEP_RATIO, BACKLASH, POSI_SEQ)
+        ahead = float(machine.motor_steps_at(i, np.array([machine.tick + 1]))[0])
         idle = machine.axis_idle(i)
         return AxisReading(str(i), math.floor(now + 1e-9), None,
                            (ahead - now) * machine.update_rate_hz, idle, not idle)

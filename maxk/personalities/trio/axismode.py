@@ -14,6 +14,7 @@ The other bits are stored and read back, each for the reason on AXIS_MODE's tabl
 from __future__ import annotations
 
 import math
+from typing import Any
 
 DPOS_SOFT_LIMITS = 1 << 8
 IGNORE_SOFT_LIMITS = 1 << 14
@@ -34,6 +35,28 @@ def mpos_compared(params: dict[str, float], servo: bool) -> bool:
     """Do the software limits compare MPOS (a servo axis with bit 8 clear) rather than
     DPOS (bit 8 set, or an axis without a loop, where MPOS is DPOS)?"""
     return servo and not int(params.get("AXIS_MODE", 0.0)) & DPOS_SOFT_LIMITS
+
+
+def compared_position(drive: Any, axis: int) -> float:
+    """The position (user units) the software limits are compared with: MPOS on a servo
+    axis with bit 8 clear, else DPOS."""
+    m = drive.m
+    a = m.axes[axis]
+    if mpos_compared(a.params, a.servo is not None):
+        return float(drive.axis_parameter("MPOS", axis))
+    return float(m.dpos(axis))
+
+
+def stop_where_mpos_met(machine: Any) -> None:
+    """The servo loops stopped where an axis's MPOS met a software limit (following.py's
+    `soft`): its own move is cancelled there, as at a limit on its demand (unless it is
+    already stopping: a stop is never lengthened)."""
+    drive = machine.drive
+    for axis, side in drive.following.soft.items():
+        queue = machine.queues[axis]
+        if queue and queue[0].started and not queue[0].stopping:
+            drive.on_limit(machine.axes[axis], side, machine.tick)
+    drive.following.soft = {}
 
 
 def mpos_bounds(params: dict[str, float], units: float, datum: float
@@ -66,5 +89,5 @@ def first_reached(positions: list[tuple[int, float]], bounds: tuple[float, float
     return None
 
 
-__all__ = ["DPOS_SOFT_LIMITS", "IGNORE_SOFT_LIMITS", "first_reached", "mpos_bounds",
-           "mpos_compared", "soft_limits"]
+__all__ = ["DPOS_SOFT_LIMITS", "IGNORE_SOFT_LIMITS", "compared_position", "first_reached",
+           "mpos_bounds", "mpos_compared", "soft_limits", "stop_where_mpos_met"]

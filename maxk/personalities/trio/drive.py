@@ -44,10 +44,10 @@ import numpy as np
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
-from . import stepratio
-from .axismode import mpos_compared, soft_limits
+from .axismode import compared_position, mpos_compared, soft_limits
 from .following import SERVO_ATYPES, Following
 from .runs import Run, TrioAxis
+from .stepratio import demand_for
 
 
 class _Encoders(Protocol):
@@ -112,8 +112,7 @@ class Drive:
         self.m = machine
         self.limits = _Limits(self)
         self.following = Following(machine, self.enabled,
-                                   lambda axis: bool(self.motion_error >> axis & 1),
-                                   self._on_own_move)
+                                   lambda axis: bool(self.motion_error >> axis & 1))
         self.reset()
 
     def reset(self) -> None:
@@ -149,9 +148,7 @@ class Drive:
             wired = params[name]
             if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
                 bits |= bit
-        dpos, (fs, rs) = m.dpos(axis), soft_limits(params)  # (AXIS_MODE bit 14)
-        if mpos_compared(params, m.axes[axis].servo is not None):  # (bit 8 clear)
-            dpos = self.axis_parameter("MPOS", axis)
+        dpos, (fs, rs) = compared_position(self, axis), soft_limits(params)  # (bits 8, 14)
         if dpos > fs:
             bits |= FWD_SOFT
         if dpos < rs:
@@ -219,9 +216,7 @@ class Drive:
         wired = params["FWD_IN" if direction > 0 else "REV_IN"]
         if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
             return True
-        dpos, (fs, rs) = (a.steps + a.datum) / a.units, soft_limits(params)
-        if mpos_compared(params, a.servo is not None):  # (AXIS_MODE bit 8 clear)
-            dpos = self.axis_parameter("MPOS", axis)
+        dpos, (fs, rs) = compared_position(self, axis), soft_limits(params)  # (AXIS_MODE)
         return dpos > fs if direction > 0 else dpos < rs
 
     def datum(self, axis: int, mode: int) -> None:
@@ -281,13 +276,9 @@ class Drive:
             stage = m.world.axes[axis.index]
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
-            at = None if edge is None else stepratio.demand_for(params, edge + stage.lost_steps,
-                                                                 side)
-            if at is not None:  # (the switch in the motor's steps: STEP_RATIO's demand)
-                found.append(at)
+            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
         soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
         if abs(soft) < 2.0 ** 62 and not mpos_compared(params, a.servo is not None):
-            # (a servo axis with AXIS_MODE bit 8 clear: its MPOS is watched, following.py)
             found.append(math.ceil(soft) if side > 0 else math.floor(soft))
         reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
         found = [edge for edge in found if side * (edge - axis.steps) <= reach]
@@ -365,11 +356,6 @@ class Drive:
         if changed:
             m.changed()
 
-    def _on_own_move(self, axis: int) -> bool:
-        """Is the axis on a run of its own moves that is not stopping?"""
-        queue = self.m.queues[axis]
-        return bool(queue) and queue[0].started and not queue[0].stopping
-
     def following_error(self) -> None:
         """The servo loops stopped on a following error (`Following.integrate`): its bit
         holds, and a motion error follows if ERRORMASK has it."""
@@ -380,14 +366,6 @@ class Drive:
                 loop.trip_tick = None  # (the loop stays tripped until DATUM(0))
                 loop.tripped = True
         self.following.over = []
-        for axis in self.following.soft:  # MPOS met a software limit (AXIS_MODE bit 8)
-            queue = self.m.queues[axis]
-            if queue and queue[0].started and not queue[0].stopping:
-                self.m.outputs.sync_all()
-                self._cancel_for_limit(queue[0])
-                self.searches.pop(axis, None)
-                self.m.changed()
-        self.following.soft = {}
         self.look(self.m.tick)
 
     def _level_limit(self, axis: int, direction: int) -> bool:

@@ -103,12 +103,10 @@ class Following:
     """The servo loops of one MC405's servo axes."""
 
     def __init__(self, machine: ServoHost, enabled: Callable[[int], bool],
-                 in_error: Callable[[int], bool],
-                 moving: Callable[[int], bool] = lambda axis: False) -> None:
+                 in_error: Callable[[int], bool]) -> None:
         self.m = machine
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
-        self.moving = moving  # is the axis on its own move, not stopping (soft limits)?
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
@@ -293,12 +291,12 @@ class Following:
 
     def _soft_watched(self, a: TrioAxis) -> bool:
         """Is the axis's MPOS compared with its software limits on every cycle now (a
-        servo axis with AXIS_MODE bit 8 clear, closed loop, on its own move)?"""
+        servo axis with AXIS_MODE bit 8 clear, closed loop, on its own motion; a limit it
+        is beyond already is not watched, `first_reached`)?"""
         loop = a.servo
         assert loop is not None
         return (loop.closed and not loop.tripped and a.link is None and a.motion is not None
-                and not self.in_error(a.index) and mpos_compared(a.params, True)
-                and self.moving(a.index))
+                and not self.in_error(a.index) and mpos_compared(a.params, True))
 
     @staticmethod
     def _first_over(a: TrioAxis, loop: ServoLoop, before: float) -> tuple[int, float] | None:

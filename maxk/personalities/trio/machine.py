@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import encoders, geometry, moves, sequences, stepratio, tangential
+from . import axismode, encoders, geometry, moves, sequences, stepratio, tangential
 from .backlash import Backlash
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .drive import AXIS_READS, SYSTEM_READS, Drive
@@ -219,6 +219,7 @@ class MC405Machine(Kinematics, Engine):
             return False
         self.tick = max(self.tick, stop)
         self.drive.following_error()
+        axismode.stop_where_mpos_met(self)  # (a servo axis's MPOS met a software limit)
         return True
 
     def after_events(self, now: int) -> None:

@@ -66,12 +66,12 @@ def motor(params: dict[str, float], counts: np.ndarray) -> np.ndarray:
     return counts * r + offset
 
 
-def demand_for(params: dict[str, float], steps: float, side: int) -> float | None:
+def demand_for(params: dict[str, float], steps: float, side: int) -> float:
     """The demand count at which the motor first reaches world position `steps` moving
-    towards `side` (+1 forward): None when the motor does not turn (output_count 0)."""
+    towards `side` (+1 forward): infinitely far when it does not turn (output_count 0)."""
     r = ratio(params)
     if r <= 0:
-        return None
+        return math.inf * side
     counts = (steps - params.get(OFFSET, 0.0)) / r
     if r == 1.0:
         return counts
