@@ -168,3 +168,14 @@ def test_bad_backlash_arguments_are_refused_and_backlash_dist_is_read_only() -> 
     assert trio.run_until_idle()
     at(trio, trio.machine.tick + 300)
     assert trio.query("?BACKLASH_DIST") == "0.5000"
+
+
+def test_the_example_script_runs_as_recorded() -> None:
+    """examples/mc405_stepper_output.maxk (STEP_RATIO and BACKLASH, its replies worked out
+    by hand in its comments) under `maxk run`: every expected reply matches."""
+    from pathlib import Path
+
+    from maxk.cli import main
+
+    script = Path(__file__).parent.parent / "examples" / "mc405_stepper_output.maxk"
+    assert main(["run", str(script)]) == 0
