@@ -179,3 +179,42 @@ def test_the_example_script_runs_as_recorded() -> None:
 
     script = Path(__file__).parent.parent / "examples" / "mc405_stepper_output.maxk"
     assert main(["run", str(script)]) == 0
+
+
+def comp_by_hand(k: float) -> float:
+    """The 50-count compensation move (100 counts/s, 1000 counts/s^2) k ms after it
+    starts: 5 counts of ramp in 0.1 s, 40 flat in 0.4 s, 5 to stop."""
+    t = k / 1000
+    if t <= 0:
+        return 0.0
+    if t <= 0.1:
+        return 500 * t * t
+    if t <= 0.5:
+        return 5 + 100 * (t - 0.1)
+    if t <= 0.6:
+        return 50 - 500 * (0.6 - t) ** 2
+    return 50.0
+
+
+def test_on_a_servo_axis_the_loop_follows_the_demand_and_the_compensation() -> None:
+    """Each cycle's output is P e + D (e - e_prev) with e = demand + compensation -
+    measured (the page: the compensation is superimposed on the commanded movement);
+    MPOS ends advanced by it, FE is the loop's own error."""
+    p_gain, d_gain = 8.0, 120.0
+    trio = mc405(f"ATYPE=77: P_GAIN={p_gain}: D_GAIN={d_gain}: SERVO=ON: WDOG=ON",
+                 *BACKLASH)
+    trio.send("MOVE(1)")  # 100 counts: a triangle, 0.1 s
+    m = trio.machine
+    loop = m.axes[0].servo
+    assert loop is not None
+    start = m.tick
+    e_prev = m.demand(0) + comp_by_hand(0) - loop.p
+    for k in range(0, 700):
+        e = m.demand(0) + comp_by_hand(k) - loop.p
+        trio.advance(ticks=1)
+        expected = (p_gain * e + d_gain * (e - e_prev)) / 16.0
+        assert abs(m.drive.following.dac_out(0) - expected) < 1e-6, k
+        e_prev = e
+    assert m.tick == start + 700
+    mpos, dpos, fe = (float(trio.query(f"?{n}")) for n in ("MPOS", "DPOS", "FE"))
+    assert dpos == 1.0 and abs(mpos - (1.5 - fe)) < 1e-9 and abs(fe) < 0.2

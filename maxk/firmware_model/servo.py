@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import math
 from array import array
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Protocol
@@ -392,6 +392,10 @@ class ServoLoop:
         # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
         self._plant: tuple = (None, 0.0, 1, (), 0.0)
         self.switched: SwitchedTerms | None = None  # a dead band, offsets (None: linear)
+        # counts added to the commanded position at a tick (an MC405's BACKLASH
+        # compensation, superimposed on its motion): a loop with one is stepped in Python,
+        # which alone reads it; None for every MAXk
+        self.command_offset: Callable[[int], float] | None = None
         # the loop's counts per motor encoder count (an MC405's ENCODER_RATIO on a servo
         # axis: its MPOS counts): p and w are in those counts; 1 for every MAXk
         self.feedback_scale = 1.0
@@ -493,7 +497,8 @@ class ServoLoop:
             friction = plant.coefficients()[2]
             self._plant = (plant, period, sign, matrices, friction)
         gains = axis.config.gains
-        if self.switched is not None:  # (a dead band or output offsets: SwitchedTerms)
+        if self.switched is not None or self.command_offset is not None:
+            # (a dead band or output offsets: SwitchedTerms; an offset on the command)
             self._cache = None
             self._scalar_python(axis, board, matrices, friction, gains, to_tick - self.tick)
             return
@@ -508,7 +513,9 @@ class ServoLoop:
     def _commanded(self, axis: ServoAxis, board: ServoHost, tick: float) -> float:
         """Commanded position (counter frame, exact float) at a tick."""
         m = axis.motion
-        base = axis.steps + axis.counter_offset
+        base: float = axis.steps + axis.counter_offset
+        if self.command_offset is not None:  # (only ever stepped in Python: see advance)
+            base += self.command_offset(int(tick))
         if m is None:
             return float(base)
         if axis.motion_end is not None and tick >= axis.motion_end:

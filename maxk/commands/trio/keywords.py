@@ -882,11 +882,13 @@ _ENTRIES: list[Keyword] = [
              "during one starts the next from there, from rest (D). The first motion after "
              "ON counts when it goes forward (D: the page's example). MPOS of an axis "
              "without a servo loop reads DPOS + BACKLASH_DIST, a stepper's world motor (its "
-             "switches, a shaft encoder) turns it (C); DPOS never does. Values not given "
+             "switches, a shaft encoder) turns it, a servo axis's loop takes it in its "
+             "command (MPOS moves by it, FE stays the loop's error, I; the loop is then "
+             "stepped cycle by cycle) (C); DPOS never does. Values not given "
              "keep the last ones (power-up 0, D); speed or accel 0: at once (D); OFF takes "
              "it back to 0 at its speed (D); a negative speed or accel is 'Parameter out "
-             "of range'. Not modelled: reversals of a linked axis (CONNECT, CAMBOX ...), "
-             "the compensation in a servo axis's loop, and in the limit search (D)."),
+             "of range'. Not modelled: reversals of a linked axis (CONNECT, CAMBOX ...) "
+             "and the compensation in the limit search (D)."),
     _axis("BACKLASH_DIST", "The backlash compensation being applied, user units.",
           writable=False, source=f"{HELP} BACKLASH_DIST; {HELP} BACKLASH", confidence="I",
           note="BACKLASH's compensation at the servo tick it is read (exact: the "

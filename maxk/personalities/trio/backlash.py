@@ -21,19 +21,20 @@ How it is modelled, exact to the servo tick:
   the first forward MOVE);
 - the compensation is in the axis's output: a stepper's world motor turns it (limit
   switches and shaft encoders see it, through `stepratio.motor`), MPOS of an axis without
-  a servo loop reads DPOS + BACKLASH_DIST; DPOS never includes it.
+  a servo loop reads DPOS + BACKLASH_DIST; a servo axis's loop takes it in its command
+  (`ServoLoop.command_offset`: the loop then steps cycle by cycle), so its MPOS moves by
+  it and FE stays the loop's own error; DPOS never includes it.
 Decisions (D): BACKLASH(ON) with fewer values keeps the others as last given (power-up 0);
 a speed or acceleration of 0 applies the compensation within the servo cycle; OFF takes
 the compensation back to 0 at its speed and acceleration; a negative distance compensates
 the other way. Not modelled: reversals of a linked axis (CONNECT, CAMBOX, MOVELINK ...:
-their demand has no phases), and the compensation on a servo axis's loop (the shared
-loop follows the axis's motion; BACKLASH_DIST still reads it).
+their demand has no phases), and the compensation in the search for a limit switch.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -163,6 +164,19 @@ class Backlash:
             side = 1 if phase.direction > 0 else -1
             if side != b.side:
                 b.move_to(start + phase.t0, b.distance if side > 0 else 0.0, side)
+
+    def offset(self, axis: int, period: float) -> Callable[[int], float] | None:
+        """The compensation as a servo loop's command offset (counts at a tick); None
+        when the axis has never had any (the loop then runs compiled, in closed form)."""
+        b = self.axes[axis]
+        if not b.pieces:
+            return None
+        return lambda tick: b.value_at(tick * period)
+
+    def at(self, axis: int, tick: int, period: float) -> float:
+        """The compensation at one tick, counts."""
+        b = self.axes[axis]
+        return b.value_at(tick * period) if b.pieces else 0.0
 
     def counts(self, axis: int, ticks: np.ndarray, period: float) -> np.ndarray | None:
         """The compensation at `ticks`, counts; None when the axis has never had any."""

@@ -43,6 +43,7 @@ from maxk.firmware_model.world import World
 
 from . import encoders
 from .axismode import first_reached, mpos_bounds, mpos_compared
+from .backlash import Backlash
 from .runs import ServoGains, TrioAxis
 
 
@@ -107,6 +108,7 @@ class Following:
         self.m = machine
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
+        self.backlash: Backlash | None = None  # BACKLASH's compensation (the machine's)
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
@@ -201,7 +203,11 @@ class Following:
     def error_counts(self, axis: int) -> float:
         """FE in counts: demand - encoder (0 for a profile-only axis)."""
         measured = self.measured(axis)
-        return 0.0 if measured is None else self.m.demand(axis) - measured
+        if measured is None:
+            return 0.0  # (the loop's own error: BACKLASH's compensation is in its command)
+        comp = 0.0 if self.backlash is None else self.backlash.at(axis, self.m.tick,
+                                                                   self.m.period)
+        return self.m.demand(axis) + comp - measured
 
     def open_error(self, axis: int) -> float:
         """Demand less encoder, counts, while the axis's loop is open (0 otherwise): DPOS
@@ -245,6 +251,8 @@ class Following:
                 continue
             before = loop.q  # the error of the cycle before the stretch
             start = encoders.measured(loop)
+            loop.command_offset = None if self.backlash is None else \
+                self.backlash.offset(a.index, m.period)  # (BACKLASH's compensation)
             if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]

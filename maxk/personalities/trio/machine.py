@@ -113,6 +113,7 @@ class MC405Machine(Kinematics, Engine):
         self._power_up()
         self.outputs = PwmLinks(self)
         self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
+        self.drive.following.backlash = self.backlash  # (in a servo loop's command)
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
@@ -136,7 +137,10 @@ class MC405Machine(Kinematics, Engine):
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
-        self.backlash = Backlash(self._axis_count)  # BACKLASH (backlash.py)
+        if hasattr(self, "backlash"):
+            self.backlash.reset()
+        else:
+            self.backlash: Backlash = Backlash(self._axis_count)  # BACKLASH (backlash.py)
         if hasattr(self, "posiseq"):
             self.posiseq.reset()
         else:
@@ -264,9 +268,10 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
-            if name == "MPOS" and self.axes[axis].servo is None:  # backlash.py, posiseq.py
-                value += (self.compensation(axis) + self.output_counts(axis)
-                          - self.demand(axis)) / self.axes[axis].units
+            if name == "MPOS":  # BACKLASH's compensation (in a loop's error: take it
+                a = self.axes[axis]  # back out), a POSI_SEQ delay without a loop
+                value += (self.compensation(axis) + (0.0 if a.servo is not None else
+                          self.output_counts(axis) - self.demand(axis))) / a.units
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "BACKLASH_DIST":
             return self.compensation(axis) / self.axes[axis].units
