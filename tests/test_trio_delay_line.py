@@ -75,3 +75,28 @@ def test_bad_settings_are_refused() -> None:
     assert trio.send("POSI_SEQ_DELAY=-1") == ["! Parameter out of range"]
     assert trio.send("POSI_SEQ_DELAY=10001") == ["! Parameter out of range"]
     assert (trio.query("?POSI_SEQ_MODE"), trio.query("?POSI_SEQ_DELAY")) == ("0", "0")
+
+
+def test_a_servo_axis_s_loop_follows_the_delayed_demand() -> None:
+    """Each cycle's output is P e + D (e - e_prev) with e = the demand of 10 cycles ago
+    (by hand, `demand`) - measured: the loop closes on the delayed output; DPOS reads it."""
+    p_gain, d_gain = 8.0, 120.0
+    trio = MC405()
+    for line in (f"ATYPE=77: P_GAIN={p_gain}: D_GAIN={d_gain}: SERVO=ON: WDOG=ON", FAST,
+                 "POSI_SEQ_DELAY=10: POSI_SEQ_MODE=1"):
+        assert trio.send(line) == [], line
+    trio.advance(ticks=20)
+    trio.send("MOVE(100)")
+    m = trio.machine
+    loop = m.axes[0].servo
+    assert loop is not None
+    start = m.tick
+    e_prev = demand(-10) - loop.p
+    for k in range(0, 200):
+        e = demand(k - 10) - loop.p
+        assert abs(float(trio.query("?DPOS")) - demand(k - 10)) < 1e-9, k
+        trio.advance(ticks=1)
+        expected = (p_gain * e + d_gain * (e - e_prev)) / 16.0
+        assert abs(m.drive.following.dac_out(0) - expected) < 1e-6, k
+        e_prev = e
+    assert m.tick == start + 200

@@ -778,10 +778,11 @@ _ENTRIES: list[Keyword] = [
           "mean of that and the newest (C); not delayed until the buffer is full (C). The "
           "demand of every cycle is kept while it is on (bounded: the delay + 1 values, "
           "posiseq.py), so the output is exact to the tick. DPOS reads the output (C: "
-          "'overwrite demand position'), as do MPOS of an axis without a servo loop and a "
-          "stepper's world motor (I); moves and links plan from the undelayed demand, and "
-          "a limit switch is found where the undelayed demand meets it (D). The buffer "
-          "restarts when the mode or the delay is written (D). Power-up 0 (C)."),
+          "'overwrite demand position'), as do MPOS of an axis without a servo loop, a "
+          "stepper's world motor and a servo axis's loop (its command, I); moves and "
+          "links plan from the undelayed demand, and a limit switch is found where the "
+          "undelayed demand meets it (D). The buffer restarts when the mode or the delay "
+          "is written (D). Power-up 0 (C)."),
     _axis("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles.",
           value_range=(0, 10000), source=f"{HELP} POSI_SEQ_DELAY", confidence="I",
           note="Whole servo cycles (a fraction is cut, D), 0..10000 (D: a bound on the "

@@ -43,7 +43,6 @@ from maxk.firmware_model.world import World
 
 from . import encoders
 from .axismode import first_reached, mpos_bounds, mpos_compared
-from .backlash import Backlash
 from .runs import ServoGains, TrioAxis
 
 
@@ -108,7 +107,9 @@ class Following:
         self.m = machine
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
-        self.backlash: Backlash | None = None  # BACKLASH's compensation (the machine's)
+        # axis -> what the machine adds to a loop's command at a tick (BACKLASH's
+        # compensation, a POSI_SEQ delay: `MC405Machine.command_offset`), None: nothing
+        self.command: Callable[[int], Callable[[int], float] | None] = lambda axis: None
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
@@ -205,8 +206,8 @@ class Following:
         measured = self.measured(axis)
         if measured is None:
             return 0.0  # (the loop's own error: BACKLASH's compensation is in its command)
-        comp = 0.0 if self.backlash is None else self.backlash.at(axis, self.m.tick,
-                                                                   self.m.period)
+        offset = self.command(axis)
+        comp = 0.0 if offset is None else offset(self.m.tick)
         return self.m.demand(axis) + comp - measured
 
     def open_error(self, axis: int) -> float:
@@ -251,8 +252,7 @@ class Following:
                 continue
             before = loop.q  # the error of the cycle before the stretch
             start = encoders.measured(loop)
-            loop.command_offset = None if self.backlash is None else \
-                self.backlash.offset(a.index, m.period)  # (BACKLASH's compensation)
+            loop.command_offset = self.command(a.index)  # (BACKLASH, POSI_SEQ)
             if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]

@@ -113,7 +113,7 @@ class MC405Machine(Kinematics, Engine):
         self._power_up()
         self.outputs = PwmLinks(self)
         self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
-        self.drive.following.backlash = self.backlash  # (in a servo loop's command)
+        self.drive.following.command = self.command_offset  # (in a servo loop's command)
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
@@ -268,10 +268,10 @@ class MC405Machine(Kinematics, Engine):
             value = self.drive.axis_parameter(name, axis)
             if name == "AXISSTATUS" and axis in self.feedhold.held:
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
-            if name == "MPOS":  # BACKLASH's compensation (in a loop's error: take it
-                a = self.axes[axis]  # back out), a POSI_SEQ delay without a loop
-                value += (self.compensation(axis) + (0.0 if a.servo is not None else
-                          self.output_counts(axis) - self.demand(axis))) / a.units
+            if name == "MPOS":  # BACKLASH's compensation, a POSI_SEQ delay (on a servo
+                # axis in its loop's command: FE, the loop's error, takes them back out)
+                value += (self.compensation(axis) + self.output_counts(axis)
+                          - self.demand(axis)) / self.axes[axis].units
             return self.wrapped(axis, value) if name == "MPOS" else value
         if name == "BACKLASH_DIST":
             return self.compensation(axis) / self.axes[axis].units
@@ -505,6 +505,22 @@ class MC405Machine(Kinematics, Engine):
 
     def motor_steps(self, axis: int) -> float:
         return float(self.motor_steps_at(axis, self._now())[0])
+
+    def command_offset(self, axis: int) -> Callable[[int], float] | None:
+        """What a servo loop adds to its command at a tick: BACKLASH's compensation and
+        the POSI_SEQ delay line's shift of the demand (None: neither, the loop runs
+        compiled and in closed form)."""
+        comp = self.backlash.offset(axis, self.period)
+        if axis not in self.posiseq.lines:
+            return comp
+
+        def offset(tick: int) -> float:
+            ticks = np.array([tick])
+            demand = self.demand_counts(axis, ticks)
+            shift = float(self.posiseq.delayed(axis, ticks, demand)[0] - demand[0])
+            return shift + (0.0 if comp is None else comp(tick))
+
+        return offset
 
     def compensation(self, axis: int) -> float:
         """BACKLASH's compensation on the axis now, counts."""

@@ -15,7 +15,9 @@ form for one still ahead (which the running motion describes up to the next even
 
 Decisions (D): the buffer starts filling when the mode or the delay is written (a change
 empties it); DPOS reads the delayed value, as do MPOS of an axis without a servo loop, a
-stepper's world motor (its limit switches and shaft encoder) and BACKLASH's base; the
+stepper's world motor (its limit switches and shaft encoder), a servo axis's loop (its
+command: `MC405Machine.command_offset`, so FE is its error to the delayed value) and
+BACKLASH's base; the
 moves and links go on planning from the undelayed demand, and so does the search for a
 limit switch on the axis's own move (the switch is found where the undelayed demand
 meets it). The delay is a whole number of cycles, 0..MAX_DELAY (a fraction is cut).
