@@ -146,7 +146,7 @@ class MC405Machine(Kinematics, Engine):
         else:
             self.posiseq: DelayLine = DelayLine(
                 self._axis_count, lambda: self.tick, lambda axis: self.axes[axis].params,
-                self.demand_counts)
+                self.demand_counts, lambda: self.revision)
         if hasattr(self, "links"):
             self.links.reset()
         else:

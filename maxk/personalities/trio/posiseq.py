@@ -52,15 +52,19 @@ class DelayLine:
 
     def __init__(self, axis_count: int, tick: Callable[[], int],
                  params: Callable[[int], dict[str, float]],
-                 demand: Callable[[int, np.ndarray], np.ndarray]) -> None:
+                 demand: Callable[[int, np.ndarray], np.ndarray],
+                 revision: Callable[[], int]) -> None:
         self._axis_count = axis_count
         self._tick = tick
         self._params = params
         self._demand = demand
+        self._revision = revision  # the machine's count of changes (a parameter written)
         self.lines: dict[int, Line] = {}
+        self._idle_at = -1  # the revision at which no filter was on (nothing to look at)
 
     def reset(self) -> None:
         self.lines = {}
+        self._idle_at = -1
 
     def _line(self, axis: int) -> Line | None:
         """The axis's buffer, started afresh when its setting changed; None when off."""
@@ -79,6 +83,8 @@ class DelayLine:
 
     # ---- the event source: one push a servo cycle while a filter is on -----------------
     def next_event(self) -> int | None:
+        if not self.lines and self._idle_at == self._revision():
+            return None  # (no filter on, and no parameter written since: the common case)
         now = self._tick()
         due = None
         for axis in range(self._axis_count):
@@ -86,6 +92,8 @@ class DelayLine:
             if line is not None:
                 tick = max(now, line.last + 1)
                 due = tick if due is None else min(due, tick)
+        if due is None:
+            self._idle_at = self._revision()
         return due
 
     def on_event(self, now: int) -> None:
