@@ -888,8 +888,8 @@ _ENTRIES: list[Keyword] = [
              "stepped cycle by cycle) (C); DPOS never does. Values not given "
              "keep the last ones (power-up 0, D); speed or accel 0: at once (D); OFF takes "
              "it back to 0 at its speed (D); a negative speed or accel is 'Parameter out "
-             "of range'. Not modelled: reversals of a linked axis (CONNECT, CAMBOX ...) "
-             "and the compensation in the limit search (D)."),
+             "of range'. Left out (D): reversals of a linked axis (CONNECT, CAMBOX ...) "
+             "and the compensation in the limit search."),
     _axis("BACKLASH_DIST", "The backlash compensation being applied, user units.",
           writable=False, source=f"{HELP} BACKLASH_DIST; {HELP} BACKLASH", confidence="I",
           note="BACKLASH's compensation at the servo tick it is read (exact: the "
