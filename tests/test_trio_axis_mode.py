@@ -46,3 +46,47 @@ def test_without_bit_14_the_same_move_stops_at_the_limit() -> None:
     trio.send("MOVE(500)")
     assert trio.run_until_idle()
     assert (dpos(trio), trio.query("?AXISSTATUS")) == (205.0, "512")
+
+
+# ---- bit 8 on a servo axis: the software limits compare DPOS (set) or MPOS (clear) -------
+SERVO_MOVE = ("ATYPE=77: P_GAIN=8: D_GAIN=120: SERVO=ON: WDOG=ON: SPEED=2000: ACCEL=40000: "
+              "DECEL=40000: FS_LIMIT=500")
+"""MOVE(1000) from 0: 50 cycles of ramp (50 counts), then 2 counts a cycle, so DPOS reaches
+500 on cycle 50 + 225 = 275; MPOS lags it by the following error (about 35 counts)."""
+
+
+def servo_rows(mode: int, cycles: int = 330) -> tuple[MC405, list[tuple[int, float, float]]]:
+    trio = MC405()
+    assert trio.send(f"{SERVO_MOVE}: AXIS_MODE={mode}") == []
+    trio.advance(ticks=10)
+    trio.send("MOVE(1000)")
+    start = trio.machine.tick
+    rows = []
+    for k in range(1, cycles):
+        trio.advance(ticks=start + k - trio.machine.tick)
+        rows.append((k, float(trio.query("?MPOS")), float(trio.query("?VP_SPEED"))))
+    return trio, rows
+
+
+def test_bit_8_set_stops_a_servo_axis_where_dpos_reaches_the_limit() -> None:
+    _trio, rows = servo_rows(256)
+    speeds = {k: v for k, _mpos, v in rows}
+    assert (speeds[275], speeds[276]) == (2000.0, 1960.0)  # DECEL from cycle 275
+
+
+def test_bit_8_clear_stops_a_servo_axis_where_mpos_reaches_the_limit() -> None:
+    trio, rows = servo_rows(0)
+    reached = next(k for k, mpos, _v in rows if mpos >= 500)
+    assert reached > 275 + 10  # (the following error's worth of cycles later)
+    speeds = {k: v for k, _mpos, v in rows}
+    assert (speeds[reached], speeds[reached + 1]) == (2000.0, 1960.0)
+    assert trio.query("?AXISSTATUS") == "512"  # MPOS beyond FS_LIMIT (bit 9)
+    assert trio.run_until_idle()
+    final = trio.query("?DPOS")
+    # the same stop with time taken in one stretch (the loop watched on every cycle)
+    again = MC405()
+    assert again.send(f"{SERVO_MOVE}: AXIS_MODE=0") == []
+    again.advance(ticks=10)
+    again.send("MOVE(1000)")
+    assert again.run_until_idle()
+    assert again.query("?DPOS") == final

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from array import array
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Protocol
@@ -99,6 +99,25 @@ HORIZON = 1 << 22  # ticks a closed-form solution is checked ahead when nothing 
 SETTLED_ERROR = 1e-3  # counts: stick-slip below this is not simulated (see _breakaway)
 KERNEL_SPAN = 32768  # ticks: a polynomial piece no longer than this is stepped, compiled
 SETTLE_SPAN = 8192  # ticks at rest after a piece starts that are stepped, compiled
+
+
+@dataclass(frozen=True)
+class SwitchedTerms:
+    """Terms that switch inside the filter (an MC405's D_ZONE_MIN/MAX dead band, in
+    counts of error, and its POS_OFFSET/NEG_OFFSET, in output counts). A loop without
+    them (every MAXk) is linear and runs compiled and in closed form; a loop with them
+    (`ServoLoop.switched`) is stepped in Python, the only place they act, and never
+    jumps. Kept out of the kernel so that its arithmetic stays the linear filter's, and
+    out of `Gains` so that a MAXk's archived gains stay KP..KO."""
+
+    dead_band: float = 0.0  # |error| below which an idle axis's output clamps to 0
+    live_band: float = 0.0  # |error| above which the clamped output is released
+    pos_offset: float = 0.0  # added to a positive output (after the polarity)
+    neg_offset: float = 0.0  # added to a negative output (after the polarity)
+
+    @property
+    def active(self) -> bool:
+        return bool(self.dead_band or self.pos_offset or self.neg_offset)
 
 
 @dataclass(frozen=True)
@@ -402,6 +421,15 @@ class ServoLoop:
         self._fast: tuple | None = None
         # the plant's matrices and friction, by (plant, period, polarity) (a frozen plant)
         self._plant: tuple = (None, 0.0, 1, (), 0.0)
+        self.switched: SwitchedTerms | None = None  # a dead band, offsets (None: linear)
+        # counts added to the commanded position at a tick (an MC405's BACKLASH
+        # compensation, superimposed on its motion): a loop with one is stepped in Python,
+        # which alone reads it; None for every MAXk
+        self.command_offset: Callable[[int], float] | None = None
+        # the loop's counts per motor encoder count (an MC405's ENCODER_RATIO on a servo
+        # axis: its MPOS counts): p and w are in those counts; 1 for every MAXk
+        self.feedback_scale = 1.0
+        self.clamped = False  # in the dead band: the output held at 0
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -419,6 +447,20 @@ class ServoLoop:
         """The encoder counter: the count whose cell holds the position."""
         return math.floor(self.p + 0.5)
 
+    def set_feedback_scale(self, scale: float) -> None:
+        """Take a new feedback scale (see `feedback_scale`): the motor does not move, so
+        its position and speed in the loop's counts scale with it; what was solved or
+        kept for the old one is dropped."""
+        if scale == self.feedback_scale:
+            return
+        k = scale / self.feedback_scale
+        self.p *= k
+        self.w *= k
+        self.feedback_scale = scale
+        self._plant = (None, 0.0, 1, (), 0.0)
+        self._cache = None
+        self._fast = None
+
     def reset_filter(self, error: float) -> None:
         """CL1 closing an open loop: start the filter afresh (no accumulated sum, no
         derivative kick); the commanded-velocity history carries on."""
@@ -426,13 +468,13 @@ class ServoLoop:
         self.q = error
         self._cache = None
 
-    def snapshot(self) -> tuple[array, int, int | None]:
+    def snapshot(self) -> tuple[array, int, int | None, bool]:
         """The loop's state now: run it ahead, then `restore` it to go again only as far
         as something found on the way (an MC405 FE_LIMIT passed on some tick)."""
-        return array("d", self.x), self.tick, self.trip_tick
+        return array("d", self.x), self.tick, self.trip_tick, self.clamped
 
-    def restore(self, state: tuple[array, int, int | None]) -> None:
-        x, self.tick, self.trip_tick = state
+    def restore(self, state: tuple[array, int, int | None, bool]) -> None:
+        x, self.tick, self.trip_tick, self.clamped = state
         self.x[:] = x
         self._cache = None  # (solutions and stretches found from the later state)
         self._fast = None
@@ -471,17 +513,25 @@ class ServoLoop:
         plant = board.world.axes[axis.index].motor
         period = board.period
         polarity = axis.config.servo_polarity
+        scale = self.feedback_scale
+        sign = polarity if scale > 0 else -polarity  # friction's sign in drive terms
         held = self._plant
-        if held[0] is plant and held[1] == period and held[2] == polarity:
+        if held[0] is plant and held[1] == period and held[2] == sign:
             matrices, friction = held[3], held[4]
         else:  # (a frozen plant: the same object, the same matrices)
             matrices = plant.discrete(period)
-            if polarity < 0:  # SVP-: the DAC output inverted
-                a11, a12, a21, a22, b1, b2 = matrices
-                matrices = (a11, a12, a21, a22, -b1, -b2)
+            if polarity < 0 or scale != 1.0:  # SVP-: the DAC output inverted; a feedback
+                a11, a12, a21, a22, b1, b2 = matrices  # scale: the plant in its counts
+                f = polarity * scale
+                matrices = (a11, a12, a21, a22, f * b1, f * b2)
             friction = plant.coefficients()[2]
-            self._plant = (plant, period, polarity, matrices, friction)
+            self._plant = (plant, period, sign, matrices, friction)
         gains = axis.config.gains
+        if self.switched is not None or self.command_offset is not None:
+            # (a dead band or output offsets: SwitchedTerms; an offset on the command)
+            self._cache = None
+            self._scalar_python(axis, board, matrices, friction, gains, to_tick - self.tick)
+            return
         while self.tick < to_tick:
             if self.recorder is not None:
                 self._scalar(axis, board, matrices, friction, gains, to_tick - self.tick)
@@ -493,7 +543,9 @@ class ServoLoop:
     def _commanded(self, axis: ServoAxis, board: ServoHost, tick: float) -> float:
         """Commanded position (counter frame, exact float) at a tick."""
         m = axis.motion
-        base = axis.steps + axis.counter_offset
+        base: float = axis.steps + axis.counter_offset
+        if self.command_offset is not None:  # (only ever stepped in Python: see advance)
+            base += self.command_offset(int(tick))
         if m is None:
             return float(base)
         if axis.motion_end is not None and tick >= axis.motion_end:
@@ -673,6 +725,16 @@ class ServoLoop:
         self.r_prev = _poly_eval(r, j - 1) + axis.encoder_offset
         self.r_prev2 = _poly_eval(r, j - 2) + axis.encoder_offset
         self.tick = sol.tick0 + j
+        if j > 0 and "u" in sol.modal.index:  # the output of the last tick jumped over,
+            # so what reads it (an MC405's DAC_OUT) is never a tick's before the jump: the
+            # solution's u is the drive (friction taken off along the motor's way, which a
+            # jump's checks keep); no saturation (its checks keep u inside +/-DAC_LIMIT)
+            u = float(sol.outputs_per_tick(["u"], j - 1, j)["u"][0])
+            friction = self._plant[4]
+            if friction:
+                u += friction * (1.0 if self.w > 0 else -1.0) * (-1.0 if self._plant[2] < 0
+                                                                   else 1.0)
+            self.dac = u
 
     def _jump(self, axis: ServoAxis, board: ServoHost, matrices: tuple, friction: float,
               gains: Gains, n: int, wanted: int) -> bool | None:
@@ -910,6 +972,8 @@ class ServoLoop:
                 u = (kp * e + kd * (e - q) + ki * s_new + kv * v + ka * a + kf * sign_v
                      + ko)
                 s, q = s_new, e
+                if self.switched is not None:
+                    u = self._switched(axis, self.switched, tick, e, u)
             u = max(-DAC_LIMIT, min(DAC_LIMIT, u))
             dac = u
             r_prev2, r_prev = r_prev, r_abs
@@ -938,6 +1002,32 @@ class ServoLoop:
         x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC] = p, w, s, q, dac
         self.r_prev, self.r_prev2, self.stuck = r_prev, r_prev2, stuck
         self.tick = tick
+
+
+    def _switched(self, axis: ServoAxis, terms: SwitchedTerms, tick: int, e: float,
+                  u: float) -> float:
+        """The closed loop's output through the dead band and the output offsets (see
+        SwitchedTerms): clamped to 0 once the axis's motion is over and |e| fell below the dead
+        band, until |e| passes the live band or a motion runs; an offset added by the
+        sign of the output as put out (after the polarity)."""
+        running = axis.motion is not None and (axis.motion_end is None
+                                               or tick < axis.motion_end)
+        if terms.dead_band:
+            clamped = self.clamped
+            if running or (clamped and abs(e) > terms.live_band):
+                clamped = False
+            elif not clamped and abs(e) < terms.dead_band:
+                clamped = True
+            self.clamped = clamped
+            if clamped:
+                return 0.0
+        polarity = -1.0 if axis.config.servo_polarity < 0 else 1.0
+        out = u * polarity
+        if out > 0:
+            out += terms.pos_offset
+        elif out < 0:
+            out += terms.neg_offset
+        return out * polarity
 
 
 def advance_servo_axes(axes: Sequence[ServoAxis], board: ServoHost, limit: int) -> None:

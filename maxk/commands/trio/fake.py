@@ -312,6 +312,9 @@ class FakeTrioMachine:
     def frame_group(self, args: Sequence[float]) -> str:
         raise ValueError("Parameter out of range")  # (the fake has no robot frames)
 
+    def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
+        pass  # (the fake has no step output: accepted)
+
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         if input_count <= 0 or mpos_count == 0:
             raise ValueError("Parameter out of range")

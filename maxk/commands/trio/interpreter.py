@@ -214,6 +214,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
                                "HW_TIMER", *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
+_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH"})  # the axis's output stage
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1278,6 +1279,11 @@ class Interpreter:
                 raise TrioError("Syntax error")
             axis = self.axis_of(stmt.axis, ctx)
             self._act(lambda: self.machine.encoder_ratio(axis, ratio[0], ratio[1]))
+            return
+        if name in _AXIS_HARDWARE:  # STEP_RATIO, BACKLASH (never wait)
+            hardware = [self.number(a, ctx) for a in stmt.args]
+            axis = self.axis_of(stmt.axis, ctx)
+            self._act(lambda: self.machine.axis_hardware(name, axis, hardware))
             return
         if name not in _MACHINE_COMMANDS:
             values = [self.evaluate(a, ctx) for a in stmt.args]

@@ -673,7 +673,9 @@ _ENTRIES: list[Keyword] = [
           writable=False, source=f"{HELP} DAC_OUT", confidence="I",
           note="SERVO OFF: the DAC value within OUTLIMIT (0 with WDOG or AXIS_ENABLE OFF, "
           "C); SERVO ON: the closed loop's last output / 16 (the shared 16-bit output in "
-          "12-bit counts, D), times DAC_SCALE's sign. 0 on an axis without a loop (D)."),
+          "12-bit counts, D), times DAC_SCALE's sign, the output of the servo cycle before "
+          "the one read also where the loop ran in closed form (C). 0 on an axis without "
+          "a loop (D)."),
     _axis("DAC_SCALE", "Multiplier of the closed loop's output (its sign: polarity).",
           default=1, value_range=(-16, 16), source=f"{HELP} DAC_SCALE", confidence="I",
           note="Power-up 1 (MC405, C). The gains act times |DAC_SCALE| (integer part) and "
@@ -690,6 +692,26 @@ _ENTRIES: list[Keyword] = [
             note=f"Another name of {same}: reads and writes {same} itself.")
       for name, same in (("S_REF", "DAC"), ("T_REF", "DAC"), ("S_REF_OUT", "DAC_OUT"),
                          ("T_REF_OUT", "DAC_OUT"))],
+    *[_axis(name, summary, source=f"{HELP} {name}", confidence="I", note=note)
+      for name, summary, note in (
+          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.",
+           "Once the axis's motion is over and |following error| is below it, the closed "
+           "loop's output is 0 (C) until the error passes D_ZONE_MAX or a motion starts "
+           "(C), decided every servo cycle on the loop's own error. In user units of "
+           "following error, as FE (x UNITS: counts, D). While it or an offset is set the "
+           "shared loop is stepped cycle by cycle (the filter is no longer linear). 0 "
+           "(power-up): no dead band."),
+          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.",
+           "See D_ZONE_MIN. Below D_ZONE_MIN it is taken as D_ZONE_MIN (D)."),
+          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.",
+           "Added to the closed loop's output on each servo cycle it is positive, after "
+           "DAC_SCALE (C): in the MC405's DAC counts (x16 on the shared output, as DAC, D); "
+           "DAC_OUT shows it; the open-loop DAC is not offset (D). Stepped cycle by cycle "
+           "as D_ZONE_MIN."),
+          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.",
+           "As POS_OFFSET on each cycle the output is negative (the page: a negative "
+           "value; any value is taken, D)."),
+      )],
     _axis("FE_LIMIT_MODE", "1: FE_LIMIT must be exceeded on two servo cycles in a row.",
           value_range=(0, 1), source=f"{HELP} FE_LIMIT_MODE", confidence="C",
           note="0 (power-up): AXISSTATUS bit 8 on the first cycle |FE| passes FE_LIMIT; 1: "
@@ -721,40 +743,52 @@ _ENTRIES: list[Keyword] = [
              "changes (DEFPOS's offset takes the difference, D). Whole numbers up to "
              "16777215, input_count above 0, mpos_count not 0 (negative reverses the "
              "axis, C), else 'Parameter out of range'; no arguments: 1:1 (D); 1 or 3 "
-             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis the ratio is "
-             "kept but the shared servo loop's feedback is not scaled (not modelled: the "
-             "loop runs in the motor encoder's counts)."),
+             "arguments: 'Syntax error' (D). Power-up 1:1. On a servo axis MPOS counts the "
+             "ratio x the motor encoder's edges and the loop closes on MPOS, its gains per "
+             "MPOS count (C: 'affects all motion commands', the gains to adjust): the "
+             "shared loop runs in MPOS counts; a change at rest keeps the motor, DPOS and "
+             "MPOS (to half a count: DEFPOS's offset takes it up, D) and is refused with "
+             "'Parameter out of range' while the axis moves (D)."),
     _axis("PP_STEP", "An integer multiplier on the encoder value: an encoder input's MPOS "
           "counts PP_STEP x ENCODER_RATIO x its encoder's counts (UNITS then divides).",
           default=1.0, source=f"{HELP} PP_STEP; {TOK}", confidence="I",
           note="A whole number in the page's recommended -1024..1023, not 0 (D), else "
           "'Parameter out of range'; MPOS keeps its value at the change, as for "
-          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it is kept but the shared "
-          "servo loop's feedback is not scaled (not modelled: the loop runs in the motor "
-          "encoder's counts, as ENCODER_RATIO)."),
+          "ENCODER_RATIO (D). Power-up 1 (C). On a servo axis it scales the loop's "
+          "feedback as ENCODER_RATIO does (I: the page's note on servo gains)."),
     _axis("AXIS_MODE", "Feature bits of the axis (its page's table); bit 14 ignores the "
           "software limits, bit 8 compares DPOS with them.", source=f"{HELP} AXIS_MODE; {TOK}",
           confidence="I",
           note="Bit 14: FS_LIMIT/RS_LIMIT neither stop a move nor set AXISSTATUS bits 9/10 "
-          "while it is set (C; axismode.py). Bit 8: the limits are always compared with "
-          "DPOS (exact to the tick); clear, the page compares MPOS, which differs only on a "
-          "servo axis by its following error (not modelled, D). Stored, no effect (D): bits "
-          "1, 3 and 17 (limits stop only an axis's own buffered moves here: a CONNECT or "
-          "an ADDAX is never stopped by them, so neither the cancel nor the ratio 0 shows), "
+          "while it is set (C; axismode.py). Bit 8 set: the limits are compared with DPOS "
+          "(exact to the tick, C); clear (power-up): with MPOS (C), which differs only on "
+          "a servo axis: its loop's measured position is watched on every servo cycle of "
+          "its own move, the move ramps down (FASTDEC/DECEL) from the cycle MPOS reaches "
+          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Stored, no effect (D): bits "
+          "1, 3 and 17 (what they change is how a limit acts on a CONNECT or an ADDAX, and "
+          "limits stop only an axis's own buffered moves here: a linked axis's demand is "
+          "never stopped by them, so neither the cancel nor the ratio 0 can show), "
           "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
           "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
           "no rule for what they change in the following error), 10 (no robot jog), 11 "
           "(a move's end is fixed when it is buffered), 12 (the page gives no rule for the "
           "shortest way) and 16 (an inverted motor is the world's wiring)."),
-    *[_axis(name, summary, confidence="D", source=f"{HELP} {name}", note="Not modelled: "
-            "a delay line on DPOS needs each axis's demand of N servo cycles ago, which the "
-            "shared machine does not keep: it plans each move and link in closed form "
-            "between events and lets a plan go when it ends, so a delayed DPOS could not be "
-            "exact to the tick across a move's end or a link's start (stored).")
-      for name, summary in (
-          ("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
-           "newest and the delayed value."),
-          ("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles."))],
+    _axis("POSI_SEQ_MODE", "The delay filter on DPOS: 0 off, 1 delay, 2 the mean of the "
+          "newest and the delayed value.", value_range=(0, 2),
+          source=f"{HELP} POSI_SEQ_MODE", confidence="I",
+          note="1: the axis puts out its demand of POSI_SEQ_DELAY servo cycles ago, 2: the "
+          "mean of that and the newest (C); not delayed until the buffer is full (C). The "
+          "demand of every cycle is kept while it is on (bounded: the delay + 1 values, "
+          "posiseq.py), so the output is exact to the tick. DPOS reads the output (C: "
+          "'overwrite demand position'), as do MPOS of an axis without a servo loop, a "
+          "stepper's world motor and a servo axis's loop (its command, I); moves and "
+          "links plan from the undelayed demand, and a limit switch is found where the "
+          "undelayed demand meets it (D). The buffer restarts when the mode or the delay "
+          "is written (D). Power-up 0 (C)."),
+    _axis("POSI_SEQ_DELAY", "The delay of POSI_SEQ_MODE's filter, servo cycles.",
+          value_range=(0, 10000), source=f"{HELP} POSI_SEQ_DELAY", confidence="I",
+          note="Whole servo cycles (a fraction is cut, D), 0..10000 (D: a bound on the "
+          "buffer), else 'Parameter out of range'; 0 delays nothing. Power-up 0 (C)."),
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "
@@ -771,11 +805,6 @@ _ENTRIES: list[Keyword] = [
            20000.0, "it bounds DRIVE_FE, the error a fieldbus (EtherCAT) drive reports; the "
            "world has no remote drive, so DRIVE_FE is never reported (the controller's own "
            "FE_LIMIT acts). Power-up 20000 (C)."),
-          ("D_ZONE_MIN", "DAC dead band: the output clamped to 0 at rest below it.", True, 0.0,
-           "a dead band is a switch inside the servo filter; the shared filter (whose "
-           "closed-form stretches assume a linear loop) has none (stored)."),
-          ("D_ZONE_MAX", "DAC dead band: the loop acts again above it.", True, 0.0,
-           "see D_ZONE_MIN (stored)."),
           ("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.", True, 0.0,
            "absolute encoders only; the world's encoders are incremental (stored)."),
           ("ENCODER_CONTROL", "EnDat encoder mode: 0 position, 1 parameter read/write.", True,
@@ -794,17 +823,12 @@ _ENTRIES: list[Keyword] = [
           ("PS_ENCODER", "Raw copy of the hardware position-switch encoder.", False, 0.0,
            "the hardware position switch (HW_PSWITCH) is not modelled: reads 0."),
           ("INVERT_STEP", "Rising (ON) or falling step edge active.", True, 0.0,
-           "the world's stepper turns on whole steps, not on pulse edges: the edge is "
-           "invisible to it (stored)."),
+           "the world's stepper turns on whole steps, not on pulse edges; the only effect "
+           "the manual gives (a step lost at a reversal when the setting does not match "
+           "the drive, 'may') depends on the drive's active edge, which the world does "
+           "not describe (stored)."),
           ("MICROSTEP", "Discontinued.", True, 0.0, "a reserved, discontinued word (help "
            "MICROSTEP): stored."),
-          ("BACKLASH_DIST", "The backlash compensation being applied.", True, 0.0,
-           "BACKLASH is not modelled: reads what was written."),
-          ("POS_OFFSET", "Piezo DAC offset while the loop demands a positive output.", True,
-           0.0, "an offset inside the servo filter's output; the shared filter has none "
-           "(stored)."),
-          ("NEG_OFFSET", "Piezo DAC offset while the loop demands a negative output.", True,
-           0.0, "see POS_OFFSET (stored)."),
           ("PLM_OFFSET", "SLM/PLM motor encoder offset.", True, 0.0,
            "SLM interface only; the MC405 has no SLM (see DLINK; stored)."),
           ("AXIS_ERROR_COUNT", "Communication errors counted on a digital axis.", True, 0.0,
@@ -821,22 +845,18 @@ _ENTRIES: list[Keyword] = [
     *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
-          ("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand count.",
-           (0, 3), "the world takes a stepper's demand counts as its motor's steps "
-           "everywhere (limits, index marks, shaft encoders); the shared machine carries "
-           "no ratio between them (accepted, no effect)."),
           ("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
            "y_axis, y_div, y_dist, y_offset): a 2D TABLE correction superimposed on the "
            "axis's motion.", (10, 10), "the correction follows the axes' measured "
            "positions every servo cycle (interpolated in a TABLE grid), a feedback the "
            "shared machine's closed-form demand between events has no place for; as "
            "BACKLASH (accepted, no effect)."),
-          ("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
-           "moves.", (1, 4), "the compensation move superimposed after each reversal of "
-           "DPOS is not in the shared machine (accepted, no effect)."),
           ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
-           "the shared servo loop drives one motor from one filter; summing two filters "
-           "onto one motor is not in it (accepted, no effect)."),
+           "the page's use (dual feedback: a measuring wheel's loop summed onto the motor's "
+           "output) needs two loops solved together on one world motor, each reading its "
+           "own encoder of it; the shared servo loop drives one motor from one filter, and "
+           "a second loop on an encoder input has no motor of its own (accepted, no "
+           "effect)."),
           ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
            "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
            "parameters UNITS scales is not listed on the page (the VRs are not written)."),
@@ -845,6 +865,38 @@ _ENTRIES: list[Keyword] = [
           ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
            "'Reserved Keyword'): accepted, no effect, returns 0."),
       )],
+    # ---- a stepper's output stage (issue 35: stepratio.py, backlash.py) ------------------
+    _command("STEP_RATIO", "STEP_RATIO(output_count, dpos_count): steps out per demand "
+             "count.", (0, 3), axis=True, source=f"{HELP} STEP_RATIO; {TOK}", confidence="I",
+             note="The axis's world motor turns demand counts x output_count / dpos_count "
+             "steps: its limit switches (found to the tick) and the encoder the world mounts "
+             "on its shaft see that (C); DPOS, UNITS and moves are unchanged (C). The world's "
+             "steps are the step generator's counts: the page's divide by 16 is not applied "
+             "(D). A change leaves the motor where it is (D). Whole counts 0..16777215, "
+             "dpos_count above 0, else 'Parameter out of range'; no arguments: 1:1, one or "
+             "three: 'Syntax error' (D). Power-up 1:1. Not on a servo axis's loop (the "
+             "shared loop runs in the motor encoder's counts) nor the Z mark searches (D)."),
+    _command("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
+             "moves.", (1, 4), axis=True, source=f"{HELP} BACKLASH; {TOK}", confidence="I",
+             note="After each reversal of the axis's own motion (a move, a path, a stop; "
+             "the plan's direction changes, exact to the instant) a trapezoidal move at "
+             "speed and accel (user units) takes the compensation to +distance going "
+             "forward, 0 in reverse, superimposed on the output (C: page); a reversal "
+             "during one starts the next from there, from rest (D). The first motion after "
+             "ON counts when it goes forward (D: the page's example). MPOS of an axis "
+             "without a servo loop reads DPOS + BACKLASH_DIST, a stepper's world motor (its "
+             "switches, a shaft encoder) turns it, a servo axis's loop takes it in its "
+             "command (MPOS moves by it, FE stays the loop's error, I; the loop is then "
+             "stepped cycle by cycle) (C); DPOS never does. Values not given "
+             "keep the last ones (power-up 0, D); speed or accel 0: at once (D); OFF takes "
+             "it back to 0 at its speed (D); a negative speed or accel is 'Parameter out "
+             "of range'. Left out (D): reversals of a linked axis (CONNECT, CAMBOX ...) "
+             "and the compensation in the limit search."),
+    _axis("BACKLASH_DIST", "The backlash compensation being applied, user units.",
+          writable=False, source=f"{HELP} BACKLASH_DIST; {HELP} BACKLASH", confidence="I",
+          note="BACKLASH's compensation at the servo tick it is read (exact: the "
+          "compensation move is closed form). Read only (D: the page gives it as what "
+          "is applied). 0 with no BACKLASH."),
     _command("DLINK", "DLINK(function, ...): the SLM digital drive interface (2, 3: is an "
              "SLM module / drive there; 4: assign an axis; 5, 8, 10: read; 6, 7: write; 9: "
              "slot and channel of an axis).", (2, 5), source=f"{HELP} DLINK; {TOK}",

@@ -199,6 +199,10 @@ class TrioMachine(Protocol):
         robot frame group; with the group alone, the line it prints."""
         ...
 
+    def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """STEP_RATIO(...) or BACKLASH(...) AXIS(axis): the axis's step output."""
+        ...
+
     def encoder_ratio(self, axis: int, mpos_count: float, input_count: float) -> None:
         """ENCODER_RATIO(mpos_count, input_count): MPOS counts per encoder count."""
         ...

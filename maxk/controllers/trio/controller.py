@@ -443,8 +443,9 @@ class MC405WorldView(WorldView):
     def reading(self, name: str) -> AxisReading:
         i = self.index(name)
         machine = self.machine
-        now = machine.motor(i)  # (the motor: with a FRAME on, not DPOS)
-        ahead = float(machine.motor_counts(i, np.array([machine.tick + 1]))[0])
+        # the world's motor: a FRAME's motor demand, STEP_RATIO, BACKLASH, POSI_SEQ
+        now = machine.motor_steps(i)
+        ahead = float(machine.motor_steps_at(i, np.array([machine.tick + 1]))[0])
         idle = machine.axis_idle(i)
         return AxisReading(str(i), math.floor(now + 1e-9), None,
                            (ahead - now) * machine.update_rate_hz, idle, not idle)

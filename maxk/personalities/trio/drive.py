@@ -44,9 +44,10 @@ import numpy as np
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
-from .axismode import soft_limits
+from .axismode import compared_position, mpos_compared, soft_limits
 from .following import SERVO_ATYPES, Following, MotorHost
 from .runs import Run, TrioAxis
+from .stepratio import demand_for
 
 
 class _Encoders(Protocol):
@@ -147,7 +148,7 @@ class Drive:
             wired = params[name]
             if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
                 bits |= bit
-        dpos, (fs, rs) = m.dpos(axis), soft_limits(params)  # (AXIS_MODE bit 14)
+        dpos, (fs, rs) = compared_position(self, axis), soft_limits(params)  # (bits 8, 14)
         if dpos > fs:
             bits |= FWD_SOFT
         if dpos < rs:
@@ -215,7 +216,7 @@ class Drive:
         wired = params["FWD_IN" if direction > 0 else "REV_IN"]
         if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
             return True
-        dpos, (fs, rs) = (a.steps + a.datum) / a.units, soft_limits(params)
+        dpos, (fs, rs) = compared_position(self, axis), soft_limits(params)  # (AXIS_MODE)
         return dpos > fs if direction > 0 else dpos < rs
 
     def datum(self, axis: int, mode: int) -> None:
@@ -275,10 +276,9 @@ class Drive:
             stage = m.world.axes[axis.index]  # (a joint in a FRAME: frames.py finds it)
             switch = stage.plus_limit if side > 0 else stage.minus_limit
             edge = _edge(switch, side)
-            if edge is not None:
-                found.append(edge + stage.lost_steps)
+            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
         soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
-        if abs(soft) < 2.0 ** 62:
+        if abs(soft) < 2.0 ** 62 and not mpos_compared(params, a.servo is not None):
             found.append(math.ceil(soft) if side > 0 else math.floor(soft))
         reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
         found = [edge for edge in found if side * (edge - axis.steps) <= reach]

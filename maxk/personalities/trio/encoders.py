@@ -13,12 +13,18 @@
   goes back to 1:1 at power-up with the others.
 - PP_STEP (help PP_STEP) is an integer multiplier on the same encoder value: MPOS counts
   = ENCODER_RATIO x PP_STEP x the input's counts; UNITS then divides as for any axis.
+- On a servo axis the same product scales the loop's feedback: the shared loop runs in
+  MPOS counts (its feedback scale, `ServoLoop.feedback_scale`), so the loop closes on
+  MPOS as the page says ("affects all motion commands"; the gains act per MPOS count).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Protocol
+
+from maxk.firmware_model.servo import ServoLoop
 
 from .runs import TrioAxis
 
@@ -62,12 +68,42 @@ def set_ratio(params: dict[str, float], mpos_count: float, input_count: float) -
     params[DENOMINATOR] = float(input_count)
 
 
+def servo_rescale(a: TrioAxis, change: Callable[[dict[str, float]], None]) -> None:
+    """ENCODER_RATIO (or PP_STEP) on a servo axis: its loop runs in MPOS counts (the
+    shared loop's feedback scale), so the new ratio rescales the loop's position while
+    the motor stays where it is; the demand moves with it by whole counts (the following
+    error changes by less than a count) and DEFPOS's offset takes both up, so DPOS keeps
+    its value and MPOS its value to within half a count (exactly, for a whole ratio: D).
+    Refused with 'Parameter out of range' while the axis moves (D: a step of its frame
+    mid-move)."""
+    loop = a.servo
+    assert loop is not None
+    if a.motion is not None or a.link is not None:
+        raise ValueError("Parameter out of range")
+    change(a.params)
+    before, p = measured(loop), loop.p
+    loop.set_feedback_scale(ratio(a.params))
+    moved = round(measured(loop) - before)
+    a.steps += moved
+    a.datum -= moved
+    loop.counters_moved(moved, loop.p - p)
+
+
+def measured(loop: ServoLoop) -> float:
+    """A servo axis's MPOS counts (DEFPOS not applied): its encoder's whole edges times
+    ENCODER_RATIO (the loop's feedback scale)."""
+    scale = loop.feedback_scale
+    if scale == 1.0:
+        return float(loop.encoder_counts())
+    return scale * math.floor(loop.p / scale + 0.5)
+
+
 def encoder(machine: EncoderHost, axis: int) -> float:
     """ENCODER: the raw register (see the module docstring)."""
     a = machine.axes[axis]
     loop = a.servo
-    if loop is not None:
-        counts = float(loop.encoder_counts())
+    if loop is not None:  # (its counts are MPOS counts: ENCODER_RATIO's edges back)
+        counts = float(math.floor(loop.p / loop.feedback_scale + 0.5))
     else:
         raw = machine.raw_encoder(axis)
         counts = math.floor((machine.motor(axis) if raw is None else raw) + 0.5)
@@ -87,5 +123,5 @@ def endat(name: str, args: list[float]) -> float:
     return -1.0 if name == "ENCODER_READ" else 0.0
 
 
-__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "endat", "ratio", "set_pp_step",
-           "set_ratio"]
+__all__ = ["DENOMINATOR", "NUMERATOR", "encoder", "endat", "measured", "ratio",
+           "servo_rescale", "set_pp_step", "set_ratio"]

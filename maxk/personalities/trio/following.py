@@ -38,9 +38,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Protocol
 
-from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop
+from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
+from . import encoders
+from .axismode import first_reached, mpos_bounds, mpos_compared
 from .runs import ServoGains, TrioAxis
 
 
@@ -87,6 +89,18 @@ def gains_of(params: dict[str, float], open_output: float = 0.0,
                  ko=open_output)
 
 
+def switched(params: dict[str, float]) -> SwitchedTerms | None:
+    """D_ZONE_MIN/D_ZONE_MAX (user units of following error, as FE: counts x UNITS, D)
+    and POS_OFFSET/NEG_OFFSET (MC405 DAC counts, as DAC: x DAC_STEP on the shared
+    output) as the shared filter's switched terms (help D_ZONE_MIN, POS_OFFSET); None
+    when all are 0 (the linear loop, compiled and in closed form)."""
+    units = abs(params["UNITS"])
+    dead = max(0.0, params["D_ZONE_MIN"]) * units
+    terms = SwitchedTerms(dead, max(dead, params["D_ZONE_MAX"] * units),
+                          params["POS_OFFSET"] * DAC_STEP, params["NEG_OFFSET"] * DAC_STEP)
+    return terms if terms.active else None
+
+
 def polarity(params: dict[str, float]) -> int:
     """DAC_SCALE's sign: a negative one inverts the closed loop's output."""
     return -1 if params["DAC_SCALE"] < 0 else 1
@@ -100,7 +114,12 @@ class Following:
         self.m = machine
         self.enabled = enabled  # is the axis's drive enabled (the loop closed)?
         self.in_error = in_error  # is the axis in motion error (FE no longer watched)?
+        # axis -> what the machine adds to a loop's command at a tick (BACKLASH's
+        # compensation, a POSI_SEQ delay: `MC405Machine.command_offset`), None: nothing
+        self.command: Callable[[int], Callable[[int], float] | None] = lambda axis: None
         self.over: list[int] = []  # axes whose following error stopped the last stretch
+        self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
+        # (AXIS_MODE bit 8 clear) that stopped the last stretch
         self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
         self.driven: set[int] = set()  # axes an open-loop output gave a loop (kept, D)
 
@@ -153,6 +172,10 @@ class Following:
             if loop is None:
                 loop = a.servo = ServoLoop(m.motor(i), m.tick)
                 loop.closed = False
+                loop.feedback_scale = encoders.ratio(a.params)  # (MPOS counts: p is)
+            terms = switched(a.params)
+            if loop.switched != terms:
+                loop.switched, loop.clamped = terms, False
             enabled = self.enabled(i)
             if enabled and not loop.closed:
                 self._close(a, loop)
@@ -183,12 +206,16 @@ class Following:
     def measured(self, axis: int) -> float | None:
         """MPOS in counts without DEFPOS (None: not a servo, MPOS = DPOS)."""
         loop = self.m.axes[axis].servo
-        return None if loop is None else float(loop.encoder_counts())
+        return None if loop is None else encoders.measured(loop)  # (ENCODER_RATIO)
 
     def error_counts(self, axis: int) -> float:
         """FE in counts: demand - encoder (0 for a profile-only axis)."""
         measured = self.measured(axis)
-        return 0.0 if measured is None else self.m.motor(axis) - measured
+        if measured is None:
+            return 0.0  # (the loop's own error: BACKLASH's compensation is in its command)
+        offset = self.command(axis)
+        comp = 0.0 if offset is None else offset(self.m.tick)
+        return self.m.motor(axis) + comp - measured
 
     def open_error(self, axis: int) -> float:
         """Demand less encoder, counts, while the axis's loop is open (0 otherwise): DPOS
@@ -218,10 +245,12 @@ class Following:
             return None
         free = [a for a in servos if a.link is None and not m.framed(a.index)]
         watched = {a.index for a in free if self._watched(a)}
+        soft = {a.index for a in free if self._soft_watched(a)}  # (AXIS_MODE bit 8 clear)
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
-                 if a.servo is not None} if watched else {}
+                 if a.servo is not None} if watched or soft else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
         errors: dict[int, float] = {}  # axis -> its FE (counts) on that tick
+        reached: dict[int, tuple[int, int]] = {}  # axis -> (tick, side) MPOS met a limit
         for a in servos:
             loop = a.servo
             assert loop is not None
@@ -231,21 +260,33 @@ class Following:
                 loop.p, loop.w, loop.tick = m.motor(a.index, framed), 0.0, limit
                 continue
             before = loop.q  # the error of the cycle before the stretch
-            if a.index in watched:
+            start = encoders.measured(loop)
+            loop.command_offset = self.command(a.index)  # (BACKLASH, POSI_SEQ)
+            if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
             passed = self._first_over(a, loop, before) if a.index in watched else None
             over = None if passed is None else passed[0]
+            if a.index in soft and loop.recorder:  # (each sample: the state before its
+                # tick's step; the stretch's last state is the loop's now)
+                eo = a.encoder_offset
+                positions = [(int(x[0]), x[2] - eo) for x in loop.recorder[1:]]
+                positions.append((loop.tick, loop.p))
+                meets = first_reached(positions, mpos_bounds(a.params, a.units, a.datum),
+                                      loop.feedback_scale, start)
+                if meets is not None:
+                    reached[a.index] = meets
             loop.recorder = None
             ticks = [t for t in (over, loop.trip_tick) if t is not None]
             if ticks:
                 found[a.index] = min(ticks)
             if passed is not None and over == found[a.index]:
                 errors[a.index] = passed[1]
-        if not found:
+        if not found and not reached:
             return None
-        first = min(found.values())
+        first = min([*found.values(), *(tick for tick, _side in reached.values())])
         self.over = [axis for axis, tick in found.items() if tick == first]
+        self.soft = {axis: side for axis, (tick, side) in reached.items() if tick == first}
         if first < limit and saved:  # run the loops again, only as far as the error
             for a in free:
                 loop = a.servo
@@ -264,6 +305,15 @@ class Following:
         return (loop.closed and not loop.tripped and a.link is None
                 and not self.in_error(a.index)
                 and int(a.params["ERRORMASK"]) & FE_EXCEEDED != 0)
+
+    def _soft_watched(self, a: TrioAxis) -> bool:
+        """Is the axis's MPOS compared with its software limits on every cycle now (a
+        servo axis with AXIS_MODE bit 8 clear, closed loop, on its own motion; a limit it
+        is beyond already is not watched, `first_reached`)?"""
+        loop = a.servo
+        assert loop is not None
+        return (loop.closed and not loop.tripped and a.link is None and a.motion is not None
+                and not self.in_error(a.index) and mpos_compared(a.params, True))
 
     @staticmethod
     def _first_over(a: TrioAxis, loop: ServoLoop, before: float) -> tuple[int, float] | None:

@@ -34,7 +34,8 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import encoders, geometry, move_pa, moves, sequences, tangential
+from . import axismode, encoders, geometry, move_pa, moves, sequences, stepratio, tangential
+from .backlash import Backlash
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
@@ -46,6 +47,7 @@ from .kinematics import Kinematics
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .move_pa import MovePa
+from .posiseq import DelayLine
 from .profiles_sp import (
     DIRECTIONS,
     VP_MODES,
@@ -98,7 +100,8 @@ _PWM_PARAMETERS = frozenset({"PWM_CYCLE", "PWM_MARK", "PWM_ENCODER"})
 # encoder inputs, 104/105 high density): their MPOS (and DPOS, which follows it: I) is
 # the encoder the world mounts on their input.
 ENCODER_ATYPES = frozenset({76, 79, 86, 87, 88, 93, 104, 105})
-_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POINTER"})
+_COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POINTER",
+                       "BACKLASH_DIST"})
 DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
 """Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
 _JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
@@ -125,6 +128,7 @@ class MC405Machine(Kinematics, Engine):
         self._power_up()
         self.outputs = PwmLinks(self)
         self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
+        self.drive.following.command = self.command_offset  # (in a servo loop's command)
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
@@ -135,6 +139,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
         self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
+        self.add_source(self.posiseq)  # POSI_SEQ delay lines: every cycle while on (last)
 
     def _power_up(self) -> None:
         """Parameters, motion, PWM, TABLE and VR as at power-up (time goes on)."""
@@ -148,6 +153,16 @@ class MC405Machine(Kinematics, Engine):
         self.vr = VrMemory()
         self.digital_outputs: dict[int, bool] = {}  # OP(n, ON): off at power-up
         self.inverted_inputs: set[int] = set()  # INVERT_IN(n, ON): none at power-up (D)
+        if hasattr(self, "backlash"):
+            self.backlash.reset()
+        else:
+            self.backlash: Backlash = Backlash(self._axis_count)  # BACKLASH (backlash.py)
+        if hasattr(self, "posiseq"):
+            self.posiseq.reset()
+        else:
+            self.posiseq: DelayLine = DelayLine(
+                self._axis_count, lambda: self.tick, lambda axis: self.axes[axis].params,
+                self.demand_counts, lambda: self.revision)
         if hasattr(self, "links"):
             self.links.reset()
         else:
@@ -237,6 +252,7 @@ class MC405Machine(Kinematics, Engine):
             return False
         self.tick = max(self.tick, stop)
         self.drive.following_error()
+        axismode.stop_where_mpos_met(self)  # (a servo axis's MPOS met a software limit)
         return True
 
     def after_events(self, now: int) -> None:
@@ -287,10 +303,19 @@ class MC405Machine(Kinematics, Engine):
                 value = float(int(value) | FEEDHOLD)  # bit 7 (h), feedhold.py
             if name == "AXISSTATUS":
                 value = float(int(value) | self.frames.status_bits(axis))  # frames.py
+            if name == "MPOS":  # BACKLASH's compensation, a POSI_SEQ delay (on a servo
+                # axis in its loop's command: FE, the loop's error, takes them back out)
+                value += (self.compensation(axis) + self.output_counts(axis)
+                          - self.motor(axis)) / self.axes[axis].units
             return self.wrapped(axis, value) if name == "MPOS" else value
+        if name == "BACKLASH_DIST":
+            return self.compensation(axis) / self.axes[axis].units
         if name == "DPOS":  # (= MPOS while a servo's loop is open: help DPOS)
             open_error = self.drive.following.open_error(axis) / self.axes[axis].units
-            return self.wrapped(axis, self.dpos(axis) - open_error)
+            a = self.axes[axis]
+            dpos = ((self.output_counts(axis) + a.datum) / a.units if axis in self.posiseq.lines
+                    else self.dpos(axis))  # (a POSI_SEQ delay: posiseq.py)
+            return self.wrapped(axis, dpos - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
         if name == "TANG_DIRECTION":
@@ -459,7 +484,7 @@ class MC405Machine(Kinematics, Engine):
                 if params.get(name, -1) == number:
                     wired = True
                     stage = self.world.axes[i]
-                    if getattr(stage, switch).active(self.motor(i) - stage.lost_steps):
+                    if getattr(stage, switch).active(self.motor_steps(i) - stage.lost_steps):
                         return False  # the normally closed switch has opened
         return wired
 
@@ -491,8 +516,13 @@ class MC405Machine(Kinematics, Engine):
                                                                       input_count))
 
     def _rescale_encoder(self, axis: int, change: Callable[[dict[str, float]], None]) -> None:
-        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D)."""
+        """ENCODER_RATIO or PP_STEP changed: MPOS keeps its value (DEFPOS takes it up, D).
+        On a servo axis the loop runs in MPOS counts (encoders.servo_rescale)."""
         a = self.axes[axis]
+        if a.servo is not None:
+            encoders.servo_rescale(a, change)
+            self.changed()
+            return
         before = self.encoder_counts(axis)
         change(a.params)
         after = self.encoder_counts(axis)
@@ -508,7 +538,60 @@ class MC405Machine(Kinematics, Engine):
             return None
         if not 0 <= mount.motor < self.axis_count:
             return None
-        return mount.counts(self.motor(mount.motor) - self.world.axes[mount.motor].lost_steps)
+        return mount.counts(self.motor_steps(mount.motor)
+                            - self.world.axes[mount.motor].lost_steps)
+
+    def motor_steps_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """Where the axis's world motor is at `ticks` (its steps before the stage's lost
+        steps): the demand, with BACKLASH's compensation, through STEP_RATIO."""
+        counts = self.output_counts_at(axis, ticks)
+        comp = self.backlash.counts(axis, ticks, self.period)
+        if comp is not None:
+            counts = counts + comp
+        return stepratio.motor(self.axes[axis].params, counts)
+
+    def output_counts_at(self, axis: int, ticks: np.ndarray) -> np.ndarray:
+        """The demand the axis puts out: its motor demand (a FRAME's inverse transform)
+        through its POSI_SEQ delay line (posiseq.py)."""
+        return self.posiseq.delayed(axis, ticks, self.motor_counts(axis, ticks))
+
+    def output_counts(self, axis: int) -> float:
+        return float(self.output_counts_at(axis, self._now())[0])
+
+    def motor_steps(self, axis: int) -> float:
+        return float(self.motor_steps_at(axis, self._now())[0])
+
+    def command_offset(self, axis: int) -> Callable[[int], float] | None:
+        """What a servo loop adds to its command at a tick: BACKLASH's compensation and
+        the POSI_SEQ delay line's shift of the demand (None: neither, the loop runs
+        compiled and in closed form)."""
+        comp = self.backlash.offset(axis, self.period)
+        if axis not in self.posiseq.lines:
+            return comp
+
+        def offset(tick: int) -> float:
+            ticks = np.array([tick])
+            demand = self.demand_counts(axis, ticks)
+            shift = float(self.posiseq.delayed(axis, ticks, demand)[0] - demand[0])
+            return shift + (0.0 if comp is None else comp(tick))
+
+        return offset
+
+    def compensation(self, axis: int) -> float:
+        """BACKLASH's compensation on the axis now, counts."""
+        comp = self.backlash.counts(axis, self._now(), self.period)
+        return 0.0 if comp is None else float(comp[0])
+
+    def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
+        """STEP_RATIO(output_count, dpos_count) or BACKLASH(enable, ...) on an axis."""
+        a = self.axes[axis]
+        if name == "STEP_RATIO":
+            stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
+        elif name == "BACKLASH":
+            self.backlash.command(axis, args, a.units, self.tick * self.period)
+        else:
+            raise ValueError("Syntax error")
+        self.changed()
 
     def input_inverted(self, number: int) -> bool:
         return number in self.inverted_inputs
@@ -863,6 +946,7 @@ class MC405Machine(Kinematics, Engine):
                 run.deltas[0][0], run.speeds[0], run.accels[0], run.decel, run.sramp,
                 run.jerk)
             axis.begin(run.profile, self)
+            self.backlash.began(run.base, run.profile, now * self.period)
             run.end_tick = (axis.motion_end if axis.motion_end is not None else now) \
                 + self._dwell_ticks(run)
             return
@@ -881,6 +965,8 @@ class MC405Machine(Kinematics, Engine):
             axis = self.axes[a]
             axis.steps = axis.steps_at_tick(now, self.period)
             axis.begin(run.motion_for(plan, k, axis.steps), self)
+            if axis.motion is not None:
+                self.backlash.began(a, axis.motion, now * self.period)
 
     def _dwell_ticks(self, run: Run) -> int:
         """FORCE_DWELL's wait after the run's last move, whole servo ticks (D: rounded
@@ -900,6 +986,7 @@ class MC405Machine(Kinematics, Engine):
                                        run.decel if decel is None else decel, SHAPE)
             run.start_tick = self.tick
             axis.begin(run.profile, self)
+            self.backlash.began(run.base, run.profile, self.tick * self.period)
             run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
             run.deltas = run.deltas[:1]
             return

@@ -347,7 +347,7 @@ class Registration:
         m = self.m
         mount = m.world.encoders.get(axis)
         if mount is not None and m.encoder_counts(axis) is not None:
-            motor = float(m.demand_counts(mount.motor, np.array([tick]))[0])
+            motor = float(m.motor_steps_at(mount.motor, np.array([tick]))[0])
             return float(mount.counts(motor - m.world.axes[mount.motor].lost_steps))
         return float(m.demand_counts(axis, np.array([tick]))[0])
 
