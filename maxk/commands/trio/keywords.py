@@ -323,7 +323,17 @@ _ENTRIES: list[Keyword] = [
              "Follows the link axis's demand position (D). A second CONNECT on the same link "
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "
-             "a move. CLUTCH_RATE is not modelled. MTYPE 21."),
+             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21."),
+    _axis("CLUTCH_RATE", "The rate (ratio per second) a running CONNECT changes its ratio "
+          "at.", source=f"{TOK}; {HELP} (CLUTCH_RATE, CONNECT pages)", confidence="C",
+          default=1e6,
+          note="A second CONNECT on the same link axis moves the ratio towards the new one "
+          "by CLUTCH_RATE x the servo period each servo cycle (the k-th cycle after it at "
+          "old + k x step, capped: D), the axis moving that cycle's ratio x the link's "
+          "demand change (clutch.py); the default 1,000,000 takes any change under 1000 "
+          "at once (C). A fresh CONNECT takes its ratio at once (C: the CONNECT page's "
+          "example connects at 0 first to avoid the step). The rate is read every cycle "
+          "(D); negative: 'Parameter out of range' (D)."),
     _command("ADDAX", "ADDAX(axis): add that axis's demand movements to the base axis's "
              "own; ADDAX(-1) ends it.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
              confidence="I", note="Count for count from when it is given (I); after "
@@ -1289,8 +1299,7 @@ _ENTRIES: list[Keyword] = [
              "exactly enough to be exact to the servo tick; it also follows the conveyor "
              "in the robot's USER_FRAME, which is not modelled (D)."),
     *[_axis(name, summary, writable=writable, source=f"{TOK}; {HELP} ({name} page)",
-            confidence="D", note="Not modelled: " + why,
-            default=1e6 if name == "CLUTCH_RATE" else 0.0)
+            confidence="D", note="Not modelled: " + why)
       for name, summary, writable, why in (
           ("SYNC_CONTROL", "The SYNC state of the axis (0 none ... 3 synchronised).", True,
            "stored, reads what is written (the token table makes it writable); SYNC is "
@@ -1315,11 +1324,6 @@ _ENTRIES: list[Keyword] = [
            "stored: the page does not say how the rest of a running MOVELINK is reshaped "
            "(its speed ratio, its ramps) to end at the new place, so no exact figure can "
            "be given; a MOVELINK runs as loaded (D)."),
-          ("CLUTCH_RATE", "The rate (ratio per second) CONNECT changes its ratio at.", True,
-           "stored: CONNECT takes a new ratio at once, as at the page's default rate "
-           "(1,000,000 a second); a ramped ratio moves the slave by the sum of ratio x "
-           "link step each servo cycle, which the closed-form link model does not hold "
-           "(D)."),
       )],
     _command("CAMLINK", "CAMLINK(start, entries, mode, multiplier, link dist, link axis[, "
              "link opt[, link pos]]): Motion Perfect's off-line cam point calculation.",

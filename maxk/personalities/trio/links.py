@@ -41,6 +41,7 @@ import numpy as np
 
 from maxk.firmware_model.axis import first_tick
 
+from . import clutch
 from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
 
 
@@ -241,11 +242,8 @@ class LinkedMoves:
         m = self.machine
         running = m.axes[axis].link
         if isinstance(running, Connect):
-            if running.link == link:  # a new ratio from here on (no jump)
-                running.origin = float(m.own_counts(axis, m._now())[0])
-                running.link_origin = m.demand(link)
-                running.ratio = ratio
-                m.changed()
+            if running.link == link:  # a new ratio from here on, at CLUTCH_RATE (no jump)
+                clutch.change_ratio(m, axis, running, ratio)
             return  # another link axis: ignored while this CONNECT runs (C)
         self.load(axis, Connect(ratio, link))
 

@@ -36,6 +36,7 @@ from maxk.firmware_model.world import World
 
 from . import encoders, geometry, moves, sequences, tangential
 from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
+from .clutch import ClutchWatch
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .jogs import Jogs
@@ -117,6 +118,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.registration)  # Z-mark captures (registration.py)
         self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
+        self.add_source(ClutchWatch(self))  # CONNECT ratios ramping at CLUTCH_RATE
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
 
@@ -295,8 +297,9 @@ class MC405Machine(Kinematics, Engine):
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
         elif name in _COMPUTED or name not in self.axes[axis].params:
             raise ValueError("Parameter is read only")
-        elif name == "VP_MODE" and value not in VP_MODES:
-            raise ValueError("Parameter out of range")
+        elif name == "VP_MODE" and value not in VP_MODES or \
+                name == "CLUTCH_RATE" and not value >= 0:
+            raise ValueError("Parameter out of range")  # (CLUTCH_RATE < 0: D)
         elif name == "REP_OPTION" and int(value) & 2:
             self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
             self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)

@@ -372,6 +372,8 @@ class Connect:
     link: int
     origin: float = 0.0  # this axis's own demand (counts) when it took effect
     link_origin: float = 0.0  # the link axis's demand (counts) then
+    ramp_from: float | None = None  # CLUTCH_RATE: the ratio of the cycle ending at `since`
+    since: int = 0  # the tick `origin` is at while the ratio ramps (clutch.py)
 
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
         return self.origin + self.ratio * (link_counts - self.link_origin)
