@@ -35,7 +35,15 @@ from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
 from . import encoders, geometry, moves, sequences, tangential
-from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
+from .cams import (
+    cam_motion,
+    cam_pointer,
+    cambox_from,
+    multi_axis,
+    next_pattern,
+    recam,
+    retable,
+)
 from .clutch import ClutchWatch
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
@@ -592,7 +600,23 @@ class MC405Machine(Kinematics, Engine):
         return self.table.read(index)
 
     def table_write(self, start: int, values: Sequence[float]) -> None:
+        held: list[tuple[Cambox, float | None]] = []
+        for a in self.axes:  # the CAMBOXes read their TABLE live (cams.py)
+            for cam in (a.link, a.pending_link):
+                if isinstance(cam, Cambox):
+                    running = cam is a.link and cam.link_origin is not None
+                    held.append((cam, self.dpos(cam.link) if running else None))
+        cams = [run for queue in self.queues for run in queue if run.cam is not None]
+        if held or cams:
+            self.outputs.sync_all()  # the encoders see the motion before a cam changes
         self.table.write(start, values)
+        retable(held, start, len(values), self.table.read_run)
+        for run in cams:  # a CAM too (cams.recam): over the same time
+            profile = recam(run, start, len(values), self.table.read_run)
+            if profile is not None and run.started:
+                axis = self.axes[run.base]
+                run.profile = axis.motion = profile
+                axis.direction = profile.direction
         self.changed()
 
     def vr_read(self, index: int) -> float:
@@ -685,7 +709,7 @@ class MC405Machine(Kinematics, Engine):
         self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
         for run in self.queues[axis]:
             if run.preset is motion:
-                run.table = int(args[0])
+                run.table, run.cam = int(args[0]), (int(args[1]), float(args[2]))
 
     def table_pointer(self, axis: int) -> float:
         """TABLE_POINTER: where in its TABLE the axis's CAMBOX or running CAM is; 0 with
