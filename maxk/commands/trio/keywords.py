@@ -267,7 +267,11 @@ _ENTRIES: list[Keyword] = [
              "Before a registration/absolute start the axis holds; a repeating CAMBOX "
              "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
              "an axis, on the base axis and the axes after it (I), all checked first (C). "
-             "A link axis that follows this axis is refused (D: no position)."),
+             "A link axis that follows this axis is refused (D: no position). The TABLE is "
+             "read live (C: TABLE_POINTER page, new values for passed locations while it "
+             "runs): a TABLE write moves the cycle the link is in to the new values at "
+             "once (they are positions from the profile's start, C), the cycles done keep "
+             "what they moved (D), a buffered CAMBOX takes the TABLE it starts on."),
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
@@ -382,7 +386,9 @@ _ENTRIES: list[Keyword] = [
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
     _command("TABLE", "TABLE(start, v1, v2, ...) writes a run of TABLE values; TABLE(i) "
-             "reads one.", (1, 128), source=f"{SEED}; {TOK}"),
+             "reads one.", (1, 128), source=f"{SEED}; {TOK}; help (TABLE_POINTER page)",
+             note="A running or buffered CAMBOX or CAM reads its values live: see CAMBOX, "
+             "CAM (C: TABLE_POINTER page)."),
     _command("WA", "Wait this many milliseconds.", (1, 1), source=f"{SEED}; {TOK}",
              note="Rounded up to whole servo cycles; the process sleeps, the command line "
              "answers when it ends (D). More than 1e12 ms is 'Parameter out of range' (D)."),
@@ -1339,7 +1345,9 @@ _ENTRIES: list[Keyword] = [
              "interpolated linearly in time: distance in the axis's user units at the "
              "SPEED it has when the CAM loads (I, the CAM page as recalled). Buffered like "
              "a move, never merged (D); ends on the profile's last value rounded to a "
-             "whole count (D). MTYPE 13 (I)."),
+             "whole count (D). MTYPE 13 (I). Its TABLE is read live as CAMBOX's (C: "
+             "TABLE_POINTER page): a TABLE write re-shapes the running CAM over the same "
+             "time (D), a buffered one takes the TABLE it starts on."),
     _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
@@ -1629,9 +1637,9 @@ _ENTRIES: list[Keyword] = [
           note="CAMBOX: from the link axis's DPOS at this tick (a repeating one starts again "
           "at its first location each cycle), its first location until its start comes (D); "
           "CAM: from the time into the profile (each interval an equal time). 0 with neither "
-          "(D). The token table has it writable; writing is refused (D). TABLE values a "
-          "running CAMBOX has loaded are not read again (D), so the page's rewriting of "
-          "passed locations acts on the next CAMBOX, not the running one."),
+          "(D). The token table has it writable; writing is refused (D). A running CAMBOX "
+          "or CAM reads its TABLE live, so the page's rewriting of passed locations acts "
+          "on its next cycle (C)."),
     _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
           "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
           writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",
