@@ -328,6 +328,17 @@ _ENTRIES: list[Keyword] = [
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "
              "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21."),
+    _axis("MOVELINK_MODIFY", "An offset (user units) to the end of the running MOVELINK.",
+          source=f"{TOK}; {HELP} (MOVELINK_MODIFY page)", confidence="C",
+          note="The running MOVELINK ends at its end plus the offset (ENDMOVE with it) "
+          "if it is not decelerating and there is room; applied, it reads 0, else it "
+          "keeps the offset (C). A MOVELINK of no distance has its link distance changed "
+          "(C). Decided (D, links_modify.py): the offset is added over the link travel "
+          "from now to the decel start as a symmetric S (2z^2, then 1 - 2(1-z)^2), so "
+          "position and ratio stay continuous; room is 4|offset|/stretch^2 at most the "
+          "peak ratio over the decel distance; a kept offset is tried again when the "
+          "next MOVELINK starts; repeating MOVELINKs, ones waiting for their start and "
+          "FLEXLINK keep it."),
     _axis("CLUTCH_RATE", "The rate (ratio per second) a running CONNECT changes its ratio "
           "at.", source=f"{TOK}; {HELP} (CLUTCH_RATE, CONNECT pages)", confidence="C",
           default=1e6,
@@ -1326,10 +1337,6 @@ _ENTRIES: list[Keyword] = [
            "stored: a reserved keyword, its page gives no effect (C)."),
           ("SYNC_TIME", "Reserved keyword (its page).", True,
            "stored: a reserved keyword, its page gives no effect (C)."),
-          ("MOVELINK_MODIFY", "An offset to the end of the running MOVELINK.", True,
-           "stored: the page does not say how the rest of a running MOVELINK is reshaped "
-           "(its speed ratio, its ramps) to end at the new place, so no exact figure can "
-           "be given; a MOVELINK runs as loaded (D)."),
       )],
     _command("CAMLINK", "CAMLINK(start, entries, mode, multiplier, link dist, link axis[, "
              "link opt[, link pos]]): Motion Perfect's off-line cam point calculation.",

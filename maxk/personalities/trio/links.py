@@ -41,7 +41,7 @@ import numpy as np
 
 from maxk.firmware_model.axis import first_tick
 
-from . import clutch
+from . import clutch, links_modify
 from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
 
 
@@ -334,6 +334,8 @@ class LinkedMoves:
             start = link.start_at - m.axes[link.link].datum
             link.link_origin = max(link.link_origin, start)
         m.axes[axis].link = link
+        if isinstance(link, Movelink):
+            links_modify.attempt(m, axis)  # an offset kept from before (links_modify.py)
         return True
 
     def cancelled(self, axis: int) -> None:

@@ -34,7 +34,7 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import encoders, geometry, moves, sequences, tangential
+from . import encoders, geometry, links_modify, moves, sequences, tangential
 from .cams import (
     cam_motion,
     cam_pointer,
@@ -299,6 +299,8 @@ class MC405Machine(Kinematics, Engine):
             self.axes[axis].params[name] = value
         elif name == "REGIST_CONTROL":
             self.registration.write_control(axis, value)
+        elif name == "MOVELINK_MODIFY":
+            links_modify.request(self, axis, value)  # (links_modify.py)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":

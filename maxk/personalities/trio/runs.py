@@ -417,6 +417,9 @@ class Movelink:
     follow: Follow | None = None  # bits 5/14: only the link's forward movement counts
     origin: float = 0.0
     link_origin: float = 0.0
+    shaped: float | None = None  # MOVELINK_MODIFY: the distance its ramps were shaped for
+    adjust: list[tuple[float, float, float]] = field(default_factory=list)
+    # MOVELINK_MODIFY's offsets, each added over a stretch of link travel (links_modify.py)
 
     def ramp(self, z: np.ndarray) -> np.ndarray:
         """The distance share of a ramp after the fraction z of it (the integral of its
@@ -451,9 +454,16 @@ class Movelink:
         return shape
 
     def profile(self, u: np.ndarray) -> np.ndarray:
-        """Counts moved after `u` counts of link travel, 0 <= u <= span."""
-        return self.distance * self.ramped(u / self.span, self.accel / self.span,
-                                           self.decel / self.span)
+        """Counts moved after `u` counts of link travel, 0 <= u <= span (with what
+        MOVELINK_MODIFY added: links_modify.py)."""
+        distance = self.distance if self.shaped is None else self.shaped
+        moved = distance * self.ramped(u / self.span, self.accel / self.span,
+                                       self.decel / self.span)
+        for offset, start, end in self.adjust:
+            z = np.clip((u - start) / (end - start), 0.0, 1.0)
+            moved = moved + offset * np.where(z < 0.5, 2.0 * z * z,
+                                              1.0 - 2.0 * (1.0 - z) ** 2)
+        return moved
 
     def counts(self, link_counts: np.ndarray) -> np.ndarray:
         if self.wait is not None:
