@@ -17,6 +17,7 @@ bits are refused (D).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -94,9 +95,18 @@ def retable(cams: Sequence[tuple[Cambox, float | None]], start: int, count: int,
         first, last = cam.table_start, cam.table_start + len(cam.values) - 1
         if start > last or start + count - 1 < first:
             continue
-        if link_dpos is not None:
-            cam.fold_cycles(link_dpos)
-        cam.retable(read_run(first, last))
+        if link_dpos is not None and cam.repeat and cam.link_origin is not None:
+            # the whole cycles done go into the origin: they keep what they moved
+            link = np.array([link_dpos])
+            if cam.follow is not None:
+                link = cam.follow.effective(link)
+            cycles = math.floor((float(link[0]) - cam.link_origin) / cam.distance)
+            if cam.held:
+                cycles = max(cycles, 0)
+            cam.origin += cycles * cam.span
+            cam.link_origin += cycles * cam.distance
+        raw = np.asarray(read_run(first, last), dtype=float)
+        cam.values = raw - float(raw[0])  # (offset by the first, as loaded)
         touched = True
     return touched
 

@@ -19,7 +19,6 @@ array operations; a single reading is an array of one.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -364,25 +363,6 @@ class Cambox:
         self.origin += cycles * self.span
         self.link_origin += cycles * self.distance
         self.repeat = False
-
-    def fold_cycles(self, link_dpos: float) -> None:
-        """A repeating profile takes the whole cycles done into its origin, so a new
-        TABLE changes the cycle the link is in and the ones after it only (cams.retable)."""
-        if not self.repeat or self.link_origin is None:
-            return
-        link = np.array([link_dpos])
-        if self.follow is not None:
-            link = self.follow.effective(link)
-        cycles = math.floor((float(link[0]) - self.link_origin) / self.distance)
-        if self.held:
-            cycles = max(cycles, 0)
-        self.origin += cycles * self.span
-        self.link_origin += cycles * self.distance
-
-    def retable(self, values: Sequence[float]) -> None:
-        """The profile's TABLE values as they are now (offset by the first)."""
-        raw = np.asarray(values, dtype=float)
-        self.values = raw - float(raw[0])
 
 
 @dataclass
