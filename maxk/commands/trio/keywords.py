@@ -1308,27 +1308,44 @@ _ENTRIES: list[Keyword] = [
             "page's one-cycle transfer of a move that finds room is not seen (D)."),
     # ---- conveyor tracking and link words the pages do not give exactly enough ----------
     _command("SYNC", "SYNC(control, sync time[, sync position, sync axis, pos1[, pos2[, "
-             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 11),
-             axis=True, source=f"{TOK}; {HELP} (SYNC page)", confidence="D",
-             note="Not modelled: accepted, no effect, as a function it returns 0; "
-             "SYNC's synchronising movement over sync_time (and SYNC_PAUSE, SYNC_DWELL, "
-             "SYNC_WITHDRAW shaping it) is given on its pages only as velocity graphs, not "
-             "exactly enough to be exact to the servo tick; it also follows the conveyor "
-             "in the robot's USER_FRAME, which is not modelled (D)."),
+             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 7),
+             axis=True, source=f"{TOK}; {HELP} (SYNC, SYNC_CONTROL, SYNC_TIMER pages)",
+             confidence="I",
+             note="SYNC(1, time, pos, axis, pos1[, pos2[, pos3]]): over time servo cycles "
+             "the first base axis comes to pos1 plus the sync axis's travel since pos, the "
+             "next two to pos2/pos3, then follows (C); SYNC(10, ...) re-synchronises over "
+             "its time, SYNC(4, time) stops; added to the axes' own moves, not buffered, "
+             "not ended by CANCEL/RAPIDSTOP (C). Decided (D, sync.py): the share of the "
+             "way is the cycloid z - sin(2 pi z)/2 pi of the time done; SYNC(4) fades the "
+             "conveyor's pull as 1 - that, cycle by cycle, and the axes keep what they "
+             "moved; the conveyor's travel goes on the first axis (no USER_FRAME); it "
+             "follows the sync axis's DPOS. SYNC(20) (USER_FRAMEB), a limit ending it, "
+             "another control or a sync axis that follows the base axes: 'Parameter out "
+             "of range'."),
+    _axis("SYNC_CONTROL", "The SYNC state of the axis: 0 none, 2 synchronising, 3 "
+          "synchronised, 4 stopping, 11 re-synchronising.", writable=False,
+          source=f"{TOK}; {HELP} (SYNC_CONTROL page)", confidence="C",
+          note="Every axis of the SYNC reads its state; 1 and 10 (starting) take no servo "
+          "cycle here (D). Read only (its page; the token table has it writable: a write "
+          "is refused, D)."),
+    _axis("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", writable=False,
+          source=f"{TOK}; {HELP} (SYNC_TIMER page)", confidence="C",
+          note="The ms of the (re)synchronisation so far, its whole time once complete "
+          "(C); 0 while stopping and with no SYNC (D)."),
+    _axis("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.",
+          source=f"{TOK}; {HELP} (SYNC_PAUSE page)", confidence="I",
+          note="The axis's SYNC motion starts this long into the sync time (I: the page's "
+          "words; its graph is not in the text); with SYNC_DWELL it must leave time to "
+          "move: else the SYNC is 'Parameter out of range' (D). Read when SYNC is given."),
+    _axis("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.",
+          source=f"{TOK}; {HELP} (SYNC_DWELL page)", confidence="I",
+          note="The axis's SYNC motion is done this long before the sync time ends (I: the "
+          "page's words); see SYNC_PAUSE."),
     *[_axis(name, summary, writable=writable, source=f"{TOK}; {HELP} ({name} page)",
             confidence="D", note="Not modelled: " + why)
       for name, summary, writable, why in (
-          ("SYNC_CONTROL", "The SYNC state of the axis (0 none ... 3 synchronised).", True,
-           "stored, reads what is written (the token table makes it writable); SYNC is "
-           "not modelled (see SYNC) (D)."),
-          ("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", False,
-           "reads 0: SYNC is not modelled (see SYNC) (D)."),
-          ("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
-          ("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
           ("SYNC_WITHDRAW", "A withdraw distance SYNC adds on this axis.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
+           "stored: its page gives the withdraw motion no shape or timing (D)."),
           ("SYNC_FLIGHT", "Reserved keyword (its page).", True,
            "stored: a reserved keyword, its page gives no effect (C)."),
           ("SYNC_DPOS", "Reserved keyword (its page).", True,

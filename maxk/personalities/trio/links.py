@@ -43,6 +43,7 @@ from maxk.firmware_model.axis import first_tick
 
 from . import clutch, links_modify
 from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
+from .sync import Syncs
 
 
 class Host(Protocol):
@@ -194,6 +195,7 @@ class LinkedMoves:
     def __init__(self, machine: Host, depth: int) -> None:
         self.machine = machine
         self.depth = depth  # moves an axis holds, running and buffered
+        self.syncs = Syncs(machine)  # type: ignore[arg-type]  # (the machine: sync.Host)
         self._cache: tuple[int, int | None] = (-1, None)
         self.reset()
 
@@ -202,6 +204,7 @@ class LinkedMoves:
         self.chains: list[deque[Connect | Movelink]] = [deque() for _ in range(count)]
         self.addax: dict[int, Addax] = {}
         self.shift = [0.0] * count  # what ended ADDAXes left on each axis (counts)
+        self.syncs.reset()
 
     # ---- loading ----------------------------------------------------------------------
     def check_axis(self, value: float, axis: int) -> int:
@@ -301,7 +304,10 @@ class LinkedMoves:
 
     # ---- positions ----------------------------------------------------------------------
     def superimpose(self, axis: int, ticks: np.ndarray, own: np.ndarray) -> np.ndarray:
-        """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left)."""
+        """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left) and
+        SYNC's (sync.py)."""
+        if self.syncs.running or self.syncs.kept[axis]:
+            own = own + self.syncs.counts(axis, ticks)
         shift = self.shift[axis]
         added = self.addax.get(axis)
         if added is None:

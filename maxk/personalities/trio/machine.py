@@ -127,6 +127,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
         self.add_source(ClutchWatch(self))  # CONNECT ratios ramping at CLUTCH_RATE
+        self.add_source(self.links.syncs)  # SYNC(4) stopping, cycle by cycle (sync.py)
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
 
@@ -256,6 +257,8 @@ class MC405Machine(Kinematics, Engine):
             return output.encoder
         if name == "DAC_OUT":
             return self.drive.following.dac_out(axis)
+        if name in ("SYNC_CONTROL", "SYNC_TIMER"):
+            return self.links.syncs.read(name, axis)
         if name == "ENCODER":
             return encoders.encoder(self, axis)
         if name in AXIS_READS:
@@ -305,7 +308,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
-        elif name in _COMPUTED or name not in self.axes[axis].params:
+        elif name in _COMPUTED or name not in self.axes[axis].params \
+                or name == "SYNC_CONTROL":  # (read only: its page, D)
             raise ValueError("Parameter is read only")
         elif name == "VP_MODE" and value not in VP_MODES or \
                 name == "CLUTCH_RATE" and not value >= 0:
@@ -693,6 +697,10 @@ class MC405Machine(Kinematics, Engine):
 
     def connect(self, axis: int, args: Sequence[float]) -> None:
         self.links.connect(axis, list(args))
+
+    def sync(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """SYNC(control, time[, sync pos, sync axis, pos1[, pos2[, pos3]]]) (sync.py)."""
+        self.links.syncs.command(list(axes), list(args), self.links.depends)
 
     def movelink(self, axis: int, args: Sequence[float]) -> None:
         self.links.movelink(axis, list(args))
