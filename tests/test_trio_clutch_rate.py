@@ -110,6 +110,7 @@ def test_a_fresh_connect_takes_its_ratio_at_once_and_a_slow_rate_holds_the_chang
     trio.send("CLUTCH_RATE = 0: CONNECT(1, 0)")
     at(trio, 300)
     assert dpos(trio, 1) == pytest.approx(600, abs=1e-9)  # still 3 a count
+    assert trio.machine.clutch.next_event() is None  # (no fold each tick at rate 0)
     trio.send("CLUTCH_RATE = 1")  # from now on 0.001 a cycle down towards 1
     at(trio, 400)
     assert dpos(trio, 1) == pytest.approx(600 + 3 * 100 - 0.001 * 100 * 101 / 2, abs=1e-9)

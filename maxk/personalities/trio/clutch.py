@@ -64,6 +64,10 @@ def ramped_counts(link: Connect, ticks: np.ndarray, leader: Callable[[np.ndarray
     tick before the fold is taken back at the fold's ratio (VP_SPEED reads the cycle
     before now)."""
     ticks = np.asarray(ticks)
+    if step == 0:  # CLUTCH_RATE 0: the ratio holds where it is (a plain gearing)
+        assert link.ramp_from is not None
+        at_fold = float(leader(np.array([link.since]))[0])
+        return link.origin + link.ramp_from * (leader(ticks) - at_fold)
     since = link.since
     low = min(int(np.min(ticks)), since)
     high = max(int(np.max(ticks)), since)
@@ -108,12 +112,22 @@ class ClutchWatch:
 
     def next_event(self) -> int | None:
         m = self.machine
-        due = [link.since + 1 for _i, link in self._ramping()]
+        due = [link.since + 1 for i, link in self._ramping()
+               if step_of(m.axes[i], m.period) > 0]  # (at rate 0 nothing changes)
         return max(min(due), m.tick) if due else None
 
+    def new_rate(self, axis: int) -> None:
+        """CLUTCH_RATE is about to change on the axis: its ramp is folded to now at the
+        old rate first (a rate of 0 is not folded at every tick)."""
+        link = self.machine.axes[axis].link
+        if isinstance(link, Connect) and link.ramp_from is not None:
+            self.fold([(axis, link)], self.machine.tick)
+
     def on_event(self, now: int) -> None:
+        self.fold([(i, link) for i, link in self._ramping() if link.since < now], now)
+
+    def fold(self, ramps: list[tuple[int, Connect]], now: int) -> None:
         m = self.machine
-        ramps = [(i, link) for i, link in self._ramping() if link.since < now]
         if not ramps:
             return
         for axis, link in ramps:

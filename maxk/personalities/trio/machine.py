@@ -126,7 +126,8 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.registration)  # Z-mark captures (registration.py)
         self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
-        self.add_source(ClutchWatch(self))  # CONNECT ratios ramping at CLUTCH_RATE
+        self.clutch = ClutchWatch(self)
+        self.add_source(self.clutch)  # CONNECT ratios ramping at CLUTCH_RATE
         self.add_source(self.links.syncs)  # SYNC(4) stopping, cycle by cycle (sync.py)
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
@@ -302,6 +303,9 @@ class MC405Machine(Kinematics, Engine):
             self.axes[axis].params[name] = value
         elif name == "REGIST_CONTROL":
             self.registration.write_control(axis, value)
+        elif name == "CLUTCH_RATE" and value >= 0:
+            self.clutch.new_rate(axis)  # the ramp so far at the old rate (clutch.py)
+            self.axes[axis].params[name] = value
         elif name == "MOVELINK_MODIFY":
             links_modify.request(self, axis, value)  # (links_modify.py)
         elif name == "ENDMOVE":
