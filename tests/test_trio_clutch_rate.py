@@ -114,3 +114,14 @@ def test_a_fresh_connect_takes_its_ratio_at_once_and_a_slow_rate_holds_the_chang
     trio.send("CLUTCH_RATE = 1")  # from now on 0.001 a cycle down towards 1
     at(trio, 400)
     assert dpos(trio, 1) == pytest.approx(600 + 3 * 100 - 0.001 * 100 * 101 / 2, abs=1e-9)
+
+
+def test_the_web_line_example_runs_with_its_hand_worked_replies() -> None:
+    """examples/mc405_clutch_and_live_cam.maxk under `maxk run`: its expected replies
+    (worked out by hand in its header) must come back exactly."""
+    from pathlib import Path
+
+    from maxk.cli import main
+
+    script = Path(__file__).parent.parent / "examples" / "mc405_clutch_and_live_cam.maxk"
+    assert main(["run", str(script)]) == 0
