@@ -125,3 +125,26 @@ def test_a_program_waits_for_the_sync_as_the_pages_example() -> None:
     at(trio, start + 510)
     assert trio.query("?VR(7)") == "500"
     assert dpos(trio, 0) == pytest.approx(100 + conveyor(trio.tick) - 20, abs=1e-9)
+
+
+def test_after_a_sync_moveabs_goes_to_the_absolute_place_and_a_new_sync_cuts_a_stop() -> None:
+    trio = running()
+    trio.send("SYNC(1, 100, 50, 10, 200, 30)")
+    at(trio, 300)
+    trio.send("SYNC(4, 200)")
+    at(trio, 350)  # stopping: cycle j adds 0.1 x (1 - s(j / 200))
+    stopped = 200 + conveyor(300) - 50 + sum(0.1 * (1 - s(j / 200)) for j in range(1, 51))
+    assert dpos(trio, 0) == pytest.approx(stopped, abs=1e-9)
+    assert trio.send("SYNC(1, 100, 60, 10, 0, 0)") == []  # the stop ends where it is (D)
+    at(trio, 450)
+    assert dpos(trio, 0) == pytest.approx(0 + conveyor(450) - 60, abs=1e-9)
+    assert dpos(trio, 1) == pytest.approx(0, abs=1e-9)
+    trio.send("SYNC(4, 100)")
+    at(trio, 600)
+    assert trio.query("?SYNC_CONTROL AXIS(0)") == "0"
+    assert trio.send("MOVEABS(5, 7) AXIS(0)") == []
+    at(trio, 5000)
+    # to the whole count nearest the place (UNITS 1: a move is whole counts; the SYNC
+    # left the axis between counts)
+    assert (dpos(trio, 0), dpos(trio, 1)) == (pytest.approx(5, abs=0.5),
+                                              pytest.approx(7, abs=1e-9))

@@ -195,7 +195,7 @@ class LinkedMoves:
     def __init__(self, machine: Host, depth: int) -> None:
         self.machine = machine
         self.depth = depth  # moves an axis holds, running and buffered
-        self.syncs = Syncs(machine)  # type: ignore[arg-type]  # (the machine: sync.Host)
+        self.syncs = Syncs(machine, self.keep)  # type: ignore[arg-type]  # (sync.Host)
         self._cache: tuple[int, int | None] = (-1, None)
         self.reset()
 
@@ -302,11 +302,16 @@ class LinkedMoves:
                 todo.append(self.addax[a].link)
         return False
 
+    def keep(self, axis: int, counts: float) -> None:
+        """What an ended SYNC moved the axis stays on it (as an ended ADDAX's)."""
+        self.shift[axis] += counts
+        self.machine.changed()
+
     # ---- positions ----------------------------------------------------------------------
     def superimpose(self, axis: int, ticks: np.ndarray, own: np.ndarray) -> np.ndarray:
         """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left) and
         SYNC's (sync.py)."""
-        if self.syncs.running or self.syncs.kept[axis]:
+        if self.syncs.running:
             own = own + self.syncs.counts(axis, ticks)
         shift = self.shift[axis]
         added = self.addax.get(axis)

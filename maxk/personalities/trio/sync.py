@@ -89,14 +89,21 @@ class Syncs:
     """The machine's SYNCs: their offsets on the axes' demand, their states, and the
     folds of a SYNC(4) (an event source)."""
 
-    def __init__(self, machine: Host) -> None:
+    def __init__(self, machine: Host, keep: Callable[[int, float], None]) -> None:
         self.machine = machine
         self.running: dict[int, Sync] = {}  # base axis -> its SYNC
-        self.kept = [0.0] * len(machine.axes)  # counts what stopped SYNCs left per axis
+        self.keep = keep  # what a SYNC moved stays on the axis: a shift (counts) of it
 
     def reset(self) -> None:
         self.running.clear()
-        self.kept = [0.0] * len(self.machine.axes)
+
+    def _end(self, base: int, now: int) -> None:
+        """The SYNC on `base` ends now: where it put each axis stays (a constant shift,
+        which MOVEABS and the rest see as the ADDAX shifts)."""
+        sync = self.running.pop(base)
+        tick = np.array([now])
+        for k, a in enumerate(sync.axes):
+            self.keep(a, float(self.offset_of(sync, k, tick)[0]) * self.machine.axes[a].units)
 
     def of(self, axis: int) -> tuple[Sync, int] | None:
         for sync in self.running.values():
@@ -150,6 +157,9 @@ class Syncs:
             self.running[base] = Sync(group, current.reference, old, target, m.tick,
                                       int(time), "resync", self._windows(group, int(time)))
         else:
+            if current is not None and current.kind == "stopping":
+                self._end(base, m.tick)  # a new SYNC while one stops: it ends here (D)
+                current = None
             if current is not None or any(self.of(a) is not None for a in group):
                 raise ValueError("Parameter out of range")  # one SYNC an axis (D)
             reference = tuple(float(m.dpos_at(a, now)[0]) for a in group)
@@ -214,13 +224,12 @@ class Syncs:
         return sync.base[k] + moved[ticks - low]
 
     def counts(self, axis: int, ticks: np.ndarray) -> np.ndarray | float:
-        """The SYNC's part of the axis's demand (counts): a running one's offset and
-        what stopped ones left."""
+        """The running SYNC's part of the axis's demand (counts)."""
         found = self.of(axis)
         if found is None:
-            return self.kept[axis]
+            return 0.0
         sync, k = found
-        return self.kept[axis] + self.offset_of(sync, k, ticks) * self.machine.axes[axis].units
+        return self.offset_of(sync, k, ticks) * self.machine.axes[axis].units
 
     # ---- reading ----------------------------------------------------------------------
     def read(self, name: str, axis: int) -> float:
@@ -258,9 +267,7 @@ class Syncs:
             if self._complete(sync, now):
                 ended.append(base)
         for base in ended:  # what it moved stays, a constant shift of each axis
-            sync = self.running.pop(base)
-            for k, a in enumerate(sync.axes):
-                self.kept[a] += sync.base[k] * m.axes[a].units
+            self._end(base, now)
         if ended:
             m.changed()
 
