@@ -125,3 +125,17 @@ def test_the_web_line_example_runs_with_its_hand_worked_replies() -> None:
 
     script = Path(__file__).parent.parent / "examples" / "mc405_clutch_and_live_cam.maxk"
     assert main(["run", str(script)]) == 0
+
+
+def test_connect_takes_the_pages_mode_argument() -> None:
+    """The CONNECT page's example 4: CONNECT(1, 2, 1) AXIS(3) follows axis 2's DPOS; mode
+    0 (MPOS) is the default; no other mode."""
+    trio = MC405()
+    assert trio.send("CONNECT(1, 2, 1) AXIS(3)") == []
+    assert trio.send("CONNECT(-2, 2, 0) AXIS(4)") == []
+    assert trio.send("CONNECT(1, 2, 2) AXIS(5)") == ["! Parameter out of range"]
+    assert trio.query("?MTYPE AXIS(5)") == "0"
+    assert trio.send("BASE(2): SPEED=120: ACCEL=1000: DECEL=1000: MOVE(30)") == []
+    at(trio, 150)  # 0.12 s to speed (7.2), then 0.03 s at 120: 3.6
+    assert dpos(trio, 3) == pytest.approx(7.2 + 3.6, abs=1e-9)
+    assert dpos(trio, 4) == pytest.approx(-2 * (7.2 + 3.6), abs=1e-9)

@@ -320,10 +320,14 @@ _ENTRIES: list[Keyword] = [
              "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
              "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
              "in the pages found)."),
-    _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
-             "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
-             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+    _command("CONNECT", "CONNECT(ratio, link axis[, mode]): the base axis follows ratio x "
+             "the link axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.",
+             (2, 3), axis=True, source=f"{TOK}; {MAN}; {HELP} (CONNECT page)",
+             confidence="I",
              note="Ratio in counts per count, not user units (C: manual, Trio support). "
+             "Mode 0 (MPOS, the default) or 1 (DPOS) of the link axis, the page's third "
+             "argument (the token table gives two: the page wins, C); both follow the "
+             "demand here (D, below); another mode: 'Parameter out of range' (D). "
              "Follows the link axis's demand position (D). A second CONNECT on the same link "
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "

@@ -240,8 +240,8 @@ class LinkedMoves:
 
     def connect(self, axis: int, args: list[float]) -> None:
         ratio, link = args[0], self.check_axis(args[1], axis)
-        if not abs(ratio) < 2.0 ** 53:
-            raise ValueError("Parameter out of range")
+        if not abs(ratio) < 2.0 ** 53 or len(args) > 2 and args[2] not in (0, 1):
+            raise ValueError("Parameter out of range")  # mode 0 MPOS, 1 DPOS (CONNECT page)
         m = self.machine
         running = m.axes[axis].link
         if isinstance(running, Connect):
