@@ -1323,7 +1323,8 @@ _ENTRIES: list[Keyword] = [
              "way is the cycloid z - sin(2 pi z)/2 pi of the time done; SYNC(4) fades the "
              "conveyor's pull as 1 - that, cycle by cycle, and the axes keep what they "
              "moved (MOVEABS sees it); a SYNC(1) while one stops ends the stop where it "
-             "is; SYNC(10) mid-blend is refused; the conveyor's travel goes on the first axis (no USER_FRAME); it "
+             "is; SYNC(10) mid-blend is refused; the conveyor's travel goes on the first "
+             "axis (no USER_FRAME); it "
              "follows the sync axis's DPOS. SYNC(20) (USER_FRAMEB), a limit ending it, "
              "another control or a sync axis that follows the base axes: 'Parameter out "
              "of range'."),
