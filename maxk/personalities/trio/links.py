@@ -7,8 +7,9 @@ servo ticks like every other position of the machine (`kinematics.py`):
 - CONNECT(ratio, link axis): electronic gearing. The axis moves `ratio` counts per count
   of the link axis from where both were when it took effect (C: the ratio is in
   encoder counts, not user units), until CANCEL or RAPIDSTOP. A second CONNECT on the
-  same link axis changes the ratio at once, from where both are (no jump); one on
-  another link axis is ignored while the first runs (C, manual).
+  same link axis changes the ratio from where both are (no jump), at the axis's
+  CLUTCH_RATE (`clutch.py`); one on another link axis is ignored while the first runs
+  (C, manual).
 - MOVELINK(distance, link distance, link acc, link dec, link axis[, options[, link
   pos]]): the axis moves `distance` while the link axis travels `link distance`; over
   the first `link acc` of it the axis's share of the link's speed ramps up from zero,
@@ -25,6 +26,9 @@ servo ticks like every other position of the machine (`kinematics.py`):
 Linked moves are buffered moves: they queue per axis behind the moves and links loaded
 before them (NTYPE reports the next), and a move loaded after a link waits for it to end
 (the machine's rule for every link).
+
+MOVELINK_MODIFY reshapes the rest of a running MOVELINK (`links_modify.py`); SYNC adds
+its synchronising offset to the axes' demand here too (`sync.py`).
 
 Everything here is pure arithmetic on numpy arrays; `LinkedMoves` is the machine's event
 source for MOVELINK ends and keeps the per-axis queues and ADDAX state.
