@@ -139,3 +139,18 @@ def test_connect_takes_the_pages_mode_argument() -> None:
     at(trio, 150)  # 0.12 s to speed (7.2), then 0.03 s at 120: 3.6
     assert dpos(trio, 3) == pytest.approx(7.2 + 3.6, abs=1e-9)
     assert dpos(trio, 4) == pytest.approx(-2 * (7.2 + 3.6), abs=1e-9)
+
+
+def test_a_movelink_on_a_clutching_axis_ends_on_the_exact_tick() -> None:
+    """Axis 2 MOVELINKs over 5000 of axis 1's travel while axis 1 clutches in (0.0005 a
+    cycle to 2): axis 1 is at 4001 after 4000 cycles, then 2 a cycle, so 5000 is reached
+    on cycle 4500 (4001 + 2 x 499.5): the MOVELINK's end is found that far ahead."""
+    trio = running_link()
+    trio.send("BASE(1): CONNECT(0, 0): CLUTCH_RATE = 0.5: CONNECT(2, 0)")
+    assert trio.send("MOVELINK(10, 5000, 0, 0, 1) AXIS(2)") == []
+    at(trio, 4599)
+    assert trio.query("?MTYPE AXIS(2)") == "22"
+    assert dpos(trio, 1) == pytest.approx(4999, abs=1e-6)
+    at(trio, 4600)
+    assert trio.query("?MTYPE AXIS(2)") == "0"
+    assert dpos(trio, 2) == pytest.approx(10, abs=1e-9)

@@ -68,9 +68,13 @@ def ramped_counts(link: Connect, ticks: np.ndarray, leader: Callable[[np.ndarray
         assert link.ramp_from is not None
         at_fold = float(leader(np.array([link.since]))[0])
         return link.origin + link.ramp_from * (leader(ticks) - at_fold)
+    assert link.ramp_from is not None
     since = link.since
+    # the ramp's last cycle: beyond it the ratio is the new one, a plain gearing again
+    # (so a search far ahead sums only the ramp's cycles)
+    last = since + math.ceil(abs(link.ratio - link.ramp_from) / step - 1e-12)
     low = min(int(np.min(ticks)), since)
-    high = max(int(np.max(ticks)), since)
+    high = min(max(int(np.max(ticks)), since), last)
     span = np.arange(low, high + 1)
     lead = leader(span)
     at_fold = float(lead[since - low])
@@ -78,10 +82,16 @@ def ramped_counts(link: Connect, ticks: np.ndarray, leader: Callable[[np.ndarray
     n = len(after) - 1
     ratios = ratio_after(link, np.arange(1, n + 1, dtype=float), step)
     ahead = np.concatenate(([0.0], np.cumsum(ratios * np.diff(after))))
-    assert link.ramp_from is not None
     behind = link.ramp_from * (lead[:since - low] - at_fold)
     moved = np.concatenate((behind, ahead))
-    return link.origin + moved[ticks - low]
+    inside = np.minimum(ticks, high) - low
+    out = link.origin + moved[inside]
+    beyond = ticks > high
+    if np.any(beyond):  # past the ramp: its end plus the new ratio x the link's change
+        out = np.where(beyond, link.origin + moved[-1]
+                       + link.ratio * (leader(np.maximum(ticks, high)) - float(lead[-1])),
+                       out)
+    return out
 
 
 def change_ratio(m: Host, axis: int, link: Connect, ratio: float) -> None:
