@@ -148,3 +148,23 @@ def test_after_a_sync_moveabs_goes_to_the_absolute_place_and_a_new_sync_cuts_a_s
     # left the axis between counts)
     assert (dpos(trio, 0), dpos(trio, 1)) == (pytest.approx(5, abs=0.5),
                                               pytest.approx(7, abs=1e-9))
+
+
+def test_a_movelink_on_a_stopping_sync_axis_finds_its_end() -> None:
+    """Axis 3 MOVELINKs over 10 of axis 0's travel while axis 0's SYNC stops (its end is
+    searched ahead through the stop): axis 0 stops 24.95 on, so it ends on the cycle j
+    where 0.1 x sum(1 - s(i / 500), i <= j) first reaches 10."""
+    trio = running()
+    trio.send("SYNC(1, 100, 50, 10, 200, 30)")
+    at(trio, 300)
+    trio.send("SYNC(4, 500)")
+    assert trio.send("MOVELINK(7, 10, 0, 0, 0) AXIS(3)") == []
+    moved, j = 0.0, 0
+    while moved < 10 - 1e-9:
+        j += 1
+        moved += 0.1 * (1 - s(j / 500))
+    at(trio, 300 + j - 1)
+    assert trio.query("?MTYPE AXIS(3)") == "22"
+    at(trio, 300 + j)
+    assert trio.query("?MTYPE AXIS(3)") == "0"
+    assert dpos(trio, 3) == pytest.approx(7, abs=1e-9)

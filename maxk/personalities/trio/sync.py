@@ -211,7 +211,11 @@ class Syncs:
         # stopping: each servo cycle after `since` adds (1 - s) of the conveyor's change
         ticks = np.asarray(ticks)
         low = min(int(np.min(ticks)), sync.since)
-        high = max(int(np.max(ticks)), sync.since)
+        # past the stop's time the pull is gone: the offset stays (a search far ahead
+        # sums only the stop's cycles)
+        high = min(max(int(np.max(ticks)), sync.since), max(sync.start + sync.ticks,
+                                                              sync.since))
+        ticks = np.minimum(ticks, high)
         span = np.arange(low, high + 1)
         pull = self.follow(sync.old, sync, k, span)
         fold = sync.since - low
