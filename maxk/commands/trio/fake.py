@@ -378,5 +378,8 @@ class FakeTrioMachine:
     def connect(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Linked moves need the MC405 machine")
 
+    def sync(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        raise ValueError("Linked moves need the MC405 machine")
+
     def addax(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Linked moves need the MC405 machine")

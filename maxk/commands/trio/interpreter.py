@@ -212,7 +212,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
-                               "HW_TIMER", *GEOMETRIC, *SEQUENCES})
+                               "HW_TIMER", "SYNC", *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
 _AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH"})  # the axis's output stage
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
@@ -1321,6 +1321,9 @@ class Interpreter:
                 while not m.can_load(axes):
                     yield ON_CHANGE
                 self._act(partial(self._load_one, axes, move_kind, move_args))
+        elif name == "SYNC":  # not a buffered move: never waits (personality sync.py)
+            axes = self.group(stmt.axis, ctx, max(1, len(args) - 4))
+            self._act(lambda: m.sync(axes, args))
         elif name == "MOVETANG":  # retargets its running move: never waits (D)
             axes = [self.axis_of(stmt.axis, ctx)]
             self._act(lambda: m.geometric_move(name, axes, args))

@@ -121,7 +121,7 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
 ROBOT_WHY = ("the robot (kinematic) system beyond FRAME 2, 5, 6 and 10 (personalities/trio/"
              "frames.py): the other frames' equations, USER_FRAME, TOOL_OFFSET and "
              "VOLUME_LIMIT, and the RPS robots' kinematic models (KINEMATIC_GROUP robot "
-             "types) are not built (D)")
+             "types) are not built")
 _FRAMES = ("FRAME 2 (XY single belt), 5 (2x2 rotation matrix and its inverse from TABLE), 6 "
            "(polar programming of an XY machine) and 10 (XY programming of a polar machine, "
            "its whole turns counted every servo cycle) are modelled, the equations of the "
@@ -269,7 +269,11 @@ _ENTRIES: list[Keyword] = [
              "Before a registration/absolute start the axis holds; a repeating CAMBOX "
              "does not run back past its start point (D). Multi-axis form: 8 TABLE values "
              "an axis, on the base axis and the axes after it (I), all checked first (C). "
-             "A link axis that follows this axis is refused (D: no position)."),
+             "A link axis that follows this axis is refused (D: no position). The TABLE is "
+             "read live (C: TABLE_POINTER page, new values for passed locations while it "
+             "runs): a TABLE write moves the cycle the link is in to the new values at "
+             "once (they are positions from the profile's start, C), the cycles done keep "
+             "what they moved (D), a buffered CAMBOX takes the TABLE it starts on."),
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
@@ -318,14 +322,39 @@ _ENTRIES: list[Keyword] = [
              "Percentages outside 0..100 or pairs above 100: 'Parameter out of range' (D). "
              "Queued and ended as a MOVELINK, and reads MTYPE 22 (D: its own code is not "
              "in the pages found)."),
-    _command("CONNECT", "CONNECT(ratio, link axis): the base axis follows ratio x the link "
-             "axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.", (2, 2),
-             axis=True, source=f"{TOK}; {MAN}", confidence="I",
+    _command("CONNECT", "CONNECT(ratio, link axis[, mode]): the base axis follows ratio x "
+             "the link axis's movement (electronic gearbox) until CANCEL or RAPIDSTOP.",
+             (2, 3), axis=True, source=f"{TOK}; {MAN}; {HELP} (CONNECT page)",
+             confidence="I",
              note="Ratio in counts per count, not user units (C: manual, Trio support). "
+             "Mode 0 (MPOS, the default) or 1 (DPOS) of the link axis, the page's third "
+             "argument (the token table gives two: the page wins, C); both follow the "
+             "demand here (D, below); another mode: 'Parameter out of range' (D). "
              "Follows the link axis's demand position (D). A second CONNECT on the same link "
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "
-             "a move. CLUTCH_RATE is not modelled. MTYPE 21."),
+             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21."),
+    _axis("MOVELINK_MODIFY", "An offset (user units) to the end of the running MOVELINK.",
+          source=f"{TOK}; {HELP} (MOVELINK_MODIFY page)", confidence="C",
+          note="The running MOVELINK ends at its end plus the offset (ENDMOVE with it) "
+          "if it is not decelerating and there is room; applied, it reads 0, else it "
+          "keeps the offset (C). A MOVELINK of no distance has its link distance changed "
+          "(C). Decided (D, links_modify.py): the offset is added over the link travel "
+          "from now to the decel start as a symmetric S (2z^2, then 1 - 2(1-z)^2), so "
+          "position and ratio stay continuous; room is 4|offset|/stretch^2 at most the "
+          "peak ratio over the decel distance; a kept offset is tried again when the "
+          "next MOVELINK starts; repeating MOVELINKs, ones waiting for their start and "
+          "FLEXLINK keep it."),
+    _axis("CLUTCH_RATE", "The rate (ratio per second) a running CONNECT changes its ratio "
+          "at.", source=f"{TOK}; {HELP} (CLUTCH_RATE, CONNECT pages)", confidence="C",
+          default=1e6,
+          note="A second CONNECT on the same link axis moves the ratio towards the new one "
+          "by CLUTCH_RATE x the servo period each servo cycle (the k-th cycle after it at "
+          "old + k x step, capped: D), the axis moving that cycle's ratio x the link's "
+          "demand change (clutch.py); the default 1,000,000 takes any change under 1000 "
+          "at once (C). A fresh CONNECT takes its ratio at once (C: the CONNECT page's "
+          "example connects at 0 first to avoid the step). The rate is read every cycle "
+          "(D); negative: 'Parameter out of range' (D)."),
     _command("ADDAX", "ADDAX(axis): add that axis's demand movements to the base axis's "
              "own; ADDAX(-1) ends it.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
              confidence="I", note="Count for count from when it is given (I); after "
@@ -374,7 +403,9 @@ _ENTRIES: list[Keyword] = [
              source=f"{SEED}; {TOK}; {MAN}", confidence="I",
              note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
     _command("TABLE", "TABLE(start, v1, v2, ...) writes a run of TABLE values; TABLE(i) "
-             "reads one.", (1, 128), source=f"{SEED}; {TOK}"),
+             "reads one.", (1, 128), source=f"{SEED}; {TOK}; help (TABLE_POINTER page)",
+             note="A running or buffered CAMBOX or CAM reads its values live: see CAMBOX, "
+             "CAM (C: TABLE_POINTER page)."),
     _command("WA", "Wait this many milliseconds.", (1, 1), source=f"{SEED}; {TOK}",
              note="Rounded up to whole servo cycles; the process sleeps, the command line "
              "answers when it ends (D). More than 1e12 ms is 'Parameter out of range' (D)."),
@@ -1335,28 +1366,46 @@ _ENTRIES: list[Keyword] = [
             "page's one-cycle transfer of a move that finds room is not seen (D)."),
     # ---- conveyor tracking and link words the pages do not give exactly enough ----------
     _command("SYNC", "SYNC(control, sync time[, sync position, sync axis, pos1[, pos2[, "
-             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 11),
-             axis=True, source=f"{TOK}; {HELP} (SYNC page)", confidence="D",
-             note="Not modelled: accepted, no effect, as a function it returns 0; "
-             "SYNC's synchronising movement over sync_time (and SYNC_PAUSE, SYNC_DWELL, "
-             "SYNC_WITHDRAW shaping it) is given on its pages only as velocity graphs, not "
-             "exactly enough to be exact to the servo tick; it also follows the conveyor "
-             "in the robot's USER_FRAME, which is not modelled (D)."),
+             "pos3]]]): synchronise the base axes with a point on a moving axis.", (2, 7),
+             axis=True, source=f"{TOK}; {HELP} (SYNC, SYNC_CONTROL, SYNC_TIMER pages)",
+             confidence="I",
+             note="SYNC(1, time, pos, axis, pos1[, pos2[, pos3]]): over time servo cycles "
+             "the first base axis comes to pos1 plus the sync axis's travel since pos, the "
+             "next two to pos2/pos3, then follows (C); SYNC(10, ...) re-synchronises over "
+             "its time, SYNC(4, time) stops; added to the axes' own moves, not buffered, "
+             "not ended by CANCEL/RAPIDSTOP (C). Decided (D, sync.py): the share of the "
+             "way is the cycloid z - sin(2 pi z)/2 pi of the time done; SYNC(4) fades the "
+             "conveyor's pull as 1 - that, cycle by cycle, and the axes keep what they "
+             "moved (MOVEABS sees it); a SYNC(1) while one stops ends the stop where it "
+             "is; SYNC(10) mid-blend is refused; the conveyor's travel goes on the first "
+             "axis (no USER_FRAME); it "
+             "follows the sync axis's DPOS. SYNC(20) (USER_FRAMEB), a limit ending it, "
+             "another control or a sync axis that follows the base axes: 'Parameter out "
+             "of range'."),
+    _axis("SYNC_CONTROL", "The SYNC state of the axis: 0 none, 2 synchronising, 3 "
+          "synchronised, 4 stopping, 11 re-synchronising.", writable=False,
+          source=f"{TOK}; {HELP} (SYNC_CONTROL page)", confidence="C",
+          note="Every axis of the SYNC reads its state; 1 and 10 (starting) take no servo "
+          "cycle here (D). Read only (its page; the token table has it writable: a write "
+          "is refused, D)."),
+    _axis("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", writable=False,
+          source=f"{TOK}; {HELP} (SYNC_TIMER page)", confidence="C",
+          note="The ms of the (re)synchronisation so far, its whole time once complete "
+          "(C); 0 while stopping and with no SYNC (D)."),
+    _axis("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.",
+          source=f"{TOK}; {HELP} (SYNC_PAUSE page)", confidence="I",
+          note="The axis's SYNC motion starts this long into the sync time (I: the page's "
+          "words; its graph is not in the text); with SYNC_DWELL it must leave time to "
+          "move: else the SYNC is 'Parameter out of range' (D). Read when SYNC is given."),
+    _axis("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.",
+          source=f"{TOK}; {HELP} (SYNC_DWELL page)", confidence="I",
+          note="The axis's SYNC motion is done this long before the sync time ends (I: the "
+          "page's words); see SYNC_PAUSE."),
     *[_axis(name, summary, writable=writable, source=f"{TOK}; {HELP} ({name} page)",
-            confidence="D", note="Not modelled: " + why,
-            default=1e6 if name == "CLUTCH_RATE" else 0.0)
+            confidence="D", note="Not modelled: " + why)
       for name, summary, writable, why in (
-          ("SYNC_CONTROL", "The SYNC state of the axis (0 none ... 3 synchronised).", True,
-           "stored, reads what is written (the token table makes it writable); SYNC is "
-           "not modelled (see SYNC) (D)."),
-          ("SYNC_TIMER", "The elapsed time of SYNC's synchronisation, ms.", False,
-           "reads 0: SYNC is not modelled (see SYNC) (D)."),
-          ("SYNC_PAUSE", "The pause before SYNC's movement on this axis, ms.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
-          ("SYNC_DWELL", "The dwell after SYNC's movement on this axis, ms.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
           ("SYNC_WITHDRAW", "A withdraw distance SYNC adds on this axis.", True,
-           "stored: SYNC is not modelled (see SYNC) (D)."),
+           "stored: its page gives the withdraw motion no shape or timing (D)."),
           ("SYNC_FLIGHT", "Reserved keyword (its page).", True,
            "stored: a reserved keyword, its page gives no effect (C)."),
           ("SYNC_DPOS", "Reserved keyword (its page).", True,
@@ -1365,15 +1414,6 @@ _ENTRIES: list[Keyword] = [
            "stored: a reserved keyword, its page gives no effect (C)."),
           ("SYNC_TIME", "Reserved keyword (its page).", True,
            "stored: a reserved keyword, its page gives no effect (C)."),
-          ("MOVELINK_MODIFY", "An offset to the end of the running MOVELINK.", True,
-           "stored: the page does not say how the rest of a running MOVELINK is reshaped "
-           "(its speed ratio, its ramps) to end at the new place, so no exact figure can "
-           "be given; a MOVELINK runs as loaded (D)."),
-          ("CLUTCH_RATE", "The rate (ratio per second) CONNECT changes its ratio at.", True,
-           "stored: CONNECT takes a new ratio at once, as at the page's default rate "
-           "(1,000,000 a second); a ramped ratio moves the slave by the sum of ratio x "
-           "link step each servo cycle, which the closed-form link model does not hold "
-           "(D)."),
       )],
     _command("CAMLINK", "CAMLINK(start, entries, mode, multiplier, link dist, link axis[, "
              "link opt[, link pos]]): Motion Perfect's off-line cam point calculation.",
@@ -1389,7 +1429,9 @@ _ENTRIES: list[Keyword] = [
              "interpolated linearly in time: distance in the axis's user units at the "
              "SPEED it has when the CAM loads (I, the CAM page as recalled). Buffered like "
              "a move, never merged (D); ends on the profile's last value rounded to a "
-             "whole count (D). MTYPE 13 (I)."),
+             "whole count (D). MTYPE 13 (I). Its TABLE is read live as CAMBOX's (C: "
+             "TABLE_POINTER page): a TABLE write re-shapes the running CAM over the same "
+             "time (D), a buffered one takes the TABLE it starts on."),
     _command("MOVESP", "MOVESP(d1[, d2...]): MOVE at the base axis's FORCE_SPEED.", (1, 128),
              axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVE (buffered, merged with MERGE, MTYPE 1: D), its vector speed "
@@ -1790,9 +1832,9 @@ _ENTRIES: list[Keyword] = [
           note="CAMBOX: from the link axis's DPOS at this tick (a repeating one starts again "
           "at its first location each cycle), its first location until its start comes (D); "
           "CAM: from the time into the profile (each interval an equal time). 0 with neither "
-          "(D). The token table has it writable; writing is refused (D). TABLE values a "
-          "running CAMBOX has loaded are not read again (D), so the page's rewriting of "
-          "passed locations acts on the next CAMBOX, not the running one."),
+          "(D). The token table has it writable; writing is refused (D). A running CAMBOX "
+          "or CAM reads its TABLE live, so the page's rewriting of passed locations acts "
+          "on its next cycle (C)."),
     _axis("TANG_DIRECTION", "The direction of the interpolated path of the axis's group in "
           "radians, atan2(X, Y) of its first two axes: +Y 0, +X PI/2, -Y PI.",
           writable=False, source=f"{HELP} TANG_DIRECTION; {TOK}", confidence="I",

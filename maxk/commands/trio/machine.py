@@ -112,6 +112,11 @@ class TrioMachine(Protocol):
         """CONNECT(ratio, link axis): electronic gearing until CANCEL."""
         ...
 
+    def sync(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """SYNC(control, time[, sync pos, sync axis, pos1[, pos2[, pos3]]]) on the BASE
+        group `axes` (personality sync.py)."""
+        ...
+
     def addax(self, axis: int, args: Sequence[float]) -> None:
         """ADDAX(n): superimpose axis n's demand; ADDAX(-1) ends it."""
         ...

@@ -1,6 +1,6 @@
 """CAMBOX as its help page gives it: link options, pattern mode and multi-axis loading.
 
-`cambox_from` turns a CAMBOX's arguments into a `runs.Cambox` (refusing, before anything
+`cambox_from` turns a CAMBOX's arguments into a `link_kinds.Cambox` (refusing, before anything
 is loaded, what the page does not allow); `next_pattern` steps a pattern-mode CAMBOX's
 control block at the end of each shape, as the page's control-block table says.
 
@@ -11,19 +11,21 @@ ways until REP_OPTION bit 1 is set; bit 3 is pattern mode (the third argument is
 control block); bit 7 starts the profile `offset start` into the link distance; bit 13
 follows the link axis's DPOS (the model always follows the demand: an MC405 stepper's
 MPOS is its DPOS); bit 5 follows only the link's forward movement, bit 14 only its
-forward movement past the highest position it reached (`runs.Follow`). The reserved
+forward movement past the highest position it reached (`link_kinds.Follow`). The reserved
 bits are refused (D).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from maxk.firmware_model.profiles import Motion, Phase, RampShape
 
-from .runs import Cambox, Follow, Run
+from .link_kinds import Cambox, Follow
+from .runs import Run
 
 MARK_START, ABSOLUTE, REPEAT, PATTERN = 1, 2, 4, 8
 OFFSET_START, MARKB_START, R_MARK_START, FOLLOW_DPOS = 128, 256, 512, 8192
@@ -78,6 +80,36 @@ def cambox_from(args: Sequence[float], read_table: Callable[[int], float],
         cam.wait = f"R_MARK{cam.channel}"
     cam.start_pos = link_pos if bits & ABSOLUTE else None
     return cam
+
+
+def retable(cams: Sequence[tuple[Cambox, float | None]], start: int, count: int,
+            read_run: Callable[[int, int], Sequence[float]]) -> bool:
+    """TABLE(start, ...) wrote `count` values: every CAMBOX whose profile reads one of
+    them takes the TABLE as it is now (its link's DPOS given for one that runs, None for
+    one buffered). A running CAMBOX reads its TABLE live (C: the TABLE_POINTER page loads
+    new cam data into the locations already passed, for the next cycle, while it runs);
+    the values are positions from the profile's start (C: CAMBOX page), so the position
+    of the cycle the link is in follows the new values at once, and the cycles already
+    done keep what they moved (D). True if one changed."""
+    touched = False
+    for cam, link_dpos in cams:
+        first, last = cam.table_start, cam.table_start + len(cam.values) - 1
+        if start > last or start + count - 1 < first:
+            continue
+        if link_dpos is not None and cam.repeat and cam.link_origin is not None:
+            # the whole cycles done go into the origin: they keep what they moved
+            link = np.array([link_dpos])
+            if cam.follow is not None:
+                link = cam.follow.effective(link)
+            cycles = math.floor((float(link[0]) - cam.link_origin) / cam.distance)
+            if cam.held:
+                cycles = max(cycles, 0)
+            cam.origin += cycles * cam.span
+            cam.link_origin += cycles * cam.distance
+        raw = np.asarray(read_run(first, last), dtype=float)
+        cam.values = raw - float(raw[0])  # (offset by the first, as loaded)
+        touched = True
+    return touched
 
 
 def _index(value: float) -> int:
@@ -143,8 +175,13 @@ def cam_motion(args: Sequence[float], read_run: Callable[[int, int], Sequence[fl
             or not speed > 0:
         raise ValueError("Parameter out of range")
     values = np.array(read_run(int(start), int(end)), dtype=float)
+    return cam_profile(values, multiplier, distance * units / speed)
+
+
+def cam_profile(values: np.ndarray, multiplier: float, duration: float) -> Motion:
+    """The CAM's profile over `duration` seconds: one constant-speed phase per TABLE
+    interval (cam_motion)."""
     counts = multiplier * (values - values[0])
-    duration = distance * units / speed
     if not (np.all(np.isfinite(counts)) and np.max(np.abs(counts)) < 2.0 ** 53
             and np.isfinite(duration)):
         raise ValueError("Parameter out of range")
@@ -160,6 +197,28 @@ def cam_motion(args: Sequence[float], read_run: Callable[[int, int], Sequence[fl
     return Motion(phases, duration, final, duration, 1 if final >= 0 else -1)
 
 
+def recam(run: Run, start: int, count: int,
+          read_run: Callable[[int, int], Sequence[float]]) -> Motion | None:
+    """TABLE(start, ...) wrote `count` values: a CAM that reads one of them takes the
+    TABLE as it is now, over the same time (as CAMBOX's: the TABLE is read live, the
+    values positions from the CAM's start, C: CAM and TABLE_POINTER pages); its new
+    profile, or None if it reads none of them (or is being stopped)."""
+    if run.table is None or run.cam is None or run.stopping or run.preset is None \
+            or run.preset.end_time is None:
+        return None
+    last, multiplier = run.cam
+    if start > last or start + count - 1 < run.table:
+        return None
+    values = np.array(read_run(run.table, last), dtype=float)
+    try:
+        profile = cam_profile(values, multiplier, run.preset.end_time)
+    except ValueError:
+        return None  # (a value no double holds: the CAM keeps its profile, D)
+    run.preset = profile
+    run.deltas[0] = (profile.final_offset,)
+    return profile
+
+
 def cam_pointer(run: Run, elapsed: float) -> float:
     """TABLE_POINTER of a running CAM `elapsed` seconds in: each TABLE interval takes an
     equal share of its time (cam_motion), so the index of the one it is in plus the share
@@ -170,4 +229,5 @@ def cam_pointer(run: Run, elapsed: float) -> float:
     return run.table + min(max(elapsed / step, 0.0), float(intervals))
 
 
-__all__ = ["cam_motion", "cam_pointer", "cambox_from", "multi_axis", "next_pattern"]
+__all__ = ["cam_motion", "cam_pointer", "cambox_from", "multi_axis", "next_pattern", "recam",
+           "retable"]

@@ -15,9 +15,11 @@ import numpy as np
 
 from maxk.firmware_model.sampling import profile_offset_speed
 
+from . import clutch
 from .frames import Frames
+from .link_kinds import Cambox, Connect, Connpath, Movelink
 from .links import LinkedMoves
-from .runs import Cambox, Connect, Connpath, Movelink, Run, TrioAxis
+from .runs import Run, TrioAxis
 
 
 class Kinematics:
@@ -49,6 +51,11 @@ class Kinematics:
         """The demand of the axis's own moves and links (ADDAX's part not included)."""
         a = self.axes[axis]
         link = a.link
+        if isinstance(link, Connect) and link.ramp_from is not None:  # CLUTCH_RATE
+            leader = link.link
+            return clutch.ramped_counts(link, ticks,
+                                        lambda at: self.demand_counts(leader, at),
+                                        clutch.step_of(a, self.period))
         if isinstance(link, Connect | Movelink):
             return link.counts(self.demand_counts(link.link, ticks))
         if isinstance(link, Connpath):

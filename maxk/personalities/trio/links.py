@@ -7,8 +7,9 @@ servo ticks like every other position of the machine (`kinematics.py`):
 - CONNECT(ratio, link axis): electronic gearing. The axis moves `ratio` counts per count
   of the link axis from where both were when it took effect (C: the ratio is in
   encoder counts, not user units), until CANCEL or RAPIDSTOP. A second CONNECT on the
-  same link axis changes the ratio at once, from where both are (no jump); one on
-  another link axis is ignored while the first runs (C, manual).
+  same link axis changes the ratio from where both are (no jump), at the axis's
+  CLUTCH_RATE (`clutch.py`); one on another link axis is ignored while the first runs
+  (C, manual).
 - MOVELINK(distance, link distance, link acc, link dec, link axis[, options[, link
   pos]]): the axis moves `distance` while the link axis travels `link distance`; over
   the first `link acc` of it the axis's share of the link's speed ramps up from zero,
@@ -26,6 +27,9 @@ Linked moves are buffered moves: they queue per axis behind the moves and links 
 before them (NTYPE reports the next), and a move loaded after a link waits for it to end
 (the machine's rule for every link).
 
+MOVELINK_MODIFY reshapes the rest of a running MOVELINK (`links_modify.py`); SYNC adds
+its synchronising offset to the axes' demand here too (`sync.py`).
+
 Everything here is pure arithmetic on numpy arrays; `LinkedMoves` is the machine's event
 source for MOVELINK ends and keeps the per-axis queues and ADDAX state.
 """
@@ -41,7 +45,10 @@ import numpy as np
 
 from maxk.firmware_model.axis import first_tick
 
-from .runs import Cambox, Connect, Flexlink, Follow, Link, Movelink, Run, TrioAxis
+from . import clutch, links_modify
+from .link_kinds import Cambox, Connect, Flexlink, Follow, Link, Movelink
+from .runs import Run, TrioAxis
+from .sync import Syncs
 
 
 class Host(Protocol):
@@ -193,6 +200,7 @@ class LinkedMoves:
     def __init__(self, machine: Host, depth: int) -> None:
         self.machine = machine
         self.depth = depth  # moves an axis holds, running and buffered
+        self.syncs = Syncs(machine, self.keep)  # type: ignore[arg-type]  # (sync.Host)
         self._cache: tuple[int, int | None] = (-1, None)
         self.reset()
 
@@ -201,6 +209,7 @@ class LinkedMoves:
         self.chains: list[deque[Connect | Movelink]] = [deque() for _ in range(count)]
         self.addax: dict[int, Addax] = {}
         self.shift = [0.0] * count  # what ended ADDAXes left on each axis (counts)
+        self.syncs.reset()
 
     # ---- loading ----------------------------------------------------------------------
     def check_axis(self, value: float, axis: int) -> int:
@@ -236,16 +245,13 @@ class LinkedMoves:
 
     def connect(self, axis: int, args: list[float]) -> None:
         ratio, link = args[0], self.check_axis(args[1], axis)
-        if not abs(ratio) < 2.0 ** 53:
-            raise ValueError("Parameter out of range")
+        if not abs(ratio) < 2.0 ** 53 or len(args) > 2 and args[2] not in (0, 1):
+            raise ValueError("Parameter out of range")  # mode 0 MPOS, 1 DPOS (CONNECT page)
         m = self.machine
         running = m.axes[axis].link
         if isinstance(running, Connect):
-            if running.link == link:  # a new ratio from here on (no jump)
-                running.origin = float(m.own_counts(axis, m._now())[0])
-                running.link_origin = m.demand(link)
-                running.ratio = ratio
-                m.changed()
+            if running.link == link:  # a new ratio from here on, at CLUTCH_RATE (no jump)
+                clutch.change_ratio(m, axis, running, ratio)
             return  # another link axis: ignored while this CONNECT runs (C)
         self.load(axis, Connect(ratio, link))
 
@@ -301,9 +307,17 @@ class LinkedMoves:
                 todo.append(self.addax[a].link)
         return False
 
+    def keep(self, axis: int, counts: float) -> None:
+        """What an ended SYNC moved the axis stays on it (as an ended ADDAX's)."""
+        self.shift[axis] += counts
+        self.machine.changed()
+
     # ---- positions ----------------------------------------------------------------------
     def superimpose(self, axis: int, ticks: np.ndarray, own: np.ndarray) -> np.ndarray:
-        """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left)."""
+        """The axis's demand: its own plus ADDAX's (and what ended ADDAXes left) and
+        SYNC's (sync.py)."""
+        if self.syncs.running:
+            own = own + self.syncs.counts(axis, ticks)
         shift = self.shift[axis]
         added = self.addax.get(axis)
         if added is None:
@@ -336,6 +350,8 @@ class LinkedMoves:
             start = link.start_at - m.axes[link.link].datum
             link.link_origin = max(link.link_origin, start)
         m.axes[axis].link = link
+        if isinstance(link, Movelink):
+            links_modify.attempt(m, axis)  # an offset kept from before (links_modify.py)
         return True
 
     def cancelled(self, axis: int) -> None:

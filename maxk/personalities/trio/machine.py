@@ -34,9 +34,28 @@ from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
-from . import axismode, encoders, geometry, move_pa, moves, sequences, stepratio, tangential
+from . import (
+    axismode,
+    encoders,
+    geometry,
+    links_modify,
+    move_pa,
+    moves,
+    sequences,
+    stepratio,
+    tangential,
+)
 from .backlash import Backlash
-from .cams import cam_motion, cam_pointer, cambox_from, multi_axis, next_pattern
+from .cams import (
+    cam_motion,
+    cam_pointer,
+    cambox_from,
+    multi_axis,
+    next_pattern,
+    recam,
+    retable,
+)
+from .clutch import ClutchWatch
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
@@ -44,6 +63,7 @@ from .frames import READS as FRAME_READS
 from .frames import Frames
 from .jogs import Jogs
 from .kinematics import Kinematics
+from .link_kinds import Cambox, Connpath, Link
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .move_pa import MovePa
@@ -64,16 +84,7 @@ from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
 from .respeed import refactor, respeed
-from .runs import (
-    CORNER_HELD,
-    SHAPE,
-    Cambox,
-    Connpath,
-    Link,
-    Run,
-    TrioAxis,
-    single_profile,
-)
+from .runs import CORNER_HELD, SHAPE, Run, TrioAxis, single_profile
 from .trace import PwmTrace
 
 HELD = 2 ** 62  # the end tick of a run held at speed 0 (it ends when it goes on)
@@ -136,6 +147,9 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.registration)  # Z-mark captures (registration.py)
         self.add_source(self.switches)  # PSWITCH / HW_PSWITCH edges (pswitch.py)
         self.add_source(_FollowWatch(self))  # forward-only links take in each stretch
+        self.clutch = ClutchWatch(self)
+        self.add_source(self.clutch)  # CONNECT ratios ramping at CLUTCH_RATE
+        self.add_source(self.links.syncs)  # SYNC(4) stopping, cycle by cycle (sync.py)
         self.add_source(self.jogs)  # jog inputs, looked at every event
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
         self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
@@ -295,6 +309,8 @@ class MC405Machine(Kinematics, Engine):
             return output.encoder
         if name == "DAC_OUT":
             return self.drive.following.dac_out(axis)
+        if name in ("SYNC_CONTROL", "SYNC_TIMER"):
+            return self.links.syncs.read(name, axis)
         if name == "ENCODER":
             return encoders.encoder(self, axis)
         if name in AXIS_READS:
@@ -353,16 +369,23 @@ class MC405Machine(Kinematics, Engine):
             self.frames.set_frame(axis, value)
         elif name == "AXIS_UNITS" and not (value != 0 and math.isfinite(value)):
             raise ValueError("Parameter out of range")
+        elif name == "CLUTCH_RATE" and value >= 0:
+            self.clutch.new_rate(axis)  # the ramp so far at the old rate (clutch.py)
+            self.axes[axis].params[name] = value
+        elif name == "MOVELINK_MODIFY":
+            links_modify.request(self, axis, value)  # (links_modify.py)
         elif name == "ENDMOVE":
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
         elif name == "CORNER_STATE":
             self.corners.write(axis, value)  # the corner handshake (corner_state.py)
-        elif name in _COMPUTED or name not in self.axes[axis].params:
+        elif name in _COMPUTED or name not in self.axes[axis].params \
+                or name == "SYNC_CONTROL":  # (read only: its page, D)
             raise ValueError("Parameter is read only")
-        elif name == "VP_MODE" and value not in VP_MODES:
-            raise ValueError("Parameter out of range")
+        elif name == "VP_MODE" and value not in VP_MODES or \
+                name == "CLUTCH_RATE" and not value >= 0:
+            raise ValueError("Parameter out of range")  # (CLUTCH_RATE < 0: D)
         elif name == "REP_OPTION" and int(value) & 2:
             self.links.stop_repeating(axis)  # bit 1: the repeating links end their cycle
             self.axes[axis].params[name] = float(int(value) & ~2)  # and it clears (C)
@@ -733,7 +756,23 @@ class MC405Machine(Kinematics, Engine):
         return self.table.read(index)
 
     def table_write(self, start: int, values: Sequence[float]) -> None:
+        held: list[tuple[Cambox, float | None]] = []
+        for a in self.axes:  # the CAMBOXes read their TABLE live (cams.py)
+            for cam in (a.link, a.pending_link):
+                if isinstance(cam, Cambox):
+                    running = cam is a.link and cam.link_origin is not None
+                    held.append((cam, self.dpos(cam.link) if running else None))
+        cams = [run for queue in self.queues for run in queue if run.cam is not None]
+        if held or cams:
+            self.outputs.sync_all()  # the encoders see the motion before a cam changes
         self.table.write(start, values)
+        retable(held, start, len(values), self.table.read_run)
+        for run in cams:  # a CAM too (cams.recam): over the same time
+            profile = recam(run, start, len(values), self.table.read_run)
+            if profile is not None and run.started:
+                axis = self.axes[run.base]
+                run.profile = axis.motion = profile
+                axis.direction = profile.direction
         self.changed()
 
     def vr_read(self, index: int) -> float:
@@ -809,6 +848,10 @@ class MC405Machine(Kinematics, Engine):
     def connect(self, axis: int, args: Sequence[float]) -> None:
         self.links.connect(axis, list(args))
 
+    def sync(self, axes: Sequence[int], args: Sequence[float]) -> None:
+        """SYNC(control, time[, sync pos, sync axis, pos1[, pos2[, pos3]]]) (sync.py)."""
+        self.links.syncs.command(list(axes), list(args), self.links.depends)
+
     def movelink(self, axis: int, args: Sequence[float]) -> None:
         self.links.movelink(axis, list(args))
 
@@ -826,7 +869,7 @@ class MC405Machine(Kinematics, Engine):
         self._load((axis,), [motion.final_offset], kind=moves.CAM, preset=motion)
         for run in self.queues[axis]:
             if run.preset is motion:
-                run.table = int(args[0])
+                run.table, run.cam = int(args[0]), (int(args[1]), float(args[2]))
 
     def table_pointer(self, axis: int) -> float:
         """TABLE_POINTER: where in its TABLE the axis's CAMBOX or running CAM is; 0 with

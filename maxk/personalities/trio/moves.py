@@ -22,9 +22,10 @@ import numpy as np
 
 from maxk.firmware_model.path import PathPlan, plan_path
 
+from .link_kinds import Cambox, Connect, Link, Movelink
 from .links import Host as LinkHost
 from .links import LinkedMoves
-from .runs import Cambox, Connect, Link, Movelink, Run
+from .runs import Run
 
 
 class Host(LinkHost, Protocol):
