@@ -27,7 +27,7 @@ from maxk.firmware_model.axis import MotionAxis
 from maxk.firmware_model.motion import Clock, MotionPlan
 from maxk.firmware_model.profiles import plan_jog, plan_move, plan_stop, scaled
 from maxk.personalities.maxk import flags as F
-from maxk.personalities.maxk.backlash import Backlash, walk
+from maxk.personalities.maxk.backlash import PLAIN_DOWN, PLAIN_UP, Backlash, walk
 from maxk.personalities.maxk.config import AxisConfig, wrap32
 from maxk.personalities.maxk.homing import Homing
 from maxk.personalities.maxk.queue import QUEUE_COMMANDS_PER_UPDATE, CommandQueue
@@ -249,7 +249,13 @@ class Axis(MotionAxis):
         distance = target - self.motor_position(board)
         if distance == 0 or self.velocities_refused(board, "GO"):
             return False
-        return self.start_motion(self.config.plan_move(distance), board)
+        config = self.config
+        # AxisConfig's memo read here (a compiled build then calls no Python function
+        # for a move planned before); config.plan_move plans and memoises the rest
+        motion = config._moves.get(distance)
+        if motion is None:
+            motion = config.plan_move(distance)
+        return self.start_motion(motion, board)
 
     def start_jog(self, velocity: float, board: AxisHost) -> bool:
         """JG: ramp from the present velocity to a signed jog velocity and slew (JF's
@@ -299,7 +305,10 @@ class Axis(MotionAxis):
             if not (self._play or self.config.backlash or state.play) and m.monotonic:
                 moved = m.final_offset  # the hot path: only the direction changes
                 if moved and (moved > 0) != (state.direction > 0):
-                    self.backlash = state.turned()
+                    # state.turned(), its plain case inlined (a compiled build calls
+                    # no Python method per back-and-forth move)
+                    self.backlash = ((PLAIN_DOWN if moved < 0 else PLAIN_UP)
+                                     if not state.extra else state.turned())
             else:
                 self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()
