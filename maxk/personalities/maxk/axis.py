@@ -249,13 +249,7 @@ class Axis(MotionAxis):
         distance = target - self.motor_position(board)
         if distance == 0 or self.velocities_refused(board, "GO"):
             return False
-        config = self.config
-        # AxisConfig's memo read here (a compiled build then calls no Python function
-        # for a move planned before); config.plan_move plans and memoises the rest
-        motion = config._moves.get(distance)
-        if motion is None:
-            motion = config.plan_move(distance)
-        return self.start_motion(motion, board)
+        return self.start_motion(self.config.plan_move(distance), board)
 
     def start_jog(self, velocity: float, board: AxisHost) -> bool:
         """JG: ramp from the present velocity to a signed jog velocity and slew (JF's
