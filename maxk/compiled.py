@@ -25,10 +25,14 @@ COMPILED_MODULES = (
     "maxk.firmware_model.profiles",
     "maxk.firmware_model.motion",
     "maxk.firmware_model.path",
+    "maxk.firmware_model.world",
     "maxk.personalities.maxk.axis",
     "maxk.personalities.maxk.board",
     "maxk.personalities.maxk.queue",
+    "maxk.personalities.maxk.waits",
+    "maxk.personalities.maxk.config",
     "maxk.personalities.maxk.contouring",
+    "maxk.personalities.maxk.capture",
     "maxk.commands.max.queued_motion",
     "maxk.commands.max.context",
     "maxk.commands.max.queued",
@@ -36,9 +40,11 @@ COMPILED_MODULES = (
     "maxk.commands.max.interpreter",
     "maxk.commands.max.vector",
 )
-"""Compiled when a compiler exists; never a module another controller's team edits.
-Not personalities/maxk/config.py: its AxisConfig drops its memoised plans in
-`__setattr__`, which a compiled class would not call."""
+"""Compiled when a compiled build's rules (docs/architecture.md) are kept in them: the
+shared machine's modules (the world too: every controller's switches and inputs) and
+the MAXk's, never a module only another controller's team edits. A compiled class
+calls no custom `__setattr__` on attribute assignments from compiled code: AxisConfig
+checks its plans' parameters at each move instead of dropping them in one."""
 
 GROUP = "maxk._compiled"
 """mypyc's shared library for them (`maxk/_compiled__mypyc*.so`), inside the package so

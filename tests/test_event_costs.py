@@ -121,6 +121,51 @@ def test_a_config_change_drops_the_memoised_plans() -> None:
 _shapes = st.sampled_from(["LINEAR", "PARABOLIC", "SCURVE", "COSINE"])
 
 
+@pytest.mark.parametrize(("name", "value", "ramp_args"), [
+    ("velocity", 50_000, (0, 50_000, 2_000_000, 2_000_000, "linear")),
+    ("base_velocity", 1_000, (1_000, 200_000, 2_000_000, 2_000_000, "linear")),
+    ("acceleration", 500_000, (0, 200_000, 500_000, 2_000_000, "linear")),
+    ("deceleration", 700_000, (0, 200_000, 2_000_000, 700_000, "linear")),
+    ("ramp", "s-curve", (0, 200_000, 2_000_000, 2_000_000, "s-curve")),
+])
+def test_each_plan_parameter_makes_a_fresh_plan(name: str, value: object,
+                                                 ramp_args: tuple) -> None:
+    """The memo is keyed on VB, VL, AC, DC and the ramp with its factors: a change of
+    any one plans afresh (the plan profiles makes from scratch); a change of anything
+    else (SE, BC, the slip tolerance) keeps the plan made."""
+    from maxk.firmware_model.profiles import RampShape, plan_move
+    from maxk.personalities.maxk.config import AxisConfig
+
+    c = AxisConfig()
+    first = c.plan_move(-3001)
+    c.settle_ms, c.backlash, c.slip_tolerance = 5, 3, 7
+    assert c.plan_move(-3001) is first
+    setattr(c, name, RampShape(value) if name == "ramp" else value)
+    fresh = c.plan_move(-3001)
+    base, peak, accel, decel, shape = ramp_args
+    assert fresh is not first
+    assert fresh == plan_move(-3001, base, peak, accel, decel, RampShape(shape))
+    assert fresh != first
+
+
+@pytest.mark.parametrize("name", ["ramp_factor", "scurve_factor", "ramp_parameter"])
+def test_each_ramp_factor_makes_a_fresh_plan(name: str) -> None:
+    """PN, SS and PR shape the ramps: a change of any one replans (PN on a parabolic
+    ramp, SS and PR on an S-curve)."""
+    from maxk.firmware_model.profiles import RampShape, plan_move
+    from maxk.personalities.maxk.config import AxisConfig
+
+    c = AxisConfig()
+    c.ramp = RampShape.PARABOLIC if name == "ramp_factor" else RampShape.SCURVE
+    first = c.plan_move(5000)
+    setattr(c, name, 3 if name == "ramp_factor" else 30)
+    fresh = c.plan_move(5000)
+    up, down = {"ramp_factor": (3.0, 3.0), "scurve_factor": (0.3, 0.3),
+                "ramp_parameter": (None, 0.3)}[name]
+    assert fresh == plan_move(5000, 0, 200_000, 2_000_000, 2_000_000, c.ramp, up, down)
+    assert fresh != first
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.integers(-200_000, 200_000).filter(bool), st.integers(0, 5_000),
        st.integers(1, 400_000), st.integers(1_000, 4_000_000), st.integers(1_000, 4_000_000),

@@ -88,7 +88,8 @@ class Switch:
     def present(self) -> bool:
         return self.low is not None or self.high is not None
 
-    def active(self, steps: float) -> bool:
+    def active(self, steps: int | float) -> bool:
+        # (`int | float`: compiled, a `float` would turn the motor's int steps into a float)
         fault = self.fault
         if fault is not None:
             if fault == STUCK_ACTIVE:
@@ -171,9 +172,9 @@ class EncoderMount:
     `counts_per_step`, negative when it counts the other way."""
 
     motor: int  # the axis whose motor the encoder turns with
-    counts_per_step: float = 1.0
+    counts_per_step: int | float = 1.0  # (as given: compiled, a `float` would convert)
 
-    def counts(self, motor_steps: float) -> float:
+    def counts(self, motor_steps: int | float) -> int | float:
         return motor_steps * self.counts_per_step
 
 

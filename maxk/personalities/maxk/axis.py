@@ -27,7 +27,7 @@ from maxk.firmware_model.axis import MotionAxis
 from maxk.firmware_model.motion import Clock, MotionPlan
 from maxk.firmware_model.profiles import plan_jog, plan_move, plan_stop, scaled
 from maxk.personalities.maxk import flags as F
-from maxk.personalities.maxk.backlash import Backlash, walk
+from maxk.personalities.maxk.backlash import PLAIN_DOWN, PLAIN_UP, Backlash, walk
 from maxk.personalities.maxk.config import AxisConfig, wrap32
 from maxk.personalities.maxk.homing import Homing
 from maxk.personalities.maxk.queue import QUEUE_COMMANDS_PER_UPDATE, CommandQueue
@@ -299,7 +299,10 @@ class Axis(MotionAxis):
             if not (self._play or self.config.backlash or state.play) and m.monotonic:
                 moved = m.final_offset  # the hot path: only the direction changes
                 if moved and (moved > 0) != (state.direction > 0):
-                    self.backlash = state.turned()
+                    # state.turned(), its plain case inlined (a compiled build calls
+                    # no Python method per back-and-forth move)
+                    self.backlash = ((PLAIN_DOWN if moved < 0 else PLAIN_UP)
+                                     if not state.extra else state.turned())
             else:
                 self.backlash_pending = (self.steps, m, None, self.steps + m.final_offset)
         super().finish_motion()

@@ -46,7 +46,7 @@ class Backlash(NamedTuple):
         """The state after a reversal with no play and no BC: only the direction changes
         (every back-and-forth move of a plain stepper: the plain states are shared)."""
         if not (self.extra or self.play):
-            return _PLAIN_DOWN if self.direction > 0 else _PLAIN_UP
+            return PLAIN_DOWN if self.direction > 0 else PLAIN_UP
         return Backlash(-self.direction, self.extra, 0)
 
     def leg(self, moved: int, play: int, compensation: int) -> Backlash:
@@ -65,8 +65,8 @@ class Backlash(NamedTuple):
         return Backlash(d, extra, ahead)
 
 
-_PLAIN_UP = Backlash(1, 0, 0)
-_PLAIN_DOWN = Backlash(-1, 0, 0)
+PLAIN_UP = Backlash(1, 0, 0)
+PLAIN_DOWN = Backlash(-1, 0, 0)
 
 
 def walk(state: Backlash, origin: int, motion: MotionPlan, until: float | None, end: int,

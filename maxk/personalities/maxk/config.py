@@ -5,7 +5,6 @@ homing and the axis all read it."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from maxk.firmware_model.profiles import Motion, RampShape, plan_move
 from maxk.firmware_model.servo import Gains
@@ -16,6 +15,34 @@ def wrap32(value: int) -> int:
     return ((value + 0x8000_0000) & 0xFFFF_FFFF) - 0x8000_0000
 
 
+class _PlanParameters:
+    """The parameters an axis's memoised plans were made with (AxisConfig.plan_move)."""
+
+    __slots__ = ("velocity", "acceleration", "deceleration", "base_velocity", "ramp",
+                 "ramp_factor", "scurve_factor", "ramp_parameter")
+
+    def __init__(self, c: AxisConfig | None = None) -> None:
+        """The parameters of `c`; none (matching no configuration) without one."""
+        self.ramp: RampShape | None = None
+        self.velocity = self.acceleration = self.deceleration = self.base_velocity = 0
+        self.ramp_factor = self.scurve_factor = self.ramp_parameter = 0
+        if c is not None:
+            self.velocity = c.velocity
+            self.acceleration = c.acceleration
+            self.deceleration = c.deceleration
+            self.base_velocity = c.base_velocity
+            self.ramp = c.ramp
+            self.ramp_factor = c.ramp_factor
+            self.scurve_factor = c.scurve_factor
+            self.ramp_parameter = c.ramp_parameter
+
+    def same(self, c: AxisConfig) -> bool:
+        return (self.velocity == c.velocity and self.acceleration == c.acceleration
+                and self.deceleration == c.deceleration
+                and self.base_velocity == c.base_velocity and self.ramp is c.ramp
+                and self.ramp_factor == c.ramp_factor
+                and self.scurve_factor == c.scurve_factor
+                and self.ramp_parameter == c.ramp_parameter)
 
 
 @dataclass
@@ -55,19 +82,23 @@ class AxisConfig:
     encoder_inverted: bool = False  # EDI / EDN (stored: the count is not inverted)
     kod: float = 0.0  # KOD: a second offset term, stored only (meaning unknown)
     backlash: int = 0  # BC: backlash compensation, steps
-    # the moves planned with these parameters, by distance (dropped at any change: see
-    # __setattr__); a scan repeats its moves, and a plan is never modified once made
+    # the moves planned with these parameters, by distance, and the parameters they were
+    # planned with (VB, VL, AC, DC, the ramp and its three factors): a scan repeats its
+    # moves, and a plan is never modified once made. The parameters are compared at every
+    # move, not the memo dropped in a __setattr__: compiled (maxk/compiled.py), the class's
+    # attributes are set without calling one.
     _moves: dict[int, Motion] = field(default_factory=dict, init=False, repr=False,
                                       compare=False)
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        object.__setattr__(self, name, value)
-        if name != "_moves":
-            object.__setattr__(self, "_moves", {})
+    _planned_for: _PlanParameters = field(default_factory=_PlanParameters, init=False,
+                                          repr=False, compare=False)
 
     def plan_move(self, distance: int) -> Motion:
         """A point-to-point move from rest over `distance` steps at VB, VL, AC, DC and the
         selected ramp (memoised per parameter set: one dictionary lookup a move)."""
+        key = self._planned_for
+        if not key.same(self):
+            self._planned_for = _PlanParameters(self)
+            self._moves = {}
         moves = self._moves
         motion = moves.get(distance)
         if motion is None:

@@ -7,9 +7,8 @@ contour anchors are waits too (`StartGroup`, `ContourWait`), with a `ready(board
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import Enum
-from typing import Any, Protocol, TypeAlias
+from typing import Any, Final, Protocol, TypeAlias, final
 
 
 class RestWait(Enum):
@@ -19,26 +18,54 @@ class RestWait(Enum):
     RETRY = "rest-retry"  # then the same entry runs again (anything behind ST or a jog)
 
 
-WAIT_MOTION = RestWait.MOTION
-WAIT_REST_RETRY = RestWait.RETRY
+WAIT_MOTION: Final = RestWait.MOTION
+WAIT_REST_RETRY: Final = RestWait.RETRY
 
 
-@dataclass(frozen=True, slots=True)
+@final
 class TickWait:
     """Until a tick (WT, MO, a JG ramp, an LE pass). `retry`: then the same entry runs
     (the update's share of queue work was spent before it: `QUEUE_COMMANDS_PER_UPDATE`);
-    otherwise the entry that waited is finished."""
+    otherwise the entry that waited is finished.
 
-    tick: int
-    retry: bool = False
+    A plain class, not a dataclass: compiled (maxk/compiled.py), it is made natively at
+    every LE pass and WT; a dataclass's generated __init__ would run as Python."""
+
+    __slots__ = ("tick", "retry")
+
+    def __init__(self, tick: int, retry: bool = False) -> None:
+        self.tick: Final = tick
+        self.retry: Final = retry
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, TickWait) and self.tick == other.tick
+                and self.retry == other.retry)
+
+    def __hash__(self) -> int:
+        return hash((self.tick, self.retry))
+
+    def __repr__(self) -> str:
+        return f"TickWait(tick={self.tick!r}, retry={self.retry!r})"
 
 
-@dataclass(frozen=True, slots=True)
+@final
 class InputWait:
     """SW: until a general purpose input reads high (BW: low)."""
 
-    bit: int
-    low: bool = False
+    __slots__ = ("bit", "low")
+
+    def __init__(self, bit: int, low: bool = False) -> None:
+        self.bit: Final = bit
+        self.low: Final = low
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, InputWait) and self.bit == other.bit and self.low == other.low
+
+    def __hash__(self) -> int:
+        return hash((self.bit, self.low))
+
+    def __repr__(self) -> str:
+        return f"InputWait(bit={self.bit!r}, low={self.low!r})"
 
 
 class SyncWait(Protocol):
