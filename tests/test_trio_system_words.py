@@ -182,9 +182,9 @@ def test_list_global_numbers_definitions_in_the_order_they_were_made() -> None:
     rig.command('CONSTANT "cutter", 23')
     rig.command('GLOBAL "conveyor", 5')
     global_table = ["Global" + " " * 27 + "VR", "-" * 16 + " " * 17 + "----",
-                    "CONVEYOR" + " " * 25 + "5"]
+                    "conveyor" + " " * 25 + "5"]
     constant_table = ["Constant" + " " * 25 + "Value", "-" * 16 + " " * 17 + "-------",
-                      "CUTTER" + " " * 27 + "23.00000"]
+                      "cutter" + " " * 27 + "23.00000"]
     assert rig.command("LIST_GLOBAL").decode().split("\r\n") == global_table + constant_table
     assert rig.command("LIST_GLOBAL 1").decode().split("\r\n") == global_table
     assert rig.command("LIST_GLOBAL 0,1").decode().split("\r\n") == constant_table

@@ -83,6 +83,7 @@ class Housekeeping:
     writing: dict[int, tuple[str, str]]  # OPEN ... FOR OUTPUT: channel -> file, partial line
     crc: CrcSetup | None
     defined: dict[str, int]  # "C name" / "G name" -> when it was first defined
+    spellings: dict[str, str]  # ... and its name as first typed
 
     # ---- programs ----------------------------------------------------------------------
     def _names(self, args: list[Value]) -> tuple[str, str]:
@@ -161,16 +162,22 @@ class Housekeeping:
         lines: list[str] = []
         if globals_:
             lines += [f"{'Global':<{_NAME_COLUMN}}VR", f"{'-' * 16:<{_NAME_COLUMN}}----"]
-            lines += [f"{name:<{_NAME_COLUMN}}{self.globals[name]}" for name in globals_]
+            lines += [f"{self._typed('G', name):<{_NAME_COLUMN}}{self.globals[name]}"
+                      for name in globals_]
         if constants:
             lines += [f"{'Constant':<{_NAME_COLUMN}}Value",
                       f"{'-' * 16:<{_NAME_COLUMN}}-------"]
             for name in constants:
                 value = self.constants[name]
                 shown = f'"{value}"' if isinstance(value, str) else f"{value:.5f}"
-                lines.append(f"{name:<{_NAME_COLUMN}}{shown}")
+                lines.append(f"{self._typed('C', name):<{_NAME_COLUMN}}{shown}")
         for line in lines:
             self.output(line + "\r\n")
+
+    def _typed(self, kind: str, name: str) -> str:
+        """A definition's name as it was first typed (the page lists `conveyor` so); the
+        names match whatever their case, so a later definition keeps that first spelling."""
+        return self.spellings.get(f"{kind} {name}") or name
 
     def channel_word(self, name: str, args: tuple[Expr, ...], ctx: ProcessContext,
                      interp: Interpreter) -> float:

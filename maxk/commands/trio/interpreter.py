@@ -170,6 +170,7 @@ class SystemHook(Protocol):
 
     constants: dict[str, Value]
     globals: dict[str, int]
+    spellings: dict[str, str]  # "C NAME" / "G NAME" -> the name as first typed
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
@@ -1008,6 +1009,7 @@ class Interpreter:
             if known is not None and known != value:
                 raise TrioError("Cannot assign to a constant")
             self.hook.constants[stmt.name] = value
+        self.hook.spellings.setdefault(f"{stmt.what[0]} {stmt.name}", stmt.spelling)
         if len(self.hook.constants) + len(self.hook.globals) > 4096:  # (D) bounded
             raise TrioError("Parameter out of range")
 

@@ -156,6 +156,7 @@ class Declare:
     what: str  # "CONSTANT" or "GLOBAL"
     name: str  # "": every one of them is cleared (CONSTANT / GLOBAL alone)
     value: Expr | None  # None: the name alone clears that one (the pages' examples)
+    spelling: str = ""  # the name as typed (LIST_GLOBAL prints it so; the page's example)
 
 
 @dataclass(frozen=True)
@@ -327,7 +328,7 @@ _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
 
 def parse_line(text: str) -> list[Stmt]:
     """All statements of one line (empty for a blank or comment line)."""
-    return _Parser(tokenize(text)).line()
+    return _Parser(tokenize(text), text).line()
 
 
 def parse_expression(text: str) -> Expr:
@@ -347,8 +348,9 @@ DEFAULT_STRING_LENGTH = 64
 
 
 class _Parser:
-    def __init__(self, tokens: list[Token]) -> None:
+    def __init__(self, tokens: list[Token], source: str = "") -> None:
         self.tokens = tokens
+        self.source = source  # the line as typed (a name's spelling: DEFCONST)
         self.pos = 0
         self.depth = 0
         self.operators = 0
@@ -643,7 +645,8 @@ class _Parser:
                 raise TrioError("Syntax error")
             if self.at_op("=", ","):
                 self.advance()
-            return Declare("CONSTANT", tok.text, self.expression())
+            typed = self.source[tok.column:tok.column + len(tok.text)] or tok.text
+            return Declare("CONSTANT", tok.text, self.expression(), typed)
         if name in ("CONSTANT", "GLOBAL"):
             tok = self.advance()
             if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
@@ -651,7 +654,7 @@ class _Parser:
             if self.at_statement_end():  # CONSTANT "name": clears that one (its page)
                 return Declare(name, tok.text.upper(), None)
             self.expect_op(",")
-            return Declare(name, tok.text.upper(), self.expression())
+            return Declare(name, tok.text.upper(), self.expression(), tok.text)
         if name == "DIM":
             return self.dim()
         if name == "FUNCTION":
