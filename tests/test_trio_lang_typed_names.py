@@ -25,7 +25,7 @@ def test_a_name_matches_in_any_case_and_keeps_its_first_spelling() -> None:
     rig = Rig()
     rig.command('GLOBAL "Speed_Vr", 7')
     rig.command("VR(7) = 41")
-    assert rig.command("?SPEED_VR + speed_vr") == b"82"
+    assert rig.command("?SPEED_VR + speed_vr") == b"82.0000"  # a VR is FLOAT
     rig.command('GLOBAL "SPEED_VR", 7')  # the same global again, typed otherwise
     assert _rows(rig.command("LIST_GLOBAL"))[2] == "Speed_Vr" + " " * (33 - 8) + "7"
 

@@ -30,6 +30,7 @@ from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value, numb
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import Expr
+from .printformat import Real
 from .programs import MAX_PROGRAM_BYTES, ProgramStore
 from .tasks import Step, Task
 
@@ -51,6 +52,14 @@ def file_name(name: str) -> str:
         if name.endswith(extension):
             name = name[:-len(extension)]
     return name
+
+
+def _zero(value: Value) -> Value:
+    """What RESET leaves in a variable: "" for a string, 0 of the same type (a FLOAT stays
+    FLOAT: printformat.Real) for a number."""
+    if isinstance(value, str):
+        return ""
+    return Real(0.0) if isinstance(value, Real) else 0.0
 
 
 class Definitions(dict[str, _V]):
@@ -141,10 +150,10 @@ class Housekeeping:
         """RESET: the local named variables of this process to 0 (help page RESET); a
         DIM'd name keeps its type, numbers become 0 and strings empty (D)."""
         for name, value in ctx.variables.items():
-            ctx.variables[name] = "" if isinstance(value, str) else 0.0
+            ctx.variables[name] = _zero(value)
         for array in ctx.arrays.values():
             for k, value in enumerate(array):
-                array[k] = "" if isinstance(value, str) else 0.0
+                array[k] = _zero(value)
 
     def cmd_list_global(self, args: list[Value]) -> None:
         """LIST_GLOBAL [offset[, length]]: the GLOBAL and CONSTANT definitions numbered in
