@@ -131,7 +131,7 @@ def test_a_reset_starts_the_record_again(hosted: Hosted) -> None:
     c.console(3, "VR(1) = 5")
     c.reset(3)
     c.console(3, "?VR(1)")
-    assert c.console_script(3).splitlines()[2:] == ["?VR(1)", "< 0"]
+    assert c.console_script(3).splitlines()[2:] == ["?VR(1)", "< 0.0000"]
 
 
 @pytest.mark.parametrize("body,status", [

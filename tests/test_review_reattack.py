@@ -650,7 +650,7 @@ def test_holds_mc405_hosts_gone_behind_a_wait_idle_leave_when_it_ends(
             trio.advance(0.01)
         mover.sendall(b"?VR(0)+VR(29)\r\n")
         assert _recv_until(mover, _ends_with(TRIO_TRAILER)) == (
-            b"?VR(0)+VR(29)\r\n31\r\n" + TRIO_TRAILER)
+            b"?VR(0)+VR(29)\r\n31.0000\r\n" + TRIO_TRAILER)
 
 
 _HELD_LINES = st.one_of(
@@ -701,4 +701,4 @@ def test_holds_mc405_console_abandons_a_wait_and_goes_on() -> None:
     assert controller.send("CANCEL:WAIT IDLE:?3") == ["3"]
     assert controller.send("VR(1)=1:WA(100000000):VR(1)=2") == [
         "! still waiting after 600 s: abandoned"]
-    assert controller.send("?VR(1)") == ["1"]
+    assert controller.send("?VR(1)") == ["1.0000"]

@@ -45,7 +45,7 @@ def test_console_lines_errors_help_words_status() -> None:
     assert console.execute("PWM_CYCLE AXIS(9)=100") == []
     assert console.new_errors() == ["! Axis 9 has no PWM output"]
     assert trio.send("?1+") == ["! Syntax error"]  # the API shows both
-    assert console.execute("a=5: ?a*2; : ?a") == ["105"]
+    assert console.execute("a=5: ?a*2; : ?a") == ["10.00005.0000"]  # a is FLOAT
     assert console.execute("") == []
     assert "PWM_CONTROL" in console.words() and "CAMBOX" in console.words()
     helped = console.help("pwm_control")
@@ -117,7 +117,7 @@ def test_programs_survive_a_restart_of_the_emulator(tmp_path) -> None:
     assert second.query("?CHECKSUM") == checksum
     assert second.send('LIST "EX1"') == EXAMPLE_1.splitlines()
     second.advance(ticks=1)
-    assert second.query("?VR(3)") == "33"  # the autorun program ran at power-up
+    assert second.query("?VR(3)") == "33.0000"  # the autorun program ran at power-up
     assert MC405().query('?IS_PROG "EX1"') == "0"  # memory only: nothing stored
 
 
@@ -142,13 +142,13 @@ def test_a_loop_pass_takes_one_servo_cycle_and_wa_wakes_on_its_tick() -> None:
     trio.send('RUN "LOOP"')
     trio.send('RUN "NAP"')
     trio.advance(ticks=5)
-    assert trio.query("?VR(1)") == "5" and trio.query("?VR(2)") == "0"
+    assert trio.query("?VR(1)") == "5.0000" and trio.query("?VR(2)") == "0.0000"
     trio.advance(ticks=1)
-    assert trio.query("?VR(2)") == "1"  # first cycle tick 1, WA(5) until tick 6
+    assert trio.query("?VR(2)") == "1.0000"  # first cycle tick 1, WA(5) until tick 6
     trio.advance(ticks=6)
-    assert trio.query("?VR(2)") == "1"
+    assert trio.query("?VR(2)") == "1.0000"
     trio.advance(ticks=1)
-    assert trio.query("?VR(2)") == "2" and trio.query("?VR(1)") == "13"
+    assert trio.query("?VR(2)") == "2.0000" and trio.query("?VR(1)") == "13.0000"
 
 
 def test_wait_idle_ends_on_the_tick_the_move_ends_and_after_a_cancel() -> None:
@@ -158,15 +158,15 @@ def test_wait_idle_ends_on_the_tick_the_move_ends_and_after_a_cancel() -> None:
     trio.send('RUN "W"')
     # MOVE(50) from tick 1: 0.1 s ramps to 100 cover 5 each, then 40 at 100: 0.6 s in all
     trio.advance(ticks=600)
-    assert trio.query("?VR(5)") == "0"
+    assert trio.query("?VR(5)") == "0.0000"
     trio.advance(ticks=1)
-    assert trio.query("?VR(5)") == "50"  # WAIT IDLE ended on tick 601
+    assert trio.query("?VR(5)") == "50.0000"  # WAIT IDLE ended on tick 601
     trio.advance(ticks=100)  # MOVE(1000) from tick 601 is at 100 units/s by now
     trio.send("CANCEL AXIS(2)")  # ramps down at DECEL: 0.1 s, at rest on tick 801
     trio.advance(ticks=99)
-    assert trio.query("?VR(6)") == "0"
+    assert trio.query("?VR(6)") == "0.0000"
     trio.advance(ticks=1)
-    assert trio.query("?VR(6)") == "1"
+    assert trio.query("?VR(6)") == "1.0000"
     assert trio.query("?IDLE AXIS(2)") == "-1"
 
 
@@ -176,9 +176,9 @@ def test_a_full_move_buffer_holds_the_program_until_a_move_ends() -> None:
     trio.load("BUF", f"BASE(3)\nSPEED=1000\nACC(1000000)\n{moves}\nVR(9)=1")
     trio.send('RUN "BUF"')
     trio.advance(ticks=1)
-    assert trio.query("?VR(9)") == "0"  # 16 moves buffered (MERGE OFF: one after another)
+    assert trio.query("?VR(9)") == "0.0000"  # 16 moves buffered (MERGE OFF: one after another)
     assert trio.run_until_idle(5)
-    assert trio.query("?VR(9)") == "1" and trio.query("?DPOS AXIS(3)") == "200"
+    assert trio.query("?VR(9)") == "1.0000" and trio.query("?DPOS AXIS(3)") == "200"
 
 
 def test_a_merged_path_frees_a_buffer_slot_on_the_tick_a_move_finishes() -> None:
@@ -189,9 +189,9 @@ def test_a_merged_path_frees_a_buffer_slot_on_the_tick_a_move_finishes() -> None
     # 16 moves load on tick 1; the path reaches 1000/s in 1 ms (0.5 units), so move k
     # finishes at 10k units, 10k + 0.5 ms after tick 1: the 20th loads on tick 42
     trio.advance(ticks=41)
-    assert trio.query("?VR(9)") == "0"
+    assert trio.query("?VR(9)") == "0.0000"
     trio.advance(ticks=1)
-    assert trio.query("?VR(9)") == "1"
+    assert trio.query("?VR(9)") == "1.0000"
     assert trio.run_until_idle(5) and trio.query("?DPOS AXIS(3)") == "200"
 
 

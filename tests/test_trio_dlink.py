@@ -36,7 +36,7 @@ def test_a_set_up_program_sees_the_drive_missing() -> None:
               "ok = DLINK(4,0,0,0)\nVR(11) = ok\nVR(12) = DLINK(9,0)\n")
     trio.send('RUN "SETUP"')
     trio.advance(0.01)
-    assert [trio.query(f"?VR({n})") for n in (10, 11, 12)] == ["2", "0", "-1"]
+    assert [trio.query(f"?VR({n})") for n in (10, 11, 12)] == ["2.0000", "0.0000", "-1.0000"]
 
 
 @pytest.mark.parametrize(("call", "error"), [

@@ -81,7 +81,7 @@ class TrioHost:
         return out.replace(b"\r\n", b"\n").replace(b"\r", b"\n").decode()
 
     def cmd_int(self, text: str) -> int:
-        return int(self.raw(text.encode("ascii")))
+        return int(float(self.raw(text.encode("ascii"))))  # a VR prints as a FLOAT
 
     def cmd_float(self, text: str) -> float:
         return float(self.raw(text.encode("ascii")))
@@ -235,7 +235,7 @@ def test_ex_restarts_and_the_host_reconnects_with_autorun(hosted, host) -> None:
     again = TrioHost(hosted.ports[0])
     again.connect()
     hosted.advance(0.01)
-    assert again.cmd("?VR(7)") == "77"  # the autorun program ran at the restart
+    assert again.cmd("?VR(7)") == "77.0000"  # the autorun program ran at the restart
     assert "Program BOOT] - Running" in again.cmd("AUTORUN")
     again.close()
 

@@ -92,7 +92,7 @@ def test_endat_register_access_fails_with_no_endat_encoder_and_sets_parameter_mo
               "ENCODER_CONTROL = 0\nIF NOT ENCODER_WRITE(3, 7) THEN VR(6) = 1\n")
     trio.send('RUN "ENDAT"')
     trio.advance(0.01)
-    assert (trio.query("?VR(5)"), trio.query("?VR(6)")) == ("1", "1")
+    assert (trio.query("?VR(5)"), trio.query("?VR(6)")) == ("1.0000", "1.0000")
     assert trio.query("?ENCODER_CONTROL AXIS(1)") == "1"  # the write set it again
     assert trio.send("?ENCODER_READ(-1)") == ["! Parameter out of range"]
     assert trio.send("?ENCODER_READ(1,2)") == ["! Syntax error"]

@@ -16,11 +16,11 @@ def test_bit_assignment_on_a_variable() -> None:
     rig.command("options = 0")
     rig.command("options.4 = ON")  # 16
     rig.command("options.0 = TRUE")  # TRUE is -1: any non-zero sets the bit
-    assert ask(rig, "options") == "17"
+    assert ask(rig, "options") == "17.0000"  # a variable is FLOAT (help DIM)
     rig.command("options.4 = OFF")
-    assert ask(rig, "options") == "1"
+    assert ask(rig, "options") == "1.0000"
     rig.command("fresh.3 = 1")  # a variable never written reads 0 first
-    assert ask(rig, "fresh") == "8"
+    assert ask(rig, "fresh") == "8.0000"
 
 
 def test_bit_assignment_keeps_the_other_bits_of_a_vr() -> None:
@@ -28,7 +28,7 @@ def test_bit_assignment_keeps_the_other_bits_of_a_vr() -> None:
     rig.command("VR(12) = 5")  # 0101
     rig.command("VR(12).1 = 1")
     rig.command("VR(12).0 = 0")
-    assert ask(rig, "VR(12)") == "6"
+    assert ask(rig, "VR(12)") == "6.0000"
     assert ask(rig, "VR(12).2") == "1"
 
 
@@ -48,8 +48,8 @@ def test_bit_assignment_in_a_program_on_an_array_element() -> None:
              "moveoptions = 0\nmoveoptions.5 = TRUE\nVR(1) = states(1)\nVR(2) = moveoptions")
     rig.command('RUN "BITS"')
     rig.cycles(10)
-    assert ask(rig, "VR(1)") == "34"
-    assert ask(rig, "VR(2)") == "32"
+    assert ask(rig, "VR(1)") == "34.0000"
+    assert ask(rig, "VR(2)") == "32.0000"
 
 
 def test_a_bit_beyond_52_and_a_bare_bit_are_refused() -> None:
@@ -91,7 +91,7 @@ def test_asc_finds_a_decimal_point_as_the_page_does() -> None:
              "  IF ASC(s, i) = $2E THEN VR(3) = i\nNEXT i")
     rig.command('RUN "DP"')
     rig.cycles(40)
-    assert ask(rig, "VR(3)") == "4"
+    assert ask(rig, "VR(3)") == "4.0000"
 
 
 def test_vrstring_reads_characters_to_the_first_zero() -> None:
@@ -166,7 +166,7 @@ def test_dim_string_arrays_with_their_sizes_in_the_type() -> None:
              "VR(1) = LEN(tags(0)) * 10 + LEN(tags(2))\nVR(2) = LEN(grid(1, 2))")
     rig.command('RUN "SA"')
     rig.cycles(10)
-    assert (ask(rig, "VR(1)"), ask(rig, "VR(2)")) == ("43", "2")
+    assert (ask(rig, "VR(1)"), ask(rig, "VR(2)")) == ("43.0000", "2.0000")
 
 
 def test_open_takes_its_mode_arguments() -> None:
@@ -182,5 +182,5 @@ def test_file_without_an_sd_card_reads_false() -> None:
     assert ask(rig, 'FILE "DETECT"') == "0"
     rig.command('ok = FILE "CRC16" "PROG"')
     rig.command('nxt = FILE "FIND_NEXT", 20')
-    assert ask(rig, "ok, nxt") == "0\t0"
+    assert ask(rig, "ok, nxt") == "0.0000\t0.0000"
     assert rig.command('IF FILE "DETECT" THEN PRINT "card" ELSE PRINT "none"') == b"none"

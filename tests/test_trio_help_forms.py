@@ -47,8 +47,8 @@ def test_base_wraps_round_to_axis_0_after_the_last_axis() -> None:
     ("10.5 FMOD 4", "2.5000"),      # 10.5 - 2 x 4
     ("-7.5 FMOD 2", "-1.5000"),     # -7.5 + 3 x 2: the sign of -7.5
     ("7.5 FMOD -2", "1.5000"),      # the divisor's sign does not matter
-    ("1 + 9 FMOD 4", "2"),          # FMOD binds before + (as MOD): 1 + 1
-    ("2 * 9 FMOD 4", "2"),          # and left to right with *: 18 FMOD 4
+    ("1 + 9 FMOD 4", "2.0000"),     # FMOD binds before + (as MOD): 1 + 1, a FLOAT
+    ("2 * 9 FMOD 4", "2.0000"),     # and left to right with *: 18 FMOD 4
 ])
 def test_fmod(expr: str, text: str) -> None:
     assert Rig().command("?" + expr).decode() == text
@@ -65,7 +65,7 @@ def test_for_can_count_in_a_vr() -> None:
     out = run("n = 0\nFOR VR(7) = 20 TO 26 STEP 3\n  VR(VR(7)) = 1\n  n = n + 1\nNEXT VR(7)\n"
               "PRINT n; \" \"; VR(7); \" \"; VR(20) + VR(23) + VR(26) + VR(21)")
     # 20, 23, 26: three turns; the counter ends one step past the end (29)
-    assert out == "3 29 3\r\n"
+    assert out == "3.0000 29.0000 3.0000\r\n"  # variables and VRs are FLOAT
 
 
 def test_for_vr_counter_is_the_vr_another_program_sees() -> None:
@@ -73,7 +73,7 @@ def test_for_vr_counter_is_the_vr_another_program_sees() -> None:
     rig.load("P", "FOR VR(3) = 1 TO 5\n  WA(10)\nNEXT VR(3)")
     rig.command('RUN "P"')
     rig.cycles(25)  # in its third turn: VR(3) = 3
-    assert rig.command("?VR(3)") == b"3"
+    assert rig.command("?VR(3)") == b"3.0000"
 
 
 # ---- DIM s AS STRING with no length (help CHR and HEX examples) ---------------------------
@@ -142,7 +142,7 @@ def test_a_loop_of_zero_moves_and_wait_idle_takes_servo_cycles_not_forever() -> 
     trio.advance(ticks=2)
     assert trio.runtime.tasks  # 40 passes do not fit in a tick or two (8 wakes a tick)
     trio.advance(ticks=100)
-    assert trio.query("?VR(9)") == "40"
+    assert trio.query("?VR(9)") == "40.0000"
     assert trio.runtime.tasks == {}
 
 
@@ -151,13 +151,13 @@ def test_a_loop_of_zero_moves_and_wait_idle_takes_servo_cycles_not_forever() -> 
 def test_a_row_of_a_two_dimensional_array_is_set_from_a_list() -> None:
     out = run("DIM m AS FLOAT(3, 2)\nm(2) = 5, 6\nm(0) = 1\n"
               "PRINT m(0, 0); m(0, 1); m(1, 0); m(1, 1); m(2, 0); m(2, 1)")
-    assert out == "100056\r\n"
+    assert out == "1.00000.00000.00000.00005.00006.0000\r\n"  # FLOAT elements
 
 
 def test_a_list_from_an_element_fills_on_to_the_end_of_the_row() -> None:
     out = run("DIM v AS INTEGER(5)\nv(3) = 8.9, 7\nPRINT v(2); v(3); v(4)\n"
               "DIM w AS FLOAT(2, 3)\nw(0, 1) = 4, 3\nPRINT w(0, 1); w(0, 2); w(1, 0)")
-    assert out == "087\r\n430\r\n"  # INTEGER elements take 8.9 as 8
+    assert out == "087\r\n4.00003.00000.0000\r\n"  # INTEGER elements take 8.9 as 8
 
 
 @pytest.mark.parametrize("line", ["m(1) = 1, 2, 3", "m(3) = 1, 2", "m(0, 1) = 1, 2"])
@@ -175,13 +175,13 @@ def test_constant_and_global_named_alone_are_cleared() -> None:
               'GLOBAL "spare", 13\ncount = 8\nCONSTANT "lim"\nGLOBAL "spare"\n'
               "lim = 1\nspare = 2\nPRINT lim; gap; count; spare; VR(13)", rig=rig)
     # lim and spare are plain variables again; gap and count are still declared
-    assert out == "13820\r\n"
+    assert out == "1.000038.00002.00000.0000\r\n"  # gap: the CONSTANT 3 as written
 
 
 def test_global_alone_clears_every_global() -> None:
     out = run('GLOBAL "a1", 20\nGLOBAL "a2", 21\nGLOBAL\na1 = 5\na2 = 6\n'
               "PRINT a1; a2; VR(20); VR(21)")
-    assert out == "5600\r\n"
+    assert out == "5.00006.00000.00000.0000\r\n"
 
 
 # ---- VR(n) = "text" (help VR, example 4) ---------------------------------------------------
@@ -189,7 +189,7 @@ def test_global_alone_clears_every_global() -> None:
 def test_a_string_into_vrs_one_character_code_each_then_0() -> None:
     out = run('VR(40) = "Cut 7"\nPRINT VR(40); " "; VR(43); " "; VR(44); " "; VR(45); '
               '" "; VRSTRING(40)')
-    assert out == "67 32 55 0 Cut 7\r\n"  # C, space, 7, the 0 after them
+    assert out == "67.0000 32.0000 55.0000 0.0000 Cut 7\r\n"  # C, space, 7, the 0 after them
 
 
 def test_a_string_past_the_last_vr_writes_nothing() -> None:
@@ -199,7 +199,7 @@ def test_a_string_past_the_last_vr_writes_nothing() -> None:
     rig.load("P", 'VR(65534) = 9\nVR(65533) = "abc"')
     rig.command('RUN "P"')
     rig.cycles(10)
-    assert rig.command("?VR(65533); VR(65534)") == b"09"
+    assert rig.command("?VR(65533); VR(65534)") == b"0.00009.0000"
 
 
 # ---- x[w.d]: the REGIST and MARK pages write the width and decimals so (D) ----------------
@@ -211,13 +211,13 @@ def test_print_width_dot_decimals() -> None:
 # ---- ROUND, ULPDIFF, LENB (their help pages) -------------------------------------------------
 
 @pytest.mark.parametrize(("expr", "text"), [
-    ("ROUND(2.5)", "3"),               # INT(2.5 + 0.5)
-    ("ROUND(-2.5)", "-3"),             # INT(-2.5 - 0.5): away from zero both ways
-    ("ROUND(7.49)", "7"),
+    ("ROUND(2.5)", "3.0000"),          # INT(2.5 + 0.5)
+    ("ROUND(-2.5)", "-3.0000"),        # INT(-2.5 - 0.5): away from zero both ways
+    ("ROUND(7.49)", "7.0000"),
     ("ROUND(2.71828, 2)", "2.7200"),   # INT(271.828 + 0.5) / 100
     ("ROUND(-2.71828, 3)", "-2.7180"),  # INT(-2718.28 - 0.5) / 1000
-    ("ROUND(86420, -2)", "86400"),     # INT(864.2 + 0.5) x 100
-    ("ROUND(49, -2)", "0"),
+    ("ROUND(86420, -2)", "86400.0000"),     # INT(864.2 + 0.5) x 100
+    ("ROUND(49, -2)", "0.0000"),
     ("ULPDIFF(1, 1)", "0"),
     ("ULPDIFF(1, 1 + 2^-52)", "1"),    # the next double after 1
     ("ULPDIFF(2 + 2^-50, 2)", "2"),    # above 2 a step is 2^-51
@@ -238,7 +238,8 @@ def test_bit_functions_on_table_with_mode_1() -> None:
     out = run("TABLE(30, 8)\nVR(30) = 8\nSET_BIT(0, 30, 1)\nCLEAR_BIT(3, 30, 1)\n"
               "SET_BIT(1, 30, 0)\n"
               "PRINT TABLE(30); \" \"; VR(30); \" \"; READ_BIT(0, 30, 1); READ_BIT(0, 30)")
-    assert out == "1 10 10\r\n"  # TABLE 8 -> 9 -> 1; VR 8 -> 10 (mode 0 is the VR)
+    # a TABLE value is FLOAT; TABLE 8 -> 9 -> 1; VR 8 -> 10 (mode 0 is the VR)
+    assert out == "1.0000 10.0000 10\r\n"
 
 
 def test_a_bit_function_mode_other_than_0_or_1_is_refused() -> None:

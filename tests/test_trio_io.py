@@ -210,14 +210,14 @@ def test_scope_fills_its_blocks_once_then_stops() -> None:
     trio.send("TRIGGER")
     trio.advance(ticks=20)
     assert trio.query("?SCOPE_POS") == "53"
-    assert trio.query("?TABLE(53)") == "7"  # past table_stop: untouched
+    assert trio.query("?TABLE(53)") == "7.0000"  # past table_stop: untouched
 
 
 def test_scope_off_prevents_trigger_and_a_new_period_applies() -> None:
     trio = mc405("SCOPE(ON, 5, 0, 10, DPOS)", "SCOPE(OFF)", "TABLE(1, -1)")
     trio.send("TRIGGER")
     trio.advance(ticks=20)
-    assert trio.query("?TABLE(1)") == "-1"  # nothing captured
+    assert trio.query("?TABLE(1)") == "-1.0000"  # nothing captured
     trio.send("SCOPE(ON, 5, 0, 10, MPOS)")
     trio.send("SCOPE(ON, 2)")  # the period changed before the capture
     trio.send("TRIGGER")

@@ -41,12 +41,13 @@ def test_integers_print_like_python_int(n: int) -> None:
 
 @pytest.mark.parametrize("expr, text", [
     ("1+2*3", "7"), ("(1+2)*3", "9"), ("2^3^2", "64"), ("-2^2", "-4"), ("7/2", "3.5000"),
-    ("10 MOD 3", "1"), ("-7 MOD 3", "-1"), ("1=1", "-1"), ("1<>1", "0"), ("2>=2", "-1"),
+    ("10 MOD 3", "1.0000"), ("-7 MOD 3", "-1.0000"), ("1=1", "-1"), ("1<>1", "0"), ("2>=2", "-1"),
     ("TRUE", "-1"), ("FALSE", "0"), ("ON", "1"), ("OFF", "0"), ("NOT 0", "-1"),
     ("NOT TRUE", "0"), ("6 AND 3", "2"), ("6 OR 3", "7"), ("6 XOR 3", "5"),
     ("1<2 AND 3<4", "-1"), ("1>2 OR 3<4", "-1"), ("NOT 1=2", "-1"), ("$FF", "255"),
-    ("1.5e3", "1500"), ("ABS(-3)", "3"), ("INT(-2.7)", "-2"), ("FRAC(2.25)", "0.2500"),
-    ("SGN(-4)", "-1"), ("SQR(16)", "4"), ("ATAN2(0,1)", "0"), ("COS(0)", "1"),
+    ("1.5e3", "1500.0000"), ("ABS(-3)", "3"), ("INT(-2.7)", "-2"), ("FRAC(2.25)", "0.2500"),
+    ("SGN(-4)", "-1.0000"), ("SQR(16)", "4.0000"), ("ATAN2(0,1)", "0.0000"),
+    ("COS(0)", "1.0000"),  # FLOAT results print 4 decimals (help INT example 2)
     ("2*-3", "-6"), ("--2", "2"),
 ])
 def test_expressions(expr: str, text: str) -> None:
@@ -56,16 +57,16 @@ def test_expressions(expr: str, text: str) -> None:
 def test_print_separators_and_strings() -> None:
     rig = Rig()
     rig.command("a=2")
-    assert rig.command('PRINT "a=";a, a*2') == b"a=2\t4"
+    assert rig.command('PRINT "a=";a, a*2') == b"a=2.0000\t4.0000"  # a is FLOAT
     assert rig.command('?"say ""hi"""') == b'say "hi"'
     assert rig.send("PRINT 1;") == b"PRINT 1;\r\n1>>\nControl char : 0x10000000A\r\n>>"
 
 
 def test_variables_are_case_insensitive_and_start_at_zero() -> None:
     rig = Rig()
-    assert ask("never", rig) == "0"
+    assert ask("never", rig) == "0.0000"  # an unset variable: a FLOAT 0
     rig.command("Mult=0.1")
-    assert ask("MULT*10", rig) == "1"
+    assert ask("MULT*10", rig) == "1.0000"  # 0.1 is a FLOAT literal
 
 
 def test_comments_after_statements() -> None:
@@ -108,7 +109,7 @@ def test_table_and_vr() -> None:
     rig.command("TABLE(10, 1.5, 2, 3)")
     assert ask("TABLE(11)+TABLE(10)", rig) == "3.5000"
     rig.command("VR(5)=TABLE(12)*2")
-    assert ask("VR(5)", rig) == "6"
+    assert ask("VR(5)", rig) == "6.0000"
     for bad in ("?TABLE(-1)", "?VR(65536)", "VR(1.5)=2", "TABLE(1)"):
         with pytest.raises(AtrioError):
             rig.command(bad)
@@ -167,7 +168,7 @@ def run(text: str, cycles: int = 50) -> tuple[Rig, str]:
 
 def test_while_wend_and_repeat_until() -> None:
     _, out = run("i=0\nWHILE i<3\nPRINT i\ni=i+1\nWEND\nREPEAT\ni=i-1\nUNTIL i=0\nPRINT \"end\";i")
-    assert out == "0\r\n1\r\n2\r\nend0\r\n"
+    assert out == "0.0000\r\n1.0000\r\n2.0000\r\nend0.0000\r\n"
 
 
 def test_block_if_else_and_single_line_if() -> None:
@@ -182,13 +183,13 @@ def test_block_if_else_and_single_line_if() -> None:
         "NEXT k",
     ])
     _, out = run(text)
-    assert out.split("\r\n") == ["1 odd", "-", "2 even", "-", "3 odd", "-", "4 even", "four",
-                                 "!", ""]
+    assert out.split("\r\n") == ["1.0000 odd", "-", "2.0000 even", "-", "3.0000 odd", "-",
+                                 "4.0000 even", "four", "!", ""]
 
 
 def test_for_step_negative_and_skipped_loop() -> None:
     _, out = run("FOR i=3 TO 1 STEP -1\n?i\nNEXT\nFOR j=5 TO 1\n?\"never\"\nNEXT j\n?\"done\"")
-    assert out == "3\r\n2\r\n1\r\ndone\r\n"
+    assert out == "3.0000\r\n2.0000\r\n1.0000\r\ndone\r\n"
 
 
 def test_nested_loops_and_blocks_compile() -> None:
@@ -233,10 +234,10 @@ def test_two_programs_run_beside_the_command_line() -> None:
     rig.command('RUN "A"')
     rig.command('RUN "B"')
     rig.cycles(10)
-    assert ask("VR(1)", rig) == "10" and ask("VR(2)", rig) == "10"
+    assert ask("VR(1)", rig) == "10.0000" and ask("VR(2)", rig) == "10.0000"
     rig.command('STOP "A"')
     rig.cycles(2)
-    assert ask("VR(1)", rig) == "10"
+    assert ask("VR(1)", rig) == "10.0000"
 
 
 def test_a_full_move_buffer_makes_the_program_wait() -> None:

@@ -103,7 +103,7 @@ DIM t(2, 2)
 t = 4, 5, 6
 PRINT t(1, 0)
 PRINT m(2, 0)""", cycles=60)
-    assert out == ("121\r\n6\r\n"
+    assert out == ("12.00001.0000\r\n6.0000\r\n"  # FLOAT elements (DIM: the default)
                    "%[Process 19:Program P Line 11] - Array index out of range\r\n")
 
 
@@ -164,7 +164,7 @@ def test_defconst_is_a_constant_and_constant_alone_clears_them() -> None:
     rig = Rig()
     out = run("DEFCONST top 12.5\nDEFCONST low = -1\nPRINT top; low\nCONSTANT\nPRINT top",
               rig=rig)
-    assert out == "12.5000-1\r\n0\r\n"
+    assert out == "12.5000-1\r\n0.0000\r\n"
 
 
 # ---- channels ------------------------------------------------------------------------------------
@@ -185,7 +185,7 @@ WEND
 PRINT n; KEY#41
 CLOSE #41
 PRINT KEY #41""", rig=rig)
-    assert out == "12 7 hello there 88\r\n30\r\n0\r\n"
+    assert out == "12.0000 7.0000 hello there 88.0000\r\n3.00000\r\n0\r\n"  # FLOAT variables
 
 
 def test_channel_errors_and_a_terminal_that_never_types() -> None:
@@ -231,7 +231,7 @@ FUNCTION fill(values AS INTEGER(), start AS INTEGER) AS BOOLEAN
   NEXT k
   RETURN TRUE
 ENDFUNC""")
-    assert out == "-157\r\n"
+    assert out == "-1.000057\r\n"  # ok is a FLOAT variable; data is INTEGER
 
 
 # ---- keywords of the controller that the emulator keeps but does not model ----------------------
@@ -384,7 +384,7 @@ PRINT FLAG(3); FLAG(2); FLAGS
 FLAGS(1)
 PRINT FLAGS; FLAG(3)
 FLAG(24, ON)""")
-    assert out == ("2010\r\n-108\r\n10\r\n"
+    assert out == ("20.000010\r\n-108\r\n10\r\n"  # a VR is FLOAT
                    "%[Process 19:Program P Line 9] - Parameter out of range\r\n")
 
 

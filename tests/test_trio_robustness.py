@@ -32,7 +32,7 @@ def test_a_busy_program_costs_virtual_time_and_halt_from_another_host_stops_it(
     host.cmd('RUN "BUSY"')
     hosted.advance(0.003)  # three servo cycles: the program is sliced, not run to the end
     # each cycle runs STATEMENTS_PER_CYCLE statements: VR(1)=0 and WHILE, then the body
-    assert host.cmd_int("?VR(1)") == 3 * STATEMENTS_PER_CYCLE - 2
+    assert host.cmd_float("?VR(1)") == 3 * STATEMENTS_PER_CYCLE - 2
     assert host.cmd_int("?VR(2)") == 0  # 500 lines are more than one cycle's slice
     other = TrioHost(hosted.ports[0])
     other.connect()

@@ -46,7 +46,7 @@ def test_each_error_reads_the_pages_number(program: str, number: int, line: int)
 def test_a_normal_end_stop_and_halt_read_31() -> None:
     """Page: 31 is a normal completion ("Program is stopped")."""
     rig = stopped_on_5("VR(1) = 7")
-    assert ask(rig, "?VR(1)") == "7"
+    assert ask(rig, "?VR(1)") == "7.0000"
     assert ask(rig, "?RUN_ERROR PROC(5)") == "31"
     for stop in ('STOP "P"', "HALT"):
         rig.load("P", "WHILE 1\nWA(1)\nWEND")
@@ -69,7 +69,7 @@ def test_an_error_after_a_caught_one_stops_with_its_own_number_and_line() -> Non
     divide by zero, 9) stops the program: PROC(5) reads the second."""
     rig = stopped_on_5("ON BASICERROR GOTO h\nSPEED AXIS(0) = -1\nh:\n"
                        "VR(2) = RUN_ERROR\nVR(3) = ERROR_LINE\nx = 1 / 0")
-    assert (ask(rig, "?VR(2)"), ask(rig, "?VR(3)")) == ("19", "2")
+    assert (ask(rig, "?VR(2)"), ask(rig, "?VR(3)")) == ("19.0000", "2.0000")
     assert (ask(rig, "?RUN_ERROR PROC(5)"), ask(rig, "?ERROR_LINE PROC(5)")) == ("9", "6")
 
 

@@ -32,7 +32,7 @@ STOP
 show:
   PRINT "n="; n
 RETURN""")
-    assert out == "n=3\r\nn=3\r\n"
+    assert out == "n=3.0000\r\nn=3.0000\r\n"  # n is a FLOAT variable (help DIM)
 
 
 def test_return_without_gosub_is_the_programs_error_line() -> None:
@@ -87,7 +87,7 @@ ENDIF""")
 
 def test_line_continuation_joins_lines_and_reports_the_first() -> None:
     assert join_continued(["a = 1 + _", "  2", "b = 3"]) == [(1, "a = 1 +    2"), (3, "b = 3")]
-    assert run("x = 1 + _\n 2 * _\n 3\nPRINT x") == "7\r\n"
+    assert run("x = 1 + _\n 2 * _\n 3\nPRINT x") == "7.0000\r\n"
 
 
 def test_dim_types_arrays_and_strings() -> None:
@@ -109,7 +109,8 @@ def test_constant_and_global_are_seen_by_every_program() -> None:
     rig.load("SETUP", 'CONSTANT "LIMIT", 42\nGLOBAL "counter", 7')
     rig.command('RUN "SETUP"')
     rig.cycles(2)
-    assert run("counter = counter + LIMIT\nPRINT VR(7); \" \"; LIMIT", rig=rig) == "42 42\r\n"
+    assert run("counter = counter + LIMIT\nPRINT VR(7); \" \"; LIMIT", rig=rig) == \
+        "42.0000 42\r\n"  # a VR is FLOAT; the CONSTANT 42 as written
     assert run("LIMIT = 1", rig=rig).endswith("Line 1] - Cannot assign to a constant\r\n")
 
 
@@ -164,7 +165,7 @@ def test_processes_run_side_by_side_and_proc_status_reads_them() -> None:
     rig.cycles(5)
     assert rig.command("PROCESS").count(b"Running") == 2
     rig.cycles(30)
-    assert [rig.command(f"?VR({i})") for i in (1, 2, 3)] == [b"1", b"1", b"5"]
+    assert [rig.command(f"?VR({i})") for i in (1, 2, 3)] == [b"1.0000", b"1.0000", b"5.0000"]
 
 
 def test_stop_alone_ends_the_program_there() -> None:
@@ -174,7 +175,7 @@ def test_stop_alone_ends_the_program_there() -> None:
 def test_include_brings_in_another_programs_lines() -> None:
     rig = Rig()
     rig.load("DEFS", "speed_fast = 250")
-    assert run('INCLUDE "DEFS"\nPRINT speed_fast', rig=rig) == "250\r\n"
+    assert run('INCLUDE "DEFS"\nPRINT speed_fast', rig=rig) == "250.0000\r\n"
     rig.load("SELFISH", 'INCLUDE "SELFISH"')
     with pytest.raises(AtrioError):
         rig.command('RUN "SELFISH"')
@@ -228,7 +229,7 @@ def test_a_busy_loop_costs_servo_cycles() -> None:
     rig.load("P", f"WHILE 1\n{body}\nWEND")
     rig.command('RUN "P"')
     rig.cycles(1)
-    one_slice = str(STATEMENTS_PER_CYCLE - 1).encode()  # WHILE, then the body
+    one_slice = f"{STATEMENTS_PER_CYCLE - 1}.0000".encode()  # WHILE, then the body
     assert rig.command("?VR(1)") == one_slice
     rig.command("HALT")
     rig.cycles(5)
@@ -255,7 +256,7 @@ ENDFUNC
 FUNCTION show(t AS STRING(10))
   PRINT t; " x="; x
 ENDFUNC""")
-    assert out == "26 5 120 0\r\nhi x=0\r\n"
+    assert out == "26.0000 5.0000 120.0000 0\r\nhi x=0.0000\r\n"  # FLOAT results
 
 
 def test_a_function_may_not_wait_and_recursion_is_bounded() -> None:

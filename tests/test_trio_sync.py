@@ -121,9 +121,9 @@ def test_a_program_waits_for_the_sync_as_the_pages_example() -> None:
     assert trio.send('RUN "PICK"') == []
     start = trio.tick
     at(trio, start + 490)
-    assert trio.query("?VR(7)") == "0"  # still waiting
+    assert trio.query("?VR(7)") == "0.0000"  # still waiting (a VR is a FLOAT)
     at(trio, start + 510)
-    assert trio.query("?VR(7)") == "500"
+    assert trio.query("?VR(7)") == "500.0000"
     assert dpos(trio, 0) == pytest.approx(100 + conveyor(trio.tick) - 20, abs=1e-9)
 
 

@@ -98,7 +98,9 @@ def test_continue_in_for_goes_to_next_and_exit_loop_leaves_only_the_inner_loop()
         "UNTIL k >= 3",
     ])
     rig = started(text)
-    assert rig.cycles(40).decode() == "11 13 21 23 31 33 k3\r\n"
+    # the loop counters are FLOAT variables (help DIM): 4 decimals each
+    assert rig.cycles(40).decode() == ("1.00001.0000 1.00003.0000 2.00001.0000 2.00003.0000 "
+                                       "3.00001.0000 3.00003.0000 k3.0000\r\n")
 
 
 @pytest.mark.parametrize("lines, line", [
@@ -166,7 +168,9 @@ def test_clear_zeroes_the_vrs_and_the_local_variables_but_not_table() -> None:
             "PRINT VR(0); \" \"; VR(10); \" \"; VR(100); \" \"; x; \" \"; TABLE(5)")
     rig.load("P", text)
     rig.command('RUN "P"')
-    assert rig.cycles(5) == b"44 12.3456 2 3\r\n0 0 0 0 9\r\n"
+    # VRs, variables and TABLE values are FLOAT: 4 decimals
+    assert rig.cycles(5) == (b"44.0000 12.3456 2.0000 3.0000\r\n"
+                             b"0.0000 0.0000 0.0000 0.0000 9.0000\r\n")
 
 
 def test_reset_zeroes_only_the_local_variables() -> None:
@@ -174,7 +178,7 @@ def test_reset_zeroes_only_the_local_variables() -> None:
     rig.load("P", 'VR(2) = 5\ncounter = 4\nDIM s AS STRING(8)\ns = "ab"\nRESET\n'
              'PRINT counter; "/"; s; "/"; VR(2)')
     rig.command('RUN "P"')
-    assert rig.cycles(5) == b"0//5\r\n"
+    assert rig.cycles(5) == b"0.0000//5.0000\r\n"
 
 
 def test_list_global_numbers_definitions_in_the_order_they_were_made() -> None:
@@ -182,9 +186,9 @@ def test_list_global_numbers_definitions_in_the_order_they_were_made() -> None:
     rig.command('CONSTANT "cutter", 23')
     rig.command('GLOBAL "conveyor", 5')
     global_table = ["Global" + " " * 27 + "VR", "-" * 16 + " " * 17 + "----",
-                    "CONVEYOR" + " " * 25 + "5"]
+                    "conveyor" + " " * 25 + "5"]
     constant_table = ["Constant" + " " * 25 + "Value", "-" * 16 + " " * 17 + "-------",
-                      "CUTTER" + " " * 27 + "23.00000"]
+                      "cutter" + " " * 27 + "23.00000"]
     assert rig.command("LIST_GLOBAL").decode().split("\r\n") == global_table + constant_table
     assert rig.command("LIST_GLOBAL 1").decode().split("\r\n") == global_table
     assert rig.command("LIST_GLOBAL 0,1").decode().split("\r\n") == constant_table
@@ -299,7 +303,7 @@ def test_strtod_from_vrs(text: str, fmt: int, value: str, used: int) -> None:
     rig = Rig()
     _text_in_vr(rig, 200, text)
     assert rig.command(f"?STRTOD({fmt}, 200, 10)") == value.encode()
-    assert rig.command("?VR(10)") == str(200 + used).encode()
+    assert rig.command("?VR(10)") == f"{200 + used}.0000".encode()
 
 
 def test_strtod_from_a_channel_as_the_pages_example() -> None:
@@ -308,7 +312,7 @@ def test_strtod_from_a_channel_as_the_pages_example() -> None:
     rig.load("P", 'OPEN #40 AS "N" FOR INPUT\nVR(100) = STRTOD(1, 40, 101, 102)\n'
              'PRINT VR(100); " "; VR(101); " "; VR(102)\nCLOSE #40')
     rig.command('RUN "P"')
-    assert rig.cycles(5) == b"123.4560 7 13\r\n"
+    assert rig.cycles(5) == b"123.4560 7.0000 13.0000\r\n"
 
 
 def test_strtod_letter_codes_from_a_channel() -> None:
@@ -319,7 +323,7 @@ def test_strtod_letter_codes_from_a_channel() -> None:
              '" "; VR(10)\nCLOSE #41')
     rig.command('RUN "P"')
     mask = (1 << 6) | (1 << 23) | (1 << 24) | (1 << 5)  # G, X, Y, F
-    assert rig.cycles(5).decode() == f"{mask} 1 12.5000 -3 100 17\r\n"
+    assert rig.cycles(5).decode() == f"{mask}.0000 1.0000 12.5000 -3.0000 100.0000 17.0000\r\n"
 
 
 # ---- INTEGER_READ, INTEGER_WRITE -----------------------------------------------------
@@ -329,7 +333,7 @@ def test_integer_read_splits_the_float_pattern_of_a_vr() -> None:
     rig.command("VR(1) = 0.9999")
     rig.command("INTEGER_READ(VR(1), VR(4), VR(5))")
     pattern = struct.unpack(">Q", struct.pack(">d", 0.9999))[0]  # 3FEFFF2E 48E8A71E
-    assert rig.command("?VR(4)") == str(pattern & 0xFFFFFFFF).encode()
+    assert rig.command("?VR(4)") == f"{pattern & 0xFFFFFFFF}.0000".encode()
     assert rig.command("?HEX(VR(5)), HEX(VR(4))") == b"3FEFFF2E\t48E8A71E"
 
 
@@ -346,12 +350,12 @@ def test_integer_read_of_a_parameter_is_its_integer_pattern() -> None:
     rig = Rig()
     rig.command("DEFPOS(-3)")
     rig.command("INTEGER_READ(DPOS, lo, hi)")
-    assert rig.command("?lo; \" \"; HEX(hi)") == str(2**32 - 3).encode() + b" FFFFFFFF"
+    assert rig.command("?lo; \" \"; HEX(hi)") == f"{2**32 - 3}.0000".encode() + b" FFFFFFFF"
     for bad in ("INTEGER_WRITE(VR(1), 0, $7FF00000)",  # +infinity
                 "INTEGER_WRITE(VR(1), 1.5, 0)", "INTEGER_WRITE(VR(1), $100000000, 0)"):
         with pytest.raises(AtrioError, match="Parameter out of range"):
             rig.command(bad)
-    assert rig.command("?VR(1)") == b"0"  # nothing written by the refused ones
+    assert rig.command("?VR(1)") == b"0.0000"  # nothing written by the refused ones
 
 
 def test_io_and_analogue_counts() -> None:
@@ -466,7 +470,7 @@ def test_channel_write_then_read_a_string_as_the_page_example_1() -> None:
         'OPEN #41 AS "test.txt" FOR INPUT', "CHANNEL_READ(41, input_string)",
         "PRINT #5, input_string; \" \"; n", "CLOSE #41"]))
     rig.command('RUN "P"')
-    assert rig.cycles(5) == b"0123456789 10\r\n"
+    assert rig.cycles(5) == b"0123456789 10.0000\r\n"
     assert rig.command('LIST "TEST"') == b"0123456789"
 
 
@@ -485,7 +489,7 @@ def test_channel_write_from_vrs_and_an_integer_array() -> None:
 def test_channel_read_into_vrs_stops_at_each_delimiter() -> None:
     rig = Rig()
     rig.load("P", "\n".join([
-        'OPEN #40 AS "ram:test" FOR OUTPUT(1)', "FOR i = 9 TO 11", "  PRINT #40, i",
+        'OPEN #40 AS "ram:test" FOR OUTPUT(1)', "FOR i = 9 TO 11", "  PRINT #40, i[0]",
         "NEXT i", "CLOSE #40", "VR(10) = 13", "VR(11) = 10",
         'OPEN #40 AS "ram:test" FOR INPUT', "REPEAT",
         "  c = CHANNEL_READ(40, 100, 100, 10, 2)",
@@ -512,7 +516,7 @@ def test_channel_read_string_form_escape_and_crc() -> None:
             crc = (crc << 1) & 0xFFFF
             if feedback:
                 crc ^= 0x8005
-    assert rig.cycles(5).decode() == f"-1 ab,c {crc}\r\n"
+    assert rig.cycles(5).decode() == f"-1.0000 ab,c {crc}.0000\r\n"
 
 
 def test_channel_words_on_a_closed_file_channel() -> None:
@@ -532,8 +536,9 @@ def test_channel_write_page_example_2_text_stored_in_vrs() -> None:
         "CLOSE #41"]))
     rig.command('RUN "P"')
     # 27 characters, then the file's CR LF line end: read on to the end (reason 0)
-    assert rig.cycles(5) == b"Brevity is the soul of wit.|290\r\n"
-    assert rig.command("?VR(100); \" \"; VR(126); \" \"; VR(127)") == b"66 46 0"
+    assert rig.cycles(5) == b"Brevity is the soul of wit.|29.00000.0000\r\n"
+    assert rig.command("?VR(100); \" \"; VR(126); \" \"; VR(127)") == \
+        b"66.0000 46.0000 0.0000"
 
 
 def test_channel_read_string_buffer_with_delimiters_in_vrs() -> None:
@@ -545,7 +550,7 @@ def test_channel_read_string_buffer_with_delimiters_in_vrs() -> None:
         "t = CHANNEL_READ(40, b, 10, 2)", "u = CHANNEL_READ(40, b, 10, 2)",
         'PRINT s; t; " "; b; u', "CLOSE #40"]))
     rig.command('RUN "P"')
-    assert rig.cycles(5) == b"-1-2 34-1\r\n"
+    assert rig.cycles(5) == b"-1.0000-2.0000 34-1.0000\r\n"
 
 
 # ---- OUTDEVICE, INDEVICE ---------------------------------------------------------------
@@ -559,7 +564,7 @@ def test_outdevice_and_indevice_redirect_print_and_reads_of_this_process() -> No
         "GET c", "PRINT c; INDEVICE", "CLOSE #41"]))
     rig.command('RUN "P"')
     # the file's first line is read whole; its second starts with "4" (code 52)
-    assert rig.cycles(10) == b"terminal\r\n-1\r\n5241\r\n"
+    assert rig.cycles(10) == b"terminal\r\n-1\r\n52.000041\r\n"
     assert rig.command('LIST "LOG"') == b"into the file\r\n40"
     assert rig.command("?OUTDEVICE") == b"0"  # the command line's own, untouched
     for bad in ("OUTDEVICE = 256", "INDEVICE = 1.5"):

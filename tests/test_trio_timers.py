@@ -42,7 +42,7 @@ def test_example_1_a_350_us_pulse_and_waiting_for_done() -> None:
     assert trio.send('RUN "P"') == []
     trio.advance(ticks=20)
     # on the tick it starts; done one servo cycle later (350 us < 1000 us), then off
-    assert [trio.query(f"?VR({k})") for k in (1, 2, 3)] == ["1", "1", "0"]
+    assert [trio.query(f"?VR({k})") for k in (1, 2, 3)] == ["1.0000", "1.0000", "0.0000"]
 
 
 def test_times_are_truncated_to_10_us() -> None:

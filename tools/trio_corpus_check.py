@@ -30,7 +30,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from trio_corpus import Program, Report, projects, run_alone, scan  # noqa: E402
+from trio_corpus import (  # noqa: E402
+    Program,
+    Report,
+    keyword_state,
+    projects,
+    run_alone,
+    scan,
+)
 
 from maxk.commands.trio import tasks as trio_tasks  # noqa: E402
 
@@ -97,12 +104,22 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     rows = []
     total = Report()
+    words: Counter[tuple[str, str]] = Counter()  # (state, word) -> programs using it
     for project, programs in projects(args.directory):
+        reports = []
         for program in programs:
             report = Report()
             scan(project, program, report)
+            reports.append(report)
             total.code_lines += report.code_lines
             total.parsed += report.parsed
+        declared = set().union(*(r.declared for r in reports))
+        for report in reports:
+            for word in report.used:
+                state = keyword_state(word)
+                if state != "modelled" and not (state == "unknown" and word in declared):
+                    words[(state, word)] += 1
+        for program, report in zip(programs, reports, strict=True):
             if program.type != 0:
                 continue
             status, message, text = run_one(program, programs, args.seconds, args.hang)
@@ -125,6 +142,13 @@ def main(argv: list[str] | None = None) -> int:
                      for row in rows if row[3] != "clean")
     for (status, message), count in causes.most_common():
         print(f"  {count:4d}  {status:8} {message}")
+    # a run is clean only as far as the words it reached: a keyword the table lacks (read
+    # as a variable) or one only accepted shows here however the run ended
+    for state, title in (("unknown", "not in the table, never declared"),
+                         ("accepted", "accepted only (Not modelled)")):
+        found = sorted(((-n, w) for (s, w), n in words.items() if s == state))
+        shown = " ".join(f"{w}({-n})" for n, w in found[:20])
+        print(f"words {title}: {len(found)}" + (f": {shown}" if found else ""))
     return 0
 
 

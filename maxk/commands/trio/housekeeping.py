@@ -30,6 +30,7 @@ from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value, numb
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import Expr
+from .printformat import Real
 from .programs import MAX_PROGRAM_BYTES, ProgramStore
 from .tasks import Step, Task
 
@@ -51,6 +52,14 @@ def file_name(name: str) -> str:
         if name.endswith(extension):
             name = name[:-len(extension)]
     return name
+
+
+def _zero(value: Value) -> Value:
+    """What RESET leaves in a variable: "" for a string, 0 of the same type (a FLOAT stays
+    FLOAT: printformat.Real) for a number."""
+    if isinstance(value, str):
+        return ""
+    return Real(0.0) if isinstance(value, Real) else 0.0
 
 
 class Definitions(dict[str, _V]):
@@ -83,6 +92,7 @@ class Housekeeping:
     writing: dict[int, tuple[str, str]]  # OPEN ... FOR OUTPUT: channel -> file, partial line
     crc: CrcSetup | None
     defined: dict[str, int]  # "C name" / "G name" -> when it was first defined
+    spellings: dict[str, str]  # ... and its name as first typed
 
     # ---- programs ----------------------------------------------------------------------
     def _names(self, args: list[Value]) -> tuple[str, str]:
@@ -140,10 +150,10 @@ class Housekeeping:
         """RESET: the local named variables of this process to 0 (help page RESET); a
         DIM'd name keeps its type, numbers become 0 and strings empty (D)."""
         for name, value in ctx.variables.items():
-            ctx.variables[name] = "" if isinstance(value, str) else 0.0
+            ctx.variables[name] = _zero(value)
         for array in ctx.arrays.values():
             for k, value in enumerate(array):
-                array[k] = "" if isinstance(value, str) else 0.0
+                array[k] = _zero(value)
 
     def cmd_list_global(self, args: list[Value]) -> None:
         """LIST_GLOBAL [offset[, length]]: the GLOBAL and CONSTANT definitions numbered in
@@ -161,16 +171,22 @@ class Housekeeping:
         lines: list[str] = []
         if globals_:
             lines += [f"{'Global':<{_NAME_COLUMN}}VR", f"{'-' * 16:<{_NAME_COLUMN}}----"]
-            lines += [f"{name:<{_NAME_COLUMN}}{self.globals[name]}" for name in globals_]
+            lines += [f"{self._typed('G', name):<{_NAME_COLUMN}}{self.globals[name]}"
+                      for name in globals_]
         if constants:
             lines += [f"{'Constant':<{_NAME_COLUMN}}Value",
                       f"{'-' * 16:<{_NAME_COLUMN}}-------"]
             for name in constants:
                 value = self.constants[name]
                 shown = f'"{value}"' if isinstance(value, str) else f"{value:.5f}"
-                lines.append(f"{name:<{_NAME_COLUMN}}{shown}")
+                lines.append(f"{self._typed('C', name):<{_NAME_COLUMN}}{shown}")
         for line in lines:
             self.output(line + "\r\n")
+
+    def _typed(self, kind: str, name: str) -> str:
+        """A definition's name as it was first typed (the page lists `conveyor` so); the
+        names match whatever their case, so a later definition keeps that first spelling."""
+        return self.spellings.get(f"{kind} {name}") or name
 
     def channel_word(self, name: str, args: tuple[Expr, ...], ctx: ProcessContext,
                      interp: Interpreter) -> float:

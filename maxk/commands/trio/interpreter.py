@@ -62,7 +62,7 @@ from .parser import (
     WaitLoaded,
     WaitUntil,
 )
-from .printformat import c_format
+from .printformat import ARITHMETIC, FLOAT_FUNCTIONS, FLOAT_OPERATORS, Real, c_format, real
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
@@ -93,12 +93,14 @@ Wait = Generator[Wake | None, None, None]
 
 
 def format_number(value: float) -> str:
-    """Integer values without decimals (atrio's handshake needs it), others with 4."""
-    if value == int(value):
+    """A FLOAT (printformat.Real) with 4 decimals; any other value without decimals
+    when whole (atrio's handshake needs ?<integer> so), else with 4."""
+    if value == int(value) and not isinstance(value, Real):
         return str(int(value))
     return f"{value:.4f}"
 
 
+_UNSET = Real(0.0)  # a variable never assigned reads 0, a FLOAT (help DIM: the default type)
 MAX_STRING = 1024  # characters in one string value (D: bounds memory)
 MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
 FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
@@ -173,6 +175,7 @@ class SystemHook(Protocol):
 
     constants: dict[str, Value]
     globals: dict[str, int]
+    spellings: dict[str, str]  # "C NAME" / "G NAME" -> the name as first typed
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
@@ -451,7 +454,9 @@ class Interpreter:
             return float((int(self.number(expr.operand, ctx)) >> expr.bit) & 1)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
-            return -operand if expr.op == "-" else float(~int(operand))
+            if expr.op == "-":
+                return real(-operand) if isinstance(operand, Real) else -operand
+            return float(~int(operand))
         return self.binary(expr, ctx)
 
     def variable(self, name: str, ctx: ProcessContext) -> Value:
@@ -460,9 +465,9 @@ class Interpreter:
         value = ctx.variables.get(name)
         if value is not None:
             return value
-        if name in self.hook.globals:
-            return self.machine.vr_read(self.hook.globals[name])
-        return self.hook.constants.get(name, 0.0)
+        if name in self.hook.globals:  # a VR: FLOAT (help VR: 64-bit floating point)
+            return real(self.machine.vr_read(self.hook.globals[name]))
+        return self.hook.constants.get(name, _UNSET)
 
     def number(self, expr: Expr, ctx: ProcessContext) -> float:
         return self.number_value(self.evaluate(expr, ctx))
@@ -493,6 +498,9 @@ class Interpreter:
                             else "Arithmetic error") from None
         if isinstance(result, complex) or not math.isfinite(result):
             raise TrioError("Arithmetic error")
+        if op in FLOAT_OPERATORS or op in ARITHMETIC and (isinstance(a, Real)
+                                                         or isinstance(b, Real)):
+            return real(result)  # a FLOAT operand makes a FLOAT (printformat.Real)
         return result
 
     @staticmethod
@@ -547,11 +555,14 @@ class Interpreter:
         if name in _CLOCK:
             return self.clock_value(name, [self.number(a, ctx) for a in expr.args])
         if name in ("RND", "RNDF"):
-            return self.random_value(name, [self.number(a, ctx) for a in expr.args], ctx)
+            drawn = self.random_value(name, [self.number(a, ctx) for a in expr.args], ctx)
+            return real(drawn) if name == "RNDF" else drawn
         if name in _BIT_COMMANDS:
             return self.bit_command(name, [self.number(a, ctx) for a in expr.args])
         if name in _STRING_FUNCTIONS:
-            return _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
+            value = _STRING_FUNCTIONS[name]([self.evaluate(a, ctx) for a in expr.args])
+            return real(value) if name in FLOAT_FUNCTIONS and isinstance(value, float) \
+                else value
         if name == "VRSTRING":
             if len(expr.args) != 1:
                 raise TrioError("Syntax error")
@@ -592,7 +603,7 @@ class Interpreter:
             elif name == "TABLE" and len(numbers) == 1:
                 result = self.machine.table_read(self._index(numbers[0]))
             elif name == "VR" and len(numbers) == 1:
-                result = self.machine.vr_read(self._index(numbers[0]))
+                result = real(self.machine.vr_read(self._index(numbers[0])))
             elif name in KEYWORDS and name not in _MATH and name != "ATAN2":
                 result = 0.0  # a token-table function not modelled: 0 (its table note)
             else:
@@ -603,6 +614,9 @@ class Interpreter:
             raise TrioError(_machine_text(exc)) from None
         if not math.isfinite(result):
             raise TrioError("Arithmetic error")
+        if name in FLOAT_FUNCTIONS or name == "VR" or name == "ABS" and \
+                isinstance(numbers[0], Real):
+            return real(result)  # ABS keeps its argument's type (D)
         return float(result)
 
     def drive_link(self, args: list[Value],
@@ -1049,6 +1063,7 @@ class Interpreter:
             if known is not None and known != value:
                 raise TrioError("Cannot assign to a constant")
             self.hook.constants[stmt.name] = value
+        self.hook.spellings.setdefault(f"{stmt.what[0]} {stmt.name}", stmt.spelling)
         if len(self.hook.constants) + len(self.hook.globals) > 4096:  # (D) bounded
             raise TrioError("Parameter out of range")
 
@@ -1056,7 +1071,8 @@ class Interpreter:
         """DIM: every name a scalar or an array of the dimensions given, holding the
         initial value (0, "" or the ``= value``)."""
         kind = stmt.type if stmt.type != "STRING" else f"STRING{stmt.length}"
-        empty: Value = "" if stmt.type == "STRING" else 0.0
+        empty: Value = "" if stmt.type == "STRING" else Real(0.0) if stmt.type == "FLOAT" \
+            else 0.0
         shape: tuple[int, ...] = ()
         for expr in stmt.sizes:
             size = self.number(expr, ctx)
@@ -1112,10 +1128,15 @@ class Interpreter:
             self.output(text)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
-        """A value as a DIMmed variable of that name holds it."""
+        """A value as a variable of that name holds it: its DIM type, else FLOAT (help
+        DIM: local variables are FLOAT by default)."""
         kind = ctx.types.get(name)
         if kind is None:
-            return value
+            return real(value) if isinstance(value, float) else value
+        return self.as_type(kind, value)
+
+    def as_type(self, kind: str, value: Value) -> Value:
+        """`value` as a variable of type `kind` (DIM's types) holds it."""
         if kind.startswith("STRING"):
             if not isinstance(value, str):
                 raise TrioError("Type mismatch")
@@ -1125,7 +1146,7 @@ class Interpreter:
             return float(math.trunc(number))
         if kind == "BOOLEAN":
             return _truth(number != 0)
-        return number
+        return real(number) if kind == "FLOAT" else number
 
     def _hold(self, ctx: ProcessContext, name: str, cost: int) -> None:
         """A variable not DIMmed now holds `cost` bytes of the controller's memory."""

@@ -474,7 +474,7 @@ _ENTRIES: list[Keyword] = [
              note="Numbered in the order they were first defined (the page's example: "
              "offset 1 is the second one); the GLOBAL table then the CONSTANT table, names "
              "in a 33-character column, constants with 5 decimals (page); length -1 is "
-             "all."),
+             "all. Names as first typed (the page lists them lower-case as defined)."),
     _command("TABLEVALUES", "TABLEVALUES(first, last[, format]): TABLE values as one "
              "comma-separated line.", (2, 3), source=f"{HELP} TABLEVALUES",
              note="Four decimals; format 1 writes a run of n equal values as kn,value "
@@ -600,7 +600,9 @@ _ENTRIES: list[Keyword] = [
     # ---- statements ---------------------------------------------------------------------------
     _statement("PRINT", "Print expressions and strings; ',' tabs, ';' joins, a final ';' "
                "keeps the line open. '?' is the same.", source=f"{REF}; {MAN}",
-               note="Integer values print without decimals (ref 3), others with 4 (manual). "
+               note="A FLOAT prints with 4 decimals even when whole, any other value bare "
+               "when whole (help INT example 2; atrio needs ?<integer> and ?MPE bare, ref "
+               "3), else with 4: the types are in printformat.Real and docs/trio.md (I). "
                "Formats (TrioBASIC help PRINT, C): x[d] d decimals; x[w, d] in w characters, "
                "negative w left justified; x[\"%...\"] a C format string (%f %F %e %E, 4 "
                "decimals by default; %L, %W and %X 64-bit; %R %S strings; %C a character) "
@@ -1042,8 +1044,8 @@ _ENTRIES: list[Keyword] = [
     _function("ROUND", "ROUND(v[, places]): INT(v x 10^places + 0.5) / 10^places (- 0.5 "
               "below 0); negative places round the integer part.", (1, 2),
               source="TrioBASIC help ROUND", confidence="C",
-              note="The page's formula and examples (C); PRINT shows a whole result "
-              "without decimals, as every whole value here (D)."),
+              note="The page's formula and examples (C); the result is a FLOAT, so PRINT "
+              "shows a whole one with 4 decimals (help INT example 2, C)."),
     _function("VECTOR_MAG", "VECTOR_MAG(c1[, c2 ... c6]): the magnitude of a vector of 1 to 6 "
               "components, the square root of the sum of their squares.", (1, 6),
               source="TrioBASIC help VECTOR_MAG", confidence="C",

@@ -19,7 +19,7 @@ from typing import TypeVar
 
 from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
-from .printformat import check_spec
+from .printformat import Real, check_spec, decimal_literal
 
 # ---- expressions ---------------------------------------------------------------------
 
@@ -156,6 +156,7 @@ class Declare:
     what: str  # "CONSTANT" or "GLOBAL"
     name: str  # "": every one of them is cleared (CONSTANT / GLOBAL alone)
     value: Expr | None  # None: the name alone clears that one (the pages' examples)
+    spelling: str = ""  # the name as typed (LIST_GLOBAL prints it so; the page's example)
 
 
 @dataclass(frozen=True)
@@ -164,6 +165,8 @@ class FunctionDef:
 
     name: str
     params: tuple[str, ...]
+    types: tuple[str, ...] = ()  # each parameter's AS type ("" none: FLOAT, help DIM)
+    returns: str = ""  # the function's AS type
 
 
 @dataclass(frozen=True)
@@ -327,7 +330,7 @@ _PARAM_COMMANDS = frozenset({"MPE"})  # parameters set with NAME(value)
 
 def parse_line(text: str) -> list[Stmt]:
     """All statements of one line (empty for a blank or comment line)."""
-    return _Parser(tokenize(text)).line()
+    return _Parser(tokenize(text), text).line()
 
 
 def parse_expression(text: str) -> Expr:
@@ -347,8 +350,9 @@ DEFAULT_STRING_LENGTH = 64
 
 
 class _Parser:
-    def __init__(self, tokens: list[Token]) -> None:
+    def __init__(self, tokens: list[Token], source: str = "") -> None:
         self.tokens = tokens
+        self.source = source  # the line as typed (a name's spelling: DEFCONST)
         self.pos = 0
         self.depth = 0
         self.operators = 0
@@ -643,7 +647,8 @@ class _Parser:
                 raise TrioError("Syntax error")
             if self.at_op("=", ","):
                 self.advance()
-            return Declare("CONSTANT", tok.text, self.expression())
+            typed = self.source[tok.column:tok.column + len(tok.text)] or tok.text
+            return Declare("CONSTANT", tok.text, self.expression(), typed)
         if name in ("CONSTANT", "GLOBAL"):
             tok = self.advance()
             if tok.kind is not Tok.STRING or lookup(tok.text) is not None or not tok.text:
@@ -651,7 +656,7 @@ class _Parser:
             if self.at_statement_end():  # CONSTANT "name": clears that one (its page)
                 return Declare(name, tok.text.upper(), None)
             self.expect_op(",")
-            return Declare(name, tok.text.upper(), self.expression())
+            return Declare(name, tok.text.upper(), self.expression(), tok.text)
         if name == "DIM":
             return self.dim()
         if name == "FUNCTION":
@@ -737,35 +742,39 @@ class _Parser:
         self.expect_op(")")
         return tuple(args)
 
-    def skip_type(self) -> None:
-        """``AS type`` of a FUNCTION or its parameter; ``AS type()`` passes an array."""
+    def skip_type(self) -> str:
+        """``AS type`` of a FUNCTION or its parameter; ``AS type()`` passes an array.
+        The type's name ("" when none is written)."""
+        kind = ""
         if self.at_name("AS"):
             self.advance()
             if not self.at_name(*DIM_TYPES):
                 raise TrioError("Syntax error")
-            self.advance()
+            kind = self.advance().text
             if self.at_op("("):
                 self.advance()
                 if not self.at_op(")"):
                     self.advance()
                 self.expect_op(")")
+        return kind
 
     def function(self) -> FunctionDef:
         name = self.label_name()
         params: list[str] = []
+        types: list[str] = []
         if self.at_op("("):
             self.advance()
             while not self.at_op(")"):
                 params.append(self.label_name())
-                self.skip_type()
+                types.append(self.skip_type())
                 if not self.at_op(","):
                     break
                 self.advance()
             self.expect_op(")")
-        self.skip_type()
+        returns = self.skip_type()
         if len(set(params)) != len(params):
             raise TrioError("Syntax error")
-        return FunctionDef(name, tuple(params))
+        return FunctionDef(name, tuple(params), tuple(types), returns)
 
     def dimensions(self) -> tuple[Expr, ...]:
         """``(n[, m ...])``: an array's dimensions."""
@@ -1070,7 +1079,11 @@ class _Parser:
     def operand(self) -> Expr:
         tok = self.advance()
         if tok.kind is Tok.NUMBER:
-            return Num(self.dotted_address(tok))
+            place = self.pos
+            value = self.dotted_address(tok)
+            if self.pos == place and decimal_literal(tok.text):
+                return Num(Real(value))  # 2.0 is a FLOAT (printformat.Real)
+            return Num(value)
         if tok.kind is Tok.STRING:
             return Str(tok.text)
         if tok.kind is Tok.OP and tok.text == "(":

@@ -15,6 +15,40 @@ import re
 
 from .lexer import TrioError
 
+
+class Real(float):
+    """A FLOAT-typed value. The firmware types its values: PRINT writes a FLOAT with 4
+    decimals even when it is whole, an INTEGER bare (help INT, example 2: ROUND(1.79)
+    prints 2.0000, INT(ROUND(1.79)) prints 2). A value is FLOAT when it comes from a
+    float function (FLOAT_FUNCTIONS), a TABLE value, a number written with a decimal
+    point or an exponent, a DIM ... AS FLOAT variable, MOD and FMOD, or + - * / ^ with a
+    FLOAT operand. Every other value (integer literals, parameters, VRs, comparisons,
+    bit operations) is untyped and prints as before: bare when whole (D: the pages
+    disagree on parameters, DPOS prints 5432 on its page and 300.0000 on OFFPOS's;
+    atrio needs ?<integer> and ?MPE bare). Python arithmetic on a Real gives a plain
+    float, so the interpreter marks each FLOAT result itself (`real`)."""
+
+    __slots__ = ()
+
+
+# Functions whose result is FLOAT: their pages print whole results with 4 decimals
+# (SQR(4) 2.0000, VECTOR_MAG(3, 4) 5.0000, ROUND(PI) 3.0000, SGN(-1.2) -1.0000) or are
+# the trigonometric and exponential family of those pages (I).
+FLOAT_FUNCTIONS = frozenset({"SQR", "VECTOR_MAG", "ROUND", "SGN", "FRAC", "SIN", "COS",
+                             "TAN", "ATAN", "ATAN2", "ASIN", "ACOS", "EXP", "LN", "RNDF",
+                             "TABLE"})
+FLOAT_OPERATORS = frozenset({"MOD", "FMOD"})  # 18 MOD 12 prints 6.0000 (help MOD)
+ARITHMETIC = frozenset({"+", "-", "*", "/", "^"})
+
+
+def real(value: float) -> Real:
+    return value if isinstance(value, Real) else Real(value)
+
+
+def decimal_literal(text: str) -> bool:
+    """A number written with a decimal point or an exponent is FLOAT (not $hex)."""
+    return not text.startswith("$") and any(c in text for c in ".eE")
+
 _SPEC = re.compile(r"%([-+0]*)(\d*)(?:\.(\d+))?([fFeELWXRSCc])")
 _MASK = (1 << 64) - 1
 

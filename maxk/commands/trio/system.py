@@ -45,6 +45,7 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         self.defined: dict[str, int] = {}  # each GLOBAL/CONSTANT's number (LIST_GLOBAL)
         self.constants: dict[str, Value] = Definitions("C", self.defined)  # CONSTANT
         self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
+        self.spellings: dict[str, str] = {}  # each one's name as first typed (LIST_GLOBAL)
         self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)

@@ -67,6 +67,7 @@ from .parser import (
     parse_line,
 )
 
+_NUMBER_TYPES = frozenset({"FLOAT", "INTEGER", "BOOLEAN"})  # AS types a FUNCTION keeps
 STATEMENTS_PER_CYCLE = 25
 GOSUB_DEPTH = 64  # nested GOSUBs (and FUNCTION calls) before "Stack overflow" (D)
 FUNCTION_STATEMENTS = 1000  # statements one FUNCTION call, with every call it makes, may
@@ -344,11 +345,13 @@ class Task:
         outer = self.ctx
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
                              functions=self.call_function, ticks=outer.ticks)
-        for param, arg in zip(define.params, args, strict=True):
+        for param, kind, arg in zip(define.params, define.types, args, strict=True):
+            if kind in _NUMBER_TYPES:
+                ctx.types[param] = kind  # its AS type: what an element or it holds
             if isinstance(arg, list):
                 ctx.arrays[param] = arg
-            else:
-                ctx.variables[param] = arg
+            else:  # a number is a FLOAT unless its AS type says otherwise (help DIM)
+                ctx.variables[param] = self.interpreter._typed(param, arg, ctx)
         if not self.frames:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.frames.append(ctx)
@@ -366,7 +369,9 @@ class Task:
                 if isinstance(stmt, Return) and not ctx.stack:
                     if stmt.value is None:
                         return 0.0
-                    return self.interpreter.evaluate(stmt.value, ctx)
+                    value = self.interpreter.evaluate(stmt.value, ctx)
+                    return self.interpreter.as_type(define.returns, value) \
+                        if define.returns in _NUMBER_TYPES else value
                 for wake in self._step(ctx, pc, step, True, steps):
                     if wake is not _PASS and wake is not _LOOPED:
                         raise TrioError("Function cannot wait")
@@ -484,7 +489,7 @@ class Task:
             if stmt.vr is not None:
                 interp.assign(Assign(Call("VR", (stmt.vr,)), Num(start)), ctx)
             else:
-                ctx.variables[stmt.variable] = start
+                ctx.variables[stmt.variable] = interp._typed(stmt.variable, start, ctx)
             ctx.loops[pc] = (end, increment)
             ctx.pc = pc + 1 if _in_range(start, end, increment) else step.target
         elif isinstance(stmt, Next):
@@ -500,7 +505,7 @@ class Task:
                 interp.assign(Assign(counter, Num(value)), ctx)
             else:
                 value = interp.number_value(ctx.variables.get(loop.variable, 0.0)) + increment
-                ctx.variables[loop.variable] = value
+                ctx.variables[loop.variable] = interp._typed(loop.variable, value, ctx)
             if _in_range(value, end, increment):
                 if not waited:
                     yield _PASS
