@@ -138,3 +138,20 @@ def test_an_uploader_stores_mc_config_over_tcp(tmp_path) -> None:
         proc.communicate(timeout=20)
     stored = tmp_path / "MC405-board1.programs" / "MC_CONFIG.MCC"
     assert stored.read_text() == "".join(w + "\n" for w in wanted)
+
+
+def test_a_basic_program_named_mc_config_runs_at_power_up(tmp_path: Path) -> None:
+    """The uploader's way: SELECT MC_CONFIG (a BASIC program), its lines inserted, then a
+    power cycle applies it (help "MC_CONFIG Program": run at power-up if present)."""
+    rig = Rig(tmp_path)
+    rig.command("SELECT MC_CONFIG")
+    rig.command("!MC_CONFIG,0I,ATYPE AXIS(0) = 76")
+    rig.command("!MC_CONFIG,1I,VR(9) = 3")
+    rig.load("OTHER", "VR(9) = 7")  # a BASIC program of another name, not autorun
+    assert rig.command("?ATYPE AXIS(0)") != b"76"
+    again = Rig(tmp_path)  # a restart on the same program directory
+    again.session.power_up()
+    again.cycles(2)
+    assert again.command("?ATYPE AXIS(0)") == b"76"
+    assert again.command("?VR(9)") == b"3.0000"
+    assert again.command("AUTORUN") == b""  # AUTORUN starts only the autorun programs

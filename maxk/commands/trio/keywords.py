@@ -421,7 +421,8 @@ _ENTRIES: list[Keyword] = [
              confidence="I",
              note="Types 0 .BAS, 3 .TXT, 7 .PROJ, 9 .MCC, 12 .BAL. A missing program is "
              "created, a BASIC program (type 0) when no type is given (help page), even "
-             "named MC_CONFIG. An existing program is selected whatever its type; a type "
+             "named MC_CONFIG (power up still runs it first: help 'MC_CONFIG Program', "
+             "run if present). An existing program is selected whatever its type; a type "
              "given that differs is 'Program type mismatch' (page: the type of an existing "
              "program cannot change). The previously selected program is not compiled "
              "here (D: it compiles when run). The name may be unquoted "

@@ -363,11 +363,15 @@ class ProgramCommands(Housekeeping, TimersAndScope):
             self.output(f"Process {process}:Program {task.ctx.program} - Running\r\n")
 
     def start_autorun(self, announce: bool) -> None:
-        """AUTORUN; and power up (announce False), which starts MC_CONFIG (type 9) first."""
+        """AUTORUN; and power up (announce False), which starts MC_CONFIG first: the program
+        of type 9, or the one named MC_CONFIG (help "MC_CONFIG Program": "MC_CONFIG, if
+        present, is always run at power-up"; an uploader that sends SELECT MC_CONFIG makes a
+        BASIC program of that name, and a power cycle applies it on the real controller)."""
         infos = [self.programs.info[n] for n in self.programs.names()]
-        wanted = [i for i in infos if i.type == 0 and i.autorun]
+        config = [i for i in infos if i.type == 9 or i.name.upper() == "MC_CONFIG"]
+        wanted = [i for i in infos if i.type == 0 and i.autorun and i not in config]
         if not announce:
-            wanted = [i for i in infos if i.type == 9] + wanted
+            wanted = config + wanted
         for info in wanted:
             try:
                 process = self.start(info.name, info.process if info.type == 0 else -1)
