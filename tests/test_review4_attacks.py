@@ -1,0 +1,48 @@
+"""Session 4's merged work under attack (review 4): each test is a defect found by
+driving the controllers as a hostile user or a real program would, and stays as its
+guard."""
+
+from __future__ import annotations
+
+import pytest
+
+from maxk.controllers.trio import MC405
+
+
+@pytest.mark.parametrize("frame", [6, 10])
+def test_a_frames_scale_zeroed_while_it_runs_does_not_stop_the_machine(frame: int) -> None:
+    """TABLE(0) is frame 6 / 10's counts per radian. Zeroed while the frame is on (the
+    page warns against it, a careless program does it): the engine raised a Python
+    ValueError out of the servo cycle (frame 10) or every MPOS read and FRAME = 0 answered
+    'Parameter out of range' for ever (frame 6). Now the frame keeps the last scale it
+    could use: the move ends where it would have, and FRAME = 0 turns it off."""
+    trio = MC405()
+    assert trio.send("TABLE(0, 1000)") == []
+    assert trio.send(f"FRAME = {frame}") == []
+    assert trio.send("TABLE(0, 0)") == []
+    assert trio.send("MOVE(5, 5)") == []
+    trio.advance(ticks=2000)
+    assert trio.send("PRINT DPOS AXIS(0), DPOS AXIS(1)") == ["5\t5"]
+    reference = MC405()
+    for line in ("TABLE(0, 1000)", f"FRAME = {frame}", "MOVE(5, 5)"):
+        assert reference.send(line) == []
+    reference.advance(ticks=2000)
+    expected = reference.send("PRINT MPOS AXIS(0), MPOS AXIS(1)")
+    assert trio.send("PRINT MPOS AXIS(0), MPOS AXIS(1)") == expected
+    assert trio.send("FRAME = 0") == []
+    assert trio.send("PRINT FRAME") == ["0"]
+
+
+def test_a_frame_switch_that_is_refused_leaves_the_old_frame_on() -> None:
+    """FRAME = 5 on, then FRAME = 6 with TABLE(0) 0 (no scale): refused, but the
+    refusal came after frame 5 had been turned off (PRINT FRAME read 0). Nothing may be
+    half-applied: frame 5 stays on, DPOS where it was."""
+    trio = MC405()
+    assert trio.send("TABLE(0, 0, 1, 1, 0, 0, 1, 1, 0)") == []  # swap x and y
+    assert trio.send("FRAME = 5") == []
+    assert trio.send("MOVE(3, 0)") == []
+    trio.advance(ticks=2000)
+    assert trio.send("PRINT DPOS AXIS(0), DPOS AXIS(1)") == ["3\t0"]
+    assert trio.send("TABLE(0, 0)") == []
+    assert trio.send("FRAME = 6") == ["! Parameter out of range"]
+    assert trio.send("PRINT FRAME, DPOS AXIS(0), DPOS AXIS(1)") == ["5\t3\t0"]
