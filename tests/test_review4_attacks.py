@@ -46,3 +46,18 @@ def test_a_frame_switch_that_is_refused_leaves_the_old_frame_on() -> None:
     assert trio.send("TABLE(0, 0)") == []
     assert trio.send("FRAME = 6") == ["! Parameter out of range"]
     assert trio.send("PRINT FRAME, DPOS AXIS(0), DPOS AXIS(1)") == ["5\t3\t0"]
+
+
+@pytest.mark.parametrize("args", ["ON, 1e300, 1, 1", "ON, 1, 1e300, 1", "ON, 1, 1, 1e300",
+                                  "ON, -1e17, 1, 1"])
+def test_backlash_beyond_the_position_range_is_refused(args: str) -> None:
+    """BACKLASH(ON, 1e300, 1e300, 1e300) was taken: after MOVE(1) MPOS read some
+    -5.8e303 (the trapezoid's arithmetic overflowed), after MOVE(-1) BACKLASH_DIST stayed
+    ~8.6e302. A distance, speed or acceleration beyond the machine's position range
+    (2^53 counts, as MOVE and DEFPOS) is 'Parameter out of range', nothing changed."""
+    trio = MC405()
+    assert trio.send(f"BACKLASH({args})") == ["! Parameter out of range"]
+    assert trio.send("MOVE(1)") == []
+    trio.advance(ticks=1000)
+    assert trio.send("PRINT DPOS, MPOS, BACKLASH_DIST") == ["1\t1\t0"]
+    assert trio.send("BACKLASH(ON, 1e15, 1e15, 1e15)") == []  # inside the range: taken
