@@ -61,3 +61,16 @@ def test_backlash_beyond_the_position_range_is_refused(args: str) -> None:
     trio.advance(ticks=1000)
     assert trio.send("PRINT DPOS, MPOS, BACKLASH_DIST") == ["1\t1\t0"]
     assert trio.send("BACKLASH(ON, 1e15, 1e15, 1e15)") == []  # inside the range: taken
+
+
+@pytest.mark.parametrize("offset", ["1e300", "512000", "2 ^ 40"])
+def test_frame_group_refuses_a_table_offset_past_the_table(offset: str) -> None:
+    """FRAME_GROUP(0, 1e300, 0, 1) was taken: FRAME_GROUP(0) then printed a 301-digit
+    offset and FRAME = 5 on the group failed later with 'TABLE index out of range'. The
+    TABLE holds 512,000 values (memory.TABLE_SIZE): an offset past it is refused at once
+    and the group stays as it was (none)."""
+    trio = MC405()
+    assert trio.send(f"FRAME_GROUP(0, {offset}, 0, 1)") == ["! Parameter out of range"]
+    assert trio.send("FRAME_GROUP(0)") == ["0 [-1] :"]
+    assert trio.send("FRAME_GROUP(0, 511992, 0, 1)") == []  # frame 5's 8 values fit
+    assert trio.send("FRAME = 5") == []

@@ -37,6 +37,7 @@ import numpy as np
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, World
 
 from .drive import INPUTS
+from .memory import TABLE_SIZE
 from .runs import Run, TrioAxis
 
 SIZES = {2: 2, 5: 2, 6: 2, 10: 2}
@@ -440,8 +441,8 @@ class Frames:
     def frame_group(self, group: int, offset: float, axes: Sequence[int]) -> None:
         """FRAME_GROUP(group, table_offset, axes...): define a group, or delete it with
         table_offset -1 (its frame goes off first)."""
-        if not 0 <= group < GROUPS or offset != int(offset) or offset < -1:
-            raise ValueError("Parameter out of range")
+        if not 0 <= group < GROUPS or offset != int(offset) or not -1 <= offset < TABLE_SIZE:
+            raise ValueError("Parameter out of range")  # (D: an offset inside the TABLE)
         old = self.groups.get(group)
         if offset == -1:
             if axes:
