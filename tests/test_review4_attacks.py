@@ -74,3 +74,17 @@ def test_frame_group_refuses_a_table_offset_past_the_table(offset: str) -> None:
     assert trio.send("FRAME_GROUP(0)") == ["0 [-1] :"]
     assert trio.send("FRAME_GROUP(0, 511992, 0, 1)") == []  # frame 5's 8 values fit
     assert trio.send("FRAME = 5") == []
+
+
+@pytest.mark.parametrize("mode", ["1.5", "3.9"])
+def test_a_fractional_move_pa_cont_acts_as_its_whole_mode(mode: str) -> None:
+    """MOVE_PA_CONT = 3.9 was taken (0..6) but then matched no mode, so the move's
+    MOVE_PA did nothing at all. The control's fraction is cut, as an integer
+    parameter's: 1.5 and 3.9 act as 1 and 3, output 8 ON (8 + bit 12) when the move
+    becomes active."""
+    trio = MC405()
+    assert trio.send(f"MOVE_PA_CONT = {mode}") == []
+    assert trio.send("MOVE_PA = 8 + 4096") == []
+    assert trio.send("MOVE(1)") == []
+    trio.advance(ticks=100)
+    assert trio.send("PRINT READ_OP(8)") == ["1"]
