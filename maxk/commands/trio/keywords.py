@@ -1661,7 +1661,8 @@ _ENTRIES: list[Keyword] = [
            "1 and 3: bits 0..11 the output, bit 12 its level; 4: bits 0..11 the first "
            "output, 12..19 how many, 20..51 the pattern (C). 3 acts as 1 (D: its VP_SPEED "
            "= 0 case is the idle one); 2: copied into AXIS_DEBUG_A (MOVE_PB: AXIS_DEBUG_B) "
-           "(C); 5 and 6 (analogue outputs, none modelled): nothing (D)."),
+           "(C); 5 and 6 (analogue outputs, none modelled): nothing (D); a fraction is "
+           "cut (D)."),
           ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB / MOVE_PB_IDLE.", "MOVE_PB_CONT",
            "As MOVE_PA_CONT (C)."),
       )],
