@@ -923,8 +923,9 @@ _ENTRIES: list[Keyword] = [
              "command (MPOS moves by it, FE stays the loop's error, I; the loop is then "
              "stepped cycle by cycle) (C); DPOS never does. Values not given "
              "keep the last ones (power-up 0, D); speed or accel 0: at once (D); OFF takes "
-             "it back to 0 at its speed (D); a negative speed or accel is 'Parameter out "
-             "of range'. Left out (D): reversals of a linked axis (CONNECT, CAMBOX ...) "
+             "it back to 0 at its speed (D); a negative speed or accel, or any value of "
+             "2^53 counts or more, is 'Parameter out of range'. Left out (D): reversals "
+             "of a linked axis (CONNECT, CAMBOX ...) "
              "and the compensation in the limit search."),
     _axis("BACKLASH_DIST", "The backlash compensation being applied, user units.",
           writable=False, source=f"{HELP} BACKLASH_DIST; {HELP} BACKLASH", confidence="I",
@@ -1661,7 +1662,8 @@ _ENTRIES: list[Keyword] = [
            "1 and 3: bits 0..11 the output, bit 12 its level; 4: bits 0..11 the first "
            "output, 12..19 how many, 20..51 the pattern (C). 3 acts as 1 (D: its VP_SPEED "
            "= 0 case is the idle one); 2: copied into AXIS_DEBUG_A (MOVE_PB: AXIS_DEBUG_B) "
-           "(C); 5 and 6 (analogue outputs, none modelled): nothing (D)."),
+           "(C); 5 and 6 (analogue outputs, none modelled): nothing (D); a fraction is "
+           "cut (D)."),
           ("MOVE_PB_CONT", "As MOVE_PA_CONT, for MOVE_PB / MOVE_PB_IDLE.", "MOVE_PB_CONT",
            "As MOVE_PA_CONT (C)."),
       )],
@@ -1754,7 +1756,10 @@ _ENTRIES: list[Keyword] = [
           "to MPOS (C). FRAME on an axis of no FRAME_GROUP makes group 0 the lowest axes, "
           "table offset 0 (C). A change is refused with 'Parameter out of range' unless "
           "the group's axes are idle, and so is a frame whose equations the page does not "
-          "give (1, 3, 13 ...) (D). MPOS reads AXIS_DPOS, FE 0: a servo axis in a frame "
+          "give (1, 3, 13 ...) (D); a refused change leaves the old frame on. Frames 6 "
+          "and 10 read their TABLE scale live, but a 0 or non-finite one written while "
+          "on is not taken: the last one goes on (D: the page warns against the write). "
+          "MPOS reads AXIS_DPOS, FE 0: a servo axis in a frame "
           "follows its motor demand exactly (D). The FWD_IN / REV_IN switches act on the "
           "motor (C): the tick a joint reaches one going towards it is found as for "
           "AXIS_FS_LIMIT and cancels the group's moves the same way (I)."),
@@ -1796,7 +1801,8 @@ _ENTRIES: list[Keyword] = [
              "TABLE offset of a FRAME; table_offset -1 deletes the group (its frame off); "
              "the group alone prints it.", (1, 128),
              source=f"{TOK}; {HELP} FRAME_GROUP", confidence="C",
-             note="Groups 0-7, axes ascending (C); an axis in two groups is refused (D); "
+             note="Groups 0-7, axes ascending (C); an axis in two groups, or a table_offset "
+             "past the TABLE, is refused (D); "
              "redefining or deleting a group turns its frame off first (I). The printed "
              "line has the page's form, with the identity USER_FRAME, TOOL_OFFSET and "
              "VOLUME_LIMIT (none is modelled, D); a group not defined prints 'n [-1] :' (D). As "

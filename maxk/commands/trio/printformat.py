@@ -21,9 +21,10 @@ class Real(float):
     decimals even when it is whole, an INTEGER bare (help INT, example 2: ROUND(1.79)
     prints 2.0000, INT(ROUND(1.79)) prints 2). A value is FLOAT when it comes from a
     float function (FLOAT_FUNCTIONS), a TABLE value, a number written with a decimal
-    point or an exponent, a DIM ... AS FLOAT variable, MOD and FMOD, or + - * / ^ with a
-    FLOAT operand. Every other value (integer literals, parameters, VRs, comparisons,
-    bit operations) is untyped and prints as before: bare when whole (D: the pages
+    point or an exponent, a VR or local variable (docs/trio.md: help VR, DIM), MOD and
+    FMOD, or + - * / ^ with a FLOAT operand. Every other value (integer literals,
+    parameters, comparisons, bit operations) is untyped and prints as before: bare when
+    whole (D: the pages
     disagree on parameters, DPOS prints 5432 on its page and 300.0000 on OFFPOS's;
     atrio needs ?<integer> and ?MPE bare). Python arithmetic on a Real gives a plain
     float, so the interpreter marks each FLOAT result itself (`real`)."""

@@ -27,7 +27,8 @@ How it is modelled, exact to the servo tick:
 Decisions (D): BACKLASH(ON) with fewer values keeps the others as last given (power-up 0);
 a speed or acceleration of 0 applies the compensation within the servo cycle; OFF takes
 the compensation back to 0 at its speed and acceleration; a negative distance compensates
-the other way. Not modelled: reversals of a linked axis (CONNECT, CAMBOX, MOVELINK ...:
+the other way. A distance, speed or acceleration of 2^53 counts or more (the machine's
+position range) is refused. Not modelled: reversals of a linked axis (CONNECT, CAMBOX, MOVELINK ...:
 their demand has no phases), and the compensation in the search for a limit switch.
 """
 
@@ -116,6 +117,11 @@ class AxisBacklash:
             del self.pieces[0]
 
 
+LIMIT = 2.0 ** 53
+"""Counts (counts/s, counts/s^2) a compensation may reach: the machine's position range
+(`machine.MAX_COUNTS`); beyond it the trapezoid's arithmetic overflows."""
+
+
 class Backlash:
     """Every axis's compensation (see the module docstring)."""
 
@@ -139,6 +145,8 @@ class Backlash:
         values = [b.distance, b.speed, b.accel]
         for k, value in enumerate(args[1:]):
             values[k] = value * (units if k == 0 else scale)
+        if not all(abs(v) < LIMIT for v in values):  # (a position the machine can hold)
+            raise ValueError("Parameter out of range")
         b.distance, b.speed, b.accel = values
         b.prune(now)
         if args[0] != 0:

@@ -37,6 +37,7 @@ import numpy as np
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, World
 
 from .drive import INPUTS
+from .memory import TABLE_SIZE
 from .runs import Run, TrioAxis
 
 SIZES = {2: 2, 5: 2, 6: 2, 10: 2}
@@ -156,6 +157,7 @@ class FrameGroup:
     frame: int = 0
     motor_datum: list[float] = field(default_factory=list)
     near: list[float] = field(default_factory=list)  # raw axis positions at the last event
+    scale: float = 0.0  # frame 6 / 10's last usable TABLE scale (`Frames.table`)
 
 
 class Frames:
@@ -190,7 +192,17 @@ class Frames:
 
     # ---- the motor's demand ---------------------------------------------------------------
     def table(self, group: FrameGroup, frame: int) -> list[float]:
-        return [self.m.table_read(group.table_offset + k) for k in range(PARAMETERS[frame])]
+        """The frame's TABLE parameters, read live (the page: changing them with the frame
+        on moves the machine unpredictably). A scale that cannot scale an angle (0, not
+        finite) written while frame 6 or 10 is on is not taken: the frame keeps the last
+        one it ran on (D), so the servo cycle and FRAME = 0 go on working."""
+        values = [self.m.table_read(group.table_offset + k) for k in range(PARAMETERS[frame])]
+        if frame in (6, 10) and group.frame == frame:
+            if values[0] != 0 and math.isfinite(values[0]):
+                group.scale = values[0]
+            elif group.scale:
+                values[0] = group.scale
+        return values
 
     def world_raw(self, group: FrameGroup, ticks: np.ndarray) -> Arrays:
         m = self.m
@@ -298,6 +310,8 @@ class Frames:
         now = np.array([m.tick])
         if group.frame:  # off first: DPOS becomes the motor's position
             motor = [float(v[0]) for v in self.axis_raw(group, now)]
+            if frame:  # (the new frame checked on them before anything changes)
+                transform(frame, self.table(group, frame), motor, forward=True)
             for k, a in enumerate(group.axes):
                 physical = motor[k] - group.motor_datum[k]
                 axis = m.axes[a]
@@ -315,6 +329,7 @@ class Frames:
                 m.axes[a].datum = world[k] - here[k]  # DPOS: the world position
             group.frame = frame
             group.near = raw
+            group.scale = table[0] if frame in (6, 10) else 0.0
         m.changed()
 
     # ---- the joints' software limits (AXIS_FS_LIMIT, AXIS_RS_LIMIT) ---------------------------
@@ -426,8 +441,8 @@ class Frames:
     def frame_group(self, group: int, offset: float, axes: Sequence[int]) -> None:
         """FRAME_GROUP(group, table_offset, axes...): define a group, or delete it with
         table_offset -1 (its frame goes off first)."""
-        if not 0 <= group < GROUPS or offset != int(offset) or offset < -1:
-            raise ValueError("Parameter out of range")
+        if not 0 <= group < GROUPS or offset != int(offset) or not -1 <= offset < TABLE_SIZE:
+            raise ValueError("Parameter out of range")  # (D: an offset inside the TABLE)
         old = self.groups.get(group)
         if offset == -1:
             if axes:

@@ -47,13 +47,14 @@ def copies(params: Mapping[str, float]) -> tuple[float, float]:
 
 
 def act(m: Host, mode: float, value: float, axis: int, k: int) -> None:
-    """One MOVE_PA (k 0) / MOVE_PB (k 1) value, or its idle one, acted on by its mode."""
-    code = int(value)
-    if mode == 2.0:
+    """One MOVE_PA (k 0) / MOVE_PB (k 1) value, or its idle one, acted on by its mode
+    (a fraction written to the control parameter is cut, as an integer parameter's: D)."""
+    code, mode = int(value), int(mode)
+    if mode == 2:
         m.params_of(axis)[DEBUG[k]] = value
-    elif mode in (1.0, 3.0):
+    elif mode in (1, 3):
         m.set_output(code & ((1 << OUTPUT_BITS) - 1), bool(code >> OUTPUT_BITS & 1))
-    elif mode == 4.0:
+    elif mode == 4:
         first = code & ((1 << OUTPUT_BITS) - 1)
         count = min(code >> 12 & 0xFF, MAX_PATTERN)
         pattern = code >> 20
