@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from maxk.controllers.contract import Controller
-from maxk.tuning import PLOT_MISSING
+from maxk.plotting import pyplot, save
 
 
 class PathRecorder:
@@ -62,13 +62,7 @@ def draw_path(path: str | Path, x: Sequence[float], y: Sequence[float], *,
               axis_names: tuple[str, str] = ("X", "Y"), title: str = "") -> Path:
     """An XY path as a PNG: the stretches where an output was on drawn over it, and
     points marked on it (the MM4005's synchronized pulses). Any controller's samples."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise ImportError(PLOT_MISSING) from exc
+    plt = pyplot()
     path = Path(path)
     fig, ax = plt.subplots(figsize=(7, 7))
     ax.plot(x, y, color="0.6", linewidth=1.0, label="path")
@@ -89,7 +83,4 @@ def draw_path(path: str | Path, x: Sequence[float], y: Sequence[float], *,
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best")
     ax.set_title(title or "maxk path")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, path)

@@ -15,12 +15,11 @@ import numpy as np
 
 from maxk.controllers.maxk.controller import MAXk
 from maxk.firmware_model.motor import VOLTS_PER_COUNT
+from maxk.plotting import pyplot, save
 
 DEFAULT_MOVE = "AC100000; VL5000; MR6400; GO;"
 """A trapezoid with a flat top, short enough to plot clearly (manual 2.13's method)."""
 
-PLOT_MISSING = ("the plot needs matplotlib: pip install 'maxk[plot]' "
-                "(or pip install matplotlib)")
 
 
 @dataclass
@@ -64,13 +63,7 @@ class TuningRun:
     def plot(self, path: str | Path) -> Path:
         """Write the four traces to a PNG. Raises ImportError with advice when
         matplotlib is not installed."""
-        try:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError as exc:
-            raise ImportError(PLOT_MISSING) from exc
+        plt = pyplot()
         path = Path(path)
         fig, axes = plt.subplots(4, 1, sharex=True, figsize=(9, 10))
         t = self.time
@@ -90,10 +83,7 @@ class TuningRun:
         for ax in axes:
             ax.grid(True, alpha=0.3)
         fig.suptitle(f"maxk tune: {self.gains or 'factory gains'} | {self.move}")
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return path
+        return save(fig, path)
 
 
 def tune(gains: str = "", move: str = DEFAULT_MOVE, *, seconds: float | None = None,

@@ -16,6 +16,7 @@ from typing import IO, Protocol
 from maxk.personalities.mm4005.execution import PulseRecord
 from maxk.personalities.mm4005.machine import MM4005
 from maxk.personalities.mm4005.timed import TracePoint
+from maxk.plotting import pyplot, save
 
 
 class MM4005Controller(Protocol):
@@ -116,13 +117,7 @@ class MM4005Recording:
 
     def _plot_time(self, path: str, title: str) -> None:
         """A time-based run: each axis's position against time, the pulses marked."""
-        try:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError as exc:
-            raise ImportError("plots need matplotlib (pip install matplotlib)") from exc
+        plt = pyplot()
         c = self.controller
         self.trace.sample(c.machine)
         period = c.machine.period
@@ -141,6 +136,4 @@ class MM4005Recording:
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best")
         ax.set_title(title or "MM4005 time-based trajectory")
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
+        save(fig, path)

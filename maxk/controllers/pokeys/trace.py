@@ -17,9 +17,7 @@ from maxk.personalities.pokeys import AXIS_LETTERS, EngineState, SlotRecord
 from maxk.personalities.pokeys.constants import SLOT_SECONDS
 from maxk.personalities.pokeys.device import PoKeysDevice
 from maxk.personalities.pokeys.engine import PulseEngine
-
-PLOT_MISSING = ("the plot needs matplotlib: pip install 'maxk[plot]' "
-                "(or pip install matplotlib)")
+from maxk.plotting import pyplot, save
 
 
 class SlotRecorder:
@@ -97,13 +95,7 @@ class SlotRecorder:
     def plot(self, path: str | Path, title: str = "") -> Path:
         """Three panels over time: positions, pulse rates (pulses/s), buffer fill.
         ImportError with advice when matplotlib is not installed."""
-        try:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError as exc:
-            raise ImportError(PLOT_MISSING) from exc
+        plt = pyplot()
         path = Path(path)
         moving = [i for i in range(self.axes) if any(self.pulses[i])] or [0]
         pwm = [n for n in range(6) if any(self.pwm[n])]
@@ -133,7 +125,4 @@ class SlotRecorder:
             ax.grid(True, alpha=0.3)
         pos.legend(loc="best")
         pos.set_title(title or "PoKeys slot trace")
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return path
+        return save(fig, path)

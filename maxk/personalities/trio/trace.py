@@ -17,6 +17,8 @@ from typing import Protocol
 
 import numpy as np
 
+from maxk.plotting import pyplot, save
+
 from .pwm import PWM_ATYPES, PwmBank, PwmMode
 
 
@@ -129,10 +131,7 @@ class PwmTrace:
     def plot(self, path: str | Path, axis: int | None = None, title: str = "") -> Path:
         """The XY path with the PWM duty of `axis` drawn along it (the laser power on the
         path). Needs matplotlib."""
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
         from matplotlib.collections import LineCollection
 
         axis = self.pwm_axes[0] if axis is None else axis
@@ -153,8 +152,4 @@ class PwmTrace:
         ax.set_ylabel(f"axis {self.xy[1]} DPOS")
         ax.grid(True, alpha=0.3)
         ax.set_title(title or "MC405 PWM along the path")
-        fig.tight_layout()
-        path = Path(path)
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return path
+        return save(fig, path)
