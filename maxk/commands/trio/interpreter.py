@@ -215,7 +215,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
-                               "HW_TIMER", "SYNC", *GEOMETRIC, *SEQUENCES})
+                               "HW_TIMER", "SYNC", "COMPENSATE_XY", *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
 _AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH"})  # the axis's output stage
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
@@ -1517,6 +1517,10 @@ class Interpreter:
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
+        elif name == "COMPENSATE_XY":  # a linked move (MTYPE 26): personality compensate.py
+            while not m.can_load([axis]):
+                yield ON_CHANGE
+            self._act(lambda: m.axis_hardware(name, axis, args))
 
     def _forever(self, axis: int, direction: int) -> Wait:
         """FORWARD/REVERSE: a move long enough to end only by CANCEL."""

@@ -363,7 +363,8 @@ _ENTRIES: list[Keyword] = [
              "aims its own moves, without the live ADDAX part (D)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
           "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
-          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 30 MOVETANG, 31 MSPHERICAL, "
+          "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 26 COMPENSATE_XY, 30 MOVETANG, "
+          "31 MSPHERICAL, "
           "40 MSPHERICALSP.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="The codes as recalled from the manual's MTYPE table (the table's text was "
@@ -879,12 +880,6 @@ _ENTRIES: list[Keyword] = [
     *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
-          ("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
-           "y_axis, y_div, y_dist, y_offset): a 2D TABLE correction superimposed on the "
-           "axis's motion.", (10, 10), "the correction follows the axes' measured "
-           "positions every servo cycle (interpolated in a TABLE grid), a feedback the "
-           "shared machine's closed-form demand between events has no place for; as "
-           "BACKLASH (accepted, no effect)."),
           ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
            "the page's use (dual feedback: a measuring wheel's loop summed onto the motor's "
            "output) needs two loops solved together on one world motor, each reading its "
@@ -910,6 +905,20 @@ _ENTRIES: list[Keyword] = [
              "dpos_count above 0, else 'Parameter out of range'; no arguments: 1:1, one or "
              "three: 'Syntax error' (D). Power-up 1:1. Not on a servo axis's loop (the "
              "shared loop runs in the motor encoder's counts) nor the Z mark searches (D)."),
+    _command("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
+             "y_axis, y_div, y_dist, y_offset): a correction interpolated in a 2D TABLE "
+             "grid from the X and Y axes' positions, superimposed on the axis.", (10, 10),
+             axis=True, source=f"{HELP} COMPENSATE_XY, MTYPE; {TOK}", confidence="I",
+             note="x_div x y_div values from table, X fastest, evenly spread over x_dist "
+             "from x_offset (y likewise), interpolated linearly in both; outside the "
+             "working area the nearest value inside it; the correction when given is "
+             "taken off (no jump); MTYPE 26 until CANCEL; distances in the X/Y axes' "
+             "units, TABLE values in the axis's (C). Decided (D, compensate.py): a linked "
+             "move, buffered as CAMBOX; opt 0 (MPOS) and 1 (DPOS) both follow the X and Y "
+             "axes' demand, as every link here (equal on virtual axes and steppers); the "
+             "grid and UNITS are read when it is given; X or Y the axis itself: 'Invalid "
+             "axis number', following it, a division count not whole from 1, a distance "
+             "not above 0, a grid past TABLE or opt not 0/1: 'Parameter out of range'."),
     _command("BACKLASH", "BACKLASH(enable[, distance, speed, accel]): backlash compensation "
              "moves.", (1, 4), axis=True, source=f"{HELP} BACKLASH; {TOK}", confidence="I",
              note="After each reversal of the axis's own motion (a move, a path, a stop; "

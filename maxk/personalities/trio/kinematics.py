@@ -16,6 +16,7 @@ import numpy as np
 from maxk.firmware_model.sampling import profile_offset_speed
 
 from . import clutch
+from .compensate import Compensation
 from .frames import Frames
 from .link_kinds import Cambox, Connect, Connpath, Movelink
 from .links import LinkedMoves
@@ -63,6 +64,8 @@ class Kinematics:
             return link.origin + link.ratio * travelled * a.units
         if isinstance(link, Cambox):
             return link.counts(self.dpos_at(link.link, ticks))
+        if isinstance(link, Compensation):  # COMPENSATE_XY (compensate.py)
+            return link.counts(self.dpos_at(link.link, ticks), self.dpos_at(link.link_y, ticks))
         m = a.motion
         if m is None:
             return np.full(ticks.shape, a.steps + a.fraction)
@@ -104,7 +107,7 @@ class Kinematics:
         interpolated group reads the group's path speed, I), in the base's user units."""
         a = self.axes[axis]
         link = a.link
-        if isinstance(link, Connect | Movelink) or axis in self.links.addax:
+        if isinstance(link, Connect | Movelink | Compensation) or axis in self.links.addax:
             # the demand's change over the servo cycle before each tick (D)
             change = self.demand_counts(axis, ticks) - self.demand_counts(axis, ticks - 1)
             return np.abs(change) / (self.period * a.units)

@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .compensate import Compensation
+
 
 @dataclass
 class Connpath:
@@ -292,4 +294,4 @@ class Flexlink(Movelink):
         return moved + excite * self.ramped(x, self.accel / width, self.decel / width)
 
 
-Link = Connpath | Cambox | Connect | Movelink
+Link = Connpath | Cambox | Connect | Movelink | Compensation  # (COMPENSATE_XY: compensate.py)

@@ -300,9 +300,10 @@ class LinkedMoves:
             seen.add(a)
             ax = m.axes[a]
             for link in (ax.link, ax.pending_link, *self.chains[a]):
-                target = getattr(link, "link", None)
-                if isinstance(target, int):
-                    todo.append(target)
+                for name in ("link", "link_y"):  # (link_y: COMPENSATE_XY's Y axis)
+                    target = getattr(link, name, None)
+                    if isinstance(target, int):
+                        todo.append(target)
             if a in self.addax:
                 todo.append(self.addax[a].link)
         return False

@@ -56,6 +56,7 @@ from .cams import (
     retable,
 )
 from .clutch import ClutchWatch
+from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
@@ -606,15 +607,28 @@ class MC405Machine(Kinematics, Engine):
         return 0.0 if comp is None else float(comp[0])
 
     def axis_hardware(self, name: str, axis: int, args: Sequence[float]) -> None:
-        """STEP_RATIO(output_count, dpos_count) or BACKLASH(enable, ...) on an axis."""
+        """STEP_RATIO(output_count, dpos_count), BACKLASH(enable, ...) or COMPENSATE_XY(...)
+        on an axis."""
         a = self.axes[axis]
         if name == "STEP_RATIO":
             stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
         elif name == "BACKLASH":
             self.backlash.command(axis, args, a.units, self.tick * self.period)
+        elif name == "COMPENSATE_XY":  # a linked move in the axis's buffer (compensate.py)
+            link = compensation_from(args, lambda v: self._compensated_by(axis, v),
+                                     self.table.read_run, self.table.size, a.units)
+            self._link(axis, link)
+            return
         else:
             raise ValueError("Syntax error")
         self.changed()
+
+    def _compensated_by(self, axis: int, value: float) -> int:
+        """COMPENSATE_XY's X or Y axis: another axis, not following this one (D)."""
+        leader = self.links.check_axis(value, axis)
+        if self.links.depends(leader, axis):
+            raise ValueError("Parameter out of range")
+        return leader
 
     def input_inverted(self, number: int) -> bool:
         return number in self.inverted_inputs
@@ -1069,6 +1083,8 @@ class MC405Machine(Kinematics, Engine):
         link.origin = self.own_demand(axis)
         if isinstance(link, Connpath):
             link.distance0 = float(self.path_distance(link.base, self._now())[0])
+        elif isinstance(link, Compensation):  # the correction here is its offset
+            link.begin(self.dpos(link.link), self.dpos(link.link_y))
         else:
             assert isinstance(link, Cambox)
             self._start_cambox(link)

@@ -22,6 +22,7 @@ import numpy as np
 
 from maxk.firmware_model.path import PathPlan, plan_path
 
+from .compensate import Compensation
 from .link_kinds import Cambox, Connect, Link, Movelink
 from .links import Host as LinkHost
 from .links import LinkedMoves
@@ -49,6 +50,7 @@ IDLE, MOVE, MOVEABS, MHELICAL, MOVECIRC, MOVEMODIFY = 0, 1, 2, 3, 4, 5
 FORWARD, REVERSE = 10, 11
 CAM, FWD_JOG, REV_JOG = 13, 14, 15
 CAMBOX, CONNECT, MOVELINK, CONNPATH = 20, 21, 22, 23
+COMPENSATE_XY = 26
 FOREVER = 2 ** 50  # counts: the interpreter's FORWARD/REVERSE move (reported as such)
 _UNCOUNTED = (FWD_JOG, REV_JOG)  # MOVE_COUNT leaves jogs out (C)
 REPORTS = frozenset({"MTYPE", "NTYPE", "MOVES_BUFFERED", "REMAIN", "ENDMOVE", "MSPEED",
@@ -63,6 +65,8 @@ def link_kind(link: Link) -> int:
         return MOVELINK
     if isinstance(link, Cambox):
         return CAMBOX
+    if isinstance(link, Compensation):
+        return COMPENSATE_XY
     return CONNPATH
 
 
