@@ -380,3 +380,39 @@ def test_the_cylindrical_robots_turning_joint_stops_at_its_reverse_limit_past_a_
     assert motors(trio)[1] == pytest.approx(-math.degrees(path(start + 4713, start) / 100))
     assert trio.machine.queues[0][0].stopping
     assert int(float(trio.query("?AXISSTATUS AXIS(1)"))) & (1 << 17)
+
+
+def test_frame_rep_dist_folds_the_world_angle_while_the_frame_is_on() -> None:
+    """FRAME_REP_DIST and REP_OPTION pages: with bit 3, the polar gantry's angle (degrees)
+    reads folded at +-180 (0..180 with bit 0 too) while FRAME 6 is on; REP_DIST no
+    longer folds it, AXIS_DPOS never is, and with the frame off DPOS is not folded."""
+    trio = machine(POLAR)
+    assert trio.send("FRAME_REP_DIST AXIS(1) = 180: REP_OPTION AXIS(1) = 8") == []
+    assert trio.send("REP_DIST AXIS(1) = 100") == []  # disabled by bit 3
+    assert trio.send("DEFPOS(0, 200)") == []  # the frame off: not folded at all
+    assert trio.machine.axis_parameter("DPOS", 1) == pytest.approx(200, abs=1e-9)
+    assert trio.send("DEFPOS(0, 0): FRAME = 6") == []
+    assert trio.send("MOVEABS(150, 0)") == [] and trio.run_until_idle()
+    assert trio.send("SPEED AXIS(1) = 90: ACCEL AXIS(1) = 1e6: DECEL AXIS(1) = 1e6") == []
+    start = trio.tick
+    assert trio.send("MOVE(360) AXIS(1)") == []
+    at(trio, start + 1500)  # 135 degrees: inside the fold
+    assert trio.machine.axis_parameter("DPOS", 1) == pytest.approx(90 * 1.5 - 90 * 90 / 2e6,
+                                                                   abs=1e-9)
+    tick = start + 2500  # 225 degrees less the ramp's loss: reads 360 less
+    at(trio, tick)
+    degrees = 90 * 2.5 - 90 * 90 / 2e6
+    dpos = trio.machine.axis_parameter("DPOS", 1)
+    assert dpos == pytest.approx(degrees - 360, abs=1e-9)
+    assert trio.machine.axis_parameter("WORLD_DPOS", 1) == pytest.approx(degrees - 360,
+                                                                         abs=1e-9)
+    angle = math.radians(degrees)  # the motors follow the unfolded angle
+    assert motors(trio) == pytest.approx([150 * math.cos(angle), 150 * math.sin(angle)],
+                                         abs=1e-9)
+    assert trio.send("REP_OPTION AXIS(1) = 9") == []  # 0..180: 225 - 180
+    assert trio.machine.axis_parameter("DPOS", 1) == pytest.approx(degrees - 180, abs=1e-9)
+    assert trio.run_until_idle()
+    assert trio.send("FRAME = 0") == []  # DPOS = MPOS again, by AXIS_UNITS: not folded
+    assert trio.machine.axis_parameter("DPOS", 1) == trio.machine.axis_parameter("MPOS", 1)
+    assert trio.send("REP_OPTION AXIS(1) = 0") == []  # REP_DIST 100 folds again
+    assert abs(trio.machine.axis_parameter("DPOS", 1)) <= 100

@@ -1628,6 +1628,15 @@ _ENTRIES: list[Keyword] = [
           "position, DEFPOS applied, in the axis's UNITS."),
     _axis("REG_POSB", "The position captured by the second registration channel.",
           writable=False, source=f"{TOK}; {MAN}", confidence="I", note="As REG_POS."),
+    _axis("FRAME_REP_DIST", "The fold of an axis in a FRAME: with REP_OPTION bit 3 its "
+          "DPOS reads in -FRAME_REP_DIST..FRAME_REP_DIST (0..FRAME_REP_DIST with bit 0).",
+          value_range=(0, _BIG), source=f"{HELP} FRAME_REP_DIST, REP_OPTION; {TOK}",
+          confidence="C", note="With REP_OPTION bit 3, REP_DIST does not fold the axis; "
+          "while its FRAME is on (not 0) FRAME_REP_DIST folds DPOS (and WORLD_DPOS), in "
+          "UNITS; with the frame off nothing is folded; AXIS_DPOS and MPOS never are (C). "
+          "As REP_DIST's fold, the machine keeps the unfolded position and MOVEABS acts in "
+          "the fold read now; 0 (power-up, D) does not fold; no USER_FRAME is built "
+          "(D, frames.py)."),
     _axis("REP_DIST", "The repeat distance: DPOS, MPOS and REG_POS read folded into "
           "-REP_DIST..REP_DIST (0..REP_DIST with REP_OPTION bit 0).", default=200000,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
@@ -1640,7 +1649,8 @@ _ENTRIES: list[Keyword] = [
           source=f"{TOK}; help (CAMBOX, MOVELINK pages)", confidence="I",
           note="Bit 1 acts on the repeating links running on the axis or linked to it "
           "(D: the CAMBOX page's example sets it on the link axis) and reads 0 again (C). "
-          "Bit 0 folds positions into 0..REP_DIST instead of -REP_DIST..REP_DIST (I)."),
+          "Bit 0 folds positions into 0..REP_DIST instead of -REP_DIST..REP_DIST (I). "
+          "Bit 3: FRAME_REP_DIST folds DPOS instead of REP_DIST (C, see FRAME_REP_DIST)."),
     _command("MOVECIRCSP", "MOVECIRCSP(...): MOVECIRC at the base axis's FORCE_SPEED.",
              (5, 7), axis=True, source=f"{TOK}; {MAN}", confidence="I",
              note="As MOVECIRC, its path speed FORCE_SPEED (as MOVESP)."),
@@ -1994,8 +2004,6 @@ _OWN_WHY = {
     "VOLUME_LIMIT": "its page gives the cylinder-with-cone volume by a picture and a "
                     "table of sizes: which way Z runs from the top centre origin is not "
                     "given, so the limit cannot be exact (D)",
-    "FRAME_REP_DIST": "it folds a robot's orientation axes (REP_OPTION bit 3); the "
-                      "frames built have none, so DPOS is not folded by it (D)",
     "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
                      "only their own axes are not built (D)",
 }

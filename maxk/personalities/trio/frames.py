@@ -22,6 +22,8 @@ AXIS_UNITS, WORLD_DPOS), as built here:
   XY machine) and 10 (XY programming of a polar machine). Transforms work on raw
   positions: world DPOS * UNITS, axis AXIS_DPOS * AXIS_UNITS (FRAME_TRANS page). Any
   other frame is refused (its equations are not on the page).
+- FRAME_REP_DIST (its page, REP_OPTION's bit 3): an orientation axis's DPOS reads folded
+  at +-FRAME_REP_DIST while its frame is on, AXIS_DPOS never (`folded`).
 """
 
 from __future__ import annotations
@@ -189,6 +191,19 @@ class Frames:
 
     def framed(self, axis: int) -> bool:
         return self.active(axis) is not None
+
+    def folded(self, axis: int, position: float, params: dict[str, float]) -> float:
+        """DPOS of an axis with REP_OPTION bit 3 (FRAME_REP_DIST and REP_OPTION pages):
+        REP_DIST does not fold it; while its frame is on, FRAME_REP_DIST above 0 folds it
+        into -FRAME_REP_DIST..FRAME_REP_DIST, or 0..FRAME_REP_DIST with bit 0 too (C);
+        with the frame off it is not folded (C). AXIS_DPOS and MPOS are never folded (C);
+        the machine keeps the unfolded position, as REP_DIST's fold (D)."""
+        rep = params.get("FRAME_REP_DIST", 0.0)
+        if not rep > 0 or not self.framed(axis):
+            return position
+        if int(params.get("REP_OPTION", 0.0)) & 1:
+            return position - rep * math.floor(position / rep)
+        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
 
     # ---- the motor's demand ---------------------------------------------------------------
     def table(self, group: FrameGroup, frame: int) -> list[float]:

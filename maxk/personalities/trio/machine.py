@@ -444,6 +444,8 @@ class MC405Machine(Kinematics, Engine):
         ..REP_DIST, or 0..REP_DIST with REP_OPTION bit 0 (I: REP_DIST page as recalled;
         the machine keeps the unfolded position, so motion is never disturbed, D)."""
         params = self.axes[axis].params
+        if int(params.get("REP_OPTION", 0.0)) & 8:  # FRAME_REP_DIST instead (frames.py)
+            return self.frames.folded(axis, position, params)
         rep = params.get("REP_DIST", 0.0)
         if not rep > 0:
             return position
