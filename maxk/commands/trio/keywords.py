@@ -881,10 +881,13 @@ _ENTRIES: list[Keyword] = [
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
           ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
-           "the page's use (dual feedback: a measuring wheel's loop summed onto the motor's "
-           "output) needs two loops solved together on one world motor, each reading its "
-           "own encoder of it; the shared servo loop drives one motor from one filter, and "
-           "a second loop on an encoder input has no motor of its own (accepted, no "
+           "the page gives the sum (DAC_OUT = both axes' loop outputs) but its use needs "
+           "the second axis's filter to read its own encoder of the same motor (a "
+           "measuring wheel on the material): the world mounts an encoder on another "
+           "axis's motor only for the encoder-input ATYPEs, which run no loop, the page's "
+           "ATYPE 44 is not a servo type here (36, 77 are), and the shared loop keeps one "
+           "filter's state a motor; with no slip in the world the sum would equal one loop "
+           "with both axes' gains added, which the base axis's gains give (accepted, no "
            "effect)."),
           ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
            "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
@@ -1418,7 +1421,10 @@ _ENTRIES: list[Keyword] = [
             confidence="D", note="Not modelled: " + why)
       for name, summary, writable, why in (
           ("SYNC_WITHDRAW", "A withdraw distance SYNC adds on this axis.", True,
-           "stored: its page gives the withdraw motion no shape or timing (D)."),
+           "stored: its page calls it an additional motion of the distance, but not when "
+           "in the sync time it runs (SYNC_PAUSE's profile graphs are pictures), its "
+           "profile, or whether it comes back (its example sets -40 between conveyors and "
+           "-65 to leave the last one) (D)."),
           ("SYNC_FLIGHT", "Reserved keyword (its page).", True,
            "stored: a reserved keyword, its page gives no effect (C)."),
           ("SYNC_DPOS", "Reserved keyword (its page).", True,
@@ -1993,17 +1999,31 @@ _OWN_WHY = {
     "CRANK_CAM": "its page: a reserved keyword, no function given (D)",
     "MOVEABSFR": "its page: under development, to be used only on Trio's instruction; it "
                  "gives no behaviour (D)",
-    "MOVEPICK": "its page gives the arch's corner rounding (overlap 0..0.9) and the speed "
-                "controls in words and pictures, not as equations (D)",
+    "MOVEPICK": "its page gives the arch (withdraw on Z, the XY move, the approach) in "
+                "words and pictures: not the curve an overlap of 0..0.9 rounds a corner "
+                "with, nor how 'the length of the shortest move' sets the acceleration; "
+                "and the withdraw is from the start by its parameter, from each end by its "
+                "example (D)",
     "PICKLINK": "MOVEPICK linked to another axis; see MOVEPICK (D)",
-    "MOVETURN": "its page leaves the modes' paths undescribed (empty examples, a '?' for "
-                "mode 3) (D)",
-    "MOVECONTOUR": "its contour speed profiling (corner_acc, STOP_ANGLE, RAISE_ANGLE, the "
-                   "spline modes) is described, not given exactly; 5-axis needs a licence "
-                   "(D)",
+    "MOVETURN": "its page gives only each mode's arguments: not the path an exterior or "
+                "interior change of direction makes (its radius or shape), mode 2's "
+                "arguments, or what mode 3 does (a '?'); the examples are empty (D)",
+    "MOVECONTOUR": "its page names, without giving them, the speed between embedded "
+                   "speeds, the radius corner_acc slows by, the spline modes' curves and "
+                   "the 15 values a point it writes to the output TABLE; 5-axis needs a "
+                   "licence (D)",
     "VOLUME_LIMIT": "its page gives the cylinder-with-cone volume by a picture and a "
                     "table of sizes: which way Z runs from the top centre origin is not "
-                    "given, so the limit cannot be exact (D)",
+                    "given, nor what the cone angle is measured from (its axis or its "
+                    "base: the example's 60 degrees over 150 narrow 1100 to 580 or to "
+                    "927), nor whether the cone ends in a point or a flat base, so the "
+                    "limit cannot be exact (D)",
+    "USER_FRAMEB": "it names the USER_FRAME a SYNC(20) resynchronises to: neither "
+                   "USER_FRAME (see it) nor SYNC(20) is built (D)",
+    "USER_FRAME_TRANS": "it maps TABLE positions through USER_FRAMEs and TOOL_OFFSETs, "
+                        "whose matrices are not settled (see USER_FRAME: its rotation "
+                        "arguments; TOOL_OFFSET's TrioBASIC page is missing), and the "
+                        "page does not say how many values it writes at table_out (D)",
     "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
                      "only their own axes are not built (D)",
 }
