@@ -160,3 +160,20 @@ def test_bad_arguments_are_refused_with_nothing_loaded() -> None:
     # axis 8 following axis 0 would make the correction follow itself
     assert trio.send("ADDAX(0) AXIS(9)") == ["! Parameter out of range"]
     assert trio.send("CONNECT(1, 0) AXIS(8)") == ["! Parameter out of range"]
+
+
+def test_rapidstop_ends_it_like_cancel_and_it_can_be_given_again() -> None:
+    trio = MC405()
+    assert trio.send(SMALL_GRID + ": UNITS AXIS(0) = 1000") == []
+    assert trio.send("COMPENSATE_XY(100, 1, 8, 3, 100, 0, 9, 2, 50, -20) AXIS(0)") == []
+    assert trio.send("MOVEABS(50, 30) AXIS(8): WAIT IDLE AXIS(8)") == []
+    # from (0, 0): 0.08 (row -20: 0, row 30: 0.2, 0.4 of the way) to 0.4
+    assert dpos(trio, 0) == pytest.approx(0.4 - 0.08, abs=1e-12)
+    assert trio.send("RAPIDSTOP") == []
+    assert trio.query("?MTYPE AXIS(0)") == "0"
+    assert trio.send("MOVEABS(100, 30) AXIS(8): WAIT IDLE AXIS(8)") == []
+    assert dpos(trio, 0) == pytest.approx(0.32, abs=1e-12)
+    # given again at (100, 30): the correction there (0.8) is its new zero
+    assert trio.send("COMPENSATE_XY(100, 1, 8, 3, 100, 0, 9, 2, 50, -20) AXIS(0)") == []
+    assert trio.send("MOVEABS(0, -20) AXIS(8): WAIT IDLE AXIS(8)") == []
+    assert dpos(trio, 0) == pytest.approx(0.32 - 0.8, abs=1e-12)

@@ -918,7 +918,8 @@ _ENTRIES: list[Keyword] = [
              "taken off (no jump); MTYPE 26 until CANCEL; distances in the X/Y axes' "
              "units, TABLE values in the axis's (C). Decided (D, compensate.py): a linked "
              "move, buffered as CAMBOX; opt 0 (MPOS) and 1 (DPOS) both follow the X and Y "
-             "axes' demand, as every link here (equal on virtual axes and steppers); the "
+             "axes' demand, as every link here (equal on virtual axes and steppers; a servo "
+             "X or Y axis's following error is left out); the "
              "grid and UNITS are read when it is given; X or Y the axis itself: 'Invalid "
              "axis number', following it, a division count not whole from 1, a distance "
              "not above 0, a grid past TABLE or opt not 0/1: 'Parameter out of range'."),
