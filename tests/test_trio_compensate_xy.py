@@ -177,3 +177,14 @@ def test_rapidstop_ends_it_like_cancel_and_it_can_be_given_again() -> None:
     assert trio.send("COMPENSATE_XY(100, 1, 8, 3, 100, 0, 9, 2, 50, -20) AXIS(0)") == []
     assert trio.send("MOVEABS(0, -20) AXIS(8): WAIT IDLE AXIS(8)") == []
     assert dpos(trio, 0) == pytest.approx(0.32 - 0.8, abs=1e-12)
+
+
+def test_the_screw_table_example_runs_with_its_hand_worked_replies() -> None:
+    """examples/mc405_compensate_xy.maxk under `maxk run`: its expected replies (worked
+    out by hand in its header) must come back exactly."""
+    from pathlib import Path
+
+    from maxk.cli import main
+
+    script = Path(__file__).parent.parent / "examples" / "mc405_compensate_xy.maxk"
+    assert main(["run", str(script)]) == 0
