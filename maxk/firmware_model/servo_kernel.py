@@ -160,6 +160,8 @@ def _describe(motion: MotionPlan) -> tuple[float, tuple[float, ...], array] | No
         if motion.scale != 1.0:
             return None  # a plan in user units (MM4005): the kernel knows counts only
         for pc in plan.pieces:
+            if pc.j:
+                return None  # an S-ramp's cubic pieces (path_scurve.py): the Python loop
             body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)
         for seg in plan.segments:
             if seg.frame:
