@@ -17,6 +17,8 @@ import math
 import pytest
 
 from maxk.controllers.trio import MC405
+from maxk.firmware_model import servo_kernel
+from maxk.firmware_model.servo import ServoLoop
 
 
 def ramp_distance(v1: float, v2: float, peak: float, rise: float, tau: float) -> float:
@@ -267,3 +269,83 @@ def test_cancel_of_a_jerk_limited_single_axis_move_ramps_down_at_jerk() -> None:
     at(trio, 2150)
     assert trio.machine.dpos(0) == pytest.approx(20, abs=1e-9)
     assert mtype(trio) == 0
+
+
+def test_mhelical_with_jerk_rises_its_third_axis_along_the_s_curve() -> None:
+    """MHELICAL: the arc's S-curve as MOVECIRC's, the third axis rising 6 over the arc's
+    length in proportion to the distance along it (VP_MODE 5, JERK 2000: A^2/J = 5 < 10,
+    each ramp 10/100 + 100/2000 s)."""
+    length = 5 * math.pi
+    cruise = (length - 0.75 - 0.75) / 10
+    trio = MC405()
+    assert trio.send("BASE(0,1,2): UNITS AXIS(0)=1: UNITS AXIS(1)=1: UNITS AXIS(2)=1: "
+                     "SPEED=10: ACCEL=100: DECEL=100: VP_MODE=5: JERK=2000: "
+                     "MHELICAL(10,10,0,10,0,6)") == []
+    for tick in (30, 100, 900, 1600):
+        at(trio, tick)
+        t = tick / 1000
+        if t <= 0.15:
+            s = ramp_distance(0, 10, 100, 0.05, t)
+        elif t <= 0.15 + cruise:
+            s = 0.75 + 10 * (t - 0.15)
+        else:
+            s = 0.75 + 10 * cruise + ramp_distance(10, 0, 100, 0.05, t - 0.15 - cruise)
+        angle = -math.pi / 2 + s / 10
+        assert trio.machine.dpos(0) == pytest.approx(10 * math.cos(angle), abs=1e-9)
+        assert trio.machine.dpos(1) == pytest.approx(10 + 10 * math.sin(angle), abs=1e-9)
+        assert trio.machine.dpos(2) == pytest.approx(6 * s / length, abs=1e-9)
+    at(trio, math.ceil((0.3 + cruise) * 1000 - 1e-6))
+    assert [trio.machine.dpos(a) for a in range(3)] == [10, 10, 6]
+
+
+# ---- a servo axis on an S-curve path: the compiled kernel steps it as the Python loop ------
+# (no FE_LIMIT or soft-limit watch: the loops record nothing, so the kernel steps them)
+SERVO_PATH = ("BASE(0,1): ATYPE AXIS(0)=77: ATYPE AXIS(1)=77: P_GAIN AXIS(0)=8: "
+              "P_GAIN AXIS(1)=8: D_GAIN AXIS(0)=120: D_GAIN AXIS(1)=120: SERVO AXIS(0)=ON: "
+              "SERVO AXIS(1)=ON: ERRORMASK AXIS(0)=0: ERRORMASK AXIS(1)=0: "
+              "AXIS_MODE AXIS(0)=256: AXIS_MODE AXIS(1)=256: WDOG=ON: SPEED=20000: "
+              "ACCEL=400000: DECEL=400000: SRAMP=20")
+
+
+def servo_run() -> list[tuple[float, ...]]:
+    trio = MC405()
+    assert trio.send(SERVO_PATH) == []
+    trio.advance(ticks=5)
+    assert trio.send("MOVE(3000,4000)") == []
+    states = []
+    for _ in range(40):
+        trio.advance(ticks=9)
+        loops = [trio.machine.axes[a].servo for a in (0, 1)]
+        states.append(tuple(x for loop in loops if loop is not None
+                            for x in (loop.p, loop.w, loop.dac)))
+    return states
+
+
+@pytest.mark.skipif(servo_kernel.STEP is None, reason="the compiled servo kernel was not built")
+def test_the_kernel_steps_an_s_curve_path_as_the_python_loop(monkeypatch) -> None:
+    """The kernel evaluates the path's pieces of constant jerk (its jerked contour) with
+    the Python loop's arithmetic: the same motor states, and it did the stepping."""
+    kinds = []
+    real = servo_kernel.STEP
+    assert real is not None
+
+    def counting(state, params, program, tick, count):  # type: ignore[no-untyped-def]
+        kinds.append(program[0])
+        return real(state, params, program, tick, count)
+
+    monkeypatch.setattr(servo_kernel, "STEP", counting)
+    monkeypatch.setattr(servo_kernel, "STEP_AXES", None)
+    ours = servo_run()
+    assert servo_kernel.KIND_CONTOUR_JERK in kinds
+    with monkeypatch.context() as patch:
+        def scalar(self, axis, board, matrices, friction, gains, count,  # type: ignore
+                   kernel=None):
+            self._cache = None
+            self._scalar_python(axis, board, matrices, friction, gains, count)
+
+        patch.setattr(ServoLoop, "_scalar", scalar)
+        theirs = servo_run()
+    assert len(ours[0]) == 6
+    for a, b in zip(ours, theirs, strict=True):
+        assert all(math.isclose(x, y, rel_tol=0.0, abs_tol=1e-9) for x, y in
+                   zip(a, b, strict=True)), (a, b)

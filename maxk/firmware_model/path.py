@@ -301,6 +301,7 @@ class PathPlan:
         self._forward: _Forward | None = None
         self._sorted = True  # the piece ends made so far never decrease
         self.last_arc: int | None = None  # the last arc among the segments, if known
+        self.jerked = False  # pieces with a jerk (path_scurve.py's plans)
         self.on_complete: list[Callable[[], None]] = []
 
     # ---- completeness (lazy plans) ---------------------------------------------------

@@ -127,6 +127,12 @@ def ramp_pieces(out: list[Piece], t: float, s: float, v1: float, v2: float, acce
     return t
 
 
+def _jerked(plan: PathPlan) -> PathPlan:
+    """A plan whose pieces may carry a jerk: the servo kernel reads it so."""
+    plan.jerked = True
+    return plan
+
+
 # ---- a path at a single-axis move's profile ----------------------------------------------
 def profile_pieces(phases: Sequence[Phase]) -> list[Piece]:
     """A 1-D profile's phases (forward: linear or S-curve ramps, slews) as path pieces:
@@ -160,8 +166,8 @@ def plan_profiled(segments: list[Segment], phases: Sequence[Phase],
     """The whole known path (from its start, at rest) at the speed the phases give
     along its length; it stands exactly on the path's end from `end_time` on."""
     last = segments[-1]
-    return PathPlan(segments, profile_pieces(phases), 0.0, end_time,
-                    s_end=last.s0 + last.length)
+    return _jerked(PathPlan(segments, profile_pieces(phases), 0.0, end_time,
+                            s_end=last.s0 + last.length))
 
 
 # ---- S-ramps across merged segments ---------------------------------------------------------
@@ -232,7 +238,7 @@ def plan_shaped(segments: list[Segment], i0: int, s_now: float, v_now: float,
         pieces = plan.pieces
         t = pieces[-1].t0 + pieces[-1].duration if pieces else 0.0
         pieces.append(Piece(t, math.inf, plan.s_end, 0.0, 0.0))
-        return PathPlan(segments, pieces, plan.s_start, None, s_end=plan.s_end)
+        return _jerked(PathPlan(segments, pieces, plan.s_start, None, s_end=plan.s_end))
     caps = _end_caps(segments, i0, scale)
     n = len(caps)
     allow = list(caps)
@@ -255,7 +261,7 @@ def plan_shaped(segments: list[Segment], i0: int, s_now: float, v_now: float,
                     ramp.reach_down(v_in, length, a))
         t = _segment(pieces, t, s, length, v_in, v_out, top, a, ramp)
         s, v_in = seg.s0 + seg.length, v_out
-    return PathPlan(segments, pieces, head[0].s0 if head else s_now, t, s_end=s)
+    return _jerked(PathPlan(segments, pieces, head[0].s0 if head else s_now, t, s_end=s))
 
 
 def plan_shaped_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
@@ -269,10 +275,10 @@ def plan_shaped_stop(segments: list[Segment], i0: int, s_now: float, v_now: floa
     pieces = list(head)
     t = pieces[-1].t0 + pieces[-1].duration if pieces else 0.0
     if v_now <= 0:
-        return PathPlan(segments, pieces, start, t, s_end=s_now)
+        return _jerked(PathPlan(segments, pieces, start, t, s_end=s_now))
     t = ramp_pieces(pieces, t, s_now, v_now, 0.0, accel, ramp)
-    return PathPlan(segments, pieces, start, t,
-                    s_end=s_now + ramp.distance(v_now, 0.0, accel))
+    return _jerked(PathPlan(segments, pieces, start, t,
+                            s_end=s_now + ramp.distance(v_now, 0.0, accel)))
 
 
 def level_point(plan: PathPlan, t: float) -> tuple[list[Piece], float, float]:
