@@ -86,9 +86,15 @@ class SRamp:
         return lo
 
     def reach_down(self, v: float, length: float, accel: float) -> float:
-        """The lowest speed a ramp down from v reaches within `length` (0: it stops)."""
-        if self.distance(v, 0.0, accel) <= length:
-            return 0.0
+        """The lowest speed a ramp down from v reaches within `length` (0: it stops).
+
+        A ramp down to a low speed may take no shorter a distance than one to rest (its
+        rise is not shorter: with a rise r, the distance v/2 (v/A + r) to rest equals
+        the one to A r): where rest is out of reach, every speed below the answer is
+        out of reach too (the distance rises from rest's to a peak, then falls to 0 at
+        v), so a bisection finds it."""
+        if self.distance(v, 0.0, accel) <= length * (1.0 + 1e-9) + 1e-12:
+            return 0.0  # (within rounding: a speed the backward pass found, recomputed)
         lo, hi = 0.0, v
         for _ in range(_ITERATIONS):
             mid = (lo + hi) / 2.0
@@ -204,7 +210,8 @@ def _segment(out: list[Piece], t: float, s: float, length: float, v_in: float,
     """Append one segment's pieces: an S-ramp from v_in to its cruise speed, the cruise,
     an S-ramp to v_out. The cruise is `top` (its SPEED, FORCE_SPEED, x override) when
     both ramps fit; else, top above both ends, the highest speed whose ramps fit; top
-    below an end, the lowest (down as near top as the length lets it, up again).
+    below an end, the lowest (down as near top as the length lets it, up again), or,
+    too short to pass by top, the highest between the lower end and top that fits.
     Returns the time at its end."""
     def need(v: float) -> float:
         return ramp.distance(v_in, v, accel) + ramp.distance(v, v_out, accel)
@@ -215,7 +222,12 @@ def _segment(out: list[Piece], t: float, s: float, length: float, v_in: float,
         cruise = _bisect(need, max(v_in, v_out), top, length, True)
     else:
         high = max(top, min(v_in, v_out))
-        cruise = _bisect(need, top, high, length, False) if need(high) <= length else high
+        if need(high) <= length:
+            cruise = _bisect(need, top, high, length, False)
+        else:  # too short to pass by its top (two S-ramps cost more than one): the
+            # highest speed between the lower end and top whose ramps fit (the lower end
+            # itself does: one ramp from v_in to v_out)
+            cruise = _bisect(need, min(v_in, v_out), top, length, True)
     t = ramp_pieces(out, t, s, v_in, cruise, accel, ramp)
     d1 = ramp.distance(v_in, cruise, accel)
     d3 = ramp.distance(cruise, v_out, accel)
