@@ -349,3 +349,59 @@ def test_the_kernel_steps_an_s_curve_path_as_the_python_loop(monkeypatch) -> Non
     for a, b in zip(ours, theirs, strict=True):
         assert all(math.isclose(x, y, rel_tol=0.0, abs_tol=1e-9) for x, y in
                    zip(a, b, strict=True)), (a, b)
+
+
+# ---- a single-axis S-curve move that becomes a path where it is -----------------------------
+def test_speed_written_during_a_jerk_limited_ramp_lets_the_ramp_end_then_s_ramps() -> None:
+    """VP_MODE 6, JERK 2000, ACCEL 100, SPEED 10, MOVE(100): SPEED=20 at 0.1 s, inside
+    the ramp up: that ramp still ends at 10 at 0.15 s (0.75 units), then 10 -> 20 over
+    10/100 + 100/2000 s (2.25 units), and the move ends at 100 on the tick the sum
+    gives (down 20 -> 0 over 0.25 s, 2.5 units)."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: SPEED=10: ACCEL=100: DECEL=100: VP_MODE=6: "
+                     "JERK=2000: MOVE(100)") == []
+    at(trio, 100)
+    assert trio.send("SPEED=20") == []
+    for tick in (120, 150, 200, 290, 1000):
+        at(trio, tick)
+        t = tick / 1000
+        if t <= 0.15:
+            s = ramp_distance(0, 10, 100, 0.05, t)
+        elif t <= 0.3:
+            s = 0.75 + ramp_distance(10, 20, 100, 0.05, t - 0.15)
+        else:
+            s = 3.0 + 20 * (t - 0.3)
+        assert trio.machine.dpos(0) == pytest.approx(s, abs=1e-9), tick
+    end = math.ceil((0.3 + (100 - 3.0 - 2.5) / 20 + 0.25) * 1000 - 1e-6)
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 100
+    at(trio, end)
+    assert trio.machine.dpos(0) == 100
+
+
+def test_feed_hold_s_ramps_an_sramp_move_to_rest_and_back() -> None:
+    """SRAMP 50, SPEED 10, ACCEL = DECEL 100, MOVE(100), FHOLD_IN 7 at FHSPEED 0: held
+    at 1.05 s (9.75 along) it S-ramps to rest over 0.15 s (0.75 units) and waits;
+    released at 3 s it S-ramps up again and ends 0.15 + (89.5 - 1.5) / 10 + 0.15 s
+    later."""
+    trio = MC405()
+    trio.world_view().set_input(7, True)  # (active low: released)
+    assert trio.send("BASE(0): UNITS=1: SPEED=10: ACCEL=100: DECEL=100: SRAMP=50: "
+                     "FHOLD_IN=7: MOVE(100)") == []
+    at(trio, 1050)
+    assert trio.machine.dpos(0) == pytest.approx(9.75, abs=1e-9)
+    trio.world_view().set_input(7, False)
+    for tick in (1080, 1150, 1190, 2000, 3000):
+        at(trio, tick)
+        tau = min(tick / 1000 - 1.05, 0.15)
+        expected = 9.75 + ramp_distance(10, 0, 100, 0.05, tau)
+        assert trio.machine.dpos(0) == pytest.approx(expected, abs=1e-9), tick
+    trio.world_view().set_input(7, True)
+    at(trio, 3100)
+    assert trio.machine.dpos(0) == pytest.approx(10.5 + ramp_distance(0, 10, 100, 0.05, 0.1),
+                                                 abs=1e-9)
+    end = 3000 + math.ceil((0.3 + (89.5 - 1.5) / 10) * 1000 - 1e-6)
+    at(trio, end - 1)
+    assert trio.machine.dpos(0) < 100
+    at(trio, end)
+    assert trio.machine.dpos(0) == 100

@@ -147,24 +147,37 @@ def profile_pieces(phases: Sequence[Phase]) -> list[Piece]:
     out: list[Piece] = []
     for ph in phases:
         dv, T = ph.v2 - ph.v1, ph.duration
+        s0 = ph.s0 * ph.direction  # (the distance along: a move runs one way)
         if dv == 0 or T == 0:
-            out.append(Piece(ph.t0, T, ph.s0, ph.v1, 0.0))
+            out.append(Piece(ph.t0, T, s0, ph.v1, 0.0))
             continue
         if ph.shape is RampShape.LINEAR:
-            out.append(Piece(ph.t0, T, ph.s0, ph.v1, dv / T))
+            out.append(Piece(ph.t0, T, s0, ph.v1, dv / T))
             continue
         if ph.shape is not RampShape.SCURVE:
             raise ValueError(f"a path follows linear or S-curve ramps, not {ph.shape}")
         p = ph.param if ph.param is not None else 1.0
         rise = p / 2.0 * T
         a = dv * shape_constants(RampShape.SCURVE, ph.param)[0] / T  # the peak
-        out.append(Piece(ph.t0, rise, ph.s0, ph.v1, 0.0, a / rise))
+        out.append(Piece(ph.t0, rise, s0, ph.v1, 0.0, a / rise))
         if T - 2.0 * rise > 0:
-            out.append(Piece(ph.t0 + rise, T - 2.0 * rise, ph.s0 + ph.distance(rise),
+            out.append(Piece(ph.t0 + rise, T - 2.0 * rise, s0 + ph.distance(rise),
                              ph.speed(rise), a))
-        out.append(Piece(ph.t0 + T - rise, rise, ph.s0 + ph.distance(T - rise),
+        out.append(Piece(ph.t0 + T - rise, rise, s0 + ph.distance(T - rise),
                          ph.speed(T - rise), a, -a / rise))
     return out
+
+
+def plan_continued(segments: list[Segment], phases: Sequence[Phase], end_time: float,
+                   t: float, s: float) -> PathPlan:
+    """A 1-D profile (one way) from `t` on, where it has gone `s`, as a plan along the
+    path from its start (a single-axis move that becomes a path where it is: its S-ramp
+    running goes on as it was, so a re-plan takes over when it has ended)."""
+    last = segments[-1]
+    pieces = [Piece(p.t0 - t, p.duration, p.s0 - s, p.v0, p.a, p.j)
+              for p in profile_pieces(phases) if p.t0 + p.duration > t]
+    return _jerked(PathPlan(segments, pieces, 0.0, end_time - t,
+                            s_end=last.s0 + last.length))
 
 
 def plan_profiled(segments: list[Segment], phases: Sequence[Phase],

@@ -1480,7 +1480,8 @@ _ENTRIES: list[Keyword] = [
           "path planner at the move's ACCEL (the page: ACCEL/DECEL/JERK, D), from the tick "
           "the input changes; moves merged after the one in progress run at FHSPEED too "
           "(re-planned at each move's start, D); a single-axis move held turns into a "
-          "linear-ramped path (D) (feedhold.py)."),
+          "linear-ramped path (D) (feedhold.py); with SRAMP/JERK the changes are S-ramps, "
+          "the ramp running ending first (see SRAMP, D)."),
     _axis("FHSPEED", "The speed moves run at while the feed-hold input is active, user "
           "units/s.", value_range=(0, _BIG), source="TrioBASIC help FHSPEED, FHOLD_IN",
           confidence="C", note="Power-up 0: a feed hold pauses the moves (C). Above a "

@@ -35,6 +35,7 @@ from maxk.firmware_model.path import (
 from maxk.firmware_model.path_scurve import (
     SRamp,
     level_point,
+    plan_continued,
     plan_profiled,
     plan_shaped,
     plan_shaped_stop,
@@ -249,6 +250,17 @@ class Run:
         head, s, v = level_point(self.plan, t)
         return plan_shaped(self.segments, self.segment_index(s), s, v, self.path_scale,
                            self.ramp, head)
+
+    def continued(self, old: Run, t: float, s: float) -> PathPlan | None:
+        """The plan of this run, made of a running single-axis S-curve move `old` (its
+        remaining distance, `t` s into its profile, `s` along): its S-ramp goes on as
+        it was (None: not an S-curve, or a CAM's own profile)."""
+        self.jerk, self.sramp = old.jerk, old.sramp
+        motion = old.profile
+        if not self.shaped or old.preset is not None or motion is None \
+                or motion.end_time is None:
+            return None
+        return plan_continued(self.segments, motion.phases, motion.end_time, t, s)
 
     def stop_profile(self, residual: float, velocity: float, decel: float) -> Motion:
         """A single-axis run's ramp down now from `velocity` (CANCEL): an S-ramp with
