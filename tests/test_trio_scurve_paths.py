@@ -405,3 +405,19 @@ def test_feed_hold_s_ramps_an_sramp_move_to_rest_and_back() -> None:
     assert trio.machine.dpos(0) < 100
     at(trio, end)
     assert trio.machine.dpos(0) == 100
+
+
+def test_interp_factor_0_on_y_runs_x_at_the_single_axis_s_curve() -> None:
+    """INTERP_FACTOR AXIS(1) = 0: the vector speed holds along X alone (the path runs
+    50/30 faster), so X runs exactly a single-axis MOVE(30)'s S-curve (SRAMP, ACCEL,
+    DECEL) and Y goes 4/3 of X's way."""
+    path, single = MC405(), MC405()
+    assert path.send(f"{SET_UP}: SRAMP=50: INTERP_FACTOR AXIS(1)=0: MOVE(30,40)") == []
+    assert single.send("BASE(0): UNITS=1: SPEED=10: ACCEL=100: DECEL=50: SRAMP=50: "
+                       "MOVE(30)") == []
+    for tick in range(0, 3300, 41):
+        at(path, tick)
+        at(single, tick)
+        x, y = xy(path)
+        assert x == pytest.approx(single.machine.dpos(0), abs=1e-9), tick
+        assert y == pytest.approx(x * 4 / 3, abs=1e-9), tick

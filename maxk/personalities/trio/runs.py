@@ -235,8 +235,9 @@ class Run:
             if len(self.segments) == 1 and self.path_scale == 1.0:
                 seg = self.segments[0]
                 top = min(seg.ceiling, seg.arc_cap)
+                share = self.interp.get(0, 1.0)  # (INTERP_FACTOR: the path runs faster)
                 shape, up, down, share_up, share_down = ramp_shares(
-                    top, self.accels[0], self.decel, self.sramp, self.jerk)
+                    top, self.accels[0], self.decel / share, self.sramp, self.jerk / share)
                 phases, end, _ramp_end, _peak = move_phases(
                     seg.length, 1, 0.0, top, up, down, shape, share_up, share_down)
                 return plan_profiled(self.segments, phases, end)
