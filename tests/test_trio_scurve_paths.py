@@ -421,3 +421,29 @@ def test_interp_factor_0_on_y_runs_x_at_the_single_axis_s_curve() -> None:
         x, y = xy(path)
         assert x == pytest.approx(single.machine.dpos(0), abs=1e-9), tick
         assert y == pytest.approx(x * 4 / 3, abs=1e-9), tick
+
+
+def test_the_slot_example_runs_its_s_curves_under_maxk_run(tmp_path) -> None:
+    """examples/mc405_scurve_slot.maxk under `maxk run`: its replies as recorded, and
+    the trace's vector speed rises over its first 0.2 s as the S-curve says (at 0.1 s,
+    the middle of the ramp up: 500 x 0.1 / 2 = 25 mm/s; then 50) and never above 50."""
+    from pathlib import Path
+
+    from maxk.cli import main
+
+    script = Path(__file__).parent.parent / "examples" / "mc405_scurve_slot.maxk"
+    trace = tmp_path / "slot.csv"
+    assert main(["run", str(script), "--trace", str(trace), "--trace-every", "1ms"]) == 0
+    lines = trace.read_text().splitlines()[1:]
+    rows = [(int(r.split(",")[0]), float(r.split(",")[2]), float(r.split(",")[3]))
+            for r in lines]
+    at_tick = {tick: (x, y) for tick, x, y in rows}
+    start = next(tick for tick, x, _y in rows if x > 0) - 1  # the program's first move
+    x0, _ = at_tick[start + 100]
+    x1, _ = at_tick[start + 101]
+    assert x0 == pytest.approx(5000 * 0.1 ** 3 / 6, abs=1e-6)  # J t^3 / 6 (traced to 1e-6)
+    assert (x1 - x0) * 1000 == pytest.approx(25, abs=0.3)
+    end = 0.4 + (80 + 20 * math.pi - 10) / 50  # 3.0566 s: on tick 3057
+    assert at_tick[start + 3057] == (0, 0)
+    left = end - 3.050  # the last arc ends along +X, its acceleration falling at JERK
+    assert at_tick[start + 3050][0] == pytest.approx(-5000 * left ** 3 / 6, abs=2e-6)
