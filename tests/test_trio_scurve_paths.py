@@ -447,3 +447,13 @@ def test_the_slot_example_runs_its_s_curves_under_maxk_run(tmp_path) -> None:
     assert at_tick[start + 3057] == (0, 0)
     left = end - 3.050  # the last arc ends along +X, its acceleration falling at JERK
     assert at_tick[start + 3050][0] == pytest.approx(-5000 * left ** 3 / 6, abs=2e-6)
+
+
+def test_an_s_curve_move_of_no_length_ends_at_once() -> None:
+    """MOVEABS to where the axes stand, with SRAMP: nothing moves, the move is done on
+    the next servo tick, and the next move runs its S-curve."""
+    trio = MC405()
+    assert trio.send(f"{SET_UP}: SRAMP=50: MOVEABS(0,0): MOVE(3,4)") == []
+    at(trio, 30)
+    s = ramp_distance(0, 10, 100, 0.05, 0.03)
+    assert xy(trio) == (pytest.approx(0.6 * s, abs=1e-9), pytest.approx(0.8 * s, abs=1e-9))

@@ -232,7 +232,8 @@ class Run:
         speed) takes over once the ramp running has ended; a stop S-ramps down at once
         at `decel` (else DECEL)."""
         if self.plan is None:
-            if len(self.segments) == 1 and self.path_scale == 1.0:
+            if (len(self.segments) == 1 and self.path_scale == 1.0
+                    and self.segments[0].length > 0):
                 seg = self.segments[0]
                 top = min(seg.ceiling, seg.arc_cap)
                 share = self.interp.get(0, 1.0)  # (INTERP_FACTOR: the path runs faster)
