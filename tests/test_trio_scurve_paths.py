@@ -311,9 +311,9 @@ def servo_run() -> list[tuple[float, ...]]:
     trio = MC405()
     assert trio.send(SERVO_PATH) == []
     trio.advance(ticks=5)
-    assert trio.send("MOVE(3000,4000)") == []
+    assert trio.send("MERGE=ON: MOVE(3000,4000): MOVECIRC(2000,0,1000,0,1)") == []
     states = []
-    for _ in range(40):
+    for _ in range(60):
         trio.advance(ticks=9)
         loops = [trio.machine.axes[a].servo for a in (0, 1)]
         states.append(tuple(x for loop in loops if loop is not None
