@@ -25,13 +25,15 @@ enum { A11, A12, A21, A22, B1, B2, FRICTION, KP, KD, KI, KV, KA, KF, KO, CAP, EO
 /* program header */
 enum { KIND, BASE, MSTART, MEND, HAS_MEND, PERIOD, FINAL, END_TIME, HAS_END_TIME, COUNT1,
        COUNT2, AXIS_K, ORIGIN, S_END, HEADER };
-enum { KIND_REST = 0, KIND_PROFILE = 1, KIND_CONTOUR = 2 };
+enum { KIND_REST = 0, KIND_PROFILE = 1, KIND_CONTOUR = 2, KIND_CONTOUR_JERK = 3 };
 /* a profile phase */
 enum { PH_T0, PH_DURATION, PH_S0, PH_V1, PH_V2, PH_DIRECTION, PH_SHAPE, PH_MIRRORED,
        PHASE_SIZE };
 enum { SHAPE_LINEAR, SHAPE_PARABOLIC, SHAPE_SCURVE, SHAPE_COSINE };
 /* a path piece and a path segment */
 enum { PC_T0, PC_DURATION, PC_S0, PC_V0, PC_A, PIECE_SIZE };
+/* a contour with S-ramps (path_scurve.py) has pieces of constant jerk: one more value */
+enum { PC_J = PIECE_SIZE, JERK_PIECE_SIZE };
 enum { SG_S0, SG_LENGTH, SG_ARC, SG_START, SG_UNIT, SG_END, SG_CX, SG_CY, SG_RADIUS,
        SG_THETA0, SG_TURN, SEGMENT_SIZE };
 
@@ -135,23 +137,28 @@ static ALWAYS_INLINE double profile_offset(const double *prog, double t, Cursors
     return ph[PH_S0] + ph[PH_DIRECTION] * phase_distance(ph, t - ph[PH_T0]);
 }
 
-static ALWAYS_INLINE double contour_offset(const double *prog, double t, Cursors *c)
+static ALWAYS_INLINE double contour_offset(const double *prog, double t, Cursors *c,
+                                           int jerked)
 {
+    Py_ssize_t size = jerked ? JERK_PIECE_SIZE : PIECE_SIZE;
     if (prog[HAS_END_TIME] != 0.0 && t >= prog[END_TIME])
         return prog[FINAL];
     Py_ssize_t n_pieces = (Py_ssize_t)prog[COUNT1], n_segments = (Py_ssize_t)prog[COUNT2];
     const double *pieces = prog + HEADER;
-    const double *segments = pieces + n_pieces * PIECE_SIZE;
+    const double *segments = pieces + n_pieces * size;
     double s;
     if (n_pieces == 0) {
         s = prog[S_END];
     } else {
-        Py_ssize_t i = locate(pieces + PC_T0, n_pieces, PIECE_SIZE, t, &c->piece);
-        const double *pc = pieces + i * PIECE_SIZE;
+        Py_ssize_t i = locate(pieces + PC_T0, n_pieces, size, t, &c->piece);
+        const double *pc = pieces + i * size;
         double tau = py_min(t - pc[PC_T0], pc[PC_DURATION]);
-        s = pc[PC_S0] + pc[PC_V0] * tau + 0.5 * pc[PC_A] * tau * tau;
+        if (jerked && pc[PC_J] != 0.0)  /* Piece.s with its jerk */
+            s = pc[PC_S0] + tau * (pc[PC_V0] + tau * (0.5 * pc[PC_A] + tau * pc[PC_J] / 6.0));
+        else
+            s = pc[PC_S0] + pc[PC_V0] * tau + 0.5 * pc[PC_A] * tau * tau;
         if (i + 1 < n_pieces)
-            s = py_min(s, pieces[(i + 1) * PIECE_SIZE + PC_S0]);
+            s = py_min(s, pieces[(i + 1) * size + PC_S0]);
     }
     /* PathPlan.segment_at, then Segment.coordinate */
     Py_ssize_t i = locate(segments + SG_S0, n_segments, SEGMENT_SIZE, s, &c->segment);
@@ -207,7 +214,8 @@ static ALWAYS_INLINE double commanded(const double *prog, Header *h, long long t
         return h->end_position;
     double t = (double)(tick - h->mstart) * h->period;
     double offset = kind == KIND_PROFILE ? profile_offset(prog, t, c, &h->phase)
-                                         : contour_offset(prog, t, c);
+                                         : contour_offset(prog, t, c,
+                                                          kind == KIND_CONTOUR_JERK);
     return h->base + offset;
 }
 
@@ -687,6 +695,8 @@ static Py_ssize_t program_size(const double *prog, Py_ssize_t available)
         return HEADER + n1 * PHASE_SIZE;
     case KIND_CONTOUR:
         return n2 < 1 ? -1 : HEADER + n1 * PIECE_SIZE + n2 * SEGMENT_SIZE;
+    case KIND_CONTOUR_JERK:
+        return n2 < 1 ? -1 : HEADER + n1 * JERK_PIECE_SIZE + n2 * SEGMENT_SIZE;
     default:
         return -1;
     }

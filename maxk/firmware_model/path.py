@@ -218,11 +218,16 @@ class Piece:
     s0: float
     v0: float
     a: float
+    j: float = 0.0  # jerk along the path (S-ramps, path_scurve.py): a cubic in time
 
     def s(self, tau: float) -> float:
+        if self.j:
+            return self.s0 + tau * (self.v0 + tau * (0.5 * self.a + tau * self.j / 6.0))
         return self.s0 + self.v0 * tau + 0.5 * self.a * tau * tau
 
     def v(self, tau: float) -> float:
+        if self.j:
+            return self.v0 + tau * (self.a + 0.5 * self.j * tau)
         return self.v0 + self.a * tau
 
     @property
@@ -233,6 +238,19 @@ class Piece:
         d = s - self.s0
         if d <= 0:
             return 0.0
+        if self.j:  # a cubic: bisection (the speed is never negative within a piece)
+            lo, hi = 0.0, self.duration
+            if self.s(hi) <= s:
+                return hi
+            for _ in range(200):
+                mid = (lo + hi) / 2.0
+                if mid <= lo or mid >= hi:
+                    break
+                if self.s(mid) < s:
+                    lo = mid
+                else:
+                    hi = mid
+            return hi
         root = math.sqrt(max(0.0, self.v0 * self.v0 + 2.0 * self.a * d))
         denominator = self.v0 + root
         return min(2.0 * d / denominator, self.duration) if denominator > 0 else 0.0
@@ -267,7 +285,7 @@ class PathPlan:
 
     def __init__(self, segments: list[Segment], pieces: list[Piece], s_start: float,
                  end_time: float | None, starts: list[float] | None = None,
-                 count: int | None = None) -> None:
+                 count: int | None = None, s_end: float | None = None) -> None:
         self.segments = segments
         # the segments known when planned (the list may grow later: more VPs)
         self.count = len(segments) if count is None else count
@@ -277,11 +295,13 @@ class PathPlan:
         self._ends = [p.s1 for p in pieces]
         self.s_start = s_start
         self._end_time = end_time
-        self._s_end = pieces[-1].s1 if pieces else s_start
+        self._s_end = s_end if s_end is not None else (pieces[-1].s1 if pieces
+                                                       else s_start)
         self._memo: tuple[float, float, float] = (-1.0, s_start, 0.0)
         self._forward: _Forward | None = None
         self._sorted = True  # the piece ends made so far never decrease
         self.last_arc: int | None = None  # the last arc among the segments, if known
+        self.jerked = False  # pieces with a jerk (path_scurve.py's plans)
         self.on_complete: list[Callable[[], None]] = []
 
     # ---- completeness (lazy plans) ---------------------------------------------------

@@ -294,6 +294,17 @@ def plan_move(distance: int, base: float, peak: float, accel: float, decel: floa
     d = abs(distance)
     if d == 0:
         return Motion([], 0.0, 0, 0.0, direction=direction)
+    phases, t, ramp_end, peak = move_phases(float(d), direction, base, peak, accel, decel,
+                                            shape, up, down)
+    return Motion(phases, t, direction * d, ramp_end, direction=direction, peak_speed=peak)
+
+
+def move_phases(d: float, direction: int, base: float, peak: float, accel: float,
+                decel: float, shape: RampShape, up: float | None = None,
+                down: float | None = None) -> tuple[list[Phase], float, float, float]:
+    """The phases of a move of length d > 0 from rest (plan_move's arithmetic, for any
+    length: a path's speed follows them along its length): (phases, end time, the
+    first ramp's end, the peak speed)."""
     up, down = shape_param(shape, up), shape_param(shape, down)
     k, integral = shape_constants(shape, up)
     k_down, integral_down = shape_constants(shape, down)
@@ -327,7 +338,7 @@ def plan_move(distance: int, base: float, peak: float, accel: float, decel: floa
     if not phases:  # peak == base == 0 cannot happen (VL >= 1); guard anyway
         phases.append(Phase(0.0, d / max(peak, 1.0), 0.0, peak, peak, direction, shape))
         t = d / max(peak, 1.0)
-    return Motion(phases, t, direction * d, ramp_end, direction=direction, peak_speed=peak)
+    return phases, t, ramp_end, peak
 
 
 def plan_stop(residual: float, velocity: float, base: float, decel: float,

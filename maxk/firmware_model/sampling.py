@@ -27,6 +27,8 @@ class PlanArrays:
         self.s0 = np.array([p.s0 for p in pieces], dtype=float)
         self.v0 = np.array([p.v0 for p in pieces], dtype=float)
         self.a = np.array([p.a for p in pieces], dtype=float)
+        jerks = [p.j for p in pieces]
+        self.j = np.array(jerks, dtype=float) if any(jerks) else None  # S-ramps
         nxt = [pieces[i + 1].s0 for i in range(len(pieces) - 1)] + [math.inf]
         self.next_s0 = np.array(nxt if pieces else [], dtype=float)
         segs = plan.segments
@@ -45,8 +47,16 @@ class PlanArrays:
             return np.full(t.shape, plan.s_end), np.zeros(t.shape)
         i = np.maximum(np.searchsorted(self.t0, t, side="right") - 1, 0)
         tau = np.minimum(t - self.t0[i], self.duration[i])
-        s = self.s0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau * tau
-        v = np.maximum(0.0, self.v0[i] + self.a[i] * tau)
+        if self.j is None:
+            s = self.s0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau * tau
+            v = np.maximum(0.0, self.v0[i] + self.a[i] * tau)
+        else:  # (Piece.s and Piece.v with their jerk, on arrays)
+            j = self.j[i]
+            cubic = self.s0[i] + tau * (self.v0[i] + tau * (0.5 * self.a[i] + tau * j / 6.0))
+            s = np.where(j != 0, cubic,
+                         self.s0[i] + self.v0[i] * tau + 0.5 * self.a[i] * tau * tau)
+            v = np.maximum(0.0, np.where(j != 0, self.v0[i] + tau * (self.a[i] + 0.5 * j * tau),
+                                         self.v0[i] + self.a[i] * tau))
         s = np.minimum(s, self.next_s0[i])
         if plan.end_time is not None:
             done = t >= plan.end_time

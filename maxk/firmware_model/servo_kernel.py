@@ -75,7 +75,7 @@ STUCK: int = 11
 STATE_SIZE = 12
 PARAM_SIZE = 17  # the parameters before the closed loop's modes (the C enum's)
 
-KIND_REST, KIND_PROFILE, KIND_CONTOUR = 0, 1, 2
+KIND_REST, KIND_PROFILE, KIND_CONTOUR, KIND_CONTOUR_JERK = 0, 1, 2, 3
 _SHAPES = {RampShape.LINEAR: 0.0, RampShape.PARABOLIC: 1.0, RampShape.SCURVE: 2.0,
            RampShape.COSINE: 3.0}
 _EXACT = float(2 ** 53)  # integers beyond this are not exact doubles
@@ -159,8 +159,11 @@ def _describe(motion: MotionPlan) -> tuple[float, tuple[float, ...], array] | No
         plan, k = motion.plan, motion.k
         if motion.scale != 1.0:
             return None  # a plan in user units (MM4005): the kernel knows counts only
+        jerked = plan.jerked  # S-ramps (path_scurve.py): a piece has one more value
         for pc in plan.pieces:
             body += (pc.t0, pc.duration, pc.s0, pc.v0, pc.a)
+            if jerked:
+                body.append(pc.j)
         for seg in plan.segments:
             if seg.frame:
                 return None  # an arc in 3D (MSPHERICAL): the kernel knows plane arcs only
@@ -171,6 +174,7 @@ def _describe(motion: MotionPlan) -> tuple[float, tuple[float, ...], array] | No
                      seg.cy, seg.radius, seg.theta0, seg.turn)
         if not plan.segments:
             return None
-        return (KIND_CONTOUR, (float(len(plan.pieces)), float(len(plan.segments)), float(k),
-                               float(motion.origin), plan.s_end), array("d", body))
+        return (KIND_CONTOUR_JERK if jerked else KIND_CONTOUR,
+                (float(len(plan.pieces)), float(len(plan.segments)), float(k),
+                 float(motion.origin), plan.s_end), array("d", body))
     return None

@@ -160,7 +160,15 @@ _ENTRIES: list[Keyword] = [
     _axis("MERGE", "Merge consecutive moves without stopping (ON/OFF).", default=0,
           value_range=(-1, 1), source=f"{SEED} examples 1-2; {TOK}", confidence="I",
           note="A move joins the one before it (one path, corners at full speed) when MERGE "
-          "of its base axis is ON as it is loaded and both are on the same axes (I)."),
+          "of its base axis is ON as it is loaded and both are on the same axes (I). With "
+          "SRAMP or JERK (see VP_MODE) the speed changes within and at the ends of a "
+          "merged chain are S-ramps: the acceleration rises at JERK (or over SRAMP) to "
+          "ACCEL, holds, and falls to 0 again before the next change, so it is "
+          "continuous across the moves; each change of speed happens within one move, as "
+          "with linear ramps; the chain ramps down to rest at ACCEL (D, as linear). A move "
+          "loaded while a speed change runs takes effect once that ramp has ended (D: the "
+          "acceleration never jumps; loaded during the last ramp down, the path comes to "
+          "rest first)."),
     _axis("FE_LIMIT", "Following error limit, user units.", default=2000,
           value_range=(0, _BIG), source=f"{SEED} example 3; {TOK}", confidence="I",
           note="Power-up 2000 (D). |FE| beyond it sets AXISSTATUS bit 8 (256), in ERRORMASK "
@@ -651,7 +659,8 @@ _ENTRIES: list[Keyword] = [
     _axis("FASTDEC", "Deceleration at a limit, user units/s^2 (0: DECEL).", default=0,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
           note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
-          "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D)."),
+          "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D; "
+          "an S-curve path at FASTDEC, see SRAMP)."),
     _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
           "reverse limit, 64 datuming, 128 feed hold, 256 following error exceeded, 512 "
           "forward soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
@@ -1487,7 +1496,8 @@ _ENTRIES: list[Keyword] = [
           "path planner at the move's ACCEL (the page: ACCEL/DECEL/JERK, D), from the tick "
           "the input changes; moves merged after the one in progress run at FHSPEED too "
           "(re-planned at each move's start, D); a single-axis move held turns into a "
-          "linear-ramped path (D) (feedhold.py)."),
+          "linear-ramped path (D) (feedhold.py); with SRAMP/JERK the changes are S-ramps, "
+          "the ramp running ending first (see SRAMP, D)."),
     _axis("FHSPEED", "The speed moves run at while the feed-hold input is active, user "
           "units/s.", value_range=(0, _BIG), source="TrioBASIC help FHSPEED, FHOLD_IN",
           confidence="C", note="Power-up 0: a feed hold pauses the moves (C). Above a "
@@ -1586,15 +1596,26 @@ _ENTRIES: list[Keyword] = [
           "Parameter out of range (D). Taken when a move loads. Modes 5 and 6 differ "
           "only in VP_OPTIONS and SP-move parameter binding, not modelled: one jerk "
           "profile (D); in 6 an SRAMP above 0 gives JERK = ACCEL/SRAMP (C: SRAMP page; "
-          "SRAMP 0 leaves JERK in force, D). Jerk shapes single-axis moves; merged and "
-          "interpolated paths keep linear ramps (D)."),
+          "SRAMP 0 leaves JERK in force, D). Jerk (or SRAMP in mode 0) shapes "
+          "single-axis moves and interpolated paths alike: a multi-axis MOVE, MOVEABS, "
+          "MOVECIRC or MHELICAL that nothing merges into runs its vector speed exactly "
+          "as a single-axis move of its path's length would (C: the page's 'jerk limited "
+          "multi-axis interpolation'; MOVE page: the vector at the base's SPEED, ACCEL "
+          "and DECEL), each axis at its share of the path on every servo "
+          "tick; an arc's speed within sqrt(ACCEL x radius) as with linear ramps (D); "
+          "merged moves: see MERGE; SPEED/ACCEL/DECEL written while it runs: an S-ramp "
+          "to the new speed once the ramp running has ended (D); CANCEL and RAPIDSTOP: "
+          "see SRAMP. Links (CONNECT, MOVELINK, CAMBOX) keep their own ramps: no page "
+          "says a profile shapes them (D)."),
     _axis("JERK", "Jerk limit of moves in VP_MODE 5 and 6, user units/s^3.",
           value_range=(0, _BIG), source="TrioBASIC help JERK, VP_MODE", confidence="C",
           note="A single-axis move's acceleration rises at JERK to ACCEL, holds and falls "
           "at JERK (DECEL on the way down): a ramp to SPEED lasts SPEED/ACCEL + "
           "ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is not reached (C); a move too "
           "short to reach SPEED keeps the shares SPEED gives (D). 0: no jerk limit (D). "
-          "Ignored in VP_MODE 0 (C)."),
+          "Ignored in VP_MODE 0 (C). The same on interpolated and merged paths (see "
+          "VP_MODE, MERGE); between merged moves each speed change rises at JERK to "
+          "ACCEL, or to sqrt(change x JERK) when that is lower (D)."),
     _axis("FWD_JOG", "The input that jogs the axis forward while it is low; -1 none.",
           default=-1, value_range=(-1, 1023), source=f"{TOK}; {MAN}", confidence="I",
           note="Active low (C: MC206 manual, JOGSPEED page); read as IN(n) reads it. The "
@@ -1616,7 +1637,12 @@ _ENTRIES: list[Keyword] = [
           "ramp to SPEED then lasts SPEED/ACCEL + SRAMP (C: SRAMP page's example; the "
           "shared S-curve profile); VP_MODE 6: see VP_MODE (JERK = ACCEL/SRAMP); a move "
           "too short to reach SPEED keeps the shares SPEED gives (D). Interpolated and "
-          "merged paths, CANCEL's ramp down and links stay linear (D)."),
+          "merged paths: the same S-ramps (see VP_MODE, MERGE); a speed change shorter "
+          "than 2 x SRAMP rises over half of it (D, as a single-axis move's). CANCEL and "
+          "RAPIDSTOP of an S-curve move S-ramp down at once from the speed it has, with "
+          "the acceleration starting from 0 (D), at DECEL (C: CANCEL page), or FASTDEC "
+          "where a limit stops it; FASTJERK is not modelled: the move's own JERK (or "
+          "SRAMP) shapes that ramp (D). A CAM stops linearly (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "
           "edges between OPEN_WIN and CLOSE_WIN (as DPOS reads, REP_DIST folded), + 768 "

@@ -11,8 +11,9 @@ path planner's speed scale FHSPEED / the programmed speed of the move in progres
 that move runs at FHSPEED, the moves merged after it at the same share of theirs), the
 change at the run's ACCEL (the page: ACCEL/DECEL/JERK; the path planner has one rate).
 A single-axis move (a closed-form profile) becomes a path of its remaining distance
-first, as MOVEMODIFY's re-plan. Inputs are looked at when the world or a parameter
-changes and at every engine event, as the jog inputs are.
+first, as MOVEMODIFY's re-plan (an S-curve move's S-ramp running going on: runs.py).
+With SRAMP/JERK the changes are S-ramps (path_scurve.py). Inputs are looked at when the
+world or a parameter changes and at every engine event, as the jog inputs are.
 """
 
 from __future__ import annotations
@@ -101,7 +102,8 @@ def _as_path(m: Any, run: Run) -> Run:
     new.start_tick = now
     new.resolve((here,))
     m.queues[axis][0] = new
-    new.plan = plan_path(new.segments, 0, 0.0, velocity, 1.0)
+    new.plan = new.continued(run, (now - run.start_tick) * m.period, float(s_done[0])) \
+        or plan_path(new.segments, 0, 0.0, velocity, 1.0)  # (an S-curve's ramp goes on)
     new.plan_tick = now
     return new
 

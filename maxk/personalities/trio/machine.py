@@ -30,7 +30,6 @@ import numpy as np
 from maxk.firmware_model.engine import Engine
 from maxk.firmware_model.path import PathPlan
 from maxk.firmware_model.profiles import Motion
-from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays
 from maxk.firmware_model.world import World
 
@@ -85,7 +84,7 @@ from .pwm import PwmBank, PwmError
 from .pwm_link import GateEdge, PwmLinks
 from .registration import Registration
 from .respeed import refactor, respeed
-from .runs import CORNER_HELD, SHAPE, Run, TrioAxis, single_profile
+from .runs import CORNER_HELD, Run, TrioAxis, single_profile
 from .trace import PwmTrace
 
 HELD = 2 ** 62  # the end tick of a run held at speed 0 (it ends when it goes on)
@@ -1041,15 +1040,16 @@ class MC405Machine(Kinematics, Engine):
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)
-            run.profile = profile_stop(residual, velocity, 0.0,
-                                       run.decel if decel is None else decel, SHAPE)
+            run.profile = run.stop_profile(residual, velocity,
+                                           run.decel if decel is None else decel)
             run.start_tick = self.tick
             axis.begin(run.profile, self)
             self.backlash.began(run.base, run.profile, self.tick * self.period)
             run.end_tick = axis.motion_end if axis.motion_end is not None else self.tick
             run.deltas = run.deltas[:1]
             return
-        self._apply_plan(run, run.plan_new(self.tick, stop=True, period=self.period))
+        self._apply_plan(run, run.plan_new(self.tick, stop=True, period=self.period,
+                                           decel=decel))
         run.deltas = run.deltas[:len(run.segments)]
 
     def _finish_runs(self, now: int) -> None:

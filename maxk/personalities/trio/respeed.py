@@ -7,7 +7,8 @@ its BASE group that are not SP moves: the one running is re-planned from where i
 the speed it has, toward the new speed at the new rate, and the moves buffered behind it
 run at the new values (D: the page names the profiling, not the buffered moves; a move
 reads them when it is profiled). A single-axis move (a closed-form profile) becomes a
-path of its remaining distance first, with linear ramps (D). Jogs (JOGSPEED), CAMs and
+path of its remaining distance first, with linear ramps, or with SRAMP/JERK the S-ramps
+of path_scurve.py, the ramp running ending first (D). Jogs (JOGSPEED), CAMs and
 MOVEMODIFY's re-plans keep theirs (D).
 """
 

@@ -32,7 +32,16 @@ from maxk.firmware_model.path import (
     plan_path,
     plan_stop,
 )
-from maxk.firmware_model.profiles import Motion, RampShape, plan_move
+from maxk.firmware_model.path_scurve import (
+    SRamp,
+    level_point,
+    plan_continued,
+    plan_profiled,
+    plan_shaped,
+    plan_shaped_stop,
+)
+from maxk.firmware_model.profiles import Motion, RampShape, move_phases, plan_move
+from maxk.firmware_model.profiles import plan_stop as profile_stop
 from maxk.firmware_model.sampling import PlanArrays, profile_offset_speed
 from maxk.firmware_model.servo import Gains
 
@@ -42,7 +51,7 @@ from .profiles_sp import jerk_ramp, seam
 
 Ticks = np.ndarray  # integer servo ticks
 CORNER_HELD, CORNER_LOADED = 1, 3  # a run behind a corner: held, or let in at 0 speed
-SHAPE = RampShape.LINEAR  # the MC405's ramps are linear (trapezoid) (D: S-ramps not modelled)
+SHAPE = RampShape.LINEAR  # the MC405's ramps: linear (trapezoid) unless SRAMP/JERK shape them
 
 
 # ---- runs -----------------------------------------------------------------------------
@@ -192,8 +201,21 @@ class Run:
         assert self.plan is not None
         return self.plan.s_end
 
-    def plan_new(self, now: int, stop: bool = False, period: float = 0.001) -> PathPlan:
-        """The path planned from where it is now (from rest when it starts now)."""
+    @property
+    def shaped(self) -> bool:
+        """SRAMP (VP_MODE 0) or JERK (VP_MODE 5/6) shapes its speed changes: S-ramps."""
+        return self.jerk > 0 or self.sramp > 0
+
+    @property
+    def ramp(self) -> SRamp:
+        return SRamp(self.jerk, 0.0 if self.jerk > 0 else self.sramp)
+
+    def plan_new(self, now: int, stop: bool = False, period: float = 0.001,
+                 decel: float | None = None) -> PathPlan:
+        """The path planned from where it is now (from rest when it starts now); a
+        stop ramps down along it (an S-curve path at `decel`, else its DECEL)."""
+        if self.shaped:
+            return self._plan_shaped(now, stop, period, decel)
         if self.plan is None:
             return plan_path(self.segments, 0, 0.0, 0.0, self.path_scale)
         s, v = self.plan.state((now - self.plan_tick) * period)
@@ -201,6 +223,55 @@ class Run:
         if stop:
             return plan_stop(self.segments, i, s, v, 1.0)
         return plan_path(self.segments, i, s, v, self.path_scale)
+
+    def _plan_shaped(self, now: int, stop: bool, period: float,
+                     decel: float | None) -> PathPlan:
+        """plan_new with S-ramps (path_scurve.py): one move from rest runs the profile a
+        single-axis move of its length would (ACCEL up, DECEL down); merged moves
+        S-ramp between their speeds at ACCEL; a re-plan (a move merged in, a new
+        speed) takes over once the ramp running has ended; a stop S-ramps down at once
+        at `decel` (else DECEL)."""
+        if self.plan is None:
+            if (len(self.segments) == 1 and self.path_scale == 1.0
+                    and self.segments[0].length > 0):
+                seg = self.segments[0]
+                top = min(seg.ceiling, seg.arc_cap)
+                share = self.interp.get(0, 1.0)  # (INTERP_FACTOR: the path runs faster)
+                shape, up, down, share_up, share_down = ramp_shares(
+                    top, self.accels[0], self.decel / share, self.sramp, self.jerk / share)
+                phases, end, _ramp_end, _peak = move_phases(
+                    seg.length, 1, 0.0, top, up, down, shape, share_up, share_down)
+                return plan_profiled(self.segments, phases, end)
+            return plan_shaped(self.segments, 0, 0.0, 0.0, self.path_scale, self.ramp)
+        t = (now - self.plan_tick) * period
+        if stop:
+            s, v = self.plan.state(t)
+            i = self.segment_index(s)
+            return plan_shaped_stop(self.segments, i, s, v,
+                                    self.decel if decel is None else decel, self.ramp)
+        head, s, v = level_point(self.plan, t)
+        return plan_shaped(self.segments, self.segment_index(s), s, v, self.path_scale,
+                           self.ramp, head)
+
+    def continued(self, old: Run, t: float, s: float) -> PathPlan | None:
+        """The plan of this run, made of a running single-axis S-curve move `old` (its
+        remaining distance, `t` s into its profile, `s` along): its S-ramp goes on as
+        it was (None: not an S-curve, or a CAM's own profile)."""
+        self.jerk, self.sramp = old.jerk, old.sramp
+        motion = old.profile
+        if not self.shaped or old.preset is not None or motion is None \
+                or motion.end_time is None:
+            return None
+        return plan_continued(self.segments, motion.phases, motion.end_time, t, s)
+
+    def stop_profile(self, residual: float, velocity: float, decel: float) -> Motion:
+        """A single-axis run's ramp down now from `velocity` (CANCEL): an S-ramp with
+        the run's SRAMP or JERK (its acceleration rising from 0 at once), else linear."""
+        if not self.shaped or self.preset is not None:  # (a CAM stops linearly, D)
+            return profile_stop(residual, velocity, 0.0, decel, SHAPE)
+        shape, _up, down, _share_up, share = ramp_shares(abs(velocity), decel, decel,
+                                                         self.sramp, self.jerk)
+        return profile_stop(residual, velocity, 0.0, down, shape, share)
 
     def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
         return ContourMotion(plan, k, float(origin))
@@ -214,16 +285,24 @@ def single_profile(distance: int, speed: float, accel: float, decel: float,
     rise of p/2 of the ramp: a ramp to SPEED lasts SPEED/ACCEL + sramp, so p = 2 sramp /
     (SPEED/ACCEL + sramp), at most 1: I). With a jerk limit (VP_MODE 5/6, counts/s^3)
     each ramp's acceleration rises at `jerk` (profiles_sp.jerk_ramp)."""
+    if jerk <= 0 and sramp <= 0:
+        return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+    shape, up, down, share_up, share_down = ramp_shares(speed, accel, decel, sramp, jerk)
+    return plan_move(distance, 0.0, speed, up, down, shape, share_up, share_down)
+
+
+def ramp_shares(speed: float, accel: float, decel: float, sramp: float, jerk: float
+                ) -> tuple[RampShape, float, float, float | None, float | None]:
+    """(shape, peak acceleration up, down, S-curve jerk share up, down) of a move's
+    ramps to `speed` (single_profile's; an interpolated move's vector speed too)."""
     if jerk > 0:
         up, share_up = jerk_ramp(speed, accel, jerk)
         down, share_down = jerk_ramp(speed, decel, jerk)
-        return plan_move(distance, 0.0, speed, up, down, RampShape.SCURVE, share_up,
-                         share_down)
+        return RampShape.SCURVE, up, down, share_up, share_down
     if sramp <= 0:
-        return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
-    up = min(1.0, 2 * sramp / (speed / accel + sramp))
-    down = min(1.0, 2 * sramp / (speed / decel + sramp))
-    return plan_move(distance, 0.0, speed, accel, decel, RampShape.SCURVE, up, down)
+        return SHAPE, accel, decel, None, None
+    return (RampShape.SCURVE, accel, decel, min(1.0, 2 * sramp / (speed / accel + sramp)),
+            min(1.0, 2 * sramp / (speed / decel + sramp)))
 
 
 
