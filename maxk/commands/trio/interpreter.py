@@ -150,6 +150,7 @@ class ProcessContext:
     pmove: bool = False  # PMOVE: a motion command waits for room in the axes' buffers
     outdevice: int = 0  # OUTDEVICE: where PRINT with no #channel goes
     indevice: int = 0  # INDEVICE: where GET, INPUT, LINPUT and KEY with no #channel read
+    status: int = 1  # PROC_STATUS while it runs a program: 1, or 2/3 under trace (tracing.py)
 
 
 class SystemHook(Protocol):
@@ -895,7 +896,7 @@ class Interpreter:
             return float(ctx.line)
         if name == "PMOVE":
             return _truth(ctx.pmove)
-        return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
+        return float(ctx.status) if ctx.program else 0.0  # PROC_STATUS (tracing.py)
 
     @staticmethod
     def _machine(action: Callable[[], float]) -> float:

@@ -1024,8 +1024,42 @@ _ENTRIES: list[Keyword] = [
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
     _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
-            "stopped.", writable=False, confidence="I",
-            note="Paused/stepping (2, 3) do not exist in the emulator (D)."),
+            "stopped, 3 paused by TRON/STEPLINE, 2 running a stepped line.", writable=False,
+            source=f"{HELP} PROC_STATUS; {TOK}", confidence="I",
+            note="3 PAUSED while a traced process waits to be stepped, 2 STEPPING while it "
+            "runs the stepped line (D: the page names both states, not which the trace "
+            "words give); SLEEP (8) and the operating system's states are not told apart "
+            "from RUNNING (D)."),
+    *[_command(name, summary, args, source=f"{HELP} {name}; {TOK}", confidence="I",
+               string_arg=True, note=note) for name, summary, args, note in (
+        ("TRON", "TRON [\"prog\"]: pause the program (the SELECTed one; in a program, "
+         "itself) before its next statement.", (0, 1),
+         "Every pause prints '%[Process n:Line l] - Paused' and the text of that line "
+         "(page's examples, I). A statement waiting (WA, WAIT IDLE) ends first (D). A "
+         "program not running is started paused at its first statement (I: the page's "
+         "example 2)."),
+        ("TROFF", "TROFF [\"prog\"]: release a paused or stepping program: it runs on.",
+         (0, 1), "Prints '%[Process n:Program NAME] - Released' (page's example; a hyphen "
+         "where the page has a dash, D)."),
+        ("STEPLINE", "STEPLINE [\"prog\"[, process]]: a paused program runs one line "
+         "and pauses again, over a GOSUB routine.", (0, 2),
+         "A program not running starts paused on the process given or the highest free one "
+         "(page); one running untraced is paused before its next statement (D); alone in a "
+         "program it pauses that program (page). A FUNCTION runs within its statement, so "
+         "it is stepped over (D)."),
+        ("STEPINTO", "STEPINTO [\"prog\"[, process]]: as STEPLINE, but a GOSUB routine's "
+         "lines are stepped one by one.", (0, 2),
+         "As STEPLINE; a FUNCTION call is stepped over, not into: it runs inside the "
+         "statement that calls it (D)."),
+        ("SETLINE", "SETLINE \"prog\", process, line[, base[, robot]]: move a program's "
+         "pointer to a line; it stands paused there.", (3, 5),
+         "A paused program is moved (its GOSUB returns dropped, D) and prints its Paused "
+         "line; one not running is started paused there (process -1: the highest free), "
+         "its BASE set unless base is -1 (page); a running one pauses there (D). A line "
+         "with no statement is 'Parameter out of range' (D); robot is accepted, no robot "
+         "selection is modelled (D). The token table gives 2..3 arguments, the page 5: "
+         "3..5 are taken (D)."),
+    )],
     _system("PROCNUMBER", "The number of the process reading it.", writable=False),
     _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
     # ---- strings --------------------------------------------------------------------------

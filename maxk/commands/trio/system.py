@@ -11,6 +11,7 @@ from collections.abc import Callable, Generator
 
 from ...personalities.trio import geometry, splines
 from .datawords import CrcSetup
+from .debugwords import ProgramTrace
 from .errorcodes import PROGRAM_STOPPED
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
@@ -26,7 +27,7 @@ PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
 
 
-class ProgramCommands(Housekeeping, TimersAndScope):
+class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace):
     """The SystemHook of the interpreter: commands that act on programs and processes
     (and, from Housekeeping, COPY/RENAME, CLEAR/RESET, LIST_GLOBAL and the data words)."""
 
@@ -360,7 +361,8 @@ class ProgramCommands(Housekeeping, TimersAndScope):
     def cmd_process(self, args: list[Value]) -> None:
         for process in sorted(self.tasks):
             task = self.tasks[process]
-            self.output(f"Process {process}:Program {task.ctx.program} - Running\r\n")
+            state = "Paused" if task.paused else "Stepping" if task.trace else "Running"
+            self.output(f"Process {process}:Program {task.ctx.program} - {state}\r\n")
 
     def start_autorun(self, announce: bool) -> None:
         """AUTORUN; and power up (announce False), which starts MC_CONFIG first: the program
