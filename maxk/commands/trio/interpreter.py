@@ -63,6 +63,7 @@ from .parser import (
     WaitUntil,
 )
 from .printformat import ARITHMETIC, FLOAT_FUNCTIONS, FLOAT_OPERATORS, Real, c_format, real
+from .servoread import servo_read
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
@@ -1271,6 +1272,9 @@ class Interpreter:
         if name == "SCOPE":  # the parameters are sampled later: kept, not evaluated
             head = [self.number(a, ctx) for a in stmt.args[:4]]
             self.hook.set_scope(head, list(stmt.args[4:]), ctx)
+            return
+        if name == "SERVO_READ":  # read on the next servo cycle, in counts (servoread.py)
+            yield from servo_read(self, stmt.args, stmt.axis, ctx)
             return
         if name == "TRIGGER":
             self.hook.trigger(bool(stmt.args) and self.number(stmt.args[0], ctx) != 0)

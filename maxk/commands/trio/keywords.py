@@ -891,9 +891,6 @@ _ENTRIES: list[Keyword] = [
            "own encoder of it; the shared servo loop drives one motor from one filter, and "
            "a second loop on an encoder input has no motor of its own (accepted, no "
            "effect)."),
-          ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
-           "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
-           "parameters UNITS scales is not listed on the page (the VRs are not written)."),
           ("HANDWHEEL_AXIS", "Reserved keyword.", (0, 2), "a reserved word without a help "
            "page (accepted, no effect)."),
           ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
@@ -1030,6 +1027,15 @@ _ENTRIES: list[Keyword] = [
             "runs the stepped line (D: the page names both states, not which the trace "
             "words give); SLEEP (8) and the operating system's states are not told apart "
             "from RUNNING (D)."),
+    _command("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): up to 8 parameters read on the "
+             "next servo cycle into VR(vr) onwards, not scaled by UNITS.", (2, 9), axis=True,
+             source=f"{HELP} SERVO_READ; {TOK}", confidence="D",
+             note="The statement waits for the next servo cycle and reads them all there "
+             "(page, C). An axis parameter in user units (positions, distances, speeds, "
+             "accelerations, jerks: servoread.SCALED, from each page's unit) is stored times "
+             "its axis's UNITS; anything else as read (D: the page lists none). A parameter "
+             "without AXIS(n) reads SERVO_READ's own AXIS(n), else BASE (D). VRs past the "
+             "last: 'Parameter out of range', none written (D)."),
     *[_command(name, summary, args, source=f"{HELP} {name}; {TOK}", confidence="I",
                string_arg=True, note=note) for name, summary, args, note in (
         ("TRON", "TRON [\"prog\"]: pause the program (the SELECTed one; in a program, "
