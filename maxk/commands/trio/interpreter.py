@@ -574,7 +574,7 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
+        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT", "FREE"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -1274,7 +1274,9 @@ class Interpreter:
             self.hook.set_scope(head, list(stmt.args[4:]), ctx)
             return
         if name == "SERVO_READ":  # read on the next servo cycle, in counts (servoread.py)
-            yield from servo_read(self, stmt.args, stmt.axis, ctx)
+            yield from servo_read(self.machine, stmt.args, stmt.axis,
+                                  lambda e: self.number(e, ctx),
+                                  lambda a: self.axis_of(a, ctx))
             return
         if name == "TRIGGER":
             self.hook.trigger(bool(stmt.args) and self.number(stmt.args[0], ctx) != 0)

@@ -1027,6 +1027,54 @@ _ENTRIES: list[Keyword] = [
             "runs the stepped line (D: the page names both states, not which the trace "
             "words give); SLEEP (8) and the operating system's states are not told apart "
             "from RUNNING (D)."),
+    # ---- the Ethernet port's settings, flash, program memory (network.py, flash.py) --------
+    _command("ETHERNET", "ETHERNET(action, -1, function[, values]): read (printed) or write "
+             "the Ethernet port's settings: 0 IP address, 2 subnet mask, 3 MAC (read only), "
+             "4 command line port, 5 token port, 7 Modbus TCP mode, 8 gateway, 9 Modbus data "
+             "source, 10 Modbus TCP port.", (3, 10), source=f"{HELP} ETHERNET; {TOK}",
+             confidence="I",
+             note="Addresses print as the page prints them (192.168.0.250, "
+             "00:06:70:00:00:F9) and are IP_ADDRESS, IP_NETMASK, IP_GATEWAY and IP_MAC: "
+             "either way of setting one is seen by the other (C). Power-up ports 23, 3240, "
+             "502 and modes 0 (page). Values given write, also with action 0 (I: the page's "
+             "gateway example). Slot other than -1, function 6 (MC464 only), a value out "
+             "of range: 'Parameter out of range'; a MAC written: 'Parameter is read only' "
+             "(D). The emulator's own socket does not move (D); functions 1, 11..25 are "
+             "accepted with no effect: no Ethernet stack is emulated (D)."),
+    *[_system(name, summary, default=default, value_range=(0, 2.0 ** 32 - 1),
+              source=f"{HELP} {name}; {HELP} ETHERNET; {TOK}", confidence="I", note=note)
+      for name, summary, default, note in (
+          ("IP_ADDRESS", "The Ethernet port's IPv4 address, written dotted "
+           "(IP_ADDRESS = 192.168.0.250).", 3232235770.0, "Power-up 192.168.0.250 (ETHERNET "
+           "page); kept across EX and reset by CLEAR_PARAMS, a FLASH parameter (page); read "
+           "as the number a*2^24 + b*2^16 + c*2^8 + d (D); ETHERNET(0, -1, 0) prints it "
+           "dotted."),
+          ("IP_NETMASK", "The Ethernet port's subnet mask, written dotted.", 4294967040.0,
+           "Power-up 255.255.255.0 (ETHERNET page); FLASH as IP_ADDRESS; ETHERNET function "
+           "2."),
+          ("IP_GATEWAY", "The Ethernet port's default gateway, written dotted.", 0.0,
+           "Power-up 0.0.0.0, no gateway (D: no page gives one); FLASH as IP_ADDRESS; "
+           "ETHERNET function 8."),
+      )],
+    _system("IP_MAC", "The Ethernet port's MAC address as one 48-bit number.",
+            default=27648852217.0, writable=False,
+            source=f"{HELP} IP_MAC; {HELP} ETHERNET; {TOK}", confidence="D",
+            note="Read only (page; the token table allows a write of older firmware). The "
+            "value is the page's example, 00:06:70:00:00:F9 (D); ETHERNET(0, -1, 3) prints "
+            "it so."),
+    _command("CLEAR_PARAMS", "CLEAR_PARAMS: the FLASH parameters back to their power-up "
+             "values.", (0, 1), source=f"{HELP} CLEAR_PARAMS; {TOK}", confidence="I",
+             note="The FLASH parameters are SERVO_PERIOD, IP_ADDRESS, IP_NETMASK and "
+             "IP_GATEWAY (their pages' type; personalities/trio/flash.py); the module and "
+             "bus ones have nothing to act on (D). As the page says, SERVO_PERIOD takes "
+             "effect at the next EX. Allowed in a program too (D: the page says command "
+             "line only, not what a program gets)."),
+    _function("FREE", "FREE: the program memory left, bytes.", (0, 0),
+              source=f"{HELP} FREE; {TOK}", confidence="D",
+              note="1048576 bytes (D: no page gives the MC405's) less what DIR lists for "
+              "every program, its source and its compiled code; so it falls as programs "
+              "are stored and compiled (page: compiled programs need nearly twice the "
+              "memory)."),
     _command("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): up to 8 parameters read on the "
              "next servo cycle into VR(vr) onwards, not scaled by UNITS.", (2, 9), axis=True,
              source=f"{HELP} SERVO_READ; {TOK}", confidence="D",
@@ -2050,7 +2098,6 @@ _SYSTEM_WHY = {
                                           "axes are fixed here",
     "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
     "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
-    "CLEAR_PARAMS": "it resets flash parameters that take effect after a power cycle",
     "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
     "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
     "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",

@@ -15,15 +15,12 @@ A VR range past the last VR is 'Parameter out of range' with no VR written (D).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Generator, Sequence
 
 from ...personalities.trio.memory import VR_COUNT
 from .lexer import TrioError
+from .machine import TrioMachine
 from .parser import Expr, Param
-
-if TYPE_CHECKING:
-    from .interpreter import Interpreter, ProcessContext, Wait
 
 SCALED = frozenset({
     # positions and distances (user units)
@@ -40,28 +37,27 @@ SCALED = frozenset({
 MAX_PARAMETERS = 8
 
 
-def servo_read(interp: Interpreter, args: Sequence[Expr], axis: Expr | None,
-               ctx: ProcessContext) -> Wait:
-    """Wait for the next servo cycle, then read and store them all."""
+def servo_read(machine: TrioMachine, args: Sequence[Expr], axis: Expr | None,
+               number: Callable[[Expr], float], axis_of: Callable[[Expr | None], int]
+               ) -> Generator[None, None, None]:
+    """Wait for the next servo cycle, then read and store them all (`number` evaluates
+    an expression and `axis_of` an AXIS(n) modifier in the asking process)."""
     if not 2 <= len(args) <= MAX_PARAMETERS + 1:
         raise TrioError("Syntax error")
-    start = interp.number(args[0], ctx)
+    start = number(args[0])
     if start != int(start) or not 0 <= start <= VR_COUNT - len(args) + 1:
         raise TrioError("Parameter out of range")
-    machine = interp.machine
     due = machine.servo_tick() + 1
     while machine.servo_tick() < due:
         yield None
-    values = [_raw(interp, p, axis, ctx) for p in args[1:]]  # (all read before any write)
+    values = []  # (all read before any is written)
+    for expr in args[1:]:
+        if isinstance(expr, Param) and expr.axis is None and axis is not None \
+                and expr.keyword.axis_modifier:
+            expr = dataclasses.replace(expr, axis=axis)
+        value = number(expr)
+        if isinstance(expr, Param) and expr.keyword.name in SCALED:
+            value *= machine.axis_parameter("UNITS", axis_of(expr.axis))
+        values.append(value)
     for offset, value in enumerate(values):
         machine.vr_write(int(start) + offset, value)
-
-
-def _raw(interp: Interpreter, expr: Expr, axis: Expr | None, ctx: ProcessContext) -> float:
-    if isinstance(expr, Param) and expr.axis is None and axis is not None \
-            and expr.keyword.axis_modifier:
-        expr = dataclasses.replace(expr, axis=axis)
-    value = interp.number(expr, ctx)
-    if isinstance(expr, Param) and expr.keyword.name in SCALED:
-        value *= interp.machine.axis_parameter("UNITS", interp.axis_of(expr.axis, ctx))
-    return value

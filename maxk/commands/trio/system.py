@@ -18,6 +18,7 @@ from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_c
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
+from .network import NetworkWords
 from .parser import FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
@@ -27,7 +28,7 @@ PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
 
 
-class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace):
+class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
     """The SystemHook of the interpreter: commands that act on programs and processes
     (and, from Housekeeping, COPY/RENAME, CLEAR/RESET, LIST_GLOBAL and the data words)."""
 
@@ -48,6 +49,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace):
         self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
         self.spellings: dict[str, str] = {}  # each one's name as first typed (LIST_GLOBAL)
         self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
+        self.ethernet_values: dict[int, float] = {}  # ETHERNET's ports and modes (network.py)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
@@ -128,6 +130,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace):
     def system_function(self, name: str, args: list[Value]) -> float:
         if name in DATA_FUNCTIONS:
             return self.data_function(name, args)
+        if name == "FREE":
+            return self.free_memory()  # (network.py)
         program = _name(args)
         if name == "IS_PROG":
             return -1.0 if self.programs.exists(program) else 0.0
