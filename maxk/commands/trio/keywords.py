@@ -1268,8 +1268,24 @@ _ENTRIES: list[Keyword] = [
              note="Each parameter has its own block of (stop - start) / n values, filled "
              "one sample every period servo cycles from TRIGGER until full (page example "
              "1). The parameters are expressions read at each sample with the BASE of the "
-             "process that set SCOPE (I). The FIFO form, SCOPE_DELAY and "
-             "SCOPE_CYCLE_COUNT are not modelled (D)."),
+             "process that set SCOPE (I). SCOPE_DELAY delays or pre-triggers it (see "
+             "there). The FIFO form is not modelled (D)."),
+    _system("SCOPE_DELAY", "SCOPE's delay, ms: above 0 the capture starts that long after "
+            "TRIGGER; below 0 up to that long of samples from before TRIGGER are stored "
+            "first.", source=f"{HELP} SCOPE_DELAY; {HELP} SCOPE; {TOK}", confidence="I",
+            note="Read at TRIGGER (SCOPE's example 4 sets it after SCOPE, C). Below 0, an "
+            "armed scope samples every period while it is negative (D: needed for SCOPE's "
+            "example 5), keeping at most block - 1, so the trigger's own sample is stored "
+            "(D); fewer than asked: those taken (page). Milliseconds round up to whole "
+            "servo cycles (D, as WA); an automatic TRIGGER's later scans have no "
+            "pre-trigger (D)."),
+    _system("SCOPE_TRIGGER_POS", "Where the last SCOPE trigger fell: the trigger's sample's "
+            "place in each block, from 1.", writable=False,
+            source=f"{HELP} SCOPE_TRIGGER_POS; {HELP} SCOPE_DELAY; {TOK}", confidence="I",
+            note="The trigger's sample is TABLE(table_start - 1 + SCOPE_TRIGGER_POS) (I: the "
+            "pages' example prints 10000 + SCOPE_TRIGGER_POS for a start of 10001, where "
+            "the page's text says 'TABLE index'); 1 with no pre-trigger, 0 after a delayed "
+            "start (D: the trigger came before the first sample), 0 at power-up (D)."),
     _command("TRIGGER", "TRIGGER[(auto)]: start the armed SCOPE; auto not 0: it starts "
              "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
              confidence="I", note="The first sample is taken on TRIGGER's own servo "
@@ -2099,8 +2115,6 @@ _SYSTEM_WHY = {
     "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
     "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
     "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
-    "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
-    "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
     "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
     "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
                            "text file of the store",

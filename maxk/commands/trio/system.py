@@ -62,6 +62,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
         self.scope_cycles = 0  # SCOPE_CYCLE_COUNT: capture cycles started
+        self.scope_trigger_pos = 0  # SCOPE_TRIGGER_POS: where the last trigger fell
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
         # it ends, its outputs and the level they take then
 
@@ -108,6 +109,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
             return self.scope_position()
         if name == "SCOPE_CYCLE_COUNT":
             return float(self.scope_cycles)
+        if name == "SCOPE_TRIGGER_POS":
+            return float(self.scope_trigger_pos)
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
