@@ -201,3 +201,63 @@ def test_the_rig_steps_on_its_servo_cycles_too() -> None:
     rig.command("STEPLINE")
     assert rig.cycles(3) == b"%[Process 19:Line 4] - Paused\r\nTABLE(10, 6)\r\n"
     assert rig.machine.table_read(0) == 5.0
+
+
+# ---- breakpoints: BREAK_ADD, BREAK_DELETE, BREAK_LIST, BREAK_RESET -----------------------
+
+_LOOP = ("VR(1) = 0\n' count to three\nWHILE VR(1) < 3\n  VR(1) = VR(1) + 1\n\n"
+         "  VR(2) = VR(1) * 10\nWEND\nVR(3) = 7")
+
+
+def test_break_list_shows_each_breakpoint_and_empty_lines_move_to_the_next_code() -> None:
+    """BREAK_ADD's page: a breakpoint on a line with no code goes to the next line with
+    code (line 5 is empty: line 6; line 2 a comment: line 3); BREAK_LIST's page's form."""
+    trio = MC405()
+    trio.load("SIMPLETEST", _LOOP)
+    assert trio.send('BREAK_ADD "simpletest" 5') == []
+    assert trio.send('BREAK_ADD "simpletest", 2') == []
+    assert trio.send('BREAK_LIST "simpletest"') == [
+        "Program: SIMPLETEST", "Line 3: WHILE VR(1) < 3", "Line 6: VR(2) = VR(1) * 10"]
+    assert trio.send('BREAK_ADD "simpletest" 9') == ["! Parameter out of range"]  # past it
+    assert trio.send('BREAK_ADD "nothere" 1') == ["! Program not found"]
+    assert trio.send('BREAK_DELETE "simpletest" 5') == []  # resolves to line 6 too
+    assert trio.send('BREAK_LIST "simpletest"') == ["Program: SIMPLETEST",
+                                                    "Line 3: WHILE VR(1) < 3"]
+    assert trio.send('BREAK_RESET "simpletest"') == []
+    assert trio.send('BREAK_LIST "simpletest"') == ["Program: SIMPLETEST"]
+
+
+def test_a_running_program_pauses_at_its_breakpoint_each_pass() -> None:
+    trio = MC405()
+    trio.load("SIMPLETEST", _LOOP)
+    trio.send('BREAK_ADD "simpletest" 6')
+    trio.send('RUN "simpletest", 3')
+    trio.advance(ticks=5)
+    # first pass: VR(1) counted to 1, VR(2) not yet written
+    assert trio.send("?VR(1), VR(2)") == [*_paused(6, "VR(2) = VR(1) * 10", 3),
+                                          "1.0000\t0.0000"]
+    assert trio.send('TROFF "simpletest"') == ["%[Process 3:Program SIMPLETEST] - Released"]
+    trio.advance(ticks=5)  # released: on through WEND, the next pass stops there again
+    assert trio.send("?VR(1), VR(2)") == [*_paused(6, "VR(2) = VR(1) * 10", 3),
+                                          "2.0000\t10.0000"]
+    trio.send('STEPLINE "simpletest"')  # one line from the breakpoint
+    trio.advance(ticks=5)
+    assert trio.send("?VR(2)") == [*_paused(7, "WEND", 3), "20.0000"]
+    trio.send('BREAK_DELETE "simpletest" 6')
+    trio.send('TROFF "simpletest"')
+    trio.advance(ticks=20)  # no breakpoint left: it runs to its end
+    assert trio.send("?VR(1), VR(2), VR(3), PROC_STATUS PROC(3)") == [
+        "3.0000\t30.0000\t7.0000\t0"]
+
+
+def test_a_breakpoint_added_while_the_program_runs_stops_it() -> None:
+    trio = MC405()
+    trio.load("P", "WHILE TRUE\n  VR(1) = VR(1) + 1\n  WA(10)\nWEND")
+    trio.send('RUN "P", 2')
+    trio.advance(ticks=50)
+    assert trio.send('BREAK_ADD "P" 2') == []
+    trio.advance(ticks=20)
+    out = trio.send("?VR(1)")
+    assert out[:2] == _paused(2, "VR(1) = VR(1) + 1", 2)
+    trio.advance(ticks=100)
+    assert trio.send("?VR(1)") == out[2:]  # it stands

@@ -12,6 +12,13 @@ line (TrioBASIC help pages of each; the paused state is tracing.py's).
   program to a line (one not running is started paused there, its BASE set when base is
   not -1); a running program is paused there (D).
 
+- ``BREAK_ADD "prog" line`` / ``BREAK_DELETE``: a breakpoint; a running program pauses
+  before a breakpoint's line each time it comes to it from another line, as TRON pauses
+  it. A line with no code moves the breakpoint to the next line with code; past the last
+  line with code, 'Parameter out of range' (page: "an error"). ``BREAK_LIST "prog"``
+  prints ``Program: NAME`` and ``Line n: code`` for each, ``BREAK_RESET`` clears them
+  (their pages). They are kept by line number across edits (D).
+
 Each pause is reported to every host as the controller's line
 ``%[Process n:Line l] - Paused`` followed by the text of that line (TRON's page: "the line
 that is stepped to is displayed"); a release as ``%[Process n:Program NAME] - Released``.
@@ -24,7 +31,7 @@ from collections.abc import Callable
 from .interpreter import ProcessContext, Value, number_arg
 from .lexer import TrioError
 from .programs import ProgramStore
-from .tasks import Task
+from .tasks import Step, Task
 from .tracing import RUNNING, Trace
 
 
@@ -33,8 +40,12 @@ class ProgramTrace:
 
     programs: ProgramStore
     tasks: dict[int, Task]
+    breakpoints: dict[str, set[int]]
+    compiled: dict[str, list[Step]]
+    compile: Callable[[str], list[Step]]
     selected: str | None
     process_output: Callable[[str], None]
+    output: Callable[[str], None]
     start: Callable[..., int]
     _target: Callable[[list[Value]], str]
 
@@ -87,7 +98,49 @@ class ProgramTrace:
             task.ctx.stack.clear()
             self._announce(task)
 
+    def ctx_break_add(self, args: list[Value], ctx: ProcessContext) -> None:
+        name, line = self._break_line(args)
+        self.breakpoints.setdefault(name, set()).add(line)
+
+    def ctx_break_delete(self, args: list[Value], ctx: ProcessContext) -> None:
+        name, line = self._break_line(args)
+        self.breakpoints.get(name, set()).discard(line)
+
+    def ctx_break_list(self, args: list[Value], ctx: ProcessContext) -> None:
+        _names_only(args, 1)
+        name = self._target(args)
+        lines = self.programs.lines[name]
+        self.output(f"Program: {name}\r\n")
+        for line in sorted(self.breakpoints.get(name, ())):
+            text = lines[line - 1].strip() if line <= len(lines) else ""
+            self.output(f"Line {line}: {text}\r\n")
+
+    def ctx_break_reset(self, args: list[Value], ctx: ProcessContext) -> None:
+        _names_only(args, 1)
+        self.breakpoints.get(self._target(args), set()).clear()
+
+    def attach_trace(self, task: Task) -> None:
+        """A task starting: its program's breakpoints (the same set: later BREAK_ADDs
+        act on it at once) and where its pauses are reported."""
+        task.breaks = self.breakpoints.setdefault(task.ctx.program, set())
+        task.on_pause = self._announce
+
     # ---- helpers ----------------------------------------------------------------------------
+    def _break_line(self, args: list[Value]) -> tuple[str, int]:
+        """BREAK_ADD/BREAK_DELETE's program and line: the line itself if it has code,
+        else the next one that has (page)."""
+        if len(args) != 2 or not isinstance(args[0], str) or isinstance(args[1], str):
+            raise TrioError("Syntax error")
+        name, line = self._target(args[:1]), _whole(args[1])
+        steps = self.compiled.get(name)
+        if steps is None:
+            steps = self.compile(name)
+        lines = sorted({step.line for step in steps if step.line >= line})
+        if line < 1 or not lines:
+            raise TrioError("Parameter out of range")
+        return name, lines[0]
+
+    # ---- helpers (trace) ----------------------------------------------------------------------
     def _named(self, args: list[Value], ctx: ProcessContext) -> str:
         """The program named, or the one asking (in a program), or the SELECTed one."""
         if not args and ctx.program:

@@ -1113,6 +1113,20 @@ _ENTRIES: list[Keyword] = [
          "with no statement is 'Parameter out of range' (D); robot is accepted, no robot "
          "selection is modelled (D). The token table gives 2..3 arguments, the page 5: "
          "3..5 are taken (D)."),
+        ("BREAK_ADD", "BREAK_ADD \"prog\" line: a breakpoint: the program pauses before "
+         "that line, as TRON pauses it.", (2, 2),
+         "A line with no code: the next line with code (page); none after it, or a line "
+         "below 1: 'Parameter out of range' (page: 'an error'). It pauses each time it "
+         "comes to the line from another line (D: a loop on one line does not stop "
+         "itself); STEPLINE and TROFF go on from there. The comma the page leaves out is "
+         "taken too (D). Kept by line number across edits (D)."),
+        ("BREAK_DELETE", "BREAK_DELETE \"prog\" line: remove the breakpoint of that line.",
+         (2, 2), "The line resolves as BREAK_ADD's (D); a line with none: nothing (D)."),
+        ("BREAK_LIST", "BREAK_LIST [\"prog\"]: 'Program: NAME', then 'Line n: code' for "
+         "each breakpoint.", (0, 1), "The page's example's form; lowest line first (D); "
+         "no name: the SELECTed program (D)."),
+        ("BREAK_RESET", "BREAK_RESET [\"prog\"]: remove every breakpoint of the program.",
+         (0, 1), "No name: the SELECTed program (D)."),
     )],
     _system("PROCNUMBER", "The number of the process reading it.", writable=False),
     _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),

@@ -910,6 +910,13 @@ class _Parser:
         args: list[Expr] = []
         if keyword.name in ("COPY", "RENAME"):
             return Command(keyword, self.two_program_names(), None)
+        if keyword.name in ("BREAK_ADD", "BREAK_DELETE") and self.tok.kind is Tok.STRING:
+            args.append(Str(self.advance().text))  # BREAK_ADD "prog" 8: the page's form,
+            if self.at_op(","):  # no comma (a comma taken too, D)
+                self.advance()
+            if not self.at_statement_end():
+                args.append(self.expression())
+            return Command(keyword, tuple(args), None)
         if keyword.name == "SEEK" and self.at_op("#"):  # SEEK #n, from, position
             self.advance()
         if keyword.string_arg and self.bare_program_name():

@@ -49,6 +49,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
         self.spellings: dict[str, str] = {}  # each one's name as first typed (LIST_GLOBAL)
         self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
+        self.breakpoints: dict[str, set[int]] = {}  # BREAK_ADD: each program's lines
         self.ethernet_values: dict[int, float] = {}  # ETHERNET's ports and modes (network.py)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
@@ -331,6 +332,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         assert self.interpreter is not None
         ctx = ProcessContext(process=process, program=info.name)
         self.tasks[process] = Task(self.interpreter, steps, ctx, self.find_function)
+        self.attach_trace(self.tasks[process])  # its breakpoints (debugwords.py)
         return process
 
     def cmd_run(self, args: list[Value]) -> None:

@@ -326,6 +326,8 @@ class Task:
         self.trace: Trace | None = None  # TRON / STEPLINE: where it pauses (tracing.py)
         self.paused = False  # waiting for STEPLINE or TROFF: not stepped
         self.jump: int | None = None  # SETLINE: the step it goes on at
+        self.breaks: set[int] = set()  # BREAK_ADD: lines it pauses before (debugwords.py)
+        self.last_line = 0  # the line of the statement it ran last (a breakpoint's entry)
         self.on_pause: Callable[[Task], None] | None = None  # says where it paused
 
     def call_function(self, name: str, args: list[Argument]) -> Value:
@@ -420,6 +422,9 @@ class Task:
                 budget = STATEMENTS_PER_CYCLE - 1
             step = steps[pc]
             ctx.line = step.line
+            if self.breaks and step.line in self.breaks and step.line != self.last_line:
+                self.trace = self.trace or Trace()  # a breakpoint: pause before its line
+                self.trace.line = -1
             while self.trace is not None or self.jump is not None:  # TRON, STEPLINE,
                 # SETLINE: go on elsewhere, pause before this statement (a label is none)?
                 if self.jump is not None:  # SETLINE moved the program pointer
@@ -436,6 +441,7 @@ class Task:
                     self.on_pause(self)
                 yield None  # (resumed by STEPLINE, STEPINTO or TROFF)
                 waited, budget = True, STATEMENTS_PER_CYCLE
+            self.last_line = step.line
             try:
                 for wake in self._step(ctx, pc, step, waited):
                     if wake is _LOOPED:
