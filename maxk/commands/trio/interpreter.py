@@ -33,6 +33,7 @@ from ...personalities.trio.sequences import axes_of
 from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
+from .fifos import FifoFiles
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -181,6 +182,7 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    fifo_files: FifoFiles  # OPEN ... FOR FIFO_WRITE / FIFO_READ (fifos.py)
     sources: dict[int, list[int]]  # ... and every character of the file (SEEK)
     crc: CrcSetup | None  # CRC16(0, ...)'s set-up (CRC16, CHANNEL_READ's crc)
     clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
@@ -545,7 +547,8 @@ class Interpreter:
             return array[index]
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
             channel = self._channel(expr.args, ctx) if expr.args else ctx.indevice
-            return _truth(bool(self.hook.files.get(channel)))
+            counted = self.hook.fifo_files.key(channel)  # a FIFO: how many (fifos.py)
+            return counted if counted is not None else _truth(bool(self.hook.files.get(channel)))
         if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
             return self.hook.channel_word(name, expr.args, ctx, self)
         if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
@@ -910,7 +913,9 @@ class Interpreter:
     def execute(self, stmt: Stmt, ctx: ProcessContext) -> Wait:
         """Run one statement; yields while it must wait for the machine or the clock."""
         if isinstance(stmt, Print):
-            self.print(stmt, ctx)
+            channel = self.print(stmt, ctx)
+            while self.hook.fifo_files.flush(channel):  # a full blocking FIFO (fifos.py)
+                yield None
         elif isinstance(stmt, Assign):
             self.assign(stmt, ctx)
         elif isinstance(stmt, Command) and stmt.keyword.name in _LOADING:
@@ -999,8 +1004,11 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             if number in files:
                 raise TrioError("Channel already open")
-            if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
-                text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
+            if stmt.mode in ("FIFO_READ", "FIFO_WRITE"):  # (fifos.py)
+                files[number] = self.hook.fifo_files.open(
+                    number, name, stmt.mode, [self.number(o, ctx) for o in stmt.options])
+            elif stmt.mode in ("INPUT", "READ_WRITE"):
+                text = self.hook.file_text(name)
                 files[number] = [ord(c) for c in reversed(text)]
                 self.hook.sources[number] = files[number][:]  # what SEEK goes back to
             elif stmt.mode in ("OUTPUT", "APPEND"):  # PRINT #n writes the file
@@ -1011,6 +1019,7 @@ class Interpreter:
             return
         if stmt.action == "CLOSE":
             files.pop(number, None)
+            self.hook.fifo_files.close(number)
             self.hook.sources.pop(number, None)
             self.hook.close_file(number)
             return
@@ -1019,7 +1028,7 @@ class Interpreter:
         while not files.get(number):
             if number in files and stmt.action != "GET":
                 break  # the end of a file: INPUT reads what there is (D)
-            yield ON_CHANGE
+            yield None if self.hook.fifo_files.is_reader(number) else ON_CHANGE
         waiting = files.get(number, [])
         if stmt.action == "GET":
             self.store(stmt.targets[0], float(waiting.pop()), ctx)
@@ -1104,9 +1113,9 @@ class Interpreter:
                 ctx.variables[name] = empty
                 ctx.arrays.pop(name, None)
 
-    def print(self, stmt: Print, ctx: ProcessContext) -> None:
+    def print(self, stmt: Print, ctx: ProcessContext) -> int:
         """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
-        emulator has one terminal; channel numbers are checked, 0..255)."""
+        emulator has one terminal; channel numbers are checked, 0..255). The channel."""
         channel = float(ctx.outdevice)  # OUTDEVICE when no #channel is given (its page)
         if stmt.channel is not None:
             channel = self.number(stmt.channel, ctx)
@@ -1128,6 +1137,7 @@ class Interpreter:
         text = "".join(parts) + ("\r\n" if stmt.newline else "")
         if not self.hook.write_file(int(channel), text):
             self.output(text)
+        return int(channel)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
         """A value as a variable of that name holds it: its DIM type, else FLOAT (help

@@ -1197,13 +1197,30 @@ _ENTRIES: list[Keyword] = [
              "OUTPUT[(mode)] creates the file (a .TXT program) or clears it, FOR APPEND "
              "needs it and writes after its lines; PRINT #n writes each finished line to "
              "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
-             "store, D). FIFO_WRITE accepts and drops what is written (D). Channels 40 to 48 "
+             "store, D). FOR FIFO_WRITE / FIFO_READ: a RAM circular buffer between two "
+             "channels (see FIFO_WRITE; fifos.py). Channels 40 to 48 "
              "only (C: help page OPEN); any other is 'Parameter out of range'."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
                "with no effect (D).")
-      for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
+      for mode in ("READ_WRITE", "APPEND")),
+    _command("FIFO_WRITE", "OPEN ... FOR FIFO_WRITE(size[, mode[, terminator]]): write a "
+             "FIFO, a RAM circular buffer of size bytes (256 at least).", (0, 3),
+             source=f"{HELP} OPEN; {HELP} FIFO_WRITE; {TOK}", confidence="I",
+             note="An existing FIFO is cleared, its size kept (page). PRINT #n puts "
+             "characters in; full: mode bit 1 overwrites the oldest (bit 0 too: whole oldest "
+             "lines up to the terminator, 13 by default), else the PRINT waits until a "
+             "reader makes room, a servo cycle at a time (page: blocking; the wait's pace "
+             "D). The FIFO is not a program of the store: DIR does not list it (D); 'RAM:' "
+             "names the same one (D). Alone as a statement: no effect (D)."),
+    _command("FIFO_READ", "OPEN ... FOR FIFO_READ[(mode[, terminator])]: read a FIFO; KEY #n "
+             "counts its characters (mode 0) or lines (mode 1).", (0, 2),
+             source=f"{HELP} OPEN; {HELP} FIFO_READ; {TOK}", confidence="I",
+             note="GET #n takes the oldest character; a GET on an empty FIFO waits, looking "
+             "again each servo cycle (D: the writer may be another process). A FIFO never "
+             "opened for writing: 'Program not found' as INPUT of a missing file (D). Alone "
+             "as a statement: no effect (D)."),
     _command("OUTPUT", "OPEN's OUTPUT[(mode)] channel mode: write a file (see OPEN).",
              (0, 1), source=f"{HELP} OUTPUT; {HELP} OPEN",
              note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
@@ -2129,7 +2146,6 @@ _SYSTEM_WHY = {
     "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
     "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
     "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
-    "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
     "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
                            "text file of the store",
     "SYSTEM_ERROR_MASK": "SYSTEM_ERROR is always 0 here (no fault it could mask)",

@@ -13,6 +13,7 @@ from ...personalities.trio import geometry, splines
 from .datawords import CrcSetup
 from .debugwords import ProgramTrace
 from .errorcodes import PROGRAM_STOPPED
+from .fifos import FifoFiles
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
 from .keywords import Keyword
@@ -56,6 +57,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.writing: dict[int, tuple[str, str]] = {}  # OPEN #n FOR OUTPUT: file, rest
         self.sources: dict[int, list[int]] = {}  # OPEN #n FOR INPUT: the whole file
+        self.fifo_files = FifoFiles()  # OPEN ... FOR FIFO_WRITE / FIFO_READ (fifos.py)
         self.command_lines: list[ProcessContext] = []  # each open session's own context
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
