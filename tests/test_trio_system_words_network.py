@@ -98,3 +98,59 @@ def test_free_falls_by_what_dir_lists() -> None:
     assert int(trio.query("?FREE")) == empty - source - code
     assert trio.send('DEL "P"') == []
     assert int(trio.query("?FREE")) == empty
+
+
+# ---- FLASHTABLE and FLASHVR: TABLE kept in flash across EX ---------------------------------
+
+def test_flashtable_saves_a_table_page_and_restores_it_after_ex() -> None:
+    """FLASHTABLE's examples: TABLE page 2 (indices 32000..47999) saved to flash page 5,
+    restored after a power-up that cleared TABLE, and to another TABLE page."""
+    trio = MC405()
+    assert trio.send("TABLE(32000, 1.5, 2.5)") == []
+    assert trio.send("TABLE(47999, 9)") == []
+    assert trio.send("TABLE(48000, 4)") == []  # page 3: not saved
+    assert trio.send("FLASHTABLE(1, 5, 2)") == []
+    assert trio.query("?FLASHTABLE(3, 5)") == "-1"  # in use
+    assert trio.query("?FLASHTABLE(3, 6)") == "0"
+    trio.send("EX")
+    assert trio.query("?TABLE(32000)") == "0.0000"  # TABLE is RAM
+    assert trio.send("FLASHTABLE(2, 5, 2)") == []
+    assert trio.send("?TABLE(32000), TABLE(32001), TABLE(47999), TABLE(48000)") == [
+        "1.5000\t2.5000\t9.0000\t0.0000"]
+    assert trio.send("FLASHTABLE(2, 5, 0)") == []  # page 2's values into page 0 (0..15999)
+    assert trio.send("?TABLE(0), TABLE(1), TABLE(15999)") == ["1.5000\t2.5000\t9.0000"]
+    assert trio.query("?FLASHTABLE(4, 5)") == "-1"  # erased
+    assert trio.query("?FLASHTABLE(3, 5)") == "0"
+
+
+def test_a_program_checks_and_erases_a_flash_page_as_the_page_does() -> None:
+    trio = MC405()
+    trio.send("FLASHTABLE(1, 5, 0)")
+    trio.load("P", "IF FLASHTABLE(3, 5) THEN\n  VR(1) = 1\n  IF FLASHTABLE(4, 5) THEN "
+              "VR(2) = 1\nENDIF\nVR(3) = FLASHTABLE(3, 5)")
+    trio.send('RUN "P"')
+    trio.advance(ticks=5)
+    assert trio.send("?VR(1), VR(2), VR(3)") == ["1.0000\t1.0000\t0.0000"]
+
+
+@pytest.mark.parametrize("line", ["FLASHTABLE(1, 32, 0)", "FLASHTABLE(1, 0, 32)",
+                                  "FLASHTABLE(5, 0, 0)", "FLASHTABLE(1, 0)",
+                                  "FLASHTABLE(1, 0.5, 0)", "FLASHVR(-3)"])
+def test_bad_flash_calls_are_refused(line: str) -> None:
+    trio = MC405()
+    assert trio.send(line) == ["! Parameter out of range"]
+    assert trio.query("?FLASHTABLE(3, 0)") == "0"
+
+
+def test_flashvr_minus_one_puts_table_back_at_each_power_up_until_minus_two() -> None:
+    trio = MC405()
+    trio.send("TABLE(100, 7, 8)")
+    assert trio.send("FLASHVR(-1)") == []
+    trio.send("TABLE(100, 1)")  # changed after: lost at power-up (page)
+    trio.send("EX")
+    assert trio.send("?TABLE(100), TABLE(101)") == ["7.0000\t8.0000"]
+    trio.send("EX")
+    assert trio.query("?TABLE(100)") == "7.0000"
+    trio.send("FLASHVR(-2)")
+    trio.send("EX")
+    assert trio.query("?TABLE(100)") == "0.0000"

@@ -577,7 +577,8 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT", "FREE"):
+        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT", "FREE",
+                    "FLASHTABLE", "FLASHVR"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])

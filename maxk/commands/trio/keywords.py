@@ -1069,6 +1069,21 @@ _ENTRIES: list[Keyword] = [
              "bus ones have nothing to act on (D). As the page says, SERVO_PERIOD takes "
              "effect at the next EX. Allowed in a program too (D: the page says command "
              "line only, not what a program gets)."),
+    _command("FLASHTABLE", "FLASHTABLE(function, flashpage[, tablepage]): TABLE pages of "
+             "16000 values to (1) and from (2) 32 flash pages; 3 TRUE if the flash page "
+             "holds data, 4 erase it.", (2, 3), source=f"{HELP} FLASHTABLE; {TOK}",
+             confidence="I",
+             note="Also a function: TRUE (function 3: in use or not), as the page's examples "
+             "(C). Flash outlives EX and TABLE does not (D: the emulator's power-up clears "
+             "TABLE). tablepage 0..31, the pages TABLE's 512000 values fill (D); a flash "
+             "page never written reads back zeros (D); a bad number: 'Parameter out of "
+             "range'."),
+    _command("FLASHVR", "FLASHVR(index): -1 keeps the whole TABLE in flash to replace TABLE "
+             "at power-up, -2 stops that.", (1, 1), source=f"{HELP} FLASHVR; {TOK}",
+             confidence="I",
+             note="An index of a VR, and -100, do nothing (page: for the MC2xx/MC3xx; the "
+             "MC4xx keeps its VRs itself) (D); the TABLE kept is the one at the call, put "
+             "back at each power-up (EX) until -2 (page). As a function: TRUE (D)."),
     _function("FREE", "FREE: the program memory left, bytes.", (0, 0),
               source=f"{HELP} FREE; {TOK}", confidence="D",
               note="1048576 bytes (D: no page gives the MC405's) less what DIR lists for "

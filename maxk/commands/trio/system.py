@@ -51,6 +51,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         self.spellings: dict[str, str] = {}  # each one's name as first typed (LIST_GLOBAL)
         self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
         self.breakpoints: dict[str, set[int]] = {}  # BREAK_ADD: each program's lines
+        self.flash_pages: dict[int, list[float]] = {}  # FLASHTABLE (network.py)
+        self.flash_table: list[float] | None = None  # FLASHVR(-1) (network.py)
         self.ethernet_values: dict[int, float] = {}  # ETHERNET's ports and modes (network.py)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
@@ -138,6 +140,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
             return self.data_function(name, args)
         if name == "FREE":
             return self.free_memory()  # (network.py)
+        if name in ("FLASHTABLE", "FLASHVR"):
+            return self.flashtable(args) if name == "FLASHTABLE" else self.flashvr(args)
         program = _name(args)
         if name == "IS_PROG":
             return -1.0 if self.programs.exists(program) else 0.0
@@ -380,6 +384,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         of type 9, or the one named MC_CONFIG (help "MC_CONFIG Program": "MC_CONFIG, if
         present, is always run at power-up"; an uploader that sends SELECT MC_CONFIG makes a
         BASIC program of that name, and a power cycle applies it on the real controller)."""
+        if not announce:
+            self.power_up_table()  # FLASHVR(-1)'s TABLE (network.py)
         infos = [self.programs.info[n] for n in self.programs.names()]
         config = [i for i in infos if i.type == 9 or i.name.upper() == "MC_CONFIG"]
         wanted = [i for i in infos if i.type == 0 and i.autorun and i not in config]
