@@ -2152,7 +2152,6 @@ _SYSTEM_WHY = {
     "VIEW": "it shows the compiled object code, which the emulator does not produce",
     "STORE": "it loads firmware (help page STORE)",
     "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
-    "SETLINE": "moving a process's program pointer is a debugger's word (Motion Perfect)",
     "IO_STATUS": "it reads a remote EtherCAT I/O device's status; there is no EtherCAT",
     "IO_STATUSMASK": "it masks a remote EtherCAT I/O device's status; there is no EtherCAT",
     "IOMAP": _MAP, "DRIVEIO_BASE": _MAP, "INTERNALIO_BASE": _MAP, "MODULEIO_BASE": _MAP,
@@ -2167,7 +2166,8 @@ _SYSTEM_WHY = {
     "SCHEDULE_TYPE": "the emulator's process scheduling is fixed (one pass a servo cycle, "
                      "see tasks.py)",
     "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
-    "LAST_AXIS": "every axis of the emulated MC405 is always processed",
+    "LAST_AXIS": "every axis of the emulated MC405 is always processed, so no axis list is "
+                 "kept: it reads what was written (power-up 0), not the highest axis used",
     "INITIALISE": "resetting every axis parameter of a live machine at once is not "
                   "supported by the shared machine",
     "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
@@ -2187,6 +2187,73 @@ _SYSTEM_WHY = {
     "INT_BASE": "no help page found",
 }
 
+_NO_PAGE = "no help page found: neither its arguments nor its effect are known"
+_CARD = "the SD card: the emulated MC405 has no card slot"
+_KEYS = "project encryption keys: the emulator's projects are not encrypted"
+_HMI = "the Trio HMI server and its clients: no HMI client connects to the emulator"
+_MODULES = "the MC664's option modules (help page): the MC405 has none"
+# Why the firmware, memory, debugging and display words have no effect to show (issue 35p;
+# each from the word's TrioBASIC help page).
+_FIRMWARE_WHY = {
+    "BOOT_LOADER": "Motion Perfect's word to enter the boot loader (firmware loading)",
+    "LOADSYSTEM": "it loads firmware (help page)",
+    "LOAD_PROJECT": "Motion Perfect's project loading, whose protocol the page does not give",
+    "FPGA_PROGRAM": "it selects the hardware's FPGA program: the emulator has no FPGA",
+    "FPGA_VERSION": "the hardware's FPGA version: the emulator has no FPGA",
+    "CPU_EXCEPTIONS": "the firmware's processor exception counts, no help text found",
+    "FPU_EXCEPTIONS": "floating point exceptions of the firmware's processes, for Trio's own "
+                      "debugging (help page): none arise here",
+    "CPU_TEMP": "its page: not available on the MC405",
+    "CPU_TEMP_MAX": "its page: not available on the MC405",
+    "DUMP": "a memory image for the manufacturer's debugging (help page); the emulator has "
+            "no firmware memory image",
+    "PEEK": "a controller memory address: the pages give no memory map to read",
+    "POKE": "a controller memory address: the pages give no memory map to write",
+    "EPROM": "no function on the MC4xx: programs are always in flash (help page)",
+    "EPROM_STATUS": "background flash programming: the store writes at once, so 0, 'not "
+                    "active' (help page)",
+    "FLASH_DATA": "it picks VR or TABLE as the automatic flash backup's source; the "
+                  "emulator backs neither up by itself (FLASHTABLE and FLASHVR do)",
+    "FLASH_LOG": "the controller's log of firmware system events, which the emulator's "
+                 "events are not",
+    "FLASH_DUMP": "a flash memory dump, no help text found",
+    "FEATURE_ENABLE": "feature enable codes unlock licensed features; every modelled "
+                      "feature is there without one",
+    "LOCK": "it hides programs behind a code (CONTROL + 1000); the page gives no reply for "
+            "a refused command, so a locked emulator could not answer as the controller",
+    "UNLOCK": "see LOCK",
+    "SET_ENCRYPTION_KEY": _KEYS, "VALIDATE_ENCRYPTION_KEY": _KEYS,
+    "IS_ENCRYPTION_KEY": _KEYS, "PROJECT_KEY": _KEYS,
+    "PROJECT_KEY_REGISTRY": _NO_PAGE,
+    "PROJECT_NAME": "the name Motion Perfect gives the project it loads; none is loaded here",
+    "EXECUTE": "remote command execution of the PCMotion ActiveX, whose protocol the page "
+               "does not give",
+    "TEXT_FILE_LOADER": "the TrioPC ActiveX's file transfer, whose protocol the page does "
+                        "not give",
+    "TEXT_FILE_LOADER_PROC": "the TrioPC ActiveX's file transfer, whose protocol the page "
+                             "does not give",
+    "TEXT_FILE_LOADER_STATUS": _NO_PAGE,
+    "TRIOPCTESTVARIAB": "Trio's own test of the TrioPC ActiveX (help page)",
+    "STICK_READ": _CARD, "STICK_WRITE": _CARD, "STICK_READVR": _CARD,
+    "STICK_WRITEVR": _CARD, "ZIP_READ": _CARD,
+    "SD_READGTA": _NO_PAGE, "SD_WRITEGTA": _NO_PAGE, "EXEC": _NO_PAGE,
+    "CUSTOM_FUNC": _NO_PAGE, "PENDANT_USER": _NO_PAGE,
+    "HMI_CONNECTIONS": _HMI, "HMI_GET_PAGE": _HMI, "HMI_GET_STATUS": _HMI,
+    "HMI_PROC": _HMI, "HMI_SERVER": _HMI, "HMI_SET_PAGE": _HMI,
+    "DISPLAY": "it picks the I/O bank the controller's LEDs or display show: the emulator "
+               "has no front panel display of its own",
+    "LCDSTR": "the controller's display text: the emulator has no display",
+    "UNIT_CLEAR": _MODULES, "UNIT_DISPLAY": _MODULES, "UNIT_ERROR": _MODULES,
+    "UNIT_SW_VERSION": _MODULES,
+    "SERIAL_NUMBER": "the unit's serial number: an emulated unit has none",
+    "SYSTEM_LOAD": "the firmware's own share of the servo period (help page); the "
+                   "emulator's work is not the firmware's, so it has no such share",
+    "FUNCTION_LIST": "it lists the FUNCTIONs known, in a form the page does not give",
+    "USER_PID": "its page gives the PID's inputs and outputs, not its equations (a "
+                "function diagram of an IEC 61131-3 PID, a family with variants), so its "
+                "output cannot be exact",
+}
+
 
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
@@ -2197,6 +2264,8 @@ def _why_not(name: str) -> str:
         return _OWN_WHY[name]
     if name in _SYSTEM_WHY:
         return _SYSTEM_WHY[name] + " (D)"
+    if name in _FIRMWARE_WHY:
+        return _FIRMWARE_WHY[name] + " (D)"
     if name.startswith(_ROBOT):
         return ROBOT_WHY + " (D)"
     if name.startswith(_FIELDBUS):
