@@ -261,3 +261,17 @@ def test_a_breakpoint_added_while_the_program_runs_stops_it() -> None:
     assert out[:2] == _paused(2, "VR(1) = VR(1) + 1", 2)
     trio.advance(ticks=100)
     assert trio.send("?VR(1)") == out[2:]  # it stands
+
+
+def test_run_of_a_paused_program_releases_it() -> None:
+    trio = MC405()
+    trio.load("P", "TRON\nVR(1) = 1\nVR(2) = 2")
+    trio.send('RUN "P", 4')
+    trio.advance(ticks=2)
+    assert trio.send("?PROC_STATUS PROC(4)") == [*_paused(2, "VR(1) = 1", 4), "3"]
+    assert trio.send('RUN "P"') == ["%[Process 4:Program P] - Released"]
+    trio.advance(ticks=2)
+    assert trio.send("?VR(1) + VR(2), PROC_STATUS PROC(4)") == ["3.0000\t0"]
+    trio.send('RUN "P", 4')  # not under trace: a fresh run, paused again by its TRON
+    trio.advance(ticks=2)
+    assert trio.send("?PROC_STATUS PROC(4)") == [*_paused(2, "VR(1) = 1", 4), "3"]

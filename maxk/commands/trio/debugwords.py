@@ -7,7 +7,8 @@ line (TrioBASIC help pages of each; the paused state is tracing.py's).
 - ``STEPLINE ["prog"[, process]]`` / ``STEPINTO``: a paused program runs one line and
   pauses again; one running untraced is paused (D); one not running is started paused on
   the process given or the highest free one (page). Alone in a program they pause it.
-- ``TROFF ["prog"]`` releases it: it runs on at full speed.
+- ``TROFF ["prog"]`` releases it: it runs on at full speed. So does RUN of a program under
+  trace (D: the emulator runs one copy of a program, and a debugger's Run goes on).
 - ``SETLINE "prog", process, line[, base[, robot]]`` moves the program pointer of a paused
   program to a line (one not running is started paused there, its BASE set when base is
   not -1); a running program is paused there (D).
@@ -56,12 +57,18 @@ class ProgramTrace:
 
     def ctx_troff(self, args: list[Value], ctx: ProcessContext) -> None:
         _names_only(args, 1)
-        name = self._named(args, ctx)
+        self.release(self._named(args, ctx))
+
+    def release(self, name: str) -> bool:
+        """TROFF (and RUN of a program under trace, D): it runs on; whether one was."""
+        released = False
         for process, task in self._running(name):
             if task.trace is None:
                 continue
             task.trace, task.paused, task.ctx.status = None, False, RUNNING
             self.process_output(f"%[Process {process}:Program {name}] - Released\r\n")
+            released = True
+        return released
 
     def ctx_stepline(self, args: list[Value], ctx: ProcessContext) -> None:
         self._step(args, ctx, into=False)

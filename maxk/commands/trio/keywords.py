@@ -1109,7 +1109,8 @@ _ENTRIES: list[Keyword] = [
          "example 2)."),
         ("TROFF", "TROFF [\"prog\"]: release a paused or stepping program: it runs on.",
          (0, 1), "Prints '%[Process n:Program NAME] - Released' (page's example; a hyphen "
-         "where the page has a dash, D)."),
+         "where the page has a dash, D). RUN of a program under trace releases it the "
+         "same way (D: one copy of a program runs here, and a debugger's Run goes on)."),
         ("STEPLINE", "STEPLINE [\"prog\"[, process]]: a paused program runs one line "
          "and pauses again, over a GOSUB routine.", (0, 2),
          "A program not running starts paused on the process given or the highest free one "

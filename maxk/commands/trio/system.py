@@ -343,7 +343,9 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
 
     def cmd_run(self, args: list[Value]) -> None:
         process = _integer(args[1]) if len(args) > 1 else -1
-        self.start(self._target(args[:1]), process)
+        name = self._target(args[:1])
+        if not self.release(name):  # (a paused program: RUN goes on, as TROFF; debugwords.py)
+            self.start(name, process)
 
     def cmd_stop(self, args: list[Value]) -> None:
         name = self._target(args[:1])
