@@ -26,6 +26,7 @@ from .datawords import (
     read_number,
     table_values,
 )
+from .fifos import FifoFiles
 from .interpreter import FILE_CHANNELS, Interpreter, ProcessContext, Value, number_arg
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -90,6 +91,7 @@ class Housekeeping:
     files: dict[int, list[int]]
     sources: dict[int, list[int]]  # OPEN ... FOR INPUT: every character, last first
     writing: dict[int, tuple[str, str]]  # OPEN ... FOR OUTPUT: channel -> file, partial line
+    fifo_files: FifoFiles  # OPEN ... FOR FIFO_WRITE (fifos.py)
     crc: CrcSetup | None
     defined: dict[str, int]  # "C name" / "G name" -> when it was first defined
     spellings: dict[str, str]  # ... and its name as first typed
@@ -216,6 +218,8 @@ class Housekeeping:
         """PRINT #n to a file opened for output: each finished line (CR LF or LF) becomes
         a line of the file at once; the rest waits for its end or CLOSE. False: the
         channel is no such file (its text goes to the terminal)."""
+        if self.fifo_files.write(channel, text):  # a FIFO (fifos.py)
+            return True
         if channel not in self.writing:
             return False
         name, pending = self.writing[channel]

@@ -33,6 +33,7 @@ from ...personalities.trio.sequences import axes_of
 from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
+from .fifos import FifoFiles
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
@@ -63,6 +64,7 @@ from .parser import (
     WaitUntil,
 )
 from .printformat import ARITHMETIC, FLOAT_FUNCTIONS, FLOAT_OPERATORS, Real, c_format, real
+from .servoread import servo_read
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
@@ -150,6 +152,7 @@ class ProcessContext:
     pmove: bool = False  # PMOVE: a motion command waits for room in the axes' buffers
     outdevice: int = 0  # OUTDEVICE: where PRINT with no #channel goes
     indevice: int = 0  # INDEVICE: where GET, INPUT, LINPUT and KEY with no #channel read
+    status: int = 1  # PROC_STATUS while it runs a program: 1, or 2/3 under trace (tracing.py)
 
 
 class SystemHook(Protocol):
@@ -179,6 +182,7 @@ class SystemHook(Protocol):
     analog_outputs: dict[int, float]
     indexed: dict[tuple[str, tuple[float, ...]], float]  # NODE_PROFILE(s, n), X SLOT(n)
     files: dict[int, list[int]]  # OPEN #n ... FOR INPUT: the characters still to read
+    fifo_files: FifoFiles  # OPEN ... FOR FIFO_WRITE / FIFO_READ (fifos.py)
     sources: dict[int, list[int]]  # ... and every character of the file (SEEK)
     crc: CrcSetup | None  # CRC16(0, ...)'s set-up (CRC16, CHANNEL_READ's crc)
     clock_offset: float  # TIME = / DATE =: seconds the real time clock was set ahead by
@@ -543,7 +547,8 @@ class Interpreter:
             return array[index]
         if name == "KEY":  # KEY #n: TRUE when a character waits on channel n
             channel = self._channel(expr.args, ctx) if expr.args else ctx.indevice
-            return _truth(bool(self.hook.files.get(channel)))
+            counted = self.hook.fifo_files.key(channel)  # a FIFO: how many (fifos.py)
+            return counted if counted is not None else _truth(bool(self.hook.files.get(channel)))
         if name in ("CHANNEL_READ", "CHANNEL_WRITE"):  # buffers go by reference
             return self.hook.channel_word(name, expr.args, ctx, self)
         if name == "IS_OPEN":  # IS_OPEN #n: TRUE while channel n is open (its page)
@@ -572,7 +577,8 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
+        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT", "FREE",
+                    "FLASHTABLE", "FLASHVR"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -895,7 +901,7 @@ class Interpreter:
             return float(ctx.line)
         if name == "PMOVE":
             return _truth(ctx.pmove)
-        return 1.0 if ctx.program else 0.0  # PROC_STATUS: 1 running (I)
+        return float(ctx.status) if ctx.program else 0.0  # PROC_STATUS (tracing.py)
 
     @staticmethod
     def _machine(action: Callable[[], float]) -> float:
@@ -908,7 +914,9 @@ class Interpreter:
     def execute(self, stmt: Stmt, ctx: ProcessContext) -> Wait:
         """Run one statement; yields while it must wait for the machine or the clock."""
         if isinstance(stmt, Print):
-            self.print(stmt, ctx)
+            channel = self.print(stmt, ctx)
+            while self.hook.fifo_files.flush(channel):  # a full blocking FIFO (fifos.py)
+                yield None
         elif isinstance(stmt, Assign):
             self.assign(stmt, ctx)
         elif isinstance(stmt, Command) and stmt.keyword.name in _LOADING:
@@ -997,8 +1005,11 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             if number in files:
                 raise TrioError("Channel already open")
-            if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
-                text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
+            if stmt.mode in ("FIFO_READ", "FIFO_WRITE"):  # (fifos.py)
+                files[number] = self.hook.fifo_files.open(
+                    number, name, stmt.mode, [self.number(o, ctx) for o in stmt.options])
+            elif stmt.mode in ("INPUT", "READ_WRITE"):
+                text = self.hook.file_text(name)
                 files[number] = [ord(c) for c in reversed(text)]
                 self.hook.sources[number] = files[number][:]  # what SEEK goes back to
             elif stmt.mode in ("OUTPUT", "APPEND"):  # PRINT #n writes the file
@@ -1009,6 +1020,7 @@ class Interpreter:
             return
         if stmt.action == "CLOSE":
             files.pop(number, None)
+            self.hook.fifo_files.close(number)
             self.hook.sources.pop(number, None)
             self.hook.close_file(number)
             return
@@ -1017,7 +1029,7 @@ class Interpreter:
         while not files.get(number):
             if number in files and stmt.action != "GET":
                 break  # the end of a file: INPUT reads what there is (D)
-            yield ON_CHANGE
+            yield None if self.hook.fifo_files.is_reader(number) else ON_CHANGE
         waiting = files.get(number, [])
         if stmt.action == "GET":
             self.store(stmt.targets[0], float(waiting.pop()), ctx)
@@ -1102,9 +1114,9 @@ class Interpreter:
                 ctx.variables[name] = empty
                 ctx.arrays.pop(name, None)
 
-    def print(self, stmt: Print, ctx: ProcessContext) -> None:
+    def print(self, stmt: Print, ctx: ProcessContext) -> int:
         """PRINT [#channel,] items: every channel reaches the command-line hosts (D: the
-        emulator has one terminal; channel numbers are checked, 0..255)."""
+        emulator has one terminal; channel numbers are checked, 0..255). The channel."""
         channel = float(ctx.outdevice)  # OUTDEVICE when no #channel is given (its page)
         if stmt.channel is not None:
             channel = self.number(stmt.channel, ctx)
@@ -1126,6 +1138,7 @@ class Interpreter:
         text = "".join(parts) + ("\r\n" if stmt.newline else "")
         if not self.hook.write_file(int(channel), text):
             self.output(text)
+        return int(channel)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:
         """A value as a variable of that name holds it: its DIM type, else FLOAT (help
@@ -1270,6 +1283,11 @@ class Interpreter:
         if name == "SCOPE":  # the parameters are sampled later: kept, not evaluated
             head = [self.number(a, ctx) for a in stmt.args[:4]]
             self.hook.set_scope(head, list(stmt.args[4:]), ctx)
+            return
+        if name == "SERVO_READ":  # read on the next servo cycle, in counts (servoread.py)
+            yield from servo_read(self.machine, stmt.args, stmt.axis,
+                                  lambda e: self.number(e, ctx),
+                                  lambda a: self.axis_of(a, ctx))
             return
         if name == "TRIGGER":
             self.hook.trigger(bool(stmt.args) and self.number(stmt.args[0], ctx) != 0)

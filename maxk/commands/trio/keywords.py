@@ -898,9 +898,6 @@ _ENTRIES: list[Keyword] = [
            "filter's state a motor; with no slip in the world the sum would equal one loop "
            "with both axes' gains added, which the base axis's gains give (accepted, no "
            "effect)."),
-          ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
-           "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
-           "parameters UNITS scales is not listed on the page (the VRs are not written)."),
           ("HANDWHEEL_AXIS", "Reserved keyword.", (0, 2), "a reserved word without a help "
            "page (accepted, no effect)."),
           ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
@@ -1046,8 +1043,129 @@ _ENTRIES: list[Keyword] = [
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
     _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
-            "stopped.", writable=False, confidence="I",
-            note="Paused/stepping (2, 3) do not exist in the emulator (D)."),
+            "stopped, 3 paused by TRON/STEPLINE, 2 running a stepped line.", writable=False,
+            source=f"{HELP} PROC_STATUS; {TOK}", confidence="I",
+            note="3 PAUSED while a traced process waits to be stepped, 2 STEPPING while it "
+            "runs the stepped line (D: the page names both states, not which the trace "
+            "words give); SLEEP (8) and the operating system's states are not told apart "
+            "from RUNNING (D)."),
+    # ---- the Ethernet port's settings, flash, program memory (network.py, flash.py) --------
+    _command("ETHERNET", "ETHERNET(action, -1, function[, values]): read (printed) or write "
+             "the Ethernet port's settings: 0 IP address, 2 subnet mask, 3 MAC (read only), "
+             "4 command line port, 5 token port, 7 Modbus TCP mode, 8 gateway, 9 Modbus data "
+             "source, 10 Modbus TCP port.", (3, 10), source=f"{HELP} ETHERNET; {TOK}",
+             confidence="I",
+             note="Addresses print as the page prints them (192.168.0.250, "
+             "00:06:70:00:00:F9) and are IP_ADDRESS, IP_NETMASK, IP_GATEWAY and IP_MAC: "
+             "either way of setting one is seen by the other (C). Power-up ports 23, 3240, "
+             "502 and modes 0 (page). Values given write, also with action 0 (I: the page's "
+             "gateway example). Slot other than -1, function 6 (MC464 only), a value out "
+             "of range: 'Parameter out of range'; a MAC written: 'Parameter is read only' "
+             "(D). The emulator's own socket does not move (D); functions 1, 11..25 are "
+             "accepted with no effect: no Ethernet stack is emulated (D)."),
+    *[_system(name, summary, default=default, value_range=(0, 2.0 ** 32 - 1),
+              source=f"{HELP} {name}; {HELP} ETHERNET; {TOK}", confidence="I", note=note)
+      for name, summary, default, note in (
+          ("IP_ADDRESS", "The Ethernet port's IPv4 address, written dotted "
+           "(IP_ADDRESS = 192.168.0.250).", 3232235770.0, "Power-up 192.168.0.250 (ETHERNET "
+           "page); kept across EX and reset by CLEAR_PARAMS, a FLASH parameter (page); read "
+           "as the number a*2^24 + b*2^16 + c*2^8 + d (D); ETHERNET(0, -1, 0) prints it "
+           "dotted."),
+          ("IP_NETMASK", "The Ethernet port's subnet mask, written dotted.", 4294967040.0,
+           "Power-up 255.255.255.0 (ETHERNET page); FLASH as IP_ADDRESS; ETHERNET function "
+           "2."),
+          ("IP_GATEWAY", "The Ethernet port's default gateway, written dotted.", 0.0,
+           "Power-up 0.0.0.0, no gateway (D: no page gives one); FLASH as IP_ADDRESS; "
+           "ETHERNET function 8."),
+      )],
+    _system("IP_MAC", "The Ethernet port's MAC address as one 48-bit number.",
+            default=27648852217.0, writable=False,
+            source=f"{HELP} IP_MAC; {HELP} ETHERNET; {TOK}", confidence="D",
+            note="Read only (page; the token table allows a write of older firmware). The "
+            "value is the page's example, 00:06:70:00:00:F9 (D); ETHERNET(0, -1, 3) prints "
+            "it so."),
+    _command("CLEAR_PARAMS", "CLEAR_PARAMS: the FLASH parameters back to their power-up "
+             "values.", (0, 1), source=f"{HELP} CLEAR_PARAMS; {TOK}", confidence="I",
+             note="The FLASH parameters are SERVO_PERIOD, IP_ADDRESS, IP_NETMASK and "
+             "IP_GATEWAY (their pages' type; personalities/trio/flash.py); the module and "
+             "bus ones have nothing to act on (D). As the page says, SERVO_PERIOD takes "
+             "effect at the next EX. Allowed in a program too (D: the page says command "
+             "line only, not what a program gets)."),
+    _command("FLASHTABLE", "FLASHTABLE(function, flashpage[, tablepage]): TABLE pages of "
+             "16000 values to (1) and from (2) 32 flash pages; 3 TRUE if the flash page "
+             "holds data, 4 erase it.", (2, 3), source=f"{HELP} FLASHTABLE; {TOK}",
+             confidence="I",
+             note="Also a function: TRUE (function 3: in use or not), as the page's examples "
+             "(C). Flash outlives EX and TABLE does not (D: the emulator's power-up clears "
+             "TABLE). tablepage 0..31, the pages TABLE's 512000 values fill (D); a flash "
+             "page never written reads back zeros (D); a bad number: 'Parameter out of "
+             "range'."),
+    _command("FLASHVR", "FLASHVR(index): -1 keeps the whole TABLE in flash to replace TABLE "
+             "at power-up, -2 stops that.", (1, 1), source=f"{HELP} FLASHVR; {TOK}",
+             confidence="I",
+             note="An index of a VR, and -100, do nothing (page: for the MC2xx/MC3xx; the "
+             "MC4xx keeps its VRs itself) (D); the TABLE kept is the one at the call, put "
+             "back at each power-up (EX) until -2 (page). As a function: TRUE (D)."),
+    _function("FREE", "FREE: the program memory left, bytes.", (0, 0),
+              source=f"{HELP} FREE; {TOK}", confidence="D",
+              note="1048576 bytes (D: no page gives the MC405's) less what DIR lists for "
+              "every program, its source and its compiled code; so it falls as programs "
+              "are stored and compiled (page: compiled programs need nearly twice the "
+              "memory)."),
+    _command("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): up to 8 parameters read on the "
+             "next servo cycle into VR(vr) onwards, not scaled by UNITS.", (2, 9), axis=True,
+             source=f"{HELP} SERVO_READ; {TOK}", confidence="D",
+             note="The statement waits for the next servo cycle and reads them all there "
+             "(page, C). An axis parameter in user units (positions, distances, speeds, "
+             "accelerations, jerks: servoread.SCALED, from each page's unit) is stored times "
+             "its axis's UNITS; anything else as read (D: the page lists none). A parameter "
+             "without AXIS(n) reads SERVO_READ's own AXIS(n), else BASE (D). VRs past the "
+             "last: 'Parameter out of range', none written (D)."),
+    *[_command(name, summary, args, source=f"{HELP} {name}; {TOK}", confidence="I",
+               string_arg=True, note=note) for name, summary, args, note in (
+        ("TRON", "TRON [\"prog\"]: pause the program (the SELECTed one; in a program, "
+         "itself) before its next statement.", (0, 1),
+         "Every pause prints '%[Process n:Line l] - Paused' and the text of that line "
+         "(page's examples, I). A statement waiting (WA, WAIT IDLE) ends first (D). A "
+         "program not running is started paused at its first statement (I: the page's "
+         "example 2)."),
+        ("TROFF", "TROFF [\"prog\"]: release a paused or stepping program: it runs on.",
+         (0, 1), "Prints '%[Process n:Program NAME] - Released' (page's example; a hyphen "
+         "where the page has a dash, D). RUN of a program under trace releases it the "
+         "same way (D: one copy of a program runs here, and a debugger's Run goes on)."),
+        ("STEPLINE", "STEPLINE [\"prog\"[, process]]: a paused program runs one line "
+         "and pauses again, over a GOSUB routine.", (0, 2),
+         "A program not running starts paused on the process given or the highest free one "
+         "(page); one running untraced is paused before its next statement (D); alone in a "
+         "program it pauses that program (page). A FUNCTION runs within its statement, so "
+         "it is stepped over (D)."),
+        ("STEPINTO", "STEPINTO [\"prog\"[, process]]: as STEPLINE, but a GOSUB routine's "
+         "lines are stepped one by one.", (0, 2),
+         "As STEPLINE; a FUNCTION call is stepped over, not into: it runs inside the "
+         "statement that calls it (D)."),
+        ("SETLINE", "SETLINE \"prog\", process, line[, base[, robot]]: move a program's "
+         "pointer to a line; it stands paused there.", (3, 5),
+         "A paused program is moved (its GOSUB returns dropped, D) and prints its Paused "
+         "line; one not running is started paused there (process -1: the highest free), "
+         "its BASE set unless base is -1 (page); a running one pauses there (D). A line "
+         "with no statement is 'Parameter out of range' (D); robot is accepted, no robot "
+         "selection is modelled (D). The token table gives 2..3 arguments, the page 5: "
+         "3..5 are taken (D)."),
+        ("BREAK_ADD", "BREAK_ADD \"prog\" line: a breakpoint: the program pauses before "
+         "that line, as TRON pauses it.", (2, 2),
+         "A line with no code: the next line with code (page); none after it, or a line "
+         "below 1: 'Parameter out of range' (page: 'an error'). It pauses each time it "
+         "comes to the line from another line (D: a loop on one line does not stop "
+         "itself); STEPLINE and TROFF go on from there. The comma the page leaves out is "
+         "taken too (D). Kept by line number across edits (D)."),
+        ("BREAK_DELETE", "BREAK_DELETE \"prog\" line: remove the breakpoint of that line.",
+         (2, 2), "The line resolves as BREAK_ADD's (D); a line with none: nothing (D)."),
+        ("BREAK_LIST", "BREAK_LIST [\"prog\"]: 'Program: NAME', then 'Line n: code' for "
+         "each breakpoint.", (0, 1), "The page's example's form; lowest line first (D); "
+         "no name: the SELECTed program (D)."),
+        ("BREAK_RESET", "BREAK_RESET [\"prog\"]: remove every breakpoint of the program.",
+         (0, 1), "No name: the SELECTed program (D)."),
+    )],
     _system("PROCNUMBER", "The number of the process reading it.", writable=False),
     _system("PROC_LINE", "The line a process is on (PROC(n)).", writable=False),
     # ---- strings --------------------------------------------------------------------------
@@ -1117,13 +1235,30 @@ _ENTRIES: list[Keyword] = [
              "OUTPUT[(mode)] creates the file (a .TXT program) or clears it, FOR APPEND "
              "needs it and writes after its lines; PRINT #n writes each finished line to "
              "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
-             "store, D). FIFO_WRITE accepts and drops what is written (D). Channels 40 to 48 "
+             "store, D). FOR FIFO_WRITE / FIFO_READ: a RAM circular buffer between two "
+             "channels (see FIFO_WRITE; fifos.py). Channels 40 to 48 "
              "only (C: help page OPEN); any other is 'Parameter out of range'."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
                "with no effect (D).")
-      for mode in ("FIFO_READ", "READ_WRITE", "APPEND")),
+      for mode in ("READ_WRITE", "APPEND")),
+    _command("FIFO_WRITE", "OPEN ... FOR FIFO_WRITE(size[, mode[, terminator]]): write a "
+             "FIFO, a RAM circular buffer of size bytes (256 at least).", (0, 3),
+             source=f"{HELP} OPEN; {HELP} FIFO_WRITE; {TOK}", confidence="I",
+             note="An existing FIFO is cleared, its size kept (page). PRINT #n puts "
+             "characters in; full: mode bit 1 overwrites the oldest (bit 0 too: whole oldest "
+             "lines up to the terminator, 13 by default), else the PRINT waits until a "
+             "reader makes room, a servo cycle at a time (page: blocking; the wait's pace "
+             "D). The FIFO is not a program of the store: DIR does not list it (D); 'RAM:' "
+             "names the same one (D). Alone as a statement: no effect (D)."),
+    _command("FIFO_READ", "OPEN ... FOR FIFO_READ[(mode[, terminator])]: read a FIFO; KEY #n "
+             "counts its characters (mode 0) or lines (mode 1).", (0, 2),
+             source=f"{HELP} OPEN; {HELP} FIFO_READ; {TOK}", confidence="I",
+             note="GET #n takes the oldest character; a GET on an empty FIFO waits, looking "
+             "again each servo cycle (D: the writer may be another process). A FIFO never "
+             "opened for writing: 'Program not found' as INPUT of a missing file (D). Alone "
+             "as a statement: no effect (D)."),
     _command("OUTPUT", "OPEN's OUTPUT[(mode)] channel mode: write a file (see OPEN).",
              (0, 1), source=f"{HELP} OUTPUT; {HELP} OPEN",
              note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
@@ -1202,8 +1337,24 @@ _ENTRIES: list[Keyword] = [
              note="Each parameter has its own block of (stop - start) / n values, filled "
              "one sample every period servo cycles from TRIGGER until full (page example "
              "1). The parameters are expressions read at each sample with the BASE of the "
-             "process that set SCOPE (I). The FIFO form, SCOPE_DELAY and "
-             "SCOPE_CYCLE_COUNT are not modelled (D)."),
+             "process that set SCOPE (I). SCOPE_DELAY delays or pre-triggers it (see "
+             "there). The FIFO form is not modelled (D)."),
+    _system("SCOPE_DELAY", "SCOPE's delay, ms: above 0 the capture starts that long after "
+            "TRIGGER; below 0 up to that long of samples from before TRIGGER are stored "
+            "first.", source=f"{HELP} SCOPE_DELAY; {HELP} SCOPE; {TOK}", confidence="I",
+            note="Read at TRIGGER (SCOPE's example 4 sets it after SCOPE, C). Below 0, an "
+            "armed scope samples every period while it is negative (D: needed for SCOPE's "
+            "example 5), keeping at most block - 1, so the trigger's own sample is stored "
+            "(D); fewer than asked: those taken (page). Milliseconds round up to whole "
+            "servo cycles (D, as WA); an automatic TRIGGER's later scans have no "
+            "pre-trigger (D)."),
+    _system("SCOPE_TRIGGER_POS", "Where the last SCOPE trigger fell: the trigger's sample's "
+            "place in each block, from 1.", writable=False,
+            source=f"{HELP} SCOPE_TRIGGER_POS; {HELP} SCOPE_DELAY; {TOK}", confidence="I",
+            note="The trigger's sample is TABLE(table_start - 1 + SCOPE_TRIGGER_POS) (I: the "
+            "pages' example prints 10000 + SCOPE_TRIGGER_POS for a start of 10001, where "
+            "the page's text says 'TABLE index'); 1 with no pre-trigger, 0 after a delayed "
+            "start (D: the trigger came before the first sample), 0 at power-up (D)."),
     _command("TRIGGER", "TRIGGER[(auto)]: start the armed SCOPE; auto not 0: it starts "
              "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
              confidence="I", note="The first sample is taken on TRIGGER's own servo "
@@ -2066,7 +2217,6 @@ _SYSTEM_WHY = {
     "VIEW": "it shows the compiled object code, which the emulator does not produce",
     "STORE": "it loads firmware (help page STORE)",
     "SETCOM": _SERIAL, "ADDRESS": _SERIAL, "READPACKET": _SERIAL,
-    "SETLINE": "moving a process's program pointer is a debugger's word (Motion Perfect)",
     "IO_STATUS": "it reads a remote EtherCAT I/O device's status; there is no EtherCAT",
     "IO_STATUSMASK": "it masks a remote EtherCAT I/O device's status; there is no EtherCAT",
     "IOMAP": _MAP, "DRIVEIO_BASE": _MAP, "INTERNALIO_BASE": _MAP, "MODULEIO_BASE": _MAP,
@@ -2074,18 +2224,15 @@ _SYSTEM_WHY = {
                                           "axes are fixed here",
     "VERIFY": "no function on the MC4xx (help page: kept for old programs' sake)",
     "POWER_UP": "no function on the MC4xx: programs always start from flash (help page)",
-    "CLEAR_PARAMS": "it resets flash parameters that take effect after a power cycle",
     "TABLE_PROTECT": "not available on the MC405 (help page TABLE_PROTECT)",
-    "SCOPE_DELAY": "SCOPE's pre- and post-trigger delay is not modelled",
-    "SCOPE_TRIGGER_POS": "SCOPE's pre- and post-trigger delay is not modelled",
-    "FIFO_WRITE": "FIFO files (a RAM circular buffer) are not modelled",
     "OUTPUT_PROGRAM_TYPE": "a RAM file of an explicit program type; FOR OUTPUT writes a "
                            "text file of the store",
     "SYSTEM_ERROR_MASK": "SYSTEM_ERROR is always 0 here (no fault it could mask)",
     "SCHEDULE_TYPE": "the emulator's process scheduling is fixed (one pass a servo cycle, "
                      "see tasks.py)",
     "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
-    "LAST_AXIS": "every axis of the emulated MC405 is always processed",
+    "LAST_AXIS": "every axis of the emulated MC405 is always processed, so no axis list is "
+                 "kept: it reads what was written (power-up 0), not the highest axis used",
     "INITIALISE": "resetting every axis parameter of a live machine at once is not "
                   "supported by the shared machine",
     "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
@@ -2105,6 +2252,73 @@ _SYSTEM_WHY = {
     "INT_BASE": "no help page found",
 }
 
+_NO_PAGE = "no help page found: neither its arguments nor its effect are known"
+_CARD = "the SD card: the emulated MC405 has no card slot"
+_KEYS = "project encryption keys: the emulator's projects are not encrypted"
+_HMI = "the Trio HMI server and its clients: no HMI client connects to the emulator"
+_MODULES = "the MC664's option modules (help page): the MC405 has none"
+# Why the firmware, memory, debugging and display words have no effect to show (issue 35p;
+# each from the word's TrioBASIC help page).
+_FIRMWARE_WHY = {
+    "BOOT_LOADER": "Motion Perfect's word to enter the boot loader (firmware loading)",
+    "LOADSYSTEM": "it loads firmware (help page)",
+    "LOAD_PROJECT": "Motion Perfect's project loading, whose protocol the page does not give",
+    "FPGA_PROGRAM": "it selects the hardware's FPGA program: the emulator has no FPGA",
+    "FPGA_VERSION": "the hardware's FPGA version: the emulator has no FPGA",
+    "CPU_EXCEPTIONS": "the firmware's processor exception counts, no help text found",
+    "FPU_EXCEPTIONS": "floating point exceptions of the firmware's processes, for Trio's own "
+                      "debugging (help page): none arise here",
+    "CPU_TEMP": "its page: not available on the MC405",
+    "CPU_TEMP_MAX": "its page: not available on the MC405",
+    "DUMP": "a memory image for the manufacturer's debugging (help page); the emulator has "
+            "no firmware memory image",
+    "PEEK": "a controller memory address: the pages give no memory map to read",
+    "POKE": "a controller memory address: the pages give no memory map to write",
+    "EPROM": "no function on the MC4xx: programs are always in flash (help page)",
+    "EPROM_STATUS": "background flash programming: the store writes at once, so 0, 'not "
+                    "active' (help page)",
+    "FLASH_DATA": "it picks VR or TABLE as the automatic flash backup's source; the "
+                  "emulator backs neither up by itself (FLASHTABLE and FLASHVR do)",
+    "FLASH_LOG": "the controller's log of firmware system events, which the emulator's "
+                 "events are not",
+    "FLASH_DUMP": "a flash memory dump, no help text found",
+    "FEATURE_ENABLE": "feature enable codes unlock licensed features; every modelled "
+                      "feature is there without one",
+    "LOCK": "it hides programs behind a code (CONTROL + 1000); the page gives no reply for "
+            "a refused command, so a locked emulator could not answer as the controller",
+    "UNLOCK": "see LOCK",
+    "SET_ENCRYPTION_KEY": _KEYS, "VALIDATE_ENCRYPTION_KEY": _KEYS,
+    "IS_ENCRYPTION_KEY": _KEYS, "PROJECT_KEY": _KEYS,
+    "PROJECT_KEY_REGISTRY": _NO_PAGE,
+    "PROJECT_NAME": "the name Motion Perfect gives the project it loads; none is loaded here",
+    "EXECUTE": "remote command execution of the PCMotion ActiveX, whose protocol the page "
+               "does not give",
+    "TEXT_FILE_LOADER": "the TrioPC ActiveX's file transfer, whose protocol the page does "
+                        "not give",
+    "TEXT_FILE_LOADER_PROC": "the TrioPC ActiveX's file transfer, whose protocol the page "
+                             "does not give",
+    "TEXT_FILE_LOADER_STATUS": _NO_PAGE,
+    "TRIOPCTESTVARIAB": "Trio's own test of the TrioPC ActiveX (help page)",
+    "STICK_READ": _CARD, "STICK_WRITE": _CARD, "STICK_READVR": _CARD,
+    "STICK_WRITEVR": _CARD, "ZIP_READ": _CARD,
+    "SD_READGTA": _NO_PAGE, "SD_WRITEGTA": _NO_PAGE, "EXEC": _NO_PAGE,
+    "CUSTOM_FUNC": _NO_PAGE, "PENDANT_USER": _NO_PAGE,
+    "HMI_CONNECTIONS": _HMI, "HMI_GET_PAGE": _HMI, "HMI_GET_STATUS": _HMI,
+    "HMI_PROC": _HMI, "HMI_SERVER": _HMI, "HMI_SET_PAGE": _HMI,
+    "DISPLAY": "it picks the I/O bank the controller's LEDs or display show: the emulator "
+               "has no front panel display of its own",
+    "LCDSTR": "the controller's display text: the emulator has no display",
+    "UNIT_CLEAR": _MODULES, "UNIT_DISPLAY": _MODULES, "UNIT_ERROR": _MODULES,
+    "UNIT_SW_VERSION": _MODULES,
+    "SERIAL_NUMBER": "the unit's serial number: an emulated unit has none",
+    "SYSTEM_LOAD": "the firmware's own share of the servo period (help page); the "
+                   "emulator's work is not the firmware's, so it has no such share",
+    "FUNCTION_LIST": "it lists the FUNCTIONs known, in a form the page does not give",
+    "USER_PID": "its page gives the PID's inputs and outputs, not its equations (a "
+                "function diagram of an IEC 61131-3 PID, a family with variants), so its "
+                "output cannot be exact",
+}
+
 
 def _why_not(name: str) -> str:
     """Why a token-table word is only accepted: a fieldbus or network word, or one of
@@ -2115,6 +2329,8 @@ def _why_not(name: str) -> str:
         return _OWN_WHY[name]
     if name in _SYSTEM_WHY:
         return _SYSTEM_WHY[name] + " (D)"
+    if name in _FIRMWARE_WHY:
+        return _FIRMWARE_WHY[name] + " (D)"
     if name.startswith(_ROBOT):
         return ROBOT_WHY + " (D)"
     if name.startswith(_FIELDBUS):

@@ -221,6 +221,7 @@ class Channel:
     name: Expr | None = None
     mode: str = ""
     targets: tuple[Expr, ...] = ()
+    options: tuple[Expr, ...] = ()  # OPEN ... FOR FIFO_WRITE(size, ...): its arguments
 
 
 @dataclass(frozen=True)
@@ -584,9 +585,10 @@ class _Parser:
             if not self.at_name(*CHANNEL_MODES):
                 raise TrioError("Syntax error")
             mode = self.advance().text
+            options: tuple[Expr, ...] = ()
             if self.at_op("("):  # OUTPUT(mode), FIFO_WRITE(size[, mode[, end]]): OPEN's
-                self.user_args()  # page; the emulator's files need none of them (D)
-            return Channel("OPEN", channel, file_name, mode)
+                options = self.user_args()  # page; kept for the FIFOs (fifos.py)
+            return Channel("OPEN", channel, file_name, mode, options=options)
         if name == "CLOSE":
             return Channel("CLOSE", channel)
         if channel is not None:
@@ -910,6 +912,13 @@ class _Parser:
         args: list[Expr] = []
         if keyword.name in ("COPY", "RENAME"):
             return Command(keyword, self.two_program_names(), None)
+        if keyword.name in ("BREAK_ADD", "BREAK_DELETE") and self.tok.kind is Tok.STRING:
+            args.append(Str(self.advance().text))  # BREAK_ADD "prog" 8: the page's form,
+            if self.at_op(","):  # no comma (a comma taken too, D)
+                self.advance()
+            if not self.at_statement_end():
+                args.append(self.expression())
+            return Command(keyword, tuple(args), None)
         if keyword.name == "SEEK" and self.at_op("#"):  # SEEK #n, from, position
             self.advance()
         if keyword.string_arg and self.bare_program_name():

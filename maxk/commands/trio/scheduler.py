@@ -72,7 +72,8 @@ class ProcessScheduler:
     # ---- EventSource ---------------------------------------------------------------------
     def next_event(self) -> int | None:
         now = self.clock.servo_tick()
-        ticks = [self._when(t.due, t.seen, now) for t in self.runtime.tasks.values()]
+        ticks = [self._when(t.due, t.seen, now) for t in self.runtime.tasks.values()
+                 if not t.paused]  # (a paused one waits for STEPLINE or TROFF)
         ticks += [self._when(s.busy_due, s.busy_seen, now) for s in self.sessions if s.waiting]
         ticks += [now + 1 for s in self.sessions if s.backlog and not s.waiting]
         ticks.append(self.runtime.next_timer())  # a TIMER's outputs change on its tick
@@ -86,7 +87,7 @@ class ProcessScheduler:
         for process, task in sorted(runtime.tasks.items()):
             if runtime.tasks.get(process) is not task:
                 continue  # stopped by a process before it this cycle
-            if not self._ready(task.due, task.seen, now):
+            if task.paused or not self._ready(task.due, task.seen, now):
                 continue
             if task.stepped == (now, RESTEPS_PER_TICK):
                 continue  # it woke at this tick often enough: on next cycle (see RESTEPS)

@@ -11,12 +11,15 @@ from collections.abc import Callable, Generator
 
 from ...personalities.trio import geometry, splines
 from .datawords import CrcSetup
+from .debugwords import ProgramTrace
 from .errorcodes import PROGRAM_STOPPED
+from .fifos import FifoFiles
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
 from .keywords import Keyword
 from .lexer import TrioError
 from .machine import TrioMachine
+from .network import NetworkWords
 from .parser import FunctionDef
 from .programs import ProgramStore, crc16
 from .tasks import Step, Task, compile_program
@@ -26,7 +29,7 @@ PROCESS_COUNT = 20  # user processes 0..19 (D: atrio's test autoruns on process 
 _BASIC_TYPES = frozenset({0, 9, 12})  # .BAS, .MCC and .BAL hold BASIC
 
 
-class ProgramCommands(Housekeeping, TimersAndScope):
+class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
     """The SystemHook of the interpreter: commands that act on programs and processes
     (and, from Housekeeping, COPY/RENAME, CLEAR/RESET, LIST_GLOBAL and the data words)."""
 
@@ -47,11 +50,16 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         self.globals: dict[str, int] = Definitions("G", self.defined)  # GLOBAL "name", vr
         self.spellings: dict[str, str] = {}  # each one's name as first typed (LIST_GLOBAL)
         self.crc: CrcSetup | None = None  # CRC16(0, poly ...)
+        self.breakpoints: dict[str, set[int]] = {}  # BREAK_ADD: each program's lines
+        self.flash_pages: dict[int, list[float]] = {}  # FLASHTABLE (network.py)
+        self.flash_table: list[float] | None = None  # FLASHVR(-1) (network.py)
+        self.ethernet_values: dict[int, float] = {}  # ETHERNET's ports and modes (network.py)
         self.analog_outputs: dict[int, float] = {}  # AOUT(n)
         self.indexed: dict[tuple[str, tuple[float, ...]], float] = {}  # NODE_PROFILE(s, n)
         self.files: dict[int, list[int]] = {}  # OPEN #n: the characters still to read
         self.writing: dict[int, tuple[str, str]] = {}  # OPEN #n FOR OUTPUT: file, rest
         self.sources: dict[int, list[int]] = {}  # OPEN #n FOR INPUT: the whole file
+        self.fifo_files = FifoFiles()  # OPEN ... FOR FIFO_WRITE / FIFO_READ (fifos.py)
         self.command_lines: list[ProcessContext] = []  # each open session's own context
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
@@ -59,6 +67,7 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
         self.scope_cycles = 0  # SCOPE_CYCLE_COUNT: capture cycles started
+        self.scope_trigger_pos = 0  # SCOPE_TRIGGER_POS: where the last trigger fell
         self.timers: dict[int, tuple[int, list[int], bool]] = {}  # TIMER slot -> the tick
         # it ends, its outputs and the level they take then
 
@@ -105,6 +114,8 @@ class ProgramCommands(Housekeeping, TimersAndScope):
             return self.scope_position()
         if name == "SCOPE_CYCLE_COUNT":
             return float(self.scope_cycles)
+        if name == "SCOPE_TRIGGER_POS":
+            return float(self.scope_trigger_pos)
         if name == "CONTROL":
             return 405.0  # the MC405's ID (CONTROL's page); never locked (D)
         if name in ("INPUTS0", "INPUTS1"):  # IN(0..15) / IN(16..31) as a number (page)
@@ -127,6 +138,10 @@ class ProgramCommands(Housekeeping, TimersAndScope):
     def system_function(self, name: str, args: list[Value]) -> float:
         if name in DATA_FUNCTIONS:
             return self.data_function(name, args)
+        if name == "FREE":
+            return self.free_memory()  # (network.py)
+        if name in ("FLASHTABLE", "FLASHVR"):
+            return self.flashtable(args) if name == "FLASHTABLE" else self.flashvr(args)
         program = _name(args)
         if name == "IS_PROG":
             return -1.0 if self.programs.exists(program) else 0.0
@@ -323,11 +338,14 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         assert self.interpreter is not None
         ctx = ProcessContext(process=process, program=info.name)
         self.tasks[process] = Task(self.interpreter, steps, ctx, self.find_function)
+        self.attach_trace(self.tasks[process])  # its breakpoints (debugwords.py)
         return process
 
     def cmd_run(self, args: list[Value]) -> None:
         process = _integer(args[1]) if len(args) > 1 else -1
-        self.start(self._target(args[:1]), process)
+        name = self._target(args[:1])
+        if not self.release(name):  # (a paused program: RUN goes on, as TROFF; debugwords.py)
+            self.start(name, process)
 
     def cmd_stop(self, args: list[Value]) -> None:
         name = self._target(args[:1])
@@ -360,13 +378,16 @@ class ProgramCommands(Housekeeping, TimersAndScope):
     def cmd_process(self, args: list[Value]) -> None:
         for process in sorted(self.tasks):
             task = self.tasks[process]
-            self.output(f"Process {process}:Program {task.ctx.program} - Running\r\n")
+            state = "Paused" if task.paused else "Stepping" if task.trace else "Running"
+            self.output(f"Process {process}:Program {task.ctx.program} - {state}\r\n")
 
     def start_autorun(self, announce: bool) -> None:
         """AUTORUN; and power up (announce False), which starts MC_CONFIG first: the program
         of type 9, or the one named MC_CONFIG (help "MC_CONFIG Program": "MC_CONFIG, if
         present, is always run at power-up"; an uploader that sends SELECT MC_CONFIG makes a
         BASIC program of that name, and a power cycle applies it on the real controller)."""
+        if not announce:
+            self.power_up_table()  # FLASHVR(-1)'s TABLE (network.py)
         infos = [self.programs.info[n] for n in self.programs.names()]
         config = [i for i in infos if i.type == 9 or i.name.upper() == "MC_CONFIG"]
         wanted = [i for i in infos if i.type == 0 and i.autorun and i not in config]

@@ -66,6 +66,7 @@ from .parser import (
     While,
     parse_line,
 )
+from .tracing import PAUSED, RUNNING, STEPPING, Trace
 
 _NUMBER_TYPES = frozenset({"FLOAT", "INTEGER", "BOOLEAN"})  # AS types a FUNCTION keeps
 STATEMENTS_PER_CYCLE = 25
@@ -322,6 +323,12 @@ class Task:
         self.frames: list[ProcessContext] = []  # FUNCTION calls running: depth, memory
         self.budget = FUNCTION_STATEMENTS
         ctx.functions = self.call_function
+        self.trace: Trace | None = None  # TRON / STEPLINE: where it pauses (tracing.py)
+        self.paused = False  # waiting for STEPLINE or TROFF: not stepped
+        self.jump: int | None = None  # SETLINE: the step it goes on at
+        self.breaks: set[int] = set()  # BREAK_ADD: lines it pauses before (debugwords.py)
+        self.last_line = 0  # the line of the statement it ran last (a breakpoint's entry)
+        self.on_pause: Callable[[Task], None] | None = None  # says where it paused
 
     def call_function(self, name: str, args: list[Argument]) -> Value:
         """Run a FUNCTION of the program, or of a BASIC library of the store (I: a
@@ -386,7 +393,7 @@ class Task:
 
         A TrioError carries the line it happened on; the task is finished after it.
         """
-        if self.finished:
+        if self.finished or self.paused:
             return None
         try:
             self.wake = next(self._run)
@@ -415,6 +422,26 @@ class Task:
                 budget = STATEMENTS_PER_CYCLE - 1
             step = steps[pc]
             ctx.line = step.line
+            if self.breaks and step.line in self.breaks and step.line != self.last_line:
+                self.trace = self.trace or Trace()  # a breakpoint: pause before its line
+                self.trace.line = -1
+            while self.trace is not None or self.jump is not None:  # TRON, STEPLINE,
+                # SETLINE: go on elsewhere, pause before this statement (a label is none)?
+                if self.jump is not None:  # SETLINE moved the program pointer
+                    pc, self.jump = self.jump, None
+                    step = steps[pc]
+                    ctx.line = step.line
+                if self.trace is None or isinstance(step.stmt, Label) or \
+                        not self.trace.stops_before(step.line, len(ctx.stack)):
+                    ctx.status = RUNNING if self.trace is None else STEPPING
+                    break
+                self.trace.pause_at(step.line, len(ctx.stack))
+                self.paused, ctx.status = True, PAUSED
+                if self.on_pause is not None:
+                    self.on_pause(self)
+                yield None  # (resumed by STEPLINE, STEPINTO or TROFF)
+                waited, budget = True, STATEMENTS_PER_CYCLE
+            self.last_line = step.line
             try:
                 for wake in self._step(ctx, pc, step, waited):
                     if wake is _LOOPED:
@@ -497,6 +524,8 @@ class Task:
             loop = (steps or self.steps)[opener].stmt
             assert isinstance(loop, For)
             if stmt.variable is not None and stmt.variable != loop.variable:
+                raise TrioError("Structure error")
+            if opener not in ctx.loops:  # (SETLINE into a FOR loop's body)
                 raise TrioError("Structure error")
             end, increment = ctx.loops[opener]
             if loop.vr is not None:  # the counter is VR(n), read and written as the program would

@@ -1,10 +1,22 @@
 """TIMER and SCOPE: outputs set for a time, and parameters sampled into TABLE, each on
 its own servo cycles (their help pages). The runtime wakes for the next one
-(`next_timer`) and runs them before the processes of the cycle (`run_timers`)."""
+(`next_timer`) and runs them before the processes of the cycle (`run_timers`).
+
+SCOPE_DELAY (its page), read at TRIGGER: above 0, the capture starts that many ms after
+the TRIGGER; below 0, up to that many ms of samples from before the TRIGGER are stored
+first. An armed scope samples every period while SCOPE_DELAY is negative, keeping the last
+block (D: the page's pre-trigger needs samples from before it; SCOPE's example 5 sets the
+delay after SCOPE). Fewer taken than asked: those are stored, and SCOPE_TRIGGER_POS says
+where the trigger fell: the 1-based place of the trigger's sample in each block (I: the
+page's example prints TABLE table_start - 1 + SCOPE_TRIGGER_POS), 0 after a delayed one
+(D: its trigger came before the first sample). At most block - 1 samples from before: the
+trigger's own is always stored (D); an automatic TRIGGER's later scans have none (D)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from collections import deque
+from dataclasses import dataclass, field
 
 from ...personalities.trio.memory import TABLE_SIZE
 from .interpreter import Interpreter, ProcessContext, Value, number_arg
@@ -27,6 +39,9 @@ class Scope:
     next_tick: int | None = None  # the next sample (None: not triggered, or done)
     taken: int = 0  # samples stored since TRIGGER
     repeat: bool = False  # TRIGGER(1): starts again at the end of each scan
+    early: deque[tuple[int, list[float]]] = field(default_factory=deque)  # samples
+    # before TRIGGER, with their ticks
+    early_tick: int = 0  # the next one's tick (taken while SCOPE_DELAY is negative)
 
 
 class TimersAndScope:
@@ -36,6 +51,7 @@ class TimersAndScope:
     interpreter: Interpreter | None
     scope: Scope | None
     scope_cycles: int
+    scope_trigger_pos: int
     timers: dict[int, tuple[int, list[int], bool]]
 
     def cmd_timer(self, args: list[Value]) -> None:
@@ -84,7 +100,10 @@ class TimersAndScope:
         if block < 1:
             raise TrioError("Parameter out of range")
         self.scope = Scope(int(period), int(start), block, params,
-                           ProcessContext(process=ctx.process, base=list(ctx.base)))
+                           ProcessContext(process=ctx.process, base=list(ctx.base)),
+                           early=deque(maxlen=block - 1),
+                           early_tick=self.machine.servo_tick())
+        self.run_timers()  # (a sample before TRIGGER: from this cycle on, as TRIGGER's)
 
     def trigger(self, repeat: bool) -> None:
         """TRIGGER[(auto)]: the armed SCOPE samples from this servo cycle on (D: the
@@ -92,7 +111,23 @@ class TimersAndScope:
         scope = self.scope
         if scope is None:
             return  # (disabled: TRIGGER starts nothing, the page's example 2)
-        scope.next_tick, scope.taken, scope.repeat = self.machine.servo_tick(), 0, repeat
+        now = self.machine.servo_tick()
+        scope.next_tick, scope.taken, scope.repeat = now, 0, repeat
+        delay = self.machine.system_parameter("SCOPE_DELAY")  # ms
+        samples = math.ceil(abs(delay) * 1000 / self.machine.servo_period_us())
+        if delay > 0:  # the capture starts later
+            scope.next_tick = now + samples
+            self.scope_trigger_pos = 0
+        else:  # the samples taken before, as many as it asks for and has
+            before = [values for tick, values in scope.early if tick < now]
+            wanted = math.ceil(samples / scope.period) if delay < 0 else 0
+            kept = before[len(before) - min(wanted, len(before)):]
+            for scope.taken, values in enumerate(kept, start=1):
+                for i, value in enumerate(values):
+                    self.machine.table_write(scope.start + i * scope.block + scope.taken - 1,
+                                             [value])
+            self.scope_trigger_pos = scope.taken + 1
+        scope.early.clear()
         self.scope_cycles += 1
         self.run_timers()
 
@@ -107,10 +142,24 @@ class TimersAndScope:
         ticks = [end for end, _o, _l in self.timers.values()]
         if self.scope is not None and self.scope.next_tick is not None:
             ticks.append(self.scope.next_tick)
+        elif self._early_due():
+            assert self.scope is not None
+            ticks.append(self.scope.early_tick)
         return min(ticks, default=None)
+
+    def _early_due(self) -> bool:
+        """An armed scope not triggered samples while SCOPE_DELAY is negative."""
+        scope = self.scope
+        return scope is not None and scope.next_tick is None and \
+            scope.early.maxlen != 0 and self.machine.system_parameter("SCOPE_DELAY") < 0
 
     def _sample(self, now: int) -> None:
         scope = self.scope
+        if scope is not None and self._early_due() and scope.early_tick <= now:
+            assert self.interpreter is not None
+            scope.early.append((now, [self.interpreter.number(p, scope.ctx)
+                                      for p in scope.params]))
+            scope.early_tick = now + scope.period
         if scope is None or scope.next_tick is None or scope.next_tick > now:
             return
         assert self.interpreter is not None

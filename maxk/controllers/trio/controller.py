@@ -330,7 +330,8 @@ class TrioConsole(ConsoleBase):
     def is_idle(self) -> bool:
         m = self.controller.machine
         return (all(m.axis_idle(a) for a in range(m.axis_count))
-                and not self.controller.runtime.tasks
+                and all(t.paused for t in self.controller.runtime.tasks.values())  # (a
+                # paused program waits for a person: STEPLINE, TROFF)
                 and not any(s.waiting for s in self.controller.scheduler.sessions))
 
     def repl_word(self, word: str, rest: str) -> list[str] | None:

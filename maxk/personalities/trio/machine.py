@@ -59,6 +59,7 @@ from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
+from .flash import FLASH_PARAMETERS
 from .frames import READS as FRAME_READS
 from .frames import Frames
 from .jogs import Jogs
@@ -218,6 +219,8 @@ class MC405Machine(Kinematics, Engine):
     def restart(self) -> None:
         """EX: the controller restarts; a new SERVO_PERIOD takes effect now."""
         period = int(self.system.get("SERVO_PERIOD", 1000))
+        for name in FLASH_PARAMETERS & self.system.keys():  # (flash.py: they are kept)
+            self._system_defaults[name] = self.system[name]
         self._system_defaults["SERVO_PERIOD"] = period
         if abs(self.period - period / 1e6) > 1e-12:
             self.change_update_rate(1e6 / period)
