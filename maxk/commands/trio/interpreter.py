@@ -451,7 +451,7 @@ class Interpreter:
         if isinstance(expr, Call):
             return self.call(expr, ctx)
         if isinstance(expr, Bit):
-            return float((int(self.number(expr.operand, ctx)) >> expr.bit) & 1)
+            return float((int(self.number(expr.operand, ctx)) >> self.bit_of(expr, ctx)) & 1)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             if expr.op == "-":
@@ -572,7 +572,7 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
+        if name in ("IS_PROG", "IS_FILE", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -827,6 +827,8 @@ class Interpreter:
             channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
             return self._machine(lambda: self.machine.channel_parameter(
                 keyword.name, axis, channel))
+        if keyword.name == "MOTION_ERROR" and expr.index:
+            return self.motion_error_bank(expr, ctx)
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:
@@ -1148,6 +1150,27 @@ class Interpreter:
             return _truth(number != 0)
         return real(number) if kind == "FLOAT" else number
 
+    def motion_error_bank(self, expr: Param, ctx: ProcessContext) -> float:
+        """MOTION_ERROR(bank): the axes 64 x bank.. in error (its page: banks 0..15 of 64
+        axes); every axis here is in bank 0, so banks 1..15 read 0."""
+        if len(expr.index) != 1 or expr.axis is not None or expr.slot is not None:
+            raise TrioError("Syntax error")
+        bank = self.number(expr.index[0], ctx)
+        if bank != int(bank) or not 0 <= bank <= 15:
+            raise TrioError("Parameter out of range")
+        if bank:
+            return 0.0
+        return self.read_parameter(Param(expr.keyword, None, expr.process), ctx)
+
+    def bit_of(self, expr: Bit, ctx: ProcessContext) -> int:
+        """The bit a ``.n`` or ``.name`` selects: a whole 0..52 (as a written one)."""
+        if isinstance(expr.bit, int):
+            return expr.bit
+        bit = self.number(expr.bit, ctx)
+        if bit != int(bit) or not 0 <= bit <= 52:
+            raise TrioError("Parameter out of range")
+        return int(bit)
+
     def _hold(self, ctx: ProcessContext, name: str, cost: int) -> None:
         """A variable not DIMmed now holds `cost` bytes of the controller's memory."""
         old = ctx.memory.get(name, 0)
@@ -1160,7 +1183,7 @@ class Interpreter:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
         if isinstance(target, Bit):  # x.n = v: bit n of x's integer part set (v <> 0)
-            mask = 1 << target.bit
+            mask = 1 << self.bit_of(target, ctx)
             word = int(self.number(target.operand, ctx))
             word = word | mask if self.number_value(raw) != 0 else word & ~mask
             assert isinstance(target.operand, (Var, Param, Call))
@@ -1566,18 +1589,27 @@ class Interpreter:
         self._act(lambda: m.defpos([axis], [0.0]))
 
     def op(self, args: list[float]) -> None:
-        """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""
+        """OP(n, state) one output; OP(state) the first 32 outputs from the bits of state
+        (bit k is output k; 0..7 are inputs only and are left alone); OP(start, end, state)
+        outputs start..end from bits 0.. of state (TrioBASIC help OP, its four modes)."""
         m = self.machine
         if len(args) == 2:
             m.set_output(self._point(args[0], IO_SPACE), args[1] != 0)
-        elif len(args) == 1:
-            pattern = args[0]
-            if pattern != int(pattern) or not 0 <= pattern < 2 ** 24:
+            return
+        if len(args) == 1:
+            first, last, pattern = 8, IO_POINTS - 1, args[0]
+            shift = 0
+        elif len(args) == 3:
+            first, last = self._point(args[0], IO_SPACE), self._point(args[1], IO_SPACE)
+            if not first <= last < first + IO_POINTS:
                 raise TrioError("Parameter out of range")
-            for k in range(8, IO_POINTS):
-                m.set_output(k, bool((int(pattern) >> (k - 8)) & 1))
+            pattern, shift = args[2], first
         else:
-            raise TrioError("Syntax error")  # OP(first, last, pattern): not modelled (D)
+            raise TrioError("Syntax error")
+        if pattern != int(pattern) or not 0 <= pattern < 2 ** IO_POINTS:
+            raise TrioError("Parameter out of range")
+        for k in range(first, last + 1):
+            m.set_output(k, bool((int(pattern) >> (k - shift)) & 1))
 
     def _axis_number(self, value: float) -> int:
         if value != int(value) or not 0 <= value < self.machine.axis_count:

@@ -218,6 +218,13 @@ _ENTRIES: list[Keyword] = [
             note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
     _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    _system("VRSIZE", "Number of VR elements (VR(0..VRSIZE-1)).", default=VR_COUNT,
+            writable=False, source="TrioBASIC help VRSIZE", confidence="C",
+            note=f"{VR_COUNT}: this emulator's VR array (the page: it varies by controller)."),
+    _system("IOSIZE", "Number of digital I/O channels, real and virtual (0..IOSIZE-1).",
+            default=1024.0, writable=False, source="TrioBASIC help IOSIZE", confidence="C",
+            note="1024: the I/O numbers IN, OP and READ_OP take here (D: the page says it "
+            "varies by controller)."),
     # ---- motion and axis commands ----------------------------------------------------------
     _command("MOVE", "Relative interpolated move on the BASE axes.", (1, 128), axis=True,
              source=f"{SEED}; {TOK}", note="A path at the base axis's SPEED and ACCEL taken "
@@ -596,6 +603,10 @@ _ENTRIES: list[Keyword] = [
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
+    _function("IS_FILE", "TRUE (-1) when the file (a program of the store) exists.", (1, 1),
+              source="TrioBASIC help IS_FILE", string_arg=True, confidence="C",
+              note="The page: IS_FILE and IS_PROG do the same; `IS_FILE \"name\"` or with "
+              "brackets."),
     _function("PROG_TYPE", "The program's type code, -1 when missing.", (1, 1), source=REF,
               string_arg=True),
     # ---- statements ---------------------------------------------------------------------------
@@ -996,9 +1007,11 @@ _ENTRIES: list[Keyword] = [
               "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the shared world's inputs (the world contract can drive them)."),
     _command("OP", "OP(n, ON|OFF) sets output n; OP(n) reads it as a function.", (1, 3),
-             source=f"{TOK}; {MAN}", confidence="I",
-             note="Outputs 0..31 kept by the machine, off at power up (D); OP(pattern) with "
-             "one argument sets outputs 8..31 from bits (I)."),
+             source=f"{TOK}; {MAN}; TrioBASIC help OP", confidence="C",
+             note="Outputs kept by the machine, off at power up (D); OP(state): outputs "
+             "8..31 from bits 8..31 of state, 0..7 being inputs only (C, its examples 2 and "
+             "3); OP(start, end, state): outputs start..end from bits 0.. of state, at most "
+             "32 (C; the limit is ours, D)."),
     _function("READ_OP", "READ_OP(n): output n, 1/0; READ_OP(a, b): outputs a..b as a "
               "binary number.", (1, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the outputs OP set (I)."),

@@ -110,6 +110,11 @@ def tokenize(line: str) -> list[Token]:
                 break
             tokens.append(Token(Tok.NAME, word, column=i))
             i = j
+        elif c == "." and i + 1 < n and line[i + 1] in _LETTERS and tokens and \
+                tokens[-1].column + len(tokens[-1].text) == i and \
+                (tokens[-1].kind is Tok.NAME or tokens[-1].text == ")"):
+            tokens.append(Token(Tok.OP, ".", column=i))  # value.name: the bit operator
+            i += 1  # with its bit number in a variable (MOTION_ERROR.a, its page)
         elif line.startswith(_TWO_CHAR_OPS, i):
             tokens.append(Token(Tok.OP, line[i:i + 2], column=i))
             i += 2

@@ -72,10 +72,11 @@ class Binary:
 
 @dataclass(frozen=True)
 class Bit:
-    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0."""
+    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0; ``value.name``: the bit
+    numbered by a variable (``MOTION_ERROR.a`` on the MOTION_ERROR and AXISSTATUS pages)."""
 
     operand: Expr
-    bit: int
+    bit: int | Var
 
 
 Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
@@ -543,7 +544,8 @@ class _Parser:
         (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
         index: tuple[Expr, ...] = ()
         if self.at_op("(") and (keyword.note.startswith("Not modelled")
-                                or keyword.name in CHANNEL_PARAMETERS):
+                                or keyword.name in CHANNEL_PARAMETERS
+                                or keyword.name == "MOTION_ERROR"):  # MOTION_ERROR(bank)
             # only a parameter the emulator keeps as written takes arguments (D): a
             # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()
@@ -713,6 +715,10 @@ class _Parser:
             if self.at_name("LOADED"):
                 self.advance()
                 return WaitLoaded(self.axis_modifier())
+            if self.at_name("IN_POS"):  # WAIT IN_POS [AXIS(n)]: WAIT UNTIL IN_POS (WAIT's page)
+                keyword = lookup(self.advance().text)
+                assert keyword is not None
+                return WaitUntil(self.parameter(keyword))
         raise TrioError("Syntax error")
 
     def case(self) -> Case:
@@ -1063,12 +1069,8 @@ class _Parser:
 
     def primary(self) -> Expr:
         expr = self.operand()
-        tok = self.tok
-        if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
-            self.advance()  # value.n: bit n of a variable, element, bracket or parameter
-            bit = int(tok.text[1:])
-            if bit > 52:
-                raise TrioError("Parameter out of range")
+        bit = self.bit_number()
+        if bit is not None:  # value.n: bit n of a variable, element, bracket or parameter
             if isinstance(expr, Param) and expr.axis is None and \
                     expr.keyword.axis_modifier and self.at_name("AXIS"):
                 expr = Param(expr.keyword, self.axis_modifier(), expr.process, expr.slot,
@@ -1133,16 +1135,29 @@ class _Parser:
             raise TrioError("Parameter out of range")
         return float((fields[0] << 24) | (fields[1] << 16) | (fields[2] << 8) | fields[3])
 
-    def bit_target(self, target: _Target) -> _Target | Bit:
-        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
-        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+    def bit_number(self) -> int | Var | None:
+        """The ``.n`` or ``.name`` after a value (the bit operator), or None."""
         tok = self.tok
+        if tok.kind is Tok.OP and tok.text == ".":
+            self.advance()
+            name = self.advance()
+            if name.kind is not Tok.NAME or lookup(name.text) is not None:
+                raise TrioError("Syntax error")
+            return Var(name.text)
         if tok.kind is not Tok.NUMBER or tok.text[:1] != "." or not tok.text[1:].isdigit():
-            return target
+            return None
         self.advance()
         bit = int(tok.text[1:])
         if bit > 52:
             raise TrioError("Parameter out of range")
+        return bit
+
+    def bit_target(self, target: _Target) -> _Target | Bit:
+        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
+        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+        bit = self.bit_number()
+        if bit is None:
+            return target
         if isinstance(target, Param) and target.axis is None and \
                 target.keyword.axis_modifier and self.at_name("AXIS"):
             return Bit(Param(target.keyword, self.axis_modifier(), target.process,

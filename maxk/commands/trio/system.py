@@ -128,7 +128,7 @@ class ProgramCommands(Housekeeping, TimersAndScope):
         if name in DATA_FUNCTIONS:
             return self.data_function(name, args)
         program = _name(args)
-        if name == "IS_PROG":
+        if name in ("IS_PROG", "IS_FILE"):  # one function under two names (IS_FILE's page)
             return -1.0 if self.programs.exists(program) else 0.0
         return float(self.programs.get(program).type) if self.programs.exists(program) else -1.0
 

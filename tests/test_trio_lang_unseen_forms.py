@@ -1,0 +1,177 @@
+"""Forms of the TrioBASIC help's examples that stopped programs no one here had written
+(round 2 of the real-code check): OP's block modes, WAIT IN_POS, the bit operator with its
+bit number in a variable, MOTION_ERROR(bank), VRSIZE, IOSIZE and IS_FILE. Each is driven
+through an MC405's command line or a program on it; the numbers are worked out by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+from maxk.controllers.trio.controller import MC405
+
+
+def mc405(*lines: str) -> MC405:
+    trio = MC405()
+    for line in lines:
+        assert trio.send(line) == [], line
+    return trio
+
+
+def outputs(trio: MC405, first: int, last: int) -> list[int]:
+    """The outputs first..last that are on."""
+    return [k for k in range(first, last + 1) if trio.query(f"?READ_OP({k})") == "1"]
+
+
+# ---- OP: the whole-bank and block modes (TrioBASIC help OP) ------------------------------
+def test_op_of_a_state_sets_outputs_8_to_31_from_the_same_bits() -> None:
+    trio = mc405("OP(25, ON)", "OP(3, ON)")
+    # 37 << 8: 37 = 100101b, so bits 8, 10 and 13: outputs 8, 10, 13; 25 is cleared
+    assert trio.send("OP(37 << 8)") == []
+    assert outputs(trio, 8, 31) == [8, 10, 13]
+    assert outputs(trio, 0, 7) == [3]  # 0..7 are left alone (inputs only on the page)
+    assert trio.query("?READ_OP(8, 15)") == "37"
+
+
+def test_op_read_modify_write_keeps_8_to_15_and_sets_the_high_word() -> None:
+    trio = mc405("OP(9, ON)", "OP(14, ON)", "OP(20, ON)")
+    # 9 and 14 on: $4200; the high word $2B0C0000 replaces output 20
+    trio.load("P", "VR(5) = OP AND $0000FF00\nVR(5) = VR(5) OR $2B0C0000\nOP(VR(5))")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=5)
+    assert trio.query("?HEX(OP)") == "2B0C4200"
+    # $2B0C: bits 2, 3, 8, 9, 11, 13 of the high word: outputs 18, 19, 24, 25, 27, 29
+    assert outputs(trio, 16, 31) == [18, 19, 24, 25, 27, 29]
+
+
+def test_op_start_end_state_sets_only_that_block() -> None:
+    trio = mc405("OP(20, ON)", "OP(23, ON)")
+    # 5 = 101b from output 21: 21 and 23 on, 22 off; 20 and 24 are outside the block
+    assert trio.send("OP(21, 23, 5)") == []
+    assert outputs(trio, 16, 31) == [20, 21, 23]
+    assert trio.send("OP(40, 71, $80000001)") == []  # 32 outputs, the widest block
+    assert outputs(trio, 40, 71) == [40, 71]
+
+
+@pytest.mark.parametrize("bad", ["OP(13, 10, 1)", "OP(0, 40, 1)", "OP(8, 9, -1)",
+                                 "OP(8, 9, 1.5)", "OP(-1)", "OP(2 ^ 32)", "OP(1, 2, 3, 4)"])
+def test_bad_op_arguments_are_refused_and_no_output_changes(bad: str) -> None:
+    trio = mc405("OP(9, ON)")
+    reply = trio.send(bad)
+    assert reply in (["! Parameter out of range"], ["! Syntax error"])
+    assert outputs(trio, 0, 80) == [9]
+
+
+# ---- WAIT IN_POS (TrioBASIC help WAIT) ------------------------------------------------------
+def test_wait_in_pos_goes_on_on_the_cycle_in_pos_turns_true() -> None:
+    """A 100-count move at SPEED 1000, ACCEL = DECEL 100000 (1 ms cycles): 10 cycles up
+    (5 counts), 90 at speed, 10 down (5 counts), 110 cycles. The program loads it on
+    tick 1 and it runs on ticks 2..111; on tick 110 the last cycle of the ramp down (its
+    speed 50 counts/s at mid-cycle: 0.05 count) is still to come. IN_POS is TRUE on tick
+    111, the move over; the program passes its WAIT on that cycle."""
+    trio = mc405("SPEED=1000: ACCEL=100000: DECEL=100000", "IN_POS_DIST=0.5",
+                 "IN_POS_SPEED=1")
+    trio.load("P", "MOVE(100)\nWAIT IN_POS\nVR(2) = 1")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=110)
+    assert (trio.query("?IN_POS"), trio.query("?VR(2)"), trio.query("?DPOS")) == \
+        ("0", "0.0000", "99.9500")
+    trio.advance(ticks=1)
+    assert (trio.query("?IN_POS"), trio.query("?VR(2)")) == ("-1", "1.0000")
+
+
+def test_wait_in_pos_axis_waits_on_that_axis() -> None:
+    trio = mc405("IN_POS_DIST=0.5", "IN_POS_SPEED=1", "BASE(1)",
+                 "SPEED=1000: ACCEL=100000: DECEL=100000", "IN_POS_DIST=0.5",
+                 "IN_POS_SPEED=1", "BASE(0)")
+    trio.load("P", "MOVE(100) AXIS(1)\nWAIT IN_POS AXIS(1)\nVR(2) = 1")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=110)
+    assert trio.query("?VR(2)") == "0.0000"  # axis 0 is in position all along
+    trio.advance(ticks=1)
+    assert trio.query("?VR(2)") == "1.0000"
+
+
+def test_wait_in_pos_takes_no_expression() -> None:
+    trio = mc405()
+    assert trio.send("WAIT IN_POS AND 1") == ["! Syntax error"]
+
+
+# ---- the bit operator's bit number in a variable (MOTION_ERROR's, AXISSTATUS's pages) ------
+def test_a_variable_names_the_bit_read_and_written() -> None:
+    trio = mc405("word = 261", "b = 8")  # 261 = 256 + 4 + 1
+    assert trio.query("?word.b") == "1"
+    assert trio.send("word.b = 0") == []
+    assert trio.query("?word") == "5.0000"
+    assert trio.send("b = 1: word.b = 1") == []
+    assert trio.query("?word") == "7.0000"
+    assert trio.send("VR(3) = 12: b = 2") == []
+    assert (trio.query("?VR(3).b"), trio.query("?(12).b")) == ("1", "1")
+
+
+@pytest.mark.parametrize("bit", ["2.5", "-1", "53"])
+def test_a_bit_number_out_of_its_range_is_refused(bit: str) -> None:
+    trio = mc405("word = 4", f"b = {bit}")
+    assert trio.send("?word.b") == ["! Parameter out of range"]
+    assert trio.send("word.b = 1") == ["! Parameter out of range"]
+    assert trio.query("?word") == "4.0000"
+
+
+def test_a_keyword_after_the_dot_is_a_syntax_error() -> None:
+    trio = mc405("word = 4")
+    assert trio.send("?word.SPEED") == ["! Syntax error"]
+
+
+# ---- MOTION_ERROR(bank) --------------------------------------------------------------------
+def axis_1_in_error() -> MC405:
+    """Axis 1 runs into its forward limit (input 3) with ERRORMASK 16: a motion error."""
+    trio = mc405("BASE(1)", "SPEED=1000: ACCEL=100000: DECEL=10000", "FWD_IN=3",
+                 "ERRORMASK=16", "BASE(0)")
+    trio.world_view().set_limits("1", plus=100)
+    assert trio.send("MOVE(1000) AXIS(1)") == []
+    assert trio.run_until_idle()
+    return trio
+
+
+def test_motion_error_bank_0_holds_the_axes_here_and_the_others_read_0() -> None:
+    trio = axis_1_in_error()
+    assert [trio.query(q) for q in ("?MOTION_ERROR", "?MOTION_ERROR(0)", "?MOTION_ERROR(1)",
+                                    "?MOTION_ERROR(15)", "?MOTION_ERROR(0).1")] == \
+        ["2", "2", "0", "0", "1"]
+    assert trio.send("?MOTION_ERROR(16)") == ["! Parameter out of range"]
+    assert trio.send("?MOTION_ERROR(0.5)") == ["! Parameter out of range"]
+
+
+def test_a_program_finds_the_axis_in_error_by_its_bit() -> None:
+    trio = axis_1_in_error()
+    trio.load("P", 'FOR ax = 0 TO 15\n  IF MOTION_ERROR.ax = 1 THEN PRINT "axis "; ax[0]\n'
+              "NEXT ax")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=50)
+    assert trio.send("?1") == ["axis 1", "1"]
+
+
+# ---- VRSIZE, IOSIZE, IS_FILE ---------------------------------------------------------------
+def test_vrsize_names_one_past_the_last_vr() -> None:
+    trio = mc405()
+    size = int(trio.query("?VRSIZE"))
+    assert trio.send("VR(VRSIZE - 1) = 123") == []
+    assert trio.query(f"?VR({size - 1})") == "123.0000"
+    assert trio.send("VR(VRSIZE) = 1") == ["! VR index out of range"]
+    assert trio.send("VRSIZE = 10") == ["! Parameter is read only"]
+
+
+def test_iosize_names_one_past_the_last_output() -> None:
+    trio = mc405()
+    size = int(trio.query("?IOSIZE"))
+    assert trio.send("OP(IOSIZE - 1, ON)") == []
+    assert trio.query(f"?READ_OP({size - 1})") == "1"
+    assert trio.send("OP(IOSIZE, ON)") == ["! Parameter out of range"]
+    assert trio.send("?IN(IOSIZE)") == ["! Parameter out of range"]
+
+
+def test_is_file_is_is_prog_under_another_name() -> None:
+    trio = mc405()
+    trio.load("KNIFE", "PRINT 1")
+    for name in ("KNIFE", "OTHER"):
+        assert trio.query(f'?IS_FILE "{name}"') == trio.query(f'?IS_PROG "{name}"')
+    assert (trio.query('?IS_FILE "KNIFE"'), trio.query('?IS_FILE("OTHER")')) == ("-1", "0")
