@@ -175,3 +175,30 @@ def test_is_file_is_is_prog_under_another_name() -> None:
     for name in ("KNIFE", "OTHER"):
         assert trio.query(f'?IS_FILE "{name}"') == trio.query(f'?IS_PROG "{name}"')
     assert (trio.query('?IS_FILE "KNIFE"'), trio.query('?IS_FILE("OTHER")')) == ("-1", "0")
+
+
+# ---- BITCOUNT, AXISSIZE, BUFFERSIZE --------------------------------------------------------
+@pytest.mark.parametrize(("expr", "count"), [
+    ("255", "8"), ("65534", "15"), ("-1", "64"), ("-2", "63"), ("4.8892", "1"),
+    ("$2000 + $C9", "5"),  # the page's examples; then our own:
+    ("$8000000000000", "1"), ("-2 ^ 63", "1"), ("0", "0"), ("-7.9", "62")])
+def test_bitcount_counts_the_ones_of_a_64_bit_integer(expr: str, count: str) -> None:
+    """-7.9 is -7: ...11111001 in two's complement, 64 bits less the two zeros: 62."""
+    assert mc405().query(f"?BITCOUNT({expr})") == count
+
+
+def test_bitcount_refuses_what_64_bits_cannot_hold() -> None:
+    trio = mc405()
+    assert trio.send("?BITCOUNT(2 ^ 63)") == ["! Parameter out of range"]
+    assert trio.send("?BITCOUNT(1, 2)") == ["! Syntax error"]
+
+
+def test_axissize_and_buffersize_bound_base_and_limit_buffered() -> None:
+    trio = mc405()
+    axes, moves = int(trio.query("?AXISSIZE")), int(trio.query("?BUFFERSIZE"))
+    assert trio.send("BASE(AXISSIZE - 1)") == [] and trio.query("?BASE") == str(axes - 1)
+    assert trio.send("BASE(AXISSIZE)") == ["! Invalid axis number"]
+    assert trio.send("LIMIT_BUFFERED = BUFFERSIZE") == []
+    assert trio.query("?LIMIT_BUFFERED") == str(moves)
+    assert trio.send("LIMIT_BUFFERED = BUFFERSIZE + 1") == ["! Parameter out of range"]
+    assert trio.send("AXISSIZE = 4") == ["! Parameter is read only"]

@@ -199,12 +199,22 @@ class SystemHook(Protocol):
     def trigger(self, repeat: bool) -> None: ...
 
 
+def _int64(value: float) -> int:
+    """A value taken as a 64-bit integer, its fraction dropped (BITCOUNT's page); outside
+    the signed 64-bit range: 'Parameter out of range' (D)."""
+    whole = math.trunc(value)
+    if not -2 ** 63 <= whole < 2 ** 63:
+        raise ValueError("Parameter out of range")
+    return whole
+
+
 _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
     "SGN": lambda x: float((x > 0) - (x < 0)), "SQR": math.sqrt, "SIN": math.sin,
     "COS": math.cos, "TAN": math.tan, "ATAN": math.atan, "EXP": math.exp, "LN": math.log,
     "ACOS": math.acos, "ASIN": math.asin,  # outside -1..1: 'Parameter out of range' (D)
     "IS_NAN": lambda x: 0.0, "IS_INF": lambda x: 0.0,  # every value here is finite
+    "BITCOUNT": lambda x: float(bin(_int64(x) & (2 ** 64 - 1)).count("1")),
 }
 _EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
 _DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")

@@ -218,6 +218,12 @@ _ENTRIES: list[Keyword] = [
             note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
     _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    _system("AXISSIZE", "Number of axes (BASE and AXIS take 0..AXISSIZE-1).", default=16.0,
+            writable=False, source="TrioBASIC help AXISSIZE", confidence="C",
+            note="16: the MC405's axes here, 0-4 on the board and 5-15 virtual (D)."),
+    _system("BUFFERSIZE", "The largest move buffer, the most LIMIT_BUFFERED takes.",
+            default=64.0, writable=False, source="TrioBASIC help BUFFERSIZE",
+            confidence="C", note="64: LIMIT_BUFFERED's range here (D)."),
     _system("VRSIZE", "Number of VR elements (VR(0..VRSIZE-1)).", default=VR_COUNT,
             writable=False, source="TrioBASIC help VRSIZE", confidence="C",
             note=f"{VR_COUNT}: this emulator's VR array (the page: it varies by controller)."),
@@ -594,6 +600,13 @@ _ENTRIES: list[Keyword] = [
       for name in ("ABS", "INT", "FRAC", "SGN", "SQR", "SIN", "COS", "TAN", "ATAN", "EXP",
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
+    _function("BITCOUNT", "BITCOUNT(x): how many bits are 1 in x taken as a 64-bit integer.",
+              (1, 1), source="TrioBASIC help BITCOUNT", confidence="C",
+              note="The fraction is dropped, a negative value is two's complement (-1: 64, "
+              "the page's examples); outside the signed 64-bit range 'Parameter out of range' "
+              "(D). Known gap: numbers here are 64-bit floats, so a value past 2^53 has lost "
+              "its low bits before BITCOUNT sees it (the page's $1001200240048008 counts 7, "
+              "not 8)."),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
               source=f"{TOK}; {MAN}; TrioBASIC help VR", note=f"VR(0..{VR_COUNT - 1}) "
               "(count I: public programs clear VR 0..65535). VR(n) = \"text\" writes one "
