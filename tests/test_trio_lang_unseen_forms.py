@@ -202,3 +202,87 @@ def test_axissize_and_buffersize_bound_base_and_limit_buffered() -> None:
     assert trio.query("?LIMIT_BUFFERED") == str(moves)
     assert trio.send("LIMIT_BUFFERED = BUFFERSIZE + 1") == ["! Parameter out of range"]
     assert trio.send("AXISSIZE = 4") == ["! Parameter is read only"]
+
+
+# ---- help-page words the token table lacks (helpwords.py) -----------------------------------
+def test_a_help_page_parameter_is_the_controllers_not_a_local_variable() -> None:
+    """Before it was in the table, IP_BIND_ADDRESS = ... in a program made a local variable
+    the command line could not see."""
+    trio = mc405()
+    trio.load("P", "IP_BIND_ADDRESS = 192.168.0.5\nAIN_CONFIG(2) = 3\nNODE_AXIS_MAP(0, 3, 0) = 10")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    # 192*2^24 + 168*2^16 + 0*2^8 + 5, the dotted address's number
+    assert trio.query("?IP_BIND_ADDRESS") == str(192 * 2 ** 24 + 168 * 2 ** 16 + 5)
+    assert [trio.query(q) for q in ("?AIN_CONFIG(2)", "?AIN_CONFIG(3)",
+                                    "?NODE_AXIS_MAP(0, 3, 0)")] == ["3", "0", "10"]
+
+
+def test_help_page_functions_and_commands_run_and_read_only_words_refuse_writes() -> None:
+    trio = mc405()
+    for line in ("MS_BUS(1, 1)", "x = MS_BUS(3, 1)", "AXISLIST", "DV_MAP",
+                 'REGISTER_KEYWORD("RUN_A", "a_func", 0, 2)', "y = DEBUG_LOG"):
+        assert trio.send(line) == [], line
+    assert trio.send("BATTERY_LOW = 1") == ["! Parameter is read only"]
+    assert trio.send("DV_IN(3) = 1") == ["! Parameter is read only"]
+    assert trio.send("AXISLIST(1)") == ["! Syntax error"]
+
+
+def test_every_help_word_says_why_it_has_no_effect() -> None:
+    from maxk.commands.trio.helpwords import HELP_WORDS
+    from maxk.commands.trio.keywords import KEYWORDS
+
+    names = [row.split()[1] for row in HELP_WORDS.splitlines()]
+    assert len(names) == len(set(names)) == 32
+    for name in names:
+        note = KEYWORDS[name].note
+        assert note.startswith("Not modelled: ") and "not modelled yet" not in note, name
+        assert KEYWORDS[name].source == f"help {name}"
+
+
+# ---- STATIC in a FUNCTION (TrioBASIC help STATIC) -------------------------------------------
+COUNTER = """FUNCTION tally(amount AS INTEGER) AS INTEGER
+    STATIC total AS INTEGER = 100
+    DIM fresh AS INTEGER = 5
+    STATIC seen AS INTEGER(2)
+    total = total + amount
+    fresh = fresh + amount
+    seen(1) = seen(1) + 1
+    RETURN total * 10000 + fresh * 100 + seen(1)
+ENDFUNC"""
+
+
+def test_static_keeps_its_value_between_calls_and_dim_starts_again() -> None:
+    """total: 100 + 1, + 2, + 3 = 101, 103, 106; fresh: 5 + the step each call (6, 7, 8);
+    the STATIC array's element counts the calls (1, 2, 3)."""
+    trio = mc405()
+    trio.load("LIB", COUNTER, program_type=12)
+    trio.load("P", "PRINT tally(1)\nPRINT tally(2)\nPRINT tally(3)")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=20)
+    assert trio.send("?0") == ["1010601", "1030702", "1060803", "0"]
+
+
+def test_a_static_is_one_for_every_process_and_an_edit_starts_it_afresh() -> None:
+    trio = mc405()
+    trio.load("LIB", COUNTER, program_type=12)
+    trio.load("P", "VR(1) = tally(10)")
+    trio.load("Q", "VR(2) = tally(20)")
+    assert trio.send('RUN "P", 3') == []
+    trio.advance(ticks=10)
+    assert trio.send('RUN "Q", 4') == []
+    trio.advance(ticks=10)
+    # P's call: 110, fresh 15, 1 call; Q's: 130, fresh 25, 2 calls (D: one store)
+    assert (trio.query("?VR(1)"), trio.query("?VR(2)")) == ("1101501.0000", "1302502.0000")
+    trio.load("LIB", COUNTER, program_type=12)  # stored again: compiled afresh
+    assert trio.send('RUN "P", 3') == []
+    trio.advance(ticks=10)
+    assert trio.query("?VR(1)") == "1101501.0000"
+
+
+def test_static_outside_a_function_is_a_dim() -> None:
+    trio = mc405()
+    trio.load("P", "STATIC n AS INTEGER = 7\nn = n + 1\nPRINT n")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    assert trio.send("?0") == ["8", "0"]

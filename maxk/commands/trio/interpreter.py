@@ -66,6 +66,8 @@ from .printformat import ARITHMETIC, FLOAT_FUNCTIONS, FLOAT_OPERATORS, Real, c_f
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
+# a STATIC name between calls: its value, or its array and shape, and its DIM type
+Kept = tuple[Value | None, list[Value] | None, tuple[int, ...] | None, str | None]
 
 
 MAX_WA_MS = 1e12  # WA in ms beyond about 30 years is refused (D): time has no such ticks
@@ -445,6 +447,9 @@ class Interpreter:
         self.machine = machine
         self.hook = hook
         self.output = output
+        # STATIC names of FUNCTIONs, kept between calls: (program steps, step) -> name ->
+        # (scalar, array, shape, type); tasks.py fills and reads it
+        self.statics: dict[tuple[int, int], dict[str, Kept]] = {}
 
     # ---- expressions ---------------------------------------------------------------------
     def evaluate(self, expr: Expr, ctx: ProcessContext) -> Value:

@@ -218,6 +218,13 @@ _ENTRIES: list[Keyword] = [
             note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
     _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    _statement("STATIC", "STATIC name AS type[(sizes)] [= value]: a FUNCTION's variable or "
+               "array set up on its first call only, keeping its value between calls.",
+               source="TrioBASIC help STATIC", confidence="C",
+               note="One store per FUNCTION for the controller's run, shared by the processes "
+               "that call it (I: a library's function is one; D); editing the program starts "
+               "it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
+               "functions only)."),
     _system("AXISSIZE", "Number of axes (BASE and AXIS take 0..AXISSIZE-1).", default=16.0,
             writable=False, source="TrioBASIC help AXISSIZE", confidence="C",
             note="16: the MC405's axes here, 0-4 on the board and 5-15 virtual (D)."),
@@ -2133,6 +2140,38 @@ def _from_token_table() -> list[Keyword]:
     return out
 
 
+def _from_help_pages(known: set[str]) -> list[Keyword]:
+    """The help's fieldbus, set-up and diagnostic words the token table lacks
+    (helpwords.py), each "Not modelled" with its reason; a word already known is skipped."""
+    from .helpwords import HELP_WORDS
+
+    out: list[Keyword] = []
+    for row in HELP_WORDS.splitlines():
+        tag, name, rest = row.split(" ", 2)
+        if name in known:
+            continue
+        source = f"{HELP} {name}"
+        if tag in ("S", "A"):
+            access, why = rest.split(" ", 1)
+            note = ("Not modelled: stored and read back, no effect on the machine"
+                    if access == "w" else "Not modelled: reads 0") + \
+                (", a value for each argument list" if tag == "A" else "") + f"; {why} (D)."
+            out.append(_system(name, f"Help-page system {'array' if tag == 'A' else 'parameter'}"
+                               ".", writable=access == "w", source=source, confidence="D",
+                               note=note))
+            continue
+        low, high, why = rest.split(" ", 2)
+        if tag == "F":
+            out.append(_function(name, "Help-page function.", (int(low), int(high)),
+                                 source=source, confidence="D",
+                                 note=f"Not modelled: returns 0; {why} (D)."))
+        else:
+            out.append(_command(name, "Help-page command.", (int(low), int(high)),
+                                source=source, confidence="D",
+                                note=f"Not modelled: accepted, no effect; {why} (D)."))
+    return out
+
+
 def _index(entries: list[Keyword]) -> dict[str, Keyword]:
     """The table by name; a keyword listed twice is an error at import."""
     table: dict[str, Keyword] = {}
@@ -2143,7 +2182,8 @@ def _index(entries: list[Keyword]) -> dict[str, Keyword]:
     return table
 
 
-KEYWORDS: dict[str, Keyword] = _index(_ENTRIES + _from_token_table())
+_TABLED = _ENTRIES + _from_token_table()
+KEYWORDS: dict[str, Keyword] = _index(_TABLED + _from_help_pages({k.name for k in _TABLED}))
 
 
 def lookup(name: str) -> Keyword | None:

@@ -14,7 +14,7 @@ Long module: one recursive-descent parser for every statement form of the langua
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TypeVar
 
 from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
@@ -191,6 +191,7 @@ class Dim:
     type: str  # INTEGER FLOAT BOOLEAN STRING
     length: int = 0  # STRING(n)
     value: Expr | None = None  # the initial value
+    static: bool = False  # STATIC: in a FUNCTION, set up on its first call only
 
 
 @dataclass(frozen=True)
@@ -661,6 +662,8 @@ class _Parser:
             return Declare(name, tok.text.upper(), self.expression(), tok.text)
         if name == "DIM":
             return self.dim()
+        if name == "STATIC":  # STATIC name AS type ...: a DIM kept between calls (its page)
+            return replace(self.dim(), static=True)
         if name == "FUNCTION":
             return self.function()
         if name == "ENDFUNC":

@@ -33,13 +33,14 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
-from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, error_code
+from .interpreter import Argument, Interpreter, Kept, ProcessContext, Value, Wake, error_code
 from .lexer import TrioError
 from .loopjumps import link_loop_jumps, loop_jump
 from .parser import (
     Assign,
     Call,
     Case,
+    Dim,
     Else,
     ElseIf,
     EndCase,
@@ -355,6 +356,7 @@ class Task:
         if not self.frames:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.frames.append(ctx)
+        kept: list[tuple[int, int]] = []  # the STATIC steps this call went through
         try:
             pc = start + 1
             while True:
@@ -364,6 +366,13 @@ class Task:
                 step = steps[pc]
                 ctx.line = step.line
                 stmt = step.stmt
+                if isinstance(stmt, Dim) and stmt.static:
+                    key = (id(steps), pc)
+                    kept.append(key)
+                    if key in self.interpreter.statics:  # set up by an earlier call
+                        self._restore(ctx, self.interpreter.statics[key])
+                        pc += 1
+                        continue
                 if isinstance(stmt, EndFunc):
                     return 0.0
                 if isinstance(stmt, Return) and not ctx.stack:
@@ -379,6 +388,23 @@ class Task:
         finally:
             self.frames.pop()
             outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
+            for key in kept:  # the STATIC names keep what this call left in them
+                names = steps[key[1]].stmt
+                assert isinstance(names, Dim)
+                self.interpreter.statics[key] = {
+                    name: (ctx.variables.get(name), ctx.arrays.get(name),
+                           ctx.shapes.get(name), ctx.types.get(name)) for name in names.names}
+
+    @staticmethod
+    def _restore(ctx: ProcessContext, kept: dict[str, Kept]) -> None:
+        """A STATIC's names as the last call left them."""
+        for name, (value, array, shape, kind) in kept.items():
+            if value is not None:
+                ctx.variables[name] = value
+            if array is not None and shape is not None:
+                ctx.arrays[name], ctx.shapes[name] = array, shape
+            if kind is not None:
+                ctx.types[name] = kind
 
     def step(self) -> Wake | None:
         """Run until the program waits, ends a loop pass, uses its slice or finishes (one
