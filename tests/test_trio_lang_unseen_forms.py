@@ -286,3 +286,37 @@ def test_static_outside_a_function_is_a_dim() -> None:
     assert trio.send('RUN "P"') == []
     trio.advance(ticks=10)
     assert trio.send("?0") == ["8", "0"]
+
+
+# ---- OPEN as a value (TrioBASIC help OPEN: value = OPEN #n AS ... FOR ...) -----------------
+def test_open_as_a_value_is_0_when_it_opens_and_the_error_number_when_not() -> None:
+    """The RUN_ERROR page's numbers: 19 Parameter out of range, 27 Program not found."""
+    trio = mc405()
+    trio.load("P", 'IF (OPEN #40 AS "SD:shift_log.txt" FOR OUTPUT(0)) = 0 THEN\n'
+              '  PRINT #40, "ok"\n  CLOSE #40\nELSE\n  PRINT "failed"\nENDIF\n'
+              'VR(1) = OPEN #41 AS "missing" FOR INPUT\nVR(2) = OPEN #7 AS "x" FOR INPUT')
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    assert (trio.query("?VR(1)"), trio.query("?VR(2)")) == ("27.0000", "19.0000")
+    trio.load("Q", 'OPEN #42 AS "SHIFT_LOG" FOR INPUT\nLINPUT #42, VR(10)\nCLOSE #42')
+    assert trio.send('RUN "Q"') == []
+    trio.advance(ticks=10)
+    assert trio.query("?VRSTRING(10)") == "ok"  # the program wrote its file
+
+
+def test_open_as_a_value_keeps_running_where_the_statement_stops() -> None:
+    trio = mc405()
+    trio.load("P", 'x = OPEN #40 AS "a" FOR OUTPUT\nVR(3) = OPEN #40 AS "b" FOR OUTPUT\n'
+              'OPEN #40 AS "c" FOR OUTPUT\nVR(4) = 1')
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    assert trio.send("?VR(4)") == ["%[Process 19:Program P Line 3] - Channel already open",
+                                   "0.0000"]  # the statement form stopped the program
+    # the value form gave the error's number and went on (139: the file is already open)
+    assert trio.query("?VR(3)") == "139.0000"
+
+
+def test_open_of_a_network_connection_as_a_value_is_false() -> None:
+    trio = mc405()
+    assert trio.query('?OPEN #20 AS "TCP:192.168.0.250(8000)" FOR READ_WRITE') == "0"
+    assert trio.query('?OPEN #21 AS "DGRAM:127.0.0.1(8000)" FOR READ_WRITE') == "0"

@@ -51,6 +51,7 @@ from .parser import (
     Format,
     IfLine,
     Num,
+    Opened,
     Param,
     Perform,
     Print,
@@ -218,6 +219,7 @@ _MATH: dict[str, Callable[[float], float]] = {
     "IS_NAN": lambda x: 0.0, "IS_INF": lambda x: 0.0,  # every value here is finite
     "BITCOUNT": lambda x: float(bin(_int64(x) & (2 ** 64 - 1)).count("1")),
 }
+_NETWORK = ("TCP:", "DGRAM:", "TCPSERVER:")  # OPEN's network connections (its page)
 _EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
 _DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")
 _CLOCK = frozenset({"TIME", "DATE", "DAY"})
@@ -467,6 +469,8 @@ class Interpreter:
             return self.call(expr, ctx)
         if isinstance(expr, Bit):
             return float((int(self.number(expr.operand, ctx)) >> self.bit_of(expr, ctx)) & 1)
+        if isinstance(expr, Opened):
+            return self.opened(expr.channel, ctx)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             if expr.op == "-":
@@ -998,6 +1002,20 @@ class Interpreter:
             room = math.prod(rest)
             return flat * room, room
         return flat, shape[-1] - flat % shape[-1]
+
+    def opened(self, stmt: Channel, ctx: ProcessContext) -> float:
+        """OPEN as a value (its page): the number of the error the open met, 0 when it
+        opened; a network connection (TCP, DGRAM, TCPSERVER) gives TRUE when made and FALSE
+        when not, and none is ever made here: no program channel opens a socket (D)."""
+        name = self.evaluate(stmt.name, ctx) if stmt.name is not None else ""
+        if isinstance(name, str) and name.upper().startswith(_NETWORK):
+            return 0.0
+        try:
+            for _ in self.channel(stmt, ctx):  # an OPEN never waits
+                break
+        except TrioError as exc:
+            return error_code(exc.message)
+        return 0.0
 
     def channel(self, stmt: Channel, ctx: ProcessContext) -> Wait:
         """OPEN/CLOSE/GET/INPUT/LINPUT on a channel (see docs/trio.md): a file opened FOR

@@ -79,7 +79,15 @@ class Bit:
     bit: int | Var
 
 
-Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
+@dataclass(frozen=True)
+class Opened:
+    """``OPEN #n AS "name" FOR mode`` as a value: the error it met, 0 for none (OPEN's
+    page: value = OPEN ...)."""
+
+    channel: Channel
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit | Opened
 
 # ---- statements ----------------------------------------------------------------------
 
@@ -1110,6 +1118,8 @@ class _Parser:
             return Call(tok.text, ())
         if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
             return Call("FILE", self.file_args())
+        if tok.text == "OPEN" and self.at_op("#"):  # value = OPEN #n AS ... FOR ...
+            return Opened(self.channel_statement("OPEN"))
         if tok.text in ("KEY", "IS_OPEN") and self.at_op("#"):  # KEY #n, IS_OPEN #n
             self.advance()
             return Call(tok.text, (self.unary(),))
