@@ -320,3 +320,31 @@ def test_open_of_a_network_connection_as_a_value_is_false() -> None:
     trio = mc405()
     assert trio.query('?OPEN #20 AS "TCP:192.168.0.250(8000)" FOR READ_WRITE') == "0"
     assert trio.query('?OPEN #21 AS "DGRAM:127.0.0.1(8000)" FOR READ_WRITE') == "0"
+
+
+# ---- THROW_ERROR (TrioBASIC help THROW_ERROR; RUN_ERROR 268) --------------------------------
+def test_throw_error_stops_the_program_with_its_message_and_run_error_268() -> None:
+    trio = mc405()
+    trio.load("P", 'axis_no = 40\nIF axis_no > 15 THEN\n  THROW_ERROR("axis " + STR(axis_no, 0)'
+              ' + " too high")\nENDIF\nVR(1) = 1')
+    assert trio.send('RUN "P", 2') == []
+    trio.advance(ticks=10)
+    assert trio.send("?RUN_ERROR PROC(2)") == ["%[Process 2:Program P Line 3] - axis 40 too high",
+                                               "268"]
+    assert (trio.query("?ERROR_LINE PROC(2)"), trio.query("?VR(1)")) == ("3", "0.0000")
+
+
+def test_on_basicerror_catches_a_thrown_error() -> None:
+    trio = mc405()
+    trio.load("P", 'ON BASICERROR GOTO caught\nTHROW_ERROR("stop here")\nSTOP\ncaught:\n'
+              'VR(2) = RUN_ERROR\nVR(3) = ERROR_LINE')
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    assert (trio.query("?VR(2)"), trio.query("?VR(3)")) == ("268.0000", "2.0000")
+
+
+def test_throw_error_wants_a_string() -> None:
+    trio = mc405()
+    assert trio.send('THROW_ERROR("typed here")') == ["! typed here"]
+    assert trio.send("THROW_ERROR(5)") == ["! Type mismatch"]
+    assert trio.send("THROW_ERROR") == ["! Syntax error"]

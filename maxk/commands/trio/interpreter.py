@@ -34,7 +34,7 @@ from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
-from .lexer import TrioError
+from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .parser import (
     MAX_ARRAY,
@@ -1335,6 +1335,11 @@ class Interpreter:
             ctx.rng = random.Random(int(seed[0]) if seed else
                                     ctx.process * 1_000_003 + self.machine.servo_tick() + 1)
             return
+        if name == "THROW_ERROR":  # the program stops with its own message (its page)
+            text = self.evaluate(stmt.args[0], ctx)
+            if not isinstance(text, str):
+                raise TrioError("Type mismatch")
+            raise Thrown(text)
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
             return

@@ -218,6 +218,12 @@ _ENTRIES: list[Keyword] = [
             note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
     _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    _command("THROW_ERROR", "THROW_ERROR(message): stop with an error of that text.", (1, 1),
+             source="TrioBASIC help THROW_ERROR; help RUN_ERROR", confidence="C",
+             string_arg=True,
+             note="The process stops, its error line carrying the message, RUN_ERROR 268 "
+             "(C); ON BASICERROR catches it as any error (I); a number for the message is "
+             "'Type mismatch' (D)."),
     _statement("STATIC", "STATIC name AS type[(sizes)] [= value]: a FUNCTION's variable or "
                "array set up on its first call only, keeping its value between calls.",
                source="TrioBASIC help STATIC", confidence="C",

@@ -21,6 +21,13 @@ class TrioError(Exception):
         self.line = line  # program line number (1-based) when known
 
 
+class Thrown(TrioError):
+    """THROW_ERROR(message): the program's own error text, RUN_ERROR 268 (THROW_ERROR's
+    page; the RUN_ERROR page lists 268 as the user's error string)."""
+
+    CODE = 268
+
+
 class Tok(Enum):
     NUMBER = "number"
     STRING = "string"

@@ -15,7 +15,7 @@ from .errorcodes import PROGRAM_STOPPED
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
 from .keywords import Keyword
-from .lexer import TrioError
+from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .parser import FunctionDef
 from .programs import ProgramStore, crc16
@@ -409,7 +409,8 @@ class ProgramCommands(Housekeeping, TimersAndScope):
             self.process_output(f"%[Process {process}:Program {task.ctx.program} "
                                 f"Line {exc.line}] - {exc.message}\r\n")
             task.ctx.error_line = float(exc.line or 0)
-            self._ended(process, task, error_code(exc.message))
+            self._ended(process, task, Thrown.CODE if isinstance(exc, Thrown)
+                        else error_code(exc.message))
         else:
             if task.finished:
                 self._ended(process, task)

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import cast
 
 from .interpreter import Argument, Interpreter, Kept, ProcessContext, Value, Wake, error_code
-from .lexer import TrioError
+from .lexer import Thrown, TrioError
 from .loopjumps import link_loop_jumps, loop_jump
 from .parser import (
     Assign,
@@ -454,7 +454,8 @@ class Task:
             except TrioError as exc:
                 if ctx.on_error is None:
                     raise
-                ctx.run_error = error_code(exc.message)
+                ctx.run_error = Thrown.CODE if isinstance(exc, Thrown) else \
+                    error_code(exc.message)
                 ctx.error_line = step.line
                 pc, ctx.on_error = ctx.on_error, None
 
