@@ -348,3 +348,22 @@ def test_throw_error_wants_a_string() -> None:
     assert trio.send('THROW_ERROR("typed here")') == ["! typed here"]
     assert trio.send("THROW_ERROR(5)") == ["! Type mismatch"]
     assert trio.send("THROW_ERROR") == ["! Syntax error"]
+
+
+# ---- INPUTS0/INPUTS1 and MOTION_ERROR_COUNT ------------------------------------------------
+def test_inputs0_and_inputs1_are_the_inputs_as_two_16_bit_numbers() -> None:
+    trio = mc405()
+    world = trio.world_view()
+    for number in (0, 3, 15, 16, 31):
+        world.set_input(number, True)
+    # 2^0 + 2^3 + 2^15 = 32777; 2^(16-16) + 2^(31-16) = 32769
+    assert (trio.query("?INPUTS0"), trio.query("?INPUTS1")) == ("32777", "32769")
+    assert trio.query("?INPUTS0") == trio.query("?IN(0, 15)")
+    assert trio.send("INPUTS0 = 1") == ["! Parameter is read only"]
+
+
+def test_motion_error_count_counts_the_axes_in_error() -> None:
+    trio = mc405()
+    assert trio.query("?MOTION_ERROR_COUNT") == "0"
+    trio = axis_1_in_error()
+    assert trio.query("?MOTION_ERROR_COUNT") == "1"

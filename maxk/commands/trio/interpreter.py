@@ -848,6 +848,9 @@ class Interpreter:
                 keyword.name, axis, channel))
         if keyword.name == "MOTION_ERROR" and expr.index:
             return self.motion_error_bank(expr, ctx)
+        if keyword.name == "MOTION_ERROR_COUNT":  # the bits set in MOTION_ERROR (its page)
+            errors = self.read_parameter(Param(KEYWORDS["MOTION_ERROR"], None), ctx)
+            return _MATH["BITCOUNT"](errors)
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:

@@ -224,6 +224,9 @@ _ENTRIES: list[Keyword] = [
              note="The process stops, its error line carrying the message, RUN_ERROR 268 "
              "(C); ON BASICERROR catches it as any error (I); a number for the message is "
              "'Type mismatch' (D)."),
+    _system("MOTION_ERROR_COUNT", "How many axes are in motion error: the bits set in "
+            "MOTION_ERROR.", writable=False, source="TrioBASIC help MOTION_ERROR_COUNT",
+            confidence="C"),
     _statement("STATIC", "STATIC name AS type[(sizes)] [= value]: a FUNCTION's variable or "
                "array set up on its first call only, keeping its value between calls.",
                source="TrioBASIC help STATIC", confidence="C",
