@@ -367,3 +367,36 @@ def test_motion_error_count_counts_the_axes_in_error() -> None:
     assert trio.query("?MOTION_ERROR_COUNT") == "0"
     trio = axis_1_in_error()
     assert trio.query("?MOTION_ERROR_COUNT") == "1"
+
+
+# ---- OPEN #n AS "STRING:name" (OPEN's examples 8 and 9) -------------------------------------
+def test_a_string_variable_opened_for_output_collects_what_is_printed() -> None:
+    trio = mc405()
+    trio.load("P", 'DIM note AS STRING(100)\nnote = "old"\n'
+              'OPEN #41 AS "STRING:note" FOR OUTPUT(0)\nPRINT #41, "e = "; EXP(1)[3];\n'
+              'PRINT #41, "!";\nCLOSE #41\nPRINT note; " "; LEN(note)[0]\n'
+              'OPEN #41 AS "STRING:note" FOR APPEND\nPRINT #41, "?";\nCLOSE #41\nPRINT note')
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    # "e = 2.718!": 10 characters; OUTPUT emptied "old" first, APPEND kept what was there
+    assert trio.send("?0") == ["e = 2.718! 10", "e = 2.718!?", "0"]
+
+
+def test_a_string_variable_opened_for_input_is_read_a_character_at_a_time() -> None:
+    trio = mc405()
+    trio.load("P", 'DIM word AS STRING(8)\nword = "Hi"\nOPEN #45 AS "STRING:word" FOR INPUT\n'
+              "GET #45, VR(1)\nGET #45, VR(2)\nCLOSE #45")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    assert (trio.query("?VR(1)"), trio.query("?VR(2)")) == ("72.0000", "105.0000")  # H, i
+
+
+def test_a_string_channel_needs_a_string_variable_and_holds_its_length() -> None:
+    trio = mc405()
+    trio.load("P", 'DIM short AS STRING(3)\nOPEN #41 AS "STRING:short" FOR OUTPUT\n'
+              'PRINT #41, "abcdef";\nCLOSE #41\nVR(1) = LEN(short)\nn = 5\n'
+              'OPEN #42 AS "STRING:n" FOR OUTPUT')
+    assert trio.send('RUN "P", 4') == []
+    trio.advance(ticks=10)
+    assert trio.send("?VR(1)") == ["%[Process 4:Program P Line 7] - Variable not defined",
+                                   "3.0000"]  # cut to its 3 characters, as an assignment

@@ -452,6 +452,8 @@ class Interpreter:
         # STATIC names of FUNCTIONs, kept between calls: (program steps, step) -> name ->
         # (scalar, array, shape, type); tasks.py fills and reads it
         self.statics: dict[tuple[int, int], dict[str, Kept]] = {}
+        # channels opened AS "STRING:name": the process and the variable PRINT #n adds to
+        self.strings: dict[int, tuple[ProcessContext, str]] = {}
 
     # ---- expressions ---------------------------------------------------------------------
     def evaluate(self, expr: Expr, ctx: ProcessContext) -> Value:
@@ -1006,6 +1008,27 @@ class Interpreter:
             return flat * room, room
         return flat, shape[-1] - flat % shape[-1]
 
+    def open_string(self, number: int, name: str, mode: str, ctx: ProcessContext) -> None:
+        """OPEN #n AS "STRING:name": a STRING variable of the process as the file (OPEN's
+        examples 8 and 9). FOR OUTPUT empties it and PRINT #n adds to it, FOR APPEND adds
+        after what it holds, FOR INPUT reads its characters (D: what a PRINT writes goes in
+        whole, its CR LF too; past the DIM length, as any assignment: an error)."""
+        if not ctx.types.get(name, "").startswith("STRING") or name in ctx.arrays:
+            raise TrioError("Variable not defined")
+        files = self.hook.files
+        if mode in ("OUTPUT", "APPEND"):
+            if mode == "OUTPUT":
+                ctx.variables[name] = ""
+            self.strings[number] = (ctx, name)
+            files[number] = []
+        elif mode == "INPUT":
+            text = ctx.variables.get(name, "")
+            assert isinstance(text, str)
+            files[number] = [ord(c) for c in reversed(text)]
+            self.hook.sources[number] = files[number][:]
+        else:
+            raise TrioError("Parameter out of range")
+
     def opened(self, stmt: Channel, ctx: ProcessContext) -> float:
         """OPEN as a value (its page): the number of the error the open met, 0 when it
         opened; a network connection (TCP, DGRAM, TCPSERVER) gives TRUE when made and FALSE
@@ -1035,6 +1058,9 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             if number in files:
                 raise TrioError("Channel already open")
+            if name.upper().startswith("STRING:"):
+                self.open_string(number, name[7:].strip().upper(), stmt.mode, ctx)
+                return
             if stmt.mode in ("INPUT", "FIFO_READ", "READ_WRITE"):
                 text = self.hook.file_text(name) if stmt.mode != "FIFO_READ" else ""
                 files[number] = [ord(c) for c in reversed(text)]
@@ -1046,6 +1072,7 @@ class Interpreter:
                 files[number] = []
             return
         if stmt.action == "CLOSE":
+            self.strings.pop(number, None)
             files.pop(number, None)
             self.hook.sources.pop(number, None)
             self.hook.close_file(number)
@@ -1162,7 +1189,12 @@ class Interpreter:
                 parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
         text = "".join(parts) + ("\r\n" if stmt.newline else "")
-        if not self.hook.write_file(int(channel), text):
+        if int(channel) in self.strings:  # a STRING variable opened as a file
+            owner, name = self.strings[int(channel)]
+            held = owner.variables.get(name, "")
+            assert isinstance(held, str)
+            owner.variables[name] = self._typed(name, held + text, owner)
+        elif not self.hook.write_file(int(channel), text):
             self.output(text)
 
     def _typed(self, name: str, value: Value, ctx: ProcessContext) -> Value:

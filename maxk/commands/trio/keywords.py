@@ -1138,7 +1138,11 @@ _ENTRIES: list[Keyword] = [
              "needs it and writes after its lines; PRINT #n writes each finished line to "
              "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
              "store, D). FIFO_WRITE accepts and drops what is written (D). Channels 40 to 48 "
-             "only (C: help page OPEN); any other is 'Parameter out of range'."),
+             "only (C: help page OPEN); any other is 'Parameter out of range'. AS "
+             "\"STRING:name\": the process's STRING variable is the file (C: examples 8, "
+             "9): OUTPUT empties it, PRINT #n adds to it, APPEND keeps it, INPUT reads it. "
+             "As a value, OPEN gives the error's RUN_ERROR number or 0 (C); a TCP, DGRAM "
+             "or TCPSERVER connection is FALSE: no program channel opens a socket (D)."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
