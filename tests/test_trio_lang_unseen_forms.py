@@ -400,3 +400,17 @@ def test_a_string_channel_needs_a_string_variable_and_holds_its_length() -> None
     trio.advance(ticks=10)
     assert trio.send("?VR(1)") == ["%[Process 4:Program P Line 7] - Variable not defined",
                                    "3.0000"]  # cut to its 3 characters, as an assignment
+
+
+# ---- a label spelled as a keyword (LTS-AS's manager program has `function:`) ---------------
+def test_a_label_spelled_as_a_keyword_is_refused_at_compile() -> None:
+    """FUNCTION is a keyword of this firmware (library functions): `function:` is no label
+    (D, docs/trio.md), where an ordinary name is one."""
+    trio = mc405()
+    assert trio.load("P", "x = 1\nSTOP\nfunction:\nPRINT 1\nRETURN") == \
+        ["%[Program P Line 3] - Syntax error"]
+    assert trio.send('RUN "P"') == ["! Program P line 3: Syntax error"]
+    assert trio.load("Q", "GOSUB routine\nSTOP\nroutine:\nVR(1) = 4\nRETURN") == []
+    assert trio.send('RUN "Q"') == []
+    trio.advance(ticks=5)
+    assert trio.query("?VR(1)") == "4.0000"
