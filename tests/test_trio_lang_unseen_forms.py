@@ -414,3 +414,40 @@ def test_a_label_spelled_as_a_keyword_is_refused_at_compile() -> None:
     assert trio.send('RUN "Q"') == []
     trio.advance(ticks=5)
     assert trio.query("?VR(1)") == "4.0000"
+
+
+# ---- the field operator's dims and dimsize (its page; FUNCTION's example 4) -----------------
+SIZES = """FUNCTION largest(values AS INTEGER()) AS INTEGER
+  DIM k, top AS INTEGER
+  top = values(0)
+  FOR k = 1 TO values.dimsize(0) - 1
+    IF values(k) > top THEN top = values(k)
+  NEXT k
+  RETURN top
+ENDFUNC
+FUNCTION layout(grid AS FLOAT()) AS INTEGER
+  RETURN grid.dims * 100 + grid.dimsize(0) * 10 + grid.dimsize(1)
+ENDFUNC"""
+
+
+def test_dims_and_dimsize_of_arrays_here_and_passed_to_a_function() -> None:
+    trio = mc405()
+    trio.load("LIB", SIZES, program_type=12)
+    trio.load("P", "DIM v(6) AS INTEGER\nv = 4, 11, 2, 8, 15, 3\nVR(1) = largest(v)\n"
+              "DIM g AS FLOAT(4, 7)\nVR(2) = layout(g)\nn = 2\n"
+              "VR(3) = v.dims * 1000 + v.dimsize(0) * 100 + g.dimsize(1) * 10 + n.dims")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=10)
+    # the largest of 4, 11, 2, 8, 15, 3 is 15; g: 2 dimensions of 4 and 7: 247;
+    # v: 1 dimension of 6, g's second 7, n no array: 1000 + 600 + 70 + 0
+    assert [trio.query(f"?VR({n})") for n in (1, 2, 3)] == ["15.0000", "247.0000",
+                                                           "1670.0000"]
+
+
+@pytest.mark.parametrize(("line", "error"), [
+    ("?v.dimsize(1)", "Parameter out of range"), ("?v.dimsize(-1)", "Parameter out of range"),
+    ("?n.dimsize(0)", "Parameter out of range"), ("?v.dimsize", "Syntax error"),
+    ("?v.dims(0)", "Syntax error"), ("?nothing.dims", "Variable not defined")])
+def test_dimsize_out_of_its_dimensions_is_refused(line: str, error: str) -> None:
+    trio = mc405("DIM v(3) AS INTEGER", "n = 4")
+    assert trio.send(line) == [f"! {error}"]

@@ -48,6 +48,7 @@ from .parser import (
     Declare,
     Dim,
     Expr,
+    Field,
     Format,
     IfLine,
     Num,
@@ -473,6 +474,8 @@ class Interpreter:
             return float((int(self.number(expr.operand, ctx)) >> self.bit_of(expr, ctx)) & 1)
         if isinstance(expr, Opened):
             return self.opened(expr.channel, ctx)
+        if isinstance(expr, Field):
+            return self.field(expr, ctx)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             if expr.op == "-":
@@ -1028,6 +1031,27 @@ class Interpreter:
             self.hook.sources[number] = files[number][:]
         else:
             raise TrioError("Parameter out of range")
+
+    def field(self, expr: Field, ctx: ProcessContext) -> float:
+        """``name.dims``: how many dimensions the array has (0: not an array);
+        ``name.dimsize(n)``: the size of dimension n, from 0 (the field operator's page;
+        no brackets on a non-array, D: as DIMS gives 0 dimensions, 'Parameter out of
+        range' for any n)."""
+        if expr.name not in ctx.arrays and expr.name not in ctx.variables and \
+                expr.name not in ctx.types:
+            raise TrioError("Variable not defined")
+        shape = ctx.shapes.get(expr.name, (len(ctx.arrays[expr.name]),)) \
+            if expr.name in ctx.arrays else ()
+        if expr.field == "DIMS":
+            if expr.index is not None:
+                raise TrioError("Syntax error")
+            return float(len(shape))
+        if expr.index is None:
+            raise TrioError("Syntax error")
+        n = self.number(expr.index, ctx)
+        if n != int(n) or not 0 <= n < len(shape):
+            raise TrioError("Parameter out of range")
+        return float(shape[int(n)])
 
     def opened(self, stmt: Channel, ctx: ProcessContext) -> float:
         """OPEN as a value (its page): the number of the error the open met, 0 when it

@@ -87,7 +87,17 @@ class Opened:
     channel: Channel
 
 
-Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit | Opened
+@dataclass(frozen=True)
+class Field:
+    """``name.dims`` / ``name.dimsize(n)``: an array's number of dimensions and the size of
+    one (the field operator's page; the robot types' fields are not modelled)."""
+
+    name: str
+    field: str  # DIMS or DIMSIZE
+    index: Expr | None = None
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit | Opened | Field
 
 # ---- statements ----------------------------------------------------------------------
 
@@ -1080,6 +1090,16 @@ class _Parser:
 
     def primary(self) -> Expr:
         expr = self.operand()
+        if isinstance(expr, Var) and self.at_op(".") and \
+                self.tokens[self.pos + 1].text in ("DIMS", "DIMSIZE"):
+            self.advance()  # the field operator: name.dims, name.dimsize(n)
+            field = self.advance().text
+            index = None
+            if self.at_op("("):
+                self.advance()
+                index = self.expression()
+                self.expect_op(")")
+            return Field(expr.name, field, index)
         bit = self.bit_number()
         if bit is not None:  # value.n: bit n of a variable, element, bracket or parameter
             if isinstance(expr, Param) and expr.axis is None and \

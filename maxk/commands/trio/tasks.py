@@ -344,6 +344,7 @@ class Task:
         if len(self.frames) >= GOSUB_DEPTH:
             raise TrioError("Stack overflow")
         outer = self.ctx
+        caller = self.frames[-1] if self.frames else outer
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
                              functions=self.call_function, ticks=outer.ticks)
         for param, kind, arg in zip(define.params, define.types, args, strict=True):
@@ -351,6 +352,10 @@ class Task:
                 ctx.types[param] = kind  # its AS type: what an element or it holds
             if isinstance(arg, list):
                 ctx.arrays[param] = arg
+                shape = next((caller.shapes[n] for n, a in caller.arrays.items()
+                              if a is arg and n in caller.shapes), None)
+                if shape is not None:  # the array keeps its dimensions (.dims, .dimsize)
+                    ctx.shapes[param] = shape
             else:  # a number is a FLOAT unless its AS type says otherwise (help DIM)
                 ctx.variables[param] = self.interpreter._typed(param, arg, ctx)
         if not self.frames:
