@@ -451,3 +451,28 @@ def test_dims_and_dimsize_of_arrays_here_and_passed_to_a_function() -> None:
 def test_dimsize_out_of_its_dimensions_is_refused(line: str, error: str) -> None:
     trio = mc405("DIM v(3) AS INTEGER", "n = 4")
     assert trio.send(line) == [f"! {error}"]
+
+
+# ---- BASE alone prints the base array (BASE's example 3) ------------------------------------
+def test_base_alone_prints_the_whole_array() -> None:
+    trio = mc405()
+    assert trio.send("BASE") == ["(" + ", ".join(str(a) for a in range(16)) + ")"]
+    assert trio.send("BASE(2, 6, 11)") == []
+    # after 11 the sequence goes on (12..15), then the axes left out, in order
+    assert trio.send("BASE") == ["(2, 6, 11, 12, 13, 14, 15, 0, 1, 3, 4, 5, 7, 8, 9, 10)"]
+    assert trio.query("?BASE") == "2"
+    trio.load("P", "BASE(3)\nBASE")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=5)
+    assert trio.send("?1") == ["(3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2)", "1"]
+
+
+def test_is_file_takes_a_string_variable_without_brackets() -> None:
+    trio = mc405()
+    trio.load("RECIPE1", "x = 1")
+    trio.load("P", 'DIM wanted AS STRING(12)\nwanted = "recipe1"\n'
+              'IF IS_FILE wanted THEN VR(1) = 1\nwanted = "recipe2"\n'
+              'VR(2) = IS_FILE wanted\nVR(3) = IS_PROG wanted + "X"')
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=5)
+    assert [trio.query(f"?VR({n})") for n in (1, 2, 3)] == ["1.0000", "0.0000", "0.0000"]

@@ -1483,6 +1483,9 @@ class Interpreter:
             wake = m.servo_tick() + ticks
             while m.servo_tick() < wake:
                 yield Wake(wake)
+        elif name == "BASE" and not args:  # BASE alone prints the array (its example 3)
+            axes = base_array(ctx.base, m.axis_count)  # (power-up [0]: 0, 1, 2, ...)
+            self.output("(" + ", ".join(str(a) for a in axes) + ")\r\n")
         elif name == "BASE":
             ctx.base = base_array([self._axis_number(a) for a in args], m.axis_count)
         elif name == "TABLE":

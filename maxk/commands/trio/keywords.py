@@ -428,9 +428,10 @@ _ENTRIES: list[Keyword] = [
     _axis("ADDAX_AXIS", "The axis ADDAX adds to this one; -1 none.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="-1 for none is our reading of the manual (I)."),
-    _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
-             source=f"{SEED}; {TOK}; {MAN}", confidence="I",
-             note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
+    _command("BASE", "Set the process's base axes; later axes follow in order.", (0, 128),
+             source=f"{SEED}; {TOK}; {MAN}; TrioBASIC help BASE", confidence="I",
+             note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual). BASE alone prints "
+             "the whole array, (1, 5, 9, 10, ...) (C: its example 3)."),
     _command("TABLE", "TABLE(start, v1, v2, ...) writes a run of TABLE values; TABLE(i) "
              "reads one.", (1, 128), source=f"{SEED}; {TOK}; help (TABLE_POINTER page)",
              note="A running or buffered CAMBOX or CAM reads its values live: see CAMBOX, "

@@ -1203,6 +1203,8 @@ class _Parser:
             if nxt.kind is Tok.OP and nxt.text == "+":  # IS_PROG "SD:" + name (its page)
                 return (self.additive(),)
             return (Str(self.advance().text),)
+        if keyword.name in ("IS_FILE", "IS_PROG") and self.tok.kind is Tok.NAME:
+            return (self.additive(),)  # IS_FILE name$: a string variable (IS_FILE's page)
         if not self.at_op("("):
             if keyword.name == "BASE" or keyword.args[0] == 0:
                 return ()  # DATE$, KEY, BASE: a function of no arguments
