@@ -476,3 +476,23 @@ def test_is_file_takes_a_string_variable_without_brackets() -> None:
     assert trio.send('RUN "P"') == []
     trio.advance(ticks=5)
     assert [trio.query(f"?VR({n})") for n in (1, 2, 3)] == ["1.0000", "0.0000", "0.0000"]
+
+
+# ---- EX in a program (EX's page: "EX may be included in a program") ------------------------
+def test_ex_in_a_program_restarts_the_controller_after_its_cycle() -> None:
+    trio = mc405()
+    trio.load("BOOT", 'PRINT "booted"')
+    assert trio.send('RUNTYPE "BOOT", 1') == []  # an autorun program: it starts on EX
+    trio.load("P", "SPEED = 123\nWDOG = ON\nEX\nSPEED = 5")
+    assert trio.send('RUN "P", 3') == []
+    trio.advance(ticks=20)
+    # the line after EX never ran; SPEED and WDOG are at power-up again; BOOT ran once
+    assert trio.send("?SPEED") == ["booted", "1000"]
+    assert (trio.query("?WDOG"), trio.query("?PROC_STATUS PROC(3)")) == ("0", "0")
+
+
+def test_ex_inside_a_command_line_is_still_refused() -> None:
+    trio = mc405()
+    assert trio.send("x = 1: EX") == ["! Syntax error"]
+    trio.load("P", "EX(1, 2)")
+    assert trio.send('RUN "P", 3') == ["! Program P line 1: Syntax error"]

@@ -480,9 +480,11 @@ _ENTRIES: list[Keyword] = [
              "ours (atrio only sends it)."),
     _command("AUTORUN", "Start every program set to run at power up.", (0, 0), source=REF,
              note="Prints '%[Process p:Program NAME] - Running' per program (atrio test)."),
-    _command("EX", "Restart the controller.", (0, 1), source=REF,
+    _command("EX", "Restart the controller.", (0, 1), source=f"{REF}; TrioBASIC help EX",
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
-             "starts a new one (ref 5)."),
+             "starts a new one (ref 5). In a program (C: its page allows it) the program "
+             "ends there and the controller restarts after that servo cycle, the command "
+             "lines staying open (D)."),
     # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
     _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
              (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
