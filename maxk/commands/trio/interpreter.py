@@ -35,7 +35,7 @@ from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
 from .fifos import FifoFiles
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
-from .lexer import TrioError
+from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .parser import (
     MAX_ARRAY,
@@ -49,9 +49,11 @@ from .parser import (
     Declare,
     Dim,
     Expr,
+    Field,
     Format,
     IfLine,
     Num,
+    Opened,
     Param,
     Perform,
     Print,
@@ -68,6 +70,8 @@ from .servoread import servo_read
 
 Value = float | str
 Argument = Value | list[Value]  # a FUNCTION's argument: a value, or a DIM array by reference
+# a STATIC name between calls: its value, or its array and shape, and its DIM type
+Kept = tuple[Value | None, list[Value] | None, tuple[int, ...] | None, str | None]
 
 
 MAX_WA_MS = 1e12  # WA in ms beyond about 30 years is refused (D): time has no such ticks
@@ -203,13 +207,24 @@ class SystemHook(Protocol):
     def trigger(self, repeat: bool) -> None: ...
 
 
+def _int64(value: float) -> int:
+    """A value taken as a 64-bit integer, its fraction dropped (BITCOUNT's page); outside
+    the signed 64-bit range: 'Parameter out of range' (D)."""
+    whole = math.trunc(value)
+    if not -2 ** 63 <= whole < 2 ** 63:
+        raise ValueError("Parameter out of range")
+    return whole
+
+
 _MATH: dict[str, Callable[[float], float]] = {
     "ABS": abs, "INT": lambda x: float(math.trunc(x)), "FRAC": lambda x: x - math.trunc(x),
     "SGN": lambda x: float((x > 0) - (x < 0)), "SQR": math.sqrt, "SIN": math.sin,
     "COS": math.cos, "TAN": math.tan, "ATAN": math.atan, "EXP": math.exp, "LN": math.log,
     "ACOS": math.acos, "ASIN": math.asin,  # outside -1..1: 'Parameter out of range' (D)
     "IS_NAN": lambda x: 0.0, "IS_INF": lambda x: 0.0,  # every value here is finite
+    "BITCOUNT": lambda x: float(bin(_int64(x) & (2 ** 64 - 1)).count("1")),
 }
+_NETWORK = ("TCP:", "DGRAM:", "TCPSERVER:")  # OPEN's network connections (its page)
 _EPOCH = datetime.datetime(2000, 1, 1)  # a Saturday
 _DAYS = ("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday")
 _CLOCK = frozenset({"TIME", "DATE", "DAY"})
@@ -439,6 +454,11 @@ class Interpreter:
         self.machine = machine
         self.hook = hook
         self.output = output
+        # STATIC names of FUNCTIONs, kept between calls: (program steps, step) -> name ->
+        # (scalar, array, shape, type); tasks.py fills and reads it
+        self.statics: dict[tuple[int, int], dict[str, Kept]] = {}
+        # channels opened AS "STRING:name": the process and the variable PRINT #n adds to
+        self.strings: dict[int, tuple[ProcessContext, str]] = {}
 
     # ---- expressions ---------------------------------------------------------------------
     def evaluate(self, expr: Expr, ctx: ProcessContext) -> Value:
@@ -455,7 +475,11 @@ class Interpreter:
         if isinstance(expr, Call):
             return self.call(expr, ctx)
         if isinstance(expr, Bit):
-            return float((int(self.number(expr.operand, ctx)) >> expr.bit) & 1)
+            return float((int(self.number(expr.operand, ctx)) >> self.bit_of(expr, ctx)) & 1)
+        if isinstance(expr, Opened):
+            return self.opened(expr.channel, ctx)
+        if isinstance(expr, Field):
+            return self.field(expr, ctx)
         if isinstance(expr, Unary):
             operand = self.number(expr.operand, ctx)
             if expr.op == "-":
@@ -577,8 +601,8 @@ class Interpreter:
                 raise TrioError("Syntax error")
             return float(ctx.base[0])
         args = [self.evaluate(a, ctx) for a in expr.args]
-        if name in ("IS_PROG", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT", "FREE",
-                    "FLASHTABLE", "FLASHVR"):
+        if name in ("IS_PROG", "IS_FILE", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT",
+                    "FREE", "FLASHTABLE", "FLASHVR"):
             return self.hook.system_function(name, args)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
@@ -833,6 +857,11 @@ class Interpreter:
             channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
             return self._machine(lambda: self.machine.channel_parameter(
                 keyword.name, axis, channel))
+        if keyword.name == "MOTION_ERROR" and expr.index:
+            return self.motion_error_bank(expr, ctx)
+        if keyword.name == "MOTION_ERROR_COUNT":  # the bits set in MOTION_ERROR (its page)
+            errors = self.read_parameter(Param(KEYWORDS["MOTION_ERROR"], None), ctx)
+            return _MATH["BITCOUNT"](errors)
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:
@@ -990,6 +1019,62 @@ class Interpreter:
             return flat * room, room
         return flat, shape[-1] - flat % shape[-1]
 
+    def open_string(self, number: int, name: str, mode: str, ctx: ProcessContext) -> None:
+        """OPEN #n AS "STRING:name": a STRING variable of the process as the file (OPEN's
+        examples 8 and 9). FOR OUTPUT empties it and PRINT #n adds to it, FOR APPEND adds
+        after what it holds, FOR INPUT reads its characters (D: what a PRINT writes goes in
+        whole, its CR LF too; past the DIM length, as any assignment: an error)."""
+        if not ctx.types.get(name, "").startswith("STRING") or name in ctx.arrays:
+            raise TrioError("Variable not defined")
+        files = self.hook.files
+        if mode in ("OUTPUT", "APPEND"):
+            if mode == "OUTPUT":
+                ctx.variables[name] = ""
+            self.strings[number] = (ctx, name)
+            files[number] = []
+        elif mode == "INPUT":
+            text = ctx.variables.get(name, "")
+            assert isinstance(text, str)
+            files[number] = [ord(c) for c in reversed(text)]
+            self.hook.sources[number] = files[number][:]
+        else:
+            raise TrioError("Parameter out of range")
+
+    def field(self, expr: Field, ctx: ProcessContext) -> float:
+        """``name.dims``: how many dimensions the array has (0: not an array);
+        ``name.dimsize(n)``: the size of dimension n, from 0 (the field operator's page;
+        no brackets on a non-array, D: as DIMS gives 0 dimensions, 'Parameter out of
+        range' for any n)."""
+        if expr.name not in ctx.arrays and expr.name not in ctx.variables and \
+                expr.name not in ctx.types:
+            raise TrioError("Variable not defined")
+        shape = ctx.shapes.get(expr.name, (len(ctx.arrays[expr.name]),)) \
+            if expr.name in ctx.arrays else ()
+        if expr.field == "DIMS":
+            if expr.index is not None:
+                raise TrioError("Syntax error")
+            return float(len(shape))
+        if expr.index is None:
+            raise TrioError("Syntax error")
+        n = self.number(expr.index, ctx)
+        if n != int(n) or not 0 <= n < len(shape):
+            raise TrioError("Parameter out of range")
+        return float(shape[int(n)])
+
+    def opened(self, stmt: Channel, ctx: ProcessContext) -> float:
+        """OPEN as a value (its page): the number of the error the open met, 0 when it
+        opened; a network connection (TCP, DGRAM, TCPSERVER) gives TRUE when made and FALSE
+        when not, and none is ever made here: no program channel opens a socket (D)."""
+        name = self.evaluate(stmt.name, ctx) if stmt.name is not None else ""
+        if isinstance(name, str) and name.upper().startswith(_NETWORK):
+            return 0.0
+        try:
+            for _ in self.channel(stmt, ctx):  # an OPEN never waits
+                break
+        except TrioError as exc:
+            return error_code(exc.message)
+        return 0.0
+
     def channel(self, stmt: Channel, ctx: ProcessContext) -> Wait:
         """OPEN/CLOSE/GET/INPUT/LINPUT on a channel (see docs/trio.md): a file opened FOR
         INPUT is read a character at a time; the terminal channels (none opened) never
@@ -1005,6 +1090,9 @@ class Interpreter:
                 raise TrioError("Parameter out of range")
             if number in files:
                 raise TrioError("Channel already open")
+            if name.upper().startswith("STRING:"):
+                self.open_string(number, name[7:].strip().upper(), stmt.mode, ctx)
+                return
             if stmt.mode in ("FIFO_READ", "FIFO_WRITE"):  # (fifos.py)
                 files[number] = self.hook.fifo_files.open(
                     number, name, stmt.mode, [self.number(o, ctx) for o in stmt.options])
@@ -1019,6 +1107,7 @@ class Interpreter:
                 files[number] = []
             return
         if stmt.action == "CLOSE":
+            self.strings.pop(number, None)
             files.pop(number, None)
             self.hook.fifo_files.close(number)
             self.hook.sources.pop(number, None)
@@ -1136,7 +1225,12 @@ class Interpreter:
                 parts.append(value if isinstance(value, str) else format_number(value))
             parts.append("\t" if separator == "," else "")
         text = "".join(parts) + ("\r\n" if stmt.newline else "")
-        if not self.hook.write_file(int(channel), text):
+        if int(channel) in self.strings:  # a STRING variable opened as a file
+            owner, name = self.strings[int(channel)]
+            held = owner.variables.get(name, "")
+            assert isinstance(held, str)
+            owner.variables[name] = self._typed(name, held + text, owner)
+        elif not self.hook.write_file(int(channel), text):
             self.output(text)
         return int(channel)
 
@@ -1161,6 +1255,27 @@ class Interpreter:
             return _truth(number != 0)
         return real(number) if kind == "FLOAT" else number
 
+    def motion_error_bank(self, expr: Param, ctx: ProcessContext) -> float:
+        """MOTION_ERROR(bank): the axes 64 x bank.. in error (its page: banks 0..15 of 64
+        axes); every axis here is in bank 0, so banks 1..15 read 0."""
+        if len(expr.index) != 1 or expr.axis is not None or expr.slot is not None:
+            raise TrioError("Syntax error")
+        bank = self.number(expr.index[0], ctx)
+        if bank != int(bank) or not 0 <= bank <= 15:
+            raise TrioError("Parameter out of range")
+        if bank:
+            return 0.0
+        return self.read_parameter(Param(expr.keyword, None, expr.process), ctx)
+
+    def bit_of(self, expr: Bit, ctx: ProcessContext) -> int:
+        """The bit a ``.n`` or ``.name`` selects: a whole 0..52 (as a written one)."""
+        if isinstance(expr.bit, int):
+            return expr.bit
+        bit = self.number(expr.bit, ctx)
+        if bit != int(bit) or not 0 <= bit <= 52:
+            raise TrioError("Parameter out of range")
+        return int(bit)
+
     def _hold(self, ctx: ProcessContext, name: str, cost: int) -> None:
         """A variable not DIMmed now holds `cost` bytes of the controller's memory."""
         old = ctx.memory.get(name, 0)
@@ -1173,7 +1288,7 @@ class Interpreter:
         target = stmt.target
         raw = self.evaluate(stmt.value, ctx)
         if isinstance(target, Bit):  # x.n = v: bit n of x's integer part set (v <> 0)
-            mask = 1 << target.bit
+            mask = 1 << self.bit_of(target, ctx)
             word = int(self.number(target.operand, ctx))
             word = word | mask if self.number_value(raw) != 0 else word & ~mask
             assert isinstance(target.operand, (Var, Param, Call))
@@ -1297,6 +1412,11 @@ class Interpreter:
             ctx.rng = random.Random(int(seed[0]) if seed else
                                     ctx.process * 1_000_003 + self.machine.servo_tick() + 1)
             return
+        if name == "THROW_ERROR":  # the program stops with its own message (its page)
+            text = self.evaluate(stmt.args[0], ctx)
+            if not isinstance(text, str):
+                raise TrioError("Type mismatch")
+            raise Thrown(text)
         if name in _BIT_COMMANDS:
             self.bit_command(name, [self.number(a, ctx) for a in stmt.args])
             return
@@ -1381,6 +1501,9 @@ class Interpreter:
             wake = m.servo_tick() + ticks
             while m.servo_tick() < wake:
                 yield Wake(wake)
+        elif name == "BASE" and not args:  # BASE alone prints the array (its example 3)
+            axes = base_array(ctx.base, m.axis_count)  # (power-up [0]: 0, 1, 2, ...)
+            self.output("(" + ", ".join(str(a) for a in axes) + ")\r\n")
         elif name == "BASE":
             ctx.base = base_array([self._axis_number(a) for a in args], m.axis_count)
         elif name == "TABLE":
@@ -1588,18 +1711,27 @@ class Interpreter:
         self._act(lambda: m.defpos([axis], [0.0]))
 
     def op(self, args: list[float]) -> None:
-        """OP(n, state) one output; OP(pattern): outputs 8..31 from its bits (I)."""
+        """OP(n, state) one output; OP(state) the first 32 outputs from the bits of state
+        (bit k is output k; 0..7 are inputs only and are left alone); OP(start, end, state)
+        outputs start..end from bits 0.. of state (TrioBASIC help OP, its four modes)."""
         m = self.machine
         if len(args) == 2:
             m.set_output(self._point(args[0], IO_SPACE), args[1] != 0)
-        elif len(args) == 1:
-            pattern = args[0]
-            if pattern != int(pattern) or not 0 <= pattern < 2 ** 24:
+            return
+        if len(args) == 1:
+            first, last, pattern = 8, IO_POINTS - 1, args[0]
+            shift = 0
+        elif len(args) == 3:
+            first, last = self._point(args[0], IO_SPACE), self._point(args[1], IO_SPACE)
+            if not first <= last < first + IO_POINTS:
                 raise TrioError("Parameter out of range")
-            for k in range(8, IO_POINTS):
-                m.set_output(k, bool((int(pattern) >> (k - 8)) & 1))
+            pattern, shift = args[2], first
         else:
-            raise TrioError("Syntax error")  # OP(first, last, pattern): not modelled (D)
+            raise TrioError("Syntax error")
+        if pattern != int(pattern) or not 0 <= pattern < 2 ** IO_POINTS:
+            raise TrioError("Parameter out of range")
+        for k in range(first, last + 1):
+            m.set_output(k, bool((int(pattern) >> (k - shift)) & 1))
 
     def _axis_number(self, value: float) -> int:
         if value != int(value) or not 0 <= value < self.machine.axis_count:

@@ -226,6 +226,35 @@ _ENTRIES: list[Keyword] = [
             note="CRC-16 (0x8005) over every program's EDPROG checksum, by name order."),
     _system("TSIZE", "Size of TABLE memory.", default=TABLE_SIZE, writable=False,
             source=TOK, confidence="D", note=f"{TABLE_SIZE} values (D)."),
+    _command("THROW_ERROR", "THROW_ERROR(message): stop with an error of that text.", (1, 1),
+             source="TrioBASIC help THROW_ERROR; help RUN_ERROR", confidence="C",
+             string_arg=True,
+             note="The process stops, its error line carrying the message, RUN_ERROR 268 "
+             "(C); ON BASICERROR catches it as any error (I); a number for the message is "
+             "'Type mismatch' (D)."),
+    _system("MOTION_ERROR_COUNT", "How many axes are in motion error: the bits set in "
+            "MOTION_ERROR.", writable=False, source="TrioBASIC help MOTION_ERROR_COUNT",
+            confidence="C"),
+    _statement("STATIC", "STATIC name AS type[(sizes)] [= value]: a FUNCTION's variable or "
+               "array set up on its first call only, keeping its value between calls.",
+               source="TrioBASIC help STATIC", confidence="C",
+               note="One store per FUNCTION for the controller's run, shared by the processes "
+               "that call it (I: a library's function is one; D); editing the program starts "
+               "it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
+               "functions only)."),
+    _system("AXISSIZE", "Number of axes (BASE and AXIS take 0..AXISSIZE-1).", default=16.0,
+            writable=False, source="TrioBASIC help AXISSIZE", confidence="C",
+            note="16: the MC405's axes here, 0-4 on the board and 5-15 virtual (D)."),
+    _system("BUFFERSIZE", "The largest move buffer, the most LIMIT_BUFFERED takes.",
+            default=64.0, writable=False, source="TrioBASIC help BUFFERSIZE",
+            confidence="C", note="64: LIMIT_BUFFERED's range here (D)."),
+    _system("VRSIZE", "Number of VR elements (VR(0..VRSIZE-1)).", default=VR_COUNT,
+            writable=False, source="TrioBASIC help VRSIZE", confidence="C",
+            note=f"{VR_COUNT}: this emulator's VR array (the page: it varies by controller)."),
+    _system("IOSIZE", "Number of digital I/O channels, real and virtual (0..IOSIZE-1).",
+            default=1024.0, writable=False, source="TrioBASIC help IOSIZE", confidence="C",
+            note="1024: the I/O numbers IN, OP and READ_OP take here (D: the page says it "
+            "varies by controller)."),
     # ---- motion and axis commands ----------------------------------------------------------
     _command("MOVE", "Relative interpolated move on the BASE axes.", (1, 128), axis=True,
              source=f"{SEED}; {TOK}", note="A path at the base axis's SPEED and ACCEL taken "
@@ -408,9 +437,10 @@ _ENTRIES: list[Keyword] = [
     _axis("ADDAX_AXIS", "The axis ADDAX adds to this one; -1 none.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="-1 for none is our reading of the manual (I)."),
-    _command("BASE", "Set the process's base axes; later axes follow in order.", (1, 128),
-             source=f"{SEED}; {TOK}; {MAN}", confidence="I",
-             note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual)."),
+    _command("BASE", "Set the process's base axes; later axes follow in order.", (0, 128),
+             source=f"{SEED}; {TOK}; {MAN}; TrioBASIC help BASE", confidence="I",
+             note="BASE(4) makes the group 4,5,6,...,0,1,2,3 (manual). BASE alone prints "
+             "the whole array, (1, 5, 9, 10, ...) (C: its example 3)."),
     _command("TABLE", "TABLE(start, v1, v2, ...) writes a run of TABLE values; TABLE(i) "
              "reads one.", (1, 128), source=f"{SEED}; {TOK}; help (TABLE_POINTER page)",
              note="A running or buffered CAMBOX or CAM reads its values live: see CAMBOX, "
@@ -459,9 +489,11 @@ _ENTRIES: list[Keyword] = [
              "ours (atrio only sends it)."),
     _command("AUTORUN", "Start every program set to run at power up.", (0, 0), source=REF,
              note="Prints '%[Process p:Program NAME] - Running' per program (atrio test)."),
-    _command("EX", "Restart the controller.", (0, 1), source=REF,
+    _command("EX", "Restart the controller.", (0, 1), source=f"{REF}; TrioBASIC help EX",
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
-             "starts a new one (ref 5)."),
+             "starts a new one (ref 5). In a program (C: its page allows it) the program "
+             "ends there and the controller restarts after that servo cycle, the command "
+             "lines staying open (D)."),
     # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
     _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
              (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
@@ -596,6 +628,13 @@ _ENTRIES: list[Keyword] = [
       for name in ("ABS", "INT", "FRAC", "SGN", "SQR", "SIN", "COS", "TAN", "ATAN", "EXP",
                    "LN")],
     _function("ATAN2", "ATAN2(y, x).", (2, 2)),
+    _function("BITCOUNT", "BITCOUNT(x): how many bits are 1 in x taken as a 64-bit integer.",
+              (1, 1), source="TrioBASIC help BITCOUNT", confidence="C",
+              note="The fraction is dropped, a negative value is two's complement (-1: 64, "
+              "the page's examples); outside the signed 64-bit range 'Parameter out of range' "
+              "(D). Known gap: numbers here are 64-bit floats, so a value past 2^53 has lost "
+              "its low bits before BITCOUNT sees it (the page's $1001200240048008 counts 7, "
+              "not 8)."),
     _function("VR", "Global variable VR(i); assign with VR(i)=value.", (1, 1),
               source=f"{TOK}; {MAN}; TrioBASIC help VR", note=f"VR(0..{VR_COUNT - 1}) "
               "(count I: public programs clear VR 0..65535). VR(n) = \"text\" writes one "
@@ -605,6 +644,10 @@ _ENTRIES: list[Keyword] = [
     _function("IS_PROG", "TRUE (-1) when the program exists.", (1, 1), source=REF,
               string_arg=True, confidence="I", note="atrio tests it for truth; -1 is "
               "TrioBASIC's TRUE (I)."),
+    _function("IS_FILE", "TRUE (-1) when the file (a program of the store) exists.", (1, 1),
+              source="TrioBASIC help IS_FILE", string_arg=True, confidence="C",
+              note="The page: IS_FILE and IS_PROG do the same; `IS_FILE \"name\"` or with "
+              "brackets."),
     _function("PROG_TYPE", "The program's type code, -1 when missing.", (1, 1), source=REF,
               string_arg=True),
     # ---- statements ---------------------------------------------------------------------------
@@ -1015,9 +1058,11 @@ _ENTRIES: list[Keyword] = [
               "number; IN: inputs 0..31.", (0, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the shared world's inputs (the world contract can drive them)."),
     _command("OP", "OP(n, ON|OFF) sets output n; OP(n) reads it as a function.", (1, 3),
-             source=f"{TOK}; {MAN}", confidence="I",
-             note="Outputs 0..31 kept by the machine, off at power up (D); OP(pattern) with "
-             "one argument sets outputs 8..31 from bits (I)."),
+             source=f"{TOK}; {MAN}; TrioBASIC help OP", confidence="C",
+             note="Outputs kept by the machine, off at power up (D); OP(state): outputs "
+             "8..31 from bits 8..31 of state, 0..7 being inputs only (C, its examples 2 and "
+             "3); OP(start, end, state): outputs start..end from bits 0.. of state, at most "
+             "32 (C; the limit is ours, D)."),
     _function("READ_OP", "READ_OP(n): output n, 1/0; READ_OP(a, b): outputs a..b as a "
               "binary number.", (1, 2), source=f"{TOK}; {MAN}", confidence="I",
               note="Reads the outputs OP set (I)."),
@@ -1237,7 +1282,11 @@ _ENTRIES: list[Keyword] = [
              "the store at once, CLOSE the rest (help page OPEN; every OUTPUT mode is the "
              "store, D). FOR FIFO_WRITE / FIFO_READ: a RAM circular buffer between two "
              "channels (see FIFO_WRITE; fifos.py). Channels 40 to 48 "
-             "only (C: help page OPEN); any other is 'Parameter out of range'."),
+             "only (C: help page OPEN); any other is 'Parameter out of range'. AS "
+             "\"STRING:name\": the process's STRING variable is the file (C: examples 8, "
+             "9): OUTPUT empties it, PRINT #n adds to it, APPEND keeps it, INPUT reads it. "
+             "As a value, OPEN gives the error's RUN_ERROR number or 0 (C); a TCP, DGRAM "
+             "or TCPSERVER connection is FALSE: no program channel opens a socket (D)."),
     *(_command(mode, f"OPEN's {mode} channel mode (see OPEN).", (0, 0), confidence="I",
                source=f"{TOK}; public programs",
                note="Taken as a word of OPEN ... FOR; alone as a statement it is accepted "
@@ -2387,6 +2436,38 @@ def _from_token_table() -> list[Keyword]:
     return out
 
 
+def _from_help_pages(known: set[str]) -> list[Keyword]:
+    """The help's fieldbus, set-up and diagnostic words the token table lacks
+    (helpwords.py), each "Not modelled" with its reason; a word already known is skipped."""
+    from .helpwords import HELP_WORDS
+
+    out: list[Keyword] = []
+    for row in HELP_WORDS.splitlines():
+        tag, name, rest = row.split(" ", 2)
+        if name in known:
+            continue
+        source = f"{HELP} {name}"
+        if tag in ("S", "A"):
+            access, why = rest.split(" ", 1)
+            note = ("Not modelled: stored and read back, no effect on the machine"
+                    if access == "w" else "Not modelled: reads 0") + \
+                (", a value for each argument list" if tag == "A" else "") + f"; {why} (D)."
+            out.append(_system(name, f"Help-page system {'array' if tag == 'A' else 'parameter'}"
+                               ".", writable=access == "w", source=source, confidence="D",
+                               note=note))
+            continue
+        low, high, why = rest.split(" ", 2)
+        if tag == "F":
+            out.append(_function(name, "Help-page function.", (int(low), int(high)),
+                                 source=source, confidence="D",
+                                 note=f"Not modelled: returns 0; {why} (D)."))
+        else:
+            out.append(_command(name, "Help-page command.", (int(low), int(high)),
+                                source=source, confidence="D",
+                                note=f"Not modelled: accepted, no effect; {why} (D)."))
+    return out
+
+
 def _index(entries: list[Keyword]) -> dict[str, Keyword]:
     """The table by name; a keyword listed twice is an error at import."""
     table: dict[str, Keyword] = {}
@@ -2397,7 +2478,8 @@ def _index(entries: list[Keyword]) -> dict[str, Keyword]:
     return table
 
 
-KEYWORDS: dict[str, Keyword] = _index(_ENTRIES + _from_token_table())
+_TABLED = _ENTRIES + _from_token_table()
+KEYWORDS: dict[str, Keyword] = _index(_TABLED + _from_help_pages({k.name for k in _TABLED}))
 
 
 def lookup(name: str) -> Keyword | None:

@@ -21,6 +21,13 @@ class TrioError(Exception):
         self.line = line  # program line number (1-based) when known
 
 
+class Thrown(TrioError):
+    """THROW_ERROR(message): the program's own error text, RUN_ERROR 268 (THROW_ERROR's
+    page; the RUN_ERROR page lists 268 as the user's error string)."""
+
+    CODE = 268
+
+
 class Tok(Enum):
     NUMBER = "number"
     STRING = "string"
@@ -110,6 +117,11 @@ def tokenize(line: str) -> list[Token]:
                 break
             tokens.append(Token(Tok.NAME, word, column=i))
             i = j
+        elif c == "." and i + 1 < n and line[i + 1] in _LETTERS and tokens and \
+                tokens[-1].column + len(tokens[-1].text) == i and \
+                (tokens[-1].kind is Tok.NAME or tokens[-1].text == ")"):
+            tokens.append(Token(Tok.OP, ".", column=i))  # value.name: the bit operator
+            i += 1  # with its bit number in a variable (MOTION_ERROR.a, its page)
         elif line.startswith(_TWO_CHAR_OPS, i):
             tokens.append(Token(Tok.OP, line[i:i + 2], column=i))
             i += 2

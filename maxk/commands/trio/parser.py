@@ -14,7 +14,7 @@ Long module: one recursive-descent parser for every statement form of the langua
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TypeVar
 
 from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
@@ -72,13 +72,32 @@ class Binary:
 
 @dataclass(frozen=True)
 class Bit:
-    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0."""
+    """``value.n``: bit n of a value (``AXISSTATUS.2``), 1 or 0; ``value.name``: the bit
+    numbered by a variable (``MOTION_ERROR.a`` on the MOTION_ERROR and AXISSTATUS pages)."""
 
     operand: Expr
-    bit: int
+    bit: int | Var
 
 
-Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit
+@dataclass(frozen=True)
+class Opened:
+    """``OPEN #n AS "name" FOR mode`` as a value: the error it met, 0 for none (OPEN's
+    page: value = OPEN ...)."""
+
+    channel: Channel
+
+
+@dataclass(frozen=True)
+class Field:
+    """``name.dims`` / ``name.dimsize(n)``: an array's number of dimensions and the size of
+    one (the field operator's page; the robot types' fields are not modelled)."""
+
+    name: str
+    field: str  # DIMS or DIMSIZE
+    index: Expr | None = None
+
+
+Expr = Num | Str | Var | Param | Call | Unary | Binary | Bit | Opened | Field
 
 # ---- statements ----------------------------------------------------------------------
 
@@ -190,6 +209,7 @@ class Dim:
     type: str  # INTEGER FLOAT BOOLEAN STRING
     length: int = 0  # STRING(n)
     value: Expr | None = None  # the initial value
+    static: bool = False  # STATIC: in a FUNCTION, set up on its first call only
 
 
 @dataclass(frozen=True)
@@ -544,7 +564,8 @@ class _Parser:
         (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
         index: tuple[Expr, ...] = ()
         if self.at_op("(") and (keyword.note.startswith("Not modelled")
-                                or keyword.name in CHANNEL_PARAMETERS):
+                                or keyword.name in CHANNEL_PARAMETERS
+                                or keyword.name == "MOTION_ERROR"):  # MOTION_ERROR(bank)
             # only a parameter the emulator keeps as written takes arguments (D): a
             # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()
@@ -661,6 +682,8 @@ class _Parser:
             return Declare(name, tok.text.upper(), self.expression(), tok.text)
         if name == "DIM":
             return self.dim()
+        if name == "STATIC":  # STATIC name AS type ...: a DIM kept between calls (its page)
+            return replace(self.dim(), static=True)
         if name == "FUNCTION":
             return self.function()
         if name == "ENDFUNC":
@@ -715,6 +738,10 @@ class _Parser:
             if self.at_name("LOADED"):
                 self.advance()
                 return WaitLoaded(self.axis_modifier())
+            if self.at_name("IN_POS"):  # WAIT IN_POS [AXIS(n)]: WAIT UNTIL IN_POS (WAIT's page)
+                keyword = lookup(self.advance().text)
+                assert keyword is not None
+                return WaitUntil(self.parameter(keyword))
         raise TrioError("Syntax error")
 
     def case(self) -> Case:
@@ -1072,12 +1099,18 @@ class _Parser:
 
     def primary(self) -> Expr:
         expr = self.operand()
-        tok = self.tok
-        if tok.kind is Tok.NUMBER and tok.text.startswith(".") and tok.text[1:].isdigit():
-            self.advance()  # value.n: bit n of a variable, element, bracket or parameter
-            bit = int(tok.text[1:])
-            if bit > 52:
-                raise TrioError("Parameter out of range")
+        if isinstance(expr, Var) and self.at_op(".") and \
+                self.tokens[self.pos + 1].text in ("DIMS", "DIMSIZE"):
+            self.advance()  # the field operator: name.dims, name.dimsize(n)
+            field = self.advance().text
+            index = None
+            if self.at_op("("):
+                self.advance()
+                index = self.expression()
+                self.expect_op(")")
+            return Field(expr.name, field, index)
+        bit = self.bit_number()
+        if bit is not None:  # value.n: bit n of a variable, element, bracket or parameter
             if isinstance(expr, Param) and expr.axis is None and \
                     expr.keyword.axis_modifier and self.at_name("AXIS"):
                 expr = Param(expr.keyword, self.axis_modifier(), expr.process, expr.slot,
@@ -1114,6 +1147,8 @@ class _Parser:
             return Call(tok.text, ())
         if tok.text == "FILE" and self.tok.kind is Tok.STRING:  # value = FILE "DETECT"
             return Call("FILE", self.file_args())
+        if tok.text == "OPEN" and self.at_op("#"):  # value = OPEN #n AS ... FOR ...
+            return Opened(self.channel_statement("OPEN"))
         if tok.text in ("KEY", "IS_OPEN") and self.at_op("#"):  # KEY #n, IS_OPEN #n
             self.advance()
             return Call(tok.text, (self.unary(),))
@@ -1142,16 +1177,29 @@ class _Parser:
             raise TrioError("Parameter out of range")
         return float((fields[0] << 24) | (fields[1] << 16) | (fields[2] << 8) | fields[3])
 
-    def bit_target(self, target: _Target) -> _Target | Bit:
-        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
-        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+    def bit_number(self) -> int | Var | None:
+        """The ``.n`` or ``.name`` after a value (the bit operator), or None."""
         tok = self.tok
+        if tok.kind is Tok.OP and tok.text == ".":
+            self.advance()
+            name = self.advance()
+            if name.kind is not Tok.NAME or lookup(name.text) is not None:
+                raise TrioError("Syntax error")
+            return Var(name.text)
         if tok.kind is not Tok.NUMBER or tok.text[:1] != "." or not tok.text[1:].isdigit():
-            return target
+            return None
         self.advance()
         bit = int(tok.text[1:])
         if bit > 52:
             raise TrioError("Parameter out of range")
+        return bit
+
+    def bit_target(self, target: _Target) -> _Target | Bit:
+        """``x.n`` on the left of ``=``: bit n of a variable, element, VR or parameter
+        (``options.4 = ON``, ``CORNER_MODE.1 AXIS(2) = ON``)."""
+        bit = self.bit_number()
+        if bit is None:
+            return target
         if isinstance(target, Param) and target.axis is None and \
                 target.keyword.axis_modifier and self.at_name("AXIS"):
             return Bit(Param(target.keyword, self.axis_modifier(), target.process,
@@ -1164,6 +1212,8 @@ class _Parser:
             if nxt.kind is Tok.OP and nxt.text == "+":  # IS_PROG "SD:" + name (its page)
                 return (self.additive(),)
             return (Str(self.advance().text),)
+        if keyword.name in ("IS_FILE", "IS_PROG") and self.tok.kind is Tok.NAME:
+            return (self.additive(),)  # IS_FILE name$: a string variable (IS_FILE's page)
         if not self.at_op("("):
             if keyword.name == "BASE" or keyword.args[0] == 0:
                 return ()  # DATE$, KEY, BASE: a function of no arguments

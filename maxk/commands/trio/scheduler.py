@@ -96,6 +96,9 @@ class ProcessScheduler:
             runtime.step_task(process, task)
             task.due = due_after(task.wake, now)
             task.seen = self.clock.revision
+        if runtime.reset_requested:  # EX in a program: the restart, after this cycle
+            runtime.reset_requested = False
+            runtime.restart()
         for session in list(self.sessions):
             if session.waiting and self._ready(session.busy_due, session.busy_seen, now):
                 session.resume()

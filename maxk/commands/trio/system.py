@@ -17,7 +17,7 @@ from .fifos import FifoFiles
 from .housekeeping import DATA_FUNCTIONS, Definitions, Housekeeping, file_name
 from .interpreter import Interpreter, ProcessContext, Value, Wait, Wake, error_code, number_arg
 from .keywords import Keyword
-from .lexer import TrioError
+from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .network import NetworkWords
 from .parser import FunctionDef
@@ -64,6 +64,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         self.halt_listeners: list[Callable[[], None]] = []  # each open command line's: a
         # HALT from any host ends a statement waiting at another's prompt too (D)
         self._halting = False
+        self.reset_requested = False  # EX in a program: the scheduler restarts after the cycle
         self.clock_offset = 0.0  # TIME = / DATE =: the real time clock set ahead (s)
         self.scope: Scope | None = None  # SCOPE armed (TRIGGER starts it)
         self.scope_cycles = 0  # SCOPE_CYCLE_COUNT: capture cycles started
@@ -143,7 +144,7 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
         if name in ("FLASHTABLE", "FLASHVR"):
             return self.flashtable(args) if name == "FLASHTABLE" else self.flashvr(args)
         program = _name(args)
-        if name == "IS_PROG":
+        if name in ("IS_PROG", "IS_FILE"):  # one function under two names (IS_FILE's page)
             return -1.0 if self.programs.exists(program) else 0.0
         return float(self.programs.get(program).type) if self.programs.exists(program) else -1.0
 
@@ -405,8 +406,26 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
     def cmd_autorun(self, args: list[Value]) -> None:
         self.start_autorun(announce=True)
 
-    def cmd_ex(self, args: list[Value]) -> None:
-        raise TrioError("Syntax error")  # EX restarts only when alone on its line (D)
+    def ctx_ex(self, args: list[Value], ctx: ProcessContext) -> None:
+        """EX in a program (its page: "EX may be included in a program"): the program ends
+        here and the controller restarts at the end of this servo cycle, as EX typed on the
+        command line (programs stop, the machine powers up, the autorun programs start; see
+        docs/trio.md for what a restart keeps). The command lines stay open (D). On the
+        command line EX restarts only when alone on its line (the session handles it; here
+        a 'Syntax error', D)."""
+        if not ctx.program or len(args) > 1:
+            raise TrioError("Syntax error")
+        ctx.stopped = True
+        self.reset_requested = True
+
+    def restart(self) -> None:
+        """The controller's restart (EX): every program stops, the machine powers up, the
+        autorun programs start (a machine with no power-up restarts its programs only)."""
+        self.halt()
+        power_up = getattr(self.machine, "restart", None)
+        if power_up is not None:
+            power_up()
+        self.start_autorun(announce=False)
 
     def cmd_ethercat(self, args: list[Value]) -> None:
         numbers = [number_arg(a) for a in args]
@@ -430,7 +449,8 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
             self.process_output(f"%[Process {process}:Program {task.ctx.program} "
                                 f"Line {exc.line}] - {exc.message}\r\n")
             task.ctx.error_line = float(exc.line or 0)
-            self._ended(process, task, error_code(exc.message))
+            self._ended(process, task, Thrown.CODE if isinstance(exc, Thrown)
+                        else error_code(exc.message))
         else:
             if task.finished:
                 self._ended(process, task)

@@ -33,13 +33,14 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
-from .interpreter import Argument, Interpreter, ProcessContext, Value, Wake, error_code
-from .lexer import TrioError
+from .interpreter import Argument, Interpreter, Kept, ProcessContext, Value, Wake, error_code
+from .lexer import Thrown, TrioError
 from .loopjumps import link_loop_jumps, loop_jump
 from .parser import (
     Assign,
     Call,
     Case,
+    Dim,
     Else,
     ElseIf,
     EndCase,
@@ -350,6 +351,7 @@ class Task:
         if len(self.frames) >= GOSUB_DEPTH:
             raise TrioError("Stack overflow")
         outer = self.ctx
+        caller = self.frames[-1] if self.frames else outer
         ctx = ProcessContext(process=outer.process, program=outer.program, base=outer.base,
                              functions=self.call_function, ticks=outer.ticks)
         for param, kind, arg in zip(define.params, define.types, args, strict=True):
@@ -357,11 +359,16 @@ class Task:
                 ctx.types[param] = kind  # its AS type: what an element or it holds
             if isinstance(arg, list):
                 ctx.arrays[param] = arg
+                shape = next((caller.shapes[n] for n, a in caller.arrays.items()
+                              if a is arg and n in caller.shapes), None)
+                if shape is not None:  # the array keeps its dimensions (.dims, .dimsize)
+                    ctx.shapes[param] = shape
             else:  # a number is a FLOAT unless its AS type says otherwise (help DIM)
                 ctx.variables[param] = self.interpreter._typed(param, arg, ctx)
         if not self.frames:
             self.budget = FUNCTION_STATEMENTS  # shared by the whole tree of calls
         self.frames.append(ctx)
+        kept: list[tuple[int, int]] = []  # the STATIC steps this call went through
         try:
             pc = start + 1
             while True:
@@ -371,6 +378,13 @@ class Task:
                 step = steps[pc]
                 ctx.line = step.line
                 stmt = step.stmt
+                if isinstance(stmt, Dim) and stmt.static:
+                    key = (id(steps), pc)
+                    kept.append(key)
+                    if key in self.interpreter.statics:  # set up by an earlier call
+                        self._restore(ctx, self.interpreter.statics[key])
+                        pc += 1
+                        continue
                 if isinstance(stmt, EndFunc):
                     return 0.0
                 if isinstance(stmt, Return) and not ctx.stack:
@@ -386,6 +400,23 @@ class Task:
         finally:
             self.frames.pop()
             outer.base = ctx.base  # BASE set inside a FUNCTION holds for the process (D)
+            for key in kept:  # the STATIC names keep what this call left in them
+                names = steps[key[1]].stmt
+                assert isinstance(names, Dim)
+                self.interpreter.statics[key] = {
+                    name: (ctx.variables.get(name), ctx.arrays.get(name),
+                           ctx.shapes.get(name), ctx.types.get(name)) for name in names.names}
+
+    @staticmethod
+    def _restore(ctx: ProcessContext, kept: dict[str, Kept]) -> None:
+        """A STATIC's names as the last call left them."""
+        for name, (value, array, shape, kind) in kept.items():
+            if value is not None:
+                ctx.variables[name] = value
+            if array is not None and shape is not None:
+                ctx.arrays[name], ctx.shapes[name] = array, shape
+            if kind is not None:
+                ctx.types[name] = kind
 
     def step(self) -> Wake | None:
         """Run until the program waits, ends a loop pass, uses its slice or finishes (one
@@ -455,7 +486,8 @@ class Task:
             except TrioError as exc:
                 if ctx.on_error is None:
                     raise
-                ctx.run_error = error_code(exc.message)
+                ctx.run_error = Thrown.CODE if isinstance(exc, Thrown) else \
+                    error_code(exc.message)
                 ctx.error_line = step.line
                 pc, ctx.on_error = ctx.on_error, None
 
