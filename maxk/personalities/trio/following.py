@@ -1,10 +1,12 @@
 """Servo axes of the MC405 on the shared servo loop: following error and FE_LIMIT.
 
-An axis is a servo when its ATYPE is a servo type (36, 77) and P_GAIN is above 0: the
-shared loop (`firmware_model/servo.py`, the PID the MAXk and MM4005 run) then drives the
-world's motor plant of the axis every servo cycle, MPOS reads the plant's encoder and FE
-is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis stays the exact, profile-only
-axis it always was (MPOS = DPOS, FE = 0), so every exact figure keeps its meaning.
+An axis is a servo when its ATYPE is a servo type (`axistypes.SERVO_ATYPES`: 44, the
+flexible axis's analogue servo, 36, 77, the absolute-feedback 46/47/48/92, ...) and
+P_GAIN is above 0: the shared loop (`firmware_model/servo.py`, the PID the MAXk and
+MM4005 run) then drives the world's motor plant of the axis every servo cycle, MPOS reads
+the plant's encoder and FE is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis
+stays the exact, profile-only axis it always was (MPOS = DPOS, FE = 0), so every exact
+figure keeps its meaning.
 
 The gains map onto the shared filter as DAC = P_GAIN e + D_GAIN (e - e_prev) + I_GAIN
 sum(e) + VFF_GAIN v + AFF_GAIN a + OV_GAIN dPm (counts, counts per servo cycle: D, the
@@ -43,6 +45,7 @@ from maxk.firmware_model.world import World
 
 from . import encoders
 from .axismode import first_reached, mpos_bounds, mpos_compared
+from .axistypes import SERVO_ATYPES
 from .runs import ServoGains, TrioAxis
 
 
@@ -64,9 +67,6 @@ class ServoHost(MotorHost, Protocol):
     system: dict[str, float]
 
 
-SERVO_ATYPES = frozenset({36, 77})
-"""Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
-servo with PWM, 77 incremental encoder servo with enable)."""
 FE_EXCEEDED = 1 << 8
 DAC_STEP = 16.0
 """Shared 16-bit output counts per MC405 DAC count (a 12-bit DAC, 2047 = 10 V: help DAC;

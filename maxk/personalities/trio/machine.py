@@ -36,6 +36,7 @@ from maxk.firmware_model.world import World
 
 from . import (
     axismode,
+    axistypes,
     encoders,
     geometry,
     links_modify,
@@ -379,6 +380,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
+        elif name == "ATYPE":
+            self.axes[axis].params[name] = float(axistypes.check(value))  # (axistypes.py)
         elif name == "CORNER_STATE":
             self.corners.write(axis, value)  # the corner handshake (corner_state.py)
         elif name in _COMPUTED or name not in self.axes[axis].params \
