@@ -898,18 +898,26 @@ _ENTRIES: list[Keyword] = [
             source=f"{HELP} MPE_MODE; {TOK}", confidence="D",
             note="Not modelled: reads 0 (no protocol: direct mode), as every session the "
             "emulator serves is; the Motion Perfect protocols are not emulated."),
+    _command("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.",
+             (1, 1), axis=True, source=f"{HELP} ADD_DAC; Omron TJ1-MC04 and TJ2-MC64 "
+             f"programming manuals, ADD_DAC; {TOK}", confidence="I",
+             note="The base axis's DAC (and DAC_OUT) is its own output (its loop's with "
+             "SERVO ON, its DAC with SERVO OFF: the TJ manuals' figure and second "
+             "example) plus the added axis's (C). The added axis (a servo ATYPE with "
+             "gains: the page) runs "
+             "the shared filter with its own gains on its demand (with ADDAX's part) less "
+             "its MPOS, read from the encoder the world mounts on its input (`@world N "
+             "shaft-encoder M RATIO`; none mounted: the base's motor count for count, D) "
+             "times its ENCODER_RATIO, on the base loop's encoder sample every cycle (I); "
+             "with its SERVO OFF its open-loop DAC is added instead (I), it drives no "
+             "motor of its own (D), its "
+             "FE is compared with FE_LIMIT when the machine looks, not cycle by cycle (D). "
+             "The base keeps its loop from then on, also with P_GAIN 0 (D). -1 ends it; "
+             "the axis itself, one out of range or a chain is 'Parameter out of range' "
+             "(D). See add_dac.py."),
     *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
-          ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
-           "the page gives the sum (DAC_OUT = both axes' loop outputs) but its use needs "
-           "the second axis's filter to read its own encoder of the same motor (a "
-           "measuring wheel on the material): the world mounts an encoder on another "
-           "axis's motor only for the encoder-input ATYPEs, which run no loop, the page's "
-           "ATYPE 44 is not a servo type here (36, 77 are), and the shared loop keeps one "
-           "filter's state a motor; with no slip in the world the sum would equal one loop "
-           "with both axes' gains added, which the base axis's gains give (accepted, no "
-           "effect)."),
           ("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): parameters read on one servo cycle "
            "into VRs, not scaled by UNITS.", (2, 9), "accepted, no effect: which "
            "parameters UNITS scales is not listed on the page (the VRs are not written)."),

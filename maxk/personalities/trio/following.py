@@ -38,12 +38,14 @@ raises the same error.
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from typing import Protocol
 
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
 from . import encoders
+from .add_dac import AddedFilter, target
 from .axismode import first_reached, mpos_bounds, mpos_compared
 from .axistypes import SERVO_ATYPES
 from .runs import ServoGains, TrioAxis
@@ -122,11 +124,33 @@ class Following:
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
         self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
         self.driven: set[int] = set()  # axes an open-loop output gave a loop (kept, D)
+        self.adds: dict[int, int] = {}  # ADD_DAC: base axis -> the axis whose output it
+        # adds (add_dac.py)
+        self.filters: dict[int, AddedFilter] = {}  # base axis -> the added axis's filter
 
     def reset(self) -> None:
         """Power-up: no stretch stopped, no loop kept for an open-loop output."""
         self.over = []
         self.driven = set()
+        self.adds = {}
+        self.filters = {}
+
+    def add_dac(self, axis: int, args: list[float] | tuple[float, ...]) -> None:
+        """ADD_DAC(added) on a base axis; -1 ends it (add_dac.py). A chain (the added
+        axis a base, or the base added to another) is 'Parameter out of range' (D)."""
+        if len(args) != 1:
+            raise ValueError("Syntax error")
+        added = target(args[0], axis, len(self.m.axes))
+        if added is None:
+            self.adds.pop(axis, None)
+        else:
+            if added in self.adds or axis in self.adds.values():
+                raise ValueError("Parameter out of range")
+            for base in [b for b, a in self.adds.items() if a == added]:
+                del self.adds[base]  # (an axis is added to one base at a time)
+            self.adds[axis] = added
+            self.driven.add(axis)  # (the base keeps its loop from then on, D)
+        self.configure()
 
     def open_output(self, axis: int) -> float:
         """The open-loop output in MC405 DAC counts: DAC within +/-OUTLIMIT while SERVO
@@ -138,13 +162,17 @@ class Following:
         limit = abs(params["OUTLIMIT"])
         return max(-limit, min(limit, params["DAC"]))
 
+    def _open_counts(self, axis: int) -> float:
+        """The open-loop output on the shared 16-bit output (DAC counts x DAC_STEP)."""
+        return self.open_output(axis) * DAC_STEP
+
     def dac_out(self, axis: int) -> float:
         """DAC_OUT: the output put out on the last servo cycle, MC405 DAC counts."""
         a = self.m.axes[axis]
         loop = a.servo
         if loop is None or loop.tripped:
             return 0.0
-        if not loop.closed:
+        if not loop.closed and axis not in self.filters:  # (ADD_DAC: the sum put out)
             return self.open_output(axis)
         return loop.dac * a.config.servo_polarity / DAC_STEP
 
@@ -162,7 +190,7 @@ class Following:
             sign = polarity(a.params) if not out else 1  # (the open loop is not scaled)
             if out and a.params["P_GAIN"] <= 0:
                 self.driven.add(i)
-            gains = gains_of(a.params, out * DAC_STEP, i in self.driven)
+            gains = gains_of(a.params, out * DAC_STEP, i in self.driven or i in self.adds)
             if gains is None:
                 a.servo = None
                 continue
@@ -181,6 +209,32 @@ class Following:
                 self._close(a, loop)
             elif not enabled and loop.closed:
                 loop.closed = False
+        self._configure_adds()
+
+    def _configure_adds(self) -> None:
+        """Give each ADD_DAC base loop its added axis's filter (the added axis a servo
+        with a loop), or none."""
+        axes = self.m.axes
+        for i, a in enumerate(axes):
+            loop = a.servo
+            added = self.adds.get(i)
+            other = None if added is None else axes[added]
+            if loop is None or other is None or other.servo is None:
+                self.filters.pop(i, None)
+                if loop is not None:
+                    loop.set_added(None)
+                continue
+            assert added is not None
+            gains, sign = other.config.gains, other.config.servo_polarity
+            held = self.filters.get(i)
+            if (held is None or held.added != added or held.gains != gains
+                    or held.polarity != sign
+                    or held.base_polarity != a.config.servo_polarity):
+                held = AddedFilter(self.m, i, added, gains, sign, a.config.servo_polarity,
+                                   partial(self.enabled, added),
+                                   partial(self._open_counts, added))
+                self.filters[i] = held
+            loop.set_added(held)
 
     def _close(self, a: TrioAxis, loop: ServoLoop) -> None:
         """Close the loop on an idle axis: the demand first moves to the encoder."""
@@ -238,12 +292,27 @@ class Following:
     # ---- every servo cycle -------------------------------------------------------------
     def integrate(self, limit: int) -> int | None:
         """Run the loops to `limit`; the tick of a following error that stops them on the
-        way (the loops then stand there, `over` names the axes), or None."""
+        way (the loops then stand there, `over` names the axes), or None. An ADD_DAC
+        added axis's loop then reads where the base loop's motor brought its encoder."""
+        first = self._integrate(limit)
+        axes = self.m.axes
+        for base, f in self.filters.items():
+            base_loop, loop = axes[base].servo, axes[f.added].servo
+            if base_loop is not None and loop is not None:
+                f.follow(loop, base_loop)
+        return first
+
+    def _integrate(self, limit: int) -> int | None:
         m = self.m
         servos = self.servos
         if not servos:
             return None
+        filters = self.filters
+        following = {f.added for f in filters.values()}  # (ADD_DAC: no motor of their own)
+        if following:
+            servos = [a for a in servos if a.index not in following]
         free = [a for a in servos if a.link is None and not m.framed(a.index)]
+        held = {base: f.snapshot() for base, f in filters.items()}
         watched = {a.index for a in free if self._watched(a)}
         soft = {a.index for a in free if self._soft_watched(a)}  # (AXIS_MODE bit 8 clear)
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
@@ -292,6 +361,8 @@ class Following:
                 loop = a.servo
                 assert loop is not None
                 loop.restore(saved[a.index])
+                if a.index in held:
+                    filters[a.index].restore(held[a.index])
                 loop.advance(a, m, first)  # type: ignore[arg-type]
         for axis in self.over:  # FE_LATCH: the error compared with FE_LIMIT (C: its page)
             if axis in errors:

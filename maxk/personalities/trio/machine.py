@@ -619,6 +619,8 @@ class MC405Machine(Kinematics, Engine):
             stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
         elif name == "BACKLASH":
             self.backlash.command(axis, args, a.units, self.tick * self.period)
+        elif name == "ADD_DAC":  # (add_dac.py)
+            self.drive.following.add_dac(axis, list(args))
         elif name == "COMPENSATE_XY":  # a linked move in the axis's buffer (compensate.py)
             link = compensation_from(args, lambda v: self._compensated_by(axis, v),
                                      self.table.read_run, self.table.size, a.units)
