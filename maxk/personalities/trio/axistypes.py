@@ -12,7 +12,10 @@ here:
   servo": the page); 102 is the same on a high-density connector, 60 and 103 read their
   feedback as pulse and direction, 94 puts the loop's output out as PWM, 36 as PWM with
   the Z channel's PWM output (pwm.py). The feedback device does not change the loop: the
-  world's motor has one encoder, which each of them reads (D).
+  world's motor has one encoder, which each of them reads (D). An encoder the world
+  mounts on a servo axis's input (`World.encoders`) is read by it only as an ADD_DAC
+  added axis (add_dac.py: a measuring wheel on another axis's motor); otherwise its loop
+  closes on its own motor (D).
 - **Absolute-feedback servos** (`ABSOLUTE_SERVO_ATYPES`: 46 Tamagawa, 47 EnDat, 48 SSI,
   92 BiSS): the same loop; the world's encoder reads as an absolute one: MPOS is the
   encoder's count from the world's origin, with no DATUM needed (help MPOS: an absolute
