@@ -212,3 +212,33 @@ def test_the_base_with_servo_off_puts_out_its_dac_plus_the_added_loop_tj1_exampl
     at(trio, 4001)  # motor is pushed off, the loop of axis 1 holds it against the push
     assert float(trio.query("?DAC_OUT AXIS(0)")) == pytest.approx(
         100 + float(trio.query("?DAC_OUT AXIS(1)")), abs=1e-3)
+
+
+def test_the_added_axis_s_fe_limit_acts_on_the_single_loop_s_cycle_whatever_the_slicing(
+) -> None:
+    """A 1:1 wheel: the wheel axis's error is the single loop's, so its FE_LIMIT is
+    passed on the cycle the single loop's is (both read with 30 counts)."""
+    def limited() -> MC405:
+        return mc405(MOTOR, "BASE(1): ADD_DAC(2): P_GAIN=0: SERVO=ON",
+                     f"BASE(2): ATYPE=44: ADDAX(1): {GAINS}: SERVO=ON: REP_DIST=1e9",
+                     "FE_LIMIT AXIS(2) = 30: WDOG=ON", "MOVE(8000) AXIS(1)")
+
+    single = mc405(MOTOR, f"BASE(1): {GAINS}: SERVO=ON", "FE_LIMIT AXIS(1) = 30: WDOG=ON",
+                   "MOVE(8000) AXIS(1)")
+    while single.query("?MOTION_ERROR") == "0" and single.machine.tick < 1000:
+        single.advance(ticks=1)
+    stepped = limited()
+    while stepped.query("?MOTION_ERROR") == "0" and stepped.machine.tick < 1000:
+        stepped.advance(ticks=1)
+    assert stepped.machine.tick == single.machine.tick < 1000
+    whole = limited()
+    whole.advance(ticks=1000)
+    at(stepped, 1000)
+    for trio in (whole, stepped):
+        assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?WDOG")] == \
+            ["4", "2", "0"]
+        assert int(trio.query("?AXISSTATUS AXIS(2)")) & 256
+    assert whole.query("?FE_LATCH AXIS(2)") == stepped.query("?FE_LATCH AXIS(2)") == \
+        single.query("?FE_LATCH AXIS(1)")
+    assert whole.query("?DPOS AXIS(1)") == stepped.query("?DPOS AXIS(1)")
+    assert motor_state(whole) == motor_state(stepped)

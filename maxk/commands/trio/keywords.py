@@ -911,7 +911,7 @@ _ENTRIES: list[Keyword] = [
              "times its ENCODER_RATIO, on the base loop's encoder sample every cycle (I); "
              "with its SERVO OFF its open-loop DAC is added instead (I), it drives no "
              "motor of its own (D), its "
-             "FE is compared with FE_LIMIT when the machine looks, not cycle by cycle (D). "
+             "FE is compared with FE_LIMIT on every cycle as a servo axis's (I). "
              "The base keeps its loop from then on, also with P_GAIN 0 (D). -1 ends it; "
              "the axis itself, one out of range or a chain is 'Parameter out of range' "
              "(D). See add_dac.py."),

@@ -26,9 +26,10 @@ base axis's DAC (DAC_OUT is the sum). Here:
   other MC405 loop stay compiled and in closed form.
 - The added axis drives no motor of its own (its output goes to the base axis's DAC, D);
   its DAC_OUT reads its own filter's last output. Its FE (DPOS - MPOS) is compared with
-  FE_LIMIT when the machine looks (events, reads), not cycle by cycle inside a stretch
-  (D); the integral is limited as the shared loop's (4 x KU); the 32768-count trip of the
-  shared loop is not applied to it (D).
+  FE_LIMIT on every cycle, as a servo axis's (FE_LIMIT_MODE too): the motion error is
+  raised on the cycle it is passed, however time is sliced; the integral is limited as
+  the shared loop's (4 x KU); the 32768-count trip of the shared loop is not applied to
+  it (D).
 - ADD_DAC(-1) ends it; the axis must be another axis of the controller, else 'Parameter
   out of range' (D), nothing changed. An axis is added to one base at a time; a base
   takes one added axis (a second ADD_DAC replaces the first, D).
@@ -75,6 +76,13 @@ class AddedFilter:
         self.r_prev2: float | None = None
         self.u = 0.0  # last output (the added axis's DAC counts, shared 16-bit)
         self.fresh = True  # the next cycle starts the filter (no derivative kick)
+        # FE_LIMIT watched on every cycle of a stretch (`watch`): the bound (counts;
+        # None: not watched), two cycles in a row (FE_LIMIT_MODE 1), the last cycle's
+        # error beyond it, and the first cycle (and its error) that passed it
+        self.bound: float | None = None
+        self.twice = False
+        self.previous = False
+        self.over: tuple[int, float] | None = None
 
     def measured(self, p: float) -> float:
         """The added axis's MPOS counts (DEFPOS not applied) for the base loop's plant
@@ -101,6 +109,11 @@ class AddedFilter:
         if ki > 0:
             cap = g.integral_sum_limit
             self.s = max(-cap, min(cap, self.s + e))
+        if self.bound is not None and self.over is None:
+            beyond = abs(e) > self.bound
+            if beyond and (self.previous or not self.twice):
+                self.over = (tick, e)
+            self.previous = beyond
         u = g.kp * e + g.kd * (e - self.q) + ki * self.s + g.kv * v + g.ka * (v - v_prev)
         u = max(-DAC_LIMIT, min(DAC_LIMIT, u))  # (its own output's range)
         self.q = e
@@ -108,12 +121,19 @@ class AddedFilter:
         self.u = u
         return self.sign * u
 
-    def snapshot(self) -> tuple[float, float, float | None, float | None, float, bool]:
-        return self.s, self.q, self.r_prev, self.r_prev2, self.u, self.fresh
+    def watch(self, bound: float | None, twice: bool, previous: bool) -> None:
+        """Compare the error with FE_LIMIT (`bound` counts) on every cycle from now."""
+        self.bound, self.twice, self.previous, self.over = bound, twice, previous, None
+
+    def snapshot(self) -> tuple[float, float, float | None, float | None, float, bool,
+                                bool]:
+        return self.s, self.q, self.r_prev, self.r_prev2, self.u, self.fresh, \
+            self.previous
 
     def restore(self, state: tuple[float, float, float | None, float | None, float,
-                                   bool]) -> None:
-        self.s, self.q, self.r_prev, self.r_prev2, self.u, self.fresh = state
+                                   bool, bool]) -> None:
+        self.s, self.q, self.r_prev, self.r_prev2, self.u, self.fresh, \
+            self.previous = state
 
     def follow(self, loop: ServoLoop, base: ServoLoop) -> None:
         """Put the added axis's own loop (its readings: MPOS, FE, DAC_OUT) where the

@@ -315,8 +315,9 @@ class Following:
         held = {base: f.snapshot() for base, f in filters.items()}
         watched = {a.index for a in free if self._watched(a)}
         soft = {a.index for a in free if self._soft_watched(a)}  # (AXIS_MODE bit 8 clear)
+        added_watched = self._watch_added()
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
-                 if a.servo is not None} if watched or soft else {}
+                 if a.servo is not None} if watched or soft or added_watched else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
         errors: dict[int, float] = {}  # axis -> its FE (counts) on that tick
         reached: dict[int, tuple[int, int]] = {}  # axis -> (tick, side) MPOS met a limit
@@ -351,6 +352,10 @@ class Following:
                 found[a.index] = min(ticks)
             if passed is not None and over == found[a.index]:
                 errors[a.index] = passed[1]
+        for f in filters.values():  # (an ADD_DAC added axis's FE, on its cycle)
+            if f.over is not None:
+                found[f.added], errors[f.added] = f.over
+                f.bound = None
         if not found and not reached:
             return None
         first = min([*found.values(), *(tick for tick, _side in reached.values())])
@@ -368,6 +373,20 @@ class Following:
             if axis in errors:
                 self.latch[axis] = errors[axis]
         return first
+
+    def _watch_added(self) -> bool:
+        """Set each ADD_DAC added axis's FE_LIMIT watch for the stretch (any watched?)."""
+        watched = False
+        for f in self.filters.values():
+            a = self.m.axes[f.added]
+            loop = a.servo
+            if loop is not None and self._watched(a):
+                bound = a.params["FE_LIMIT"] * a.units
+                f.watch(bound, int(a.params["FE_LIMIT_MODE"]) == 1, abs(loop.q) > bound)
+                watched = True
+            else:
+                f.watch(None, False, False)
+        return watched
 
     def _watched(self, a: TrioAxis) -> bool:
         """Is the axis's following error compared with FE_LIMIT now?"""
