@@ -198,3 +198,28 @@ def test_atype_44_set_in_mc_config_style_with_the_axis_modifier() -> None:
     trio.send("BASE(2): P_GAIN=10: WDOG=ON: SERVO=ON")
     assert trio.machine.axes[2].servo is not None
     assert trio.machine.axes[3].servo is None  # (its P_GAIN is 0: profile-only)
+
+
+def test_a_servo_axis_s_motor_follows_what_addax_superimposes_as_its_own_move() -> None:
+    """ADDAX puts axis 5's move on axis 0's demand: the servo's motor follows DPOS, as a
+    stepper's does, and lags it as if the move were axis 0's own (the same loop, the
+    same demand; equal to within the rounding of the superimposed sum)."""
+    added = mc405("BASE(0): ATYPE=44: P_GAIN=10: D_GAIN=160: SERVO=ON: WDOG=ON",
+                  "REP_DIST=1e9: ADDAX(5)", "BASE(5): SPEED=4000: ACCEL=40000",
+                  "DECEL=40000", "MOVE(8000) AXIS(5)")
+    own = mc405("BASE(0): ATYPE=44: P_GAIN=10: D_GAIN=160: SERVO=ON: WDOG=ON",
+                "REP_DIST=1e9: SPEED=4000: ACCEL=40000: DECEL=40000", "MOVE(8000)")
+    for tick in (10, 100, 1000, 2200, 4000):
+        at(added, tick)
+        at(own, tick)
+        for q in ("?DPOS", "?MPOS", "?FE"):
+            assert added.query(q + " AXIS(0)") == own.query(q), (tick, q)
+        a, b = added.machine.axes[0].servo, own.machine.axes[0].servo
+        assert a is not None and b is not None
+        assert abs(a.p - b.p) < 1e-6
+    assert added.query("?DPOS AXIS(0)") == "8000"
+    assert abs(float(added.query("?FE AXIS(0)"))) < 20  # (settled: the motor moved)
+    added.send("ADDAX(-1) AXIS(0)")  # what ADDAX added stays on the demand (links.py):
+    at(added, 5000)  # the motor stays there too
+    assert added.query("?DPOS AXIS(0)") == "8000"
+    assert abs(float(added.query("?FE AXIS(0)"))) < 20

@@ -8,6 +8,10 @@ the plant's encoder and FE is DPOS - MPOS. With the factory gains (P_GAIN 0) the
 stays the exact, profile-only axis it always was (MPOS = DPOS, FE = 0), so every exact
 figure keeps its meaning.
 
+What is superimposed on an axis's own moves (ADDAX, what an ended ADDAX or a SYNC left:
+links.py) is in its loop's command too (`superimposed`), so a servo motor follows DPOS
+as a stepper does (the loop is then stepped in Python, as with BACKLASH).
+
 The gains map onto the shared filter as DAC = P_GAIN e + D_GAIN (e - e_prev) + I_GAIN
 sum(e) + VFF_GAIN v + AFF_GAIN a + OV_GAIN dPm (counts, counts per servo cycle: D, the
 MC405's own scaling is not published here), the integral limited to the whole DAC, all
@@ -37,9 +41,11 @@ raises the same error.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from functools import partial
 from typing import Protocol
+
+import numpy as np
 
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
@@ -59,6 +65,20 @@ class MotorHost(Protocol):
     def framed(self, axis: int) -> bool: ...
 
 
+class _Syncs(Protocol):
+    @property
+    def running(self) -> Mapping[int, object]: ...
+
+
+class _Links(Protocol):
+    @property
+    def addax(self) -> Mapping[int, object]: ...
+    @property
+    def shift(self) -> Sequence[float]: ...
+    @property
+    def syncs(self) -> _Syncs: ...
+
+
 class ServoHost(MotorHost, Protocol):
     """What the loops need of the machine: its axes, time, world and demand."""
 
@@ -67,6 +87,30 @@ class ServoHost(MotorHost, Protocol):
     period: float
     world: World
     system: dict[str, float]
+
+
+class SuperHost(Protocol):
+    """The machine's demand split: its own moves and what is superimposed on them."""
+
+    @property
+    def links(self) -> _Links: ...
+
+    def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+
+
+def superimposed(machine: SuperHost, axis: int) -> Callable[[int], float] | None:
+    """What is superimposed on an axis's own moves at a tick (ADDAX, an ended ADDAX's or
+    SYNC's shift: links.py), counts; None: nothing now."""
+    links = machine.links
+    if axis not in links.addax and not links.shift[axis] and not links.syncs.running:
+        return None
+
+    def part(tick: int) -> float:
+        ticks = np.array([tick])
+        return float(machine.demand_counts(axis, ticks)[0]
+                     - machine.own_counts(axis, ticks)[0])
+    return part
 
 
 FE_EXCEEDED = 1 << 8
@@ -119,6 +163,10 @@ class Following:
         # axis -> what the machine adds to a loop's command at a tick (BACKLASH's
         # compensation, a POSI_SEQ delay: `MC405Machine.command_offset`), None: nothing
         self.command: Callable[[int], Callable[[int], float] | None] = lambda axis: None
+        # axis -> what is superimposed on its own moves at a tick (`superimposed`, set by
+        # the machine), None: nothing
+        self.superimposed: Callable[[int], Callable[[int], float] | None] = \
+            lambda axis: None
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
@@ -331,7 +379,7 @@ class Following:
                 continue
             before = loop.q  # the error of the cycle before the stretch
             start = encoders.measured(loop)
-            loop.command_offset = self.command(a.index)  # (BACKLASH, POSI_SEQ)
+            loop.command_offset = self._command(a.index)  # (BACKLASH, POSI_SEQ, ADDAX)
             if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
@@ -373,6 +421,20 @@ class Following:
             if axis in errors:
                 self.latch[axis] = errors[axis]
         return first
+
+    def _command(self, axis: int) -> Callable[[int], float] | None:
+        """What the axis's loop adds to its own moves' command at a tick: the machine's
+        offset (`command`) and what is superimposed on its demand (ADDAX, an ended
+        ADDAX's or SYNC's shift: links.py), so that the motor follows DPOS as a
+        stepper's does (None: nothing, the loop runs compiled)."""
+        inner = self.command(axis)
+        part = self.superimposed(axis)
+        if part is None or inner is None:
+            return inner if part is None else part
+
+        def offset(tick: int) -> float:
+            return part(tick) + inner(tick)
+        return offset
 
     def _watch_added(self) -> bool:
         """Set each ADD_DAC added axis's FE_LIMIT watch for the stretch (any watched?)."""

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 
 import numpy as np
 
@@ -61,6 +62,7 @@ from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
+from .following import superimposed
 from .frames import READS as FRAME_READS
 from .frames import Frames
 from .jogs import Jogs
@@ -142,6 +144,7 @@ class MC405Machine(Kinematics, Engine):
         self.outputs = PwmLinks(self)
         self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
         self.drive.following.command = self.command_offset  # (in a servo loop's command)
+        self.drive.following.superimposed = partial(superimposed, self)  # (ADDAX, too)
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
