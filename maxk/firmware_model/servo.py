@@ -430,6 +430,11 @@ class ServoLoop:
         # axis: its MPOS counts): p and w are in those counts; 1 for every MAXk
         self.feedback_scale = 1.0
         self.clamped = False  # in the dead band: the output held at 0
+        # an output added to the loop's at a tick (closed or open), given the position the
+        # loop reads (an MC405's ADD_DAC: a second axis's filter on another encoder of
+        # this motor): a loop with one is stepped in Python, which alone reads it; None
+        # for every MAXk (`set_added`)
+        self.added: Callable[[int, float], float] | None = None
 
     p = _slot(K.P, "plant position, counts since power-up (physical)")
     w = _slot(K.W, "plant velocity, counts/s")
@@ -458,6 +463,15 @@ class ServoLoop:
         self.w *= k
         self.feedback_scale = scale
         self._plant = (None, 0.0, 1, (), 0.0)
+        self._cache = None
+        self._fast = None
+
+    def set_added(self, added: Callable[[int, float], float] | None) -> None:
+        """Take (or drop) an output added to the loop's (see `added`): what the
+        kernel or a closed form was to step is dropped, the loop is stepped in Python."""
+        if added is self.added:
+            return
+        self.added = added
         self._cache = None
         self._fast = None
 
@@ -527,8 +541,10 @@ class ServoLoop:
             friction = plant.coefficients()[2]
             self._plant = (plant, period, sign, matrices, friction)
         gains = axis.config.gains
-        if self.switched is not None or self.command_offset is not None:
-            # (a dead band or output offsets: SwitchedTerms; an offset on the command)
+        if (self.switched is not None or self.command_offset is not None
+                or self.added is not None):
+            # (a dead band or output offsets: SwitchedTerms; an offset on the command;
+            # an added output)
             self._cache = None
             self._scalar_python(axis, board, matrices, friction, gains, to_tick - self.tick)
             return
@@ -945,6 +961,7 @@ class ServoLoop:
                                       gains.ka, gains.kf, gains.ko)
         cap = gains.integral_sum_limit
         recorder = self.recorder
+        added = self.added
         x = self.x
         p, w, s, q, dac = x[K.P], x[K.W], x[K.S], x[K.Q], x[K.DAC]
         r_prev, r_prev2 = self.r_prev, self.r_prev2
@@ -974,6 +991,8 @@ class ServoLoop:
                 s, q = s_new, e
                 if self.switched is not None:
                     u = self._switched(axis, self.switched, tick, e, u)
+            if added is not None and not tripped:
+                u += added(tick, p)
             u = max(-DAC_LIMIT, min(DAC_LIMIT, u))
             dac = u
             r_prev2, r_prev = r_prev, r_abs

@@ -236,7 +236,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
                                "HW_TIMER", "SYNC", "COMPENSATE_XY", *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
-_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH"})  # the axis's output stage
+_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH", "ADD_DAC"})  # the axis's output stage
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})

@@ -128,12 +128,23 @@ _FRAMES = ("FRAME 2 (XY single belt), 5 (2x2 rotation matrix and its inverse fro
            "FRAME page, on raw positions (DPOS * UNITS world, AXIS_DPOS * AXIS_UNITS axis)")
 _ENTRIES: list[Keyword] = [
     # ---- axis parameters ------------------------------------------------------------
-    _axis("ATYPE", "Axis type; 35 (pulse/direction + PWM) or 36 (servo + PWM) give a PWM "
-          "output on the Z channel.", default=43, value_range=(0, 255), source=f"{SEED}; {TOK}",
-          confidence="I", note="Power-up 43, the seed's 'recommended default' (I). Any "
-          "0..255 is stored; only 35 and 36 give a PWM output (seed: 2.0229 supports 35). "
-          "The encoder input types (76, 79, 86, 87, 88, 93, 104, 105: the help page) read "
-          "the world's encoder mounted on the axis's input as MPOS (I)."),
+    _axis("ATYPE", "Axis type: what the axis's hardware drives and reads (servo, "
+          "pulse/direction, encoder output, encoder input ...).", default=43,
+          value_range=(0, 255), source=f"{HELP} ATYPE; {SEED}; {TOK}", confidence="I",
+          note="Power-up 43, the seed's 'recommended default' (I). A type the help page's "
+          "tables do not list is 'Parameter out of range', the type kept (D). The servo "
+          "types (44 the flexible axis's analogue servo, 36, 46, 47, 48, 60, 77, 92, 94, "
+          "102, 103: the page) run the shared servo loop alike on the world's motor and "
+          "encoder (I: the feedback device does not change the loop); the absolute ones "
+          "(46, 47, 48, 92) read the encoder as absolute: MPOS its count from the world's "
+          "origin with no DATUM, ENCODER its ENCODER_BITS data bits (D). The outputs (43, "
+          "63, 78, 100 pulse/direction; 45, 64, 84, 101 quadrature) put the demand out "
+          "exactly, which an encoder input mounted on the shaft reads (I; 78 and 84's "
+          "VFF_GAIN not modelled: the page does not say what it does, D). The encoder "
+          "input types (76, 79, 86, 87, 88, 93, 104, 105) read the world's encoder mounted "
+          "on the axis's input as MPOS (I). 35 and 36 give a PWM output on the Z channel "
+          "(seed). Fieldbus, SLM, FlexSlice and analogue-feedback types are stored and "
+          "follow their demand (no such drive in the world, D). See axistypes.py."),
     _axis("UNITS", "Counts per user unit: positions, speeds and gate positions are scaled "
           "by it.", default=1, value_range=(-_BIG, _BIG), source=f"{HELP}; {MAN}; {TOK}; "
           "public programs", confidence="I",
@@ -201,8 +212,8 @@ _ENTRIES: list[Keyword] = [
     # ---- system parameters -----------------------------------------------------------
     _system("WDOG", "Enable switch for the drives; PWM is generated only with WDOG=ON.",
             value_range=(-1, 1), source=f"{SEED}; {TOK}",
-            note="A servo axis (ATYPE 36, 77) moves only with WDOG ON (see SERVO); a motion "
-            "error sets it OFF (I). Pulse/direction axes run their demand whatever it is "
+            note="A servo axis (ATYPE 44, 36, 77 ...) moves only with WDOG ON (see SERVO); "
+            "a motion error sets it OFF (I). Pulse/direction axes run their demand whatever it is "
             "(I: the seed's example 1 loads its moves before WDOG=ON)."),
     _system("SERVO_PERIOD", "Servo cycle in microseconds (one tick of the emulator).",
             default=1000, value_range=(250, 2000), source=f"{MAN}; {TOK}", confidence="D",
@@ -729,15 +740,16 @@ _ENTRIES: list[Keyword] = [
             note="-1 with no motion error (D); cleared by DATUM(0)."),
     _axis("FE", "Following error: DPOS - MPOS, user units.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
-          note="On a servo axis (ATYPE 36/77 with P_GAIN above 0) the shared servo loop "
+          note="On a servo axis (ATYPE 44, 36, 77 ... with P_GAIN above 0) the shared loop "
           "drives the world's motor and FE is the demand less the encoder (I); on any "
           "other axis it is 0, the axis following its demand exactly (D)."),
     _axis("FE_RANGE", "Following error warning range, user units (0: off).",
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
           note="|FE| beyond it sets AXISSTATUS bit 1 (2) (I)."),
     *[_axis(name, f"Servo gain: {what}.", value_range=(0, _BIG), source=f"{TOK}; {MAN}",
-            confidence="D", note=f"With ATYPE 36 or 77 and P_GAIN above 0 the axis runs the "
-            f"shared servo loop (the MAXk's PID on the world's motor plant) as {term} (D: "
+            confidence="D", note=f"With a servo ATYPE (44, 36, 77 ...) and P_GAIN above 0 "
+            f"the axis runs the shared servo loop (the MAXk's PID on the world's motor "
+            f"plant) as {term} (D: "
             "the MC405's own scaling is not published here). Power-up 0: the exact, "
             "profile-only axis (D).")
       for name, what, term in (
@@ -749,8 +761,9 @@ _ENTRIES: list[Keyword] = [
     # ---- the servo output: open loop, the other gains, its limit (issue 35) -------------
     _axis("DAC", "Open-loop output of a servo axis, DAC counts (12-bit: 2047 = 10 V).",
           source=f"{HELP} DAC, SERVO", confidence="C",
-          note="With SERVO OFF, WDOG ON and AXIS_ENABLE ON a servo axis (ATYPE 36/77) puts "
-          "it out, limited to +/-OUTLIMIT, and the world's motor runs under it (MPOS reads "
+          note="With SERVO OFF, WDOG ON and AXIS_ENABLE ON a servo axis (ATYPE 44, 36, "
+          "77 ...) puts it out, limited to +/-OUTLIMIT, and the world's motor runs under "
+          "it (MPOS reads "
           "its encoder; DPOS reads MPOS and FE 0 while SERVO or WDOG is OFF, help DPOS, C; "
           "the demand takes MPOS when the loop closes, I); with WDOG or AXIS_ENABLE OFF "
           "the output is 0 (C). On the shared 16-bit output it is 16 x the value (D). The "
@@ -876,6 +889,16 @@ _ENTRIES: list[Keyword] = [
           value_range=(0, 10000), source=f"{HELP} POSI_SEQ_DELAY", confidence="I",
           note="Whole servo cycles (a fraction is cut, D), 0..10000 (D: a bound on the "
           "buffer), else 'Parameter out of range'; 0 delays nothing. Power-up 0 (C)."),
+    _axis("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.",
+          value_range=(0, 65535), source=f"{HELP} ENCODER_BITS, ENCODER, ATYPE",
+          confidence="I", note="On an absolute-feedback servo (ATYPE 46, 47, 48, 92) "
+          "ENCODER reads the encoder's count in these data bits (modulo 2^bits): SSI and "
+          "BiSS bits 0-5, EnDat bits 0-7 the total bits (C: the page's fields); Tamagawa "
+          "(46) 17 bits whatever it holds (D). MPOS does not wrap (C: help ENCODER, "
+          "'allowing for overflows'). 0 ('no data clocked out'): the register reads the "
+          "whole count and the loop keeps the world's encoder (D). SSI bit 6 (binary/Gray) "
+          "and bits 8-10 (status shift) change nothing the world's encoder shows; bit 7 "
+          "(reverse) is not modelled (D). Stored on any other axis."),
     _function("ENCODER_READ", "ENCODER_READ(address): read a register of an EnDat absolute "
               "encoder.", (1, 2), source=f"{HELP} ENCODER_READ; {TOK}", confidence="I",
               note="The world has only incremental encoders, so no EnDat encoder is "
@@ -892,8 +915,6 @@ _ENTRIES: list[Keyword] = [
            20000.0, "it bounds DRIVE_FE, the error a fieldbus (EtherCAT) drive reports; the "
            "world has no remote drive, so DRIVE_FE is never reported (the controller's own "
            "FE_LIMIT acts). Power-up 20000 (C)."),
-          ("ENCODER_BITS", "Data bits of an SSI/EnDat absolute encoder.", True, 0.0,
-           "absolute encoders only; the world's encoders are incremental (stored)."),
           ("ENCODER_CONTROL", "EnDat encoder mode: 0 position, 1 parameter read/write.", True,
            0.0, "no EnDat encoder in the world; ENCODER_READ and ENCODER_WRITE set it to 1 "
            "as the page says (stored)."),
@@ -929,18 +950,26 @@ _ENTRIES: list[Keyword] = [
             source=f"{HELP} MPE_MODE; {TOK}", confidence="D",
             note="Not modelled: reads 0 (no protocol: direct mode), as every session the "
             "emulator serves is; the Motion Perfect protocols are not emulated."),
+    _command("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.",
+             (1, 1), axis=True, source=f"{HELP} ADD_DAC; Omron TJ1-MC04 and TJ2-MC64 "
+             f"programming manuals, ADD_DAC; {TOK}", confidence="I",
+             note="The base axis's DAC (and DAC_OUT) is its own output (its loop's with "
+             "SERVO ON, its DAC with SERVO OFF: the TJ manuals' figure and second "
+             "example) plus the added axis's (C). The added axis (a servo ATYPE with "
+             "gains: the page) runs "
+             "the shared filter with its own gains on its demand (with ADDAX's part) less "
+             "its MPOS, read from the encoder the world mounts on its input (`@world N "
+             "shaft-encoder M RATIO`; none mounted: the base's motor count for count, D) "
+             "times its ENCODER_RATIO, on the base loop's encoder sample every cycle (I); "
+             "with its SERVO OFF its open-loop DAC is added instead (I), it drives no "
+             "motor of its own (D), its "
+             "FE is compared with FE_LIMIT on every cycle as a servo axis's (I). "
+             "The base keeps its loop from then on, also with P_GAIN 0 (D). -1 ends it; "
+             "the axis itself, one out of range or a chain is 'Parameter out of range' "
+             "(D). See add_dac.py."),
     *[_command(name, summary, arity, axis=True, source=f"{HELP} {name}; {TOK}",
                confidence="D", note="Not modelled: " + why)
       for name, summary, arity, why in (
-          ("ADD_DAC", "ADD_DAC(axis): add another axis's loop output to this one's.", (1, 1),
-           "the page gives the sum (DAC_OUT = both axes' loop outputs) but its use needs "
-           "the second axis's filter to read its own encoder of the same motor (a "
-           "measuring wheel on the material): the world mounts an encoder on another "
-           "axis's motor only for the encoder-input ATYPEs, which run no loop, the page's "
-           "ATYPE 44 is not a servo type here (36, 77 are), and the shared loop keeps one "
-           "filter's state a motor; with no slip in the world the sum would equal one loop "
-           "with both axes' gains added, which the base axis's gains give (accepted, no "
-           "effect)."),
           ("HANDWHEEL_AXIS", "Reserved keyword.", (0, 2), "a reserved word without a help "
            "page (accepted, no effect)."),
           ("JOG_OPERATION", "Reserved keyword.", (1, 1), "reserved (help JOG_OPERATION: "
@@ -1014,7 +1043,7 @@ _ENTRIES: list[Keyword] = [
           "+0x400 target reached while idle, +0x800 internal limit while an AXISSTATUS "
           "limit bit is set, +0x2000 following error with bit 8."),
     _axis("SERVO", "Position loop on (ON) or off for the axis.", value_range=(-1, 1),
-          source=f"{TOK}; {MAN}", confidence="I", note="On a servo axis (ATYPE 36 or 77) "
+          source=f"{TOK}; {MAN}", confidence="I", note="On a servo axis (ATYPE 44, 36, 77 ...) "
           "the drive is enabled only with SERVO ON, WDOG ON and AXIS_ENABLE ON: a move is "
           "refused with 'Axis not enabled' (D: the text is ours) and one running stops at "
           "once when it goes off (D). Power-up OFF (I). Pulse/direction axes ignore it "

@@ -4,7 +4,8 @@
 - ENCODER is the raw feedback register: the count of the encoder the axis reads, with
   no DEFPOS offset, no UNITS and no ENCODER_RATIO. A servo axis reads its world motor's
   encoder, an encoder input (ATYPE 76 ...) the encoder the world mounts on it, any other
-  axis (a stepper, a virtual axis: no feedback) its demand counts, whole (D). The
+  axis (a stepper, a virtual axis: no feedback) its demand counts, whole (D); an
+  absolute-feedback servo (ATYPE 46/47/48/92) the count in ENCODER_BITS's data bits. The
   register is 32 bits: it wraps at +/-2^31 (D: the page gives no width; MPOS, computed
   from it "allowing for overflows", does not wrap).
 - ENCODER_RATIO(mpos_count, input_count) scales what an encoder input's MPOS counts:
@@ -26,6 +27,7 @@ from typing import Protocol
 
 from maxk.firmware_model.servo import ServoLoop
 
+from .axistypes import absolute_register
 from .runs import TrioAxis
 
 NUMERATOR = "ENCODER_RATIO.mpos"
@@ -104,6 +106,10 @@ def encoder(machine: EncoderHost, axis: int) -> float:
     loop = a.servo
     if loop is not None:  # (its counts are MPOS counts: ENCODER_RATIO's edges back)
         counts = float(math.floor(loop.p / loop.feedback_scale + 0.5))
+        held = absolute_register(int(a.params["ATYPE"]), a.params.get("ENCODER_BITS", 0.0),
+                                 int(counts))
+        if held is not None:  # an absolute servo's data bits (axistypes.py)
+            return float(held)
     else:
         raw = machine.raw_encoder(axis)
         counts = math.floor((machine.motor(axis) if raw is None else raw) + 0.5)

@@ -1,10 +1,16 @@
 """Servo axes of the MC405 on the shared servo loop: following error and FE_LIMIT.
 
-An axis is a servo when its ATYPE is a servo type (36, 77) and P_GAIN is above 0: the
-shared loop (`firmware_model/servo.py`, the PID the MAXk and MM4005 run) then drives the
-world's motor plant of the axis every servo cycle, MPOS reads the plant's encoder and FE
-is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis stays the exact, profile-only
-axis it always was (MPOS = DPOS, FE = 0), so every exact figure keeps its meaning.
+An axis is a servo when its ATYPE is a servo type (`axistypes.SERVO_ATYPES`: 44, the
+flexible axis's analogue servo, 36, 77, the absolute-feedback 46/47/48/92, ...) and
+P_GAIN is above 0: the shared loop (`firmware_model/servo.py`, the PID the MAXk and
+MM4005 run) then drives the world's motor plant of the axis every servo cycle, MPOS reads
+the plant's encoder and FE is DPOS - MPOS. With the factory gains (P_GAIN 0) the axis
+stays the exact, profile-only axis it always was (MPOS = DPOS, FE = 0), so every exact
+figure keeps its meaning.
+
+What is superimposed on an axis's own moves (ADDAX, what an ended ADDAX or a SYNC left:
+links.py) is in its loop's command too (`superimposed`), so a servo motor follows DPOS
+as a stepper does (the loop is then stepped in Python, as with BACKLASH).
 
 The gains map onto the shared filter as DAC = P_GAIN e + D_GAIN (e - e_prev) + I_GAIN
 sum(e) + VFF_GAIN v + AFF_GAIN a + OV_GAIN dPm (counts, counts per servo cycle: D, the
@@ -35,14 +41,19 @@ raises the same error.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 from typing import Protocol
+
+import numpy as np
 
 from maxk.firmware_model.servo import DAC_LIMIT, Gains, ServoLoop, SwitchedTerms
 from maxk.firmware_model.world import World
 
 from . import encoders
+from .add_dac import AddedFilter, target
 from .axismode import first_reached, mpos_bounds, mpos_compared
+from .axistypes import SERVO_ATYPES
 from .runs import ServoGains, TrioAxis
 
 
@@ -52,6 +63,20 @@ class MotorHost(Protocol):
     def motor(self, axis: int, tick: int | None = None) -> float: ...
 
     def framed(self, axis: int) -> bool: ...
+
+
+class _Syncs(Protocol):
+    @property
+    def running(self) -> Mapping[int, object]: ...
+
+
+class _Links(Protocol):
+    @property
+    def addax(self) -> Mapping[int, object]: ...
+    @property
+    def shift(self) -> Sequence[float]: ...
+    @property
+    def syncs(self) -> _Syncs: ...
 
 
 class ServoHost(MotorHost, Protocol):
@@ -64,9 +89,30 @@ class ServoHost(MotorHost, Protocol):
     system: dict[str, float]
 
 
-SERVO_ATYPES = frozenset({36, 77})
-"""Axis types whose drive is a servo amplifier (seed's ATYPE table: 36 incremental encoder
-servo with PWM, 77 incremental encoder servo with enable)."""
+class SuperHost(Protocol):
+    """The machine's demand split: its own moves and what is superimposed on them."""
+
+    @property
+    def links(self) -> _Links: ...
+
+    def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+    def own_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
+
+
+def superimposed(machine: SuperHost, axis: int) -> Callable[[int], float] | None:
+    """What is superimposed on an axis's own moves at a tick (ADDAX, an ended ADDAX's or
+    SYNC's shift: links.py), counts; None: nothing now."""
+    links = machine.links
+    if axis not in links.addax and not links.shift[axis] and not links.syncs.running:
+        return None
+
+    def part(tick: int) -> float:
+        ticks = np.array([tick])
+        return float(machine.demand_counts(axis, ticks)[0]
+                     - machine.own_counts(axis, ticks)[0])
+    return part
+
+
 FE_EXCEEDED = 1 << 8
 DAC_STEP = 16.0
 """Shared 16-bit output counts per MC405 DAC count (a 12-bit DAC, 2047 = 10 V: help DAC;
@@ -117,16 +163,42 @@ class Following:
         # axis -> what the machine adds to a loop's command at a tick (BACKLASH's
         # compensation, a POSI_SEQ delay: `MC405Machine.command_offset`), None: nothing
         self.command: Callable[[int], Callable[[int], float] | None] = lambda axis: None
+        # axis -> what is superimposed on its own moves at a tick (`superimposed`, set by
+        # the machine), None: nothing
+        self.superimposed: Callable[[int], Callable[[int], float] | None] = \
+            lambda axis: None
         self.over: list[int] = []  # axes whose following error stopped the last stretch
         self.soft: dict[int, int] = {}  # axis -> the side of a software limit its MPOS met
         # (AXIS_MODE bit 8 clear) that stopped the last stretch
         self.latch: dict[int, float] = {}  # FE_LATCH: the FE (counts) that raised the error
         self.driven: set[int] = set()  # axes an open-loop output gave a loop (kept, D)
+        self.adds: dict[int, int] = {}  # ADD_DAC: base axis -> the axis whose output it
+        # adds (add_dac.py)
+        self.filters: dict[int, AddedFilter] = {}  # base axis -> the added axis's filter
 
     def reset(self) -> None:
         """Power-up: no stretch stopped, no loop kept for an open-loop output."""
         self.over = []
         self.driven = set()
+        self.adds = {}
+        self.filters = {}
+
+    def add_dac(self, axis: int, args: list[float] | tuple[float, ...]) -> None:
+        """ADD_DAC(added) on a base axis; -1 ends it (add_dac.py). A chain (the added
+        axis a base, or the base added to another) is 'Parameter out of range' (D)."""
+        if len(args) != 1:
+            raise ValueError("Syntax error")
+        added = target(args[0], axis, len(self.m.axes))
+        if added is None:
+            self.adds.pop(axis, None)
+        else:
+            if added in self.adds or axis in self.adds.values():
+                raise ValueError("Parameter out of range")
+            for base in [b for b, a in self.adds.items() if a == added]:
+                del self.adds[base]  # (an axis is added to one base at a time)
+            self.adds[axis] = added
+            self.driven.add(axis)  # (the base keeps its loop from then on, D)
+        self.configure()
 
     def open_output(self, axis: int) -> float:
         """The open-loop output in MC405 DAC counts: DAC within +/-OUTLIMIT while SERVO
@@ -138,13 +210,17 @@ class Following:
         limit = abs(params["OUTLIMIT"])
         return max(-limit, min(limit, params["DAC"]))
 
+    def _open_counts(self, axis: int) -> float:
+        """The open-loop output on the shared 16-bit output (DAC counts x DAC_STEP)."""
+        return self.open_output(axis) * DAC_STEP
+
     def dac_out(self, axis: int) -> float:
         """DAC_OUT: the output put out on the last servo cycle, MC405 DAC counts."""
         a = self.m.axes[axis]
         loop = a.servo
         if loop is None or loop.tripped:
             return 0.0
-        if not loop.closed:
+        if not loop.closed and axis not in self.filters:  # (ADD_DAC: the sum put out)
             return self.open_output(axis)
         return loop.dac * a.config.servo_polarity / DAC_STEP
 
@@ -162,7 +238,7 @@ class Following:
             sign = polarity(a.params) if not out else 1  # (the open loop is not scaled)
             if out and a.params["P_GAIN"] <= 0:
                 self.driven.add(i)
-            gains = gains_of(a.params, out * DAC_STEP, i in self.driven)
+            gains = gains_of(a.params, out * DAC_STEP, i in self.driven or i in self.adds)
             if gains is None:
                 a.servo = None
                 continue
@@ -181,6 +257,32 @@ class Following:
                 self._close(a, loop)
             elif not enabled and loop.closed:
                 loop.closed = False
+        self._configure_adds()
+
+    def _configure_adds(self) -> None:
+        """Give each ADD_DAC base loop its added axis's filter (the added axis a servo
+        with a loop), or none."""
+        axes = self.m.axes
+        for i, a in enumerate(axes):
+            loop = a.servo
+            added = self.adds.get(i)
+            other = None if added is None else axes[added]
+            if loop is None or other is None or other.servo is None:
+                self.filters.pop(i, None)
+                if loop is not None:
+                    loop.set_added(None)
+                continue
+            assert added is not None
+            gains, sign = other.config.gains, other.config.servo_polarity
+            held = self.filters.get(i)
+            if (held is None or held.added != added or held.gains != gains
+                    or held.polarity != sign
+                    or held.base_polarity != a.config.servo_polarity):
+                held = AddedFilter(self.m, i, added, gains, sign, a.config.servo_polarity,
+                                   partial(self.enabled, added),
+                                   partial(self._open_counts, added))
+                self.filters[i] = held
+            loop.set_added(held)
 
     def _close(self, a: TrioAxis, loop: ServoLoop) -> None:
         """Close the loop on an idle axis: the demand first moves to the encoder."""
@@ -238,16 +340,32 @@ class Following:
     # ---- every servo cycle -------------------------------------------------------------
     def integrate(self, limit: int) -> int | None:
         """Run the loops to `limit`; the tick of a following error that stops them on the
-        way (the loops then stand there, `over` names the axes), or None."""
+        way (the loops then stand there, `over` names the axes), or None. An ADD_DAC
+        added axis's loop then reads where the base loop's motor brought its encoder."""
+        first = self._integrate(limit)
+        axes = self.m.axes
+        for base, f in self.filters.items():
+            base_loop, loop = axes[base].servo, axes[f.added].servo
+            if base_loop is not None and loop is not None:
+                f.follow(loop, base_loop)
+        return first
+
+    def _integrate(self, limit: int) -> int | None:
         m = self.m
         servos = self.servos
         if not servos:
             return None
+        filters = self.filters
+        following = {f.added for f in filters.values()}  # (ADD_DAC: no motor of their own)
+        if following:
+            servos = [a for a in servos if a.index not in following]
         free = [a for a in servos if a.link is None and not m.framed(a.index)]
+        held = {base: f.snapshot() for base, f in filters.items()}
         watched = {a.index for a in free if self._watched(a)}
         soft = {a.index for a in free if self._soft_watched(a)}  # (AXIS_MODE bit 8 clear)
+        added_watched = self._watch_added()
         saved = {a.index: a.servo.snapshot() for a in free  # type: ignore[union-attr]
-                 if a.servo is not None} if watched or soft else {}
+                 if a.servo is not None} if watched or soft or added_watched else {}
         found: dict[int, int] = {}  # axis -> the tick its error passed
         errors: dict[int, float] = {}  # axis -> its FE (counts) on that tick
         reached: dict[int, tuple[int, int]] = {}  # axis -> (tick, side) MPOS met a limit
@@ -261,7 +379,7 @@ class Following:
                 continue
             before = loop.q  # the error of the cycle before the stretch
             start = encoders.measured(loop)
-            loop.command_offset = self.command(a.index)  # (BACKLASH, POSI_SEQ)
+            loop.command_offset = self._command(a.index)  # (BACKLASH, POSI_SEQ, ADDAX)
             if a.index in watched or a.index in soft:
                 loop.recorder = []
             loop.advance(a, m, limit)  # type: ignore[arg-type]
@@ -282,6 +400,10 @@ class Following:
                 found[a.index] = min(ticks)
             if passed is not None and over == found[a.index]:
                 errors[a.index] = passed[1]
+        for f in filters.values():  # (an ADD_DAC added axis's FE, on its cycle)
+            if f.over is not None:
+                found[f.added], errors[f.added] = f.over
+                f.bound = None
         if not found and not reached:
             return None
         first = min([*found.values(), *(tick for tick, _side in reached.values())])
@@ -292,11 +414,41 @@ class Following:
                 loop = a.servo
                 assert loop is not None
                 loop.restore(saved[a.index])
+                if a.index in held:
+                    filters[a.index].restore(held[a.index])
                 loop.advance(a, m, first)  # type: ignore[arg-type]
         for axis in self.over:  # FE_LATCH: the error compared with FE_LIMIT (C: its page)
             if axis in errors:
                 self.latch[axis] = errors[axis]
         return first
+
+    def _command(self, axis: int) -> Callable[[int], float] | None:
+        """What the axis's loop adds to its own moves' command at a tick: the machine's
+        offset (`command`) and what is superimposed on its demand (ADDAX, an ended
+        ADDAX's or SYNC's shift: links.py), so that the motor follows DPOS as a
+        stepper's does (None: nothing, the loop runs compiled)."""
+        inner = self.command(axis)
+        part = self.superimposed(axis)
+        if part is None or inner is None:
+            return inner if part is None else part
+
+        def offset(tick: int) -> float:
+            return part(tick) + inner(tick)
+        return offset
+
+    def _watch_added(self) -> bool:
+        """Set each ADD_DAC added axis's FE_LIMIT watch for the stretch (any watched?)."""
+        watched = False
+        for f in self.filters.values():
+            a = self.m.axes[f.added]
+            loop = a.servo
+            if loop is not None and self._watched(a):
+                bound = a.params["FE_LIMIT"] * a.units
+                f.watch(bound, int(a.params["FE_LIMIT_MODE"]) == 1, abs(loop.q) > bound)
+                watched = True
+            else:
+                f.watch(None, False, False)
+        return watched
 
     def _watched(self, a: TrioAxis) -> bool:
         """Is the axis's following error compared with FE_LIMIT now?"""

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 
 import numpy as np
 
@@ -35,6 +36,7 @@ from maxk.firmware_model.world import World
 
 from . import (
     axismode,
+    axistypes,
     encoders,
     geometry,
     links_modify,
@@ -60,6 +62,7 @@ from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .flash import FLASH_PARAMETERS
+from .following import superimposed
 from .frames import READS as FRAME_READS
 from .frames import Frames
 from .jogs import Jogs
@@ -141,6 +144,7 @@ class MC405Machine(Kinematics, Engine):
         self.outputs = PwmLinks(self)
         self.drive = Drive(self)  # limits, motion errors, drive enables, Z-mark searches
         self.drive.following.command = self.command_offset  # (in a servo loop's command)
+        self.drive.following.superimposed = partial(superimposed, self)  # (ADDAX, too)
         self.add_source(self.drive.limits)  # (before the runs end: a limit acts first)
         self.add_source(_MotionEvents(self))
         self.add_source(self.outputs)
@@ -381,6 +385,8 @@ class MC405Machine(Kinematics, Engine):
             moves.set_endmove(self, axis, value, MIN_RATE)
         elif name == "PP_STEP":
             self._rescale_encoder(axis, lambda params: encoders.set_pp_step(params, value))
+        elif name == "ATYPE":
+            self.axes[axis].params[name] = float(axistypes.check(value))  # (axistypes.py)
         elif name == "CORNER_STATE":
             self.corners.write(axis, value)  # the corner handshake (corner_state.py)
         elif name in _COMPUTED or name not in self.axes[axis].params \
@@ -618,6 +624,8 @@ class MC405Machine(Kinematics, Engine):
             stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
         elif name == "BACKLASH":
             self.backlash.command(axis, args, a.units, self.tick * self.period)
+        elif name == "ADD_DAC":  # (add_dac.py)
+            self.drive.following.add_dac(axis, list(args))
         elif name == "COMPENSATE_XY":  # a linked move in the axis's buffer (compensate.py)
             link = compensation_from(args, lambda v: self._compensated_by(axis, v),
                                      self.table.read_run, self.table.size, a.units)
