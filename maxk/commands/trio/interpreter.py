@@ -1534,7 +1534,7 @@ class Interpreter:
     def datum(self, axis: int, mode: float) -> Wait:
         """DATUM(n) on the shared world's switches (see the keyword's note)."""
         m = self.machine
-        if mode in (0, 1, 2):  # clear the motion errors; a Z-mark search, on the machine
+        if mode in (0, 1, 2, 7):  # clear the motion errors; a Z-mark search, on the machine
             self._act(lambda: m.datum(axis, int(mode)))
             while not m.axis_idle(axis):
                 yield ON_CHANGE

@@ -194,8 +194,9 @@ _ENTRIES: list[Keyword] = [
     _system("WDOG", "Enable switch for the drives; PWM is generated only with WDOG=ON.",
             value_range=(-1, 1), source=f"{SEED}; {TOK}",
             note="A servo axis (ATYPE 36, 77) moves only with WDOG ON (see SERVO); a motion "
-            "error sets it OFF (I). Pulse/direction axes run their demand whatever it is "
-            "(I: the seed's example 1 loads its moves before WDOG=ON)."),
+            "error sets it OFF, unless the axis in error is in a DISABLE_GROUP: then it stays "
+            "ON (C: help WDOG, DISABLE_GROUP). Pulse/direction axes run their demand "
+            "whatever it is (I: the seed's example 1 loads its moves before WDOG=ON)."),
     _system("SERVO_PERIOD", "Servo cycle in microseconds (one tick of the emulator).",
             default=1000, value_range=(250, 2000), source=f"{MAN}; {TOK}", confidence="D",
             note="MC405 default 1000 us. 250, 500, 1000 or 2000 accepted; the new period "
@@ -664,16 +665,21 @@ _ENTRIES: list[Keyword] = [
           value_range=(0, 2 ** 24 - 1), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 268 (256 following error exceeded, 8 and 4 remote drive errors: "
           "I). A bit newly set in AXISSTATUS AND ERRORMASK (looked at on every event: D) "
-          "stops every axis at once, drops the buffered moves, sets WDOG OFF and the axis's "
-          "MOTION_ERROR bit (I). Acting on newly set bits only is our decision (D): an axis "
-          "left standing on a limit after DATUM(0) can move off it."),
+          "sets the axis's MOTION_ERROR bit (C) and stops every axis at once, drops the "
+          "buffered moves, ends the links and sets WDOG OFF (I: help ERRORMASK, CANCEL); "
+          "an axis of a DISABLE_GROUP stops its group only (see it). Acting on newly set "
+          "bits only is our decision (D): an axis left standing on a limit after DATUM(0) "
+          "can move off it."),
     _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,
-            source=f"{TOK}; {MAN}", confidence="I",
-            note="Set by ERRORMASK (see it), cleared by DATUM(0) (I). A move on an axis in "
-            "error is refused with 'Axis in error' (D: the text is ours)."),
-    _system("ERROR_AXIS", "The first axis that went into motion error (-1: none).",
-            default=-1, writable=False, source=f"{TOK}; {MAN}", confidence="I",
-            note="-1 with no motion error (D); cleared by DATUM(0)."),
+            source=f"{HELP} MOTION_ERROR; {TOK}", confidence="I",
+            note="Set by ERRORMASK (see it), cleared by DATUM(0), one axis's bit by DATUM(7) "
+            "(C: help DATUM). MOTION_ERROR(bank) is not modelled: 16 axes, one bank (D). A "
+            "move on an axis in error is refused with 'Axis in error' (D: the text is ours)."),
+    _system("ERROR_AXIS", "The axis that caused the motion error (0: none).",
+            default=0, writable=False, source=f"{HELP} ERROR_AXIS; {TOK}", confidence="C",
+            note="The axis that made MOTION_ERROR non-zero (C: help MOTION_ERROR's example "
+            "1); 0 at power-up and after DATUM(0) (C), and after a DATUM(7) that leaves no "
+            "axis in error (D); a DATUM(7) of another axis keeps it (D)."),
     _axis("FE", "Following error: DPOS - MPOS, user units.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="On a servo axis (ATYPE 36/77 with P_GAIN above 0) the shared servo loop "
@@ -958,16 +964,34 @@ _ENTRIES: list[Keyword] = [
           "once when it goes off (D). Power-up OFF (I). Pulse/direction axes ignore it "
           "(manual: on a stepper it only gates the position verification, C)."),
     _axis("AXIS_ENABLE", "Enable of the axis's drive.", default=1, value_range=(-1, 1),
-          source=f"{TOK}; {MAN}", confidence="I", note="Power-up ON (I). OFF disables the "
-          "drive of any axis (as SERVO does a servo axis's)."),
+          source=f"{HELP} AXIS_ENABLE; {TOK}", confidence="I", note="Power-up ON (C). OFF "
+          "disables the drive of any axis (as SERVO does a servo axis's): a move is refused "
+          "with 'Axis not enabled' and one running stops at once (D). A motion error on an "
+          "axis of a DISABLE_GROUP sets it OFF on every axis of the group (C)."),
+    _command("DISABLE_GROUP", "DISABLE_GROUP(a, b, ...): a motion error on one of these "
+             "axes stops only them; DISABLE_GROUP(-1) removes every group.", (1, 128),
+             source=f"{HELP} DISABLE_GROUP; {TOK}", confidence="C",
+             note="On the error (ERRORMASK) every axis of the group gets AXIS_ENABLE and "
+             "SERVO OFF and stops at once (runs, buffered moves, links; D: at once, as the "
+             "controller-wide stop), WDOG stays ON and the other axes run on (C: help "
+             "examples 1, 2; errors.py). An error on an axis in no group stops every axis "
+             "and WDOG as without groups (D). An axis named again leaves its old group (D: "
+             "one group an axis); an axis twice, out of range or not whole: 'Parameter out "
+             "of range', nothing changed (D). DATUM(7) clears one axis's error (C)."),
+    _command("INITIALISE", "Every axis parameter back to its power-up value.", (0, 0),
+             source=f"{HELP} INITIALISE; {TOK}", confidence="I",
+             note="Each parameter that differs is written as a program would write it "
+             "(a running move takes a new SPEED, PP_STEP keeps MPOS, ATYPE makes or drops a "
+             "servo loop: initialise.py, D); positions, moves, links, TABLE, VR and the "
+             "system parameters stay (the page names axis parameters only, D)."),
     _axis("CREEP", "The slow speed of the second part of a DATUM search, and of the "
           "Z-mark searches DATUM(1)/(2), user units/s.", default=200,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 200 (D)."),
-    _command("DATUM", "DATUM(n): 0 clears motion errors; 1/2 search forward/reverse at CREEP "
-             "for the encoder's Z mark, zero there; 3/5 search forward at SPEED for the "
-             "DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
-             "reverse; the position there becomes 0.", (1, 1), axis=True,
+    _command("DATUM", "DATUM(n): 0 clears motion errors (7 the axis's); 1/2 search "
+             "forward/reverse at CREEP for the encoder's Z mark, zero there; 3/5 search "
+             "forward at SPEED for the DATUM_IN input, then back at CREEP until it goes "
+             "off; 4/6 the same in reverse; the position there becomes 0.", (1, 1), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
              note="1/2: the Z mark is the world's index mark of the axis, found exactly to "
              "the servo tick; DPOS is 0 on the mark's first count met, then the axis ramps "
@@ -975,7 +999,8 @@ _ENTRIES: list[Keyword] = [
              "watching the input every servo cycle; the zero is where the creep stopped "
              "after the input went off (D: not the exact edge); 5 and 6 do not look for the "
              "Z mark (D). 0 clears every axis's motion error (MOTION_ERROR, ERROR_AXIS, the "
-             "bits AXISSTATUS held), WDOG stays OFF (I). The statement returns when the "
+             "bits AXISSTATUS held), WDOG stays OFF (I); 7 the base axis's only (C: help "
+             "DATUM, DISABLE_GROUP example 2). The statement returns when the "
              "search ends (D: the controller returns at once and the axis moves on). "
              "Without a DATUM_IN, 3..6 are 'Parameter out of range' (D)."),
     _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
@@ -1987,8 +2012,6 @@ _OWN_WHY = {
                     "given, so the limit cannot be exact (D)",
     "FRAME_REP_DIST": "it folds a robot's orientation axes (REP_OPTION bit 3); the "
                       "frames built have none, so DPOS is not folded by it (D)",
-    "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
-                     "only their own axes are not built (D)",
 }
 
 
@@ -2022,8 +2045,6 @@ _SYSTEM_WHY = {
                      "see tasks.py)",
     "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
     "LAST_AXIS": "every axis of the emulated MC405 is always processed",
-    "INITIALISE": "resetting every axis parameter of a live machine at once is not "
-                  "supported by the shared machine",
     "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
     "AXIS_DISPLAY": "no function on the MC4xx (help page)",
     "AXIS_DEBUG_A": "reserved for Trio's own analysis (help page)",
