@@ -116,7 +116,11 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
                "cancelled on that servo tick (found exactly) and ramps down at FASTDEC, or "
                "DECEL when FASTDEC is 0 (I); a move into the switch while it is on is "
                "cancelled as it starts (no step); moves away from it run (I). An input the "
-               "world drives as a level acts when it changes (D).")
+               "world drives as a level acts when it changes (D). An axis a link drives "
+               "(CONNECT, CAMBOX, MOVELINK, FLEXLINK, CONNPATH) has its link cancelled at "
+               "once on the tick its demand meets the switch (C: the page issues CANCEL, "
+               "which ends a linked move at once; linked_limits.py); see AXIS_MODE bits 1, "
+               "3, 17 for CONNECT and ADDAX.")
 
 ROBOT_WHY = ("the robot (kinematic) system beyond FRAME 2, 5, 6 and 10 (personalities/trio/"
              "frames.py): the other frames' equations, USER_FRAME, TOOL_OFFSET and "
@@ -334,7 +338,9 @@ _ENTRIES: list[Keyword] = [
              "Follows the link axis's demand position (D). A second CONNECT on the same link "
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "
-             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21."),
+             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21. "
+             "A limit (FWD_IN, FS_LIMIT ...) met by the axis cancels it at once, unless "
+             "AXIS_MODE bit 1 (see it; C: help CONNECT)."),
     _axis("MOVELINK_MODIFY", "An offset (user units) to the end of the running MOVELINK.",
           source=f"{TOK}; {HELP} (MOVELINK_MODIFY page)", confidence="C",
           note="The running MOVELINK ends at its end plus the offset (ENDMOVE with it) "
@@ -361,7 +367,9 @@ _ENTRIES: list[Keyword] = [
              confidence="I", note="Count for count from when it is given (I); after "
              "ADDAX(-1) the axis keeps what was added. Not buffered: it acts at once (I). "
              "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
-             "aims its own moves, without the live ADDAX part (D)."),
+             "aims its own moves, without the live ADDAX part (D). A limit met by the sum "
+             "cancels the axis's own move; the ADDAX part runs on unless AXIS_MODE bit 17 "
+             "(see AXIS_MODE; C: help ADDAX)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
           "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
           "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 30 MOVETANG, 31 MSPHERICAL, "
@@ -644,7 +652,9 @@ _ENTRIES: list[Keyword] = [
           "sets AXISSTATUS bit 9 (512). A motion reaching it (the first servo tick DPOS is at "
           "or beyond it) is cancelled there and ramps down to zero (manual: 'ramp down the "
           "speed to zero then cancel the move', C), at FASTDEC or DECEL as a hard limit; "
-          "moves further forward are cancelled as they start (I)."),
+          "moves further forward are cancelled as they start (I). On an axis a link "
+          "drives, the link is cancelled at once on the tick DPOS meets it (C: CANCEL page; "
+          "DPOS compared, D; linked_limits.py), as at FWD_IN."),
     _axis("RS_LIMIT", "Reverse software limit, user units.", default=-200000000000,
           source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT: AXISSTATUS bit 10 "
           "(1024) while DPOS is below it (manual, C); it stops reverse motion the same way."),
@@ -804,10 +814,13 @@ _ENTRIES: list[Keyword] = [
           "(exact to the tick, C); clear (power-up): with MPOS (C), which differs only on "
           "a servo axis: its loop's measured position is watched on every servo cycle of "
           "its own move, the move ramps down (FASTDEC/DECEL) from the cycle MPOS reaches "
-          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Stored, no effect (D): bits "
-          "1, 3 and 17 (what they change is how a limit acts on a CONNECT or an ADDAX, and "
-          "limits stop only an axis's own buffered moves here: a linked axis's demand is "
-          "never stopped by them, so neither the cancel nor the ratio 0 can show), "
+          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Bit 1: a CONNECT meeting a "
+          "limit is not cancelled, its ratio goes to 0 at CLUTCH_RATE while the limit is "
+          "on and back to its ratio when it goes off (C: CONNECT page; back: D). Bit 3: a "
+          "limit's cancel ends the axis's ADDAX (C: CANCEL page). Bit 17: an axis with "
+          "ADDAX meeting a limit cancels its master's current move at FASTDEC/DECEL (C: "
+          "ADDAX page; the direct master only, D); clear, the ADDAX part runs on (C). "
+          "(linked_limits.py.) Stored, no effect (D): bits "
           "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
           "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
           "no rule for what they change in the following error), 10 (no robot jog), 11 "

@@ -45,6 +45,7 @@ from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, Worl
 from .axismode import compared_position, mpos_compared, soft_limits
 from .errors import MotionErrors
 from .following import SERVO_ATYPES, Following, MotorHost
+from .linked_limits import LinkedLimits
 from .runs import Run, TrioAxis
 from .stepratio import demand_for
 
@@ -114,12 +115,14 @@ class Drive:
         self.m = machine
         self.limits = _Limits(self)
         self.errors = MotionErrors(self)  # (errors.py)
+        self.linked = LinkedLimits(self)  # limits on linked axes (linked_limits.py)
         self.following = Following(machine, self.enabled,
                                    lambda axis: bool(self.motion_error >> axis & 1))
         self.reset()
 
     def reset(self) -> None:
         """Power-up: no errors, no searches (the axes are new)."""
+        self.linked.reset()
         self.errors.reset()  # MOTION_ERROR, ERROR_AXIS, the bits held, DISABLE_GROUP
         self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
         # direction and its run (the FORWARD/REVERSE at CREEP)
@@ -272,25 +275,33 @@ class Drive:
         stopping (a stop is never lengthened) or for none."""
         m = self.m
         queue = m.queues[axis.index]
-        if not queue or queue[0].stopping:
-            return None
-        a = m.axes[axis.index]
-        params = a.params
-        found: list[float] = []
-        wired = -1 if m.framed(axis.index) else params["FWD_IN" if side > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
-            stage = m.world.axes[axis.index]  # (a joint in a FRAME: frames.py finds it)
-            switch = stage.plus_limit if side > 0 else stage.minus_limit
-            edge = _edge(switch, side)
-            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
-        soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
-        if abs(soft) < 2.0 ** 62 and not mpos_compared(params, a.servo is not None):
-            found.append(math.ceil(soft) if side > 0 else math.floor(soft))
+        if not queue or queue[0].stopping or self.linked.covers(axis.index):
+            return None  # (an axis whose demand a link adds to: linked_limits.py)
+        found = self.edges(axis.index, side, dpos=False)
         reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
         found = [edge for edge in found if side * (edge - axis.steps) <= reach]
         if not found:
             return None
         return min(found) if side > 0 else max(found)
+
+    def edges(self, axis: int, side: int, dpos: bool) -> list[float]:
+        """The demand counts (DEFPOS not applied) from which that side's limits act: the
+        limit switch through FWD_IN/REV_IN (one the world drives as an edge) and the
+        software limit (unless it compares MPOS and `dpos` is False)."""
+        m = self.m
+        a = m.axes[axis]
+        params = a.params
+        found: list[float] = []
+        wired = -1 if m.framed(axis) else params["FWD_IN" if side > 0 else "REV_IN"]
+        if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
+            stage = m.world.axes[axis]  # (a joint in a FRAME: frames.py finds it)
+            switch = stage.plus_limit if side > 0 else stage.minus_limit
+            edge = _edge(switch, side)
+            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
+        soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
+        if abs(soft) < 2.0 ** 62 and (dpos or not mpos_compared(params, a.servo is not None)):
+            found.append(math.ceil(soft) if side > 0 else math.floor(soft))
+        return found
 
     def limit_key(self, axis: MotionAxis) -> tuple[object, ...]:
         """What the limits an axis meets depend on besides its motion."""
@@ -357,6 +368,8 @@ class Drive:
                 m.outputs.sync_all()
                 self._cancel_for_limit(queue[0])
                 changed = True
+        if self.linked.look(now):
+            changed = True
         if self.errors.check():
             changed = True
         if changed:
@@ -454,6 +467,9 @@ class _Limits(MotionEnds):
 
     def next_event(self) -> int | None:
         soonest = super().next_event()
+        linked = self.drive.linked.next_event()
+        if linked is not None and (soonest is None or linked < soonest):
+            soonest = linked
         for axis in list(self.drive.searches):
             direction = self.drive.searching(axis)
             mark = None if direction is None else self.drive.mark_tick(axis, direction)
