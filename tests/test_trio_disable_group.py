@@ -208,3 +208,47 @@ def test_a_program_restarts_its_group_as_the_page_does() -> None:
     moving = dpos(trio, 0)
     trio.advance(ticks=100)
     assert dpos(trio, 0) == moving + 100  # at speed again, a count a cycle
+
+
+def test_motion_error_banks_read_as_the_page_gives_them() -> None:
+    trio = mc405(*limited(0, 1, 3), "DISABLE_GROUP(0)", "DISABLE_GROUP(1)",
+                 "DISABLE_GROUP(3)", "WDOG=ON")
+    trio.world_view().set_limits("3", plus=1000)
+    trio.send("MOVE(10000) AXIS(3)")
+    at(trio, 1100)
+    assert [trio.query(q) for q in ("?MOTION_ERROR(0)", "?MOTION_ERROR(0).3",
+                                    "?MOTION_ERROR(0).2", "?MOTION_ERROR(1)",
+                                    "?MOTION_ERROR(1).6")] == ["8", "1", "0", "0", "0"]
+    assert trio.send("?MOTION_ERROR(16)") == ["! Parameter out of range"]
+    assert trio.send("?MOTION_ERROR(0.5)") == ["! Parameter out of range"]
+
+
+def test_a_motion_error_ends_the_links_and_the_drive_off_ends_a_link() -> None:
+    """Without groups every axis stops: a CONNECT on axis 2 ends with it (the demand
+    stays); with its drive switched off a linked axis stops following too."""
+    trio = mc405(*limited(0, 1), "BASE(2): CONNECT(1, 1)", "WDOG=ON")
+    trio.world_view().set_limits("0", plus=1000)
+    trio.send("MOVE(10000) AXIS(0)")
+    trio.send("MOVE(10000) AXIS(1)")
+    at(trio, 1005)
+    assert [dpos(trio, a) for a in (0, 1, 2)] == [1000.0, 1000.0, 1000.0]
+    assert trio.machine.axes[2].link is None and trio.machine.axis_idle(2)
+    trio.send("DATUM(0)")
+    trio.send("BASE(2): CONNECT(1, 1)")
+    trio.send("MOVE(1000) AXIS(1)")
+    at(trio, 1505)  # from tick 1005: 500 - 5 counts each
+    assert (dpos(trio, 1), dpos(trio, 2)) == (1495.0, 1495.0)
+    trio.send("AXIS_ENABLE AXIS(2)=OFF")
+    at(trio, 1605)
+    assert (dpos(trio, 1), dpos(trio, 2)) == (1595.0, 1495.0)
+
+
+def test_a_clear_does_not_wait_for_the_base_axis_to_stop() -> None:
+    """DATUM(0) and DATUM(7) act and return at once, while the base axis moves (a
+    group's program clears one conveyor while the other runs)."""
+    trio = mc405(*limited(0, 1))
+    trio.load("CLR", "BASE(1)\nMOVE(5000)\nDATUM(0)\nVR(2) = 1\nDATUM(7)\nVR(3) = 1")
+    trio.send('RUN "CLR"')
+    trio.advance(ticks=20)
+    assert (trio.query("?VR(2)"), trio.query("?VR(3)")) == ("1.0000", "1.0000")
+    assert not trio.machine.axis_idle(1)

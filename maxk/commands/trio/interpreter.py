@@ -33,7 +33,7 @@ from ...personalities.trio.sequences import axes_of
 from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
-from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
+from .keywords import BANKED_PARAMETERS, CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import TrioError
 from .machine import TrioMachine
 from .parser import (
@@ -827,6 +827,15 @@ class Interpreter:
             channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
             return self._machine(lambda: self.machine.channel_parameter(
                 keyword.name, axis, channel))
+        if keyword.name in BANKED_PARAMETERS and expr.index:  # MOTION_ERROR(bank)
+            bank = self.number(expr.index[0], ctx)
+            if len(expr.index) != 1 or expr.slot is not None or expr.axis is not None:
+                raise TrioError("Syntax error")
+            if bank != int(bank) or not 0 <= bank < 16:
+                raise TrioError("Parameter out of range")
+            if bank * 64 >= self.machine.axis_count:
+                return 0.0  # (a bank of axes the controller does not have)
+            return self._machine(lambda: self.machine.system_parameter(keyword.name))
         if expr.index or expr.slot is not None:
             return self.hook.indexed.get(self._indexed_key(expr, ctx), keyword.default)
         if keyword.name in PROCESS_PARAMETERS:
@@ -1536,7 +1545,7 @@ class Interpreter:
         m = self.machine
         if mode in (0, 1, 2, 7):  # clear the motion errors; a Z-mark search, on the machine
             self._act(lambda: m.datum(axis, int(mode)))
-            while not m.axis_idle(axis):
+            while mode in (1, 2) and not m.axis_idle(axis):  # (a clear never waits)
                 yield ON_CHANGE
             return
         if mode not in (3, 4, 5, 6):

@@ -66,6 +66,8 @@ class Keyword:
 
 CHANNEL_PARAMETERS = frozenset({"R_MARK", "R_REGPOS", "R_REGISTSPEED"})
 """Read-only axis parameters of one channel: NAME(channel) [AXIS(n)] (registration.py)."""
+BANKED_PARAMETERS = frozenset({"MOTION_ERROR"})
+"""System parameters with an optional bank of 64 axes: NAME(bank), 0..15 (help page)."""
 SEED = "seed"
 TOK = "tokentable"
 REF = "ref"
@@ -683,7 +685,8 @@ _ENTRIES: list[Keyword] = [
     _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,
             source=f"{HELP} MOTION_ERROR; {TOK}", confidence="I",
             note="Set by ERRORMASK (see it), cleared by DATUM(0), one axis's bit by DATUM(7) "
-            "(C: help DATUM). MOTION_ERROR(bank) is not modelled: 16 axes, one bank (D). A "
+            "(C: help DATUM). MOTION_ERROR(bank), 0..15 (C): bank 0 holds the 16 axes, the "
+            "others read 0 (C: 64 axes a bank); another bank: 'Parameter out of range' (D). A "
             "move on an axis in error is refused with 'Axis in error' (D: the text is ours)."),
     _system("ERROR_AXIS", "The axis that caused the motion error (0: none).",
             default=0, writable=False, source=f"{HELP} ERROR_AXIS; {TOK}", confidence="C",

@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TypeVar
 
-from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
+from .keywords import BANKED_PARAMETERS, CHANNEL_PARAMETERS, Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
 from .printformat import Real, check_spec, decimal_literal
 
@@ -543,7 +543,8 @@ class _Parser:
         (``AXIS(n)``, ``PROC(n)``, ``SLOT(n)``, ``PORT(n)``) in any order."""
         index: tuple[Expr, ...] = ()
         if self.at_op("(") and (keyword.note.startswith("Not modelled")
-                                or keyword.name in CHANNEL_PARAMETERS):
+                                or keyword.name in CHANNEL_PARAMETERS
+                                or keyword.name in BANKED_PARAMETERS):
             # only a parameter the emulator keeps as written takes arguments (D): a
             # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()

@@ -357,6 +357,10 @@ class Drive:
                 changed = True
         for i, a in enumerate(m.axes):
             queue = m.queues[i]
+            if a.link is not None and not self.enabled(i):
+                self.errors.halt([i])  # a linked axis's drive went off: its link ends
+                changed = True
+                continue
             if a.motion is None or not queue or not queue[0].started or queue[0].stopping:
                 continue
             if not self.enabled(i):
