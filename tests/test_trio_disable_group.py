@@ -252,3 +252,14 @@ def test_a_clear_does_not_wait_for_the_base_axis_to_stop() -> None:
     trio.advance(ticks=20)
     assert (trio.query("?VR(2)"), trio.query("?VR(3)")) == ("1.0000", "1.0000")
     assert not trio.machine.axis_idle(1)
+
+
+def test_the_two_conveyors_example_script_passes() -> None:
+    """examples/mc405_disable_group.maxk, as `maxk run` runs it."""
+    from pathlib import Path
+
+    from maxk.script import load_script, run_script
+
+    script = load_script(Path(__file__).parent.parent / "examples" / "mc405_disable_group.maxk")
+    transcript = run_script(script)
+    assert not transcript.failures, transcript.failures

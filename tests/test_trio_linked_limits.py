@@ -152,3 +152,16 @@ def test_a_linked_axis_in_a_disable_group_stops_its_group_on_a_limit_error() -> 
                                     "?WDOG")] == ["1", "0", "1", "1"]
     at(trio, 1000)
     assert (dpos(trio, 0), dpos(trio, 1), linked(trio)) == (300.0, 995.0, False)
+
+
+def test_a_limit_acts_on_the_sum_with_addax_not_on_the_own_move_alone() -> None:
+    """Axis 0 moves forward from tick 0; from tick 100 ADDAX adds axis 1 moving back at
+    the same speed: the sum stays at 100 from tick 110, so its own move passes 1000
+    (tick 1005) without meeting FS_LIMIT 1000."""
+    trio = mc405(FAST, "FS_LIMIT=1000", "MOVE(5000)")
+    at(trio, 100)
+    trio.send("ADDAX(1)")
+    trio.send("MOVE(-5000) AXIS(1)")
+    at(trio, 2000)
+    assert (dpos(trio, 0), trio.machine.axis_idle(0)) == (100.0, False)
+    assert trio.query("?AXISSTATUS") == "0"

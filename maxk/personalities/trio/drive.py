@@ -314,7 +314,8 @@ class Drive:
         return (p["FWD_IN"], p["REV_IN"], soft_limits(p), a.units, a.datum,
                 stage.plus_limit, stage.plus_limit.fault, stage.minus_limit,
                 stage.minus_limit.fault, stage.lost_steps, bool(queue and queue[0].stopping),
-                frozenset(m.world.digital), frozenset(m.inverted_inputs))
+                frozenset(m.world.digital), frozenset(m.inverted_inputs),
+                self.linked.covers(i))
 
     def on_limit(self, axis: MotionAxis, side: int, tick: int) -> None:
         """A motion reached a limit: cancel the run there (a single axis ramps down at
