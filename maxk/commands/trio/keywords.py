@@ -999,7 +999,8 @@ _ENTRIES: list[Keyword] = [
              note="Each parameter that differs is written as a program would write it "
              "(a running move takes a new SPEED, PP_STEP keeps MPOS, ATYPE makes or drops a "
              "servo loop: initialise.py, D); positions, moves, links, TABLE, VR and the "
-             "system parameters stay (the page names axis parameters only, D)."),
+             "system parameters stay (the page names axis parameters only, D), and so do "
+             "ENDMOVE, MOVELINK_MODIFY and CORNER_STATE (orders to the motion, D)."),
     _axis("CREEP", "The slow speed of the second part of a DATUM search, and of the "
           "Z-mark searches DATUM(1)/(2), user units/s.", default=200,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",

@@ -14,6 +14,9 @@ from typing import Any
 
 FIRST = ("ATYPE", "UNITS")
 """Written first (D): what the other parameters' meaning depends on."""
+COMMANDS = frozenset({"ENDMOVE", "MOVELINK_MODIFY", "CORNER_STATE"})
+"""Parameters whose write is an order to the motion, not a setting (ENDMOVE moves the
+axis, MOVELINK_MODIFY reshapes a link, CORNER_STATE answers a corner): not written (D)."""
 
 
 def initialise(machine: Any) -> None:
@@ -23,7 +26,7 @@ def initialise(machine: Any) -> None:
     for axis in range(machine.axis_count):
         params = machine.axes[axis].params
         for name in names:
-            if params.get(name) == defaults[name]:
+            if name in COMMANDS or params.get(name) == defaults[name]:
                 continue
             try:
                 machine.set_axis_parameter(name, axis, defaults[name])
@@ -32,4 +35,4 @@ def initialise(machine: Any) -> None:
     machine.changed()
 
 
-__all__ = ["initialise"]
+__all__ = ["COMMANDS", "FIRST", "initialise"]
