@@ -165,3 +165,16 @@ def test_a_limit_acts_on_the_sum_with_addax_not_on_the_own_move_alone() -> None:
     at(trio, 2000)
     assert (dpos(trio, 0), trio.machine.axis_idle(0)) == (100.0, False)
     assert trio.query("?AXISSTATUS") == "0"
+
+
+def test_connpath_and_flexlink_axes_are_cancelled_at_the_limit_too() -> None:
+    """Both follow the link axis 1:1 here (a CONNPATH on axis 1's path distance, a
+    FLEXLINK of base distance 1000 over 1000 link counts): FS_LIMIT 400 on tick 405."""
+    for link in ("CONNPATH(1, 1)", "FLEXLINK(1000, 0, 1000, 0, 0, 0, 0, 1)"):
+        trio = mc405("FS_LIMIT=400", link, "MOVE(2000) AXIS(1)")
+        at(trio, 404)
+        assert (dpos(trio, 0), linked(trio)) == (399.0, True), link
+        at(trio, 405)
+        assert (dpos(trio, 0), linked(trio)) == (400.0, False), link
+        at(trio, 1000)
+        assert (dpos(trio, 0), dpos(trio, 1)) == (400.0, 995.0), link
