@@ -263,3 +263,19 @@ def test_the_two_conveyors_example_script_passes() -> None:
     script = load_script(Path(__file__).parent.parent / "examples" / "mc405_disable_group.maxk")
     transcript = run_script(script)
     assert not transcript.failures, transcript.failures
+
+
+def test_a_soft_limit_bit_in_errormask_errors_on_the_cycle_dpos_passes_it() -> None:
+    """FS_LIMIT 300 is met on tick 305 (DPOS 300, not yet beyond it); the ramp down at
+    DECEL 10000 makes 1 - 10000 x 0.001^2 / 2 = 0.995 count on tick 306: DPOS 300.995 >
+    300 sets bit 9 (512), in ERRORMASK: the motion error stops the axis there."""
+    trio = mc405(FAST, "FS_LIMIT=300: ERRORMASK=268+512")
+    trio.send("MOVE(10000)")
+    at(trio, 305)
+    assert (dpos(trio, 0), trio.query("?MOTION_ERROR")) == (300.0, "0")
+    at(trio, 306)
+    assert (dpos(trio, 0), trio.query("?MOTION_ERROR"), trio.query("?AXISSTATUS")) == \
+        (300.995, "1", "512")
+    assert trio.machine.axis_idle(0)
+    at(trio, 500)
+    assert dpos(trio, 0) == 300.995

@@ -679,7 +679,9 @@ _ENTRIES: list[Keyword] = [
           "I). A bit newly set in AXISSTATUS AND ERRORMASK (looked at on every event: D) "
           "sets the axis's MOTION_ERROR bit (C) and stops every axis at once, drops the "
           "buffered moves, ends the links and sets WDOG OFF (I: help ERRORMASK, CANCEL); "
-          "an axis of a DISABLE_GROUP stops its group only (see it). Acting on newly set "
+          "an axis of a DISABLE_GROUP stops its group only (see it); bits 9/10 act on the "
+          "servo cycle DPOS first passes the limit (C: AXISSTATUS page, 'greater than'). "
+          "Acting on newly set "
           "bits only is our decision (D): an axis left standing on a limit after DATUM(0) "
           "can move off it."),
     _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,

@@ -12,7 +12,8 @@ What a Trio controller does, as docs/trio.md records it (source and confidence t
   limit. A move that would start into an active limit is cancelled as it starts (it
   makes no step); moves away from the limit run. AXISSTATUS shows bit 4/5 while the
   switch is active and bit 9/10 while DPOS is beyond the software limit.
-  AXIS_MODE bit 14 turns the software limits off (`axismode.py`).
+  AXIS_MODE bit 14 turns the software limits off (`axismode.py`). An axis whose demand
+  a link or ADDAX makes is watched by `linked_limits.py` instead.
 - **Motion errors** (`errors.py`): each time the machine looks (every event), an axis
   whose AXISSTATUS gains a bit that its ERRORMASK holds (default 268: following error
   exceeded, remote drive errors) goes into motion error: every axis stops at once (WDOG
@@ -124,6 +125,7 @@ class Drive:
         """Power-up: no errors, no searches (the axes are new)."""
         self.linked.reset()
         self.errors.reset()  # MOTION_ERROR, ERROR_AXIS, the bits held, DISABLE_GROUP
+        self.look_again: int | None = None  # the cycle after a limit's cancel (below)
         self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
         # direction and its run (the FORWARD/REVERSE at CREEP)
         self.following.reset()
@@ -331,6 +333,8 @@ class Drive:
 
     def _cancel_for_limit(self, run: Run) -> None:
         m = self.m
+        self.look_again = m.tick + 1  # (DPOS passes FS_LIMIT/RS_LIMIT, AXISSTATUS bits
+        # 9/10, on the ramp's first cycle: a motion error on them acts on that cycle)
         params = m.axes[run.base].params
         fast = params["FASTDEC"] * run.units
         m._stop(run, decel=fast if fast > 0 else None)
@@ -472,6 +476,9 @@ class _Limits(MotionEnds):
 
     def next_event(self) -> int | None:
         soonest = super().next_event()
+        again = self.drive.look_again
+        if again is not None and (soonest is None or again < soonest):
+            soonest = max(again, self.drive.m.tick)
         linked = self.drive.linked.next_event()
         if linked is not None and (soonest is None or linked < soonest):
             soonest = linked
@@ -484,4 +491,6 @@ class _Limits(MotionEnds):
 
     def on_event(self, now: int) -> None:
         super().on_event(now)
+        if self.drive.look_again is not None and self.drive.look_again <= now:
+            self.drive.look_again = None
         self.drive.look(now)
