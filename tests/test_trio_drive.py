@@ -167,7 +167,7 @@ def test_errormask_puts_a_limit_into_motion_error_all_axes_stop_wdog_off() -> No
     assert trio.send("MOVE(10) AXIS(1)") == []  # only the axis in error refuses
     assert trio.send("DATUM(0)") == []
     assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?WDOG")] == \
-        ["0", "-1", "0"]  # WDOG stays OFF until the program sets it
+        ["0", "0", "0"]  # WDOG stays OFF until the program sets it; ERROR_AXIS 0 (page)
     trio.send("MOVE(-100)")
     assert trio.run_until_idle() and dpos(trio) == 4900.0
 
@@ -270,7 +270,8 @@ def test_datum_2_finds_the_mark_reverse_from_its_last_count() -> None:
 def test_datum_0_without_an_error_and_bad_datum_modes() -> None:
     trio = mc405()
     assert trio.send("DATUM(0)") == []
-    assert trio.send("DATUM(7)") == ["! Parameter out of range"]
+    assert trio.send("DATUM(7)") == []  # one axis's errors (DATUM page)
+    assert trio.send("DATUM(8)") == ["! Parameter out of range"]
     assert trio.send("CREEP=0: DATUM(1)") == ["! Parameter out of range"]
 
 
@@ -382,7 +383,7 @@ def test_a_restart_clears_the_motion_errors() -> None:
     assert trio.run_until_idle() and trio.query("?MOTION_ERROR") == "1"
     trio.reset()
     assert [trio.query(q) for q in ("?MOTION_ERROR", "?ERROR_AXIS", "?ERRORMASK")] == \
-        ["0", "-1", "268"]
+        ["0", "0", "268"]
 
 
 @settings(max_examples=20, deadline=None)

@@ -34,7 +34,7 @@ from ...personalities.trio.slm import dlink
 from .datawords import CrcSetup, value_of, words_of
 from .errorcodes import RUN_ERRORS, run_error
 from .fifos import FifoFiles
-from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
+from .keywords import BANKED_PARAMETERS, CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .parser import (
@@ -857,7 +857,7 @@ class Interpreter:
             channel, axis = self.number(expr.index[0], ctx), self.axis_of(expr.axis, ctx)
             return self._machine(lambda: self.machine.channel_parameter(
                 keyword.name, axis, channel))
-        if keyword.name == "MOTION_ERROR" and expr.index:
+        if keyword.name in BANKED_PARAMETERS and expr.index:  # MOTION_ERROR(bank)
             return self.motion_error_bank(expr, ctx)
         if keyword.name == "MOTION_ERROR_COUNT":  # the bits set in MOTION_ERROR (its page)
             errors = self.read_parameter(Param(KEYWORDS["MOTION_ERROR"], None), ctx)
@@ -1679,9 +1679,9 @@ class Interpreter:
     def datum(self, axis: int, mode: float) -> Wait:
         """DATUM(n) on the shared world's switches (see the keyword's note)."""
         m = self.machine
-        if mode in (0, 1, 2):  # clear the motion errors; a Z-mark search, on the machine
+        if mode in (0, 1, 2, 7):  # clear the motion errors; a Z-mark search, on the machine
             self._act(lambda: m.datum(axis, int(mode)))
-            while not m.axis_idle(axis):
+            while mode in (1, 2) and not m.axis_idle(axis):  # (a clear never waits)
                 yield ON_CHANGE
             return
         if mode not in (3, 4, 5, 6):

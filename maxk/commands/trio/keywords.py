@@ -66,6 +66,8 @@ class Keyword:
 
 CHANNEL_PARAMETERS = frozenset({"R_MARK", "R_REGPOS", "R_REGISTSPEED"})
 """Read-only axis parameters of one channel: NAME(channel) [AXIS(n)] (registration.py)."""
+BANKED_PARAMETERS = frozenset({"MOTION_ERROR"})
+"""System parameters with an optional bank of 64 axes: NAME(bank), 0..15 (help page)."""
 SEED = "seed"
 TOK = "tokentable"
 REF = "ref"
@@ -116,7 +118,11 @@ _LIMIT_STOP = (" While it is on, AXISSTATUS bit {bit} is set. A motion reaching 
                "cancelled on that servo tick (found exactly) and ramps down at FASTDEC, or "
                "DECEL when FASTDEC is 0 (I); a move into the switch while it is on is "
                "cancelled as it starts (no step); moves away from it run (I). An input the "
-               "world drives as a level acts when it changes (D).")
+               "world drives as a level acts when it changes (D). An axis a link drives "
+               "(CONNECT, CAMBOX, MOVELINK, FLEXLINK, CONNPATH) has its link cancelled at "
+               "once on the tick its demand meets the switch (C: the page issues CANCEL, "
+               "which ends a linked move at once; linked_limits.py); see AXIS_MODE bits 1, "
+               "3, 17 for CONNECT and ADDAX.")
 
 ROBOT_WHY = ("the robot (kinematic) system beyond FRAME 2, 5, 6 and 10 (personalities/trio/"
              "frames.py): the other frames' equations, USER_FRAME, TOOL_OFFSET and "
@@ -212,9 +218,10 @@ _ENTRIES: list[Keyword] = [
     # ---- system parameters -----------------------------------------------------------
     _system("WDOG", "Enable switch for the drives; PWM is generated only with WDOG=ON.",
             value_range=(-1, 1), source=f"{SEED}; {TOK}",
-            note="A servo axis (ATYPE 44, 36, 77 ...) moves only with WDOG ON (see SERVO); "
-            "a motion error sets it OFF (I). Pulse/direction axes run their demand whatever it is "
-            "(I: the seed's example 1 loads its moves before WDOG=ON)."),
+            note="A servo axis (ATYPE 44, 36, 77 ...) moves only with WDOG ON (see SERVO); a "
+            "motion error sets it OFF, unless the axis in error is in a DISABLE_GROUP: then it "
+            "stays ON (C: help WDOG, DISABLE_GROUP). Pulse/direction axes run their demand "
+            "whatever it is (I: the seed's example 1 loads its moves before WDOG=ON)."),
     _system("SERVO_PERIOD", "Servo cycle in microseconds (one tick of the emulator).",
             default=1000, value_range=(250, 2000), source=f"{MAN}; {TOK}", confidence="D",
             note="MC405 default 1000 us. 250, 500, 1000 or 2000 accepted; the new period "
@@ -381,7 +388,9 @@ _ENTRIES: list[Keyword] = [
              "Follows the link axis's demand position (D). A second CONNECT on the same link "
              "axis changes the ratio at once from where both are; on another link axis it is "
              "ignored while the first runs (C: manual). Buffered behind moves and links like "
-             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21."),
+             "a move. A new ratio on the same link axis ramps at CLUTCH_RATE (see it). MTYPE 21. "
+             "A limit (FWD_IN, FS_LIMIT ...) met by the axis cancels it at once, unless "
+             "AXIS_MODE bit 1 (see it; C: help CONNECT)."),
     _axis("MOVELINK_MODIFY", "An offset (user units) to the end of the running MOVELINK.",
           source=f"{TOK}; {HELP} (MOVELINK_MODIFY page)", confidence="C",
           note="The running MOVELINK ends at its end plus the offset (ENDMOVE with it) "
@@ -408,7 +417,9 @@ _ENTRIES: list[Keyword] = [
              confidence="I", note="Count for count from when it is given (I); after "
              "ADDAX(-1) the axis keeps what was added. Not buffered: it acts at once (I). "
              "A loop of ADDAX/links is 'Parameter out of range' (D). MOVEABS on the axis "
-             "aims its own moves, without the live ADDAX part (D)."),
+             "aims its own moves, without the live ADDAX part (D). A limit met by the sum "
+             "cancels the axis's own move; the ADDAX part runs on unless AXIS_MODE bit 17 "
+             "(see AXIS_MODE; C: help ADDAX)."),
     _axis("MTYPE", "The type of move the axis runs: 0 idle, 1 MOVE, 2 MOVEABS, 3 MHELICAL, "
           "4 MOVECIRC, 5 MOVEMODIFY, 10 FORWARD, 11 REVERSE, 13 CAM, 14/15 FWD_JOG/REV_JOG, "
           "20 CAMBOX, 21 CONNECT, 22 MOVELINK, 23 CONNPATH, 26 COMPENSATE_XY, 30 MOVETANG, "
@@ -706,7 +717,9 @@ _ENTRIES: list[Keyword] = [
           "sets AXISSTATUS bit 9 (512). A motion reaching it (the first servo tick DPOS is at "
           "or beyond it) is cancelled there and ramps down to zero (manual: 'ramp down the "
           "speed to zero then cancel the move', C), at FASTDEC or DECEL as a hard limit; "
-          "moves further forward are cancelled as they start (I)."),
+          "moves further forward are cancelled as they start (I). On an axis a link "
+          "drives, the link is cancelled at once on the tick DPOS meets it (C: CANCEL page; "
+          "DPOS compared, D; linked_limits.py), as at FWD_IN."),
     _axis("RS_LIMIT", "Reverse software limit, user units.", default=-200000000000,
           source=f"{TOK}; {MAN}", confidence="I", note="As FS_LIMIT: AXISSTATUS bit 10 "
           "(1024) while DPOS is below it (manual, C); it stops reverse motion the same way."),
@@ -728,16 +741,24 @@ _ENTRIES: list[Keyword] = [
           value_range=(0, 2 ** 24 - 1), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 268 (256 following error exceeded, 8 and 4 remote drive errors: "
           "I). A bit newly set in AXISSTATUS AND ERRORMASK (looked at on every event: D) "
-          "stops every axis at once, drops the buffered moves, sets WDOG OFF and the axis's "
-          "MOTION_ERROR bit (I). Acting on newly set bits only is our decision (D): an axis "
-          "left standing on a limit after DATUM(0) can move off it."),
+          "sets the axis's MOTION_ERROR bit (C) and stops every axis at once, drops the "
+          "buffered moves, ends the links and sets WDOG OFF (I: help ERRORMASK, CANCEL); "
+          "an axis of a DISABLE_GROUP stops its group only (see it); bits 9/10 act on the "
+          "servo cycle DPOS first passes the limit (C: AXISSTATUS page, 'greater than'). "
+          "Acting on newly set "
+          "bits only is our decision (D): an axis left standing on a limit after DATUM(0) "
+          "can move off it."),
     _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,
-            source=f"{TOK}; {MAN}", confidence="I",
-            note="Set by ERRORMASK (see it), cleared by DATUM(0) (I). A move on an axis in "
-            "error is refused with 'Axis in error' (D: the text is ours)."),
-    _system("ERROR_AXIS", "The first axis that went into motion error (-1: none).",
-            default=-1, writable=False, source=f"{TOK}; {MAN}", confidence="I",
-            note="-1 with no motion error (D); cleared by DATUM(0)."),
+            source=f"{HELP} MOTION_ERROR; {TOK}", confidence="I",
+            note="Set by ERRORMASK (see it), cleared by DATUM(0), one axis's bit by DATUM(7) "
+            "(C: help DATUM). MOTION_ERROR(bank), 0..15 (C): bank 0 holds the 16 axes, the "
+            "others read 0 (C: 64 axes a bank); another bank: 'Parameter out of range' (D). A "
+            "move on an axis in error is refused with 'Axis in error' (D: the text is ours)."),
+    _system("ERROR_AXIS", "The axis that caused the motion error (0: none).",
+            default=0, writable=False, source=f"{HELP} ERROR_AXIS; {TOK}", confidence="C",
+            note="The axis that made MOTION_ERROR non-zero (C: help MOTION_ERROR's example "
+            "1); 0 at power-up and after DATUM(0) (C), and after a DATUM(7) that leaves no "
+            "axis in error (D); a DATUM(7) of another axis keeps it (D)."),
     _axis("FE", "Following error: DPOS - MPOS, user units.", writable=False,
           source=f"{TOK}; {MAN}", confidence="I",
           note="On a servo axis (ATYPE 44, 36, 77 ... with P_GAIN above 0) the shared loop "
@@ -864,10 +885,13 @@ _ENTRIES: list[Keyword] = [
           "(exact to the tick, C); clear (power-up): with MPOS (C), which differs only on "
           "a servo axis: its loop's measured position is watched on every servo cycle of "
           "its own move, the move ramps down (FASTDEC/DECEL) from the cycle MPOS reaches "
-          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Stored, no effect (D): bits "
-          "1, 3 and 17 (what they change is how a limit acts on a CONNECT or an ADDAX, and "
-          "limits stop only an axis's own buffered moves here: a linked axis's demand is "
-          "never stopped by them, so neither the cancel nor the ratio 0 can show), "
+          "the limit, and AXISSTATUS bits 9/10 read MPOS (I). Bit 1: a CONNECT meeting a "
+          "limit is not cancelled, its ratio goes to 0 at CLUTCH_RATE while the limit is "
+          "on and back to its ratio when it goes off (C: CONNECT page; back: D). Bit 3: a "
+          "limit's cancel ends the axis's ADDAX (C: CANCEL page). Bit 17: an axis with "
+          "ADDAX meeting a limit cancels its master's current move at FASTDEC/DECEL (C: "
+          "ADDAX page; the direct master only, D); clear, the ADDAX part runs on (C). "
+          "(linked_limits.py.) Stored, no effect (D): bits "
           "2 (CORNER_MODE's angles are 2D), 4 (the shared path planner always looks ahead), "
           "6 and 15 (the world has no analogue or dual feedback), 9 and 13 (the page gives "
           "no rule for what they change in the following error), 10 (no robot jog), 11 "
@@ -1049,16 +1073,35 @@ _ENTRIES: list[Keyword] = [
           "once when it goes off (D). Power-up OFF (I). Pulse/direction axes ignore it "
           "(manual: on a stepper it only gates the position verification, C)."),
     _axis("AXIS_ENABLE", "Enable of the axis's drive.", default=1, value_range=(-1, 1),
-          source=f"{TOK}; {MAN}", confidence="I", note="Power-up ON (I). OFF disables the "
-          "drive of any axis (as SERVO does a servo axis's)."),
+          source=f"{HELP} AXIS_ENABLE; {TOK}", confidence="I", note="Power-up ON (C). OFF "
+          "disables the drive of any axis (as SERVO does a servo axis's): a move is refused "
+          "with 'Axis not enabled' and one running stops at once (D). A motion error on an "
+          "axis of a DISABLE_GROUP sets it OFF on every axis of the group (C)."),
+    _command("DISABLE_GROUP", "DISABLE_GROUP(a, b, ...): a motion error on one of these "
+             "axes stops only them; DISABLE_GROUP(-1) removes every group.", (1, 128),
+             source=f"{HELP} DISABLE_GROUP; {TOK}", confidence="C",
+             note="On the error (ERRORMASK) every axis of the group gets AXIS_ENABLE and "
+             "SERVO OFF and stops at once (runs, buffered moves, links; D: at once, as the "
+             "controller-wide stop), WDOG stays ON and the other axes run on (C: help "
+             "examples 1, 2; errors.py). An error on an axis in no group stops every axis "
+             "and WDOG as without groups (D). An axis named again leaves its old group (D: "
+             "one group an axis); an axis twice, out of range or not whole: 'Parameter out "
+             "of range', nothing changed (D). DATUM(7) clears one axis's error (C)."),
+    _command("INITIALISE", "Every axis parameter back to its power-up value.", (0, 0),
+             source=f"{HELP} INITIALISE; {TOK}", confidence="I",
+             note="Each parameter that differs is written as a program would write it "
+             "(a running move takes a new SPEED, PP_STEP keeps MPOS, ATYPE makes or drops a "
+             "servo loop: initialise.py, D); positions, moves, links, TABLE, VR and the "
+             "system parameters stay (the page names axis parameters only, D), and so do "
+             "ENDMOVE, MOVELINK_MODIFY and CORNER_STATE (orders to the motion, D)."),
     _axis("CREEP", "The slow speed of the second part of a DATUM search, and of the "
           "Z-mark searches DATUM(1)/(2), user units/s.", default=200,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 200 (D)."),
-    _command("DATUM", "DATUM(n): 0 clears motion errors; 1/2 search forward/reverse at CREEP "
-             "for the encoder's Z mark, zero there; 3/5 search forward at SPEED for the "
-             "DATUM_IN input, then back at CREEP until it goes off; 4/6 the same in "
-             "reverse; the position there becomes 0.", (1, 1), axis=True,
+    _command("DATUM", "DATUM(n): 0 clears motion errors (7 the axis's); 1/2 search "
+             "forward/reverse at CREEP for the encoder's Z mark, zero there; 3/5 search "
+             "forward at SPEED for the DATUM_IN input, then back at CREEP until it goes "
+             "off; 4/6 the same in reverse; the position there becomes 0.", (1, 1), axis=True,
              source=f"{TOK}; {MAN}", confidence="I",
              note="1/2: the Z mark is the world's index mark of the axis, found exactly to "
              "the servo tick; DPOS is 0 on the mark's first count met, then the axis ramps "
@@ -1066,7 +1109,8 @@ _ENTRIES: list[Keyword] = [
              "watching the input every servo cycle; the zero is where the creep stopped "
              "after the input went off (D: not the exact edge); 5 and 6 do not look for the "
              "Z mark (D). 0 clears every axis's motion error (MOTION_ERROR, ERROR_AXIS, the "
-             "bits AXISSTATUS held), WDOG stays OFF (I). The statement returns when the "
+             "bits AXISSTATUS held), WDOG stays OFF (I); 7 the base axis's only (C: help "
+             "DATUM, DISABLE_GROUP example 2). The statement returns when the "
              "search ends (D: the controller returns at once and the axis moves on). "
              "Without a DATUM_IN, 3..6 are 'Parameter out of range' (D)."),
     _command("MOVECIRC", "MOVECIRC(end1, end2, centre1, centre2, direction): an arc on the "
@@ -2280,8 +2324,6 @@ _OWN_WHY = {
                         "whose matrices are not settled (see USER_FRAME: its rotation "
                         "arguments; TOOL_OFFSET's TrioBASIC page is missing), and the "
                         "page does not say how many values it writes at table_out (D)",
-    "DISABLE_GROUP": "a motion error stops every axis here (drive.py); groups that stop "
-                     "only their own axes are not built (D)",
 }
 
 
@@ -2311,8 +2353,6 @@ _SYSTEM_WHY = {
     "COMPILE_MODE": "DIM is not enforced: programs compile as in the default mode 0",
     "LAST_AXIS": "every axis of the emulated MC405 is always processed, so no axis list is "
                  "kept: it reads what was written (power-up 0), not the highest axis used",
-    "INITIALISE": "resetting every axis parameter of a live machine at once is not "
-                  "supported by the shared machine",
     "AXIS_ADDRESS": "a drive or feedback device's address: there is no drive network",
     "AXIS_DISPLAY": "no function on the MC4xx (help page)",
     "AXIS_DEBUG_A": "reserved for Trio's own analysis (help page)",

@@ -134,11 +134,20 @@ class TrioMachine(Protocol):
         ...
 
     def datum(self, axis: int, mode: int) -> None:
-        """DATUM(0) clears the motion errors; DATUM(1)/(2) start a Z-mark search forward /
-        reverse at CREEP (the axis is busy until it ends)."""
+        """DATUM(0) clears the motion errors, DATUM(7) the axis's; DATUM(1)/(2) start a
+        Z-mark search forward / reverse at CREEP (the axis is busy until it ends)."""
         ...
 
     def cancel(self, axis: int) -> None:
+        ...
+
+    def disable_group(self, args: Sequence[float]) -> None:
+        """DISABLE_GROUP(-1): no groups; DISABLE_GROUP(a, b, ...): a motion error on one
+        of those axes stops only them (ValueError: an axis out of range)."""
+        ...
+
+    def initialise(self) -> None:
+        """INITIALISE: every axis parameter to its power-up value."""
         ...
 
     def rapidstop(self) -> None:

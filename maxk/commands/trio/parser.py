@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TypeVar
 
-from .keywords import CHANNEL_PARAMETERS, Keyword, Kind, lookup
+from .keywords import BANKED_PARAMETERS, CHANNEL_PARAMETERS, Keyword, Kind, lookup
 from .lexer import Tok, Token, TrioError, tokenize
 from .printformat import Real, check_spec, decimal_literal
 
@@ -565,7 +565,7 @@ class _Parser:
         index: tuple[Expr, ...] = ()
         if self.at_op("(") and (keyword.note.startswith("Not modelled")
                                 or keyword.name in CHANNEL_PARAMETERS
-                                or keyword.name == "MOTION_ERROR"):  # MOTION_ERROR(bank)
+                                or keyword.name in BANKED_PARAMETERS):
             # only a parameter the emulator keeps as written takes arguments (D): a
             # modelled one with brackets (DPOS(1)) stays a syntax error, never a silent 0
             index = self.user_args()

@@ -427,6 +427,18 @@ class ProgramCommands(Housekeeping, TimersAndScope, ProgramTrace, NetworkWords):
             power_up()
         self.start_autorun(announce=False)
 
+    def cmd_disable_group(self, args: list[Value]) -> None:
+        """DISABLE_GROUP(-1) / DISABLE_GROUP(a, b, ...) (personality errors.py)."""
+        numbers = [number_arg(a) for a in args]
+        try:
+            self.machine.disable_group(numbers)
+        except ValueError as exc:
+            raise TrioError(str(exc)) from None
+
+    def cmd_initialise(self, args: list[Value]) -> None:
+        """INITIALISE: every axis parameter to its power-up value (personality)."""
+        self.machine.initialise()
+
     def cmd_ethercat(self, args: list[Value]) -> None:
         numbers = [number_arg(a) for a in args]
         if numbers[0] == 0x22 and len(numbers) >= 3 and numbers[2] == -1:

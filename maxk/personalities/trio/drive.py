@@ -12,13 +12,14 @@ What a Trio controller does, as docs/trio.md records it (source and confidence t
   limit. A move that would start into an active limit is cancelled as it starts (it
   makes no step); moves away from the limit run. AXISSTATUS shows bit 4/5 while the
   switch is active and bit 9/10 while DPOS is beyond the software limit.
-  AXIS_MODE bit 14 turns the software limits off (`axismode.py`).
-- **Motion errors**: each time the machine looks (every event), an axis whose AXISSTATUS
-  gains a bit that its ERRORMASK holds (default 268: following error exceeded, remote
-  drive errors) goes into motion error: every axis stops at once, the buffered moves are
-  dropped, WDOG goes OFF, MOTION_ERROR gets the axis's bit and ERROR_AXIS its number if
-  no axis was in error before. The bits that caused it stay set in AXISSTATUS until
-  DATUM(0) clears every axis's error. While an axis is in error it refuses moves.
+  AXIS_MODE bit 14 turns the software limits off (`axismode.py`). An axis whose demand
+  a link or ADDAX makes is watched by `linked_limits.py` instead.
+- **Motion errors** (`errors.py`): each time the machine looks (every event), an axis
+  whose AXISSTATUS gains a bit that its ERRORMASK holds (default 268: following error
+  exceeded, remote drive errors) goes into motion error: every axis stops at once (WDOG
+  OFF), or only the axes of its DISABLE_GROUP (their AXIS_ENABLE and SERVO OFF). DATUM(0)
+  clears every axis's error, DATUM(7) one axis's. While an axis is in error it refuses
+  moves.
 - **The drive enable**: AXIS_ENABLE OFF disables an axis's drive; a servo axis (ATYPE 36
   or 77, the seed's servo types) also needs WDOG ON and SERVO ON. A move on a disabled
   axis is refused, and a servo axis whose drive goes off while it moves stops at once. A
@@ -37,15 +38,15 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Sequence
-from typing import Protocol
-
-import numpy as np
+from typing import Any, Protocol
 
 from maxk.firmware_model.axis import MotionAxis, MotionEnds
 from maxk.firmware_model.world import STUCK_ACTIVE, STUCK_INACTIVE, Switch, World
 
 from .axismode import compared_position, mpos_compared, soft_limits
+from .errors import MotionErrors
 from .following import SERVO_ATYPES, Following, MotorHost
+from .linked_limits import LinkedLimits
 from .runs import Run, TrioAxis
 from .stepratio import demand_for
 
@@ -66,6 +67,7 @@ class DriveHost(MotorHost, Protocol):
     period: float
     revision: int  # counts every change (a parameter, the world, a motion event)
     inverted_inputs: set[int]  # INVERT_IN
+    links: Any  # links.LinkedMoves: what a motion error or a limit ends (errors.py)
 
     @property
     def axis_count(self) -> int: ...
@@ -78,6 +80,8 @@ class DriveHost(MotorHost, Protocol):
     def changed(self) -> None: ...
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
+    def _unlink(self, axis: int) -> None: ...
+    def own_demand(self, axis: int) -> float: ...
 
 INPUTS = 32  # inputs a limit or datum may be wired to (as IN)
 
@@ -111,17 +115,17 @@ class Drive:
     def __init__(self, machine: DriveHost) -> None:
         self.m = machine
         self.limits = _Limits(self)
+        self.errors = MotionErrors(self)  # (errors.py)
+        self.linked = LinkedLimits(self)  # limits on linked axes (linked_limits.py)
         self.following = Following(machine, self.enabled,
                                    lambda axis: bool(self.motion_error >> axis & 1))
         self.reset()
 
     def reset(self) -> None:
         """Power-up: no errors, no searches (the axes are new)."""
-        n = self.m.axis_count
-        self.latched = [0] * n  # AXISSTATUS bits held by a motion error until DATUM(0)
-        self.seen = [0] * n  # ERRORMASK'd bits at the last look (errors act on new bits)
-        self.motion_error = 0  # MOTION_ERROR: a bit per axis in error
-        self.error_axis = -1  # ERROR_AXIS: the first axis that went into error
+        self.linked.reset()
+        self.errors.reset()  # MOTION_ERROR, ERROR_AXIS, the bits held, DISABLE_GROUP
+        self.look_again: int | None = None  # the cycle after a limit's cancel (below)
         self.searches: dict[int, tuple[int, Run]] = {}  # axis -> a Z-mark search's
         # direction and its run (the FORWARD/REVERSE at CREEP)
         self.following.reset()
@@ -137,13 +141,18 @@ class Drive:
             return self.m.dpos(axis) - fe if name == "MPOS" else self.following.shown(axis, fe)
         return float(self.drive_status(axis))
 
+    @property
+    def motion_error(self) -> int:
+        return self.errors.motion_error
+
     def system_parameter(self, name: str) -> float:
-        return float(self.motion_error if name == "MOTION_ERROR" else self.error_axis)
+        errors = self.errors
+        return float(errors.motion_error if name == "MOTION_ERROR" else errors.error_axis)
 
     def axis_status(self, axis: int) -> int:
         m = self.m
         params = m.axes[axis].params
-        bits = self.latched[axis]
+        bits = self.errors.latched[axis]
         for name, bit in (("FWD_IN", FWD_LIMIT), ("REV_IN", REV_LIMIT)):
             wired = params[name]
             if 0 <= wired < INPUTS and not m.digital_input(int(wired)):
@@ -161,6 +170,11 @@ class Drive:
         if params["FE_RANGE"] > 0 and abs(fe) > params["FE_RANGE"]:
             bits |= FE_WARNING
         return bits
+
+    def settable(self, axis: int) -> int:
+        """The AXISSTATUS bits that can be set on the axis (FE only with a servo loop)."""
+        servo = self.m.axes[axis].servo is not None
+        return _CAN_SET | FE_EXCEEDED | FE_WARNING if servo else _CAN_SET
 
     def drive_status(self, axis: int) -> int:
         """DRIVE_STATUS: the CiA 402 status word of the axis's drive as the emulator knows
@@ -220,14 +234,11 @@ class Drive:
         return dpos > fs if direction > 0 else dpos < rs
 
     def datum(self, axis: int, mode: int) -> None:
-        """DATUM(0) clears every motion error; DATUM(1)/(2) start a Z-mark search forward /
-        reverse at CREEP."""
+        """DATUM(0) clears every motion error, DATUM(7) the axis's (errors.py); DATUM(1)/(2)
+        start a Z-mark search forward / reverse at CREEP."""
         m = self.m
-        if mode == 0:
-            self.following.rearm()
-            self.latched = [0] * m.axis_count
-            self.seen = [self._masked(a) for a in range(m.axis_count)]
-            self.motion_error, self.error_axis = 0, -1
+        if mode in (0, 7):
+            self.errors.clear(None if mode == 0 else axis)
             m.changed()
             return
         if mode not in (1, 2):
@@ -266,25 +277,33 @@ class Drive:
         stopping (a stop is never lengthened) or for none."""
         m = self.m
         queue = m.queues[axis.index]
-        if not queue or queue[0].stopping:
-            return None
-        a = m.axes[axis.index]
-        params = a.params
-        found: list[float] = []
-        wired = -1 if m.framed(axis.index) else params["FWD_IN" if side > 0 else "REV_IN"]
-        if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
-            stage = m.world.axes[axis.index]  # (a joint in a FRAME: frames.py finds it)
-            switch = stage.plus_limit if side > 0 else stage.minus_limit
-            edge = _edge(switch, side)
-            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
-        soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
-        if abs(soft) < 2.0 ** 62 and not mpos_compared(params, a.servo is not None):
-            found.append(math.ceil(soft) if side > 0 else math.floor(soft))
+        if not queue or queue[0].stopping or self.linked.covers(axis.index):
+            return None  # (an axis whose demand a link adds to: linked_limits.py)
+        found = self.edges(axis.index, side, dpos=False)
         reach = queue[0].length() + 1.0  # no axis of a run travels further than its path
         found = [edge for edge in found if side * (edge - axis.steps) <= reach]
         if not found:
             return None
         return min(found) if side > 0 else max(found)
+
+    def edges(self, axis: int, side: int, dpos: bool) -> list[float]:
+        """The demand counts (DEFPOS not applied) from which that side's limits act: the
+        limit switch through FWD_IN/REV_IN (one the world drives as an edge) and the
+        software limit (unless it compares MPOS and `dpos` is False)."""
+        m = self.m
+        a = m.axes[axis]
+        params = a.params
+        found: list[float] = []
+        wired = -1 if m.framed(axis) else params["FWD_IN" if side > 0 else "REV_IN"]
+        if 0 <= wired < INPUTS and int(wired) not in (*m.world.digital, *m.inverted_inputs):
+            stage = m.world.axes[axis]  # (a joint in a FRAME: frames.py finds it)
+            switch = stage.plus_limit if side > 0 else stage.minus_limit
+            edge = _edge(switch, side)
+            found += [] if edge is None else [demand_for(params, edge + stage.lost_steps, side)]
+        soft = soft_limits(params)[0 if side > 0 else 1] * a.units - a.datum
+        if abs(soft) < 2.0 ** 62 and (dpos or not mpos_compared(params, a.servo is not None)):
+            found.append(math.ceil(soft) if side > 0 else math.floor(soft))
+        return found
 
     def limit_key(self, axis: MotionAxis) -> tuple[object, ...]:
         """What the limits an axis meets depend on besides its motion."""
@@ -297,7 +316,8 @@ class Drive:
         return (p["FWD_IN"], p["REV_IN"], soft_limits(p), a.units, a.datum,
                 stage.plus_limit, stage.plus_limit.fault, stage.minus_limit,
                 stage.minus_limit.fault, stage.lost_steps, bool(queue and queue[0].stopping),
-                frozenset(m.world.digital), frozenset(m.inverted_inputs))
+                frozenset(m.world.digital), frozenset(m.inverted_inputs),
+                self.linked.covers(i))
 
     def on_limit(self, axis: MotionAxis, side: int, tick: int) -> None:
         """A motion reached a limit: cancel the run there (a single axis ramps down at
@@ -313,6 +333,8 @@ class Drive:
 
     def _cancel_for_limit(self, run: Run) -> None:
         m = self.m
+        self.look_again = m.tick + 1  # (DPOS passes FS_LIMIT/RS_LIMIT, AXISSTATUS bits
+        # 9/10, on the ramp's first cycle: a motion error on them acts on that cycle)
         params = m.axes[run.base].params
         fast = params["FASTDEC"] * run.units
         m._stop(run, decel=fast if fast > 0 else None)
@@ -340,10 +362,14 @@ class Drive:
                 changed = True
         for i, a in enumerate(m.axes):
             queue = m.queues[i]
+            if a.link is not None and not self.enabled(i):
+                self.errors.halt([i])  # a linked axis's drive went off: its link ends
+                changed = True
+                continue
             if a.motion is None or not queue or not queue[0].started or queue[0].stopping:
                 continue
             if not self.enabled(i):
-                self._halt_all(only=i)
+                self.errors.halt([i])
                 changed = True
                 continue
             direction = a.travel_direction(m)
@@ -351,7 +377,9 @@ class Drive:
                 m.outputs.sync_all()
                 self._cancel_for_limit(queue[0])
                 changed = True
-        if self._check_errors():
+        if self.linked.look(now):
+            changed = True
+        if self.errors.check():
             changed = True
         if changed:
             m.changed()
@@ -360,7 +388,7 @@ class Drive:
         """The servo loops stopped on a following error (`Following.integrate`): its bit
         holds, and a motion error follows if ERRORMASK has it."""
         for axis in self.following.over:
-            self.latched[axis] |= FE_EXCEEDED
+            self.errors.latched[axis] |= FE_EXCEEDED
             loop = self.m.axes[axis].servo
             if loop is not None and loop.trip_tick is not None:
                 loop.trip_tick = None  # (the loop stays tripped until DATUM(0))
@@ -381,66 +409,6 @@ class Drive:
         if int(wired) in (*m.world.digital, *m.inverted_inputs) or switch.fault == STUCK_ACTIVE:
             return not m.digital_input(int(wired))
         return False
-
-    def _masked(self, axis: int) -> int:
-        a = self.m.axes[axis]
-        mask = int(a.params["ERRORMASK"])
-        can = _CAN_SET if a.servo is None else _CAN_SET | FE_EXCEEDED | FE_WARNING
-        if not mask & can and not self.seen[axis] and not self.latched[axis]:
-            return 0  # (no bit it holds can be set: FE is 0, no remote drives)
-        return self.axis_status(axis) & mask
-
-    def _check_errors(self) -> bool:
-        """Bits newly set in AXISSTATUS AND ERRORMASK put their axis into motion error."""
-        m = self.m
-        fired = False
-        for a in range(m.axis_count):
-            masked = self._masked(a)
-            new = masked & ~self.seen[a]
-            self.seen[a] = masked
-            if new:
-                self.latched[a] |= new
-                if self.error_axis < 0:
-                    self.error_axis = a
-                self.motion_error |= 1 << a
-                fired = True
-        if fired:
-            m.system["WDOG"] = 0.0
-            self._halt_all()
-            self.following.configure()  # the servo loops open with their drives
-        return fired
-
-    def _halt_all(self, only: int | None = None) -> None:
-        """Stop at once (the demand stays where it is): every axis, or the runs on one;
-        buffered moves are dropped."""
-        m = self.m
-        m.outputs.sync_all()
-        now = m.tick
-        axes = range(m.axis_count) if only is None else [only]
-        for i in axes:
-            queue = m.queues[i]
-            while queue:
-                run = queue[0]
-                if run.started:
-                    self._halt(run, now)
-                else:
-                    for a in run.axes:
-                        m.queues[a].remove(run)
-        self.searches = {a: found for a, found in self.searches.items()
-                         if only is not None and a != only}
-
-    def _halt(self, run: Run, now: int) -> None:
-        """Stop a running run on this tick where it stands; it leaves the queues."""
-        m = self.m
-        travelled, _speed = run.distance_speed(np.array([now]), m.period)
-        for a in run.axes:
-            axis = m.axes[a]
-            exact = m.demand(a)
-            axis.freeze(m)
-            axis.steps = math.floor(exact)
-            axis.fraction = exact - axis.steps
-            m.queues[a].remove(run)
-        m.distance_done[run.base] += float(travelled[0]) / run.units
 
     # ---- Z marks ----------------------------------------------------------------------
     def mark_tick(self, axis: int, direction: int) -> int | None:
@@ -508,6 +476,12 @@ class _Limits(MotionEnds):
 
     def next_event(self) -> int | None:
         soonest = super().next_event()
+        again = self.drive.look_again
+        if again is not None and (soonest is None or again < soonest):
+            soonest = max(again, self.drive.m.tick)
+        linked = self.drive.linked.next_event()
+        if linked is not None and (soonest is None or linked < soonest):
+            soonest = linked
         for axis in list(self.drive.searches):
             direction = self.drive.searching(axis)
             mark = None if direction is None else self.drive.mark_tick(axis, direction)
@@ -517,4 +491,6 @@ class _Limits(MotionEnds):
 
     def on_event(self, now: int) -> None:
         super().on_event(now)
+        if self.drive.look_again is not None and self.drive.look_again <= now:
+            self.drive.look_again = None
         self.drive.look(now)

@@ -65,6 +65,7 @@ from .flash import FLASH_PARAMETERS
 from .following import superimposed
 from .frames import READS as FRAME_READS
 from .frames import Frames
+from .initialise import initialise
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .link_kinds import Cambox, Connpath, Link
@@ -696,6 +697,13 @@ class MC405Machine(Kinematics, Engine):
 
     def datum(self, axis: int, mode: int) -> None:
         self.drive.datum(axis, mode)
+
+    def disable_group(self, args: Sequence[float]) -> None:
+        self.drive.errors.disable_group(args)  # (errors.py)
+        self.changed()
+
+    def initialise(self) -> None:
+        initialise(self)  # (initialise.py)
 
     def cancel(self, axis: int) -> None:
         a = self.axes[axis]
