@@ -461,7 +461,9 @@ _ENTRIES: list[Keyword] = [
              note="Prints '%[Process p:Program NAME] - Running' per program (atrio test)."),
     _command("EX", "Restart the controller.", (0, 1), source=REF,
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
-             "starts a new one (ref 5)."),
+             "starts a new one (ref 5). The VRs are kept (C: EX's page, they remain in "
+             "memory), as are the FLASH parameters and the programs; axis parameters, "
+             "motion and TABLE (but FLASHVR(-1)'s) start again (page)."),
     # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
     _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
              (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
@@ -1334,9 +1336,12 @@ _ENTRIES: list[Keyword] = [
              "capture of up to 8 parameters into TABLE; SCOPE(ON, period) changes the "
              "period; SCOPE(OFF) disables it.", (1, 13), source=f"{HELP}; {TOK}",
              confidence="I",
-             note="Each parameter has its own block of (stop - start) / n values, filled "
-             "one sample every period servo cycles from TRIGGER until full (page example "
-             "1). The parameters are expressions read at each sample with the BASE of the "
+             note="Each parameter has its own block of (stop - start + 1) // n values: "
+             "table_stop is the last index used (C: SCOPE_DELAY's examples, 10001..10800 "
+             "holds 4 traces of 200 from 10001, 10201, ...; 10001..12000 1000 points on 2), "
+             "filled one sample every period servo cycles from TRIGGER until full (page "
+             "example 1); a stop past the TABLE, or before the start: 'Parameter out of "
+             "range'. The parameters are expressions read at each sample with the BASE of the "
              "process that set SCOPE (I). SCOPE_DELAY delays or pre-triggers it (see "
              "there). The FIFO form is not modelled (D)."),
     _system("SCOPE_DELAY", "SCOPE's delay, ms: above 0 the capture starts that long after "
@@ -1359,10 +1364,13 @@ _ENTRIES: list[Keyword] = [
              "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
              confidence="I", note="The first sample is taken on TRIGGER's own servo "
              "cycle (D); after SCOPE(OFF) it starts nothing (page)."),
-    _system("SCOPE_POS", "The TABLE index the SCOPE stores its next sample at.",
-            writable=False, source=f"{HELP}; {TOK}", confidence="D",
-            note="In the first parameter's block (D). The token table has it writable; "
-            "writing is refused here (D)."),
+    _system("SCOPE_POS", "Where in each block the SCOPE stores its next sample: the "
+            "samples stored since TRIGGER, the block's size once full.", writable=False,
+            source=f"{HELP} SCOPE_POS; {HELP} SCOPE_DELAY; {TOK}", confidence="I",
+            note="Counted from table_start, pre-trigger samples included (I: SCOPE_DELAY's "
+            "examples wait for SCOPE_POS = 200 and = 1000, the points of each trace); 0 "
+            "before a TRIGGER; a repeating scan (TRIGGER(1)) goes back to 0 as it "
+            "restarts (D). The token table has it writable; writing is refused here (D)."),
     _command("FILE", "FILE \"function\" [parameters]: the SD card's files (DETECT, DIR, "
              "LOAD_PROGRAM ...); as a function TRUE when it succeeded.", (0, 0),
              source=f"{HELP}; {TOK}", confidence="D",

@@ -5,6 +5,9 @@ restart), and the Ethernet port's IP_ADDRESS, IP_NETMASK and IP_GATEWAY (their p
 ETHERNET's: a new address applies after EX(1) or a power cycle). The other FLASH words of
 the pages (AXIS_OFFSET, MODULE_IO_MODE, CANIO_*, REMOTE_PROC, PCMCAT_PROC) configure
 modules and buses the emulated MC405 has none of, so they are not kept here (D).
+
+The VRs are kept too (EX's page: they remain in memory; FLASHVR's: the MC4xx keeps
+them in flash itself): `MC405Machine.restart` carries them over the power-up.
 """
 
 from __future__ import annotations

@@ -217,14 +217,17 @@ class MC405Machine(Kinematics, Engine):
         self.changed()
 
     def restart(self) -> None:
-        """EX: the controller restarts; a new SERVO_PERIOD takes effect now."""
+        """EX: the controller restarts; a new SERVO_PERIOD takes effect now, the VRs are
+        kept (EX's and FLASHVR's pages)."""
         period = int(self.system.get("SERVO_PERIOD", 1000))
         for name in FLASH_PARAMETERS & self.system.keys():  # (flash.py: they are kept)
             self._system_defaults[name] = self.system[name]
         self._system_defaults["SERVO_PERIOD"] = period
         if abs(self.period - period / 1e6) > 1e-12:
             self.change_update_rate(1e6 / period)
+        kept = self.vr  # (EX's page: the VRs remain in memory; flash.py)
         self._power_up()
+        self.vr = kept
 
     def changed(self) -> None:
         """Something a waiting program, a cache or an event search depends on changed."""
