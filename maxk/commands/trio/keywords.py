@@ -1044,13 +1044,17 @@ _ENTRIES: list[Keyword] = [
             "leaves it as it was (D)."),
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
-    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
-            "stopped, 3 paused by TRON/STEPLINE, 2 running a stepped line.", writable=False,
+    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 8 "
+            "while it sleeps in a waiting statement, 0 stopped, 3 paused by TRON/STEPLINE, "
+            "2 running a stepped line.", writable=False,
             source=f"{HELP} PROC_STATUS; {TOK}", confidence="I",
-            note="3 PAUSED while a traced process waits to be stepped, 2 STEPPING while it "
-            "runs the stepped line (D: the page names both states, not which the trace "
-            "words give); SLEEP (8) and the operating system's states are not told apart "
-            "from RUNNING (D)."),
+            note="8 SLEEP while a statement waits: WA, WAIT IDLE (page, C), and WAIT UNTIL, "
+            "WAIT LOADED, a move waiting for buffer room, DATUM's search, a PRINT to a full "
+            "FIFO (I: the page's 'etc.'); a loop pass or a used time slice stays 1. 3 "
+            "PAUSED while a traced process waits to be stepped, 2 STEPPING while it runs "
+            "the stepped line (D: the page names both states, not which the trace words "
+            "give). PAUSING, STOPPING and the operating system's SUSPEND states pass within "
+            "one step here, so never read (D)."),
     # ---- the Ethernet port's settings, flash, program memory (network.py, flash.py) --------
     _command("ETHERNET", "ETHERNET(action, -1, function[, values]): read (printed) or write "
              "the Ethernet port's settings: 0 IP address, 2 subnet mask, 3 MAC (read only), "
