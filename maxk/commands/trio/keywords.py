@@ -963,7 +963,8 @@ _ENTRIES: list[Keyword] = [
              "9 and 10 return -1 (C from the page, I for the MC405). Each function's "
              "argument count is checked ('Syntax error' otherwise, D) and its axis (0..the "
              "last axis), slot and channel (whole, 0 up) ('Parameter out of range'); "
-             "functions 0 and 1 are reserved: 'Parameter out of range' (D)."),
+             "functions 0 and 1 are reserved: 'Parameter out of range' (D). The result is "
+             "a FLOAT: PRINT gives 4 decimals (the page's examples: 1.0000, 463.0000)."),
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
@@ -1117,7 +1118,7 @@ _ENTRIES: list[Keyword] = [
               note="1048576 bytes (D: no page gives the MC405's) less what DIR lists for "
               "every program, its source and its compiled code; so it falls as programs "
               "are stored and compiled (page: compiled programs need nearly twice the "
-              "memory)."),
+              "memory). A FLOAT: PRINT FREE gives 4 decimals (page: 47104.0000)."),
     _command("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): up to 8 parameters read on the "
              "next servo cycle into VR(vr) onwards, not scaled by UNITS.", (2, 9), axis=True,
              source=f"{HELP} SERVO_READ; {TOK}", confidence="D",
