@@ -46,3 +46,28 @@ def test_a_recipe_in_vrs_is_used_by_the_program_after_the_restart() -> None:
     trio.send("EX")
     trio.advance(0.5)
     assert trio.query("?VR(2)") == "125.0000"
+
+
+def test_flash_data_1_in_mc_config_keeps_the_first_4096_table_values() -> None:
+    """FLASH_DATA's page: set to 1 in MC_CONFIG, TABLE is the MC4x's automatic backup, its
+    first 4096 elements only: TABLE(0..4095) come back at the power-up, 4096 on do not."""
+    trio = MC405()
+    trio.load("MC_CONFIG", "FLASH_DATA = 1")
+    trio.send("EX")  # MC_CONFIG runs at this power-up
+    trio.advance(ticks=5)
+    assert trio.query("?FLASH_DATA") == "1"
+    trio.send("TABLE(0, 1.5, 2.5)")
+    trio.send("TABLE(4095, 9, 10)")  # the last kept, then the first not
+    trio.send("EX")
+    trio.advance(ticks=5)
+    assert trio.send("?TABLE(0), TABLE(1), TABLE(4095), TABLE(4096)") == \
+        ["1.5000\t2.5000\t9.0000\t0.0000"]
+
+
+def test_without_flash_data_the_table_starts_again() -> None:
+    trio = MC405()
+    assert trio.query("?FLASH_DATA") == "0"  # power-up: the VRs are the backup
+    trio.send("TABLE(0, 1.5)")
+    trio.send("EX")
+    assert trio.query("?TABLE(0)") == "0.0000"
+    assert trio.send("FLASH_DATA = 2") == ["! Parameter out of range"]

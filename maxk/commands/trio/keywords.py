@@ -462,8 +462,9 @@ _ENTRIES: list[Keyword] = [
     _command("EX", "Restart the controller.", (0, 1), source=REF,
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
              "starts a new one (ref 5). The VRs are kept (C: EX's page, they remain in "
-             "memory), as are the FLASH parameters and the programs; axis parameters, "
-             "motion and TABLE (but FLASHVR(-1)'s) start again (page)."),
+             "memory), as are the FLASH parameters and the programs; axis parameters and "
+             "motion start again (page); TABLE too (D), but for FLASHVR(-1)'s copy and, "
+             "with FLASH_DATA = 1, its first 4096 values (FLASH_DATA's page)."),
     # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
     _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
              (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
@@ -1107,6 +1108,14 @@ _ENTRIES: list[Keyword] = [
              "TABLE). tablepage 0..31, the pages TABLE's 512000 values fill (D); a flash "
              "page never written reads back zeros (D); a bad number: 'Parameter out of "
              "range'."),
+    _system("FLASH_DATA", "1: TABLE's first 4096 values are the automatic flash backup "
+            "and come back at each power-up (EX); 0 (power-up): the VRs are.",
+            value_range=(0, 1), source=f"{HELP} FLASH_DATA; {HELP} EX; {TOK}",
+            confidence="I",
+            note="Page: MC4x, 0 VR memory, 1 TABLE memory, only the first 4096 elements. "
+            "The VRs outlive EX either way (EX's page: they stay in memory). Its value at "
+            "the EX decides (I: MC_CONFIG sets it at each power-up, the page's place for "
+            "it); set from anywhere (D); a FLASHVR(-1) copy is put back after it (D)."),
     _command("FLASHVR", "FLASHVR(index): -1 keeps the whole TABLE in flash to replace TABLE "
              "at power-up, -2 stops that.", (1, 1), source=f"{HELP} FLASHVR; {TOK}",
              confidence="I",
@@ -2290,8 +2299,6 @@ _FIRMWARE_WHY = {
     "EPROM": "no function on the MC4xx: programs are always in flash (help page)",
     "EPROM_STATUS": "background flash programming: the store writes at once, so 0, 'not "
                     "active' (help page)",
-    "FLASH_DATA": "it picks VR or TABLE as the automatic flash backup's source; the "
-                  "emulator backs neither up by itself (FLASHTABLE and FLASHVR do)",
     "FLASH_LOG": "the controller's log of firmware system events, which the emulator's "
                  "events are not",
     "FLASH_DUMP": "a flash memory dump, no help text found",
