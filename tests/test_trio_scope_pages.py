@@ -88,3 +88,16 @@ def test_a_range_off_the_table_or_backwards_is_refused_and_keeps_the_old_scope()
     trio.send("TRIGGER")
     trio.advance(ticks=10)
     assert trio.query("?SCOPE_POS") == "4"  # the first SCOPE's 0..3
+
+
+def test_scopes_first_example_two_traces_over_0_to_1000_split_at_500() -> None:
+    """SCOPE's example 1, period 1 here: 1001 indices for 2 parameters give 500 points
+    each, 0..499 and 500..999; index 1000 is left over."""
+    trio = MC405()
+    trio.send("TABLE(1000, -1)")
+    trio.send("SCOPE(ON, 1, 0, 1000, TICKS, -TICKS)")
+    trio.send("TRIGGER")
+    trio.advance(ticks=600)
+    assert trio.query("?SCOPE_POS") == "500"
+    assert _table(trio, 500) == -_table(trio, 0) and _table(trio, 999) == -_table(trio, 499)
+    assert _table(trio, 499) == _table(trio, 0) - 499 and _table(trio, 1000) == -1.0
