@@ -126,7 +126,7 @@ def test_tron_by_name_pauses_a_running_program_after_its_waiting_statement() -> 
     assert trio.send('TROFF "TEST"') == ["%[Process 7:Program TEST] - Released"]
     trio.advance(ticks=40)  # released: one more each 4 ms WA again
     assert 9 <= float(trio.query("?VR(1)")) - count <= 11
-    assert trio.query("?PROC_STATUS PROC(7)") == "1"
+    assert trio.query("?PROC_STATUS PROC(7)") == "8"  # running, asleep in its WA(4)
 
 
 def test_stepline_alone_in_a_program_pauses_it_there() -> None:

@@ -20,7 +20,7 @@ from maxk.controllers.trio import MC405
     ("DLINK(10,0,29)", "-1"),  # read an EEPROM parameter: fails
 ])
 def test_each_function_answers_as_with_no_slm_present(call: str, reply: str) -> None:
-    assert MC405().send("?" + call) == [reply]
+    assert MC405().send("?" + call) == [f"{float(reply):.4f}"]  # FLOAT (page: 463.0000)
 
 
 def test_a_failed_assignment_leaves_the_axis_type() -> None:

@@ -206,11 +206,11 @@ def test_scope_samples_parameters_into_their_table_blocks_after_trigger() -> Non
 
 
 def test_scope_fills_its_blocks_once_then_stops() -> None:
-    trio = mc405("SCOPE(ON, 1, 50, 53, TICKS)", "TABLE(53, 7)")
+    trio = mc405("SCOPE(ON, 1, 50, 53, TICKS)", "TABLE(54, 7)")
     trio.send("TRIGGER")
     trio.advance(ticks=20)
-    assert trio.query("?SCOPE_POS") == "53"
-    assert trio.query("?TABLE(53)") == "7.0000"  # past table_stop: untouched
+    assert trio.query("?SCOPE_POS") == "4"  # 50..53: table_stop is the last one used
+    assert trio.query("?TABLE(54)") == "7.0000"  # past table_stop: untouched
 
 
 def test_scope_off_prevents_trigger_and_a_new_period_applies() -> None:

@@ -52,7 +52,7 @@ def test_a_normal_end_stop_and_halt_read_31() -> None:
         rig.load("P", "WHILE 1\nWA(1)\nWEND")
         rig.command('RUN "P",5')
         rig.cycles(3)
-        assert ask(rig, "?PROC_STATUS PROC(5)") == "1"
+        assert ask(rig, "?PROC_STATUS PROC(5)") == "8"  # SLEEP in its WA(1) (page)
         assert ask(rig, "?RUN_ERROR PROC(5)") == "0"  # running: no error yet
         rig.command(stop)
         assert ask(rig, "?RUN_ERROR PROC(5)") == "31"

@@ -581,7 +581,7 @@ def test_scope_cycle_count_counts_triggers_and_repeated_scans() -> None:
     assert trio.query("?SCOPE_CYCLE_COUNT") == "0"
     trio.send("TRIGGER")  # nothing armed: no cycle starts
     assert trio.query("?SCOPE_CYCLE_COUNT") == "0"
-    trio.send("SCOPE(ON, 1, 0, 4, TICKS)")
+    trio.send("SCOPE(ON, 1, 0, 3, TICKS)")  # TABLE 0..3: 4 samples
     trio.send("TRIGGER")
     trio.advance(ticks=10)  # 4 samples, then the capture ends
     assert trio.query("?SCOPE_CYCLE_COUNT") == "1"

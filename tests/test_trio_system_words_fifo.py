@@ -90,7 +90,7 @@ def test_a_full_blocking_fifo_holds_the_print_until_a_reader_makes_room() -> Non
     trio.send('RUN "R", 2')
     trio.advance(ticks=900)
     assert trio.query("?VR(1)") == "1.0000"  # the PRINT is waiting
-    assert trio.query("?PROC_STATUS PROC(1)") == "1"
+    assert trio.query("?PROC_STATUS PROC(1)") == "8"  # running, asleep in the PRINT
     trio.advance(ticks=1000)
     assert trio.query("?VR(2)") == "256.0000"  # full when the reader looked
     assert trio.query("?VR(1)") == "2.0000"  # room made: the PRINT finished

@@ -87,7 +87,7 @@ def test_flash_parameters_survive_ex_and_clear_params_resets_them() -> None:
 
 def test_free_falls_by_what_dir_lists() -> None:
     trio = MC405()
-    empty = int(trio.query("?FREE"))
+    empty = int(float(trio.query("?FREE")))
     trio.load("P", "a = 1\nb = 2\nPRINT a + b")
     dir_lines = trio.send("DIR")
     row = next(line.split() for line in dir_lines if line.startswith("P "))
@@ -95,9 +95,9 @@ def test_free_falls_by_what_dir_lists() -> None:
     # the source: three lines of 5, 5 and 11 characters, each with its end of line
     assert source == 6 + 6 + 12
     assert code > 0  # compiled
-    assert int(trio.query("?FREE")) == empty - source - code
+    assert int(float(trio.query("?FREE"))) == empty - source - code
     assert trio.send('DEL "P"') == []
-    assert int(trio.query("?FREE")) == empty
+    assert int(float(trio.query("?FREE"))) == empty
 
 
 # ---- FLASHTABLE and FLASHVR: TABLE kept in flash across EX ---------------------------------

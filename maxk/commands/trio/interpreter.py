@@ -603,7 +603,8 @@ class Interpreter:
         args = [self.evaluate(a, ctx) for a in expr.args]
         if name in ("IS_PROG", "IS_FILE", "PROG_TYPE", "CRC16", "STRTOD", "IEEE_IN", "IEEE_OUT",
                     "FREE", "FLASHTABLE", "FLASHVR"):
-            return self.hook.system_function(name, args)
+            value = self.hook.system_function(name, args)
+            return real(value) if name in FLOAT_FUNCTIONS else value  # FREE (printformat)
         if name in ("IN", "READ_OP", "AIN", "AOUT", "OP"):
             return self.io_function(name, [self.number_value(a) for a in args])
         numbers = [a for a in args if not isinstance(a, str)]
@@ -612,7 +613,8 @@ class Interpreter:
                 raise TrioError("Type mismatch")
             return self.frame_word(name, [float(a) for a in numbers], ctx)
         if name == "DLINK":
-            return self.drive_link(args)
+            link = self.drive_link(args)  # FLOAT (printformat): its page prints 463.0000
+            return real(link) if name in FLOAT_FUNCTIONS else link
         if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
             value = self.drive_link(args, lambda a, _: endat(name, a))
             self._act(lambda: self.machine.set_axis_parameter("ENCODER_CONTROL",

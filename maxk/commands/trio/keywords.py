@@ -515,7 +515,10 @@ _ENTRIES: list[Keyword] = [
              note="Echoes EX and CR LF, then nothing: the door closes the session and "
              "starts a new one (ref 5). In a program (C: its page allows it) the program "
              "ends there and the controller restarts after that servo cycle, the command "
-             "lines staying open (D)."),
+             "lines staying open (D). The VRs are kept (C: EX's page, they remain in "
+             "memory), as are the FLASH parameters and the programs; axis parameters and "
+             "motion start again (page); TABLE too (D), but for FLASHVR(-1)'s copy and, "
+             "with FLASH_DATA = 1, its first 4096 values (FLASH_DATA's page)."),
     # ---- housekeeping, loop words and data functions (issue 35e) ----------------------------
     _command("COPY", "COPY \"program\" \"newprogram\": copy a program under a new name.",
              (2, 2), source=f"{HELP} COPY", string_arg=True, confidence="I",
@@ -1057,7 +1060,8 @@ _ENTRIES: list[Keyword] = [
              "9 and 10 return -1 (C from the page, I for the MC405). Each function's "
              "argument count is checked ('Syntax error' otherwise, D) and its axis (0..the "
              "last axis), slot and channel (whole, 0 up) ('Parameter out of range'); "
-             "functions 0 and 1 are reserved: 'Parameter out of range' (D)."),
+             "functions 0 and 1 are reserved: 'Parameter out of range' (D). The result is "
+             "a FLOAT: PRINT gives 4 decimals (the page's examples: 1.0000, 463.0000)."),
     _axis("DRIVE_STATUS", "The status word of the axis's drive.", writable=False,
           source=f"{TOK}; {MAN}", confidence="D",
           note="The CiA 402 status word an EtherCAT drive reports (I), as far as the "
@@ -1160,13 +1164,17 @@ _ENTRIES: list[Keyword] = [
             "leaves it as it was (D)."),
     _system("TICKS", "The process's own clock: counts down one a servo cycle from the value "
             "last set.", confidence="I", note="Per process; one count per servo cycle (I)."),
-    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 0 "
-            "stopped, 3 paused by TRON/STEPLINE, 2 running a stepped line.", writable=False,
+    _system("PROC_STATUS", "PROC_STATUS PROC(n): 1 while process n runs a program, 8 "
+            "while it sleeps in a waiting statement, 0 stopped, 3 paused by TRON/STEPLINE, "
+            "2 running a stepped line.", writable=False,
             source=f"{HELP} PROC_STATUS; {TOK}", confidence="I",
-            note="3 PAUSED while a traced process waits to be stepped, 2 STEPPING while it "
-            "runs the stepped line (D: the page names both states, not which the trace "
-            "words give); SLEEP (8) and the operating system's states are not told apart "
-            "from RUNNING (D)."),
+            note="8 SLEEP while a statement waits: WA, WAIT IDLE (page, C), and WAIT UNTIL, "
+            "WAIT LOADED, a move waiting for buffer room, DATUM's search, a PRINT to a full "
+            "FIFO (I: the page's 'etc.'); a loop pass or a used time slice stays 1. 3 "
+            "PAUSED while a traced process waits to be stepped, 2 STEPPING while it runs "
+            "the stepped line (D: the page names both states, not which the trace words "
+            "give). PAUSING, STOPPING and the operating system's SUSPEND states pass within "
+            "one step here, so never read (D)."),
     # ---- the Ethernet port's settings, flash, program memory (network.py, flash.py) --------
     _command("ETHERNET", "ETHERNET(action, -1, function[, values]): read (printed) or write "
              "the Ethernet port's settings: 0 IP address, 2 subnet mask, 3 MAC (read only), "
@@ -1218,6 +1226,14 @@ _ENTRIES: list[Keyword] = [
              "TABLE). tablepage 0..31, the pages TABLE's 512000 values fill (D); a flash "
              "page never written reads back zeros (D); a bad number: 'Parameter out of "
              "range'."),
+    _system("FLASH_DATA", "1: TABLE's first 4096 values are the automatic flash backup "
+            "and come back at each power-up (EX); 0 (power-up): the VRs are.",
+            value_range=(0, 1), source=f"{HELP} FLASH_DATA; {HELP} EX; {TOK}",
+            confidence="I",
+            note="Page: MC4x, 0 VR memory, 1 TABLE memory, only the first 4096 elements. "
+            "The VRs outlive EX either way (EX's page: they stay in memory). Its value at "
+            "the EX decides (I: MC_CONFIG sets it at each power-up, the page's place for "
+            "it); set from anywhere (D); a FLASHVR(-1) copy is put back after it (D)."),
     _command("FLASHVR", "FLASHVR(index): -1 keeps the whole TABLE in flash to replace TABLE "
              "at power-up, -2 stops that.", (1, 1), source=f"{HELP} FLASHVR; {TOK}",
              confidence="I",
@@ -1229,7 +1245,7 @@ _ENTRIES: list[Keyword] = [
               note="1048576 bytes (D: no page gives the MC405's) less what DIR lists for "
               "every program, its source and its compiled code; so it falls as programs "
               "are stored and compiled (page: compiled programs need nearly twice the "
-              "memory)."),
+              "memory). A FLOAT: PRINT FREE gives 4 decimals (page: 47104.0000)."),
     _command("SERVO_READ", "SERVO_READ(vr, p0[, ...p7]): up to 8 parameters read on the "
              "next servo cycle into VR(vr) onwards, not scaled by UNITS.", (2, 9), axis=True,
              source=f"{HELP} SERVO_READ; {TOK}", confidence="D",
@@ -1456,9 +1472,12 @@ _ENTRIES: list[Keyword] = [
              "capture of up to 8 parameters into TABLE; SCOPE(ON, period) changes the "
              "period; SCOPE(OFF) disables it.", (1, 13), source=f"{HELP}; {TOK}",
              confidence="I",
-             note="Each parameter has its own block of (stop - start) / n values, filled "
-             "one sample every period servo cycles from TRIGGER until full (page example "
-             "1). The parameters are expressions read at each sample with the BASE of the "
+             note="Each parameter has its own block of (stop - start + 1) // n values: "
+             "table_stop is the last index used (C: SCOPE_DELAY's examples, 10001..10800 "
+             "holds 4 traces of 200 from 10001, 10201, ...; 10001..12000 1000 points on 2), "
+             "filled one sample every period servo cycles from TRIGGER until full (page "
+             "example 1); a stop past the TABLE, or before the start: 'Parameter out of "
+             "range'. The parameters are expressions read at each sample with the BASE of the "
              "process that set SCOPE (I). SCOPE_DELAY delays or pre-triggers it (see "
              "there). The FIFO form is not modelled (D)."),
     _system("SCOPE_DELAY", "SCOPE's delay, ms: above 0 the capture starts that long after "
@@ -1481,10 +1500,13 @@ _ENTRIES: list[Keyword] = [
              "again at the end of each scan.", (0, 1), source=f"{HELP}; {TOK}",
              confidence="I", note="The first sample is taken on TRIGGER's own servo "
              "cycle (D); after SCOPE(OFF) it starts nothing (page)."),
-    _system("SCOPE_POS", "The TABLE index the SCOPE stores its next sample at.",
-            writable=False, source=f"{HELP}; {TOK}", confidence="D",
-            note="In the first parameter's block (D). The token table has it writable; "
-            "writing is refused here (D)."),
+    _system("SCOPE_POS", "Where in each block the SCOPE stores its next sample: the "
+            "samples stored since TRIGGER, the block's size once full.", writable=False,
+            source=f"{HELP} SCOPE_POS; {HELP} SCOPE_DELAY; {TOK}", confidence="I",
+            note="Counted from table_start, pre-trigger samples included (I: SCOPE_DELAY's "
+            "examples wait for SCOPE_POS = 200 and = 1000, the points of each trace); 0 "
+            "before a TRIGGER; a repeating scan (TRIGGER(1)) goes back to 0 as it "
+            "restarts (D). The token table has it writable; writing is refused here (D)."),
     _command("FILE", "FILE \"function\" [parameters]: the SD card's files (DETECT, DIR, "
              "LOAD_PROGRAM ...); as a function TRUE when it succeeded.", (0, 0),
              source=f"{HELP}; {TOK}", confidence="D",
@@ -2395,8 +2417,6 @@ _FIRMWARE_WHY = {
     "EPROM": "no function on the MC4xx: programs are always in flash (help page)",
     "EPROM_STATUS": "background flash programming: the store writes at once, so 0, 'not "
                     "active' (help page)",
-    "FLASH_DATA": "it picks VR or TABLE as the automatic flash backup's source; the "
-                  "emulator backs neither up by itself (FLASHTABLE and FLASHVR do)",
     "FLASH_LOG": "the controller's log of firmware system events, which the emulator's "
                  "events are not",
     "FLASH_DUMP": "a flash memory dump, no help text found",

@@ -33,11 +33,13 @@ class Real(float):
 
 
 # Functions whose result is FLOAT: their pages print whole results with 4 decimals
-# (SQR(4) 2.0000, VECTOR_MAG(3, 4) 5.0000, ROUND(PI) 3.0000, SGN(-1.2) -1.0000) or are
-# the trigonometric and exponential family of those pages (I).
+# (SQR(4) 2.0000, VECTOR_MAG(3, 4) 5.0000, ROUND(PI) 3.0000, SGN(-1.2) -1.0000, FREE
+# 47104.0000, DLINK(5, 0, 1) 463.0000, TABLE(1000) 1234.0000) or are the trigonometric
+# and exponential family of those pages (I). Those printing bare (INT, ASC, ULPDIFF,
+# RND: their pages) are not here.
 FLOAT_FUNCTIONS = frozenset({"SQR", "VECTOR_MAG", "ROUND", "SGN", "FRAC", "SIN", "COS",
                              "TAN", "ATAN", "ATAN2", "ASIN", "ACOS", "EXP", "LN", "RNDF",
-                             "TABLE"})
+                             "TABLE", "FREE", "DLINK"})
 FLOAT_OPERATORS = frozenset({"MOD", "FMOD"})  # 18 MOD 12 prints 6.0000 (help MOD)
 ARITHMETIC = frozenset({"+", "-", "*", "/", "^"})
 

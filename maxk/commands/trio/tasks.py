@@ -67,7 +67,7 @@ from .parser import (
     While,
     parse_line,
 )
-from .tracing import PAUSED, RUNNING, STEPPING, Trace
+from .tracing import PAUSED, RUNNING, SLEEP, STEPPING, Trace
 
 _NUMBER_TYPES = frozenset({"FLOAT", "INTEGER", "BOOLEAN"})  # AS types a FUNCTION keeps
 STATEMENTS_PER_CYCLE = 25
@@ -480,7 +480,11 @@ class Task:
                         continue
                     if wake is not _PASS:
                         waited = True
+                        if ctx.status == RUNNING:  # a statement waiting: PROC_STATUS 8
+                            ctx.status = SLEEP  # (help PROC_STATUS: "during WA, WAIT IDLE")
                     yield None if wake is _PASS else cast("Wake | None", wake)
+                    if ctx.status == SLEEP:
+                        ctx.status = RUNNING
                     budget = STATEMENTS_PER_CYCLE
                 pc = ctx.pc
             except TrioError as exc:

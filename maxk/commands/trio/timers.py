@@ -28,8 +28,10 @@ from .parser import Expr
 @dataclass
 class Scope:
     """SCOPE(ON, period, table_start, table_stop, p0 ...): what it samples, where to.
-    Each parameter has its own block of (stop - start) / n TABLE values (the page's
-    example: two parameters over 0..1000 fill 0..499 and 500..999)."""
+    Each parameter has its own block of (stop - start + 1) // n TABLE values: table_stop
+    is the last index used (SCOPE_DELAY's examples: 10001..10800 holds 4 traces of 200
+    from 10001, 10201, 10401 and 10601; 10001..12000, 1000 points on 2; SCOPE's example
+    1: two parameters over 0..1000 fill 0..499 and 500..999)."""
 
     period: int  # servo cycles between samples
     start: int
@@ -94,9 +96,9 @@ class TimersAndScope:
         if len(args) != 4 or not 1 <= len(params) <= 8:
             raise TrioError("Syntax error")
         start, stop = args[2], args[3]
-        if start != int(start) or stop != int(stop) or not 0 <= start < stop <= TABLE_SIZE:
+        if start != int(start) or stop != int(stop) or not 0 <= start <= stop < TABLE_SIZE:
             raise TrioError("Parameter out of range")
-        block = int(stop - start) // len(params)
+        block = int(stop - start + 1) // len(params)
         if block < 1:
             raise TrioError("Parameter out of range")
         self.scope = Scope(int(period), int(start), block, params,
@@ -132,10 +134,12 @@ class TimersAndScope:
         self.run_timers()
 
     def scope_position(self) -> float:
-        """SCOPE_POS: the TABLE index the capture stores its next sample at (D: in the
-        first parameter's block)."""
+        """SCOPE_POS: where in each parameter's block the capture stores its next sample,
+        from 0 at TRIGGER: the samples stored so far, the block's size once it is full
+        (I: SCOPE_DELAY's examples wait for SCOPE_POS = 200 and = 1000, the points each
+        trace holds, to know the capture is complete)."""
         scope = self.scope
-        return float(scope.start + scope.taken) if scope is not None else 0.0
+        return float(scope.taken) if scope is not None else 0.0
 
     def next_timer(self) -> int | None:
         """The tick the next TIMER ends or the SCOPE samples (None: neither)."""

@@ -8,7 +8,8 @@ inside the statement that calls it (tasks.py), so both step over it (D).
 
 The process's PROC_STATUS (help PROC_STATUS) follows: 3 PAUSED while it waits to be
 stepped, 2 STEPPING while it runs a stepped line (D: the page names both states, not which
-the trace words use), 1 RUNNING once TROFF releases it.
+the trace words use), 1 RUNNING once TROFF releases it; untraced, 8 SLEEP while one of
+its statements waits (tasks.py).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from dataclasses import dataclass
 RUNNING = 1  # PROC_STATUS values (help PROC_STATUS)
 STEPPING = 2
 PAUSED = 3
+SLEEP = 8  # while a statement waits: WA, WAIT IDLE/UNTIL/LOADED, a full move buffer (tasks.py)
 
 
 @dataclass

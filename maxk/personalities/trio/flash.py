@@ -5,11 +5,17 @@ restart), and the Ethernet port's IP_ADDRESS, IP_NETMASK and IP_GATEWAY (their p
 ETHERNET's: a new address applies after EX(1) or a power cycle). The other FLASH words of
 the pages (AXIS_OFFSET, MODULE_IO_MODE, CANIO_*, REMOTE_PROC, PCMCAT_PROC) configure
 modules and buses the emulated MC405 has none of, so they are not kept here (D).
+
+The VRs are kept too (EX's page: they remain in memory; FLASHVR's: the MC4xx keeps
+them in flash itself): `MC405Machine.restart` carries them over the power-up. FLASH_DATA
+= 1 (set by MC_CONFIG, its page) makes TABLE the MC4xx's automatic backup, its first
+`AUTO_BACKUP` values, so those come back at the power-up as well.
 """
 
 from __future__ import annotations
 
 FLASH_PARAMETERS = frozenset({"SERVO_PERIOD", "IP_ADDRESS", "IP_NETMASK", "IP_GATEWAY"})
+AUTO_BACKUP = 4096  # FLASH_DATA's page: an MC4x backs up only the first 4096 elements
 
 
 def dotted(value: float) -> str:

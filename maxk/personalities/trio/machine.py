@@ -61,7 +61,7 @@ from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
-from .flash import FLASH_PARAMETERS
+from .flash import AUTO_BACKUP, FLASH_PARAMETERS
 from .following import superimposed
 from .frames import READS as FRAME_READS
 from .frames import Frames
@@ -222,14 +222,21 @@ class MC405Machine(Kinematics, Engine):
         self.changed()
 
     def restart(self) -> None:
-        """EX: the controller restarts; a new SERVO_PERIOD takes effect now."""
+        """EX: the controller restarts; a new SERVO_PERIOD takes effect now, the VRs are
+        kept (EX's and FLASHVR's pages)."""
         period = int(self.system.get("SERVO_PERIOD", 1000))
         for name in FLASH_PARAMETERS & self.system.keys():  # (flash.py: they are kept)
             self._system_defaults[name] = self.system[name]
         self._system_defaults["SERVO_PERIOD"] = period
         if abs(self.period - period / 1e6) > 1e-12:
             self.change_update_rate(1e6 / period)
+        kept = self.vr  # (EX's page: the VRs remain in memory; flash.py)
+        backup = self.table.read_run(0, AUTO_BACKUP - 1) \
+            if self.system.get("FLASH_DATA", 0.0) == 1 else None  # (FLASH_DATA's page)
         self._power_up()
+        self.vr = kept
+        if backup is not None:
+            self.table.write(0, backup)
 
     def changed(self) -> None:
         """Something a waiting program, a cache or an event search depends on changed."""
