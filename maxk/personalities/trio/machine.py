@@ -1014,7 +1014,7 @@ class MC405Machine(Kinematics, Engine):
     def _apply_plan(self, run: Run, plan: PathPlan) -> None:
         now = self.tick
         run.plan = plan
-        run.arrays = PlanArrays(plan)
+        run.arrays = PlanArrays(plan, run.arrays)  # (its segment rows grow)
         run.plan_tick = now
         end = plan.end_time
         run.end_tick = (now + math.ceil(end / self.period - 1e-9) + self._dwell_ticks(run)
