@@ -32,10 +32,10 @@ class PlanArrays:
         nxt = [pieces[i + 1].s0 for i in range(len(pieces) - 1)] + [math.inf]
         self.next_s0 = np.array(nxt if pieces else [], dtype=float)
         segs = plan.segments
-        table = previous.table if previous is not None else None
+        table: _SegmentTable | None = previous.table if previous is not None else None
         if table is None or not table.extends(segs):
             table = _SegmentTable(segs)
-        self.table = table
+        self.table: _SegmentTable = table
         n = table.add(segs)
         self.seg_s0 = table.s0[:n]
         self.seg_length = table.length[:n]
