@@ -166,7 +166,7 @@ class FakeTrioMachine:
     def set_acc(self, axis: int, rate: float) -> None:
         self.axis_params[axis]["ACCEL"] = self.axis_params[axis]["DECEL"] = rate
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False) -> None:
         if self.queues[axis]:
             move = self.queues[axis][0]
             for a in move.axes:

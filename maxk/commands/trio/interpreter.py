@@ -1478,8 +1478,8 @@ class Interpreter:
 
             KEYWORDS["ACCEL"].check(args[0])
             self._act(lambda: m.set_acc(axis, args[0]))
-        elif name == "CANCEL":
-            self._act(lambda: m.cancel(axis))
+        elif name == "CANCEL":  # at FASTDEC where it applies (CANCEL page)
+            self._act(lambda: m.cancel(axis, fast=True))
         elif name == "PWM_CONTROL":
             self._act(lambda: m.pwm_control(axis, args))
         elif name in ("FORWARD", "REVERSE"):

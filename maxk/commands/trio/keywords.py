@@ -239,10 +239,13 @@ _ENTRIES: list[Keyword] = [
     _command("ACC", "Set ACCEL and DECEL of the base axis.", (1, 1), axis=True,
              source=f"{SEED}; {TOK}"),
     _command("CANCEL", "Cancel the move running on the base axis.", (0, 1), axis=True,
-             source=f"{TOK}; {MAN}", confidence="I", note="Ramps down (a path at its ACCEL, "
-             "one axis at DECEL); buffered moves run after it; ends a CONNPATH/CAMBOX (I)."),
+             source=f"{TOK}; {MAN}", confidence="I", note="Ramps down at FASTDEC when it "
+             "is set and greater than DECEL (C: CANCEL and FASTDEC pages), else a linear "
+             "path at its ACCEL, one axis or an S-curve path at DECEL; buffered moves run "
+             "after it; ends a CONNPATH/CAMBOX (I)."),
     _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}",
-             confidence="I", note="Drops every buffered move, ramps the running ones down."),
+             confidence="I", note="Drops every buffered move, ramps the running ones down, at "
+             "FASTDEC where it applies, as CANCEL (C: RAPIDSTOP page)."),
     _command("PWM_CONTROL", "PWM mode of the base axis: (0) off, (1) PWM_MARK, (2,...) "
              "speed link, (3,...) gate positions, (4) empty FIFO, (5) gating on, (6) clear "
              "PWM_ENCODER, (8,...) speed x profile.", (1, 6), axis=True,
@@ -658,9 +661,10 @@ _ENTRIES: list[Keyword] = [
           "(1024) while DPOS is below it (manual, C); it stops reverse motion the same way."),
     _axis("FASTDEC", "Deceleration at a limit, user units/s^2 (0: DECEL).", default=0,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
-          "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D; "
-          "an S-curve path at FASTDEC, see SRAMP)."),
+          note="A move or path stopped by CANCEL, RAPIDSTOP or a limit (hard or soft) ramps "
+          "down at FASTDEC when it is greater than DECEL (C: FASTDEC, CANCEL, RAPIDSTOP "
+          "pages), else at DECEL (a linear path: its ACCEL, D); a jog released and a datum "
+          "search stop at DECEL (D: their pages name DECEL only)."),
     _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
           "reverse limit, 64 datuming, 128 feed hold, 256 following error exceeded, 512 "
           "forward soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
@@ -1640,8 +1644,8 @@ _ENTRIES: list[Keyword] = [
           "merged paths: the same S-ramps (see VP_MODE, MERGE); a speed change shorter "
           "than 2 x SRAMP rises over half of it (D, as a single-axis move's). CANCEL and "
           "RAPIDSTOP of an S-curve move S-ramp down at once from the speed it has, with "
-          "the acceleration starting from 0 (D), at DECEL (C: CANCEL page), or FASTDEC "
-          "where a limit stops it; FASTJERK is not modelled: the move's own JERK (or "
+          "the acceleration starting from 0 (D), at FASTDEC when it is greater than "
+          "DECEL, else DECEL (C: CANCEL page); FASTJERK is not modelled: the move's own JERK (or "
           "SRAMP) shapes that ramp (D). A CAM stops linearly (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "

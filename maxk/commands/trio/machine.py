@@ -138,7 +138,7 @@ class TrioMachine(Protocol):
         reverse at CREEP (the axis is busy until it ends)."""
         ...
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False) -> None:
         ...
 
     def rapidstop(self) -> None:

@@ -78,6 +78,7 @@ class DriveHost(MotorHost, Protocol):
     def changed(self) -> None: ...
     def move(self, axes: Sequence[int], distances: Sequence[float]) -> None: ...
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
+    def fast_decel(self, run: Run) -> float | None: ...
 
 INPUTS = 32  # inputs a limit or datum may be wired to (as IN)
 
@@ -313,9 +314,7 @@ class Drive:
 
     def _cancel_for_limit(self, run: Run) -> None:
         m = self.m
-        params = m.axes[run.base].params
-        fast = params["FASTDEC"] * run.units
-        m._stop(run, decel=fast if fast > 0 else None)
+        m._stop(run, decel=m.fast_decel(run))
 
     # ---- what the machine looks at on every change ------------------------------------------
     def look(self, now: int) -> None:

@@ -65,6 +65,7 @@ class FrameHost(Protocol):
     inverted_inputs: set[int]
 
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
+    def fast_decel(self, run: Run) -> float | None: ...
 
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
 
@@ -442,8 +443,7 @@ class Frames:
             if not runs or self._outward(group, now, now) is None:
                 continue
             for run in runs:
-                fast = m.axes[run.base].params["FASTDEC"] * run.units
-                m._stop(run, decel=fast if fast > 0 else None)
+                m._stop(run, decel=m.fast_decel(run))
             for a in group.axes:
                 queue = m.queues[a]
                 while queue and not queue[-1].started:

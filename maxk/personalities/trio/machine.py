@@ -686,14 +686,25 @@ class MC405Machine(Kinematics, Engine):
     def datum(self, axis: int, mode: int) -> None:
         self.drive.datum(axis, mode)
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False) -> None:
+        """Stop the axis's move or link; `fast` (the CANCEL command): at FASTDEC where it
+        applies (`fast_decel`), else at DECEL (a jog released, a datum search)."""
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
             self.links.cancelled(axis)  # the next linked move buffered starts
         elif self.queues[axis] and self.queues[axis][0].started:
-            self._stop(self.queues[axis][0])
+            run = self.queues[axis][0]
+            self._stop(run, self.fast_decel(run) if fast else None)
         self.changed()
+
+    def fast_decel(self, run: Run) -> float | None:
+        """The rate a CANCEL, RAPIDSTOP or a limit stops the run at: its base's FASTDEC
+        (counts/s^2) when set and greater than DECEL, else None: its DECEL (C: CANCEL,
+        RAPIDSTOP and FASTDEC pages, 'FASTDEC must be greater than DECEL, otherwise DECEL
+        will be used')."""
+        fast = self.axes[run.base].params["FASTDEC"] * run.units
+        return fast if fast > run.decel else None
 
     def rapidstop(self) -> None:
         self.links.clear()
@@ -705,7 +716,7 @@ class MC405Machine(Kinematics, Engine):
                 self._unlink(axis)
         for queue in self.queues:
             if queue and queue[0].started and not queue[0].stopping:
-                self._stop(queue[0])
+                self._stop(queue[0], self.fast_decel(queue[0]))
         self.changed()
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:
@@ -1032,9 +1043,9 @@ class MC405Machine(Kinematics, Engine):
         return math.ceil(run.dwell / self.period - 1e-9) if run.dwell > 0 else 0
 
     def _stop(self, run: Run, decel: float | None = None) -> None:
-        """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
-        DECEL, or `decel` counts/s^2); the moves buffered behind it then run (a FORCE_DWELL
-        waiting is dropped, D)."""
+        """CANCEL: ramp down now (at `decel` counts/s^2, FASTDEC; else a linear path
+        along itself at its ACCEL, a single axis or an S-curve path at DECEL); the moves
+        buffered behind it then run (a FORCE_DWELL waiting is dropped, D)."""
         run.stopping = True
         run.dwell = 0.0
         if run.profile is not None:

@@ -219,7 +219,8 @@ class Run:
     def plan_new(self, now: int, stop: bool = False, period: float = 0.001,
                  decel: float | None = None) -> PathPlan:
         """The path planned from where it is now (from rest when it starts now); a
-        stop ramps down along it (an S-curve path at `decel`, else its DECEL)."""
+        stop ramps down along it at `decel` (FASTDEC), else an S-curve path at its
+        DECEL, a linear one at its ACCEL."""
         if self.shaped:
             return self._plan_shaped(now, stop, period, decel)
         if self.plan is None:
@@ -227,7 +228,7 @@ class Run:
         s, v = self.plan.state((now - self.plan_tick) * period)
         i = self.segment_index(s)
         if stop:
-            return plan_stop(self.segments, i, s, v, 1.0)
+            return plan_stop(self.segments, i, s, v, 1.0, accel=decel)
         return plan_path(self.segments, i, s, v, self.path_scale)
 
     def _plan_shaped(self, now: int, stop: bool, period: float,
