@@ -132,3 +132,71 @@ def test_a_released_jog_still_ramps_at_decel() -> None:
     trio.world_view().set_input(7, True)
     trio.advance(ticks=300)
     assert trio.machine.dpos(0) == pytest.approx(5.5, abs=1e-9)
+
+
+# ---- feed hold, RAPIDSTOP and speed writes on S-curve paths ---------------------------------
+def test_rapidstop_during_a_feed_hold_on_an_s_curve_path_leaves_it_where_it_holds() -> None:
+    """SRAMP 50 ms, SPEED 10, ACCEL = DECEL 100, FHSPEED 0: up over 0.15 s (0.75 units),
+    at 0.3 s on 0.75 + 10 x 0.15 = 2.25; the hold S-ramps 10 -> 0 over 0.15 s (0.75):
+    held on 3.0 from tick 450. RAPIDSTOP at 0.8 s ends the held move and drops the one
+    buffered behind it: nothing moves, MTYPE 0."""
+    trio = MC405()
+    trio.world_view().set_input(5, True)
+    assert trio.send(f"{TWO}: DECEL=100: SRAMP=50: FHOLD_IN=5: FHSPEED=0: MERGE=ON: "
+                     "MOVE(5,0): MOVE(0,5)") == []
+    trio.advance(ticks=300)
+    trio.world_view().set_input(5, False)
+    trio.advance(ticks=150)
+    assert trio.machine.dpos(0) == pytest.approx(3.0, abs=1e-9)
+    trio.advance(ticks=350)
+    assert trio.machine.dpos(0) == pytest.approx(3.0, abs=1e-9)
+    assert trio.send("RAPIDSTOP") == []
+    trio.advance(ticks=1)
+    assert trio.query("?MTYPE") == "0"
+    trio.world_view().set_input(5, True)
+    trio.advance(ticks=2000)
+    assert (trio.machine.dpos(0), trio.machine.dpos(1)) == (3.0, 0.0)
+    assert trio.machine.axis_idle(0)
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("mode", ["SRAMP=50", "VP_MODE=6: JERK=2000"])
+def test_writes_stops_and_holds_at_random_keep_speed_and_acceleration_bounded(
+        seed: int, mode: str) -> None:
+    """A merged chain of lines and arcs (radius down to half a count) with SPEED, VP_MODE,
+    CANCEL, RAPIDSTOP, feed hold and more moves thrown at it at random ticks: on every
+    tick VP_SPEED is within the highest SPEED given and changes by no more than the
+    highest rate in force (FASTDEC 300) allows; it ends at rest, no error."""
+    import random
+
+    rnd = random.Random(seed)
+    trio = MC405()
+    trio.world_view().set_input(5, True)
+    assert trio.send(f"{SET_UP}: FASTDEC=300: MERGE=ON: FHOLD_IN=5: FHSPEED=2: {mode}") == []
+    moves = []
+    for _ in range(6):
+        if rnd.random() < 0.3:
+            r = rnd.choice([0.0005, 0.01, 0.5, 2])
+            moves.append(f"MOVECIRC({2 * r},0,{r},0,{rnd.randint(0, 1)})")
+        else:
+            moves.append(f"MOVE({rnd.uniform(-3, 3):.3f},{rnd.uniform(-3, 3):.3f})")
+    assert trio.send(": ".join(moves)) == []
+    top, speeds = 10.0, []
+    for _ in range(30_000):
+        if rnd.random() < 0.012:
+            event = rnd.choice(["SPEED=2", "SPEED=30", "SPEED=0", "CANCEL", "RAPIDSTOP",
+                                "hold", "go", "VP_MODE=0: SRAMP=30", "JERK=10",
+                                "MOVE(0.5,0.5)"])
+            if event in ("hold", "go"):
+                trio.world_view().set_input(5, event == "go")
+            else:
+                assert trio.send(event) == [], event
+                top = max(top, 30.0 if event == "SPEED=30" else 0.0)
+        speeds.append(float(trio.query("?VP_SPEED")))
+        trio.advance(ticks=1)
+        if trio.machine.axis_idle(0) and len(speeds) > 10:
+            break
+    assert trio.machine.axis_idle(0)
+    assert max(speeds) <= top * (1 + 1e-9)
+    steps = [abs(b - a) for a, b in zip(speeds, speeds[1:], strict=False)]
+    assert max(steps) <= 300 * 0.001 * (1 + 1e-6)
