@@ -200,3 +200,44 @@ def test_writes_stops_and_holds_at_random_keep_speed_and_acceleration_bounded(
     assert max(speeds) <= top * (1 + 1e-9)
     steps = [abs(b - a) for a, b in zip(speeds, speeds[1:], strict=False)]
     assert max(steps) <= 300 * 0.001 * (1 + 1e-6)
+
+
+# ---- REP_DIST and FRAME_REP_DIST folds of any size -------------------------------------------
+@pytest.mark.parametrize(("rep", "option", "expected"), [
+    # 100000 folded by 30000 into -30000..30000: 100000 - 2 x 60000 = -20000; into
+    # 0..30000 (REP_OPTION 1): 100000 - 3 x 30000 = 10000
+    ("30000", 0, -20000.0),
+    ("30000", 1, 10000.0),
+    # a fold far finer than the position (1e-310 units, below the least normal float):
+    # a value inside the fold (was: OverflowError, PRINT DPOS answered nothing and the
+    # command line's next command waited 600 s)
+    ("1e-310", 0, None),
+    ("1e-310", 1, None),
+])
+def test_dpos_reads_folded_by_any_rep_dist(rep: str, option: int,
+                                           expected: float | None) -> None:
+    trio = MC405()
+    assert trio.send(f"BASE(0): UNITS=1: DEFPOS(100000): REP_OPTION={option}: "
+                     f"REP_DIST={rep}") == []
+    reply = trio.send("PRINT DPOS")
+    assert len(reply) == 1 and not reply[0].startswith("!")
+    value = trio.machine.wrapped(0, 100000.0)
+    if expected is None:
+        span = float(rep)
+        assert (0 <= value <= span) if option else (-span <= value <= span)
+    else:
+        assert value == expected
+        assert float(reply[0]) == expected
+    assert trio.send("PRINT 1") == ["1"]  # the session goes on
+
+
+def test_a_position_switch_on_an_axis_folded_finer_than_a_float_step_keeps_running() -> None:
+    """PSWITCH on an axis whose REP_DIST is 1e-310: the switch's edge search divided by
+    the fold and failed on every servo tick the move ran (OverflowError out of advance);
+    now the move runs to its end, 100 counts."""
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1: PSWITCH(0,ON,0,8,1,10,20): REP_DIST=1e-310: "
+                     "MOVE(100)") == []
+    trio.advance(ticks=3000)
+    assert trio.machine.dpos(0) == 100.0
+    assert trio.query("?MTYPE") == "0"

@@ -60,7 +60,7 @@ from .corner_state import CornerState
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .frames import READS as FRAME_READS
-from .frames import Frames
+from .frames import Frames, fold
 from .jogs import Jogs
 from .kinematics import Kinematics
 from .link_kinds import Cambox, Connpath, Link
@@ -448,9 +448,7 @@ class MC405Machine(Kinematics, Engine):
         rep = params.get("REP_DIST", 0.0)
         if not rep > 0:
             return position
-        if int(params.get("REP_OPTION", 0.0)) & 1:
-            return position - rep * math.floor(position / rep)
-        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
+        return fold(position, rep, bool(int(params.get("REP_OPTION", 0.0)) & 1))
 
     def unwrapped(self, axis: int, position: float, here: float) -> float:
         """A position in the fold the axis reads now (`here` unfolded) as an unfolded
