@@ -241,3 +241,32 @@ def test_a_position_switch_on_an_axis_folded_finer_than_a_float_step_keeps_runni
     trio.advance(ticks=3000)
     assert trio.machine.dpos(0) == 100.0
     assert trio.query("?MTYPE") == "0"
+
+
+# ---- JERK is a limit on a move too short to reach SPEED too ---------------------------------
+@pytest.mark.parametrize(("program", "share"), [
+    ("BASE(0): UNITS=1000: MOVE(16)", (1.0, 0.0)),
+    ("BASE(0,1): UNITS AXIS(0)=1000: UNITS AXIS(1)=1000: MOVE(9.6,12.8)", (0.6, 0.8)),
+])
+def test_a_move_too_short_for_speed_keeps_its_jerk_at_jerk(
+        program: str, share: tuple[float, float]) -> None:
+    """VP_MODE 6, JERK 1, SPEED = ACCEL = DECEL 1000, a move of 16 units: SPEED is out of
+    reach, so the move peaks at the speed v whose two jerk-limited ramps fill it; ACCEL is
+    never reached (sqrt(v x JERK) < 1000), each ramp is a triangle of acceleration over
+    2 sqrt(v / JERK) s covering v sqrt(v / JERK): 2 v^1.5 = 16, v = 4, ramps of 4 s
+    each. Distance J t^3 / 6 for t <= 2 s (1/6 at 1 s, 4/3 at 2 s), half (8) at 4 s,
+    16 - 4/3 at 6 s, at rest on 16 at 8 s exactly (was: the ramps to SPEED squeezed into
+    the move: at rest on 16 after 2.012 s, its acceleration up to 31.6, its jerk 63)."""
+    trio = MC405()
+    assert trio.send(f"SPEED AXIS(0)=1000: ACCEL AXIS(0)=1000: DECEL AXIS(0)=1000: "
+                     f"VP_MODE AXIS(0)=6: JERK AXIS(0)=1: {program}") == []
+    for tick, s in ((1000, 1 / 6), (2000, 4 / 3), (4000, 8.0), (6000, 16 - 4 / 3)):
+        trio.advance(ticks=tick - trio.tick)
+        assert trio.machine.dpos(0) == pytest.approx(share[0] * s, abs=1e-9), tick
+        assert trio.machine.dpos(1) == pytest.approx(share[1] * s, abs=1e-9), tick
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(2.0, abs=1e-4)
+    trio.advance(ticks=7999 - trio.tick)
+    assert trio.query("?MTYPE") == "1"
+    trio.advance(ticks=1)
+    assert (trio.machine.dpos(0), trio.machine.dpos(1)) == (16 * share[0], 16 * share[1])
+    assert trio.query("?MTYPE") == "0"

@@ -1616,7 +1616,8 @@ _ENTRIES: list[Keyword] = [
           note="A single-axis move's acceleration rises at JERK to ACCEL, holds and falls "
           "at JERK (DECEL on the way down): a ramp to SPEED lasts SPEED/ACCEL + "
           "ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is not reached (C); a move too "
-          "short to reach SPEED keeps the shares SPEED gives (D). 0: no jerk limit (D). "
+          "short to reach SPEED peaks at the highest speed whose jerk-limited ramps fit "
+          "it, so its jerk stays JERK (I: JERK is the limit). 0: no jerk limit (D). "
           "Ignored in VP_MODE 0 (C). The same on interpolated and merged paths (see "
           "VP_MODE, MERGE); between merged moves each speed change rises at JERK to "
           "ACCEL, or to sqrt(change x JERK) when that is lower (D)."),

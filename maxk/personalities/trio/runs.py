@@ -48,7 +48,7 @@ from maxk.firmware_model.servo import Gains
 
 from .geometry import sphere_definition
 from .link_kinds import Link
-from .profiles_sp import jerk_ramp, seam
+from .profiles_sp import jerk_ramp, jerk_top, seam
 
 Ticks = np.ndarray  # integer servo ticks
 CORNER_HELD, CORNER_LOADED = 1, 3  # a run behind a corner: held, or let in at 0 speed
@@ -244,6 +244,9 @@ class Run:
                 seg = self.segments[0]
                 top = min(seg.ceiling, seg.arc_cap)
                 share = self.interp.get(0, 1.0)  # (INTERP_FACTOR: the path runs faster)
+                if self.jerk > 0:  # (a short move peaks lower, at JERK: single_profile)
+                    top = jerk_top(seg.length, top, self.accels[0], self.decel / share,
+                                   self.jerk / share)
                 shape, up, down, share_up, share_down = ramp_shares(
                     top, self.accels[0], self.decel / share, self.sramp, self.jerk / share)
                 phases, end, _ramp_end, _peak = move_phases(
@@ -294,6 +297,8 @@ def single_profile(distance: int, speed: float, accel: float, decel: float,
     each ramp's acceleration rises at `jerk` (profiles_sp.jerk_ramp)."""
     if jerk <= 0 and sramp <= 0:
         return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+    if jerk > 0:  # too short to reach SPEED: it peaks lower, at JERK (VP_MODE 5/6)
+        speed = jerk_top(abs(distance), speed, accel, decel, jerk)
     shape, up, down, share_up, share_down = ramp_shares(speed, accel, decel, sramp, jerk)
     return plan_move(distance, 0.0, speed, up, down, shape, share_up, share_down)
 
