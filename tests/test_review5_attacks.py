@@ -270,3 +270,42 @@ def test_a_move_too_short_for_speed_keeps_its_jerk_at_jerk(
     trio.advance(ticks=1)
     assert (trio.machine.dpos(0), trio.machine.dpos(1)) == (16 * share[0], 16 * share[1])
     assert trio.query("?MTYPE") == "0"
+
+
+# ---- CANCEL and RAPIDSTOP modes (CANCEL and RAPIDSTOP pages) --------------------------------
+@pytest.mark.parametrize(("stop", "end"), [
+    # MOVE(10): MOVE(10) at SPEED 10, ACCEL = DECEL 100; stopped at 0.5 s on 4.5 at 10/s,
+    # a ramp down covers 10^2 / 200 = 0.5
+    ("CANCEL", 15.0),        # the running move stops on 5.0, the buffered one loads: 15
+    ("CANCEL(0)", 15.0),
+    ("CANCEL(1)", 10.0),     # the buffered move goes, the running one ends on 10
+    ("CANCEL(2)", 5.0),      # both: at rest on 5.0
+    ("RAPIDSTOP", 15.0),     # mode 0: 'motion will not stop', the buffered move loads
+    ("RAPIDSTOP(1)", 10.0),
+    ("RAPIDSTOP(2)", 5.0),
+    ("CANCEL(7)", 20.0),     # not a mode: refused, nothing stopped
+    ("CANCEL(1.5)", 20.0),
+    ("RAPIDSTOP(3)", 20.0),
+])
+def test_cancel_and_rapidstop_modes(stop: str, end: float) -> None:
+    trio = MC405()
+    assert trio.send("BASE(0): UNITS=1000: SPEED=10: ACCEL=100: DECEL=100: "
+                     "MOVE(10): MOVE(10)") == []
+    trio.advance(ticks=500)
+    assert trio.send(stop) == ([] if end != 20.0 else ["! Parameter out of range"])
+    trio.advance(ticks=5000)
+    assert trio.machine.dpos(0) == end
+    assert trio.query("?MTYPE") == "0"
+
+
+def test_cancel_1_drops_a_buffered_group_move_from_every_axis_of_it() -> None:
+    """A MOVE(1,1) buffered behind MOVE(5) AXIS(0)'s group: CANCEL(1) on axis 0 takes it
+    out of axis 1's buffer too (axis 1 never moves); the running move ends on 5."""
+    trio = MC405()
+    assert trio.send("BASE(0,1): UNITS AXIS(0)=1000: UNITS AXIS(1)=1000: SPEED=10: "
+                     "ACCEL=100: DECEL=100: MOVE(5,0): MOVE(1,1)") == []
+    trio.advance(ticks=100)
+    assert trio.send("CANCEL(1)") == []
+    trio.advance(ticks=3000)
+    assert (trio.machine.dpos(0), trio.machine.dpos(1)) == (5.0, 0.0)
+    assert trio.machine.axis_idle(0) and trio.machine.axis_idle(1)

@@ -242,10 +242,16 @@ _ENTRIES: list[Keyword] = [
              source=f"{TOK}; {MAN}", confidence="I", note="Ramps down at FASTDEC when it "
              "is set and greater than DECEL (C: CANCEL and FASTDEC pages), else a linear "
              "path at its ACCEL, one axis or an S-curve path at DECEL; buffered moves run "
-             "after it; ends a CONNPATH/CAMBOX (I)."),
+             "after it; ends a CONNPATH/CAMBOX (I). Modes (C: CANCEL page): 1 drops the "
+             "moves and linked moves buffered on the axis (from every axis of their group), "
+             "the running one ends as planned; 2 drops them and cancels the running one; 3 "
+             "to 6 act as 0 (D: not modelled); others 'Parameter out of range'. Moves merged "
+             "into the running path are part of it: mode 1 leaves them (D)."),
     _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}",
-             confidence="I", note="Drops every buffered move, ramps the running ones down, at "
-             "FASTDEC where it applies, as CANCEL (C: RAPIDSTOP page)."),
+             confidence="I", note="Ramps the running moves down, at FASTDEC where it "
+             "applies, as CANCEL (C: RAPIDSTOP page). Modes (C): 0 "
+             "(default) cancels the running moves and links only, the buffered ones then "
+             "load; 1 drops every buffered move, the running ones end as planned; 2 both."),
     _command("PWM_CONTROL", "PWM mode of the base axis: (0) off, (1) PWM_MARK, (2,...) "
              "speed link, (3,...) gate positions, (4) empty FIFO, (5) gating on, (6) clear "
              "PWM_ENCODER, (8,...) speed x profile.", (1, 6), axis=True,

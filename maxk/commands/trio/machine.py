@@ -138,10 +138,10 @@ class TrioMachine(Protocol):
         reverse at CREEP (the axis is busy until it ends)."""
         ...
 
-    def cancel(self, axis: int, fast: bool = False) -> None:
+    def cancel(self, axis: int, fast: bool = False, mode: float = 0) -> None:
         ...
 
-    def rapidstop(self) -> None:
+    def rapidstop(self, mode: float = 0) -> None:
         ...
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:

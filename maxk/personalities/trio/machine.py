@@ -684,9 +684,21 @@ class MC405Machine(Kinematics, Engine):
     def datum(self, axis: int, mode: int) -> None:
         self.drive.datum(axis, mode)
 
-    def cancel(self, axis: int, fast: bool = False) -> None:
+    def cancel(self, axis: int, fast: bool = False, mode: float = 0) -> None:
         """Stop the axis's move or link; `fast` (the CANCEL command): at FASTDEC where it
-        applies (`fast_decel`), else at DECEL (a jog released, a datum search)."""
+        applies (`fast_decel`), else at DECEL (a jog released, a datum search). CANCEL
+        page's modes: 1 drops the moves and linked moves buffered on the axis, the running
+        one ends as planned; 2 drops them and cancels the running one (C). 3 to 6 (at
+        speed into the next move, the last buffered move, MOVEADD) cancel the running
+        move as 0 does (D: not modelled); others: 'Parameter out of range'."""
+        if mode != int(mode) or not 0 <= mode <= 6:
+            raise ValueError("Parameter out of range")
+        if mode in (1, 2):
+            self.links.chains[axis].clear()
+            self._drop_buffered(self.queues[axis])
+            if mode == 1:
+                self.changed()
+                return
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
@@ -704,18 +716,36 @@ class MC405Machine(Kinematics, Engine):
         fast = self.axes[run.base].params["FASTDEC"] * run.units
         return fast if fast > run.decel else None
 
-    def rapidstop(self) -> None:
-        self.links.clear()
+    def rapidstop(self, mode: float = 0) -> None:
+        """RAPIDSTOP(mode) on every axis (its page): 0 cancels the running moves and links,
+        those buffered then load ('motion will not stop'); 1 drops every buffered move
+        and linked move, the running ones end as planned; 2 both (C). Running moves ramp
+        down at FASTDEC where it applies. Other modes: 'Parameter out of range'."""
+        if mode not in (0, 1, 2):
+            raise ValueError("Parameter out of range")
+        if mode:
+            self.links.clear()
+            for queue in self.queues:
+                self._drop_buffered(queue)
+        if mode == 1:
+            self.changed()
+            return
         for axis in range(self._axis_count):
-            queue = self.queues[axis]
-            while queue and not queue[-1].started:
-                queue.pop()
             if self.axes[axis].link is not None or self.axes[axis].pending_link is not None:
                 self._unlink(axis)
+                self.links.cancelled(axis)  # (mode 0: the next linked move buffered starts)
         for queue in self.queues:
             if queue and queue[0].started and not queue[0].stopping:
                 self._stop(queue[0], self.fast_decel(queue[0]))
         self.changed()
+
+    def _drop_buffered(self, queue: deque[Run]) -> None:
+        """The runs waiting in an axis's buffer go, from every axis of their group."""
+        for run in [r for r in queue if not r.started]:
+            for a in run.axes:
+                kept = [r for r in self.queues[a] if r is not run]
+                self.queues[a].clear()
+                self.queues[a].extend(kept)
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:
         base = args[0]
