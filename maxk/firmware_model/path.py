@@ -646,9 +646,11 @@ def plan_path(segments: list[Segment], i0: int, s_now: float, v_now: float | Non
 
 def plan_stop(segments: list[Segment], i0: int, s_now: float, v_now: float,
               scale: float, *, lazy: bool = False, starts: list[float] | None = None,
-              last_arc: int | None = None) -> PathPlan:
-    """Ramp down along the path at the present segment's VA (VH1, ST, a soft limit)."""
-    accel = segments[i0].accel
+              last_arc: int | None = None, accel: float | None = None) -> PathPlan:
+    """Ramp down along the path at the present segment's VA (VH1, ST, a soft limit), or
+    at `accel` (the MC405's FASTDEC)."""
+    if accel is None:
+        accel = segments[i0].accel
     distance = v_now * v_now / (2.0 * accel)
     if s_now + distance >= segments[-1].s0 + segments[-1].length:
         # it stops at the end anyway

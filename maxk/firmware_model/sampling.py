@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from .path import PathPlan
+from .path import PathPlan, Segment
 from .profiles import Motion, RampShape
 
 
@@ -19,7 +19,7 @@ class PlanArrays:
     path at many times at once, exactly as `PathPlan.state` and `PathPlan.point` give
     them one at a time."""
 
-    def __init__(self, plan: PathPlan) -> None:
+    def __init__(self, plan: PathPlan, previous: PlanArrays | None = None) -> None:
         self.plan = plan
         pieces = plan.pieces
         self.t0 = np.array([p.t0 for p in pieces], dtype=float)
@@ -32,11 +32,16 @@ class PlanArrays:
         nxt = [pieces[i + 1].s0 for i in range(len(pieces) - 1)] + [math.inf]
         self.next_s0 = np.array(nxt if pieces else [], dtype=float)
         segs = plan.segments
-        self.seg_s0 = np.array([g.s0 for g in segs], dtype=float)
-        self.seg_length = np.array([g.length for g in segs], dtype=float)
-        self.seg_start = np.array([g.start for g in segs], dtype=float)
-        self.seg_end = np.array([g.end for g in segs], dtype=float)
-        self.seg_unit = np.array([g.unit for g in segs], dtype=float)
+        table: _SegmentTable | None = previous.table if previous is not None else None
+        if table is None or not table.extends(segs):
+            table = _SegmentTable(segs)
+        self.table: _SegmentTable = table
+        n = table.add(segs)
+        self.seg_s0 = table.s0[:n]
+        self.seg_length = table.length[:n]
+        self.seg_start = table.start[:n]
+        self.seg_end = table.end[:n]
+        self.seg_unit = table.unit[:n]
 
     def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         plan = self.plan
@@ -72,6 +77,51 @@ class PlanArrays:
         sigma = s - self.seg_s0[j]
         inside = self.seg_start[j, k] + self.seg_unit[j, k] * sigma
         return np.where(sigma >= self.seg_length[j], self.seg_end[j, k], inside)
+
+
+class _SegmentTable:
+    """A path's segments as arrays, grown as moves merge into it (its list only grows,
+    the segments already there never change place): a re-plan of a chain of thousands of
+    merged moves adds the new rows instead of converting the whole path again."""
+
+    def __init__(self, segments: list[Segment]) -> None:
+        self.segments = segments
+        self.count = 0
+        self._last: Segment | None = None
+        width = len(segments[0].start) if segments else 0
+        capacity = max(16, len(segments))
+        self.s0 = np.zeros(capacity)
+        self.length = np.zeros(capacity)
+        self.start = np.zeros((capacity, width))
+        self.end = np.zeros((capacity, width))
+        self.unit = np.zeros((capacity, width))
+
+    def extends(self, segments: list[Segment]) -> bool:
+        """The same path list, its rows so far unchanged (only appended to)."""
+        n = self.count
+        return (segments is self.segments and n > 0 and len(segments) >= n
+                and segments[n - 1] is self._last)
+
+    def add(self, segments: list[Segment]) -> int:
+        """Rows for the segments not yet in the table; the row count."""
+        n, total = self.count, len(segments)
+        if total > len(self.s0):
+            capacity = max(total, 2 * len(self.s0))
+            for name in ("s0", "length", "start", "end", "unit"):
+                old = getattr(self, name)
+                grown = np.zeros((capacity, *old.shape[1:]))
+                grown[:n] = old[:n]
+                setattr(self, name, grown)
+        if total > n:
+            new = segments[n:]
+            self.s0[n:total] = [g.s0 for g in new]
+            self.length[n:total] = [g.length for g in new]
+            self.start[n:total] = [g.start for g in new]
+            self.end[n:total] = [g.end for g in new]
+            self.unit[n:total] = [g.unit for g in new]
+            self._last = segments[-1]
+            self.count = total
+        return total
 
 
 def profile_offset_speed(motion: Motion, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -166,7 +166,7 @@ class FakeTrioMachine:
     def set_acc(self, axis: int, rate: float) -> None:
         self.axis_params[axis]["ACCEL"] = self.axis_params[axis]["DECEL"] = rate
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False, mode: float = 0) -> None:
         if self.queues[axis]:
             move = self.queues[axis][0]
             for a in move.axes:
@@ -175,7 +175,7 @@ class FakeTrioMachine:
         self.connpaths.pop(axis, None)
         self.cams.pop(axis, None)
 
-    def rapidstop(self) -> None:
+    def rapidstop(self, mode: float = 0) -> None:
         for queue in self.queues:
             queue.clear()
         self.connpaths.clear()

@@ -1517,8 +1517,8 @@ class Interpreter:
             from .keywords import KEYWORDS
 
             KEYWORDS["MPE"].check(args[0])
-        elif name == "RAPIDSTOP":
-            self._act(m.rapidstop)
+        elif name == "RAPIDSTOP":  # its modes (RAPIDSTOP page)
+            self._act(lambda: m.rapidstop(args[0] if args else 0))
         elif name == "OP":
             self.op(args)
         else:
@@ -1621,8 +1621,8 @@ class Interpreter:
 
             KEYWORDS["ACCEL"].check(args[0])
             self._act(lambda: m.set_acc(axis, args[0]))
-        elif name == "CANCEL":
-            self._act(lambda: m.cancel(axis))
+        elif name == "CANCEL":  # at FASTDEC where it applies, its modes (CANCEL page)
+            self._act(lambda: m.cancel(axis, fast=True, mode=args[0] if args else 0))
         elif name == "PWM_CONTROL":
             self._act(lambda: m.pwm_control(axis, args))
         elif name in ("FORWARD", "REVERSE"):

@@ -286,10 +286,19 @@ _ENTRIES: list[Keyword] = [
     _command("ACC", "Set ACCEL and DECEL of the base axis.", (1, 1), axis=True,
              source=f"{SEED}; {TOK}"),
     _command("CANCEL", "Cancel the move running on the base axis.", (0, 1), axis=True,
-             source=f"{TOK}; {MAN}", confidence="I", note="Ramps down (a path at its ACCEL, "
-             "one axis at DECEL); buffered moves run after it; ends a CONNPATH/CAMBOX (I)."),
+             source=f"{TOK}; {MAN}", confidence="I", note="Ramps down at FASTDEC when it "
+             "is set and greater than DECEL (C: CANCEL and FASTDEC pages), else a linear "
+             "path at its ACCEL, one axis or an S-curve path at DECEL; buffered moves run "
+             "after it; ends a CONNPATH/CAMBOX (I). Modes (C: CANCEL page): 1 drops the "
+             "moves and linked moves buffered on the axis (from every axis of their group), "
+             "the running one ends as planned; 2 drops them and cancels the running one; 3 "
+             "to 6 act as 0 (D: not modelled); others 'Parameter out of range'. Moves merged "
+             "into the running path are part of it: mode 1 leaves them (D)."),
     _command("RAPIDSTOP", "Cancel the moves on every axis.", (0, 1), source=f"{TOK}; {MAN}",
-             confidence="I", note="Drops every buffered move, ramps the running ones down."),
+             confidence="I", note="Ramps the running moves down, at FASTDEC where it "
+             "applies, as CANCEL (C: RAPIDSTOP page). Modes (C): 0 "
+             "(default) cancels the running moves and links only, the buffered ones then "
+             "load; 1 drops every buffered move, the running ones end as planned; 2 both."),
     _command("PWM_CONTROL", "PWM mode of the base axis: (0) off, (1) PWM_MARK, (2,...) "
              "speed link, (3,...) gate positions, (4) empty FIFO, (5) gating on, (6) clear "
              "PWM_ENCODER, (8,...) speed x profile.", (1, 6), axis=True,
@@ -728,9 +737,10 @@ _ENTRIES: list[Keyword] = [
           "(1024) while DPOS is below it (manual, C); it stops reverse motion the same way."),
     _axis("FASTDEC", "Deceleration at a limit, user units/s^2 (0: DECEL).", default=0,
           value_range=(0, _BIG), source=f"{TOK}; {MAN}", confidence="I",
-          note="A single-axis move cancelled by a limit (hard or soft) ramps down at FASTDEC "
-          "when it is not 0, else at DECEL (I); a path ramps along itself at its ACCEL (D; "
-          "an S-curve path at FASTDEC, see SRAMP)."),
+          note="A move or path stopped by CANCEL, RAPIDSTOP or a limit (hard or soft) ramps "
+          "down at FASTDEC when it is greater than DECEL (C: FASTDEC, CANCEL, RAPIDSTOP "
+          "pages), else at DECEL (a linear path: its ACCEL, D); a jog released and a datum "
+          "search stop at DECEL (D: their pages name DECEL only)."),
     _axis("AXISSTATUS", "Axis status bits: 2 following error warning, 16 forward limit, 32 "
           "reverse limit, 64 datuming, 128 feed hold, 256 following error exceeded, 512 "
           "forward soft limit, 1024 reverse soft limit.", writable=False, source=f"{TOK}; {MAN}",
@@ -1907,7 +1917,8 @@ _ENTRIES: list[Keyword] = [
           note="A single-axis move's acceleration rises at JERK to ACCEL, holds and falls "
           "at JERK (DECEL on the way down): a ramp to SPEED lasts SPEED/ACCEL + "
           "ACCEL/JERK, or 2 sqrt(SPEED/JERK) when ACCEL is not reached (C); a move too "
-          "short to reach SPEED keeps the shares SPEED gives (D). 0: no jerk limit (D). "
+          "short to reach SPEED peaks at the highest speed whose jerk-limited ramps fit "
+          "it, so its jerk stays JERK (I: JERK is the limit). 0: no jerk limit (D). "
           "Ignored in VP_MODE 0 (C). The same on interpolated and merged paths (see "
           "VP_MODE, MERGE); between merged moves each speed change rises at JERK to "
           "ACCEL, or to sqrt(change x JERK) when that is lower (D)."),
@@ -1935,8 +1946,8 @@ _ENTRIES: list[Keyword] = [
           "merged paths: the same S-ramps (see VP_MODE, MERGE); a speed change shorter "
           "than 2 x SRAMP rises over half of it (D, as a single-axis move's). CANCEL and "
           "RAPIDSTOP of an S-curve move S-ramp down at once from the speed it has, with "
-          "the acceleration starting from 0 (D), at DECEL (C: CANCEL page), or FASTDEC "
-          "where a limit stops it; FASTJERK is not modelled: the move's own JERK (or "
+          "the acceleration starting from 0 (D), at FASTDEC when it is greater than "
+          "DECEL, else DECEL (C: CANCEL page); FASTJERK is not modelled: the move's own JERK (or "
           "SRAMP) shapes that ramp (D). A CAM stops linearly (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "

@@ -138,7 +138,7 @@ class TrioMachine(Protocol):
         Z-mark search forward / reverse at CREEP (the axis is busy until it ends)."""
         ...
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False, mode: float = 0) -> None:
         ...
 
     def disable_group(self, args: Sequence[float]) -> None:
@@ -150,7 +150,7 @@ class TrioMachine(Protocol):
         """INITIALISE: every axis parameter to its power-up value."""
         ...
 
-    def rapidstop(self) -> None:
+    def rapidstop(self, mode: float = 0) -> None:
         ...
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:

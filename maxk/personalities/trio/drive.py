@@ -82,6 +82,7 @@ class DriveHost(MotorHost, Protocol):
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
     def _unlink(self, axis: int) -> None: ...
     def own_demand(self, axis: int) -> float: ...
+    def fast_decel(self, run: Run) -> float | None: ...
 
 INPUTS = 32  # inputs a limit or datum may be wired to (as IN)
 
@@ -335,9 +336,7 @@ class Drive:
         m = self.m
         self.look_again = m.tick + 1  # (DPOS passes FS_LIMIT/RS_LIMIT, AXISSTATUS bits
         # 9/10, on the ramp's first cycle: a motion error on them acts on that cycle)
-        params = m.axes[run.base].params
-        fast = params["FASTDEC"] * run.units
-        m._stop(run, decel=fast if fast > 0 else None)
+        m._stop(run, decel=m.fast_decel(run))
 
     # ---- what the machine looks at on every change ------------------------------------------
     def look(self, now: int) -> None:

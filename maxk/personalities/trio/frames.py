@@ -65,6 +65,7 @@ class FrameHost(Protocol):
     inverted_inputs: set[int]
 
     def _stop(self, run: Run, decel: float | None = None) -> None: ...
+    def fast_decel(self, run: Run) -> float | None: ...
 
     def demand_counts(self, axis: int, ticks: np.ndarray) -> np.ndarray: ...
 
@@ -148,6 +149,20 @@ def transform(frame: int, table: Sequence[float], values: Sequence[float],
     return result
 
 
+def fold(position: float, rep: float, from_zero: bool) -> float:
+    """A position folded by a repeat distance rep > 0 (REP_DIST, FRAME_REP_DIST) into
+    -rep..rep, or 0..rep (`from_zero`, REP_OPTION bit 0). The remainder is exact and
+    never overflows (a fold far smaller than the position, down to the least float, reads
+    a value instead of failing; a position within the fold reads unchanged)."""
+    span = rep if from_zero else 2.0 * rep
+    r = math.fmod(position, span)  # (exact, the sign of position)
+    if from_zero:
+        return r + span if r < 0 else r
+    if r >= rep:
+        return r - span
+    return r + span if r < -rep else r
+
+
 @dataclass
 class FrameGroup:
     """FRAME_GROUP: axes in ascending order, the TABLE offset of the frame's data, the
@@ -201,9 +216,7 @@ class Frames:
         rep = params.get("FRAME_REP_DIST", 0.0)
         if not rep > 0 or not self.framed(axis):
             return position
-        if int(params.get("REP_OPTION", 0.0)) & 1:
-            return position - rep * math.floor(position / rep)
-        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
+        return fold(position, rep, bool(int(params.get("REP_OPTION", 0.0)) & 1))
 
     # ---- the motor's demand ---------------------------------------------------------------
     def table(self, group: FrameGroup, frame: int) -> list[float]:
@@ -442,8 +455,7 @@ class Frames:
             if not runs or self._outward(group, now, now) is None:
                 continue
             for run in runs:
-                fast = m.axes[run.base].params["FASTDEC"] * run.units
-                m._stop(run, decel=fast if fast > 0 else None)
+                m._stop(run, decel=m.fast_decel(run))
             for a in group.axes:
                 queue = m.queues[a]
                 while queue and not queue[-1].started:

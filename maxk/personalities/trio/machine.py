@@ -64,7 +64,7 @@ from .feedhold import FEEDHOLD, FeedHold
 from .flash import AUTO_BACKUP, FLASH_PARAMETERS
 from .following import superimposed
 from .frames import READS as FRAME_READS
-from .frames import Frames
+from .frames import Frames, fold
 from .initialise import initialise
 from .jogs import Jogs
 from .kinematics import Kinematics
@@ -465,9 +465,7 @@ class MC405Machine(Kinematics, Engine):
         rep = params.get("REP_DIST", 0.0)
         if not rep > 0:
             return position
-        if int(params.get("REP_OPTION", 0.0)) & 1:
-            return position - rep * math.floor(position / rep)
-        return position - 2 * rep * math.floor((position + rep) / (2 * rep))
+        return fold(position, rep, bool(int(params.get("REP_OPTION", 0.0)) & 1))
 
     def unwrapped(self, axis: int, position: float, here: float) -> float:
         """A position in the fold the axis reads now (`here` unfolded) as an unfolded
@@ -712,27 +710,68 @@ class MC405Machine(Kinematics, Engine):
     def initialise(self) -> None:
         initialise(self)  # (initialise.py)
 
-    def cancel(self, axis: int) -> None:
+    def cancel(self, axis: int, fast: bool = False, mode: float = 0) -> None:
+        """Stop the axis's move or link; `fast` (the CANCEL command): at FASTDEC where it
+        applies (`fast_decel`), else at DECEL (a jog released, a datum search). CANCEL
+        page's modes: 1 drops the moves and linked moves buffered on the axis, the running
+        one ends as planned; 2 drops them and cancels the running one (C). 3 to 6 (at
+        speed into the next move, the last buffered move, MOVEADD) cancel the running
+        move as 0 does (D: not modelled); others: 'Parameter out of range'."""
+        if mode != int(mode) or not 0 <= mode <= 6:
+            raise ValueError("Parameter out of range")
+        if mode in (1, 2):
+            self.links.chains[axis].clear()
+            self._drop_buffered(self.queues[axis])
+            if mode == 1:
+                self.changed()
+                return
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
             self.links.cancelled(axis)  # the next linked move buffered starts
         elif self.queues[axis] and self.queues[axis][0].started:
-            self._stop(self.queues[axis][0])
+            run = self.queues[axis][0]
+            self._stop(run, self.fast_decel(run) if fast else None)
         self.changed()
 
-    def rapidstop(self) -> None:
-        self.links.clear()
+    def fast_decel(self, run: Run) -> float | None:
+        """The rate a CANCEL, RAPIDSTOP or a limit stops the run at: its base's FASTDEC
+        (counts/s^2) when set and greater than DECEL, else None: its DECEL (C: CANCEL,
+        RAPIDSTOP and FASTDEC pages, 'FASTDEC must be greater than DECEL, otherwise DECEL
+        will be used')."""
+        fast = self.axes[run.base].params["FASTDEC"] * run.units
+        return fast if fast > run.decel else None
+
+    def rapidstop(self, mode: float = 0) -> None:
+        """RAPIDSTOP(mode) on every axis (its page): 0 cancels the running moves and links,
+        those buffered then load ('motion will not stop'); 1 drops every buffered move
+        and linked move, the running ones end as planned; 2 both (C). Running moves ramp
+        down at FASTDEC where it applies. Other modes: 'Parameter out of range'."""
+        if mode not in (0, 1, 2):
+            raise ValueError("Parameter out of range")
+        if mode:
+            self.links.clear()
+            for queue in self.queues:
+                self._drop_buffered(queue)
+        if mode == 1:
+            self.changed()
+            return
         for axis in range(self._axis_count):
-            queue = self.queues[axis]
-            while queue and not queue[-1].started:
-                queue.pop()
             if self.axes[axis].link is not None or self.axes[axis].pending_link is not None:
                 self._unlink(axis)
+                self.links.cancelled(axis)  # (mode 0: the next linked move buffered starts)
         for queue in self.queues:
             if queue and queue[0].started and not queue[0].stopping:
-                self._stop(queue[0])
+                self._stop(queue[0], self.fast_decel(queue[0]))
         self.changed()
+
+    def _drop_buffered(self, queue: deque[Run]) -> None:
+        """The runs waiting in an axis's buffer go, from every axis of their group."""
+        for run in [r for r in queue if not r.started]:
+            for a in run.axes:
+                kept = [r for r in self.queues[a] if r is not run]
+                self.queues[a].clear()
+                self.queues[a].extend(kept)
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:
         base = args[0]
@@ -1040,7 +1079,7 @@ class MC405Machine(Kinematics, Engine):
     def _apply_plan(self, run: Run, plan: PathPlan) -> None:
         now = self.tick
         run.plan = plan
-        run.arrays = PlanArrays(plan)
+        run.arrays = PlanArrays(plan, run.arrays)  # (its segment rows grow)
         run.plan_tick = now
         end = plan.end_time
         run.end_tick = (now + math.ceil(end / self.period - 1e-9) + self._dwell_ticks(run)
@@ -1058,9 +1097,9 @@ class MC405Machine(Kinematics, Engine):
         return math.ceil(run.dwell / self.period - 1e-9) if run.dwell > 0 else 0
 
     def _stop(self, run: Run, decel: float | None = None) -> None:
-        """CANCEL: ramp down now (a path along itself at its ACCEL, a single axis at
-        DECEL, or `decel` counts/s^2); the moves buffered behind it then run (a FORCE_DWELL
-        waiting is dropped, D)."""
+        """CANCEL: ramp down now (at `decel` counts/s^2, FASTDEC; else a linear path
+        along itself at its ACCEL, a single axis or an S-curve path at DECEL); the moves
+        buffered behind it then run (a FORCE_DWELL waiting is dropped, D)."""
         run.stopping = True
         run.dwell = 0.0
         if run.profile is not None:

@@ -52,6 +52,33 @@ def jerk_ramp(speed: float, accel: float, jerk: float) -> tuple[float, float]:
     return peak, min(1.0, 2.0 * rise / (speed / peak + rise))
 
 
+def jerk_top(distance: float, speed: float, accel: float, decel: float,
+             jerk: float) -> float:
+    """The highest speed up to `speed` whose jerk-limited ramps from rest and back to rest
+    (`jerk_ramp` up at ACCEL, down at DECEL) fit within `distance`: a move too short to
+    reach SPEED peaks there, its jerk still JERK (the limit VP_MODE 5/6 is about; was:
+    the ramps to SPEED squeezed into the move, the jerk many times JERK)."""
+    def need(v: float) -> float:
+        total = 0.0
+        for rate in (accel, decel):
+            peak = min(rate, math.sqrt(v * jerk))
+            total += v / 2.0 * (v / peak + peak / jerk) if peak > 0 else 0.0
+        return total
+
+    if distance <= 0 or need(speed) <= distance:
+        return speed
+    lo, hi = 0.0, speed
+    for _ in range(200):  # bisection (each step halves the bracket: ends at the last bit)
+        mid = (lo + hi) / 2.0
+        if mid <= lo or mid >= hi:
+            break
+        if need(mid) <= distance:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
 def interp_share(factors: Sequence[float], deltas: Sequence[float]) -> float:
     """INTERP_FACTOR: the share of a straight move's length that its interpolated axes
     (INTERP_FACTOR not 0) make; the vector speed and acceleration hold along that share,

@@ -419,7 +419,10 @@ class PositionSwitches:
             (2 * rep, -rep)
         out = []
         for v in [*values, origin]:
-            k0 = math.floor((u_here - v) / span)
+            folds = (u_here - v) / span
+            if not math.isfinite(folds):  # a fold finer than a float step: every count
+                return [here, here + 1]
+            k0 = math.floor(folds)
             for k in range(k0 - 1, k0 + 3):
                 out.append(math.ceil((v + k * span) * a.units - a.datum - 1e-9))
         return out

@@ -82,9 +82,9 @@ def _replan(m: Any, run: Any, first: int) -> None:
     if run.profile is not None:
         run = _as_path(m, run)
         first = 0
-    defs = run.definitions()
+    defs = run.definitions(first)
     for j in range(first, len(run.segments)):
-        seg, defn = run.segments[j], defs[j]
+        seg, defn = run.segments[j], defs[j - first]
         seg.ceiling = defn.v_top if defn.v_top is not None else seg.ceiling
         seg.v_end = defn.v_end
         seg.accel = defn.accel

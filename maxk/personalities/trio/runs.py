@@ -18,6 +18,7 @@ array operations; a single reading is an array of one.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -47,11 +48,15 @@ from maxk.firmware_model.servo import Gains
 
 from .geometry import sphere_definition
 from .link_kinds import Link
-from .profiles_sp import jerk_ramp, seam
+from .profiles_sp import jerk_ramp, jerk_top, seam
 
 Ticks = np.ndarray  # integer servo ticks
 CORNER_HELD, CORNER_LOADED = 1, 3  # a run behind a corner: held, or let in at 0 speed
 SHAPE = RampShape.LINEAR  # the MC405's ramps: linear (trapezoid) unless SRAMP/JERK shape them
+
+
+def _segment_end(segment: Segment) -> float:
+    return segment.s0 + segment.length
 
 
 # ---- runs -----------------------------------------------------------------------------
@@ -110,16 +115,17 @@ class Run:
     def mergeable(self) -> bool:
         return not self.single and not self.stopping and self.dwell == 0
 
-    def definitions(self) -> list[SegmentDef]:
-        """Each move a relative straight segment at its own speed (its top); the first
-        starts from rest (v_start 0), each hands over to the next at the seam speed
-        (MERGE: no stop in between; profiles_sp.seam)."""
+    def definitions(self, first: int = 0) -> list[SegmentDef]:
+        """Each move from `first` on (the list starts there) a relative straight segment
+        at its own speed (its top); the first starts from rest (v_start 0), each hands
+        over to the next at the seam speed (MERGE: no stop in between; profiles_sp.seam).
+        Only the moves asked for: a merged chain of thousands stays linear to load."""
         last = len(self.deltas) - 1
-        return [SegmentDef("line", tuple(float(d) for d in delta), True, 0.0,
+        return [SegmentDef("line", tuple(float(d) for d in self.deltas[j]), True, 0.0,
                            0.0 if j == 0 else None,
                            self.seam(j) if j < last else self.speeds[j],
                            self.accels[j], None, self.speeds[j])
-                for j, delta in enumerate(self.deltas)]
+                for j in range(first, len(self.deltas))]
 
     def seam(self, j: int) -> float:
         """profiles_sp.seam; where INTERP_FACTOR gives the moves different path speeds,
@@ -131,12 +137,13 @@ class Run:
 
     def resolve(self, origin: tuple[float, ...]) -> None:
         """Segments of every move loaded so far, from the group's start position."""
-        defs = self.definitions()
-        if 0 < len(self.segments) < len(defs):  # the last one's seam: the move after it
-            self.segments[-1].v_end = defs[len(self.segments) - 1].v_end
-        while len(self.segments) < len(defs):
+        first = max(0, len(self.segments) - 1)
+        defs = self.definitions(first)
+        if 0 < len(self.segments) < len(self.deltas):  # the last one's seam: the next move
+            self.segments[-1].v_end = defs[0].v_end
+        while len(self.segments) < len(self.deltas):
             j = len(self.segments)
-            defn = defs[j]
+            defn = defs[j - first]
             start = self.segments[-1].end if self.segments else origin
             if j in self.arcs and len(self.arcs[j]) > 3:  # MSPHERICAL (geometry.py)
                 defn = sphere_definition(self.arcs[j], start,
@@ -153,11 +160,10 @@ class Run:
                 self.segments.append(Segment(defn, origin, 0.0, None))
 
     def segment_index(self, s: float) -> int:
-        i = 0
-        while (i + 1 < len(self.segments)
-               and self.segments[i].s0 + self.segments[i].length <= s + 1e-9):
-            i += 1
-        return i
+        """The segment that distance s is in: the first not ended by s (the last one
+        past the end); a bisection on the segments' ends, which never decrease."""
+        count = bisect.bisect_right(self.segments, s + 1e-9, key=_segment_end)
+        return max(0, min(count, len(self.segments) - 1))
 
     def moves_left(self, tick: int, period: float) -> int:
         """Moves not yet finished (they hold the axes' move buffer)."""
@@ -213,7 +219,8 @@ class Run:
     def plan_new(self, now: int, stop: bool = False, period: float = 0.001,
                  decel: float | None = None) -> PathPlan:
         """The path planned from where it is now (from rest when it starts now); a
-        stop ramps down along it (an S-curve path at `decel`, else its DECEL)."""
+        stop ramps down along it at `decel` (FASTDEC), else an S-curve path at its
+        DECEL, a linear one at its ACCEL."""
         if self.shaped:
             return self._plan_shaped(now, stop, period, decel)
         if self.plan is None:
@@ -221,7 +228,7 @@ class Run:
         s, v = self.plan.state((now - self.plan_tick) * period)
         i = self.segment_index(s)
         if stop:
-            return plan_stop(self.segments, i, s, v, 1.0)
+            return plan_stop(self.segments, i, s, v, 1.0, accel=decel)
         return plan_path(self.segments, i, s, v, self.path_scale)
 
     def _plan_shaped(self, now: int, stop: bool, period: float,
@@ -237,6 +244,9 @@ class Run:
                 seg = self.segments[0]
                 top = min(seg.ceiling, seg.arc_cap)
                 share = self.interp.get(0, 1.0)  # (INTERP_FACTOR: the path runs faster)
+                if self.jerk > 0:  # (a short move peaks lower, at JERK: single_profile)
+                    top = jerk_top(seg.length, top, self.accels[0], self.decel / share,
+                                   self.jerk / share)
                 shape, up, down, share_up, share_down = ramp_shares(
                     top, self.accels[0], self.decel / share, self.sramp, self.jerk / share)
                 phases, end, _ramp_end, _peak = move_phases(
@@ -287,6 +297,8 @@ def single_profile(distance: int, speed: float, accel: float, decel: float,
     each ramp's acceleration rises at `jerk` (profiles_sp.jerk_ramp)."""
     if jerk <= 0 and sramp <= 0:
         return plan_move(distance, 0.0, speed, accel, decel, SHAPE)
+    if jerk > 0:  # too short to reach SPEED: it peaks lower, at JERK (VP_MODE 5/6)
+        speed = jerk_top(abs(distance), speed, accel, decel, jerk)
     shape, up, down, share_up, share_down = ramp_shares(speed, accel, decel, sramp, jerk)
     return plan_move(distance, 0.0, speed, up, down, shape, share_up, share_down)
 
