@@ -53,3 +53,100 @@ C AXISLIST 0 0 the list of active axes: every axis here is always present (print
 C DV_MAP 0 0 {_BUS} (prints nothing)
 C TOKENTABLE 0 0 the token list a host downloads: its numbered tags are not in the pages
 """
+
+NEWER_NOTE = "Known from its help page, not the MC405's token table, which predates it (D)."
+_REMOTE = ("a remote (EtherCAT/RTEX) drive's word: the MC405 emulated here drives no "
+           "remote drive")
+_RESERVED = "a reserved keyword: its page gives no behaviour"
+_VP56 = "VP_MODE 5 and 6 look-ahead tuning"
+
+NEWER_WORDS = f"""\
+P ACCEL_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P AXIS_BLENDING w 1 0 4 -the emulator's SP moves always blend as its power-up 1 (Low, see
+    profiles_sp.py); 0, 2, 3 and 4 are stored, not applied
+P AXIS_ENABLE_OVERRIDE w 0 -1 1 -it enables an EtherCAT drive for Motion Perfect's set-up;
+    {_REMOTE}
+P CLOSE_WINB w 0 -1e15 1e15 =Where the second registration window closes (user units): REGIST
+    modes 20 and 21 with window 5 take only edges inside OPEN_WINB..CLOSE_WINB, window 6 only
+    outside (C: REGIST page; as DPOS reads, REP_DIST folded, as OPEN_WIN); windows 1/2 keep
+    OPEN_WIN..CLOSE_WIN.
+P DRIVE_BRAKE_OUTPUT w -1 -1 1023 -it hands an output to an EtherCAT slim drive's brake;
+    {_REMOTE} (power-up -1 none, D)
+P DRIVE_NEG_TORQUE w 0 -32768 32767 -{_REMOTE} (an INT16 in drive units)
+P DRIVE_POS_TORQUE w 0 -32768 32767 -{_REMOTE} (an INT16 in drive units)
+P DRIVE_REP_DIST w 4294967296 0 4294967296 -{_REMOTE} (power-up 2^32, the page's roll-over)
+P FASTJERK w 0 0 1e15 =The jerk of a stop (CANCEL, RAPIDSTOP, a limit) in VP_MODE 5 and 6,
+    user units/s^3: used when above JERK, else JERK (C: FASTJERK page); 0 not used (C).
+    Ignored in VP_MODE 0 (C). Assigned SRAMP (not 0) in VP_MODE 6 takes over as FASTDEC/SRAMP
+    (C); the emulator takes SRAMP 0 as not assigned (D).
+P FORCE_ACCEL w -1 -1 1e15 -an SP move's own acceleration: the emulator's SP moves ramp at
+    ACCEL (profiles_sp.py); stored, not applied (power-up -1, C)
+P FORCE_DECEL w -1 -1 1e15 -an SP move's own deceleration: the emulator's SP moves ramp at
+    DECEL (profiles_sp.py); stored, not applied (power-up -1, C)
+P FORCE_JERK w -1 -1 1e15 -an SP move's own jerk: the emulator's SP moves take JERK
+    (profiles_sp.py); stored, not applied (power-up -1, C)
+P FWD_START w 0 -1e15 1e15 -a forced forward jog (MTYPE 14 while FWD_JOG is -1): not modelled
+    yet, the jogs start only from their inputs (jogs.py)
+P JERK_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P MOVE_COUNT_INC w 1 -1e15 1e15 =What MOVE_COUNT changes by for each move that becomes the
+    running one (C: MOVE_COUNT_INC page; 0 leaves it, negative counts down). Power-up 1 (D:
+    MOVE_COUNT's own counting by one).
+P MOVE_FORCE_ACCEL r -1 -1 1e15 -the running move's FORCE_ACCEL, which the emulator's SP moves
+    do not apply (see FORCE_ACCEL); reads -1 (D)
+P MOVE_FORCE_DECEL r -1 -1 1e15 -the running move's FORCE_DECEL, which the emulator's SP moves
+    do not apply (see FORCE_DECEL); reads -1 (D)
+P MOVE_FORCE_SPEED r -1 -1 1e15 -the running move's FORCE_SPEED: not modelled yet (the SP move
+    keeps it, profiles_sp.py, but no reading of it is wired); reads -1 (D)
+P MPOS_DELAY w 0 -1e15 1e15 -{_RESERVED}
+P MPOS_PRE_COMP w 0 -1e15 1e15 -{_RESERVED}
+P OPEN_WINB w 0 -1e15 1e15 =Where the second registration window opens (user units): see
+    CLOSE_WINB (C: OPEN_WINB page).
+P REMAIN_TIME r 0 0 1e15 -the time left of the moves buffered: not modelled yet (the moves not
+    yet started have no plan until they load)
+P REV_START w 0 -1e15 1e15 -a forced reverse jog (MTYPE 15 while REV_JOG is -1): not modelled
+    yet, as FWD_START
+P SPEED_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P STOPPING_DISTANCE r 0 0 1e15 -the distance to rest at the deceleration in force: not
+    modelled yet (reads 0)
+P VP_DEMAND_ACCEL r 0 -1e15 1e15 -the profiler's demand acceleration: the page does not say
+    whether it is ACCEL as loaded or the acceleration now (VP_ACCEL reads that)
+P VP_DEMAND_DECEL r 0 -1e15 1e15 -the profiler's demand deceleration: the page does not say
+    whether it is DECEL as loaded or the deceleration now
+P VP_DEMAND_JERK r 0 -1e15 1e15 -the profiler's demand jerk: the page does not say whether it
+    is JERK as loaded or the jerk now (VP_JERK reads that)
+P VP_DEMAND_SPEED r 0 -1e15 1e15 -the profiler's demand speed: the page does not say whether
+    it is SPEED as loaded or the speed now (VP_SPEED reads that)
+P VP_ERROR r 0 0 10 =Reads 0: the error of VP_MODE 6's profiler, which the emulator's profiler
+    never raises (its codes are for a VPU fed bad demands, which the table's ranges refuse
+    first) (D).
+P VP_OPTIONS w 0 0 63 -VP_MODE 6 tuning (buffer depth, forced-demand binding, processor use):
+    the emulator has one jerk profile (see VP_MODE)
+P V_LIMIT w 0 -1e15 1e15 -an axis's cap on the vector path speed: not modelled yet (the shared
+    path planner plans at one speed per move)
+Y GTASIZE r 0 0 0 -the global target array of the robot system (GTA), not modelled: reads 0
+    (no element)
+Y IN_DEBOUNCE w 0 0 1e6 -the inputs' debounce in servo cycles: not modelled yet (IN reads the
+    world's level at once; the world's edges are clean)
+K COMBINE_AXES 2 2 -a DPOS computed from two axes (COMBINE_CONTROL's modes): not modelled yet
+K COMBINE_CONTROL 3 7 -the mode of COMBINE_AXES: not modelled yet
+K COMPENSATE_ENC 0 0 -{_RESERVED}
+K MOVEABSSPCONT 1 1 -its page gives no behaviour ("under development")
+K MOVEADD 1 1 -a move superimposed on the running one with its own S-ramped profiler: not
+    modelled yet (ADDAX of a virtual axis's MOVE does the same and is modelled)
+K MOVESPCONT 1 1 -its page gives no behaviour ("under development")
+K MOVETEST 1 9 -a forward and back test cycle: not modelled yet
+G IN_FILTER 2 3 -the page: filtering exists only on MotionPLC controllers and slices, which
+    the MC405 is not
+G SET_MOTION 2 5 =SET_MOTION(axis, speed[, accel[, decel[, jerk]]]) writes SPEED, ACCEL, DECEL
+    and JERK of the axis named (C: SET_MOTION page); each value range-checked as its
+    parameter, nothing written when one is refused (D).
+G SET_MOTIONSP 2 9 =SET_MOTIONSP(axis, force_speed[, startmove_speed[, endmove_speed[,
+    force_accel[, force_decel[, force_jerk[, force_ramp[, force_dwell]]]]]]]) writes those
+    parameters of the axis named (C: SET_MOTIONSP page); each range-checked, nothing written
+    when one is refused (D).
+"""
+"""Words of the help that are newer than the MC405's token table and act on motion, inputs
+or set-up. Row forms: ``P NAME w|r default low high note`` an axis parameter, ``Y`` the same
+for a system parameter, ``K NAME min max note`` an axis command (AXIS(n) allowed), ``G``
+a command without AXIS; an indented line goes on the row above. A note starting ``=`` is
+what the emulator does; ``-`` is why it is not modelled."""

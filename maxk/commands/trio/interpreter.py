@@ -37,6 +37,7 @@ from .fifos import FifoFiles
 from .keywords import CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import Thrown, TrioError
 from .machine import TrioMachine
+from .motionwords import SET_MOTION_WORDS, set_motion
 from .parser import (
     MAX_ARRAY,
     ArrayFill,
@@ -613,6 +614,12 @@ class Interpreter:
             return self.frame_word(name, [float(a) for a in numbers], ctx)
         if name == "DLINK":
             return self.drive_link(args)
+        if name in SET_MOTION_WORDS:  # returns 0 (D)
+            machine = self.machine
+            self._act(lambda: set_motion(
+                name, [self.number_value(a) for a in args], machine.axis_count,
+                lambda a: machine.axis_parameter("UNITS", a), machine.set_axis_parameter))
+            return 0.0
         if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
             value = self.drive_link(args, lambda a, _: endat(name, a))
             self._act(lambda: self.machine.set_axis_parameter("ENCODER_CONTROL",
@@ -1428,6 +1435,9 @@ class Interpreter:
             return
         if name == "DLINK":
             self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
+            return
+        if name in SET_MOTION_WORDS:  # the rates of a named axis (motionwords.py)
+            self.call(Call(name, stmt.args), ctx)
             return
         if name in _FRAME_WORDS:
             self.frame_word(name, [self.number(a, ctx) for a in stmt.args], ctx)

@@ -175,7 +175,8 @@ def count_moves(m: Host) -> None:
                     if any(run.deltas[j]) and run.kinds.get(j, MOVE) not in _UNCOUNTED)
         run.counted = now
         for a in run.axes:
-            m.axes[a].params["MOVE_COUNT"] += moves
+            params = m.axes[a].params  # each move by MOVE_COUNT_INC (its page)
+            params["MOVE_COUNT"] += moves * params.get("MOVE_COUNT_INC", 1.0)
 
 
 def moves_left(m: Host, run: Run) -> int:
