@@ -179,3 +179,67 @@ def test_regist_window_5_and_6_use_open_winb_to_close_winb(window: int,
 
 def test_regist_window_7_is_refused() -> None:
     assert mc405().send("REGIST(20, 7, 4, 0, 7)") == ["! Parameter out of range"]
+
+
+# ---- FASTJERK: the jerk of a stop in VP_MODE 5 and 6 ---------------------------------------
+def cancelled(*lines: str, at_tick: int = 3000) -> tuple[MC405, int]:
+    """Axis 0 (UNITS 1) cruising at 50 after its ramp, then CANCEL at `at_tick`."""
+    trio = mc405("SPEED = 50: ACCEL = 1000: DECEL = 100: FASTDEC = 1000", *lines,
+                 "MOVEABS(10000)")
+    at(trio, at_tick)
+    assert trio.send("CANCEL") == []
+    return trio, trio.tick
+
+
+def dpos(trio: MC405) -> float:
+    return trio.machine.axis_parameter("DPOS", 0)
+
+
+def test_fastjerk_example_cancel_ramps_down_at_the_fast_jerk() -> None:
+    """FASTJERK page: JERK 200, FASTJERK 2000, a CANCEL mid-move. VP_MODE 5: the ramp up
+    peaks at sqrt(50 x 200) = 100 over 2 sqrt(50/200) = 1 s, 25 units, so at 3 s the
+    axis is at 25 + 2 x 50 = 125, cruising. The stop (at DECEL 100, as CANCEL is
+    modelled) rises to 100 at 2000/s^3 over 0.05 s: s(t) = 50 t - 2000 t^3 / 6 then; it
+    lasts 50/100 + 100/2000 = 0.55 s and covers 50 x 0.55 / 2 = 13.75 (symmetric)."""
+    trio, start = cancelled("VP_MODE = 5: JERK = 200: FASTJERK = 2000")
+    assert dpos(trio) == 125
+    at(trio, start + 50)
+    assert dpos(trio) == pytest.approx(125 + 50 * 0.05 - 2000 * 0.05 ** 3 / 6, abs=1e-9)
+    at(trio, start + 549)  # 1 ms before rest: 2000 x 0.001^3 / 6 still to go
+    assert dpos(trio) == pytest.approx(125 + 13.75 - 2000 * 0.001 ** 3 / 6, abs=1e-9)
+    at(trio, start + 560)
+    assert dpos(trio) == 139  # at rest, on the whole count past 138.75 (CANCEL's end)
+    assert trio.query("?IDLE") == "-1"
+
+
+@pytest.mark.parametrize("fastjerk", [0, 150])
+def test_fastjerk_not_above_jerk_leaves_the_moves_jerk(fastjerk: int) -> None:
+    """FASTJERK 0 (not used) or below JERK: the stop rises at JERK 200 over 0.5 s and
+    lasts 0.5 + 0.5 = 1 s, covering 50 x 1 / 2 = 25."""
+    trio, start = cancelled(f"VP_MODE = 5: JERK = 200: FASTJERK = {fastjerk}")
+    at(trio, start + 50)
+    assert dpos(trio) == pytest.approx(125 + 50 * 0.05 - 200 * 0.05 ** 3 / 6, abs=1e-9)
+    at(trio, start + 1000)
+    assert dpos(trio) == 150
+
+
+def test_fastjerk_is_ignored_in_vp_mode_0() -> None:
+    """VP_MODE 0, no SRAMP: a trapezoid; CANCEL ramps linearly at DECEL 100: 50 x 0.05 -
+    100 x 0.05^2 / 2 after 50 ms, whatever FASTJERK says."""
+    trio, start = cancelled("FASTJERK = 2000", at_tick=2000)
+    here = dpos(trio)
+    at(trio, start + 50)
+    assert dpos(trio) == pytest.approx(here + 50 * 0.05 - 100 * 0.05 ** 2 / 2, abs=1e-9)
+
+
+def test_vp_mode_6_with_sramp_stops_at_fastdec_over_sramp() -> None:
+    """FASTJERK page: with SRAMP set in VP_MODE 6, FASTJERK is FASTDEC / SRAMP and any
+    FASTJERK written is ignored. SRAMP 50 ms: the move's jerk is ACCEL / SRAMP = 20000, up
+    in 0.1 s over 2.5 units (at 3 s: 2.5 + 2.9 x 50 = 147.5); FASTDEC 4000 gives 80000,
+    above it, so the stop at DECEL 100 rises over 100/80000 = 1.25 ms, lasts 0.50125 s
+    and covers 50 x 0.50125 / 2 = 12.53125."""
+    trio, start = cancelled("VP_MODE = 6: SRAMP = 50: FASTDEC = 4000: FASTJERK = 1e9")
+    assert dpos(trio) == pytest.approx(147.5, abs=1e-9)
+    at(trio, start + 500)  # 1.25 ms to go: the last jerk phase's 80000 x t^3 / 6 left
+    assert dpos(trio) == pytest.approx(147.5 + 12.53125 - 80000 * 0.00125 ** 3 / 6,
+                                       abs=1e-9)

@@ -1842,8 +1842,9 @@ _ENTRIES: list[Keyword] = [
           "than 2 x SRAMP rises over half of it (D, as a single-axis move's). CANCEL and "
           "RAPIDSTOP of an S-curve move S-ramp down at once from the speed it has, with "
           "the acceleration starting from 0 (D), at DECEL (C: CANCEL page), or FASTDEC "
-          "where a limit stops it; FASTJERK is not modelled: the move's own JERK (or "
-          "SRAMP) shapes that ramp (D). A CAM stops linearly (D)."),
+          "where a limit stops it; the move's own JERK (or SRAMP) shapes that ramp "
+          "(D), or in VP_MODE 5/6 FASTJERK where it is higher (see FASTJERK). A CAM "
+          "stops linearly (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "
           "edges between OPEN_WIN and CLOSE_WIN (as DPOS reads, REP_DIST folded), + 768 "

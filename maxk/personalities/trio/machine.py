@@ -79,6 +79,7 @@ from .profiles_sp import (
     sp_adjusted,
     sp_speeds,
     sramp_seconds,
+    stop_jerk,
 )
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -1040,6 +1041,7 @@ class MC405Machine(Kinematics, Engine):
         waiting is dropped, D)."""
         run.stopping = True
         run.dwell = 0.0
+        run.jerk = stop_jerk(self.axes[run.base].params, run.units, run.jerk)  # FASTJERK
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)

@@ -212,3 +212,19 @@ def cornered(params: Mapping[str, float], units: float, force: float, accel: flo
     if corner is not None:
         sp = (corner if sp[0] < 0 else min(sp[0], corner), sp[1])
     return force, sp, (start, end, change)
+
+
+def stop_jerk(params: Mapping[str, float], units: float, jerk: float) -> float:
+    """The jerk (counts/s^3) a jerk-limited move's stop ramps with (CANCEL, RAPIDSTOP, a
+    limit): FASTJERK where it is above the move's JERK, in VP_MODE 5 and 6 (C: FASTJERK
+    page); in VP_MODE 6 with SRAMP set, FASTDEC / SRAMP instead (C: the same page; SRAMP 0
+    counts as not set, D). Read as the stop begins (D, as FASTDEC is)."""
+    mode = params.get("VP_MODE", 0.0)
+    if jerk <= 0 or mode not in (5.0, 6.0):
+        return jerk
+    sramp = params.get("SRAMP", 0.0)
+    if mode == 6.0 and sramp > 0:
+        fast = params.get("FASTDEC", 0.0) * units / (sramp / 1000.0)
+    else:
+        fast = params.get("FASTJERK", 0.0) * units
+    return fast if fast > jerk else jerk
