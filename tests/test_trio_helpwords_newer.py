@@ -243,3 +243,66 @@ def test_vp_mode_6_with_sramp_stops_at_fastdec_over_sramp() -> None:
     at(trio, start + 500)  # 1.25 ms to go: the last jerk phase's 80000 x t^3 / 6 left
     assert dpos(trio) == pytest.approx(147.5 + 12.53125 - 80000 * 0.00125 ** 3 / 6,
                                        abs=1e-9)
+
+
+# ---- REMAIN_TIME and STOPPING_DISTANCE ----------------------------------------------------
+def test_remain_time_example_move_45_and_a_buffered_move() -> None:
+    """REMAIN_TIME page, example 1: SPEED 10, ACCEL = DECEL = 200, MOVE(45): 45/10 + 10/200
+    = 4.55 s; a MOVE(10) buffered behind it from rest adds 10/10 + 10/200 = 1.05 s."""
+    trio = mc405("SPEED = 10: ACCEL = 200: DECEL = 200")
+    assert read(trio, "REMAIN_TIME") == 0
+    assert trio.send("MOVE(45): MOVE(10)") == []
+    start = trio.tick
+    assert trio.machine.axis_parameter("REMAIN_TIME", 0) == pytest.approx(5.6, abs=1e-9)
+    at(trio, start + 3800)  # the page's 0.75 s before the first move ends, plus 1.05
+    assert trio.machine.axis_parameter("REMAIN_TIME", 0) == pytest.approx(0.75 + 1.05,
+                                                                         abs=1e-9)
+    at(trio, start + 4551)  # the second move 1 ms in
+    assert trio.machine.axis_parameter("REMAIN_TIME", 0) == pytest.approx(1.049, abs=1e-9)
+    at(trio, start + 5600)
+    assert read(trio, "REMAIN_TIME") == 0
+
+
+def test_remain_time_drives_the_pages_program_slowing_in_the_last_750_ms() -> None:
+    """The page's program: once REMAIN_TIME < 0.75 it writes SPEED = 1. REMAIN_TIME falls
+    below 0.75 on the first tick after 3.8 s into the move (4.55 - 0.75), where the axis
+    is at 10 x 3.801 - 10 x 0.05 / 2 = 37.76 and still at 10 units/s."""
+    trio = mc405()
+    trio.load("P", "SPEED = 10\nACCEL = 200\nDECEL = 200\nMOVE(45)\nWAIT LOADED\n"
+                   "WAIT UNTIL REMAIN_TIME < 0.750\nVR(1) = DPOS\nVR(2) = REMAIN_TIME\n"
+                   "SPEED = 1\nWAIT IDLE\nVR(3) = 1")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=3000)
+    assert trio.machine.vr_read(1) == 0
+    trio.advance(ticks=20000)
+    start_to_vr = trio.machine.vr_read(1)
+    left = trio.machine.vr_read(2)
+    assert left == pytest.approx(0.749, abs=1e-9)  # the first whole tick below 0.75
+    # 0.749 s left: 0.05 s of ramp (0.25) and 0.699 s at 10 still to run
+    assert start_to_vr == pytest.approx(45 - (0.25 + 10 * 0.699), abs=1e-9)
+    assert trio.machine.vr_read(3) == 1  # the slowed move ends, at 1 unit/s
+
+
+def test_stopping_distance_linear_and_jerk_limited() -> None:
+    """Linear ramps: v^2 / (2 DECEL): 10^2 / 400 = 0.25 cruising, 2^2 / 400 = 0.01 at
+    10 ms into the ramp up (v = 200 x 0.01 = 2). VP_MODE 5 with JERK 200 and FASTJERK
+    2000, cruising at 50 with DECEL 100: 50 x (50/100 + 100/2000) / 2 = 13.75, as far as
+    the CANCEL of the FASTJERK test runs."""
+    trio = mc405("SPEED = 10: ACCEL = 200: DECEL = 200")
+    assert read(trio, "STOPPING_DISTANCE") == 0
+    assert trio.send("MOVE(45)") == []
+    start = trio.tick
+    at(trio, start + 10)
+    assert trio.machine.axis_parameter("STOPPING_DISTANCE", 0) == pytest.approx(0.01,
+                                                                              abs=1e-12)
+    at(trio, start + 1000)
+    assert trio.machine.axis_parameter("STOPPING_DISTANCE", 0) == pytest.approx(0.25,
+                                                                              abs=1e-12)
+    jerky = mc405("SPEED = 50: ACCEL = 1000: DECEL = 100", "VP_MODE = 5: JERK = 200",
+                  "FASTJERK = 2000", "MOVEABS(10000)")
+    at(jerky, 3000)
+    assert jerky.machine.axis_parameter("STOPPING_DISTANCE", 0) == pytest.approx(13.75,
+                                                                               abs=1e-9)
+    assert jerky.send("FASTJERK = 0") == []  # JERK alone: 50 x (0.5 + 0.5) / 2
+    assert jerky.machine.axis_parameter("STOPPING_DISTANCE", 0) == pytest.approx(25,
+                                                                               abs=1e-9)

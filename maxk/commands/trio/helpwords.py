@@ -101,13 +101,18 @@ P MPOS_DELAY w 0 -1e15 1e15 -{_RESERVED}
 P MPOS_PRE_COMP w 0 -1e15 1e15 -{_RESERVED}
 P OPEN_WINB w 0 -1e15 1e15 =Where the second registration window opens (user units): see
     CLOSE_WINB (C: OPEN_WINB page).
-P REMAIN_TIME r 0 0 1e15 -the time left of the moves buffered: not modelled yet (the moves not
-    yet started have no plan until they load)
+P REMAIN_TIME r 0 0 1e15 =The seconds until the moves the axis holds are done (C: its page):
+    the running move's end less now plus each single-axis move buffered behind it from rest
+    at the rates it loaded with, in whole servo cycles (D); a buffered multi-axis run counts
+    once it starts, links and moves without an end add nothing (D; profile_readings.py).
 P REV_START w 0 -1e15 1e15 -a forced reverse jog (MTYPE 15 while REV_JOG is -1): not modelled
     yet, as FWD_START
 P SPEED_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
-P STOPPING_DISTANCE r 0 0 1e15 -the distance to rest at the deceleration in force: not
-    modelled yet (reads 0)
+P STOPPING_DISTANCE r 0 0 1e15 =How far the axis runs to rest if its move is cancelled now
+    (C: its page; D: at the rates a CANCEL uses here, the move's DECEL with its SRAMP or JERK
+    and FASTJERK, from the profile speed, the acceleration starting from 0): v^2 / 2 DECEL
+    for a linear ramp; along the path for a multi-axis move; what is left of a stop running;
+    0 at rest and on links (D; profile_readings.py).
 P VP_DEMAND_ACCEL r 0 -1e15 1e15 -the profiler's demand acceleration: the page does not say
     whether it is ACCEL as loaded or the acceleration now (VP_ACCEL reads that)
 P VP_DEMAND_DECEL r 0 -1e15 1e15 -the profiler's demand deceleration: the page does not say

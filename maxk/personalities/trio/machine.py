@@ -40,6 +40,7 @@ from . import (
     links_modify,
     move_pa,
     moves,
+    profile_readings,
     sequences,
     stepratio,
     tangential,
@@ -338,6 +339,8 @@ class MC405Machine(Kinematics, Engine):
             return self.wrapped(axis, dpos - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name in profile_readings.READS:  # REMAIN_TIME, STOPPING_DISTANCE
+            return profile_readings.read(self, name, axis)
         if name == "TANG_DIRECTION":
             return tangential.direction(self, axis)
         if name == "TABLE_POINTER":
