@@ -306,3 +306,37 @@ def test_stopping_distance_linear_and_jerk_limited() -> None:
     assert jerky.send("FASTJERK = 0") == []  # JERK alone: 50 x (0.5 + 0.5) / 2
     assert jerky.machine.axis_parameter("STOPPING_DISTANCE", 0) == pytest.approx(25,
                                                                                abs=1e-9)
+
+
+# ---- V_LIMIT ------------------------------------------------------------------------------
+def test_v_limit_example_each_axis_within_its_limit() -> None:
+    """V_LIMIT page: x (axis 0) at most 40, y (axis 1) at most 80, SPEED 200. MOVE(0, 500)
+    runs at 80, MOVE(500, 0) at 40, MOVE(500, 500) at 40 x sqrt(2) = 56.5685. With ACCEL =
+    DECEL = 8000 the first takes 500/80 + 80/8000 = 6.26 s: at 1 s y is at
+    0.5 x 8000 x 0.01^2 + 80 x 0.99 = 79.6."""
+    trio = mc405("V_LIMIT AXIS(0) = 40: V_LIMIT AXIS(1) = 80",
+                 "BASE(0, 1): SPEED = 200: ACCEL = 8000: DECEL = 8000",
+                 "MOVE(0, 500): MOVE(500, 0): MOVE(500, 500)")
+    start = trio.tick
+    at(trio, start + 1000)
+    assert read(trio, "VP_SPEED") == 80
+    assert trio.machine.axis_parameter("DPOS", 1) == pytest.approx(79.6, abs=1e-9)
+    at(trio, start + 6260)  # the first move done; the second starts
+    assert trio.machine.axis_parameter("DPOS", 1) == 500
+    at(trio, start + 6260 + 1000)  # 40 ramps in 5 ms: 0.5 x 8000 x 0.005^2 + 40 x 0.995
+    assert read(trio, "VP_SPEED") == 40
+    assert trio.machine.axis_parameter("DPOS", 0) == pytest.approx(39.9, abs=1e-9)
+    second = 500 / 40 + 40 / 8000  # 12.505 s
+    at(trio, start + 6260 + round(second * 1000) + 2000)
+    assert float(trio.query("?VP_SPEED")) == pytest.approx(40 * 2 ** 0.5, abs=1e-4)
+
+
+def test_v_limit_off_and_in_vp_mode_5_the_move_runs_at_speed() -> None:
+    trio = mc405("V_LIMIT AXIS(0) = 0: V_LIMIT AXIS(1) = -5",
+                 "BASE(0, 1): SPEED = 200: ACCEL = 8000: DECEL = 8000", "MOVE(500, 500)")
+    trio.advance(ticks=1000)
+    assert read(trio, "VP_SPEED") == 200
+    jerky = mc405("V_LIMIT AXIS(0) = 40", "BASE(0, 1): SPEED = 200: VP_MODE = 5",
+                  "MOVE(500, 0)")
+    jerky.advance(ticks=1000)
+    assert read(jerky, "VP_SPEED") == 200  # the page: not supported in VP_MODE 5

@@ -126,8 +126,11 @@ P VP_ERROR r 0 0 10 =Reads 0: the error of VP_MODE 6's profiler, which the emula
     first) (D).
 P VP_OPTIONS w 0 0 63 -VP_MODE 6 tuning (buffer depth, forced-demand binding, processor use):
     the emulator has one jerk profile (see VP_MODE)
-P V_LIMIT w 0 -1e15 1e15 -an axis's cap on the vector path speed: not modelled yet (the shared
-    path planner plans at one speed per move)
+P V_LIMIT w 0 -1e15 1e15 =An axis's speed limit, user units/s (<= 0 none): a move loaded
+    with it is slowed so that no axis with a limit runs faster: a line at the vector speed
+    x |d_i| / L within each limit, an arc (MOVECIRC, MHELICAL...) at the lowest limit of its
+    axes (C: V_LIMIT page); taken when the move loads (D); ignored in VP_MODE 5 (C). An SP
+    move's top speed is cut the same, its STARTMOVE/ENDMOVE speeds are not (D).
 Y GTASIZE r 0 0 0 -the global target array of the robot system (GTA), not modelled: reads 0
     (no element)
 Y IN_DEBOUNCE w 0 0 1e6 -the inputs' debounce in servo cycles: not modelled yet (IN reads the

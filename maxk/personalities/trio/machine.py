@@ -81,6 +81,7 @@ from .profiles_sp import (
     sp_speeds,
     sramp_seconds,
     stop_jerk,
+    v_limited,
 )
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -942,6 +943,9 @@ class MC405Machine(Kinematics, Engine):
                                            tuple(float(d) for d in deltas), arc)
             for name, value in zip(DIRECTIONS, headings, strict=True):
                 base.params[name] = value
+        speed = v_limited(speed, [self.axes[a].params.get("V_LIMIT", 0.0) * self.axes[a].units
+                                  for a in axes], [float(d) for d in deltas],
+                          arc is not None, base.params.get("VP_MODE", 0.0))  # V_LIMIT (C)
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:

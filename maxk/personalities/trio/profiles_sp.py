@@ -228,3 +228,23 @@ def stop_jerk(params: Mapping[str, float], units: float, jerk: float) -> float:
     else:
         fast = params.get("FASTJERK", 0.0) * units
     return fast if fast > jerk else jerk
+
+
+def v_limited(speed: float, limits: Sequence[float], deltas: Sequence[float],
+              arc: bool, mode: float) -> float:
+    """V_LIMIT: the vector speed (counts/s) of a move cut so that no axis with a limit
+    (counts/s, <= 0 none) goes faster than it: a line's axis i runs at speed x |d_i| / L,
+    so speed <= limit_i x L / |d_i|; an arc's path runs at the lowest limit of its axes
+    (C: V_LIMIT page, its example's 45-degree move at 40 x sqrt(2)). Not in VP_MODE 5
+    (C: the page)."""
+    if mode == 5.0:
+        return speed
+    length = math.sqrt(sum(d * d for d in deltas))
+    for limit, delta in zip(limits, deltas, strict=True):
+        if limit <= 0:
+            continue
+        if arc:
+            speed = min(speed, limit)
+        elif delta != 0:
+            speed = min(speed, limit * length / abs(delta))
+    return speed
