@@ -340,3 +340,63 @@ def test_v_limit_off_and_in_vp_mode_5_the_move_runs_at_speed() -> None:
                   "MOVE(500, 0)")
     jerky.advance(ticks=1000)
     assert read(jerky, "VP_SPEED") == 200  # the page: not supported in VP_MODE 5
+
+
+# ---- FWD_START / REV_START ----------------------------------------------------------------
+def test_fwd_start_jogs_at_jogspeed_and_stops_at_decel() -> None:
+    """FWD_START page's table: FWD_JOG -1 and FWD_START 1: MTYPE 14. JOGSPEED 20, ACCEL =
+    DECEL = 1000: up in 0.02 s over 0.2, so at 1 s 0.2 + 20 x 0.98 = 19.8; FWD_START 0
+    ramps down over 0.02 s, 0.2 more: at rest at 20."""
+    trio = mc405("BASE(2): JOGSPEED = 20: ACCEL = 1000: DECEL = 1000")
+    assert trio.send("FWD_START = 1") == []
+    start = trio.tick
+    assert read(trio, "MTYPE AXIS(2)") == 14
+    at(trio, start + 1000)
+    assert trio.machine.axis_parameter("DPOS", 2) == pytest.approx(19.8, abs=1e-9)
+    assert trio.send("FWD_START = 0") == []
+    stop = trio.tick
+    at(trio, stop + 10)  # 20 x 0.01 - 1000 x 0.01^2 / 2 more
+    assert trio.machine.axis_parameter("DPOS", 2) == pytest.approx(19.95, abs=1e-9)
+    at(trio, stop + 25)
+    assert (read(trio, "MTYPE AXIS(2)"), trio.machine.axis_parameter("DPOS", 2)) == (0, 20)
+
+
+def test_rev_start_and_the_start_ignored_with_an_input_declared() -> None:
+    trio = mc405("BASE(2): JOGSPEED = 20: ACCEL = 1000: DECEL = 1000", "REV_START = 1")
+    assert read(trio, "MTYPE AXIS(2)") == 15
+    trio.advance(ticks=1000)
+    assert trio.machine.axis_parameter("DPOS", 2) == pytest.approx(-19.8, abs=1e-9)
+    other = mc405("BASE(3): JOGSPEED = 20", "FWD_START = 2")
+    assert read(other, "MTYPE AXIS(3)") == 0  # "Not Equ 1": idle (the page's table)
+    other.world_view().set_input(7, True)  # the jog input high: it asks for no jog
+    assert other.send("FWD_JOG = 7: FWD_START = 1") == []  # an input declared: no function
+    other.advance(ticks=100)
+    assert read(other, "MTYPE AXIS(3)") == 0
+    assert other.send("FWD_JOG = -1") == []  # no input: FWD_START 1 jogs
+    assert read(other, "MTYPE AXIS(3)") == 14
+
+
+def test_fwd_start_example_program_follows_vr_10() -> None:
+    """The page's example: a program jogs axis 2 as VR(10) says (1 forward, 2 reverse,
+    0 stop, 99 end)."""
+    trio = mc405("JOGSPEED AXIS(2) = 20: ACCEL AXIS(2) = 1000: DECEL AXIS(2) = 1000")
+    trio.load("P", "BASE(2)\nFWD_JOG = -1\nREV_JOG = -1\nIF IDLE THEN\n  REPEAT\n"
+                   "    SELECT_CASE VR(10)\n    CASE 0\n      FWD_START = 0\n"
+                   "      REV_START = 0\n    CASE 1\n      FWD_START = 1\n"
+                   "      REV_START = 0\n    CASE 2\n      FWD_START = 0\n"
+                   "      REV_START = 1\n    END_CASE\n  UNTIL VR(10) = 99\nENDIF")
+    assert trio.send('RUN "P"') == []
+    trio.advance(ticks=50)
+    assert read(trio, "MTYPE AXIS(2)") == 0
+    assert trio.send("VR(10) = 1") == []
+    trio.advance(ticks=500)
+    assert read(trio, "MTYPE AXIS(2)") == 14 and read(trio, "VP_SPEED AXIS(2)") == 20
+    assert trio.send("VR(10) = 0") == []
+    trio.advance(ticks=100)
+    assert read(trio, "MTYPE AXIS(2)") == 0
+    here = trio.machine.axis_parameter("DPOS", 2)
+    assert trio.send("VR(10) = 2") == []
+    trio.advance(ticks=500)
+    assert read(trio, "MTYPE AXIS(2)") == 15
+    assert trio.machine.axis_parameter("DPOS", 2) < here
+    assert trio.send("VR(10) = 99") == []

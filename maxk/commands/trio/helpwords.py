@@ -85,8 +85,10 @@ P FORCE_DECEL w -1 -1 1e15 -an SP move's own deceleration: the emulator's SP mov
     DECEL (profiles_sp.py); stored, not applied (power-up -1, C)
 P FORCE_JERK w -1 -1 1e15 -an SP move's own jerk: the emulator's SP moves take JERK
     (profiles_sp.py); stored, not applied (power-up -1, C)
-P FWD_START w 0 -1e15 1e15 -a forced forward jog (MTYPE 14 while FWD_JOG is -1): not modelled
-    yet, the jogs start only from their inputs (jogs.py)
+P FWD_START w 0 -1e15 1e15 =1 with FWD_JOG at -1 jogs the axis forward (MTYPE 14) as a
+    low jog input would: at JOGSPEED (SPEED with FAST_JOG low), from idle, ramping down at
+    DECEL when it is set to anything else (C: FWD_START page's table; the jog's rules, D:
+    see FWD_JOG); with FWD_JOG naming an input it has no function (C) (jogs.py).
 P JERK_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
 P MOVE_COUNT_INC w 1 -1e15 1e15 =What MOVE_COUNT changes by for each move that becomes the
     running one (C: MOVE_COUNT_INC page; 0 leaves it, negative counts down). Power-up 1 (D:
@@ -105,8 +107,8 @@ P REMAIN_TIME r 0 0 1e15 =The seconds until the moves the axis holds are done (C
     the running move's end less now plus each single-axis move buffered behind it from rest
     at the rates it loaded with, in whole servo cycles (D); a buffered multi-axis run counts
     once it starts, links and moves without an end add nothing (D; profile_readings.py).
-P REV_START w 0 -1e15 1e15 -a forced reverse jog (MTYPE 15 while REV_JOG is -1): not modelled
-    yet, as FWD_START
+P REV_START w 0 -1e15 1e15 =As FWD_START, in reverse (MTYPE 15) with REV_JOG at -1 (C:
+    REV_START page).
 P SPEED_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
 P STOPPING_DISTANCE r 0 0 1e15 =How far the axis runs to rest if its move is cancelled now
     (C: its page; D: at the rates a CANCEL uses here, the move's DECEL with its SRAMP or JERK

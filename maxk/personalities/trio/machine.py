@@ -119,7 +119,7 @@ _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POIN
                        "BACKLASH_DIST"})
 DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
 """Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
-_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
+_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG", "FWD_START", "REV_START"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
                                  "REGIST_SPEEDB", "REGIST_CONTROL"})
 
