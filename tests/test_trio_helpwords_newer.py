@@ -400,3 +400,35 @@ def test_fwd_start_example_program_follows_vr_10() -> None:
     assert read(trio, "MTYPE AXIS(2)") == 15
     assert trio.machine.axis_parameter("DPOS", 2) < here
     assert trio.send("VR(10) = 99") == []
+
+
+# ---- FORCE_ACCEL / FORCE_DECEL / FORCE_JERK -----------------------------------------------
+def test_an_sp_move_ramps_at_force_accel_and_force_decel() -> None:
+    """FORCE_SPEED 50, FORCE_ACCEL 2000, FORCE_DECEL 500 (ACCEL = DECEL = 100 not used):
+    MOVESP(100) is up in 0.025 s over 0.625, down in 0.1 s over 2.5, cruising the
+    96.875 between in 1.9375 s: 2.0625 s in all."""
+    trio = mc405("ACCEL = 100: DECEL = 100: FORCE_SPEED = 50",
+                 "FORCE_ACCEL = 2000: FORCE_DECEL = 500", "MOVESP(100)")
+    start = trio.tick
+    at(trio, start + 10)
+    assert dpos(trio) == pytest.approx(0.5 * 2000 * 0.01 ** 2, abs=1e-12)
+    at(trio, start + 1000)
+    assert dpos(trio) == pytest.approx(0.625 + 50 * 0.975, abs=1e-9)
+    at(trio, start + 2062)  # 0.5 ms before the end
+    assert dpos(trio) == pytest.approx(100 - 0.5 * 500 * 0.0005 ** 2, abs=1e-12)
+    at(trio, start + 2063)
+    assert (dpos(trio), read(trio, "MTYPE")) == (100, 0)
+    # a plain MOVE keeps ACCEL: 0.5 x 100 x 0.01^2 after 10 ms
+    assert trio.send("SPEED = 50: MOVE(10)") == []
+    again = trio.tick
+    at(trio, again + 10)
+    assert dpos(trio) == pytest.approx(100 + 0.005, abs=1e-12)
+
+
+def test_force_jerk_shapes_an_sp_move_in_vp_mode_5() -> None:
+    """VP_MODE 5, JERK 200 but FORCE_JERK 50000: the SP move's acceleration rises at 50000,
+    so 10 ms in it has gone 50000 x 0.01^3 / 6 (JERK's 200 would give 1/250 of that)."""
+    trio = mc405("VP_MODE = 5: JERK = 200: ACCEL = 100: DECEL = 100",
+                 "FORCE_SPEED = 50: FORCE_ACCEL = 2000: FORCE_JERK = 50000", "MOVESP(100)")
+    trio.advance(ticks=10)
+    assert dpos(trio) == pytest.approx(50000 * 0.01 ** 3 / 6, abs=1e-12)

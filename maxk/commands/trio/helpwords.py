@@ -79,12 +79,16 @@ P FASTJERK w 0 0 1e15 =The jerk of a stop (CANCEL, RAPIDSTOP, a limit) in VP_MOD
     user units/s^3: used when above JERK, else JERK (C: FASTJERK page); 0 not used (C).
     Ignored in VP_MODE 0 (C). Assigned SRAMP (not 0) in VP_MODE 6 takes over as FASTDEC/SRAMP
     (C); the emulator takes SRAMP 0 as not assigned (D).
-P FORCE_ACCEL w -1 -1 1e15 -an SP move's own acceleration: the emulator's SP moves ramp at
-    ACCEL (profiles_sp.py); stored, not applied (power-up -1, C)
-P FORCE_DECEL w -1 -1 1e15 -an SP move's own deceleration: the emulator's SP moves ramp at
-    DECEL (profiles_sp.py); stored, not applied (power-up -1, C)
-P FORCE_JERK w -1 -1 1e15 -an SP move's own jerk: the emulator's SP moves take JERK
-    (profiles_sp.py); stored, not applied (power-up -1, C)
+P FORCE_ACCEL w -1 -1 1e15 =An SP move's own acceleration (MOVESP, MOVEABSSP, MOVECIRCSP,
+    MHELICALSP), user units/s^2, taken as it loads in place of ACCEL (C: FORCE_ACCEL page);
+    -1 (power-up, C) or 0 (D): ACCEL. Merged SP moves each ramp up at their own (D).
+    MOVEADD's demand (not modelled, see MOVEADD).
+P FORCE_DECEL w -1 -1 1e15 =An SP move's own deceleration, user units/s^2, in place of DECEL
+    (C: FORCE_DECEL page); -1 or 0: DECEL. A run of merged moves ramps down at the first
+    one's (D, as DECEL).
+P FORCE_JERK w -1 -1 1e15 =An SP move's own jerk in VP_MODE 5 and 6, user units/s^3, in place
+    of JERK (C: FORCE_JERK page, AXIS_BLENDING: not in VP_MODE 0); -1 or 0: JERK; over
+    SRAMP's ACCEL/SRAMP in VP_MODE 6 too (D).
 P FWD_START w 0 -1e15 1e15 =1 with FWD_JOG at -1 jogs the axis forward (MTYPE 14) as a
     low jog input would: at JOGSPEED (SPEED with FAST_JOG low), from idle, ramping down at
     DECEL when it is set to anything else (C: FWD_START page's table; the jog's rules, D:

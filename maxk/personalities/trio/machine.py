@@ -74,6 +74,7 @@ from .profiles_sp import (
     DIRECTIONS,
     VP_MODES,
     cornered,
+    forced_rates,
     interp_share,
     jerk_counts,
     lookahead,
@@ -913,6 +914,9 @@ class MC405Machine(Kinematics, Engine):
         speed = base.params[self._speed_name] * base.units
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
+        jerk = jerk_counts(base.params, base.units)
+        if self._speed_name == "FORCE_SPEED":  # an SP move's own rates (profiles_sp.py)
+            accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
         if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
         for a, delta in zip(axes, deltas, strict=True):
@@ -969,7 +973,7 @@ class MC405Machine(Kinematics, Engine):
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
                   sramp=sramp_seconds(base.params),
-                  jerk=jerk_counts(base.params, base.units), preset=preset)
+                  jerk=jerk, preset=preset)
         if sp is not None:
             run.sp[0] = sp
             run.factored[0] = lookahead(base.params)

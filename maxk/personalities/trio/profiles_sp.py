@@ -248,3 +248,22 @@ def v_limited(speed: float, limits: Sequence[float], deltas: Sequence[float],
         elif delta != 0:
             speed = min(speed, limit * length / abs(delta))
     return speed
+
+
+def forced_rates(params: Mapping[str, float], units: float, accel: float, decel: float,
+                 jerk: float) -> tuple[float, float, float]:
+    """An SP move's own (acceleration, deceleration, jerk), counts: FORCE_ACCEL,
+    FORCE_DECEL and FORCE_JERK where set (above 0; -1, their power-up, not used: C, their
+    pages; 0 not used, D), else the axis's ACCEL, DECEL and JERK. FORCE_JERK in VP_MODE 5
+    and 6 only (C: AXIS_BLENDING page, "for VP_MODEs other than 0"), over SRAMP's jerk in
+    VP_MODE 6 too (D)."""
+    force_accel = params.get("FORCE_ACCEL", -1.0)
+    force_decel = params.get("FORCE_DECEL", -1.0)
+    force_jerk = params.get("FORCE_JERK", -1.0)
+    if force_accel > 0:
+        accel = force_accel * units
+    if force_decel > 0:
+        decel = force_decel * units
+    if force_jerk > 0 and params.get("VP_MODE", 0.0) in (5.0, 6.0):
+        jerk = force_jerk * units
+    return accel, decel, jerk
