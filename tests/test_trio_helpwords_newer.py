@@ -432,3 +432,27 @@ def test_force_jerk_shapes_an_sp_move_in_vp_mode_5() -> None:
                  "FORCE_SPEED = 50: FORCE_ACCEL = 2000: FORCE_JERK = 50000", "MOVESP(100)")
     trio.advance(ticks=10)
     assert dpos(trio) == pytest.approx(50000 * 0.01 ** 3 / 6, abs=1e-12)
+
+
+# ---- MOVE_FORCE_SPEED / ACCEL / DECEL -----------------------------------------------------
+def test_move_force_readings_follow_the_move_running() -> None:
+    """Two SP moves then a MOVE. The first, MOVESP(10) at 50 with FORCE_ACCEL 2000 (DECEL
+    1000): up 0.025 s (0.625), down 0.05 s (1.25), the 8.125 between at 50 in 0.1625 s:
+    0.2375 s, so it is done on tick 238 and the second runs from there; it (at 20, ACCEL
+    1000, FORCE_DECEL 300) takes 0.02 + 9.1333/20 + 0.0667 = 0.54333 s, to tick 782."""
+    trio = mc405("ACCEL = 1000: DECEL = 1000: SPEED = 10",
+                 "FORCE_SPEED = 50: FORCE_ACCEL = 2000: MOVESP(10)",
+                 "FORCE_SPEED = 20: FORCE_ACCEL = -1: FORCE_DECEL = 300: MOVESP(10)",
+                 "MOVE(5)")
+    start = trio.tick
+    names = ("MOVE_FORCE_SPEED", "MOVE_FORCE_ACCEL", "MOVE_FORCE_DECEL")
+    assert [read(trio, n) for n in names] == [50, 2000, -1]
+    at(trio, start + 237)
+    assert [read(trio, n) for n in names] == [50, 2000, -1]
+    at(trio, start + 238)
+    assert [read(trio, n) for n in names] == [20, -1, 300]
+    at(trio, start + 781)
+    assert read(trio, "MOVE_FORCE_SPEED") == 20
+    at(trio, start + 782)  # the plain MOVE: no forced values
+    assert [read(trio, n) for n in names] == [-1, -1, -1]
+    assert read(trio, "MTYPE") == 1

@@ -97,12 +97,12 @@ P JERK_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a mo
 P MOVE_COUNT_INC w 1 -1e15 1e15 =What MOVE_COUNT changes by for each move that becomes the
     running one (C: MOVE_COUNT_INC page; 0 leaves it, negative counts down). Power-up 1 (D:
     MOVE_COUNT's own counting by one).
-P MOVE_FORCE_ACCEL r -1 -1 1e15 -the running move's FORCE_ACCEL, which the emulator's SP moves
-    do not apply (see FORCE_ACCEL); reads -1 (D)
-P MOVE_FORCE_DECEL r -1 -1 1e15 -the running move's FORCE_DECEL, which the emulator's SP moves
-    do not apply (see FORCE_DECEL); reads -1 (D)
-P MOVE_FORCE_SPEED r -1 -1 1e15 -the running move's FORCE_SPEED: not modelled yet (the SP move
-    keeps it, profiles_sp.py, but no reading of it is wired); reads -1 (D)
+P MOVE_FORCE_ACCEL r -1 -1 1e15 =The FORCE_ACCEL the running move loaded with (C: its page):
+    an SP move's, on every axis of its group; -1 with none running or a plain move (D).
+P MOVE_FORCE_DECEL r -1 -1 1e15 =The FORCE_DECEL the running move loaded with (C: its page):
+    an SP move's, on every axis of its group; -1 with none running or a plain move (D).
+P MOVE_FORCE_SPEED r -1 -1 1e15 =The FORCE_SPEED the running move loaded with (C: its page):
+    an SP move's, on every axis of its group; -1 with none running or a plain move (D).
 P MPOS_DELAY w 0 -1e15 1e15 -{_RESERVED}
 P MPOS_PRE_COMP w 0 -1e15 1e15 -{_RESERVED}
 P OPEN_WINB w 0 -1e15 1e15 =Where the second registration window opens (user units): see

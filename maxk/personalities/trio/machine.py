@@ -75,6 +75,7 @@ from .profiles_sp import (
     VP_MODES,
     cornered,
     forced_rates,
+    forced_values,
     interp_share,
     jerk_counts,
     lookahead,
@@ -956,6 +957,7 @@ class MC405Machine(Kinematics, Engine):
                 last.arcs[len(last.deltas)] = arc
             last.kinds[len(last.deltas)] = kind
             if sp is not None:
+                last.forced[len(last.deltas)] = forced_values(base.params)
                 last.sp[len(last.deltas)] = sp
                 last.factored[len(last.deltas)] = lookahead(base.params)
             last.carried[len(last.deltas)] = carried
@@ -975,6 +977,7 @@ class MC405Machine(Kinematics, Engine):
                   sramp=sramp_seconds(base.params),
                   jerk=jerk, preset=preset)
         if sp is not None:
+            run.forced[0] = forced_values(base.params)
             run.sp[0] = sp
             run.factored[0] = lookahead(base.params)
         if arc is not None:

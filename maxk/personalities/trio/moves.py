@@ -183,6 +183,11 @@ def moves_left(m: Host, run: Run) -> int:
     return run.moves_left(m.tick, m.period)
 
 
+def current(m: Host, run: Run) -> int:
+    """The index of the move a started run is on (MOVE_FORCE_*, profile_readings.py)."""
+    return _current(m, run)
+
+
 def _current(m: Host, run: Run) -> int:
     """The index of the move a started run is on."""
     if run.plan is None or run.profile is not None:

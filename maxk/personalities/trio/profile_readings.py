@@ -8,6 +8,9 @@ table: REMAIN_TIME and STOPPING_DISTANCE (helpwords.NEWER_WORDS).
   in whole servo cycles as the moves end on them (D). A buffered multi-axis run is not
   counted until it starts: its path is resolved from where the axes are then (D). Links
   and moves without an end (FORWARD, jogs) add nothing: they have no time left (D).
+- MOVE_FORCE_SPEED, MOVE_FORCE_ACCEL, MOVE_FORCE_DECEL: the FORCE_SPEED, FORCE_ACCEL and
+  FORCE_DECEL the running move loaded with (C: their pages), on every axis of its group;
+  -1 with no move running or a move that is not an SP move (D).
 - STOPPING_DISTANCE: how far the axis would run if its move were cancelled now (C: its page,
   "using the current deceleration parameters"; D: the rates a CANCEL would use here, the
   move's DECEL with its SRAMP/JERK and FASTJERK, machine._stop): from the profile speed v
@@ -22,15 +25,23 @@ from __future__ import annotations
 import math
 
 from .moves import Host
+from .moves import current as current_move
 from .profiles_sp import stop_jerk
 from .runs import Run, ramp_shares, single_profile
 
-READS = frozenset({"REMAIN_TIME", "STOPPING_DISTANCE"})
+READS = frozenset({"REMAIN_TIME", "STOPPING_DISTANCE", "MOVE_FORCE_SPEED", "MOVE_FORCE_ACCEL",
+                   "MOVE_FORCE_DECEL"})
+_FORCED = ("MOVE_FORCE_SPEED", "MOVE_FORCE_ACCEL", "MOVE_FORCE_DECEL")
 
 
 def read(m: Host, name: str, axis: int) -> float:
     queue = m.queues[axis]
     run = queue[0] if queue else None
+    if name in _FORCED:
+        if run is None or not run.started:
+            return -1.0
+        values = run.forced.get(current_move(m, run))
+        return values[_FORCED.index(name)] if values is not None else -1.0
     if name == "REMAIN_TIME":
         if run is None or not run.started:
             return 0.0

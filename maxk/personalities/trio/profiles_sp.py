@@ -267,3 +267,10 @@ def forced_rates(params: Mapping[str, float], units: float, accel: float, decel:
     if force_jerk > 0 and params.get("VP_MODE", 0.0) in (5.0, 6.0):
         jerk = force_jerk * units
     return accel, decel, jerk
+
+
+def forced_values(params: Mapping[str, float]) -> tuple[float, float, float]:
+    """(FORCE_SPEED, FORCE_ACCEL, FORCE_DECEL) as an SP move loads them, user units: what
+    MOVE_FORCE_SPEED/ACCEL/DECEL read while it runs (C: their pages)."""
+    return (params.get("FORCE_SPEED", 0.0), params.get("FORCE_ACCEL", -1.0),
+            params.get("FORCE_DECEL", -1.0))
