@@ -456,3 +456,17 @@ def test_move_force_readings_follow_the_move_running() -> None:
     at(trio, start + 782)  # the plain MOVE: no forced values
     assert [read(trio, n) for n in names] == [-1, -1, -1]
     assert read(trio, "MTYPE") == 1
+
+
+def test_move_force_readings_of_merged_sp_moves_follow_the_move_index() -> None:
+    """MERGE ON: the two SP moves run as one path; the readings change where the second
+    begins (the first's 10 units take about 0.2 s, the second's about 0.5 s more)."""
+    trio = mc405("ACCEL = 1000: DECEL = 1000: MERGE = ON",
+                 "FORCE_SPEED = 50: FORCE_ACCEL = 2000: MOVESP(10)",
+                 "FORCE_SPEED = 20: FORCE_ACCEL = -1: FORCE_DECEL = 300: MOVESP(10)")
+    start = trio.tick
+    at(trio, start + 100)
+    assert read(trio, "MOVE_FORCE_SPEED") == 50 and read(trio, "DPOS") < 10
+    at(trio, start + 500)
+    assert read(trio, "DPOS") > 10
+    assert [read(trio, n) for n in ("MOVE_FORCE_SPEED", "MOVE_FORCE_DECEL")] == [20, 300]
