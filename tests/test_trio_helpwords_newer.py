@@ -470,3 +470,50 @@ def test_move_force_readings_of_merged_sp_moves_follow_the_move_index() -> None:
     at(trio, start + 500)
     assert read(trio, "DPOS") > 10
     assert [read(trio, n) for n in ("MOVE_FORCE_SPEED", "MOVE_FORCE_DECEL")] == [20, 300]
+
+
+# ---- SPEED_FACTOR / ACCEL_FACTOR / JERK_FACTOR --------------------------------------------
+def test_speed_and_accel_factors_in_vp_mode_5_and_a_live_change() -> None:
+    """VP_MODE 5 (no JERK: linear ramps), SPEED 100, ACCEL = DECEL = 1000, both factors
+    0.5: MOVE(100) at 50 with 500: up 0.1 s over 2.5, at 1 s 2.5 + 45 = 47.5. SPEED_FACTOR
+    1 then: from 50 to 100 at 500 over 0.1 s, 5 + 2.5 more, then 10 a 0.1 s."""
+    trio = mc405("VP_MODE = 5: SPEED = 100: ACCEL = 1000: DECEL = 1000",
+                 "SPEED_FACTOR = 0.5: ACCEL_FACTOR = 0.5", "MOVE(100)")
+    start = trio.tick
+    at(trio, start + 100)
+    assert dpos(trio) == pytest.approx(2.5, abs=1e-9)
+    at(trio, start + 1000)
+    assert (dpos(trio), read(trio, "VP_SPEED")) == (pytest.approx(47.5, abs=1e-9), 50)
+    assert trio.send("SPEED_FACTOR = 1") == []
+    at(trio, start + 1100)
+    assert dpos(trio) == pytest.approx(55, abs=1e-9)
+    at(trio, start + 1200)
+    assert (dpos(trio), read(trio, "VP_SPEED")) == (pytest.approx(65, abs=1e-9), 100)
+
+
+def test_the_factors_are_ignored_in_vp_mode_0() -> None:
+    """VP_MODE 0: MOVE at SPEED 100, ACCEL 1000: 0.5 x 1000 x 0.1^2 = 5 at 0.1 s."""
+    trio = mc405("SPEED = 100: ACCEL = 1000: DECEL = 1000",
+                 "SPEED_FACTOR = 0.5: ACCEL_FACTOR = 0.5: JERK_FACTOR = 0.5", "MOVE(100)")
+    trio.advance(ticks=100)
+    assert dpos(trio) == pytest.approx(5, abs=1e-9)
+
+
+def test_jerk_factor_halves_the_jerk_of_a_move() -> None:
+    """VP_MODE 5, JERK 2000 x JERK_FACTOR 0.5 = 1000: 10 ms in, 1000 x 0.01^3 / 6."""
+    trio = mc405("VP_MODE = 5: SPEED = 100: ACCEL = 1000: DECEL = 1000: JERK = 2000",
+                 "JERK_FACTOR = 0.5", "MOVE(100)")
+    trio.advance(ticks=10)
+    assert dpos(trio) == pytest.approx(1000 * 0.01 ** 3 / 6, abs=1e-12)
+
+
+def test_a_speed_written_during_a_v_limited_move_stays_within_the_limit() -> None:
+    trio = mc405("V_LIMIT = 40: SPEED = 200: ACCEL = 8000: DECEL = 8000", "MOVE(500)")
+    trio.advance(ticks=500)
+    assert read(trio, "VP_SPEED") == 40
+    assert trio.send("SPEED = 300") == []
+    trio.advance(ticks=500)
+    assert read(trio, "VP_SPEED") == 40
+    assert trio.send("SPEED = 20") == []  # below the limit: taken
+    trio.advance(ticks=500)
+    assert read(trio, "VP_SPEED") == 20

@@ -61,7 +61,10 @@ _RESERVED = "a reserved keyword: its page gives no behaviour"
 _VP56 = "VP_MODE 5 and 6 look-ahead tuning"
 
 NEWER_WORDS = f"""\
-P ACCEL_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P ACCEL_FACTOR w 1 0 1 =In VP_MODE 5 and 6 the moves' ACCEL and DECEL are taken times it
+    (C: its page); written while a move runs, as ACCEL is (re-planned from where it is,
+    respeed.py: D, as its page's example turns a potentiometer); ignored in VP_MODE 0 (C).
+    0 leaves the moves running as they are and refuses new ones, as ACCEL 0 (D).
 P AXIS_BLENDING w 1 0 4 -the emulator's SP moves always blend as its power-up 1 (Low, see
     profiles_sp.py); 0, 2, 3 and 4 are stored, not applied
 P AXIS_ENABLE_OVERRIDE w 0 -1 1 -it enables an EtherCAT drive for Motion Perfect's set-up;
@@ -93,7 +96,9 @@ P FWD_START w 0 -1e15 1e15 =1 with FWD_JOG at -1 jogs the axis forward (MTYPE 14
     low jog input would: at JOGSPEED (SPEED with FAST_JOG low), from idle, ramping down at
     DECEL when it is set to anything else (C: FWD_START page's table; the jog's rules, D:
     see FWD_JOG); with FWD_JOG naming an input it has no function (C) (jogs.py).
-P JERK_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P JERK_FACTOR w 1 0 1 =In VP_MODE 5 and 6 the moves' JERK is taken times it (C: its
+    page), as a move loads (D: the page does not say how a change reaches a move running);
+    ignored in VP_MODE 0 (C); 0: no jerk limit, as JERK 0 (D).
 P MOVE_COUNT_INC w 1 -1e15 1e15 =What MOVE_COUNT changes by for each move that becomes the
     running one (C: MOVE_COUNT_INC page; 0 leaves it, negative counts down). Power-up 1 (D:
     MOVE_COUNT's own counting by one).
@@ -113,7 +118,10 @@ P REMAIN_TIME r 0 0 1e15 =The seconds until the moves the axis holds are done (C
     once it starts, links and moves without an end add nothing (D; profile_readings.py).
 P REV_START w 0 -1e15 1e15 =As FWD_START, in reverse (MTYPE 15) with REV_JOG at -1 (C:
     REV_START page).
-P SPEED_FACTOR w 1 0 1 -{_VP56}: the page does not say when a change reaches a move running
+P SPEED_FACTOR w 1 0 1 =In VP_MODE 5 and 6 the moves' SPEED is taken times it (C: its
+    page; SP moves keep FORCE_SPEED, see LOOKAHEAD_FACTOR); written while a move runs, as
+    SPEED is: re-planned from where it is toward the new speed (respeed.py, D); ignored in
+    VP_MODE 0 (C). 0 leaves the moves running as they are and refuses new ones (D).
 P STOPPING_DISTANCE r 0 0 1e15 =How far the axis runs to rest if its move is cancelled now
     (C: its page; D: at the rates a CANCEL uses here, the move's DECEL with its SRAMP or JERK
     and FASTJERK, from the profile speed, the acceleration starting from 0): v^2 / 2 DECEL

@@ -84,6 +84,7 @@ from .profiles_sp import (
     sramp_seconds,
     stop_jerk,
     v_limited,
+    vp_factors,
 )
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -409,7 +410,7 @@ class MC405Machine(Kinematics, Engine):
             self.feedhold.look()
         if name == "LOOKAHEAD_FACTOR":
             refactor(self, axis)  # the SP moves buffered take it (respeed.py)
-        if name in ("SPEED", "ACCEL", "DECEL"):
+        if name in ("SPEED", "ACCEL", "DECEL", "SPEED_FACTOR", "ACCEL_FACTOR"):
             respeed(self, axis)  # the plain moves running take it at once (respeed.py)
             if self.feedhold.held:
                 self.feedhold.look()  # (a feed hold's share of the new speed)
@@ -916,6 +917,10 @@ class MC405Machine(Kinematics, Engine):
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
         jerk = jerk_counts(base.params, base.units)
+        if self._speed_name == "SPEED":  # SPEED_FACTOR, ACCEL_FACTOR (VP_MODE 5, 6)
+            speed_factor, accel_factor = vp_factors(base.params)
+            speed, accel, decel = (speed * speed_factor, accel * accel_factor,
+                                   decel * accel_factor)
         if self._speed_name == "FORCE_SPEED":  # an SP move's own rates (profiles_sp.py)
             accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
         if not min(speed, accel, decel) >= MIN_RATE:

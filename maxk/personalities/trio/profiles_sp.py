@@ -33,7 +33,7 @@ def jerk_counts(params: Mapping[str, float], units: float) -> float:
     sramp = params.get("SRAMP", 0.0)
     if mode == 6.0 and sramp > 0:
         return params["ACCEL"] * units / (sramp / 1000.0)
-    return max(0.0, params.get("JERK", 0.0)) * units
+    return max(0.0, params.get("JERK", 0.0)) * units * params.get("JERK_FACTOR", 1.0)
 
 
 def sramp_seconds(params: Mapping[str, float]) -> float:
@@ -274,3 +274,11 @@ def forced_values(params: Mapping[str, float]) -> tuple[float, float, float]:
     MOVE_FORCE_SPEED/ACCEL/DECEL read while it runs (C: their pages)."""
     return (params.get("FORCE_SPEED", 0.0), params.get("FORCE_ACCEL", -1.0),
             params.get("FORCE_DECEL", -1.0))
+
+
+def vp_factors(params: Mapping[str, float]) -> tuple[float, float]:
+    """(SPEED_FACTOR, ACCEL_FACTOR) on SPEED and on ACCEL and DECEL, in VP_MODE 5 and 6
+    only (C: their pages); 1 in VP_MODE 0 (C). JERK_FACTOR is in jerk_counts."""
+    if params.get("VP_MODE", 0.0) not in (5.0, 6.0):
+        return 1.0, 1.0
+    return params.get("SPEED_FACTOR", 1.0), params.get("ACCEL_FACTOR", 1.0)
