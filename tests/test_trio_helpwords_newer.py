@@ -517,3 +517,45 @@ def test_a_speed_written_during_a_v_limited_move_stays_within_the_limit() -> Non
     assert trio.send("SPEED = 20") == []  # below the limit: taken
     trio.advance(ticks=500)
     assert read(trio, "VP_SPEED") == 20
+
+
+# ---- IN_DEBOUNCE --------------------------------------------------------------------------
+def test_in_debounce_delays_a_change_and_drops_a_glitch() -> None:
+    """IN_DEBOUNCE page, example 1's setting: 10 servo cycles. Input 0 rises on tick T: IN
+    reads it from T + 10. A low glitch of 3 cycles is never seen; a low that holds 10 is."""
+    trio = mc405("IN_DEBOUNCE = 10")
+    trio.advance(ticks=5)
+    rise = trio.tick
+    trio.world_view().set_input(0, True)
+    at(trio, rise + 9)
+    assert trio.query("?IN(0)") == "0"
+    at(trio, rise + 10)
+    assert trio.query("?IN(0)") == "1"
+    low = trio.tick
+    trio.world_view().set_input(0, False)
+    at(trio, low + 3)
+    trio.world_view().set_input(0, True)
+    for k in (5, 12, 20):
+        at(trio, low + k)
+        assert trio.query("?IN(0)") == "1", k
+    low = trio.tick
+    trio.world_view().set_input(0, False)
+    at(trio, low + 9)
+    assert trio.query("?IN(0)") == "1"
+    at(trio, low + 10)
+    assert trio.query("?IN(0)") == "0"
+    assert trio.send("IN_DEBOUNCE = 0") == []  # off: the level at once
+    trio.world_view().set_input(0, True)
+    assert trio.query("?IN(0)") == "1"
+
+
+def test_in_debounce_leaves_registration_alone() -> None:
+    """The page: registration is not affected: the edge is captured on its own tick."""
+    trio = mc405("IN_DEBOUNCE = 50", "BASE(1): SPEED = 100: ACCEL = 1e6: DECEL = 1e6",
+                 "REGIST(20, 7, 4, 0, 0): FORWARD")
+    at(trio, 300)
+    trio.world_view().set_input(7, True)
+    assert read(trio, "MARK") == -1
+    assert trio.machine.registration.read("REG_POS", 1) == pytest.approx(
+        100 * 300 / 1000 - 100 * 100 / 2e6)
+    assert trio.query("?IN(7)") == "0"  # IN still waits out the 50 cycles

@@ -295,6 +295,9 @@ class FakeTrioMachine:
         if travelled >= cam.distance:
             del self.cams[axis]
 
+    def debounced_input(self, number: int) -> bool:
+        return self.digital_input(number)  # (the fake has no IN_DEBOUNCE)
+
     def digital_input(self, number: int) -> bool:
         """A level a test sets; else an input FWD_IN/REV_IN/DATUM_IN names reads 1 (its
         normally closed switch, never reached: the fake has no stage), any other 0;

@@ -147,8 +147,10 @@ P V_LIMIT w 0 -1e15 1e15 =An axis's speed limit, user units/s (<= 0 none): a mov
     move's top speed is cut the same, its STARTMOVE/ENDMOVE speeds are not (D).
 Y GTASIZE r 0 0 0 -the global target array of the robot system (GTA), not modelled: reads 0
     (no element)
-Y IN_DEBOUNCE w 0 0 1e6 -the inputs' debounce in servo cycles: not modelled yet (IN reads the
-    world's level at once; the world's edges are clean)
+Y IN_DEBOUNCE w 0 0 1e6 =IN reads an input's new level only once its voltage has held it for
+    IN_DEBOUNCE servo cycles, a shorter glitch never (C: its page); registration is not
+    affected (C), nor limits, jogs and feed hold (D: the page names IN); power-up 0, none
+    (D); INVERT_IN applies after it (D) (debounce.py).
 K COMBINE_AXES 2 2 -a DPOS computed from two axes (COMBINE_CONTROL's modes): not modelled yet
 K COMBINE_CONTROL 3 7 -the mode of COMBINE_AXES: not modelled yet
 K COMPENSATE_ENC 0 0 -{_RESERVED}

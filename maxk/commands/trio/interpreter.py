@@ -813,7 +813,7 @@ class Interpreter:
             if name == "AOUT":
                 return self.hook.analog_outputs.get(channel, 0.0)
             return float(round(m.analog_input(channel) / 10.0 * 2047))
-        read = m.digital_input if name == "IN" else m.output
+        read = m.debounced_input if name == "IN" else m.output  # (IN_DEBOUNCE)
         if not args:
             args = [0.0, IO_POINTS - 1.0]
         if len(args) == 1:

@@ -194,6 +194,10 @@ class TrioMachine(Protocol):
         INVERT_IN says so."""
         ...
 
+    def debounced_input(self, number: int) -> bool:
+        """A program's IN(n): digital_input as IN_DEBOUNCE lets it through."""
+        ...
+
     def input_function(self, number: int) -> bool:
         """The function an input drives (a limit, the datum, feed hold) is on: those
         inputs are active low, on while IN(n) reads 0."""

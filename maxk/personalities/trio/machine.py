@@ -58,6 +58,7 @@ from .cams import (
 from .clutch import ClutchWatch
 from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
+from .debounce import Debounce
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .flash import FLASH_PARAMETERS
@@ -192,6 +193,10 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.reset()
         else:
             self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "debounce"):
+            self.debounce.reset()
+        else:
+            self.debounce: Debounce = Debounce(self)  # IN_DEBOUNCE (debounce.py)
         if hasattr(self, "feedhold"):
             self.feedhold.reset()
         else:
@@ -240,6 +245,7 @@ class MC405Machine(Kinematics, Engine):
         """The world moved a switch or an input: a limit it turns on acts now."""
         self.changed()
         self.registration.world_changed()
+        self.debounce.world_changed()
         self.drive.look(self.tick)
         self.jogs.look()
         self.feedhold.look()
@@ -426,6 +432,8 @@ class MC405Machine(Kinematics, Engine):
         if name == "SERVO_PERIOD" and value not in SERVO_PERIODS:
             raise ValueError("Parameter out of range")
         self.system[name] = value  # SERVO_PERIOD: from the next restart (EX)
+        if name == "IN_DEBOUNCE":
+            self.debounce.note()  # the levels from here on (debounce.py)
         self.changed()
         self.drive.look(self.tick)
 
@@ -507,6 +515,10 @@ class MC405Machine(Kinematics, Engine):
         DATUM_IN page homes on a normally closed sensor; D: the world's switches are
         wired as those pages expect); an input nothing drives reads 0."""
         return self.raw_input(number) != (number in self.inverted_inputs)
+
+    def debounced_input(self, number: int) -> bool:
+        """A program's IN(n): digital_input after IN_DEBOUNCE (debounce.py)."""
+        return self.debounce.read(number)
 
     def raw_input(self, number: int) -> bool:
         """The input's level before INVERT_IN (see `digital_input`)."""
