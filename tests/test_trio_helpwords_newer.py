@@ -559,3 +559,21 @@ def test_in_debounce_leaves_registration_alone() -> None:
     assert trio.machine.registration.read("REG_POS", 1) == pytest.approx(
         100 * 300 / 1000 - 100 * 100 / 2e6)
     assert trio.query("?IN(7)") == "0"  # IN still waits out the 50 cycles
+
+
+# ---- AXIS_ENABLE_OVERRIDE -----------------------------------------------------------------
+def test_axis_enable_override_moves_an_axis_with_wdog_off() -> None:
+    """AXIS_ENABLE_OVERRIDE page: ON enables the axis though WDOG (and AXIS_ENABLE) are
+    OFF. A servo axis (ATYPE 36) with WDOG OFF refuses a move; with the override it runs
+    MOVE(10) at 100 (ACCEL 1e6): done in 0.1 s + 0.1 ms."""
+    trio = mc405("BASE(1): ATYPE = 36: SERVO = ON: WDOG = OFF",
+                 "SPEED = 100: ACCEL = 1e6: DECEL = 1e6")
+    assert trio.send("MOVE(10)") == ["! Axis not enabled"]
+    assert trio.send("AXIS_ENABLE_OVERRIDE = ON: MOVE(10)") == []
+    trio.advance(ticks=101)
+    assert trio.machine.axis_parameter("DPOS", 1) == 10
+    assert trio.send("AXIS_ENABLE = OFF: MOVE(10)") == []
+    trio.advance(ticks=101)
+    assert trio.machine.axis_parameter("DPOS", 1) == 20
+    assert trio.send("AXIS_ENABLE_OVERRIDE = OFF") == []
+    assert trio.send("MOVE(10)") == ["! Axis not enabled"]

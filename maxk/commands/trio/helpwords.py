@@ -67,8 +67,10 @@ P ACCEL_FACTOR w 1 0 1 =In VP_MODE 5 and 6 the moves' ACCEL and DECEL are taken 
     0 leaves the moves running as they are and refuses new ones, as ACCEL 0 (D).
 P AXIS_BLENDING w 1 0 4 -the emulator's SP moves always blend as its power-up 1 (Low, see
     profiles_sp.py); 0, 2, 3 and 4 are stored, not applied
-P AXIS_ENABLE_OVERRIDE w 0 -1 1 -it enables an EtherCAT drive for Motion Perfect's set-up;
-    {_REMOTE}
+P AXIS_ENABLE_OVERRIDE w 0 -1 1 =ON enables the axis's drive even with WDOG and AXIS_ENABLE
+    OFF (C: its page): moves load and a servo axis's loop closes (drive.py); a servo axis
+    still needs SERVO ON, and the open-loop DAC output (SERVO OFF) still needs WDOG (D).
+    Power-up OFF (C).
 P CLOSE_WINB w 0 -1e15 1e15 =Where the second registration window closes (user units): REGIST
     modes 20 and 21 with window 5 take only edges inside OPEN_WINB..CLOSE_WINB, window 6 only
     outside (C: REGIST page; as DPOS reads, REP_DIST folded, as OPEN_WIN); windows 1/2 keep

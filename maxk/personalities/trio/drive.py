@@ -182,10 +182,12 @@ class Drive:
     def enabled(self, axis: int) -> bool:
         """Is the axis's drive enabled (see the module docstring)?"""
         params = self.m.axes[axis].params
-        if params["AXIS_ENABLE"] == 0:
+        override = params.get("AXIS_ENABLE_OVERRIDE", 0.0) != 0  # in place of WDOG and
+        # AXIS_ENABLE (C: AXIS_ENABLE_OVERRIDE page); a servo axis still needs SERVO (D)
+        if params["AXIS_ENABLE"] == 0 and not override:
             return False
         if int(params["ATYPE"]) in SERVO_ATYPES:
-            return self.m.system["WDOG"] != 0 and params["SERVO"] != 0
+            return (self.m.system["WDOG"] != 0 or override) and params["SERVO"] != 0
         return True
 
     # ---- moves -----------------------------------------------------------------------
