@@ -577,3 +577,39 @@ def test_axis_enable_override_moves_an_axis_with_wdog_off() -> None:
     assert trio.machine.axis_parameter("DPOS", 1) == 20
     assert trio.send("AXIS_ENABLE_OVERRIDE = OFF") == []
     assert trio.send("MOVE(10)") == ["! Axis not enabled"]
+
+
+# ---- MOVETEST -----------------------------------------------------------------------------
+def test_movetest_cycles_forward_and_back_with_dwells() -> None:
+    """MOVETEST page: 10 forward at 100 with 1000, 50 ms, 10 back the same, 50 ms, again.
+    Each move is a triangle: up 0.1 s over 5, down 0.1 s over 5: 0.2 s. So forward
+    0..200, dwell to 250, back 250..450, dwell to 500, forward from 500."""
+    trio = mc405("SPEED = 7: ACCEL = 3: DECEL = 3",
+                 "MOVETEST(1, 10, 1000, 100, 50, 10, 1000, 100, 50)")
+    start = trio.tick
+    expected = {100: (5.0, 1), 199: (10 - 0.5 * 1000 * 0.001 ** 2, 1), 200: (10, 0),
+                249: (10, 0), 251: (10 - 0.0005, 1), 350: (5, 1), 450: (0, 0),
+                499: (0, 0), 501: (0.0005, 1), 600: (5, 1)}
+    for tick, (where, mtype) in expected.items():
+        at(trio, start + tick)
+        assert dpos(trio) == pytest.approx(where, abs=1e-9), tick
+        assert read(trio, "MTYPE") == mtype, tick
+    assert [read(trio, w) for w in ("SPEED", "ACCEL", "DECEL")] == [7, 3, 3]
+    assert trio.send("MOVETEST(0)") == []  # ends after the move back: 700, 750..950
+    at(trio, start + 949)
+    assert read(trio, "MTYPE") == 1
+    at(trio, start + 3000)
+    assert (dpos(trio), read(trio, "MTYPE")) == (0, 0)
+
+
+def test_movetest_ends_on_cancel_and_refuses_bad_arguments() -> None:
+    trio = mc405("MOVETEST(1, 10, 1000, 100, 50, 10, 1000, 100, 50)")
+    trio.advance(ticks=100)  # at 5, at 100: CANCEL ramps down over 5 more at 1000
+    assert trio.send("CANCEL") == []
+    trio.advance(ticks=2000)
+    assert (dpos(trio), read(trio, "MTYPE")) == (10, 0)
+    for line in ("MOVETEST(1, 10, 0, 100, 50, 10, 1000, 100, 50)", "MOVETEST(2)",
+                 "MOVETEST(1, 2)", "MOVETEST(1, 10, 1000, 100, -1, 10, 1000, 100, 50)"):
+        assert trio.send(line) == ["! Parameter out of range"], line
+    trio.advance(ticks=500)
+    assert read(trio, "MTYPE") == 0

@@ -160,7 +160,11 @@ K MOVEABSSPCONT 1 1 -its page gives no behaviour ("under development")
 K MOVEADD 1 1 -a move superimposed on the running one with its own S-ramped profiler: not
     modelled yet (ADDAX of a virtual axis's MOVE does the same and is modelled)
 K MOVESPCONT 1 1 -its page gives no behaviour ("under development")
-K MOVETEST 1 9 -a forward and back test cycle: not modelled yet
+K MOVETEST 1 9 =MOVETEST(1, dist0, accel0, speed0, dwell0, dist1, accel1, speed1, dwell1)
+    cycles MOVE(dist0), a dwell of dwell0 ms, MOVE(-dist1), dwell1 ms, each move at its own
+    speed and acceleration (C: its page; the deceleration the acceleration, dist1 the
+    distance back, the axis's SPEED/ACCEL/DECEL left as they were: D); MOVETEST(0) ends it
+    after the second move, CANCEL/RAPIDSTOP at once (C) (movetest.py).
 G IN_FILTER 2 3 -the page: filtering exists only on MotionPLC controllers and slices, which
     the MC405 is not
 G SET_MOTION 2 5 =SET_MOTION(axis, speed[, accel[, decel[, jerk]]]) writes SPEED, ACCEL, DECEL

@@ -233,7 +233,7 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
-                               "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
+                               "REGIST", "MOVETEST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
                                "HW_TIMER", "SYNC", "COMPENSATE_XY", *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
@@ -1651,6 +1651,8 @@ class Interpreter:
             while not m.can_load([axis]):
                 yield ON_CHANGE
             self._act(lambda: m.cam(axis, args))
+        elif name == "MOVETEST":  # starts or ends a cycle: never waits (movetest.py)
+            self._act(lambda: m.movetest(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
         elif name in ("PSWITCH", "HW_PSWITCH", "HW_TIMER"):  # (pswitch.py): never wait

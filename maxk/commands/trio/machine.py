@@ -161,6 +161,10 @@ class TrioMachine(Protocol):
         """CAM(start, end, multiplier, distance): the TABLE profile in time."""
         ...
 
+    def movetest(self, axis: int, args: Sequence[float]) -> None:
+        """MOVETEST(start/stop, ...) AXIS(n): a forward and back test cycle."""
+        ...
+
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture."""
         ...

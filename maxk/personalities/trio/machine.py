@@ -70,6 +70,7 @@ from .link_kinds import Cambox, Connpath, Link
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .move_pa import MovePa
+from .movetest import MoveTests
 from .posiseq import DelayLine
 from .profiles_sp import (
     DIRECTIONS,
@@ -159,6 +160,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.clutch)  # CONNECT ratios ramping at CLUTCH_RATE
         self.add_source(self.links.syncs)  # SYNC(4) stopping, cycle by cycle (sync.py)
         self.add_source(self.jogs)  # jog inputs, looked at every event
+        self.add_source(self.movetests)  # MOVETEST's cycles (movetest.py)
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
         self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
         self.add_source(self.posiseq)  # POSI_SEQ delay lines: every cycle while on (last)
@@ -193,6 +195,10 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.reset()
         else:
             self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "movetests"):
+            self.movetests.reset()
+        else:
+            self.movetests: MoveTests = MoveTests(self)
         if hasattr(self, "debounce"):
             self.debounce.reset()
         else:
@@ -710,6 +716,7 @@ class MC405Machine(Kinematics, Engine):
         self.drive.datum(axis, mode)
 
     def cancel(self, axis: int) -> None:
+        self.movetests.cancel(axis)  # (movetest.py)
         a = self.axes[axis]
         if a.link is not None or a.pending_link is not None:
             self._unlink(axis)
@@ -719,6 +726,7 @@ class MC405Machine(Kinematics, Engine):
         self.changed()
 
     def rapidstop(self) -> None:
+        self.movetests.cancel()  # (movetest.py)
         self.links.clear()
         for axis in range(self._axis_count):
             queue = self.queues[axis]
@@ -772,6 +780,11 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")  # (a group waits for none: D)
         for axis, cam in cams:
             self._link(axis, cam)
+
+    def movetest(self, axis: int, args: Sequence[float]) -> None:
+        """MOVETEST(...) AXIS(n): a forward and back test cycle (movetest.py)."""
+        self.movetests.movetest(axis, list(args))
+        self.changed()
 
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
