@@ -613,3 +613,53 @@ def test_movetest_ends_on_cancel_and_refuses_bad_arguments() -> None:
         assert trio.send(line) == ["! Parameter out of range"], line
     trio.advance(ticks=500)
     assert read(trio, "MTYPE") == 0
+
+
+# ---- COMBINE_AXES / COMBINE_CONTROL -------------------------------------------------------
+def test_combine_axes_example_1_the_hypotenuse_of_two_axes() -> None:
+    """COMBINE_AXES page, example 1: axis 5's DPOS is sqrt(a^2 + b^2) of axes 2 and 3
+    (COMBINE_CONTROL(2, 0, 0)): at 3 and 4 it reads 5; axis 2 moved to 12: sqrt(160)."""
+    trio = mc405("BASE(5)", "COMBINE_AXES(2, 3): COMBINE_CONTROL(2, 0, 0)",
+                 "DEFPOS(3) AXIS(2): DEFPOS(4) AXIS(3)")
+    trio.advance(ticks=2)
+    assert (read(trio, "DPOS AXIS(5)"), read(trio, "MTYPE AXIS(5)")) == (5, 26)
+    assert trio.send("SPEED AXIS(2) = 100: ACCEL AXIS(2) = 1e6: DECEL AXIS(2) = 1e6") == []
+    assert trio.send("MOVE(9) AXIS(2)") == []
+    start = trio.tick
+    at(trio, start + 50)  # axis 2 at 3 + 100 x 0.05 - 100^2 / 2e6
+    a = 3 + 5 - 0.005
+    assert trio.machine.axis_parameter("DPOS", 5) == pytest.approx((a * a + 16) ** 0.5,
+                                                                   abs=1e-9)
+    at(trio, start + 100)
+    assert trio.machine.axis_parameter("DPOS", 5) == pytest.approx(160 ** 0.5, abs=1e-9)
+
+
+def test_combine_control_modes_and_their_ratios() -> None:
+    """COMBINE_CONTROL page: mode 0 a x n1/d1 + b x n2/d2 (example 1's 0.5 and 2), 1 the
+    difference, 3 the average; a running COMBINE_AXES takes each at once."""
+    trio = mc405("BASE(6): COMBINE_CONTROL(0, 1, 1, 1, 2, 2, 1): COMBINE_AXES(0, 1)",
+                 "DEFPOS(12) AXIS(0): DEFPOS(4) AXIS(1)")
+    trio.advance(ticks=1)
+    assert read(trio, "DPOS AXIS(6)") == 12 * 0.5 + 4 * 2
+    assert trio.send("COMBINE_CONTROL(1, 0, 0)") == []
+    trio.advance(ticks=1)
+    assert read(trio, "DPOS AXIS(6)") == 8
+    assert trio.send("COMBINE_CONTROL(3, 0, 0)") == []
+    trio.advance(ticks=1)
+    assert read(trio, "DPOS AXIS(6)") == 8
+    for line in ("COMBINE_CONTROL(0, 0, 0, 1, 0, 2, 1)", "COMBINE_CONTROL(4, 0, 0)",
+                 "COMBINE_CONTROL(2, 1, 0, 0)", "COMBINE_CONTROL(0, 2, 0)"):
+        assert trio.send(line) == ["! Parameter out of range"], line
+    assert trio.send("COMBINE_CONTROL(2, 1)") == ["! Syntax error"]  # 3 to 7 arguments
+    trio.advance(ticks=1)
+    assert read(trio, "DPOS AXIS(6)") == 8  # the refused ones changed nothing
+    assert trio.send("CANCEL") == []
+    trio.advance(ticks=1)
+    assert read(trio, "MTYPE AXIS(6)") == 0
+    assert trio.send("DEFPOS(0) AXIS(0)") == []
+    trio.advance(ticks=1)
+    assert read(trio, "DPOS AXIS(6)") == 8  # no longer combined
+
+
+def test_combine_axes_refuses_itself_as_a_source() -> None:
+    assert mc405("BASE(6)").send("COMBINE_AXES(6, 1)") == ["! Invalid axis number"]

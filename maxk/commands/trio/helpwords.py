@@ -153,8 +153,15 @@ Y IN_DEBOUNCE w 0 0 1e6 =IN reads an input's new level only once its voltage has
     IN_DEBOUNCE servo cycles, a shorter glitch never (C: its page); registration is not
     affected (C), nor limits, jogs and feed hold (D: the page names IN); power-up 0, none
     (D); INVERT_IN applies after it (D) (debounce.py).
-K COMBINE_AXES 2 2 -a DPOS computed from two axes (COMBINE_CONTROL's modes): not modelled yet
-K COMBINE_CONTROL 3 7 -the mode of COMBINE_AXES: not modelled yet
+K COMBINE_AXES 2 2 =COMBINE_AXES(axis_a, axis_b) AXIS(n): axis n's DPOS is COMBINE_CONTROL's
+    function of the two axes' positions, every servo tick (C: its page); a linked move of
+    axis n as COMPENSATE_XY (buffered, ended by CANCEL, MTYPE 26: D), absolute (D), the
+    sources' demand read for MPOS too (D) (combine.py).
+K COMBINE_CONTROL 3 7 =COMBINE_CONTROL(mode, source_1, source_2[, n1, d1, n2, d2]) AXIS(n):
+    0 sum, 1 difference, 3 average of the sources times n/d; COMBINE_CONTROL(2, offset_1,
+    offset_2) the hypotenuse of the offset sources (C: its page). Kept for the next
+    COMBINE_AXES, taken at once by a running one (D); none given: the plain sum (D); a 0
+    denominator or another mode: Parameter out of range (D) (combine.py).
 K COMPENSATE_ENC 0 0 -{_RESERVED}
 K MOVEABSSPCONT 1 1 -its page gives no behaviour ("under development")
 K MOVEADD 1 1 -a move superimposed on the running one with its own S-ramped profiler: not

@@ -235,9 +235,10 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
                                "REGIST", "MOVETEST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
-                               "HW_TIMER", "SYNC", "COMPENSATE_XY", *GEOMETRIC, *SEQUENCES})
+                               "HW_TIMER", "SYNC", "COMPENSATE_XY", "COMBINE_AXES",
+                               *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
-_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH"})  # the axis's output stage
+_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH", "COMBINE_CONTROL"})  # set-ups of an axis
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -1449,7 +1450,7 @@ class Interpreter:
             axis = self.axis_of(stmt.axis, ctx)
             self._act(lambda: self.machine.encoder_ratio(axis, ratio[0], ratio[1]))
             return
-        if name in _AXIS_HARDWARE:  # STEP_RATIO, BACKLASH (never wait)
+        if name in _AXIS_HARDWARE:  # STEP_RATIO, BACKLASH, COMBINE_CONTROL (never wait)
             hardware = [self.number(a, ctx) for a in stmt.args]
             axis = self.axis_of(stmt.axis, ctx)
             self._act(lambda: self.machine.axis_hardware(name, axis, hardware))
@@ -1670,7 +1671,8 @@ class Interpreter:
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
-        elif name == "COMPENSATE_XY":  # a linked move (MTYPE 26): personality compensate.py
+        elif name in ("COMPENSATE_XY", "COMBINE_AXES"):  # linked moves (MTYPE 26):
+            # personality compensate.py, combine.py
             while not m.can_load([axis]):
                 yield ON_CHANGE
             self._act(lambda: m.axis_hardware(name, axis, args))

@@ -56,6 +56,7 @@ from .cams import (
     retable,
 )
 from .clutch import ClutchWatch
+from .combine import Combinations
 from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
 from .debounce import Debounce
@@ -199,6 +200,10 @@ class MC405Machine(Kinematics, Engine):
             self.movetests.reset()
         else:
             self.movetests: MoveTests = MoveTests(self)
+        if hasattr(self, "combinations"):
+            self.combinations.reset()
+        else:
+            self.combinations: Combinations = Combinations()  # (combine.py)
         if hasattr(self, "debounce"):
             self.debounce.reset()
         else:
@@ -644,6 +649,12 @@ class MC405Machine(Kinematics, Engine):
             stepratio.set_ratio(a.params, args, self.demand(axis) + self.compensation(axis))
         elif name == "BACKLASH":
             self.backlash.command(axis, args, a.units, self.tick * self.period)
+        elif name == "COMBINE_CONTROL":  # kept, a running COMBINE_AXES takes it (combine.py)
+            self.combinations.control(axis, args)
+        elif name == "COMBINE_AXES":  # a linked move in the axis's buffer (combine.py)
+            self._link(axis, self.combinations.combination(
+                axis, args, lambda v: self._compensated_by(axis, v), a.units, a.datum))
+            return
         elif name == "COMPENSATE_XY":  # a linked move in the axis's buffer (compensate.py)
             link = compensation_from(args, lambda v: self._compensated_by(axis, v),
                                      self.table.read_run, self.table.size, a.units)
