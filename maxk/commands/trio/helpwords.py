@@ -4,8 +4,8 @@ and diagnostics: known by name, stored or read as 0, each with why it has no eff
 Without an entry such a word was no keyword at all, so ``AIN_CONFIG(5) = 3`` or
 ``MS_BUS(0, 1)`` stopped a program with "Variable not defined" and ``IP_BIND_ADDRESS = 0``
 silently made a local variable of a controller parameter. The words that act on motion,
-inputs or program flow (ACCEL_FACTOR, SPEED_FACTOR, FORCE_ACCEL, MOVEADD, IN_FILTER ...)
-are not listed here: they need modelling, not a "Not modelled" line.
+inputs or set-up (ACCEL_FACTOR, FASTJERK, FORCE_ACCEL, MOVEADD, IN_FILTER ...) are in
+NEWER_WORDS below, each modelled (the modules its note names) or "Not modelled" with why.
 
 Row forms (keywords.py builds the entries; a word with a hand-written entry is skipped):
 
