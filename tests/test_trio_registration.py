@@ -187,7 +187,7 @@ def test_a_movelink_starts_on_the_link_axis_r_mark() -> None:
     "REGIST(22, 0, 0, 0, 0)",  # the Flexaxis's eight channels
     "REGIST(20, 2, 0, 0, 0)",  # channels A and B only
     "REGIST(20, 0, 3, 0, 0)",  # no source 3
-    "REGIST(20, 0, 0, 0, 5)",  # OPEN_WINB: not in this firmware
+    "REGIST(20, 0, 0, 0, 7)",  # no window 7 on the page (5/6: OPEN_WINB)
     "REGIST(21, 8, 0, 0, 0)",  # channels 0..7
     "REGIST(20, 0, 0, 0, 0, 10, 511995)",  # past the end of TABLE
     "REGIST(1, 2)",

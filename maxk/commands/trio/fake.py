@@ -207,6 +207,9 @@ class FakeTrioMachine:
     def cam(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no CAM)
 
+    def movetest(self, axis: int, args: Sequence[float]) -> None:
+        raise ValueError("Parameter out of range")  # (the fake has no test cycles)
+
     def regist(self, axis: int, args: Sequence[float]) -> None:
         raise ValueError("Parameter out of range")  # (the fake has no registration)
 
@@ -294,6 +297,9 @@ class FakeTrioMachine:
         self.dpos[axis] = cam.origin + value * cam.multiplier / self.axis_params[axis]["UNITS"]
         if travelled >= cam.distance:
             del self.cams[axis]
+
+    def debounced_input(self, number: int) -> bool:
+        return self.digital_input(number)  # (the fake has no IN_DEBOUNCE)
 
     def digital_input(self, number: int) -> bool:
         """A level a test sets; else an input FWD_IN/REV_IN/DATUM_IN names reads 1 (its

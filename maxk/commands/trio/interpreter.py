@@ -37,6 +37,7 @@ from .fifos import FifoFiles
 from .keywords import BANKED_PARAMETERS, CHANNEL_PARAMETERS, KEYWORDS, Keyword, Kind
 from .lexer import Thrown, TrioError
 from .machine import TrioMachine
+from .motionwords import SET_MOTION_WORDS, set_motion
 from .parser import (
     MAX_ARRAY,
     ArrayFill,
@@ -232,11 +233,13 @@ _MACHINE_COMMANDS = frozenset({"MOVE", "MOVEABS", "DEFPOS", "ACC", "CANCEL", "RA
                                "PWM_CONTROL", "CONNPATH", "CAMBOX", "BASE", "TABLE", "WA",
                                "MPE", "FORWARD", "REVERSE", "OP", "DATUM", "MOVECIRC",
                                "MHELICAL", "MOVEMODIFY", "MOVELINK", "CONNECT", "ADDAX",
-                               "REGIST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
+                               "REGIST", "MOVETEST", "FLEXLINK", "MOVESP", "MOVEABSSP", "CAM",
                                "MOVECIRCSP", "MHELICALSP", "PSWITCH", "HW_PSWITCH",
-                               "HW_TIMER", "SYNC", "COMPENSATE_XY", *GEOMETRIC, *SEQUENCES})
+                               "HW_TIMER", "SYNC", "COMPENSATE_XY", "COMBINE_AXES",
+                               *GEOMETRIC, *SEQUENCES})
 _FRAME_WORDS = frozenset({"FRAME_TRANS", "FRAME_GROUP"})
-_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH", "ADD_DAC"})  # the axis's output stage
+_AXIS_HARDWARE = frozenset({"STEP_RATIO", "BACKLASH", "ADD_DAC",
+                            "COMBINE_CONTROL"})  # set-ups of an axis
 _RATES = frozenset({"SPEED", "ACCEL", "DECEL", "CREEP", "FASTDEC", "JOGSPEED"})
 _BIT_COMMANDS = frozenset({"SET_BIT", "CLEAR_BIT", "READ_BIT", "FLAG", "FLAGS",
                            "INVERT_IN"})
@@ -615,6 +618,12 @@ class Interpreter:
         if name == "DLINK":
             link = self.drive_link(args)  # FLOAT (printformat): its page prints 463.0000
             return real(link) if name in FLOAT_FUNCTIONS else link
+        if name in SET_MOTION_WORDS:  # returns 0 (D)
+            machine = self.machine
+            self._act(lambda: set_motion(
+                name, [self.number_value(a) for a in args], machine.axis_count,
+                lambda a: machine.axis_parameter("UNITS", a), machine.set_axis_parameter))
+            return 0.0
         if name in ("ENCODER_READ", "ENCODER_WRITE"):  # parameter mode: ENCODER_CONTROL 1
             value = self.drive_link(args, lambda a, _: endat(name, a))
             self._act(lambda: self.machine.set_axis_parameter("ENCODER_CONTROL",
@@ -808,7 +817,7 @@ class Interpreter:
             if name == "AOUT":
                 return self.hook.analog_outputs.get(channel, 0.0)
             return float(round(m.analog_input(channel) / 10.0 * 2047))
-        read = m.digital_input if name == "IN" else m.output
+        read = m.debounced_input if name == "IN" else m.output  # (IN_DEBOUNCE)
         if not args:
             args = [0.0, IO_POINTS - 1.0]
         if len(args) == 1:
@@ -1431,6 +1440,9 @@ class Interpreter:
         if name == "DLINK":
             self.drive_link([self.evaluate(a, ctx) for a in stmt.args])
             return
+        if name in SET_MOTION_WORDS:  # the rates of a named axis (motionwords.py)
+            self.call(Call(name, stmt.args), ctx)
+            return
         if name in _FRAME_WORDS:
             self.frame_word(name, [self.number(a, ctx) for a in stmt.args], ctx)
             return
@@ -1441,7 +1453,7 @@ class Interpreter:
             axis = self.axis_of(stmt.axis, ctx)
             self._act(lambda: self.machine.encoder_ratio(axis, ratio[0], ratio[1]))
             return
-        if name in _AXIS_HARDWARE:  # STEP_RATIO, BACKLASH (never wait)
+        if name in _AXIS_HARDWARE:  # STEP_RATIO, BACKLASH, COMBINE_CONTROL (never wait)
             hardware = [self.number(a, ctx) for a in stmt.args]
             axis = self.axis_of(stmt.axis, ctx)
             self._act(lambda: self.machine.axis_hardware(name, axis, hardware))
@@ -1643,6 +1655,8 @@ class Interpreter:
             while not m.can_load([axis]):
                 yield ON_CHANGE
             self._act(lambda: m.cam(axis, args))
+        elif name == "MOVETEST":  # starts or ends a cycle: never waits (movetest.py)
+            self._act(lambda: m.movetest(axis, args))
         elif name == "REGIST":  # arms a capture: never waits
             self._act(lambda: m.regist(axis, args))
         elif name in ("PSWITCH", "HW_PSWITCH", "HW_TIMER"):  # (pswitch.py): never wait
@@ -1660,7 +1674,8 @@ class Interpreter:
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
             self._act(lambda: action(axis, args))
-        elif name == "COMPENSATE_XY":  # a linked move (MTYPE 26): personality compensate.py
+        elif name in ("COMPENSATE_XY", "COMBINE_AXES"):  # linked moves (MTYPE 26):
+            # personality compensate.py, combine.py
             while not m.can_load([axis]):
                 yield ON_CHANGE
             self._act(lambda: m.axis_hardware(name, axis, args))

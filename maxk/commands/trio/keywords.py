@@ -1595,8 +1595,9 @@ _ENTRIES: list[Keyword] = [
              "captured on the tick the world changes it (the world's inputs change on "
              "servo ticks: D). Arming one channel leaves the other armed (C for 20, D for "
              "1..17). 23/24 (pulse width): accepted, no effect, the world's edges are "
-             "clean (D). 5, 18, 19, 22 (Flexaxis), 32..71 (older time modes), windows 5/6 "
-             "(OPEN_WINB is not in this firmware's token table) and bad arguments: "
+             "clean (D). Windows 5/6 (20, 21): inside/outside OPEN_WINB..CLOSE_WINB (C; "
+             "those words are the help's, see OPEN_WINB). 5, 18, 19, 22 (Flexaxis), 32..71 "
+             "(older time modes), windows above 6 and bad arguments: "
              "'Parameter out of range', nothing armed (D)."),
     _axis("R_MARK", "R_MARK(channel): TRUE once the time-based channel's capture (REGIST "
           "21) has happened.", writable=False, source=f"{TOK}; {HELP} (R_MARK page)",
@@ -1947,8 +1948,9 @@ _ENTRIES: list[Keyword] = [
           "than 2 x SRAMP rises over half of it (D, as a single-axis move's). CANCEL and "
           "RAPIDSTOP of an S-curve move S-ramp down at once from the speed it has, with "
           "the acceleration starting from 0 (D), at FASTDEC when it is greater than "
-          "DECEL, else DECEL (C: CANCEL page); FASTJERK is not modelled: the move's own JERK (or "
-          "SRAMP) shapes that ramp (D). A CAM stops linearly (D)."),
+          "DECEL, else DECEL (C: CANCEL page); the move's own JERK (or SRAMP) shapes that "
+          "ramp (D), or in VP_MODE 5/6 FASTJERK where it is higher (see FASTJERK). A CAM "
+          "stops linearly (D)."),
     _axis("OPEN_WIN", "Where the registration window opens (user units).",
           source=f"{TOK}; {MAN}", confidence="I", note="REGIST modes + 256 take only "
           "edges between OPEN_WIN and CLOSE_WIN (as DPOS reads, REP_DIST folded), + 768 "
@@ -2568,6 +2570,45 @@ def _from_help_pages(known: set[str]) -> list[Keyword]:
     return out
 
 
+def _from_newer_help(known: set[str]) -> list[Keyword]:
+    """The help's words newer than the token table that act on motion, inputs or set-up
+    (helpwords.NEWER_WORDS): modelled (a note starting "=") or "Not modelled" with why."""
+    from .helpwords import NEWER_NOTE, NEWER_WORDS
+
+    out: list[Keyword] = []
+    for row in NEWER_WORDS.replace("\n    ", " ").splitlines():
+        tag, name, rest = row.split(" ", 2)
+        if name in known:
+            continue
+        source = f"TrioBASIC help {name}"
+        if tag in ("P", "Y"):
+            access, default, low, high, text = rest.split(" ", 4)
+        else:
+            low, high, text = rest.split(" ", 2)
+        if text.startswith("="):
+            note, confidence = f"{text[1:]} {NEWER_NOTE}", "C"
+        elif tag in ("P", "Y"):
+            note = ("Not modelled: stored and read back, no effect on the machine"
+                    if access == "w" else f"Not modelled: reads {float(default):g}") + \
+                f"; {text[1:]} (D). {NEWER_NOTE}"
+            confidence = "D"
+        else:
+            note = (f"Not modelled: accepted, no effect, as a function it returns 0; "
+                    f"{text[1:]} (D). {NEWER_NOTE}")
+            confidence = "D"
+        if tag in ("P", "Y"):
+            make = _axis if tag == "P" else _system
+            out.append(make(name, f"Help-page {'axis' if tag == 'P' else 'system'} "
+                            "parameter.", default=float(default), writable=access == "w",
+                            value_range=(float(low), float(high)), source=source,
+                            confidence=confidence, note=note))
+        else:
+            out.append(_command(name, "Help-page command.", (int(low), int(high)),
+                                axis=tag == "K", source=source, confidence=confidence,
+                                note=note))
+    return out
+
+
 def _index(entries: list[Keyword]) -> dict[str, Keyword]:
     """The table by name; a keyword listed twice is an error at import."""
     table: dict[str, Keyword] = {}
@@ -2579,7 +2620,8 @@ def _index(entries: list[Keyword]) -> dict[str, Keyword]:
 
 
 _TABLED = _ENTRIES + _from_token_table()
-KEYWORDS: dict[str, Keyword] = _index(_TABLED + _from_help_pages({k.name for k in _TABLED}))
+_HELPED = _TABLED + _from_help_pages({k.name for k in _TABLED})
+KEYWORDS: dict[str, Keyword] = _index(_HELPED + _from_newer_help({k.name for k in _HELPED}))
 
 
 def lookup(name: str) -> Keyword | None:

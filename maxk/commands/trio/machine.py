@@ -170,6 +170,10 @@ class TrioMachine(Protocol):
         """CAM(start, end, multiplier, distance): the TABLE profile in time."""
         ...
 
+    def movetest(self, axis: int, args: Sequence[float]) -> None:
+        """MOVETEST(start/stop, ...) AXIS(n): a forward and back test cycle."""
+        ...
+
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture."""
         ...
@@ -201,6 +205,10 @@ class TrioMachine(Protocol):
         """IN(n): the input's level (the world's input, or the limit/home switch of an
         axis whose FWD_IN/REV_IN/DATUM_IN names it, normally closed), inverted when
         INVERT_IN says so."""
+        ...
+
+    def debounced_input(self, number: int) -> bool:
+        """A program's IN(n): digital_input as IN_DEBOUNCE lets it through."""
         ...
 
     def input_function(self, number: int) -> bool:

@@ -197,11 +197,10 @@ class Drive:
     def enabled(self, axis: int) -> bool:
         """Is the axis's drive enabled (see the module docstring)?"""
         params = self.m.axes[axis].params
-        if params["AXIS_ENABLE"] == 0:
-            return False
-        if int(params["ATYPE"]) in SERVO_ATYPES:
-            return self.m.system["WDOG"] != 0 and params["SERVO"] != 0
-        return True
+        override = params.get("AXIS_ENABLE_OVERRIDE", 0.0) != 0  # for WDOG, AXIS_ENABLE (C)
+        servo_on = (self.m.system["WDOG"] != 0 or override) and params["SERVO"] != 0
+        return (params["AXIS_ENABLE"] != 0 or override) and (
+            servo_on or int(params["ATYPE"]) not in SERVO_ATYPES)
 
     # ---- moves -----------------------------------------------------------------------
     def check_move(self, axes: tuple[int, ...]) -> None:

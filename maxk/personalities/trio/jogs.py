@@ -1,4 +1,5 @@
-"""Jog inputs of the MC405: FWD_JOG, REV_JOG, FAST_JOG and JOGSPEED.
+"""Jog inputs of the MC405: FWD_JOG, REV_JOG, FAST_JOG and JOGSPEED; FWD_START and
+REV_START, a jog asked for by a program where no input is declared (their pages).
 
 An axis whose FWD_JOG (REV_JOG) names an input jogs forward (in reverse) while that
 input is low, at JOGSPEED, or at SPEED while the input FAST_JOG names is low too (C: the
@@ -42,10 +43,18 @@ class Jogs:
     def _low(self, number: float) -> bool:
         return number >= 0 and not self.m.digital_input(int(number))
 
+    def _asked(self, params: Any, jog: str, start: str) -> bool:
+        """The jog input is low, or with no input (-1) FWD_START/REV_START is 1 (C: their
+        pages' table: 1 jogs, any other value does not; an input set: no function)."""
+        number = params.get(jog, -1)
+        if number == -1:
+            return bool(params.get(start, 0.0) == 1)
+        return self._low(number)
+
     def wanted(self, axis: int) -> int:
         params = self.m.axes[axis].params
-        forward = self._low(params.get("FWD_JOG", -1))
-        reverse = self._low(params.get("REV_JOG", -1))
+        forward = self._asked(params, "FWD_JOG", "FWD_START")
+        reverse = self._asked(params, "REV_JOG", "REV_START")
         return 0 if forward == reverse else 1 if forward else -1
 
     def look(self) -> None:
@@ -53,7 +62,8 @@ class Jogs:
         for axis in range(m.axis_count):
             params = m.axes[axis].params
             if params.get("FWD_JOG", -1) < 0 and params.get("REV_JOG", -1) < 0 \
-                    and axis not in self.jogging:
+                    and axis not in self.jogging and params.get("FWD_START", 0.0) != 1 \
+                    and params.get("REV_START", 0.0) != 1:
                 continue
             want = self.wanted(axis)
             running = self.jogging.get(axis, 0)

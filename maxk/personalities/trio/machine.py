@@ -42,6 +42,7 @@ from . import (
     links_modify,
     move_pa,
     moves,
+    profile_readings,
     sequences,
     stepratio,
     tangential,
@@ -57,8 +58,10 @@ from .cams import (
     retable,
 )
 from .clutch import ClutchWatch
+from .combine import Combinations
 from .compensate import Compensation, compensation_from
 from .corner_state import CornerState
+from .debounce import Debounce
 from .drive import AXIS_READS, SYSTEM_READS, Drive
 from .feedhold import FEEDHOLD, FeedHold
 from .flash import AUTO_BACKUP, FLASH_PARAMETERS
@@ -72,17 +75,23 @@ from .link_kinds import Cambox, Connpath, Link
 from .links import LinkedMoves
 from .memory import TableMemory, VrMemory
 from .move_pa import MovePa
+from .movetest import MoveTests
 from .posiseq import DelayLine
 from .profiles_sp import (
     DIRECTIONS,
     VP_MODES,
     cornered,
+    forced_rates,
+    forced_values,
     interp_share,
     jerk_counts,
     lookahead,
     sp_adjusted,
     sp_speeds,
     sramp_seconds,
+    stop_jerk,
+    v_limited,
+    vp_factors,
 )
 from .pswitch import PositionSwitches
 from .pwm import PwmBank, PwmError
@@ -120,7 +129,7 @@ _COMPUTED = frozenset({"DPOS", "MPOS", "VP_SPEED", "TANG_DIRECTION", "TABLE_POIN
                        "BACKLASH_DIST"})
 DAC_ALIASES = {"S_REF": "DAC", "T_REF": "DAC", "S_REF_OUT": "DAC_OUT", "T_REF_OUT": "DAC_OUT"}
 """Other names of the servo output (TrioBASIC help S_REF, T_REF, S_REF_OUT, T_REF_OUT)."""
-_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG"})
+_JOG_PARAMETERS = frozenset({"FWD_JOG", "REV_JOG", "FAST_JOG", "FWD_START", "REV_START"})
 _REGISTRATION_READS = frozenset({"MARK", "MARKB", "REG_POS", "REG_POSB", "REGIST_SPEED",
                                  "REGIST_SPEEDB", "REGIST_CONTROL"})
 
@@ -157,6 +166,7 @@ class MC405Machine(Kinematics, Engine):
         self.add_source(self.clutch)  # CONNECT ratios ramping at CLUTCH_RATE
         self.add_source(self.links.syncs)  # SYNC(4) stopping, cycle by cycle (sync.py)
         self.add_source(self.jogs)  # jog inputs, looked at every event
+        self.add_source(self.movetests)  # MOVETEST's cycles (movetest.py)
         self.add_source(self.feedhold)  # feed-hold inputs, looked at every event
         self.add_source(self.frames)  # joints passing AXIS_FS_LIMIT / AXIS_RS_LIMIT
         self.add_source(self.posiseq)  # POSI_SEQ delay lines: every cycle while on (last)
@@ -191,6 +201,18 @@ class MC405Machine(Kinematics, Engine):
             self.jogs.reset()
         else:
             self.jogs: Jogs = Jogs(self)
+        if hasattr(self, "movetests"):
+            self.movetests.reset()
+        else:
+            self.movetests: MoveTests = MoveTests(self)
+        if hasattr(self, "combinations"):
+            self.combinations.reset()
+        else:
+            self.combinations: Combinations = Combinations()  # (combine.py)
+        if hasattr(self, "debounce"):
+            self.debounce.reset()
+        else:
+            self.debounce: Debounce = Debounce(self)  # IN_DEBOUNCE (debounce.py)
         if hasattr(self, "feedhold"):
             self.feedhold.reset()
         else:
@@ -246,6 +268,7 @@ class MC405Machine(Kinematics, Engine):
         """The world moved a switch or an input: a limit it turns on acts now."""
         self.changed()
         self.registration.world_changed()
+        self.debounce.world_changed()
         self.drive.look(self.tick)
         self.jogs.look()
         self.feedhold.look()
@@ -349,6 +372,8 @@ class MC405Machine(Kinematics, Engine):
             return self.wrapped(axis, dpos - open_error)
         if name == "VP_SPEED":
             return self.vp_speed(axis)
+        if name in profile_readings.READS:  # REMAIN_TIME, STOPPING_DISTANCE
+            return profile_readings.read(self, name, axis)
         if name == "TANG_DIRECTION":
             return tangential.direction(self, axis)
         if name == "TABLE_POINTER":
@@ -416,7 +441,7 @@ class MC405Machine(Kinematics, Engine):
             self.feedhold.look()
         if name == "LOOKAHEAD_FACTOR":
             refactor(self, axis)  # the SP moves buffered take it (respeed.py)
-        if name in ("SPEED", "ACCEL", "DECEL"):
+        if name in ("SPEED", "ACCEL", "DECEL", "SPEED_FACTOR", "ACCEL_FACTOR"):
             respeed(self, axis)  # the plain moves running take it at once (respeed.py)
             if self.feedhold.held:
                 self.feedhold.look()  # (a feed hold's share of the new speed)
@@ -432,6 +457,8 @@ class MC405Machine(Kinematics, Engine):
         if name == "SERVO_PERIOD" and value not in SERVO_PERIODS:
             raise ValueError("Parameter out of range")
         self.system[name] = value  # SERVO_PERIOD: from the next restart (EX)
+        if name == "IN_DEBOUNCE":
+            self.debounce.note()  # the levels from here on (debounce.py)
         self.changed()
         self.drive.look(self.tick)
 
@@ -511,6 +538,10 @@ class MC405Machine(Kinematics, Engine):
         DATUM_IN page homes on a normally closed sensor; D: the world's switches are
         wired as those pages expect); an input nothing drives reads 0."""
         return self.raw_input(number) != (number in self.inverted_inputs)
+
+    def debounced_input(self, number: int) -> bool:
+        """A program's IN(n): digital_input after IN_DEBOUNCE (debounce.py)."""
+        return self.debounce.read(number)
 
     def raw_input(self, number: int) -> bool:
         """The input's level before INVERT_IN (see `digital_input`)."""
@@ -632,6 +663,12 @@ class MC405Machine(Kinematics, Engine):
             self.backlash.command(axis, args, a.units, self.tick * self.period)
         elif name == "ADD_DAC":  # (add_dac.py)
             self.drive.following.add_dac(axis, list(args))
+        elif name == "COMBINE_CONTROL":  # kept, a running COMBINE_AXES takes it (combine.py)
+            self.combinations.control(axis, args)
+        elif name == "COMBINE_AXES":  # a linked move in the axis's buffer (combine.py)
+            self._link(axis, self.combinations.combination(
+                axis, args, lambda v: self._compensated_by(axis, v), a.units, a.datum))
+            return
         elif name == "COMPENSATE_XY":  # a linked move in the axis's buffer (compensate.py)
             link = compensation_from(args, lambda v: self._compensated_by(axis, v),
                                      self.table.read_run, self.table.size, a.units)
@@ -719,6 +756,7 @@ class MC405Machine(Kinematics, Engine):
         move as 0 does (D: not modelled); others: 'Parameter out of range'."""
         if mode != int(mode) or not 0 <= mode <= 6:
             raise ValueError("Parameter out of range")
+        self.movetests.cancel(axis)  # (movetest.py)
         if mode in (1, 2):
             self.links.chains[axis].clear()
             self._drop_buffered(self.queues[axis])
@@ -749,6 +787,7 @@ class MC405Machine(Kinematics, Engine):
         down at FASTDEC where it applies. Other modes: 'Parameter out of range'."""
         if mode not in (0, 1, 2):
             raise ValueError("Parameter out of range")
+        self.movetests.cancel()  # (movetest.py)
         if mode:
             self.links.clear()
             for queue in self.queues:
@@ -814,6 +853,11 @@ class MC405Machine(Kinematics, Engine):
             raise ValueError("Parameter out of range")  # (a group waits for none: D)
         for axis, cam in cams:
             self._link(axis, cam)
+
+    def movetest(self, axis: int, args: Sequence[float]) -> None:
+        """MOVETEST(...) AXIS(n): a forward and back test cycle (movetest.py)."""
+        self.movetests.movetest(axis, list(args))
+        self.changed()
 
     def regist(self, axis: int, args: Sequence[float]) -> None:
         """REGIST(mode) AXIS(n): arm a registration capture (registration.py)."""
@@ -970,6 +1014,13 @@ class MC405Machine(Kinematics, Engine):
         speed = base.params[self._speed_name] * base.units
         accel = base.params["ACCEL"] * base.units
         decel = base.params["DECEL"] * base.units
+        jerk = jerk_counts(base.params, base.units)
+        if self._speed_name == "SPEED":  # SPEED_FACTOR, ACCEL_FACTOR (VP_MODE 5, 6)
+            speed_factor, accel_factor = vp_factors(base.params)
+            speed, accel, decel = (speed * speed_factor, accel * accel_factor,
+                                   decel * accel_factor)
+        if self._speed_name == "FORCE_SPEED":  # an SP move's own rates (profiles_sp.py)
+            accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
         if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
         for a, delta in zip(axes, deltas, strict=True):
@@ -1000,12 +1051,16 @@ class MC405Machine(Kinematics, Engine):
                                            tuple(float(d) for d in deltas), arc)
             for name, value in zip(DIRECTIONS, headings, strict=True):
                 base.params[name] = value
+        speed = v_limited(speed, [self.axes[a].params.get("V_LIMIT", 0.0) * self.axes[a].units
+                                  for a in axes], [float(d) for d in deltas],
+                          arc is not None, base.params.get("VP_MODE", 0.0))  # V_LIMIT (C)
         if (merge and last is not None and last.axes == axes and last.mergeable
                 and all(self.queues[a] and self.queues[a][-1] is last for a in axes)):
             if arc is not None:
                 last.arcs[len(last.deltas)] = arc
             last.kinds[len(last.deltas)] = kind
             if sp is not None:
+                last.forced[len(last.deltas)] = forced_values(base.params)
                 last.sp[len(last.deltas)] = sp
                 last.factored[len(last.deltas)] = lookahead(base.params)
             last.carried[len(last.deltas)] = carried
@@ -1023,8 +1078,9 @@ class MC405Machine(Kinematics, Engine):
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
                   sramp=sramp_seconds(base.params),
-                  jerk=jerk_counts(base.params, base.units), preset=preset)
+                  jerk=jerk, preset=preset)
         if sp is not None:
+            run.forced[0] = forced_values(base.params)
             run.sp[0] = sp
             run.factored[0] = lookahead(base.params)
         if arc is not None:
@@ -1102,6 +1158,7 @@ class MC405Machine(Kinematics, Engine):
         buffered behind it then run (a FORCE_DWELL waiting is dropped, D)."""
         run.stopping = True
         run.dwell = 0.0
+        run.jerk = stop_jerk(self.axes[run.base].params, run.units, run.jerk)  # FASTJERK
         if run.profile is not None:
             axis = self.axes[run.base]
             residual, velocity = axis.freeze(self)

@@ -175,11 +175,17 @@ def count_moves(m: Host) -> None:
                     if any(run.deltas[j]) and run.kinds.get(j, MOVE) not in _UNCOUNTED)
         run.counted = now
         for a in run.axes:
-            m.axes[a].params["MOVE_COUNT"] += moves
+            params = m.axes[a].params  # each move by MOVE_COUNT_INC (its page)
+            params["MOVE_COUNT"] += moves * params.get("MOVE_COUNT_INC", 1.0)
 
 
 def moves_left(m: Host, run: Run) -> int:
     return run.moves_left(m.tick, m.period)
+
+
+def current(m: Host, run: Run) -> int:
+    """The index of the move a started run is on (MOVE_FORCE_*, profile_readings.py)."""
+    return _current(m, run)
 
 
 def _current(m: Host, run: Run) -> int:

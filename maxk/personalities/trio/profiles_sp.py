@@ -33,7 +33,7 @@ def jerk_counts(params: Mapping[str, float], units: float) -> float:
     sramp = params.get("SRAMP", 0.0)
     if mode == 6.0 and sramp > 0:
         return params["ACCEL"] * units / (sramp / 1000.0)
-    return max(0.0, params.get("JERK", 0.0)) * units
+    return max(0.0, params.get("JERK", 0.0)) * units * params.get("JERK_FACTOR", 1.0)
 
 
 def sramp_seconds(params: Mapping[str, float]) -> float:
@@ -239,3 +239,73 @@ def cornered(params: Mapping[str, float], units: float, force: float, accel: flo
     if corner is not None:
         sp = (corner if sp[0] < 0 else min(sp[0], corner), sp[1])
     return force, sp, (start, end, change)
+
+
+def stop_jerk(params: Mapping[str, float], units: float, jerk: float) -> float:
+    """The jerk (counts/s^3) a jerk-limited move's stop ramps with (CANCEL, RAPIDSTOP, a
+    limit): FASTJERK where it is above the move's JERK, in VP_MODE 5 and 6 (C: FASTJERK
+    page); in VP_MODE 6 with SRAMP set, FASTDEC / SRAMP instead (C: the same page; SRAMP 0
+    counts as not set, D). Read as the stop begins (D, as FASTDEC is)."""
+    mode = params.get("VP_MODE", 0.0)
+    if jerk <= 0 or mode not in (5.0, 6.0):
+        return jerk
+    sramp = params.get("SRAMP", 0.0)
+    if mode == 6.0 and sramp > 0:
+        fast = params.get("FASTDEC", 0.0) * units / (sramp / 1000.0)
+    else:
+        fast = params.get("FASTJERK", 0.0) * units
+    return fast if fast > jerk else jerk
+
+
+def v_limited(speed: float, limits: Sequence[float], deltas: Sequence[float],
+              arc: bool, mode: float) -> float:
+    """V_LIMIT: the vector speed (counts/s) of a move cut so that no axis with a limit
+    (counts/s, <= 0 none) goes faster than it: a line's axis i runs at speed x |d_i| / L,
+    so speed <= limit_i x L / |d_i|; an arc's path runs at the lowest limit of its axes
+    (C: V_LIMIT page, its example's 45-degree move at 40 x sqrt(2)). Not in VP_MODE 5
+    (C: the page)."""
+    if mode == 5.0:
+        return speed
+    length = math.sqrt(sum(d * d for d in deltas))
+    for limit, delta in zip(limits, deltas, strict=True):
+        if limit <= 0:
+            continue
+        if arc:
+            speed = min(speed, limit)
+        elif delta != 0:
+            speed = min(speed, limit * length / abs(delta))
+    return speed
+
+
+def forced_rates(params: Mapping[str, float], units: float, accel: float, decel: float,
+                 jerk: float) -> tuple[float, float, float]:
+    """An SP move's own (acceleration, deceleration, jerk), counts: FORCE_ACCEL,
+    FORCE_DECEL and FORCE_JERK where set (above 0; -1, their power-up, not used: C, their
+    pages; 0 not used, D), else the axis's ACCEL, DECEL and JERK. FORCE_JERK in VP_MODE 5
+    and 6 only (C: AXIS_BLENDING page, "for VP_MODEs other than 0"), over SRAMP's jerk in
+    VP_MODE 6 too (D)."""
+    force_accel = params.get("FORCE_ACCEL", -1.0)
+    force_decel = params.get("FORCE_DECEL", -1.0)
+    force_jerk = params.get("FORCE_JERK", -1.0)
+    if force_accel > 0:
+        accel = force_accel * units
+    if force_decel > 0:
+        decel = force_decel * units
+    if force_jerk > 0 and params.get("VP_MODE", 0.0) in (5.0, 6.0):
+        jerk = force_jerk * units
+    return accel, decel, jerk
+
+
+def forced_values(params: Mapping[str, float]) -> tuple[float, float, float]:
+    """(FORCE_SPEED, FORCE_ACCEL, FORCE_DECEL) as an SP move loads them, user units: what
+    MOVE_FORCE_SPEED/ACCEL/DECEL read while it runs (C: their pages)."""
+    return (params.get("FORCE_SPEED", 0.0), params.get("FORCE_ACCEL", -1.0),
+            params.get("FORCE_DECEL", -1.0))
+
+
+def vp_factors(params: Mapping[str, float]) -> tuple[float, float]:
+    """(SPEED_FACTOR, ACCEL_FACTOR) on SPEED and on ACCEL and DECEL, in VP_MODE 5 and 6
+    only (C: their pages); 1 in VP_MODE 0 (C). JERK_FACTOR is in jerk_counts."""
+    if params.get("VP_MODE", 0.0) not in (5.0, 6.0):
+        return 1.0, 1.0
+    return params.get("SPEED_FACTOR", 1.0), params.get("ACCEL_FACTOR", 1.0)

@@ -20,9 +20,10 @@ inputs change on servo ticks, so the time-based interpolation has nothing betwee
   refused (D).
 - **Mode 20**(channel, source, edge, window[, quantity, table start]): channel 0 A, 1 B;
   source 0 the first R input, 1 the Z mark, 2 the second R input, 4 digital input
-  `channel` (into channel A); windows 1/2 OPEN_WIN..CLOSE_WIN inside/outside, 3/4 only
-  while the gate input (channel bits 16 and up) is high/low; quantity captures go to
-  TABLE(table start ...) and MARK reads minus the count so far (C: MARK page).
+  `channel` (into channel A); windows 1/2 OPEN_WIN..CLOSE_WIN inside/outside, 5/6
+  OPEN_WINB..CLOSE_WINB (REGIST page, modes 20 and 21), 3/4 only while the gate input
+  (channel bits 16 and up) is high/low; quantity captures go to TABLE(table start ...)
+  and MARK reads minus the count so far (C: MARK page).
 - **Mode 21**(channel 0..7, source, edge, window[, quantity, table start]): the
   time-based channel of the axis on input `channel` (source 256 + n: input n), read with
   R_MARK(channel) etc.
@@ -60,7 +61,8 @@ class Capture:
     rising: bool
     input: int = -1  # R: the digital input
     level: bool = False  # the R input's level when armed (its edges are changes)
-    window: int = 0  # 0 none, 1 inside OPEN_WIN..CLOSE_WIN, 2 outside, 3/4 gate high/low
+    window: int = 0  # 0 none, 1 inside OPEN_WIN..CLOSE_WIN, 2 outside, 3/4 gate high/low,
+    # 5/6 inside/outside OPEN_WINB..CLOSE_WINB (REGIST page, modes 20 and 21)
     gate: int = -1  # windows 3/4: the gate input
     quantity: int = 0  # captures into TABLE (0: one capture into the mark)
     table_start: int = 0
@@ -163,7 +165,7 @@ class Registration:
         window = args[3] if len(args) > 3 else 0
         quantity, start = (args[4], args[5]) if len(args) == 6 else (0, 0)
         gate, channel = channel >> 16, channel & 0xFFFF
-        if channel < 0 or edge not in (0, 1) or not 0 <= window <= 4 or quantity < 0 \
+        if channel < 0 or edge not in (0, 1) or not 0 <= window <= 6 or quantity < 0 \
                 or start < 0 or start + quantity > self.m.table.size \
                 or not 0 <= gate < INPUTS:  # bits 16 up: an input, used by windows 3/4
             raise ValueError("Parameter out of range")
@@ -276,8 +278,10 @@ class Registration:
         m = self.m
         a = m.axes[axis]
         position = m.wrapped(axis, (counts + a.datum) / a.units)
-        inside = a.params["OPEN_WIN"] <= position <= a.params["CLOSE_WIN"]
-        return inside if cap.window == 1 else not inside
+        low, high = ("OPEN_WINB", "CLOSE_WINB") if cap.window > 4 else \
+            ("OPEN_WIN", "CLOSE_WIN")
+        inside = a.params[low] <= position <= a.params[high]  # 5/6: the second window (C)
+        return inside if cap.window in (1, 5) else not inside
 
     def _gate_open(self, cap: Capture) -> bool:
         """Windows 3/4: is the gate input high (3) / low (4)? Other windows: open."""

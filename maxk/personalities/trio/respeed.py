@@ -3,13 +3,14 @@ profiling modes allow the SPEED/ACCEL/DECEL motion parameters to be changed whil
 profiling non-SP move types"; the SP moves keep what they were loaded with).
 
 A write to the base axis's SPEED, ACCEL or DECEL takes effect at once on the moves of
-its BASE group that are not SP moves: the one running is re-planned from where it is, at
-the speed it has, toward the new speed at the new rate, and the moves buffered behind it
-run at the new values (D: the page names the profiling, not the buffered moves; a move
-reads them when it is profiled). A single-axis move (a closed-form profile) becomes a
-path of its remaining distance first, with linear ramps, or with SRAMP/JERK the S-ramps
-of path_scurve.py, the ramp running ending first (D). Jogs (JOGSPEED), CAMs and
-MOVEMODIFY's re-plans keep theirs (D).
+its BASE group that are not SP moves (so do SPEED_FACTOR and ACCEL_FACTOR in VP_MODE
+5/6, their pages; V_LIMIT still caps each move, profiles_sp.v_limited): the one running
+is re-planned from where it is, at the speed it has, toward the new speed at the new
+rate, and the moves buffered behind it run at the new values (D: the page names the
+profiling, not the buffered moves; a move reads them when it is profiled). A single-axis
+move (a closed-form profile) becomes a path of its remaining distance first, with linear
+ramps, or with SRAMP/JERK the S-ramps of path_scurve.py, the ramp running ending first
+(D). Jogs (JOGSPEED), CAMs and MOVEMODIFY's re-plans keep theirs (D).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from typing import Any
 
 from .feedhold import _as_path, _current
 from .moves import CAM, FWD_JOG, MOVEMODIFY, REV_JOG
-from .profiles_sp import lookahead
+from .profiles_sp import lookahead, v_limited, vp_factors
 
 _KEEP = frozenset({CAM, FWD_JOG, REV_JOG, MOVEMODIFY})
 
@@ -27,9 +28,10 @@ _KEEP = frozenset({CAM, FWD_JOG, REV_JOG, MOVEMODIFY})
 def respeed(m: Any, axis: int) -> None:
     """The base axis's SPEED/ACCEL/DECEL changed: its group's plain moves take them."""
     a = m.axes[axis]
-    speed = a.params["SPEED"] * a.units
-    accel = a.params["ACCEL"] * a.units
-    decel = a.params["DECEL"] * a.units
+    speed_factor, accel_factor = vp_factors(a.params)  # VP_MODE 5/6 (profiles_sp.py)
+    speed = a.params["SPEED"] * a.units * speed_factor
+    accel = a.params["ACCEL"] * a.units * accel_factor
+    decel = a.params["DECEL"] * a.units * accel_factor
     if not min(speed, accel, decel) > 0:
         return  # (a zero SPEED: the moves keep theirs; a new move is refused, D)
     for run in list(m.queues[axis]):
@@ -40,8 +42,11 @@ def respeed(m: Any, axis: int) -> None:
         for j in range(first, len(run.deltas)):
             if j in run.sp or run.kinds.get(j, 1) in _KEEP:
                 continue
-            if run.speeds[j] != speed or run.accels[j] != accel:
-                run.speeds[j], run.accels[j] = speed, accel
+            capped = v_limited(speed, [m.axes[k].params.get("V_LIMIT", 0.0) * m.axes[k].units
+                                       for k in run.axes], [float(d) for d in run.deltas[j]],
+                               j in run.arcs, a.params.get("VP_MODE", 0.0))
+            if run.speeds[j] != capped or run.accels[j] != accel:
+                run.speeds[j], run.accels[j] = capped, accel
                 changed = True
         if run.decel != decel and not run.sp and run.kinds.get(0, 1) not in _KEEP:
             run.decel = decel

@@ -101,6 +101,8 @@ class Run:
     # an SP move's index -> the LOOKAHEAD_FACTOR its speeds carry
     carried: dict[int, dict[int, tuple[float, float]]] = field(default_factory=dict)
     # move index -> axis -> its (MOVE_PA, MOVE_PB) when the move loaded (move_pa.py)
+    forced: dict[int, tuple[float, float, float]] = field(default_factory=dict)
+    # an SP move's index -> FORCE_SPEED, FORCE_ACCEL, FORCE_DECEL as loaded (MOVE_FORCE_*)
 
     @property
     def base(self) -> int:
