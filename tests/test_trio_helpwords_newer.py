@@ -198,10 +198,11 @@ def dpos(trio: MC405) -> float:
 def test_fastjerk_example_cancel_ramps_down_at_the_fast_jerk() -> None:
     """FASTJERK page: JERK 200, FASTJERK 2000, a CANCEL mid-move. VP_MODE 5: the ramp up
     peaks at sqrt(50 x 200) = 100 over 2 sqrt(50/200) = 1 s, 25 units, so at 3 s the
-    axis is at 25 + 2 x 50 = 125, cruising. The stop (at DECEL 100, as CANCEL is
-    modelled) rises to 100 at 2000/s^3 over 0.05 s: s(t) = 50 t - 2000 t^3 / 6 then; it
-    lasts 50/100 + 100/2000 = 0.55 s and covers 50 x 0.55 / 2 = 13.75 (symmetric)."""
-    trio, start = cancelled("VP_MODE = 5: JERK = 200: FASTJERK = 2000")
+    axis is at 25 + 2 x 50 = 125, cruising. The stop (at DECEL 100: FASTDEC 0 here, so
+    CANCEL takes DECEL, its page) rises to 100 at 2000/s^3 over 0.05 s:
+    s(t) = 50 t - 2000 t^3 / 6 then; it lasts 50/100 + 100/2000 = 0.55 s and covers
+    50 x 0.55 / 2 = 13.75 (symmetric)."""
+    trio, start = cancelled("VP_MODE = 5: JERK = 200: FASTJERK = 2000: FASTDEC = 0")
     assert dpos(trio) == 125
     at(trio, start + 50)
     assert dpos(trio) == pytest.approx(125 + 50 * 0.05 - 2000 * 0.05 ** 3 / 6, abs=1e-9)
@@ -224,25 +225,30 @@ def test_fastjerk_not_above_jerk_leaves_the_moves_jerk(fastjerk: int) -> None:
 
 
 def test_fastjerk_is_ignored_in_vp_mode_0() -> None:
-    """VP_MODE 0, no SRAMP: a trapezoid; CANCEL ramps linearly at DECEL 100: 50 x 0.05 -
-    100 x 0.05^2 / 2 after 50 ms, whatever FASTJERK says."""
+    """VP_MODE 0, no SRAMP: a trapezoid; CANCEL ramps linearly at FASTDEC 1000 (above DECEL
+    100, the CANCEL page): 50 x 0.05 - 1000 x 0.05^2 / 2 after 50 ms, whatever FASTJERK
+    says."""
     trio, start = cancelled("FASTJERK = 2000", at_tick=2000)
     here = dpos(trio)
+    at(trio, start + 25)
+    assert dpos(trio) == pytest.approx(here + 50 * 0.025 - 1000 * 0.025 ** 2 / 2, abs=1e-9)
     at(trio, start + 50)
-    assert dpos(trio) == pytest.approx(here + 50 * 0.05 - 100 * 0.05 ** 2 / 2, abs=1e-9)
+    assert dpos(trio) == pytest.approx(here + 50 * 0.05 - 1000 * 0.05 ** 2 / 2, abs=1e-9)
 
 
 def test_vp_mode_6_with_sramp_stops_at_fastdec_over_sramp() -> None:
     """FASTJERK page: with SRAMP set in VP_MODE 6, FASTJERK is FASTDEC / SRAMP and any
     FASTJERK written is ignored. SRAMP 50 ms: the move's jerk is ACCEL / SRAMP = 20000, up
-    in 0.1 s over 2.5 units (at 3 s: 2.5 + 2.9 x 50 = 147.5); FASTDEC 4000 gives 80000,
-    above it, so the stop at DECEL 100 rises over 100/80000 = 1.25 ms, lasts 0.50125 s
-    and covers 50 x 0.50125 / 2 = 12.53125."""
+    in 0.1 s over 2.5 units (at 3 s: 2.5 + 2.9 x 50 = 147.5); FASTDEC 4000 (above DECEL:
+    CANCEL's rate) gives 80000, above it, so the stop from 50 is a triangle of
+    acceleration peaking at sqrt(50 x 80000) = 2000 after 25 ms: s(t) = 50 t - 80000 t^3 / 6
+    then, and it covers 50 x 0.05 / 2 = 1.25 in 50 ms, at rest on the whole count (D)."""
     trio, start = cancelled("VP_MODE = 6: SRAMP = 50: FASTDEC = 4000: FASTJERK = 1e9")
     assert dpos(trio) == pytest.approx(147.5, abs=1e-9)
-    at(trio, start + 500)  # 1.25 ms to go: the last jerk phase's 80000 x t^3 / 6 left
-    assert dpos(trio) == pytest.approx(147.5 + 12.53125 - 80000 * 0.00125 ** 3 / 6,
-                                       abs=1e-9)
+    at(trio, start + 25)
+    assert dpos(trio) == pytest.approx(147.5 + 50 * 0.025 - 80000 * 0.025 ** 3 / 6, abs=1e-9)
+    at(trio, start + 60)
+    assert dpos(trio) == 149
 
 
 # ---- REMAIN_TIME and STOPPING_DISTANCE ----------------------------------------------------
