@@ -37,3 +37,58 @@ def test_ethernet_refuses_a_function_the_page_does_not_list() -> None:
         assert trio.send(f"ETHERNET(1, -1, {function}, 1)") == ["! Parameter out of range"]
     assert trio.send("ETHERNET(0, -1, 4)") == ["23"]  # a listed one still answers
     assert trio.send("ETHERNET(2, -1, 25)") == []  # restart services: accepted
+
+
+def _fifo_text(trio: MC405, channel: int = 41) -> str:
+    text = []
+    for _ in range(4096):  # (bounded: more than any FIFO here holds)
+        if trio.query(f"?KEY #{channel}") == "0":
+            break
+        trio.send(f"GET #{channel}, c")
+        text.append(chr(int(float(trio.query("?c")))))
+    return "".join(text)
+
+
+def test_one_print_longer_than_a_non_blocking_fifo_keeps_its_newest_characters() -> None:
+    """A PRINT now goes into an overwriting FIFO in one insertion (a character at a time
+    took 10 s of CPU for 380 KB into a 1 MiB FIFO, quadratic); what stays is as before:
+    300 characters and CR LF into 256 keep the last 256."""
+    trio = MC405()
+    trio.send('OPEN #42 AS "ring" FOR FIFO_WRITE(256, 2)')
+    text = "".join(chr(65 + k % 26) for k in range(300))
+    trio.send(f'PRINT #42, "{text}"')
+    trio.send('OPEN #41 AS "ring" FOR FIFO_READ')
+    assert _fifo_text(trio) == (text + "\r\n")[-256:]
+
+
+def test_line_mode_drops_lines_of_the_print_going_in_when_no_old_line_is_left() -> None:
+    """Mode 3, LF the terminator: one 102-character line in, then 300 'b' and CR LF in one
+    PRINT. At 256 the old line goes (154 left); 102 more 'b' fill it again with no
+    terminator in it, so the next one empties it; the last 44 'b' and CR LF stay."""
+    trio = MC405()
+    trio.send('OPEN #42 AS "lines" FOR FIFO_WRITE(256, 3, 10)')
+    trio.send(f'PRINT #42, "{"a" * 100}"')
+    trio.send(f'PRINT #42, "{"b" * 300}"')
+    trio.send('OPEN #41 AS "lines" FOR FIFO_READ')
+    assert _fifo_text(trio) == "b" * 44 + "\r\n"
+
+
+def test_fifos_under_ever_new_names_stop_at_the_memory_budget() -> None:
+    """A FIFO lives on after its channel closes, so a loop opening 1 MiB FIFOs under new
+    names took the host's memory without end (each full one is megabytes). All FIFOs
+    together hold at most 2 MiB: the third 1 MiB one is refused and not made."""
+    trio = MC405()
+    trio.load("MANY", "\n".join([
+        "FOR i = 0 TO 9",
+        '  OPEN #42 AS "f" + STR(i, 0) FOR FIFO_WRITE(1048576, 2)',
+        "  CLOSE #42",
+        "  VR(20) = i + 1",
+        "NEXT i",
+    ]))
+    trio.send('RUN "MANY"')
+    trio.advance(1.0)
+    out = trio.send("?VR(20)")
+    assert out == ["%[Process 19:Program MANY Line 2] - Not enough memory", "2.0000"]
+    assert trio.send('OPEN #41 AS "f2" FOR FIFO_READ') == ["! Program not found"]
+    assert trio.send('OPEN #41 AS "f1" FOR FIFO_READ') == []  # the two made are kept
+    assert trio.send('OPEN #42 AS "f0" FOR FIFO_WRITE(256)') == []  # reopened: no more

@@ -1373,7 +1373,9 @@ _ENTRIES: list[Keyword] = [
              "lines up to the terminator, 13 by default), else the PRINT waits until a "
              "reader makes room, a servo cycle at a time (page: blocking; the wait's pace "
              "D). The FIFO is not a program of the store: DIR does not list it (D); 'RAM:' "
-             "names the same one (D). Alone as a statement: no effect (D)."),
+             "names the same one (D). At most 1 MiB each and 2 MiB for all together: a "
+             "new FIFO past that is 'Not enough memory' (D). Alone as a statement: no "
+             "effect (D)."),
     _command("FIFO_READ", "OPEN ... FOR FIFO_READ[(mode[, terminator])]: read a FIFO; KEY #n "
              "counts its characters (mode 0) or lines (mode 1).", (0, 2),
              source=f"{HELP} OPEN; {HELP} FIFO_READ; {TOK}", confidence="I",
