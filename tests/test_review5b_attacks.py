@@ -92,3 +92,34 @@ def test_fifos_under_ever_new_names_stop_at_the_memory_budget() -> None:
     assert trio.send('OPEN #41 AS "f2" FOR FIFO_READ') == ["! Program not found"]
     assert trio.send('OPEN #41 AS "f1" FOR FIFO_READ') == []  # the two made are kept
     assert trio.send('OPEN #42 AS "f0" FOR FIFO_WRITE(256)') == []  # reopened: no more
+
+
+def test_a_static_is_one_storage_for_a_recursive_function() -> None:
+    """STATIC is 'like Visual Basic STATIC' (its page): one variable for every call. A
+    call inside a call started from the value saved by the last finished call (0), so a
+    depth counter read 1 after six nested calls; it reads 6, and a later call goes on
+    from it."""
+    trio = MC405()
+    trio.load("DEEP", "\n".join([
+        "VR(2) = depth(5)",
+        "VR(3) = depth(0)",
+        "STOP",
+        "FUNCTION depth(k AS INTEGER) AS INTEGER",
+        "  STATIC calls AS INTEGER",
+        "  calls = calls + 1",
+        "  IF k > 0 THEN",
+        "    VR(10 + k) = depth(k - 1)",
+        "    calls = calls + 100",
+        "  ENDIF",
+        "  RETURN calls",
+        "ENDFUNC",
+    ]))
+    trio.send('RUN "DEEP"')
+    trio.advance(1.0)
+    # six calls count 1..6; the innermost returns 6; each of the five outer ones adds
+    # 100 after its inner call returned: 106, 206, ... 506
+    assert trio.query("?VR(10)") == "0.0000"  # (k = 0 stores nothing)
+    assert [trio.query(f"?VR({10 + k})") for k in range(1, 6)] == [
+        f"{6 + 100 * (k - 1)}.0000" for k in range(1, 6)]
+    assert trio.query("?VR(2)") == "506.0000"
+    assert trio.query("?VR(3)") == "507.0000"

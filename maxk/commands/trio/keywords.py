@@ -257,8 +257,9 @@ _ENTRIES: list[Keyword] = [
                "array set up on its first call only, keeping its value between calls.",
                source="TrioBASIC help STATIC", confidence="C",
                note="One store per FUNCTION for the controller's run, shared by the processes "
-               "that call it (I: a library's function is one; D); editing the program starts "
-               "it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
+               "that call it (I: a library's function is one; D), and by a recursive call "
+               "and the call it is in (I: 'like Visual Basic STATIC'); editing the program "
+               "starts it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
                "functions only)."),
     _system("AXISSIZE", "Number of axes (BASE and AXIS take 0..AXISSIZE-1).", default=16.0,
             writable=False, source="TrioBASIC help AXISSIZE", confidence="C",
