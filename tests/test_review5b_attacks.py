@@ -123,3 +123,27 @@ def test_a_static_is_one_storage_for_a_recursive_function() -> None:
         f"{6 + 100 * (k - 1)}.0000" for k in range(1, 6)]
     assert trio.query("?VR(2)") == "506.0000"
     assert trio.query("?VR(3)") == "507.0000"
+
+
+def test_setline_refuses_a_base_that_is_no_axis_and_starts_nothing() -> None:
+    """SETLINE "P", -1, 1, 99 started P with BASE 99: its MOVE raised an IndexError out of
+    the servo cycle (the server logged it and went on; the program vanished without a
+    controller error), and -5 made Python's negative index act on axis 11."""
+    for base in (99, 16, -5):
+        trio = MC405()
+        trio.load("P", "MOVE(10)\nVR(1) = 1\n")
+        assert trio.send(f'SETLINE "P", -1, 1, {base}') == ["! Invalid axis number"]
+        assert trio.query("?PROC_STATUS PROC(19)") == "0"  # nothing started
+        trio.advance(1.0)
+        assert trio.query("?DPOS AXIS(11)") == "0"
+    trio = MC405()
+    trio.load("P", "MOVE(10)\nVR(1) = 1\n")
+    assert trio.send('SETLINE "P", -1, 1, 0, 0, 7') == ["! Syntax error"]
+    assert trio.send('SETLINE "P", -1, 1, 3') == []
+    trio.advance(0.01)
+    assert trio.send("?PROC_STATUS PROC(19)") == ["%[Process 19:Line 1] - Paused",
+                                                  "MOVE(10)", "3"]  # 3: paused
+    assert trio.send('TROFF "P"') == ["%[Process 19:Program P] - Released"]
+    trio.advance(1.0)  # BASE 3: the move on axis 3, whose 10 counts end well within 1 s
+    assert (trio.query("?DPOS AXIS(3)"), trio.query("?DPOS AXIS(0)")) == ("10", "0")
+    assert trio.query("?VR(1)") == "1.0000"

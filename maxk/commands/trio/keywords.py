@@ -1267,7 +1267,8 @@ _ENTRIES: list[Keyword] = [
          "A paused program is moved (its GOSUB returns dropped, D) and prints its Paused "
          "line; one not running is started paused there (process -1: the highest free), "
          "its BASE set unless base is -1 (page); a running one pauses there (D). A line "
-         "with no statement is 'Parameter out of range' (D); robot is accepted, no robot "
+         "with no statement is 'Parameter out of range' (D), a base that is no axis "
+         "'Invalid axis number', nothing started (D); robot is accepted, no robot "
          "selection is modelled (D). The token table gives 2..3 arguments, the page 5: "
          "3..5 are taken (D)."),
         ("BREAK_ADD", "BREAK_ADD \"prog\" line: a breakpoint: the program pauses before "
