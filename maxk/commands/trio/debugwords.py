@@ -11,7 +11,8 @@ line (TrioBASIC help pages of each; the paused state is tracing.py's).
   trace (D: the emulator runs one copy of a program, and a debugger's Run goes on).
 - ``SETLINE "prog", process, line[, base[, robot]]`` moves the program pointer of a paused
   program to a line (one not running is started paused there, its BASE set when base is
-  not -1); a running program is paused there (D).
+  not -1; a base that is no axis is 'Invalid axis number', nothing started, D); a running
+  program is paused there (D).
 
 - ``BREAK_ADD "prog" line`` / ``BREAK_DELETE``: a breakpoint; a running program pauses
   before a breakpoint's line each time it comes to it from another line, as TRON pauses
@@ -31,6 +32,7 @@ from collections.abc import Callable
 
 from .interpreter import ProcessContext, Value, number_arg
 from .lexer import TrioError
+from .machine import TrioMachine
 from .programs import ProgramStore
 from .tasks import Step, Task
 from .tracing import RUNNING, Trace
@@ -39,6 +41,7 @@ from .tracing import RUNNING, Trace
 class ProgramTrace:
     """The trace words' handlers; the attributes are the runtime's own (system.py)."""
 
+    machine: TrioMachine
     programs: ProgramStore
     tasks: dict[int, Task]
     breakpoints: dict[str, set[int]]
@@ -77,11 +80,15 @@ class ProgramTrace:
         self._step(args, ctx, into=True)
 
     def ctx_setline(self, args: list[Value], ctx: ProcessContext) -> None:
-        if len(args) < 3 or not isinstance(args[0], str):
+        if not 3 <= len(args) <= 5 or not isinstance(args[0], str):
             raise TrioError("Syntax error")
         name = self._target(args[:1])
         process, line = _whole(args[1]), _whole(args[2])
         base = _whole(args[3]) if len(args) > 3 else -1
+        if len(args) > 4:
+            _whole(args[4])  # the robot index: no kinematic robot is emulated here (D)
+        if base != -1 and not 0 <= base < self.machine.axis_count:
+            raise TrioError("Invalid axis number")  # as BASE(n) says it (D)
         running = self._running(name)
         if process != -1 and running and running[0][0] != process:
             raise TrioError("Program is running")  # (one copy of a program runs here)

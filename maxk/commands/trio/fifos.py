@@ -12,18 +12,22 @@ characters (mode 0) or lines, terminators counted (mode 1) are in it (page).
 
 A FIFO lives in RAM apart from the program store: DIR does not list it, and FIFO_READ of
 one never opened for writing is 'Program not found' as INPUT of a missing file (D); a
-"RAM:" prefix names the same FIFO (D). A reader that waits in GET looks again every servo
-cycle, as a writer may be another process (D).
+"RAM:" prefix names the same FIFO (D). Their sizes together are at most `TOTAL_SIZE`: a
+new FIFO past it is 'Not enough memory', none made (D: RAM is finite; a program that
+opens FIFOs under new names in a loop must not take the host's memory). A reader that
+waits in GET looks again every servo cycle, as a writer may be another process (D).
 """
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass, field
 
 from .lexer import TrioError
 
 MIN_SIZE = 256  # bytes (page)
 MAX_SIZE = 1 << 20  # (D: a bound on what one FIFO may hold)
+TOTAL_SIZE = 2 * MAX_SIZE  # (D: what all of them may hold; a new one past it is refused)
 
 
 @dataclass
@@ -69,7 +73,10 @@ class FifoFiles:
                 raise TrioError("Parameter out of range")
             fifo = self.fifos.get(name)
             if fifo is None:
-                fifo = self.fifos[name] = Fifo(max(size, MIN_SIZE))
+                size = max(size, MIN_SIZE)
+                if sum(f.size for f in self.fifos.values()) + size > TOTAL_SIZE:
+                    raise TrioError("Not enough memory")
+                fifo = self.fifos[name] = Fifo(size)
             fifo.chars.clear()  # (an existing one: cleared, its size kept)
             fifo.line_mode, fifo.overwrite = bool(mode_bits & 1), bool(mode_bits & 2)
             fifo.terminator = terminator
@@ -98,11 +105,13 @@ class FifoFiles:
         if fifo is None:
             return False
         codes = [ord(c) & 0xFF for c in text]
-        if fifo.overwrite:
+        if fifo.overwrite:  # (one insertion a PRINT: a character at a time was quadratic)
+            fresh: deque[int] = deque()  # this PRINT's characters in, the oldest first
             for code in codes:
-                if len(fifo.chars) >= fifo.size:
-                    _drop_oldest(fifo)
-                fifo.chars.insert(0, code)
+                if len(fifo.chars) + len(fresh) >= fifo.size:
+                    _drop_oldest(fifo, fresh)
+                fresh.append(code)
+            fifo.chars[0:0] = reversed(fresh)
             return True
         self.pending.setdefault(channel, []).extend(codes)
         self.flush(channel)
@@ -137,13 +146,13 @@ class FifoFiles:
         return channel in self.readers
 
 
-def _drop_oldest(fifo: Fifo) -> None:
-    """Room for one more: the oldest character, or in line mode the oldest whole line."""
-    if not fifo.line_mode:
-        fifo.chars.pop()
-        return
-    while fifo.chars and fifo.chars.pop() != fifo.terminator:
-        pass
+def _drop_oldest(fifo: Fifo, fresh: deque[int]) -> None:
+    """Room for one more: the oldest character, or in line mode the oldest whole line,
+    of the FIFO followed by the characters of the PRINT going in (`fresh`)."""
+    while fifo.chars or fresh:
+        code = fifo.chars.pop() if fifo.chars else fresh.popleft()
+        if not fifo.line_mode or code == fifo.terminator:
+            return
 
 
 def _fifo_name(name: str) -> str:

@@ -257,8 +257,9 @@ _ENTRIES: list[Keyword] = [
                "array set up on its first call only, keeping its value between calls.",
                source="TrioBASIC help STATIC", confidence="C",
                note="One store per FUNCTION for the controller's run, shared by the processes "
-               "that call it (I: a library's function is one; D); editing the program starts "
-               "it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
+               "that call it (I: a library's function is one; D), and by a recursive call "
+               "and the call it is in (I: 'like Visual Basic STATIC'); editing the program "
+               "starts it afresh (D). Outside a FUNCTION it acts as DIM (D: the page allows it in "
                "functions only)."),
     _system("AXISSIZE", "Number of axes (BASE and AXIS take 0..AXISSIZE-1).", default=16.0,
             writable=False, source="TrioBASIC help AXISSIZE", confidence="C",
@@ -1292,7 +1293,8 @@ _ENTRIES: list[Keyword] = [
          "A paused program is moved (its GOSUB returns dropped, D) and prints its Paused "
          "line; one not running is started paused there (process -1: the highest free), "
          "its BASE set unless base is -1 (page); a running one pauses there (D). A line "
-         "with no statement is 'Parameter out of range' (D); robot is accepted, no robot "
+         "with no statement is 'Parameter out of range' (D), a base that is no axis "
+         "'Invalid axis number', nothing started (D); robot is accepted, no robot "
          "selection is modelled (D). The token table gives 2..3 arguments, the page 5: "
          "3..5 are taken (D)."),
         ("BREAK_ADD", "BREAK_ADD \"prog\" line: a breakpoint: the program pauses before "
@@ -1399,7 +1401,9 @@ _ENTRIES: list[Keyword] = [
              "lines up to the terminator, 13 by default), else the PRINT waits until a "
              "reader makes room, a servo cycle at a time (page: blocking; the wait's pace "
              "D). The FIFO is not a program of the store: DIR does not list it (D); 'RAM:' "
-             "names the same one (D). Alone as a statement: no effect (D)."),
+             "names the same one (D). At most 1 MiB each and 2 MiB for all together: a "
+             "new FIFO past that is 'Not enough memory' (D). Alone as a statement: no "
+             "effect (D)."),
     _command("FIFO_READ", "OPEN ... FOR FIFO_READ[(mode[, terminator])]: read a FIFO; KEY #n "
              "counts its characters (mode 0) or lines (mode 1).", (0, 2),
              source=f"{HELP} OPEN; {HELP} FIFO_READ; {TOK}", confidence="I",

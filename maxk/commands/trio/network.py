@@ -9,7 +9,8 @@ setting them agree; IP_MAC (3) is read only. The ports (4 command line, 5 token 
 Nothing of it moves the emulator's own listening socket: a new address "applies after
 EX(1)" on the controller, and the emulator's door is the host's (D). The other functions
 (ARP cache, MIB, endpoints, connection state, restart) are accepted and do nothing: the
-emulator has no Ethernet stack (D).
+emulator has no Ethernet stack (D); a function number the page's table does not list
+(16-20, 26 on, negative) is 'Parameter out of range' (D).
 
 CLEAR_PARAMS resets the FLASH parameters (personalities/trio/flash.py) to their power-up
 values; like the controller's, the new SERVO_PERIOD takes effect at the next EX.
@@ -44,6 +45,7 @@ _ADDRESSES = {0: "IP_ADDRESS", 2: "IP_NETMASK", 8: "IP_GATEWAY"}
 _NUMBERS = {4: (23.0, 65535.0), 5: (3240.0, 65535.0), 10: (502.0, 65535.0),
             7: (0.0, 2.0), 9: (0.0, 1.0)}  # function: (power-up value, highest), pages
 _MAC = 3
+_FUNCTIONS = frozenset(range(16)) | frozenset(range(21, 26))  # the page's function table
 _MC464_ONLY = 6  # PRP firmware version: "MC464 read only"
 
 
@@ -63,7 +65,8 @@ class NetworkWords:
             raise TrioError("Parameter out of range")
         action, slot, function = (int(n) for n in numbers[:3])
         values = numbers[3:]
-        if action not in (0, 1, 2) or slot != -1 or function == _MC464_ONLY:
+        if action not in (0, 1, 2) or slot != -1 or function == _MC464_ONLY or \
+                function not in _FUNCTIONS:
             raise TrioError("Parameter out of range")  # (the MC405 has one port: -1, D)
         # (the page's gateway example writes with action 0: values given write, I)
         writing = bool(values)

@@ -1098,6 +1098,7 @@ class _Parser:
         return self.primary()
 
     def primary(self) -> Expr:
+        literal = self.tok.kind is Tok.NUMBER
         expr = self.operand()
         if isinstance(expr, Var) and self.at_op(".") and \
                 self.tokens[self.pos + 1].text in ("DIMS", "DIMSIZE"):
@@ -1110,6 +1111,8 @@ class _Parser:
                 self.expect_op(")")
             return Field(expr.name, field, index)
         bit = self.bit_number()
+        if bit is not None and literal:  # 1.2.3: a mistyped number or address (D)
+            raise TrioError("Syntax error")
         if bit is not None:  # value.n: bit n of a variable, element, bracket or parameter
             if isinstance(expr, Param) and expr.axis is None and \
                     expr.keyword.axis_modifier and self.at_name("AXIS"):

@@ -322,6 +322,8 @@ class Task:
         self.functions = {s.stmt.name: i for i, s in enumerate(steps)
                           if isinstance(s.stmt, FunctionDef)}
         self.frames: list[ProcessContext] = []  # FUNCTION calls running: depth, memory
+        # a STATIC's calls running (a recursive FUNCTION): the innermost holds its names
+        self.static_holders: dict[tuple[int, int], list[ProcessContext]] = {}
         self.budget = FUNCTION_STATEMENTS
         ctx.functions = self.call_function
         self.trace: Trace | None = None  # TRON / STEPLINE: where it pauses (tracing.py)
@@ -381,6 +383,12 @@ class Task:
                 if isinstance(stmt, Dim) and stmt.static:
                     key = (id(steps), pc)
                     kept.append(key)
+                    holders = self.static_holders.setdefault(key, [])
+                    holders.append(ctx)
+                    if len(holders) > 1:  # a call of a call: one storage, as VB's STATIC
+                        self._restore(ctx, self._kept(holders[-2], stmt))
+                        pc += 1
+                        continue
                     if key in self.interpreter.statics:  # set up by an earlier call
                         self._restore(ctx, self.interpreter.statics[key])
                         pc += 1
@@ -403,9 +411,18 @@ class Task:
             for key in kept:  # the STATIC names keep what this call left in them
                 names = steps[key[1]].stmt
                 assert isinstance(names, Dim)
-                self.interpreter.statics[key] = {
-                    name: (ctx.variables.get(name), ctx.arrays.get(name),
-                           ctx.shapes.get(name), ctx.types.get(name)) for name in names.names}
+                left = self.interpreter.statics[key] = self._kept(ctx, names)
+                holders = self.static_holders[key]
+                holders.pop()
+                if holders:  # the call it returns to goes on with them
+                    self._restore(holders[-1], left)
+                else:
+                    del self.static_holders[key]
+
+    @staticmethod
+    def _kept(ctx: ProcessContext, names: Dim) -> dict[str, Kept]:
+        return {name: (ctx.variables.get(name), ctx.arrays.get(name), ctx.shapes.get(name),
+                       ctx.types.get(name)) for name in names.names}
 
     @staticmethod
     def _restore(ctx: ProcessContext, kept: dict[str, Kept]) -> None:
