@@ -26,15 +26,20 @@ import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from maxk.commands.trio.network import FLASH_PAGE_SIZE, FLASH_PAGES
+from maxk.commands.trio.system import ProgramCommands
 from maxk.personalities.trio.flash import AUTO_BACKUP, FLASH_PARAMETERS
-from maxk.personalities.trio.machine import SERVO_PERIODS
+from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.memory import VR_COUNT
 
-if TYPE_CHECKING:
-    from .controller import MC405
+
+class MC405(Protocol):
+    """What the flash needs of the controller (controller.MC405)."""
+
+    machine: MC405Machine
+    runtime: ProgramCommands
 
 FILE_NAME = "flash.json"
 FORMAT = "maxk MC405 flash"

@@ -62,8 +62,8 @@ class MotionErrors:
         """Power-up (and EX): no errors, no groups."""
         n = self.drive.m.axis_count
         self.latched = [0] * n  # AXISSTATUS bits held by a motion error until cleared
-        self.cleared = [-1] * n  # the tick of the axis's last DATUM(0)/(7): the check
-        # acts on it again from the next cycle
+        self.cleared = [-1] * n  # the tick of the axis's last DATUM(0)/(7), and
+        self.held = [0] * n  # the bits still on then: they act again from the next cycle
         self.motion_error = 0  # MOTION_ERROR: a bit per axis in error
         self.error_axis = 0  # ERROR_AXIS (0 with no error: its page)
         self.groups = []
@@ -99,15 +99,15 @@ class MotionErrors:
 
     def check(self) -> bool:
         """AXISSTATUS AND ERRORMASK, every look: bits on that the axis does not already
-        hold put it into motion error (an axis cleared on this cycle is looked at from the
-        next); the axes it stops stop here (see the module docstring)."""
+        hold put it into motion error (those still on at a clear on this cycle act from
+        the next); the axes it stops stop here (see the module docstring)."""
         m = self.drive.m
         new_axes: list[int] = []
         for a in range(m.axis_count):
-            if self.cleared[a] >= m.tick:
-                continue
             masked = self.masked(a)
             new = masked & ~self.latched[a] if self.motion_error >> a & 1 else masked
+            if self.cleared[a] >= m.tick:
+                new &= ~self.held[a]  # (a bit set since the clear acts at once)
             if new:
                 self.latched[a] |= new
                 new_axes.append(a)
@@ -145,7 +145,9 @@ class MotionErrors:
             self.cleared[a] = m.tick
         if self.motion_error == 0:
             self.error_axis = 0
-        if any(self.masked(a) for a in axes):  # (the next cycle's check must run)
+        for a in axes:
+            self.held[a] = self.masked(a)
+        if any(self.held[a] for a in axes):  # (the next cycle's check must run)
             again = self.drive.look_again
             self.drive.look_again = m.tick + 1 if again is None else min(again, m.tick + 1)
 
