@@ -49,6 +49,16 @@ def test_a_power_cycle_keeps_vrs_flash_parameters_pages_and_the_table_backup(tmp
     assert second.query("?TABLE(16100)") == "2.2500"
 
 
+def test_flashvr_minus_1_table_comes_back_at_the_next_run(tmp_path):
+    """FLASHVR(-1) keeps the whole TABLE to replace TABLE at power-up (its page)."""
+    first = MC405(archive=tmp_path)
+    ok(first, "TABLE(0, 1.5)", "TABLE(511999, -3)", "FLASHVR(-1)", "TABLE(0, 8)")
+    first.save_archive(final=True)
+    second = MC405(archive=tmp_path)
+    assert (second.query("?TABLE(0)"), second.query("?TABLE(511999)")) == \
+        ("1.5000", "-3.0000")  # FLASHVR's copy, not TABLE as it was at the stop
+
+
 def test_a_rate_given_at_start_up_wins_over_the_kept_servo_period(tmp_path):
     first = MC405(archive=tmp_path)
     ok(first, "SERVO_PERIOD = 500", "VR(1) = 1")
@@ -94,15 +104,24 @@ def test_ex_writes_the_flash_at_once(tmp_path):
     ('{"format": "somebody else", "vr": []}', "not a maxk MC405 flash file"),
     ('{"format": "maxk MC405 flash", "version": 9}', "version 9"),
     ('{"format": "maxk MC405 flash", "version": 1, "vr": [[65536, 1]], "parameters": {},'
-     ' "flash_pages": {}, "auto_backup": null}', "index is out of range"),
+     ' "flash_pages": {}, "auto_backup": null, "flashvr_table": null}',
+     "index is out of range"),
     ('{"format": "maxk MC405 flash", "version": 1, "vr": [], "parameters": {},'
-     ' "flash_pages": {"32": []}, "auto_backup": null}', "flash page '32'"),
+     ' "flash_pages": {"32": []}, "auto_backup": null, "flashvr_table": null}',
+     "flash page '32'"),
     ('{"format": "maxk MC405 flash", "version": 1, "vr": [], "parameters": {"UNITS": 1},'
-     ' "flash_pages": {}, "auto_backup": null}', "not the FLASH parameters"),
+     ' "flash_pages": {}, "auto_backup": null, "flashvr_table": null}',
+     "not the FLASH parameters"),
     ('{"format": "maxk MC405 flash", "version": 1, "vr": [], "parameters": '
-     '{"SERVO_PERIOD": 7}, "flash_pages": {}, "auto_backup": null}', "SERVO_PERIOD"),
+     '{"SERVO_PERIOD": 7}, "flash_pages": {}, "auto_backup": null, "flashvr_table": null}',
+     "SERVO_PERIOD"),
     ('{"format": "maxk MC405 flash", "version": 1, "vr": [[1, "x"]], "parameters": {},'
-     ' "flash_pages": {}, "auto_backup": null}', "not a number"),
+     ' "flash_pages": {}, "auto_backup": null, "flashvr_table": null}', "not a number"),
+    ('{"format": "maxk MC405 flash", "version": 1, "vr": [], "parameters": {},'
+     ' "flash_pages": {}, "auto_backup": null, "flashvr_table": [[512000, 1]]}',
+     "flashvr_table: an index"),
+    ('{"format": "maxk MC405 flash", "version": 1, "vr": [], "parameters": {},'
+     ' "flash_pages": {}, "auto_backup": null}', "fields are not a flash file's"),
 ])
 def test_a_foreign_or_damaged_file_is_refused_set_aside_and_the_controller_runs(
         tmp_path, text, reason):

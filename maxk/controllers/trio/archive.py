@@ -1,12 +1,13 @@
 """The MC405's flash across runs of the emulator: `maxk serve` stopped and started again
 on the same archive is a power cycle (EX's and FLASHVR's pages: the VRs stay; the FLASH
 parameters, personalities/trio/flash.py; FLASHTABLE's flash pages; FLASH_DATA's backup
-of TABLE's first 4096 values).
+of TABLE's first 4096 values; FLASHVR(-1)'s copy of TABLE).
 
 They are kept as ``flash.json`` in the program directory (ProgramStore's). Bounded: the
 VRs are the fixed VR_COUNT, a flash page FLASHTABLE's 16000 values and at most its 32
-pages, the TABLE backup AUTO_BACKUP values; zeros are left out. Written safely: a new
-file is written beside it and renamed over it (``os.replace``), never cut in place.
+pages, the TABLE backup AUTO_BACKUP values, FLASHVR's copy TABLE_SIZE; zeros are left
+out. Written safely: a new file is written beside it and renamed over it
+(``os.replace``), never cut in place.
 
 When (D): the controller's own check, at most once a second of virtual time (the server
 calls it after each pacing turn) writes only when something kept changed; EX writes at
@@ -32,7 +33,7 @@ from maxk.commands.trio.network import FLASH_PAGE_SIZE, FLASH_PAGES
 from maxk.commands.trio.system import ProgramCommands
 from maxk.personalities.trio.flash import AUTO_BACKUP, FLASH_PARAMETERS
 from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
-from maxk.personalities.trio.memory import VR_COUNT
+from maxk.personalities.trio.memory import TABLE_SIZE, VR_COUNT
 
 
 class MC405(Protocol):
@@ -61,6 +62,7 @@ class Flash:
     parameters: dict[str, float] = field(default_factory=dict)
     pages: dict[int, list[float]] = field(default_factory=dict)  # each FLASH_PAGE_SIZE long
     backup: list[float] | None = None  # FLASH_DATA = 1: TABLE(0..AUTO_BACKUP-1)
+    table: list[float] | None = None  # FLASHVR(-1): the whole TABLE for power-up
 
 
 def _pairs(values: list[float]) -> list[list[float]]:
@@ -96,7 +98,8 @@ def decode(text: str) -> Flash:
         raise FlashRefused(f"it is not a {FORMAT} file")
     if raw.get("version") != VERSION:
         raise FlashRefused(f"its version {raw.get('version')!r} is not {VERSION}")
-    if set(raw) != {"format", "version", "vr", "parameters", "flash_pages", "auto_backup"}:
+    if set(raw) != {"format", "version", "vr", "parameters", "flash_pages", "auto_backup",
+                    "flashvr_table"}:
         raise FlashRefused("its fields are not a flash file's")
     flash = Flash(vr=_sparse(raw["vr"], VR_COUNT, "vr"))
     parameters = raw["parameters"]
@@ -123,6 +126,11 @@ def decode(text: str) -> Flash:
         for k, v in _sparse(raw["auto_backup"], AUTO_BACKUP, "auto_backup").items():
             backup[k] = v
         flash.backup = backup
+    if raw["flashvr_table"] is not None:
+        table = [0.0] * TABLE_SIZE
+        for k, v in _sparse(raw["flashvr_table"], TABLE_SIZE, "flashvr_table").items():
+            table[k] = v
+        flash.table = table
     return flash
 
 
@@ -132,7 +140,8 @@ def encode(flash: Flash) -> str:
         "vr": [[i, v] for i, v in sorted(flash.vr.items()) if v != 0.0],
         "parameters": dict(sorted(flash.parameters.items())),
         "flash_pages": {str(p): _pairs(values) for p, values in sorted(flash.pages.items())},
-        "auto_backup": None if flash.backup is None else _pairs(flash.backup)},
+        "auto_backup": None if flash.backup is None else _pairs(flash.backup),
+        "flashvr_table": None if flash.table is None else _pairs(flash.table)},
         separators=(",", ":"))
 
 
@@ -145,11 +154,13 @@ def take(controller: MC405) -> Flash:
         parameters={n: float(m.system[n]) for n in sorted(FLASH_PARAMETERS & m.system.keys())},
         pages=dict(controller.runtime.flash_pages),  # (FLASHTABLE writes a new list)
         backup=m.table.read_run(0, AUTO_BACKUP - 1)
-        if m.system.get("FLASH_DATA", 0.0) == 1 else None)
+        if m.system.get("FLASH_DATA", 0.0) == 1 else None,
+        table=controller.runtime.flash_table)  # (FLASHVR(-1) makes a new list)
 
 
 def _same(a: Flash, b: Flash) -> bool:
     return (a.vr == b.vr and a.parameters == b.parameters and a.backup == b.backup
+            and (a.table is b.table or a.table == b.table)
             and a.pages.keys() == b.pages.keys()
             and all(a.pages[p] is b.pages[p] or a.pages[p] == b.pages[p] for p in a.pages))
 
@@ -235,7 +246,8 @@ class FlashArchive:
 
 def restore(controller: MC405, flash: Flash, keep_servo_period: bool) -> None:
     """Power up with what the flash kept: the FLASH parameters (SERVO_PERIOD too unless
-    the caller chose a rate), the VRs, the flash pages, TABLE's backed-up values."""
+    the caller chose a rate), the VRs, the flash pages, TABLE's backed-up values and
+    FLASHVR(-1)'s TABLE (the power-up then writes it: ProgramCommands.start_autorun)."""
     m = controller.machine
     parameters = dict(flash.parameters)
     if not keep_servo_period:
@@ -247,6 +259,7 @@ def restore(controller: MC405, flash: Flash, keep_servo_period: bool) -> None:
     for index, value in flash.vr.items():
         m.vr.write(index, value)
     controller.runtime.flash_pages = dict(flash.pages)
+    controller.runtime.flash_table = flash.table  # (TABLE from it at the power-up)
     if flash.backup is not None:
         m.table.write(0, flash.backup)
 
