@@ -233,7 +233,8 @@ def test_a_motion_error_ends_the_links_and_the_drive_off_ends_a_link() -> None:
     at(trio, 1005)
     assert [dpos(trio, a) for a in (0, 1, 2)] == [1000.0, 1000.0, 1000.0]
     assert trio.machine.axes[2].link is None and trio.machine.axis_idle(2)
-    trio.send("DATUM(0)")
+    trio.world_view().set_limits("0", plus=None)  # (still on it, axis 0 would be in
+    trio.send("DATUM(0)")  # error again the next cycle: ERRORMASK's every cycle)
     trio.send("BASE(2): CONNECT(1, 1)")
     trio.send("MOVE(1000) AXIS(1)")
     at(trio, 1505)  # from tick 1005: 500 - 5 counts each

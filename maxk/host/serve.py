@@ -298,9 +298,19 @@ async def serve(args: argparse.Namespace) -> int:
             loop.add_signal_handler(sig, on_signal)
     if args.seconds is not None:
         loop.call_later(args.seconds, server.stop)
+    savers = [save for s in services  # what a controller keeps across runs (its flash)
+              if (save := getattr(s.controller, "save_archive", None)) is not None]
+    for save in savers:
+        server.after_pacing(save)  # (it decides itself how often it writes)
     try:
         await server.run()
     finally:
+        for save in savers:  # the last word at shutdown: a power cycle keeps it
+            try:
+                save(True)
+            except Exception as error:  # one board's failure must not stop the others'
+                logging.getLogger("maxk.serve").error("maxk serve: %r (saving the archive)",
+                                                      error)
         if control is not None:
             await control.close()
         for door in memories:

@@ -754,14 +754,15 @@ _ENTRIES: list[Keyword] = [
     _axis("ERRORMASK", "AXISSTATUS bits that put the axis into motion error.", default=268,
           value_range=(0, 2 ** 24 - 1), source=f"{TOK}; {MAN}", confidence="I",
           note="Power-up 268 (256 following error exceeded, 8 and 4 remote drive errors: "
-          "I). A bit newly set in AXISSTATUS AND ERRORMASK (looked at on every event: D) "
+          "I). A bit of AXISSTATUS AND ERRORMASK on an axis not in error (ANDed every "
+          "servo cycle: page; looked at on every event and the cycle after a clear, D) "
           "sets the axis's MOTION_ERROR bit (C) and stops every axis at once, drops the "
           "buffered moves, ends the links and sets WDOG OFF (I: help ERRORMASK, CANCEL); "
           "an axis of a DISABLE_GROUP stops its group only (see it); bits 9/10 act on the "
           "servo cycle DPOS first passes the limit (C: AXISSTATUS page, 'greater than'). "
-          "Acting on newly set "
-          "bits only is our decision (D): an axis left standing on a limit after DATUM(0) "
-          "can move off it."),
+          "DATUM(0)/(7) clears on its own cycle; an axis still standing on a limit whose "
+          "bit ERRORMASK holds is in error again the next servo cycle (I: ERRORMASK's "
+          "every cycle, DATUM's: only the flags are reset)."),
     _system("MOTION_ERROR", "Axes in motion error: bit n set for axis n.", writable=False,
             source=f"{HELP} MOTION_ERROR; {TOK}", confidence="I",
             note="Set by ERRORMASK (see it), cleared by DATUM(0), one axis's bit by DATUM(7) "

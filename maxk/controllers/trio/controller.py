@@ -38,6 +38,8 @@ from maxk.personalities.trio.machine import SERVO_PERIODS, MC405Machine
 from maxk.personalities.trio.pwm import PwmMode
 from maxk.personalities.trio.trace import PwmTrace
 
+from .archive import FlashArchive, restore
+
 MODEL = "MC405"
 SERVO_RATES_HZ = (500, 1000, 2000, 4000)  # SERVO_PERIOD 2000, 1000, 500, 250 us
 CONSOLE_WAIT_S = 600.0  # a typed WA/WAIT IDLE runs virtual time at most this long (D)
@@ -81,6 +83,8 @@ class MC405(VirtualTime):
                                  f"{', '.join(str(10**6 // p) for p in SERVO_PERIODS)} Hz")
             system_defaults["SERVO_PERIOD"] = float(round(period))
         self.machine = MC405Machine(axis_defaults, system_defaults)
+        self.flash = FlashArchive(program_directory(archive))  # (archive.py: read before
+        flash = self.flash.load()  # the store, which may set its directory aside)
         self.programs = ProgramStore(program_directory(archive))
         self.runtime = ProgramCommands(self.machine, self.programs, self._nowhere)
         self.runtime.interpreter = Interpreter(self.machine, self.runtime, self._broadcast)
@@ -88,7 +92,15 @@ class MC405(VirtualTime):
         self.scheduler = ProcessScheduler(self.machine, self.runtime)
         self.machine.add_source(self.scheduler)
         self._console: TrioConsole | None = None
+        if flash is not None:
+            restore(self, flash, keep_servo_period=update_rate_hz is None)
+        self.flash.started(self)
         self.runtime.start_autorun(announce=False)
+
+    def save_archive(self, final: bool = False) -> None:
+        """Keep the flash (VRs, FLASH parameters, flash pages) for the next run if it
+        changed: at most once a virtual second, or now when `final` (archive.py)."""
+        self.flash.keep(self, now=final)
 
     # ---- the door contract -------------------------------------------------------------------
     @property
@@ -113,6 +125,7 @@ class MC405(VirtualTime):
         SERVO_PERIOD takes effect), then MC_CONFIG and the autorun programs start."""
         self.runtime.halt()
         self.machine.restart()
+        self.flash.keep(self, now=True)  # (archive.py: EX writes the flash)
         self.runtime.start_autorun(announce=False)
 
     def _restart(self, session: TrioCommandLine) -> None:
@@ -307,6 +320,8 @@ class TrioConsole(ConsoleBase):
         store = self.controller.programs
         lines.append(f"{len(store.names())} program(s) in the store, {store.total} bytes"
                      + (f" ({store.damage})" if store.damage else ""))
+        if self.controller.flash.damage:
+            lines.append(self.controller.flash.damage)
         return lines
 
     def summary(self, word: str) -> str:

@@ -1,11 +1,17 @@
 """Motion errors of the MC405 and its disable groups (TrioBASIC help ERRORMASK,
 MOTION_ERROR, ERROR_AXIS, DATUM, DISABLE_GROUP, AXIS_ENABLE, WDOG, CANCEL).
 
-- **A motion error**: each time the machine looks (every event, so on the servo tick a
-  limit or a following error acts), an axis whose AXISSTATUS gains a bit its ERRORMASK
-  holds goes into motion error: its bit sets in MOTION_ERROR, and the bits that caused it
-  stay set in AXISSTATUS until DATUM(0), or DATUM(7) on that axis, clears them. ERROR_AXIS
-  is the axis that made MOTION_ERROR non-zero (0 again after the clear, as the page says).
+- **A motion error**: ERRORMASK's page ANDs it with AXISSTATUS on every servo cycle.
+  Each time the machine looks (every event, so on the servo tick a limit or a following
+  error acts), an axis not in error whose AXISSTATUS holds a bit of its ERRORMASK goes
+  into motion error: its bit sets in MOTION_ERROR, and the bits that caused it stay set
+  in AXISSTATUS until DATUM(0), or DATUM(7) on that axis, clears them. ERROR_AXIS is the
+  axis that made MOTION_ERROR non-zero (0 again after the clear, as the page says).
+- **A clear while the cause stays**: DATUM(0)/(7) clears on its own cycle (MOTION_ERROR
+  reads 0 right after it); a bit still on (a limit the axis still stands on) is ANDed
+  again on the next servo cycle, so the axis goes back into error there (ERRORMASK's
+  page: every cycle; DATUM's: only the flags are reset, I). The machine looks on that
+  cycle (`Drive.look_again`) without waiting for another event.
 - **Without a disable group** (the axis in error is in none): WDOG goes OFF and every
   axis's motion is cancelled at once (the demand stays where it is); buffered moves are
   dropped and every link ends there (CANCEL's page: moves that are not speed-profiled end
@@ -36,6 +42,7 @@ class ErrorHost(Protocol):
     m: Any  # the machine (drive.DriveHost)
     following: Any  # following.Following: the servo loops open with their drives
     searches: dict[int, tuple[int, Run]]
+    look_again: int | None  # the machine looks on this tick (drive.Drive)
 
     def axis_status(self, axis: int) -> int: ...
     def settable(self, axis: int) -> int: ...
@@ -55,7 +62,8 @@ class MotionErrors:
         """Power-up (and EX): no errors, no groups."""
         n = self.drive.m.axis_count
         self.latched = [0] * n  # AXISSTATUS bits held by a motion error until cleared
-        self.seen = [0] * n  # ERRORMASK'd bits at the last look (errors act on new bits)
+        self.cleared = [-1] * n  # the tick of the axis's last DATUM(0)/(7), and
+        self.held = [0] * n  # the bits still on then: they act again from the next cycle
         self.motion_error = 0  # MOTION_ERROR: a bit per axis in error
         self.error_axis = 0  # ERROR_AXIS (0 with no error: its page)
         self.groups = []
@@ -85,19 +93,21 @@ class MotionErrors:
     # ---- errors --------------------------------------------------------------------------
     def masked(self, axis: int) -> int:
         mask = int(self.drive.m.axes[axis].params["ERRORMASK"])
-        if not mask & self.drive.settable(axis) and not self.seen[axis] and not self.latched[axis]:
+        if not mask & self.drive.settable(axis) and not self.latched[axis]:
             return 0  # (no bit it holds can be set: FE is 0, no remote drives)
         return self.drive.axis_status(axis) & mask
 
     def check(self) -> bool:
-        """Bits newly set in AXISSTATUS AND ERRORMASK put their axis into motion error;
-        the axes it stops stop here (see the module docstring)."""
+        """AXISSTATUS AND ERRORMASK, every look: bits on that the axis does not already
+        hold put it into motion error (those still on at a clear on this cycle act from
+        the next); the axes it stops stop here (see the module docstring)."""
         m = self.drive.m
         new_axes: list[int] = []
         for a in range(m.axis_count):
             masked = self.masked(a)
-            new = masked & ~self.seen[a]
-            self.seen[a] = masked
+            new = masked & ~self.latched[a] if self.motion_error >> a & 1 else masked
+            if self.cleared[a] >= m.tick:
+                new &= ~self.held[a]  # (a bit set since the clear acts at once)
             if new:
                 self.latched[a] |= new
                 new_axes.append(a)
@@ -121,8 +131,8 @@ class MotionErrors:
         return True
 
     def clear(self, axis: int | None) -> None:
-        """DATUM(0) (every axis) or DATUM(7) (that axis): its error and held bits clear;
-        the bits still on are taken as seen (an error acts on newly set bits only, D)."""
+        """DATUM(0) (every axis) or DATUM(7) (that axis): its error and held bits clear
+        now; a cause still on acts again on the next servo cycle (module docstring)."""
         m = self.drive.m
         axes = range(m.axis_count) if axis is None else [axis]
         for a in axes:
@@ -132,10 +142,14 @@ class MotionErrors:
                 loop.reset_filter(m.motor(a) - loop.p)
             self.latched[a] = 0
             self.motion_error &= ~(1 << a)
-        for a in axes:
-            self.seen[a] = self.masked(a)
+            self.cleared[a] = m.tick
         if self.motion_error == 0:
             self.error_axis = 0
+        for a in axes:
+            self.held[a] = self.masked(a)
+        if any(self.held[a] for a in axes):  # (the next cycle's check must run)
+            again = self.drive.look_again
+            self.drive.look_again = m.tick + 1 if again is None else min(again, m.tick + 1)
 
     # ---- stopping at once ---------------------------------------------------------------
     def halt(self, axes: Iterable[int]) -> None:

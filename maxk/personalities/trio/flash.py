@@ -10,6 +10,10 @@ The VRs are kept too (EX's page: they remain in memory; FLASHVR's: the MC4xx kee
 them in flash itself): `MC405Machine.restart` carries them over the power-up. FLASH_DATA
 = 1 (set by MC_CONFIG, its page) makes TABLE the MC4xx's automatic backup, its first
 `AUTO_BACKUP` values, so those come back at the power-up as well.
+
+A new run of the emulator on the same archive is a power cycle too: these, with the
+FLASHTABLE pages and FLASHVR(-1)'s TABLE, are kept in the archive by
+maxk/controllers/trio/archive.py.
 """
 
 from __future__ import annotations

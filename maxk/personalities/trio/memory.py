@@ -66,3 +66,7 @@ class VrMemory:
     def write(self, index: int, value: float) -> None:
         self._check(index)
         self._values[index] = float(value)
+
+    def values(self) -> list[float]:
+        """A copy of every VR (the flash archive keeps them across runs)."""
+        return list(self._values)
