@@ -1689,7 +1689,7 @@ class Interpreter:
         if mode not in (3, 4, 5, 6):
             raise TrioError("Parameter out of range")
         wired = m.axis_parameter("DATUM_IN", axis)
-        if not 0 <= wired < IO_POINTS:
+        if not 0 <= wired < IO_SPACE:
             raise TrioError("Parameter out of range")
         switch = int(wired)
         direction = 1 if mode in (3, 5) else -1

@@ -704,17 +704,22 @@ _ENTRIES: list[Keyword] = [
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
     # ---- drives, limits and I/O (personalities/trio/drive.py) ----------------------------
     *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
-            value_range=(-1, 31), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
-            note="The input is active low (its help page, C): the function is on while "
+            value_range=(-1, top), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
+            note=f"-1 or 0..{top}: {span} (C). "
+            "The input is active low (its help page, C): the function is on while "
             "IN(n) reads 0. IN(n) of that input reads the world's "
             f"{switch} switch of this axis at its position, wired normally closed: 1 away "
             "from it, 0 on it (D: as the pages' examples wire their sensors), unless the "
             "world drives input n itself (then its level); INVERT_IN inverts both what IN "
             "reads and the function." + stop)
-      for name, what, switch, stop in (
-          ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4)),
-          ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5)),
-          ("DATUM_IN", "datum (home) switch", "home", " DATUM(3..6) search for it."))],
+      for name, what, switch, stop, top, span in (
+          ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4), 63,
+           "the page's range, built-in or expansion inputs"),
+          ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5), 63,
+           "the page's range, built-in or expansion inputs"),
+          ("DATUM_IN", "datum (home) switch", "home", " DATUM(3..6) search for it.", 1023,
+           "the page's 0..IO_Max, IO_Max taken as the last I/O number IN reads (IOSIZE - 1, "
+           "I)"))],
     _axis("FS_LIMIT", "Forward software limit, user units.", default=200000000000,
           source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). DPOS beyond it "
           "sets AXISSTATUS bit 9 (512). A motion reaching it (the first servo tick DPOS is at "
@@ -1010,7 +1015,9 @@ _ENTRIES: list[Keyword] = [
              "on its shaft see that (C); DPOS, UNITS and moves are unchanged (C). The world's "
              "steps are the step generator's counts: the page's divide by 16 is not applied "
              "(D). A change leaves the motor where it is (D). Whole counts 0..16777215, "
-             "dpos_count above 0, else 'Parameter out of range'; no arguments: 1:1, one or "
+             "dpos_count above 0, else 'Parameter out of range'; a negative output_count "
+             "reverses the step output (ENCODER_RATIO and AXESDIFF pages' STEP_RATIO(-1, 1), "
+             "I); no arguments: 1:1, one or "
              "three: 'Syntax error' (D). Power-up 1:1. Not on a servo axis's loop (the "
              "shared loop runs in the motor encoder's counts) nor the Z mark searches (D)."),
     _command("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
