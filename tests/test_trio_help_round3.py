@@ -6,6 +6,8 @@ is written from what the keyword's page says, with numbers of our own.
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from maxk.controllers.trio.controller import MC405
@@ -88,3 +90,36 @@ def test_a_step_ratio_beyond_the_page_s_range_either_way_is_refused() -> None:
     trio.send("MOVE(10)")
     assert trio.run_until_idle()
     assert trio.world_view().reading("0").position == -20
+
+
+# ---- MHELICAL's mode (help MHELICAL): 0 a true helix, 1 the circle's path speed ------------
+
+ARC = 100 * math.pi / 2  # a quarter circle of radius 100 counts
+RISE = 200.0
+
+
+@pytest.mark.parametrize(("mode", "path"), [
+    ("", math.hypot(ARC, RISE)),     # mode 0 (the default): SPEED along the helix
+    (", 0", math.hypot(ARC, RISE)),
+    (", 1", ARC),                    # mode 1: SPEED along the circle, axis 2 following
+])
+def test_mhelical_mode_sets_which_axes_make_the_path_speed(mode: str, path: float) -> None:
+    """From (0, 0) round the centre (0, 100) anticlockwise to (100, 100) while axis 2 rises
+    200, at SPEED 100 (ACCEL and DECEL 1e6: 0.005 counts lost to the ramp). After 1 s the
+    path has run 100 - 0.005 of its length `path`; axis 2 has risen that share of 200."""
+    trio = mc405("BASE(0, 1, 2): SPEED=100: ACCEL=1e6: DECEL=1e6")
+    assert trio.send(f"MHELICAL(100, 100, 0, 100, 0, {RISE:g}{mode})") == []
+    at(trio, 1000)
+    done = 100 * 1.0 - 100 * 100 / 2e6
+    assert trio.machine.dpos(2) == pytest.approx(RISE * done / path, abs=1e-6)
+    angle = done / path * (math.pi / 2)  # the arc's share turned about the centre
+    assert trio.machine.dpos(0) == pytest.approx(100 * math.sin(angle), abs=1e-6)
+    assert trio.run_until_idle()
+    assert [trio.machine.dpos(a) for a in range(3)] == [100, 100, 200]
+
+
+def test_mhelical_modes_beyond_the_page_s_two_are_refused() -> None:
+    trio = mc405("BASE(0, 1, 2)")
+    for bad in ("MHELICAL(100, 100, 0, 100, 0, 20, 2)", "MHELICAL(100, 100, 0, 100, 0, 20, 1, 5)"):
+        assert trio.send(bad) == ["! Parameter out of range"], bad
+    assert trio.query("?MTYPE") == "0"

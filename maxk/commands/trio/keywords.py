@@ -332,11 +332,14 @@ _ENTRIES: list[Keyword] = [
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
-             "distance3 along it.", (6, 9), axis=True, source=f"{TOK}; {MAN}",
+             "distance3 along it.", (6, 9), axis=True, source=f"{HELP} MHELICAL; {TOK}; {MAN}",
              confidence="I", note="One arc segment of the shared path planner whose third "
-             "axis rises in proportion to the arc; the path speed is the circle's, at the "
-             "base axis's SPEED and ACCEL (I); mode and the 8th/9th arguments other than 0 "
-             "are refused (D). MTYPE 3."),
+             "axis rises in proportion to the arc, at the base axis's SPEED, ACCEL and "
+             "DECEL: along the helix in mode 0 (the default), along the circle in mode 1, "
+             "the third axis following (C: the MHELICAL page; lengths in counts, the page "
+             "asking equal UNITS, I; merged after another move the run keeps its DECEL, "
+             "D). A mode other than 0 or 1, or an 8th/9th argument other than 0, is "
+             "refused (D). MTYPE 3."),
     _command("MOVEMODIFY", "MOVEMODIFY(position): the running move of the base axis now "
              "ends at this absolute position.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
              confidence="I", note="Re-planned from where the axis is at the speed it has "

@@ -925,7 +925,9 @@ class MC405Machine(Kinematics, Engine):
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
               arc: tuple[float, ...] | None = None, kind: int = moves.MOVE,
-              preset: Motion | None = None) -> None:
+              preset: Motion | None = None, helix: float = 1.0) -> None:
+        """Queue one move; `helix` (MHELICAL mode 0, moves.py) is the path's length over
+        the planned arc's: the rates along the arc are that much lower."""
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
         speed = base.params[self._speed_name] * base.units
@@ -933,6 +935,7 @@ class MC405Machine(Kinematics, Engine):
         decel = base.params["DECEL"] * base.units
         if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
+        speed, accel, decel = speed / helix, accel / helix, decel / helix
         for a, delta in zip(axes, deltas, strict=True):
             end = self._end_counts(a) + delta  # physical counts
             if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
@@ -984,7 +987,7 @@ class MC405Machine(Kinematics, Engine):
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
                   sramp=sramp_seconds(base.params),
-                  jerk=jerk_counts(base.params, base.units), preset=preset)
+                  jerk=jerk_counts(base.params, base.units) / helix, preset=preset)
         if sp is not None:
             run.sp[0] = sp
             run.factored[0] = lookahead(base.params)
