@@ -11,6 +11,7 @@ import math
 import pytest
 
 from maxk.controllers.trio.controller import MC405
+from tests.trio_helpers import Rig
 
 
 def mc405(*lines: str) -> MC405:
@@ -123,3 +124,27 @@ def test_mhelical_modes_beyond_the_page_s_two_are_refused() -> None:
     for bad in ("MHELICAL(100, 100, 0, 100, 0, 20, 2)", "MHELICAL(100, 100, 0, 100, 0, 20, 1, 5)"):
         assert trio.send(bad) == ["! Parameter out of range"], bad
     assert trio.query("?MTYPE") == "0"
+
+
+# ---- a STRING longer than 1024 characters (help OPEN: a STRING(10000) for a listing) -------
+
+def run(program: str, cycles: int = 50) -> str:
+    rig = Rig()
+    rig.load("P", program)
+    rig.command('RUN "P"')
+    return rig.cycles(cycles).decode()
+
+
+def test_a_string_of_ten_thousand_characters_holds_them_all() -> None:
+    out = run('DIM s AS STRING(10000)\nFOR i = 1 TO 1250\n  s = s + "abcdefgh"\nNEXT i\n'
+              'PRINT LEN(s); " "; MID(s, 9994, 6)', cycles=3000)
+    # 1250 x 8 characters; MID counts from 0: 9994 = 8 x 1249 + 2, a "c"
+    assert out == "10000 cdefgh\r\n"
+
+
+def test_a_string_longer_than_the_limit_is_refused_at_compile() -> None:
+    rig = Rig()
+    rig.load("P", "DIM s AS STRING(65535)")
+    assert b"error" not in rig.send("COMPILE")
+    rig.load("P", "DIM s AS STRING(65536)")
+    assert b"%[Program P Line 1] - Syntax error" in rig.send("COMPILE")

@@ -39,6 +39,7 @@ from .lexer import Thrown, TrioError
 from .machine import TrioMachine
 from .parser import (
     MAX_ARRAY,
+    MAX_STRING,
     ArrayFill,
     Assign,
     Binary,
@@ -107,7 +108,6 @@ def format_number(value: float) -> str:
 
 
 _UNSET = Real(0.0)  # a variable never assigned reads 0, a FLOAT (help DIM: the default type)
-MAX_STRING = 1024  # characters in one string value (D: bounds memory)
 MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
 FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
 # The controller's one memory for its programs' DIMmed variables, arrays and strings, every

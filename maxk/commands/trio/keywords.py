@@ -1362,7 +1362,7 @@ _ENTRIES: list[Keyword] = [
     _function("VRSTRING", "VRSTRING(n): the characters held one a VR from VR(n) up to the "
               "first VR holding 0.", (1, 1), source=f"{HELP}; {TOK}", confidence="I",
               note="Only printable characters are kept (page); printable is codes 32..126 "
-              "and 160..255 (I). At most 1024 characters (D)."),
+              "and 160..255 (I). At most 65535 characters, a string's limit here (D)."),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
     _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "
