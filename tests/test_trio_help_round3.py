@@ -148,3 +148,20 @@ def test_a_string_longer_than_the_limit_is_refused_at_compile() -> None:
     assert b"error" not in rig.send("COMPILE")
     rig.load("P", "DIM s AS STRING(65536)")
     assert b"%[Program P Line 1] - Syntax error" in rig.send("COMPILE")
+
+
+# ---- CONNPATH(ratio, driving_axis) (help CONNPATH): the page's argument order -------------
+
+@pytest.mark.parametrize(("link", "follows"), [
+    ("CONNPATH(3, 2) AXIS(0)", 3 * 10.0),     # ratio 3 of the 6-8-10 path of BASE(2, 3)
+    ("CONNPATH(0.25, 2) AXIS(0)", 0.25 * 10),  # the page's quarter turn a unit
+    ("CONNPATH(2) AXIS(0)", 10.0),            # one argument: the driving axis, ratio 1
+])
+def test_connpath_follows_the_driving_group_s_path_distance_at_the_ratio(
+        link: str, follows: float) -> None:
+    trio = mc405("BASE(2, 3): SPEED=100: ACCEL=1e6: DECEL=1e6", link)
+    assert trio.query("?MTYPE AXIS(0)") == "23"  # linked (CONNPATH)
+    assert trio.send("MOVE(6, 8)") == []
+    trio.advance(0.5)
+    assert (trio.machine.dpos(2), trio.machine.dpos(3)) == (6, 8)
+    assert trio.machine.dpos(0) == pytest.approx(follows, abs=1e-9)

@@ -1656,6 +1656,8 @@ class Interpreter:
                 yield ON_CHANGE
             self._act(lambda: m.cambox_group(axes, args))
         elif name in ("CONNPATH", "CAMBOX"):
+            if name == "CONNPATH" and len(args) == 2:  # the page's (ratio, driving_axis)
+                args = [args[1], args[0]]  # as the machine takes it: (driving axis, ratio)
             while not m.can_load([axis]):
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox

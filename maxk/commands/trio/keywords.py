@@ -296,11 +296,11 @@ _ENTRIES: list[Keyword] = [
              source=f"{SEED}; {TOK}", note="An axis function: AXIS() or BASE() picks the "
              "axis (seed). Refusals leave everything unchanged (personality DECISIONS)."),
     _command("CONNPATH", "Link an axis to the path distance of an interpolating group.",
-             (1, 2), axis=True, source=f"{SEED}; {TOK}", confidence="I",
-             note="First argument: the first axis of the driving group (seed example "
-             "CONNPATH(0) AXIS(8) for BASE(0,1)); the optional second is a ratio, default 1 "
-             "(D). The axis moves by ratio x the path distance (base user units) until "
-             "CANCEL (D)."),
+             (1, 2), axis=True, source=f"{HELP} CONNPATH; {SEED}; {TOK}", confidence="I",
+             note="CONNPATH(ratio, driving_axis), the page's form (C): the axis moves by "
+             "ratio x the path distance of the group whose first axis is driving_axis; "
+             "one argument is the driving axis at ratio 1 (the seed's CONNPATH(0) AXIS(8) "
+             "for BASE(0,1), I). Path distance in base user units, until CANCEL (D)."),
     _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
              "end, multiplier, link distance, link axis[, link options[, link pos[, offset "
              "start]]]); CAMBOX(table start, axis count) loads several axes at once.",
