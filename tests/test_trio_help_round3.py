@@ -165,3 +165,18 @@ def test_connpath_follows_the_driving_group_s_path_distance_at_the_ratio(
     trio.advance(0.5)
     assert (trio.machine.dpos(2), trio.machine.dpos(3)) == (6, 8)
     assert trio.machine.dpos(0) == pytest.approx(follows, abs=1e-9)
+
+
+# ---- FILE "function" name with a variable's name, no comma (help STICK_WRITEVR) ------------
+
+def test_file_takes_a_string_expression_as_its_first_parameter_without_a_comma() -> None:
+    # no SD card here: FILE reads FALSE (its entry); the form must compile and run
+    out = run('DIM f AS STRING(20)\nf = "DATA1"\nFILE "TYPE" f + ".CSV"\n'
+              'v = FILE "TYPE" f + ".CSV"\nIF FILE "DETECT" THEN\n  PRINT "card"\nELSE\n'
+              '  PRINT "none "; v\nENDIF')
+    assert out == "none 0.0000\r\n"
+
+
+def test_file_followed_by_a_keyword_leaves_it_to_the_statement() -> None:
+    out = run('VR(1) = 5\nIF FILE "DETECT" OR VR(1) = 5 THEN PRINT "yes"')
+    assert out == "yes\r\n"

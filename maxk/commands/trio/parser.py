@@ -979,10 +979,14 @@ class _Parser:
 
     def file_args(self) -> tuple[Expr, ...]:
         """FILE's function name and its parameters, commas between them optional (the
-        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index)."""
+        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index). The first
+        parameter may also be a variable's expression with no comma (the STICK_WRITEVR
+        page: FILE "TYPE" name + ".CSV"); a keyword there (THEN, AND ...) ends FILE."""
         if self.tok.kind is not Tok.STRING:
             raise TrioError("Syntax error")
         args: list[Expr] = [Str(self.advance().text)]
+        if self.tok.kind is Tok.NAME and lookup(self.tok.text) is None:
+            args.append(self.expression())
         while self.at_op(",") or self.tok.kind is Tok.STRING:
             if self.at_op(","):
                 self.advance()
