@@ -247,7 +247,7 @@ def test_cancel_ends_the_running_link_and_the_buffered_one_starts() -> None:
     ("CONNECT(1, 2.5) AXIS(1)", "Invalid axis number"),
     ("ADDAX(1) AXIS(1)", "Invalid axis number"),
     ("MHELICAL(10, 0, 5, 0, 2, 3)", "Parameter out of range"),
-    ("MHELICAL(10, 0, 5, 0, 0, 3, 1)", "Parameter out of range"),
+    ("MHELICAL(10, 0, 5, 0, 0, 3, 2)", "Parameter out of range"),
     ("MHELICAL(10, 0, 0, 0, 0, 3)", "Parameter out of range"),
 ])
 def test_bad_linked_moves_are_refused_and_load_nothing(line: str, error: str) -> None:
@@ -315,7 +315,8 @@ def test_mhelical_runs_the_circle_and_rises_along_it() -> None:
     trio = MC405()
     trio.send("BASE(0,1,2): SPEED=100: ACCEL=1000: DECEL=1000")
     # a clockwise quarter from (0,0) about (100,0) to (100,100), the third axis 30 up
-    assert trio.send("MHELICAL(100, 100, 100, 0, 1, 30)") == []
+    # following (mode 1: the path speed is the circle's, help MHELICAL)
+    assert trio.send("MHELICAL(100, 100, 100, 0, 1, 30, 1)") == []
     length = math.pi * 100 / 2
     end_tick = math.ceil(round((length / 100 + 0.1) / DT, 6))
     for tick in (1, 50, 100, 800, 1500, end_tick - 1):

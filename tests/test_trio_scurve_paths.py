@@ -274,13 +274,13 @@ def test_cancel_of_a_jerk_limited_single_axis_move_ramps_down_at_jerk() -> None:
 def test_mhelical_with_jerk_rises_its_third_axis_along_the_s_curve() -> None:
     """MHELICAL: the arc's S-curve as MOVECIRC's, the third axis rising 6 over the arc's
     length in proportion to the distance along it (VP_MODE 5, JERK 2000: A^2/J = 5 < 10,
-    each ramp 10/100 + 100/2000 s)."""
+    each ramp 10/100 + 100/2000 s); mode 1: the path speed is the circle's."""
     length = 5 * math.pi
     cruise = (length - 0.75 - 0.75) / 10
     trio = MC405()
     assert trio.send("BASE(0,1,2): UNITS AXIS(0)=1: UNITS AXIS(1)=1: UNITS AXIS(2)=1: "
                      "SPEED=10: ACCEL=100: DECEL=100: VP_MODE=5: JERK=2000: "
-                     "MHELICAL(10,10,0,10,0,6)") == []
+                     "MHELICAL(10,10,0,10,0,6,1)") == []
     for tick in (30, 100, 900, 1600):
         at(trio, tick)
         t = tick / 1000

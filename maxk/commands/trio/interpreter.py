@@ -40,6 +40,7 @@ from .machine import TrioMachine
 from .motionwords import SET_MOTION_WORDS, set_motion
 from .parser import (
     MAX_ARRAY,
+    MAX_STRING,
     ArrayFill,
     Assign,
     Binary,
@@ -108,7 +109,6 @@ def format_number(value: float) -> str:
 
 
 _UNSET = Real(0.0)  # a variable never assigned reads 0, a FLOAT (help DIM: the default type)
-MAX_STRING = 1024  # characters in one string value (D: bounds memory)
 MAX_INDEXED = 4096  # values kept for parameters with arguments or SLOT/PORT (D: bounded)
 FILE_CHANNELS = 20  # channels from 20 up are files: reading one not open is an error (D)
 # The controller's one memory for its programs' DIMmed variables, arrays and strings, every
@@ -1670,6 +1670,8 @@ class Interpreter:
                 yield ON_CHANGE
             self._act(lambda: m.cambox_group(axes, args))
         elif name in ("CONNPATH", "CAMBOX"):
+            if name == "CONNPATH" and len(args) == 2:  # the page's (ratio, driving_axis)
+                args = [args[1], args[0]]  # as the machine takes it: (driving axis, ratio)
             while not m.can_load([axis]):
                 yield ON_CHANGE
             action = m.connpath if name == "CONNPATH" else m.cambox
@@ -1704,7 +1706,7 @@ class Interpreter:
         if mode not in (3, 4, 5, 6):
             raise TrioError("Parameter out of range")
         wired = m.axis_parameter("DATUM_IN", axis)
-        if not 0 <= wired < IO_POINTS:
+        if not 0 <= wired < IO_SPACE:
             raise TrioError("Parameter out of range")
         switch = int(wired)
         direction = 1 if mode in (3, 5) else -1

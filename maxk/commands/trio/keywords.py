@@ -306,11 +306,11 @@ _ENTRIES: list[Keyword] = [
              source=f"{SEED}; {TOK}", note="An axis function: AXIS() or BASE() picks the "
              "axis (seed). Refusals leave everything unchanged (personality DECISIONS)."),
     _command("CONNPATH", "Link an axis to the path distance of an interpolating group.",
-             (1, 2), axis=True, source=f"{SEED}; {TOK}", confidence="I",
-             note="First argument: the first axis of the driving group (seed example "
-             "CONNPATH(0) AXIS(8) for BASE(0,1)); the optional second is a ratio, default 1 "
-             "(D). The axis moves by ratio x the path distance (base user units) until "
-             "CANCEL (D)."),
+             (1, 2), axis=True, source=f"{HELP} CONNPATH; {SEED}; {TOK}", confidence="I",
+             note="CONNPATH(ratio, driving_axis), the page's form (C): the axis moves by "
+             "ratio x the path distance of the group whose first axis is driving_axis; "
+             "one argument is the driving axis at ratio 1 (the seed's CONNPATH(0) AXIS(8) "
+             "for BASE(0,1), I). Path distance in base user units, until CANCEL (D)."),
     _command("CAMBOX", "Follow a TABLE profile linked to another axis's movement: (start, "
              "end, multiplier, link distance, link axis[, link options[, link pos[, offset "
              "start]]]); CAMBOX(table start, axis count) loads several axes at once.",
@@ -342,11 +342,14 @@ _ENTRIES: list[Keyword] = [
     # ---- linked moves, MHELICAL, MOVEMODIFY and the move reports (links.py, moves.py) ----
     _command("MHELICAL", "MHELICAL(end1, end2, centre1, centre2, direction, distance3[, "
              "mode]): MOVECIRC's arc on the first two BASE axes while the third moves "
-             "distance3 along it.", (6, 9), axis=True, source=f"{TOK}; {MAN}",
+             "distance3 along it.", (6, 9), axis=True, source=f"{HELP} MHELICAL; {TOK}; {MAN}",
              confidence="I", note="One arc segment of the shared path planner whose third "
-             "axis rises in proportion to the arc; the path speed is the circle's, at the "
-             "base axis's SPEED and ACCEL (I); mode and the 8th/9th arguments other than 0 "
-             "are refused (D). MTYPE 3."),
+             "axis rises in proportion to the arc, at the base axis's SPEED, ACCEL and "
+             "DECEL: along the helix in mode 0 (the default), along the circle in mode 1, "
+             "the third axis following (C: the MHELICAL page; lengths in counts, the page "
+             "asking equal UNITS, I; merged after another move the run keeps its DECEL, "
+             "D). A mode other than 0 or 1, or an 8th/9th argument other than 0, is "
+             "refused (D). MTYPE 3."),
     _command("MOVEMODIFY", "MOVEMODIFY(position): the running move of the base axis now "
              "ends at this absolute position.", (1, 1), axis=True, source=f"{TOK}; {MAN}",
              confidence="I", note="Re-planned from where the axis is at the speed it has "
@@ -714,17 +717,22 @@ _ENTRIES: list[Keyword] = [
                "line too, holding its prompt (D: the manual may restrict it to programs)."),
     # ---- drives, limits and I/O (personalities/trio/drive.py) ----------------------------
     *[_axis(name, f"The input wired to the axis's {what} (-1: none).", default=-1,
-            value_range=(-1, 31), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
-            note="The input is active low (its help page, C): the function is on while "
+            value_range=(-1, top), source=f"{HELP}; {TOK}; {MAN}", confidence="I",
+            note=f"-1 or 0..{top}: {span} (C). "
+            "The input is active low (its help page, C): the function is on while "
             "IN(n) reads 0. IN(n) of that input reads the world's "
             f"{switch} switch of this axis at its position, wired normally closed: 1 away "
             "from it, 0 on it (D: as the pages' examples wire their sensors), unless the "
             "world drives input n itself (then its level); INVERT_IN inverts both what IN "
             "reads and the function." + stop)
-      for name, what, switch, stop in (
-          ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4)),
-          ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5)),
-          ("DATUM_IN", "datum (home) switch", "home", " DATUM(3..6) search for it."))],
+      for name, what, switch, stop, top, span in (
+          ("FWD_IN", "forward limit", "plus-limit", _LIMIT_STOP.format(bit=4), 63,
+           "the page's range, built-in or expansion inputs"),
+          ("REV_IN", "reverse limit", "minus-limit", _LIMIT_STOP.format(bit=5), 63,
+           "the page's range, built-in or expansion inputs"),
+          ("DATUM_IN", "datum (home) switch", "home", " DATUM(3..6) search for it.", 1023,
+           "the page's 0..IO_Max, IO_Max taken as the last I/O number IN reads (IOSIZE - 1, "
+           "I)"))],
     _axis("FS_LIMIT", "Forward software limit, user units.", default=200000000000,
           source=f"{TOK}; {MAN}", confidence="I", note="Power-up value (I). DPOS beyond it "
           "sets AXISSTATUS bit 9 (512). A motion reaching it (the first servo tick DPOS is at "
@@ -1022,7 +1030,9 @@ _ENTRIES: list[Keyword] = [
              "on its shaft see that (C); DPOS, UNITS and moves are unchanged (C). The world's "
              "steps are the step generator's counts: the page's divide by 16 is not applied "
              "(D). A change leaves the motor where it is (D). Whole counts 0..16777215, "
-             "dpos_count above 0, else 'Parameter out of range'; no arguments: 1:1, one or "
+             "dpos_count above 0, else 'Parameter out of range'; a negative output_count "
+             "reverses the step output (ENCODER_RATIO and AXESDIFF pages' STEP_RATIO(-1, 1), "
+             "I); no arguments: 1:1, one or "
              "three: 'Syntax error' (D). Power-up 1:1. Not on a servo axis's loop (the "
              "shared loop runs in the motor encoder's counts) nor the Z mark searches (D)."),
     _command("COMPENSATE_XY", "COMPENSATE_XY(table, opt, x_axis, x_div, x_dist, x_offset, "
@@ -1365,7 +1375,7 @@ _ENTRIES: list[Keyword] = [
     _function("VRSTRING", "VRSTRING(n): the characters held one a VR from VR(n) up to the "
               "first VR holding 0.", (1, 1), source=f"{HELP}; {TOK}", confidence="I",
               note="Only printable characters are kept (page); printable is codes 32..126 "
-              "and 160..255 (I). At most 1024 characters (D)."),
+              "and 160..255 (I). At most 65535 characters, a string's limit here (D)."),
     _statement("INCLUDE", "INCLUDE \"NAME\": compile another program's lines in here.",
                confidence="I", note="Resolved at COMPILE; nesting up to 8 (D)."),
     _statement("DEFCONST", "DEFCONST name value: a named constant, as CONSTANT \"name\", "

@@ -154,7 +154,8 @@ class TrioMachine(Protocol):
         ...
 
     def connpath(self, axis: int, args: Sequence[float]) -> None:
-        """CONNPATH(base axis of the driving group[, ratio]) AXIS(axis)."""
+        """CONNPATH AXIS(axis), args (base axis of the driving group[, ratio]): the
+        interpreter turns the page's CONNPATH(ratio, driving_axis) into this order."""
         ...
 
     def cambox(self, axis: int, args: Sequence[float]) -> None:

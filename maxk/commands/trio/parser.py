@@ -368,6 +368,9 @@ MAX_OPERATORS = 128  # binary operators in one line (D: evaluation recurses thro
 # DIM s AS STRING with no length: the help's CHR and HEX examples declare one so; no page
 # gives its length, 64 characters is our decision (D).
 DEFAULT_STRING_LENGTH = 64
+MAX_STRING = 65535
+"""The longest string a DIM may declare and a string value may be (D: the pages give no
+limit; OPEN's page declares a STRING(10000) for a directory listing; bounded for memory)."""
 
 
 class _Parser:
@@ -843,7 +846,7 @@ class _Parser:
                     fields.append(self.expression())
                 self.expect_op(")")
                 number = fields[-1]
-                if not isinstance(number, Num) or not 0 < number.value <= 1024 \
+                if not isinstance(number, Num) or not 0 < number.value <= MAX_STRING \
                         or number.value != int(number.value) or len(fields) > 1 and sizes:
                     raise TrioError("Syntax error")
                 length = int(number.value)
@@ -976,10 +979,14 @@ class _Parser:
 
     def file_args(self) -> tuple[Expr, ...]:
         """FILE's function name and its parameters, commas between them optional (the
-        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index)."""
+        page writes both FILE "CRC16" "file" and FILE "FIND_NEXT", vr_index). The first
+        parameter may also be a variable's expression with no comma (the STICK_WRITEVR
+        page: FILE "TYPE" name + ".CSV"); a keyword there (THEN, AND ...) ends FILE."""
         if self.tok.kind is not Tok.STRING:
             raise TrioError("Syntax error")
         args: list[Expr] = [Str(self.advance().text)]
+        if self.tok.kind is Tok.NAME and lookup(self.tok.text) is None:
+            args.append(self.expression())
         while self.at_op(",") or self.tok.kind is Tok.STRING:
             if self.at_op(","):
                 self.advance()

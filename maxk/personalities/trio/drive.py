@@ -84,7 +84,7 @@ class DriveHost(MotorHost, Protocol):
     def own_demand(self, axis: int) -> float: ...
     def fast_decel(self, run: Run) -> float | None: ...
 
-INPUTS = 32  # inputs a limit or datum may be wired to (as IN)
+INPUTS = 1024  # inputs a limit or datum may be wired to (as IN: IOSIZE)
 
 # AXISSTATUS bits (manual's axis status table; docs/trio.md)
 FE_WARNING = 1 << 1  # |FE| beyond FE_RANGE

@@ -1008,7 +1008,9 @@ class MC405Machine(Kinematics, Engine):
 
     def _load(self, axes: tuple[int, ...], deltas: list[int],
               arc: tuple[float, ...] | None = None, kind: int = moves.MOVE,
-              preset: Motion | None = None) -> None:
+              preset: Motion | None = None, helix: float = 1.0) -> None:
+        """Queue one move; `helix` (MHELICAL mode 0, moves.py) is the path's length over
+        the planned arc's: the rates along the arc are that much lower."""
         self.drive.check_move(axes)
         base = self.axes[axes[0]]
         speed = base.params[self._speed_name] * base.units
@@ -1023,6 +1025,7 @@ class MC405Machine(Kinematics, Engine):
             accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
         if not min(speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
+        speed, accel, decel = speed / helix, accel / helix, decel / helix
         for a, delta in zip(axes, deltas, strict=True):
             end = self._end_counts(a) + delta  # physical counts
             if not (abs(delta) < MAX_COUNTS and abs(end + self.axes[a].datum) < MAX_COUNTS
@@ -1078,7 +1081,7 @@ class MC405Machine(Kinematics, Engine):
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
                   single=len(axes) == 1 and not merge,
                   sramp=sramp_seconds(base.params),
-                  jerk=jerk, preset=preset)
+                  jerk=jerk / helix, preset=preset)
         if sp is not None:
             run.forced[0] = forced_values(base.params)
             run.sp[0] = sp

@@ -3,7 +3,11 @@
 - MHELICAL(end1, end2, centre1, centre2, direction, distance3[, mode]): MOVECIRC's arc on
   the first two BASE axes while the third moves `distance3` in proportion to the arc,
   one segment of the shared path planner (`path.Segment`: an arc whose further axes
-  rise linearly); the path speed is the circle's, at the base axis's SPEED (I).
+  rise linearly). Mode 0 (the default) runs the true helix at the base axis's SPEED,
+  ACCEL and DECEL: the planner's path is the arc, so its rates are scaled by the arc's
+  share of the helix's length (the help page: the third axis counts in the path speed);
+  mode 1 runs the circle at them, the third axis following (the page: only the first two
+  axes count). Lengths are in counts, as the page asks the three UNITS to be equal (I).
 - MOVEMODIFY(position): the running single-axis move now ends at `position` (absolute,
   DPOS): re-planned from where the axis is, at the speed it has, on the path planner;
   when it cannot stop in time it stops and comes back (I). On an idle axis it is an
@@ -38,7 +42,8 @@ class Host(LinkHost, Protocol):
     def _counts(self, axis: int, value: float) -> float: ...
     def _end_counts(self, axis: int) -> float: ...
     def _load(self, axes: tuple[int, ...], deltas: list[int],
-              arc: tuple[float, ...] | None = None, kind: int = 1) -> None: ...
+              arc: tuple[float, ...] | None = None, kind: int = 1, *,
+              helix: float = 1.0) -> None: ...
     def _apply_plan(self, run: Run, plan: PathPlan) -> None: ...
     def can_load(self, axes: Sequence[int]) -> bool: ...
     def axis_idle(self, axis: int) -> bool: ...
@@ -99,11 +104,19 @@ def arc_of(m: Host, axes: tuple[int, ...], args: list[float]
 
 
 def mhelical(m: Host, axes: tuple[int, ...], args: list[float]) -> None:
-    if len(args) < 6 or any(a != 0 for a in args[6:]):
-        raise ValueError("Parameter out of range")  # modes other than 0: not modelled (D)
+    """MHELICAL: mode 0 a true helix, 1 the circle's path speed (module docstring); a mode
+    beyond the page's 0 and 1, or an 8th or 9th argument not 0, is refused (D)."""
+    if len(args) < 6 or (len(args) > 6 and args[6] not in (0, 1)) \
+            or any(a != 0 for a in args[7:]):
+        raise ValueError("Parameter out of range")
     ex, ey, arc = arc_of(m, axes, args)
     rise = round(m._counts(axes[2], args[5]))
-    m._load(axes[:3], [ex, ey, rise], arc=arc, kind=MHELICAL)
+    helix = 1.0
+    if len(args) < 7 or args[6] == 0:
+        cx, cy, turn = arc
+        arc_length = math.hypot(cx, cy) * math.radians(abs(turn))
+        helix = math.hypot(arc_length, rise) / arc_length if arc_length > 0 else 1.0
+    m._load(axes[:3], [ex, ey, rise], arc=arc, kind=MHELICAL, helix=helix)
 
 
 def own_target(m: Host, axis: int, position: float) -> int:

@@ -13,6 +13,13 @@ is not applied: the world has always taken one demand count as one of its steps)
 the ratio changes the motor stays where it is (an offset takes up the difference, so a
 STEP_RATIO at rest never moves the stage); dpos_count 0 is refused (a ratio with no
 demand), output_count 0 is taken (the motor stands still, as the page's range allows).
+
+A negative output_count reverses the step output: the STEP_RATIO page's range is 0 and up,
+but the ENCODER_RATIO page (example 4) and the AXESDIFF page reverse an axis with
+STEP_RATIO(-1, 1), the encoder's ENCODER_RATIO negative too (I: the pages' examples; the
+magnitude keeps the page's limit). The world's motor then turns against the demand; its
+limit switches are read as levels where the motor stands, not found ahead of a run to the
+tick (D: `demand_for`).
 """
 
 from __future__ import annotations
@@ -34,16 +41,17 @@ def ratio(params: dict[str, float]) -> float:
 
 
 def checked(args: Sequence[float]) -> tuple[float, float]:
-    """STEP_RATIO's arguments: none is 1:1 (as ENCODER_RATIO, D); two whole counts in
-    0..16777215, dpos_count above 0; one or three are a 'Syntax error' (D)."""
+    """STEP_RATIO's arguments: none is 1:1 (as ENCODER_RATIO, D); two whole counts,
+    output_count in -16777215..16777215 (negative reverses: see the module docstring),
+    dpos_count in 1..16777215; one or three are a 'Syntax error' (D)."""
     if not args:
         return 1.0, 1.0
     if len(args) != 2:
         raise ValueError("Syntax error")
     for value in args:
-        if not math.isfinite(value) or value != int(value) or not 0 <= value <= LIMIT:
+        if not math.isfinite(value) or value != int(value) or not abs(value) <= LIMIT:
             raise ValueError("Parameter out of range")
-    if args[1] == 0:
+    if args[1] <= 0:
         raise ValueError("Parameter out of range")
     return float(args[0]), float(args[1])
 
@@ -68,7 +76,8 @@ def motor(params: dict[str, float], counts: np.ndarray) -> np.ndarray:
 
 def demand_for(params: dict[str, float], steps: float, side: int) -> float:
     """The demand count at which the motor first reaches world position `steps` moving
-    towards `side` (+1 forward): infinitely far when it does not turn (output_count 0)."""
+    towards `side` (+1 forward): infinitely far when it does not turn (output_count 0)
+    or turns against the demand (a negative output_count: D, see the module docstring)."""
     r = ratio(params)
     if r <= 0:
         return math.inf * side
