@@ -234,6 +234,11 @@ class MM4005Session(LineSession):
         """Longer than 110 characters: refused whole with A, as parse_line does."""
         self.interpreter.errors.record(UNKNOWN_MESSAGE)
 
+    def line_fault(self, text: str) -> None:
+        """A fault of ours running the line: TE reads A, unknown message, as for a line
+        it cannot run (D)."""
+        self.interpreter.errors.record(UNKNOWN_MESSAGE)
+
     def run_line(self, text: str) -> None:
         if not text.strip(" \t"):
             return

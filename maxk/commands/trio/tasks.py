@@ -28,6 +28,7 @@ SELECT_CASE, GOSUB, FUNCTION calls) are one concern, a process's control flow.
 
 from __future__ import annotations
 
+import logging
 import re
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
@@ -68,6 +69,12 @@ from .parser import (
     parse_line,
 )
 from .tracing import PAUSED, RUNNING, SLEEP, STEPPING, Trace
+
+log = logging.getLogger("maxk.commands.trio")
+# a fault in our own code, as the controller names an error it does not list (RUN_ERROR's
+# page has "Evaluation error"; D): the line is answered, the traceback goes to the log
+FAULT_TEXT = "Evaluation error"
+
 
 _NUMBER_TYPES = frozenset({"FLOAT", "INTEGER", "BOOLEAN"})  # AS types a FUNCTION keeps
 STATEMENTS_PER_CYCLE = 25
@@ -438,6 +445,11 @@ class Task:
         except RecursionError:  # (bounded nesting keeps this from happening)
             self.finished = True
             raise TrioError("Stack overflow", self.ctx.line) from None
+        except Exception:  # a fault of ours: the program stops as at a run-time error
+            self.finished = True
+            log.exception("MC405 program %s line %s: internal fault",
+                          self.ctx.program, self.ctx.line)
+            raise TrioError(FAULT_TEXT, self.ctx.line) from None
         return self.wake
 
     def _program(self) -> Generator[Wake | None, None, None]:
