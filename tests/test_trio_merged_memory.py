@@ -16,7 +16,7 @@ BACK_AND_FORTH = "BASE(0, 1)\n" + SETUP + "WHILE TRUE\nMOVE(1, 0)\nMOVE(-1, 0)\n
 BOUND = 100  # moves a run may hold: 64 complete ones gathered, the buffer's, the running one
 READINGS = ("?DPOS AXIS(0), MPOS AXIS(0), REMAIN AXIS(0), VECTOR_BUFFERED AXIS(0), "
             "MOVES_BUFFERED AXIS(0), MTYPE AXIS(0), NTYPE AXIS(0), MOVE_COUNT AXIS(0), "
-            "VP_SPEED AXIS(0)")
+            "VP_SPEED AXIS(0), MOVE_PA AXIS(0), DPOS AXIS(1), CORNER_STATE AXIS(0)")
 
 
 def _start(program: str) -> MC405:
@@ -67,27 +67,41 @@ def test_straight_endless_run_is_where_the_arithmetic_says() -> None:
     assert run.dropped > 200 and len(run.segments) <= BOUND
 
 
-def _readings(program: str, ticks: int, respeed_at: int, cancel_at: int) -> list[str]:
+def _readings(program: str, ticks: int, respeed_at: int, cancel_at: int
+              ) -> tuple[list[str], int]:
+    """Every reading at every tick, and the moves the run had dropped before CANCEL."""
     trio = _start(program)
     seen = []
+    dropped = 0
     for n in range(ticks):
         trio.advance(ticks=1)
         if n == respeed_at:  # a SPEED change re-plans the run from where it is
             assert trio.send("SPEED AXIS(0) = 700") == []
         if n == cancel_at:
+            dropped = _run_of(trio).dropped
             assert trio.send("CANCEL AXIS(0)") == []
         seen += trio.send(READINGS)
-    return seen
+    return seen, dropped
 
 
 @pytest.mark.parametrize("program", [
     BACK_AND_FORTH,
-    "BASE(0, 1)\n" + SETUP + "WHILE TRUE\nMOVE(30, 40)\nMOVE(-30, 0)\nMOVE(0, -40)\nWEND",
+    "BASE(0, 1)\n" + SETUP + "WHILE TRUE\nMOVE(3, 4)\nMOVE(-3, 0)\nMOVE(0, -4)\nWEND",
+    # S-ramps: a re-plan carries the ramp running
+    "BASE(0, 1)\n" + SETUP + "SRAMP = 4\nWHILE TRUE\nMOVE(5, 0)\nMOVE(0, 5)\n"
+    "MOVE(-5, -5)\nWEND",
+    # arcs (their lengths in VECTOR_BUFFERED), a zero-length move, MOVE_PA carried
+    "BASE(0, 1)\n" + SETUP + "n = 0\nWHILE TRUE\nMOVE_PA = n\nn = n + 1\n"
+    "MOVECIRC(4, 0, 2, 0, 1)\nMOVE(0, 0)\nMOVECIRC(-4, 0, -2, 0, 1)\nWEND",
+    # SP moves at FORCE_SPEED
+    "BASE(0, 1)\n" + SETUP + "FORCE_SPEED = 600\nWHILE TRUE\nMOVESP(2, 1)\n"
+    "MOVESP(-2, -1)\nWEND",
 ])
 def test_readings_at_every_tick_are_those_of_a_run_that_keeps_every_move(
         program: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    dropping = _readings(program, 1500, respeed_at=900, cancel_at=1400)
+    dropping, dropped = _readings(program, 1500, respeed_at=900, cancel_at=1400)
     monkeypatch.setattr(runs, "DROP_AFTER", 10 ** 9)
-    keeping = _readings(program, 1500, respeed_at=900, cancel_at=1400)
+    keeping, kept = _readings(program, 1500, respeed_at=900, cancel_at=1400)
+    assert dropped >= 64 and kept == 0  # the first did drop moves, the second none
     assert len(dropping) == 1500
     assert dropping == keeping

@@ -18,7 +18,8 @@ index of the run (its moves, their kinds, SP speeds, arcs, MOVE_PA copies) count
 the first move kept (`dropped` says how many went). Path distances stay measured from the
 run's start, so DPOS, REMAIN, VECTOR_BUFFERED and the plans' arithmetic are unchanged;
 MOVES_BUFFERED, MTYPE/NTYPE and MOVE_PA look only at the move running and those after it.
-S-ramped runs (SRAMP, JERK) are not pruned: their re-plan carries the ramp running (D).
+An S-ramped run (SRAMP, JERK) keeps the move running now and those after it (its re-plan
+carries the ramp running, which may end in a later move).
 
 Everything here evaluates on arrays of ticks (numpy, the shared machine's
 `firmware_model/sampling.py`), so a trace of every servo cycle of a stretch costs a few
@@ -250,6 +251,8 @@ class Run:
         keeps its own list); the index of the current move afterwards. New lists are made,
         not the old ones cut, so the plan being replaced stays whole until it goes."""
         k = min(current, self.counted)
+        while k > 0 and self.segments[k - 1].length == 0:
+            k -= 1  # (a zero-length move just before stays: PathPlan.segment_at steps back)
         if k < DROP_AFTER:
             return current
         for j in range(k):  # (added one by one, as VECTOR_BUFFERED adds the rest after)
@@ -294,6 +297,8 @@ class Run:
             return plan_shaped_stop(self.segments, i, s, v,
                                     self.decel if decel is None else decel, self.ramp)
         head, s, v = level_point(self.plan, t)
+        here, _v = self.plan.state(t)  # (the moves before the one running now may go)
+        self.drop_complete(self.segment_index(here))
         return plan_shaped(self.segments, self.segment_index(s), s, v, self.path_scale,
                            self.ramp, head)
 
