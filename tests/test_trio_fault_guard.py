@@ -44,7 +44,7 @@ def test_api_fault_answers_the_line_and_the_next_command_runs_at_once(
         monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture) -> None:
     trio = MC405()
     calls = _break_move(monkeypatch, trio)
-    with caplog.at_level(logging.ERROR, logger="maxk.commands.trio"):
+    with caplog.at_level(logging.ERROR, logger="maxk.commands"):
         assert trio.send("BASE(0): MOVE(10)") == ["! Evaluation error"]
     assert calls == [1]
     assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)
@@ -68,7 +68,7 @@ def test_program_fault_stops_the_program_with_a_run_time_error_line(
     _break_move(monkeypatch, trio)
     trio.load("FLT", "VR(1) = 1\nMOVE(5)\nVR(1) = 2")
     assert trio.send('RUN "FLT",4') == []
-    with caplog.at_level(logging.ERROR, logger="maxk.commands.trio"):
+    with caplog.at_level(logging.ERROR, logger="maxk.commands"):
         trio.advance(ticks=3)
     out = trio.send("?VR(1), PROC_STATUS PROC(4), RUN_ERROR PROC(4), ERROR_LINE PROC(4)")
     assert out == ["%[Process 4:Program FLT Line 2] - Evaluation error",
@@ -101,7 +101,7 @@ def test_telnet_fault_is_answered_and_the_session_goes_on(
         controller = boards.services[0].controller
         calls = _break_move(monkeypatch, controller)
         with socket.create_connection(("127.0.0.1", boards.ports[0]), timeout=5) as sock:
-            with caplog.at_level(logging.ERROR, logger="maxk.commands.trio"):
+            with caplog.at_level(logging.ERROR, logger="maxk.commands"):
                 # the faulting line and the next one in one packet: both answered
                 sock.sendall(b"MOVE(10)\r\n?1+2\r\n")
                 data = _recv_until(sock, TRAILER, 2)
@@ -139,4 +139,65 @@ def test_mm4005_fault_is_logged_answered_as_a_refused_line_and_the_next_line_run
         session.feed(b"1PA5\rTE\rTE\r")
     assert faults == ["1PA5"]
     assert session.read() == b"TEA\rTE@\r"
+    assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)
+
+
+# ---- the MAX stream (its own splitter, the same guard) ----------------------------------------
+def test_max_fault_is_a_refused_command_and_the_commands_after_it_run(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """WY's handler faults once: that WY is refused as a bad command is (the command-error
+    flag and its notification, the fault logged), and the WY after it in the same write
+    answers."""
+    from maxk.commands.max.table import COMMANDS
+
+    spec = COMMANDS["WY"]
+    real: Any = spec.handler
+    faults: list[int] = []
+
+    def identify(ctx: Any) -> str | None:
+        if not faults:
+            faults.append(1)
+            raise Boom("secret-internal-detail")
+        return real(ctx)
+
+    controller: Any = build("MAXk-8000")
+    session: Any = controller.open_session()
+    expected: Any = build("MAXk-8000").open_session()
+    expected.feed(b"QQQ;WY;")  # a command it refuses, then WY
+    object.__setattr__(spec, "handler", identify)  # (the table's entries are frozen)
+    try:
+        with caplog.at_level(logging.ERROR, logger="maxk.commands"):
+            session.feed(b"WY;WY;")
+    finally:
+        object.__setattr__(spec, "handler", real)
+    assert faults == [1]
+    assert session.read() == expected.read()  # as a refused command and one WY
+    assert controller.board.command_error is True
+    assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)
+
+
+def test_mm4005_fault_after_a_wait_ends_the_line_and_the_session_is_free(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """A line that waited (WS) meets the fault when it resumes: the line ends as a refused
+    one (TE reads A) and the session takes the next line at once, where the waiting line
+    used to hold the session for good."""
+    from maxk.commands.mm4005.table import COMMANDS
+
+    spec = COMMANDS["TP"]
+    real: Any = spec.handler
+
+    def report(*args: Any) -> Any:
+        raise Boom("secret-internal-detail")
+
+    controller: Any = build("MM4005")
+    assert controller.send("MO") == []
+    object.__setattr__(spec, "handler", report)
+    try:
+        with caplog.at_level(logging.ERROR, logger="maxk.commands"):
+            assert controller.send("1PA5;1WS;1TP") == []
+    finally:
+        object.__setattr__(spec, "handler", real)
+    assert controller._own.waiting is False
+    assert controller.send("TE") == ["TEA"]
+    assert controller.send("1TP") == ["1TP5.0000"]  # the move before it stays done
     assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)

@@ -29,6 +29,12 @@ from typing import ClassVar
 log = logging.getLogger("maxk.commands")
 
 
+def log_fault(where: str, text: str) -> None:
+    """Log the exception being handled, a fault of ours while `text` ran, with its
+    traceback (every language's guard uses it): for the operator, never for the host."""
+    log.exception("%s: internal fault running %r", where, text[:80])
+
+
 class LineSession:
     """The shared half of a line session (see the module docstring)."""
 
@@ -112,5 +118,5 @@ class LineSession:
         try:
             self.run_line(text)
         except Exception:  # a fault of ours: logged, answered, the next line runs
-            log.exception("%s: internal fault running %r", type(self).__name__, text[:80])
+            log_fault(type(self).__name__, text)
             self.line_fault(text)

@@ -19,7 +19,7 @@ kept up to `LINE_LIMIT` characters; the rest is echoed but not stored, and the l
 refused when its CR comes.
 A fault in the emulator's own code (an unexpected Python exception inside a statement)
 answers its line with ``%[COMMAND LINE] - Evaluation error`` (D: RUN_ERROR's page lists
-"Evaluation error"; the traceback goes to the ``maxk.commands.trio`` log, never to the host)
+"Evaluation error"; the traceback goes to the ``maxk.commands`` log, never to the host)
 and the session takes the next line: no line goes unanswered, no API call waits.
 Programs run as processes beside the command line; the door calls
 :meth:`TrioCommandLine.servo_cycle` once per servo cycle, after the machine's cycle.
@@ -27,12 +27,11 @@ Programs run as processes beside the command line; the door calls
 
 from __future__ import annotations
 
-import logging
 import os
 import re
 from collections.abc import Callable, Generator
 
-from maxk.commands.line_session import LineSession
+from maxk.commands.line_session import LineSession, log_fault
 
 from .interpreter import Interpreter, ProcessContext, Wake, due_after
 from .lexer import TrioError
@@ -41,8 +40,6 @@ from .parser import BLOCK_STATEMENTS, Stmt, parse_line
 from .programs import ProgramStore
 from .system import ProgramCommands
 from .tasks import FAULT_TEXT
-
-log = logging.getLogger("maxk.commands.trio")
 
 PROMPT = b">>"
 LINE_LIMIT = 1024  # characters in one command line (D)
@@ -270,7 +267,7 @@ class TrioCommandLine(LineSession):
             self._error(exc)
             return
         except Exception:  # a fault of ours: answered, logged, the session goes on
-            log.exception("MC405 command line %r: internal fault", line[:80])
+            log_fault("MC405 command line", line)
             self._error(TrioError(FAULT_TEXT))
             return
         self._busy = self._run(statements)
@@ -293,7 +290,7 @@ class TrioCommandLine(LineSession):
         except TrioError as exc:
             self._error(exc)
         except Exception:  # a fault of ours: the statement ends with an error line
-            log.exception("MC405 command-line statement: internal fault")
+            log_fault("MC405 command line", "(a statement)")
             self._error(TrioError(FAULT_TEXT))
         self._busy = None
 

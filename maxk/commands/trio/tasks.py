@@ -28,12 +28,12 @@ SELECT_CASE, GOSUB, FUNCTION calls) are one concern, a process's control flow.
 
 from __future__ import annotations
 
-import logging
 import re
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
+from ..line_session import log_fault
 from .interpreter import Argument, Interpreter, Kept, ProcessContext, Value, Wake, error_code
 from .lexer import Thrown, TrioError
 from .loopjumps import link_loop_jumps, loop_jump
@@ -70,7 +70,6 @@ from .parser import (
 )
 from .tracing import PAUSED, RUNNING, SLEEP, STEPPING, Trace
 
-log = logging.getLogger("maxk.commands.trio")
 # a fault in our own code, as the controller names an error it does not list (RUN_ERROR's
 # page has "Evaluation error"; D): the line is answered, the traceback goes to the log
 FAULT_TEXT = "Evaluation error"
@@ -447,8 +446,7 @@ class Task:
             raise TrioError("Stack overflow", self.ctx.line) from None
         except Exception:  # a fault of ours: the program stops as at a run-time error
             self.finished = True
-            log.exception("MC405 program %s line %s: internal fault",
-                          self.ctx.program, self.ctx.line)
+            log_fault(f"MC405 program {self.ctx.program} line {self.ctx.line}", "")
             raise TrioError(FAULT_TEXT, self.ctx.line) from None
         return self.wake
 
