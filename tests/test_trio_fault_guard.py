@@ -201,3 +201,47 @@ def test_mm4005_fault_after_a_wait_ends_the_line_and_the_session_is_free(
     assert controller.send("TE") == ["TEA"]
     assert controller.send("1TP") == ["1TP5.0000"]  # the move before it stays done
     assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)
+
+
+# ---- PoKeys: a request whose handler faults is refused, never left unanswered -----------------
+def _pokeys_frame(cmd: int, p1: int = 0, rid: int = 1) -> bytes:
+    """A 64-byte request: 0xBB, command, 4 parameters, ID, the sum of bytes 0..6."""
+    head = [0xBB, cmd, p1, 0, 0, 0, rid]
+    return bytes(head + [sum(head) & 0xFF]) + bytes(56)
+
+
+def test_pokeys_fault_is_a_refusal_and_the_next_request_is_answered(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """The pin-function read (0x15) faults once: its reply is the refusal (status 1 in
+    byte 2, the payload zero, its ID), and a second request in the same write still
+    gets its own answer."""
+    from maxk.commands.pokeys import table
+
+    entry = table.lookup(0x15, 6)
+    assert entry is not None
+    real: Any = entry.handler
+    faults: list[int] = []
+
+    def handler(device: Any, request: Any) -> Any:
+        if not faults:
+            faults.append(1)
+            raise Boom("secret-internal-detail")
+        return real(device, request)
+
+    controller: Any = build("PoKeys57E")
+    session: Any = controller.open_session()
+    fresh: Any = build("PoKeys57E").open_session()
+    fresh.feed(_pokeys_frame(0x15, 6, rid=2))
+    object.__setattr__(entry, "handler", handler)
+    try:
+        with caplog.at_level(logging.ERROR, logger="maxk.commands"):
+            session.feed(_pokeys_frame(0x15, 6, rid=1) + _pokeys_frame(0x15, 6, rid=2))
+    finally:
+        object.__setattr__(entry, "handler", real)
+    out = session.read()
+    assert faults == [1] and len(out) == 128
+    refusal, second = out[:64], out[64:]
+    head = [0xAA, 0x15, 0x01, 0, 0, 0, 1]
+    assert refusal == bytes(head + [sum(head) & 0xFF]) + bytes(56)
+    assert second == fresh.read()  # as a device that never faulted answers it
+    assert any(r.exc_info and r.exc_info[0] is Boom for r in caplog.records)
