@@ -46,11 +46,12 @@ def test_a_long_merged_chain_costs_a_bounded_work_per_move(
     assert trio.send(SET_UP + ": MERGE=ON" + mode) == []
     _load_chain(trio, 400)
     run = trio.machine.queues[0][0]
-    assert len(run.segments) == 400
+    kept = len(run.segments)  # (the moves completed may have been let go: runs.py)
+    assert kept + run.dropped == 400 and kept <= 100
     assert calls <= 2 * 400
     arrays = run.arrays
-    assert arrays is not None and arrays.table.count == 400  # one table, grown in place
-    assert len(arrays.seg_s0) == 400
+    assert arrays is not None and arrays.table.count == kept  # one row a kept move
+    assert len(arrays.seg_s0) == kept
     trio.advance(ticks=60_000)
     assert trio.machine.axis_idle(0)
     # (each move whole counts: the text's value x UNITS, rounded)

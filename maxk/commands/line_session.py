@@ -14,12 +14,25 @@ rest. Limits: a line longer than `line_limit` is not stored (bounded memory) and
 refused when its terminator comes (`line_too_long`); unasked output (flag notifications,
 program PRINTs) is kept only while the host has read all but `unasked_limit` bytes;
 replies are never dropped (the door's back-pressure bounds them: host/client.py).
+A fault in the emulator's own code while a line runs (an unexpected Python exception) is
+logged with its traceback (``maxk.commands``, never to the host), the language answers it
+as its controller answers a refused line (`line_fault`), and the lines after it run: one
+bad line never takes the rest of the host's bytes with it.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from typing import ClassVar
+
+log = logging.getLogger("maxk.commands")
+
+
+def log_fault(where: str, text: str) -> None:
+    """Log the exception being handled, a fault of ours while `text` ran, with its
+    traceback (every language's guard uses it): for the operator, never for the host."""
+    log.exception("%s: internal fault running %r", where, text[:80])
 
 
 class LineSession:
@@ -72,6 +85,10 @@ class LineSession:
     def line_too_long(self) -> None:
         """A line longer than `line_limit` ended: refused (nothing of it runs)."""
 
+    def line_fault(self, text: str) -> None:
+        """A fault of ours while `text` ran (already logged): the language answers it as
+        its controller answers a line it refuses (default: nothing more)."""
+
     def reply(self, data: bytes) -> None:
         """Output the host asked for: always kept, in order."""
         self._out += data
@@ -98,4 +115,8 @@ class LineSession:
             self._overflow = False
             self.line_too_long()
             return
-        self.run_line(text)
+        try:
+            self.run_line(text)
+        except Exception:  # a fault of ours: logged, answered, the next line runs
+            log_fault(type(self).__name__, text)
+            self.line_fault(text)

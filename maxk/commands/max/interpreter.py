@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from maxk.commands.line_session import log_fault
 from maxk.commands.max.context import CommandError, Context
 from maxk.commands.max.immediate import IMMEDIATE  # noqa: F401  (binds the behaviours)
 from maxk.commands.max.lexer import (
@@ -94,6 +95,10 @@ class Interpreter:
             except CommandError as error:
                 board.report_error(str(error), item.text)
                 continue
+            except Exception:  # a fault of ours: logged, refused as a bad command (D)
+                log_fault("MAX interpreter", item.text)
+                board.report_error(FAULT_REASON, item.text)
+                continue
             mnemonic = item.spec.mnemonic  # type: ignore[union-attr]
             if mnemonic == "EN" or mnemonic == "EF":
                 self.echo = mnemonic == "EN"
@@ -128,7 +133,13 @@ class Interpreter:
         except CommandError as error:
             board.report_error(str(error), item.text)
             return None
+        except Exception:  # a fault of ours (as in _run)
+            log_fault("MAX interpreter", item.text)
+            board.report_error(FAULT_REASON, item.text)
+            return None
 
+
+FAULT_REASON = "internal fault (logged)"  # the error record of a fault of ours (D)
 
 _CONVERTED: dict[tuple[str, str], object] = {}
 """Operands already converted and range-checked, by mnemonic and text (hosts send the

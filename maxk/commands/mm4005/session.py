@@ -24,7 +24,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from typing import Final
 
-from maxk.commands.line_session import LineSession
+from maxk.commands.line_session import LineSession, log_fault
 from maxk.personalities.mm4005 import ErrorRegister, MM4005Error
 from maxk.personalities.mm4005.errors import (
     FOLLOWING_ERROR,
@@ -116,6 +116,12 @@ class Interpreter:
                 replies = command.spec.handler(ctx, command)
             except MM4005Error as error:
                 ctx.errors.record(error.code)
+                run.failed = True
+                break
+            except Exception:  # a fault of ours: refused as a line it cannot run (D),
+                log_fault("MM4005 interpreter", run.pieces[run.index - 1]  # and logged
+                          if run.index - 1 < len(run.pieces) else "")
+                ctx.errors.record(UNKNOWN_MESSAGE)
                 run.failed = True
                 break
             finally:
@@ -232,6 +238,11 @@ class MM4005Session(LineSession):
     # ---- lines ---------------------------------------------------------------------------
     def line_too_long(self) -> None:
         """Longer than 110 characters: refused whole with A, as parse_line does."""
+        self.interpreter.errors.record(UNKNOWN_MESSAGE)
+
+    def line_fault(self, text: str) -> None:
+        """A fault of ours running the line: TE reads A, unknown message, as for a line
+        it cannot run (D)."""
         self.interpreter.errors.record(UNKNOWN_MESSAGE)
 
     def run_line(self, text: str) -> None:

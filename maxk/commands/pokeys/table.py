@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from ...personalities.pokeys.device import PoKeysDevice
+from ..line_session import log_fault
 from ..tables import unique_table
 from . import device_commands as dev
 from . import io_commands as io
@@ -354,7 +355,11 @@ def answer(device: PoKeysDevice, request: Request) -> tuple[bytes, bool]:
         if request.command in FILLS or (request.command == PEV2 and request.sub in FILLS):
             return Reply(request).refuse(0).finish(), True  # a fill's refusal: 0 accepted
         return Reply(request).refuse(UNKNOWN).finish(), True
-    reply = entry.handler(device, request)
+    try:
+        reply = entry.handler(device, request)
+    except Exception:  # a fault of ours: logged, refused with REFUSED (D), never silent
+        log_fault(f"PoKeys request 0x{request.command:02X}", request.raw[:8].hex())
+        return Reply(request).refuse(REFUSED).finish(), True
     if reply is None:
         return Reply(request).refuse(REFUSED).finish(), True
     return reply.finish(), reply.refused

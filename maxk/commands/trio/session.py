@@ -17,6 +17,10 @@ not freeze the engine when the wait ends). While the session `holding` input, a 
 feeds it nothing more: the rest waits in the door, where back-pressure applies. A line is
 kept up to `LINE_LIMIT` characters; the rest is echoed but not stored, and the line is
 refused when its CR comes.
+A fault in the emulator's own code (an unexpected Python exception inside a statement)
+answers its line with ``%[COMMAND LINE] - Evaluation error`` (D: RUN_ERROR's page lists
+"Evaluation error"; the traceback goes to the ``maxk.commands`` log, never to the host)
+and the session takes the next line: no line goes unanswered, no API call waits.
 Programs run as processes beside the command line; the door calls
 :meth:`TrioCommandLine.servo_cycle` once per servo cycle, after the machine's cycle.
 """
@@ -27,7 +31,7 @@ import os
 import re
 from collections.abc import Callable, Generator
 
-from maxk.commands.line_session import LineSession
+from maxk.commands.line_session import LineSession, log_fault
 
 from .interpreter import Interpreter, ProcessContext, Wake, due_after
 from .lexer import TrioError
@@ -35,6 +39,7 @@ from .machine import TrioMachine
 from .parser import BLOCK_STATEMENTS, Stmt, parse_line
 from .programs import ProgramStore
 from .system import ProgramCommands
+from .tasks import FAULT_TEXT
 
 PROMPT = b">>"
 LINE_LIMIT = 1024  # characters in one command line (D)
@@ -261,6 +266,10 @@ class TrioCommandLine(LineSession):
         except TrioError as exc:
             self._error(exc)
             return
+        except Exception:  # a fault of ours: answered, logged, the session goes on
+            log_fault("MC405 command line", line)
+            self._error(TrioError(FAULT_TEXT))
+            return
         self._busy = self._run(statements)
         self._advance()
 
@@ -280,6 +289,9 @@ class TrioCommandLine(LineSession):
             self._out += PROMPT
         except TrioError as exc:
             self._error(exc)
+        except Exception:  # a fault of ours: the statement ends with an error line
+            log_fault("MC405 command line", "(a statement)")
+            self._error(TrioError(FAULT_TEXT))
         self._busy = None
 
     def _error(self, exc: TrioError) -> None:

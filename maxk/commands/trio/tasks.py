@@ -33,6 +33,7 @@ from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import cast
 
+from ..line_session import log_fault
 from .interpreter import Argument, Interpreter, Kept, ProcessContext, Value, Wake, error_code
 from .lexer import Thrown, TrioError
 from .loopjumps import link_loop_jumps, loop_jump
@@ -68,6 +69,11 @@ from .parser import (
     parse_line,
 )
 from .tracing import PAUSED, RUNNING, SLEEP, STEPPING, Trace
+
+# a fault in our own code, as the controller names an error it does not list (RUN_ERROR's
+# page has "Evaluation error"; D): the line is answered, the traceback goes to the log
+FAULT_TEXT = "Evaluation error"
+
 
 _NUMBER_TYPES = frozenset({"FLOAT", "INTEGER", "BOOLEAN"})  # AS types a FUNCTION keeps
 STATEMENTS_PER_CYCLE = 25
@@ -455,6 +461,10 @@ class Task:
         except RecursionError:  # (bounded nesting keeps this from happening)
             self.finished = True
             raise TrioError("Stack overflow", self.ctx.line) from None
+        except Exception:  # a fault of ours: the program stops as at a run-time error
+            self.finished = True
+            log_fault(f"MC405 program {self.ctx.program} line {self.ctx.line}", "")
+            raise TrioError(FAULT_TEXT, self.ctx.line) from None
         return self.wake
 
     def _program(self) -> Generator[Wake | None, None, None]:

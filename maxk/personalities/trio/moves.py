@@ -30,7 +30,7 @@ from .compensate import Compensation
 from .link_kinds import Cambox, Connect, Link, Movelink
 from .links import Host as LinkHost
 from .links import LinkedMoves
-from .runs import Run
+from .runs import Run, move_length
 
 
 class Host(LinkHost, Protocol):
@@ -284,23 +284,14 @@ def _vector_buffered(m: Host, axis: int) -> float:
     for run in m.queues[axis]:
         if run.base != axis or run.preset is not None:
             continue
-        lengths = [_length(delta, run.arcs.get(j)) for j, delta in enumerate(run.deltas)]
-        left = sum(lengths)
+        left = run.dropped_length  # (added in order: the same sum once moves are dropped)
+        for j, delta in enumerate(run.deltas):
+            left += move_length(delta, run.arcs.get(j))
         if run.started:
             s_done, _v = run.distance_speed(m._now(), m.period)
             left = max(0.0, (run.length() if run.stopping else left) - float(s_done[0]))
         total += left / run.units
     return total
-
-
-def _length(delta: tuple[int, ...], arc: tuple[float, ...] | None) -> float:
-    """A move's path length (counts): a line's, an arc's (MOVECIRC: centre, turn) or an
-    MSPHERICAL's (centre in three axes, ..., turn last)."""
-    if arc is None:
-        return math.sqrt(sum(float(d) * float(d) for d in delta))
-    radius = math.sqrt(sum(c * c for c in arc[0:3])) if len(arc) > 3 else \
-        math.hypot(arc[0], arc[1])
-    return radius * abs(math.radians(arc[-1]))
 
 
 def _move_end(m: Host, axis: int, here: float) -> float:

@@ -11,6 +11,16 @@ A *linked* axis has no motion of its own (link_kinds.py): CONNPATH moves it by t
 distance of a group, CAMBOX by a TABLE profile over another axis's travel. Its demand position is a
 closed-form function of the tick through the motions it follows.
 
+A merged run that never comes to rest (a program looping MOVEs with MERGE ON) keeps only
+the moves not yet complete: when it is re-planned, the moves the path has passed (and
+MOVE_COUNT has counted) are dropped once `DROP_AFTER` of them have gathered, and every
+index of the run (its moves, their kinds, SP speeds, arcs, MOVE_PA copies) counts from
+the first move kept (`dropped` says how many went). Path distances stay measured from the
+run's start, so DPOS, REMAIN, VECTOR_BUFFERED and the plans' arithmetic are unchanged;
+MOVES_BUFFERED, MTYPE/NTYPE and MOVE_PA look only at the move running and those after it.
+An S-ramped run (SRAMP, JERK) keeps the move running now and those after it (its re-plan
+carries the ramp running, which may end in a later move).
+
 Everything here evaluates on arrays of ticks (numpy, the shared machine's
 `firmware_model/sampling.py`), so a trace of every servo cycle of a stretch costs a few
 array operations; a single reading is an array of one.
@@ -51,6 +61,7 @@ from .link_kinds import Link
 from .profiles_sp import jerk_ramp, jerk_top, seam
 
 Ticks = np.ndarray  # integer servo ticks
+DROP_AFTER = 64  # complete moves a merged run gathers before it drops them (D: amortised)
 CORNER_HELD, CORNER_LOADED = 1, 3  # a run behind a corner: held, or let in at 0 speed
 SHAPE = RampShape.LINEAR  # the MC405's ramps: linear (trapezoid) unless SRAMP/JERK shape them
 
@@ -103,6 +114,8 @@ class Run:
     # move index -> axis -> its (MOVE_PA, MOVE_PB) when the move loaded (move_pa.py)
     forced: dict[int, tuple[float, float, float]] = field(default_factory=dict)
     # an SP move's index -> FORCE_SPEED, FORCE_ACCEL, FORCE_DECEL as loaded (MOVE_FORCE_*)
+    dropped: int = 0  # complete moves let go (the indices above count after them)
+    dropped_length: float = 0.0  # their path lengths added in order (VECTOR_BUFFERED)
 
     @property
     def base(self) -> int:
@@ -124,7 +137,7 @@ class Run:
         Only the moves asked for: a merged chain of thousands stays linear to load."""
         last = len(self.deltas) - 1
         return [SegmentDef("line", tuple(float(d) for d in self.deltas[j]), True, 0.0,
-                           0.0 if j == 0 else None,
+                           0.0 if j + self.dropped == 0 else None,
                            self.seam(j) if j < last else self.speeds[j],
                            self.accels[j], None, self.speeds[j])
                 for j in range(first, len(self.deltas))]
@@ -231,7 +244,31 @@ class Run:
         i = self.segment_index(s)
         if stop:
             return plan_stop(self.segments, i, s, v, 1.0, accel=decel)
+        i = self.drop_complete(i)
         return plan_path(self.segments, i, s, v, self.path_scale)
+
+    def drop_complete(self, current: int) -> int:
+        """Before a re-plan from move `current`: let go of the moves before it that
+        MOVE_COUNT has counted, once `DROP_AFTER` have gathered (the plan being replaced
+        keeps its own list); the index of the current move afterwards. New lists are made,
+        not the old ones cut, so the plan being replaced stays whole until it goes."""
+        k = min(current, self.counted)
+        while k > 0 and self.segments[k - 1].length == 0:
+            k -= 1  # (a zero-length move just before stays: PathPlan.segment_at steps back)
+        if k < DROP_AFTER:
+            return current
+        for j in range(k):  # (added one by one, as VECTOR_BUFFERED adds the rest after)
+            self.dropped_length += move_length(self.deltas[j], self.arcs.get(j))
+        self.segments = self.segments[k:]
+        self.deltas = self.deltas[k:]
+        self.speeds = self.speeds[k:]
+        self.accels = self.accels[k:]
+        for name in ("arcs", "kinds", "sp", "interp", "factored", "carried", "forced"):
+            table = getattr(self, name)
+            setattr(self, name, {j - k: value for j, value in table.items() if j >= k})
+        self.counted -= k
+        self.dropped += k
+        return current - k
 
     def _plan_shaped(self, now: int, stop: bool, period: float,
                      decel: float | None) -> PathPlan:
@@ -262,6 +299,8 @@ class Run:
             return plan_shaped_stop(self.segments, i, s, v,
                                     self.decel if decel is None else decel, self.ramp)
         head, s, v = level_point(self.plan, t)
+        here, _v = self.plan.state(t)  # (the moves before the one running now may go)
+        self.drop_complete(self.segment_index(here))
         return plan_shaped(self.segments, self.segment_index(s), s, v, self.path_scale,
                            self.ramp, head)
 
@@ -287,6 +326,16 @@ class Run:
 
     def motion_for(self, plan: PathPlan, k: int, origin: int) -> ContourMotion:
         return ContourMotion(plan, k, float(origin))
+
+
+def move_length(delta: tuple[int, ...], arc: tuple[float, ...] | None) -> float:
+    """A move's path length (counts): a line's, an arc's (MOVECIRC: centre, turn) or an
+    MSPHERICAL's (centre in three axes, ..., turn last)."""
+    if arc is None:
+        return math.sqrt(sum(float(d) * float(d) for d in delta))
+    radius = math.sqrt(sum(c * c for c in arc[0:3])) if len(arc) > 3 else \
+        math.hypot(arc[0], arc[1])
+    return radius * abs(math.radians(arc[-1]))
 
 
 def single_profile(distance: int, speed: float, accel: float, decel: float,
