@@ -19,21 +19,11 @@ from __future__ import annotations
 import pytest
 
 from maxk.controllers.trio import MC405
+from tests.trio_helpers import at, mc405
 
 MOTOR = "BASE(1): ATYPE=44: SPEED=4000: ACCEL=40000: DECEL=40000: REP_DIST=1e9"
 GAINS = "P_GAIN=10: D_GAIN=160: VFF_GAIN=5"
 TICKS = (1, 2, 3, 10, 100, 101, 1000, 2100, 2200, 2300, 4000)
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 def page_setup(wheel: float | None = None) -> MC405:

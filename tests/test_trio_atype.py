@@ -15,21 +15,11 @@ from __future__ import annotations
 import pytest
 
 from maxk.controllers.trio import MC405
+from tests.trio_helpers import at, mc405
 
 SERVO_TYPES = (36, 44, 46, 47, 48, 60, 77, 92, 94, 102, 103)
 TORQUE_PER_COUNT = 0.1 * 3.0 / 2.0 * 10.0 / 32767.0
 FRICTION = 0.005 / TORQUE_PER_COUNT  # shared output counts the motor's friction holds
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 def program(atype: int, move: str = "MOVE(8000)") -> str:

@@ -5,15 +5,9 @@ before (bit 9 = 512 beyond FS_LIMIT, bit 10 = 1024 below RS_LIMIT)."""
 from __future__ import annotations
 
 from maxk.controllers.trio.controller import MC405
+from tests.trio_helpers import mc405
 
 FAST = "SPEED=1000: ACCEL=100000: DECEL=100000"
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
 
 
 def dpos(trio: MC405) -> float:

@@ -11,23 +11,13 @@ one: 1999.9999999999998 on tick 2005; left alone, outside this work).
 from __future__ import annotations
 
 from maxk.controllers.trio.controller import MC405
+from tests.trio_helpers import at, mc405
 
 FAST = "SPEED=1000: ACCEL=100000: DECEL=10000"
 
 
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
-
-
 def dpos(trio: MC405, axis: int) -> float:
     return round(trio.machine.dpos(axis), 6)
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 def limited(*axes: int) -> list[str]:

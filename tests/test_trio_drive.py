@@ -15,22 +15,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from maxk.controllers.trio.controller import MC405
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
+from tests.trio_helpers import at, mc405
 
 
 def dpos(trio: MC405, axis: int = 0) -> float:
     """DPOS to 1e-6 (the demand is exact to a float's rounding)."""
     return round(trio.machine.dpos(axis), 6)
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 FAST = "SPEED=1000: ACCEL=100000: DECEL=10000"

@@ -4,13 +4,7 @@ raw feedback register and the scaling of an encoder input's MPOS."""
 from __future__ import annotations
 
 from maxk.controllers.trio import MC405
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
+from tests.trio_helpers import mc405
 
 
 def encoder_stage(counts_per_step: float = 1.0) -> MC405:

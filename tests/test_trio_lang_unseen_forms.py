@@ -8,13 +8,7 @@ from __future__ import annotations
 import pytest
 
 from maxk.controllers.trio.controller import MC405
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
+from tests.trio_helpers import mc405
 
 
 def outputs(trio: MC405, first: int, last: int) -> list[int]:

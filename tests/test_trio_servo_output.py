@@ -17,23 +17,12 @@ from __future__ import annotations
 
 import math
 
-from maxk.controllers.trio import MC405
+from tests.trio_helpers import at, mc405
 
 TORQUE_PER_COUNT = 0.1 * 3.0 / 2.0 * 10.0 / 32767.0
 G = TORQUE_PER_COUNT / 5e-6 * 8000.0 / (2.0 * math.pi)
 A = (2e-5 + 0.1 ** 2 / 2.0) / 5e-6
 FRICTION = 0.005 / TORQUE_PER_COUNT
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 def steady_speed(dac: float) -> float:

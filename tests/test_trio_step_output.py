@@ -13,15 +13,9 @@ counts to stop: 0.6 s in all.
 from __future__ import annotations
 
 from maxk.controllers.trio.controller import MC405
+from tests.trio_helpers import at, mc405
 
 FAST = "SPEED=1000: ACCEL=100000: DECEL=10000"
-
-
-def mc405(*lines: str) -> MC405:
-    trio = MC405()
-    for line in lines:
-        assert trio.send(line) == [], line
-    return trio
 
 
 def shaft(*lines: str) -> MC405:
@@ -29,10 +23,6 @@ def shaft(*lines: str) -> MC405:
     trio = mc405("ATYPE AXIS(0) = 76", "BASE(4)", *lines)
     trio.world_view().set_shaft_encoder("0", "4", 1.0)
     return trio
-
-
-def at(trio: MC405, tick: int) -> None:
-    trio.advance(ticks=tick - trio.machine.tick)
 
 
 def motor(trio: MC405) -> str:

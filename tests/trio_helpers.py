@@ -8,6 +8,7 @@ import re
 from pathlib import Path
 
 from maxk.commands.trio import FakeTrioMachine, TrioCommandLine
+from maxk.controllers.trio import MC405
 
 
 class AtrioError(Exception):
@@ -141,3 +142,16 @@ REPEAT
     WAIT IDLE
 UNTIL FALSE
 """
+
+
+def mc405(*lines: str) -> MC405:
+    """An MC405 after `lines` typed at its command line, each answered with nothing."""
+    trio = MC405()
+    for line in lines:
+        assert trio.send(line) == [], line
+    return trio
+
+
+def at(trio: MC405, tick: int) -> None:
+    """Run the MC405's virtual time on to servo tick `tick`."""
+    trio.advance(ticks=tick - trio.machine.tick)
