@@ -1,6 +1,7 @@
 """A move loaded while SPEED is 0 loads and waits, held at speed 0, and starts with its
-ACCEL ramp at the servo tick SPEED is written above 0 (CONNPATH and MOVEABS pages, their
-example 2: SPEED 0, load the moves, then write SPEED so that they start together).
+ACCEL ramp at the servo tick SPEED is written above 0 (CONNPATH page, example 2: SPEED 0,
+load the moves, then write SPEED so that they start together; MOVE_PA_IDLE page, example
+2: a program waits at WAIT IDLE until SPEED is written again from the command line).
 
 Expected positions are worked out here by hand: a trapezoid at ACCEL from the tick of
 the write, 1 ms servo ticks.

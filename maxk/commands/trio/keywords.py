@@ -170,8 +170,9 @@ _ENTRIES: list[Keyword] = [
           "page; buffered ones D; a single-axis move then ramps linearly, D: respeed.py). "
           "A plain move loaded at SPEED 0 loads (MTYPE shows it) and waits held at speed "
           "0, WAIT IDLE not passing, and starts with its ACCEL ramp at the servo tick "
-          "SPEED is written above 0, its MOVELINKs with it (C: CONNPATH and MOVEABS pages, "
-          "example 2; the tick D); MERGE joins it only to moves held so. Written 0 while "
+          "SPEED is written above 0, its MOVELINKs with it (C: CONNPATH page example 2, "
+          "MOVE_PA_IDLE page example 2, SPEED reset from the command line; the tick D); "
+          "MERGE joins it only to moves held so. Written 0 while "
           "moves run, they keep their speed (D). ACCEL or DECEL 0, a CAM or a jog at "
           "SPEED 0 stay 'Parameter out of range' (D)."),
     _axis("ACCEL", "Acceleration, user units/s^2.", default=1000, value_range=(0, _BIG),

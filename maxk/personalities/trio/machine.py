@@ -1025,7 +1025,7 @@ class MC405Machine(Kinematics, Engine):
         if self._speed_name == "FORCE_SPEED":  # an SP move's own rates (profiles_sp.py)
             accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
         waits = (speed == 0 and self._speed_name == "SPEED" and preset is None
-                 and kind not in _NOT_HELD)  # loaded at SPEED 0: held (SPEED page, D)
+                 and kind not in _NOT_HELD)  # loaded at SPEED 0: held (CONNPATH page)
         if not min(max(speed, MIN_RATE) if waits else speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
         speed, accel, decel = speed / helix, accel / helix, decel / helix
