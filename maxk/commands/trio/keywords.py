@@ -167,7 +167,14 @@ _ENTRIES: list[Keyword] = [
           confidence="I", note="Power-up value 1000 is our decision (D). Written while "
           "moves run it acts at once on the base axis's plain (not SP) moves, the one "
           "running re-planned from where it is and those buffered run at it (C: VP_MODE "
-          "page; buffered ones D; a single-axis move then ramps linearly, D: respeed.py)."),
+          "page; buffered ones D; a single-axis move then ramps linearly, D: respeed.py). "
+          "A plain move loaded at SPEED 0 loads (MTYPE shows it) and waits held at speed "
+          "0, WAIT IDLE not passing, and starts with its ACCEL ramp at the servo tick "
+          "SPEED is written above 0, its MOVELINKs with it (C: CONNPATH page example 2, "
+          "MOVE_PA_IDLE page example 2, SPEED reset from the command line; the tick D); "
+          "MERGE joins it only to moves held so. Written 0 while "
+          "moves run, they keep their speed (D). ACCEL or DECEL 0, a CAM or a jog at "
+          "SPEED 0 stay 'Parameter out of range' (D)."),
     _axis("ACCEL", "Acceleration, user units/s^2.", default=1000, value_range=(0, _BIG),
           source=f"{MAN}; {TOK}", note="Power-up 1000 (D). Written while moves run: as "
           "SPEED (C: VP_MODE page)."),

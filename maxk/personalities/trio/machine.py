@@ -104,6 +104,7 @@ from .trace import PwmTrace
 HELD = 2 ** 62  # the end tick of a run held at speed 0 (it ends when it goes on)
 MOVE_BUFFER = 16  # moves an axis holds, running and buffered (D)
 MIN_RATE = 1e-6
+_NOT_HELD = (moves.CAM, moves.FWD_JOG, moves.REV_JOG, moves.MOVEMODIFY)  # (SPEED 0: refused)
 """The least SPEED, ACCEL or DECEL a move runs with, in counts per second (squared) (D: a
 denormal SPEED made a 5-unit move last longer than a float counts; the move is refused
 with 'Parameter out of range' as a zero SPEED is)."""
@@ -1023,7 +1024,9 @@ class MC405Machine(Kinematics, Engine):
                                    decel * accel_factor)
         if self._speed_name == "FORCE_SPEED":  # an SP move's own rates (profiles_sp.py)
             accel, decel, jerk = forced_rates(base.params, base.units, accel, decel, jerk)
-        if not min(speed, accel, decel) >= MIN_RATE:
+        waits = (speed == 0 and self._speed_name == "SPEED" and preset is None
+                 and kind not in _NOT_HELD)  # loaded at SPEED 0: held (CONNPATH page)
+        if not min(max(speed, MIN_RATE) if waits else speed, accel, decel) >= MIN_RATE:
             raise ValueError("Parameter out of range")
         speed, accel, decel = speed / helix, accel / helix, decel / helix
         for a, delta in zip(axes, deltas, strict=True):
@@ -1041,6 +1044,9 @@ class MC405Machine(Kinematics, Engine):
         merge = base.params["MERGE"] != 0 and preset is None  # (a CAM never merges: D)
         corner = self.corners.holds(axes, deltas, arc)  # held behind a corner (C)
         merge = merge and not corner
+        if waits:  # (a move held at 0 merges only behind moves held at 0, D)
+            queue = self.queues[axes[0]]
+            merge = merge and bool(queue) and not any(queue[-1].speeds)
         carried = {a: move_pa.copies(self.axes[a].params) for a in axes}  # (move_pa.py)
         sp = (sp_speeds(base.params, base.units) if self._speed_name == "FORCE_SPEED"
               else None)
@@ -1079,7 +1085,7 @@ class MC405Machine(Kinematics, Engine):
             self.changed()
             return
         run = Run(axes, [tuple(deltas)], [speed], [accel], decel, base.units,
-                  single=len(axes) == 1 and not merge,
+                  single=len(axes) == 1 and not merge and not waits,
                   sramp=sramp_seconds(base.params),
                   jerk=jerk / helix, preset=preset)
         if sp is not None:

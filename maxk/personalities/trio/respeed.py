@@ -33,7 +33,7 @@ def respeed(m: Any, axis: int) -> None:
     accel = a.params["ACCEL"] * a.units * accel_factor
     decel = a.params["DECEL"] * a.units * accel_factor
     if not min(speed, accel, decel) > 0:
-        return  # (a zero SPEED: the moves keep theirs; a new move is refused, D)
+        return  # (a zero SPEED: the moves keep theirs; a new one loads held at 0, D)
     for run in list(m.queues[axis]):
         if run.base != axis or run.stopping or run.preset is not None:
             continue
