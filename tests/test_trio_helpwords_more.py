@@ -94,3 +94,15 @@ def test_their_entries_say_what_they_read() -> None:
         entry = KEYWORDS[name]
         assert not entry.note.startswith("Not modelled"), name
         assert entry.source == f"TrioBASIC help {name}"
+
+
+@pytest.mark.parametrize(("setup", "move", "jerk"), [
+    ("SPEED = 4", "MOVE(50)", 100 * 0.5),  # JERK x JERK_FACTOR
+    ("FORCE_SPEED = 4: FORCE_JERK = 300", "MOVESP(50)", 300),  # an SP move's own jerk
+])
+def test_the_demand_jerk_in_vp_mode_5(setup: str, move: str, jerk: float) -> None:
+    trio = mc405("VP_MODE = 5: JERK = 100: JERK_FACTOR = 0.5", setup)
+    assert trio.send(move) == []
+    trio.advance(ticks=5)
+    assert [trio.machine.axis_parameter(n, 0) for n in ("VP_DEMAND_SPEED", "VP_DEMAND_JERK")
+            ] == pytest.approx([4, jerk])

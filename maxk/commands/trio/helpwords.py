@@ -136,8 +136,8 @@ P VP_DEMAND_ACCEL r 0 -1e15 1e15 =The profiler's demand acceleration (C: its pag
 P VP_DEMAND_DECEL r 0 -1e15 1e15 =The profiler's demand deceleration (C: its page): the DECEL
     (FORCE_DECEL) the running move loaded with, as VP_DEMAND_ACCEL (D).
 P VP_DEMAND_JERK r 0 -1e15 1e15 =The profiler's demand jerk (C: its page), user units/s^3:
-    the jerk limit the running move loaded with in VP_MODE 5 and 6 (JERK or FORCE_JERK times
-    JERK_FACTOR), 0 in VP_MODE 0, as VP_DEMAND_ACCEL (D).
+    the jerk limit the running move loaded with in VP_MODE 5 and 6 (JERK times JERK_FACTOR,
+    an SP move's FORCE_JERK), 0 in VP_MODE 0, as VP_DEMAND_ACCEL (D).
 P VP_DEMAND_SPEED r 0 -1e15 1e15 =The profiler's demand speed (C: its page), user units/s:
     the speed the running move loaded with as the profiler was given it (SPEED or FORCE_SPEED
     after SPEED_FACTOR, V_LIMIT and INTERP_FACTOR; SPEED written mid-move re-plans it), not
