@@ -87,7 +87,7 @@ P FASTJERK w 0 0 1e15 =The jerk of a stop (CANCEL, RAPIDSTOP, a limit) in VP_MOD
 P FORCE_ACCEL w -1 -1 1e15 =An SP move's own acceleration (MOVESP, MOVEABSSP, MOVECIRCSP,
     MHELICALSP), user units/s^2, taken as it loads in place of ACCEL (C: FORCE_ACCEL page);
     -1 (power-up, C) or 0 (D): ACCEL. Merged SP moves each ramp up at their own (D).
-    MOVEADD's demand (not modelled, see MOVEADD).
+    MOVEADD's demand (MOVEADD is not modelled: see its entry).
 P FORCE_DECEL w -1 -1 1e15 =An SP move's own deceleration, user units/s^2, in place of DECEL
     (C: FORCE_DECEL page); -1 or 0: DECEL. A run of merged moves ramps down at the first
     one's (D, as DECEL).
@@ -129,14 +129,20 @@ P STOPPING_DISTANCE r 0 0 1e15 =How far the axis runs to rest if its move is can
     and FASTJERK, from the profile speed, the acceleration starting from 0): v^2 / 2 DECEL
     for a linear ramp; along the path for a multi-axis move; what is left of a stop running;
     0 at rest and on links (D; profile_readings.py).
-P VP_DEMAND_ACCEL r 0 -1e15 1e15 -the profiler's demand acceleration: the page does not say
-    whether it is ACCEL as loaded or the acceleration now (VP_ACCEL reads that)
-P VP_DEMAND_DECEL r 0 -1e15 1e15 -the profiler's demand deceleration: the page does not say
-    whether it is DECEL as loaded or the deceleration now
-P VP_DEMAND_JERK r 0 -1e15 1e15 -the profiler's demand jerk: the page does not say whether it
-    is JERK as loaded or the jerk now (VP_JERK reads that)
-P VP_DEMAND_SPEED r 0 -1e15 1e15 -the profiler's demand speed: the page does not say whether
-    it is SPEED as loaded or the speed now (VP_SPEED reads that)
+P VP_DEMAND_ACCEL r 0 -1e15 1e15 =The profiler's demand acceleration (C: its page), user
+    units/s^2: the ACCEL (an SP move's FORCE_ACCEL) the move now running loaded with (D: not
+    the acceleration now, VP_ACCEL reads that), in the base axis's user units on every axis
+    of its group (D); 0 with no move running, on links and CAMs (D; profile_readings.py).
+P VP_DEMAND_DECEL r 0 -1e15 1e15 =The profiler's demand deceleration (C: its page): the DECEL
+    (FORCE_DECEL) the running move loaded with, as VP_DEMAND_ACCEL (D).
+P VP_DEMAND_JERK r 0 -1e15 1e15 =The profiler's demand jerk (C: its page), user units/s^3:
+    the jerk limit the running move loaded with in VP_MODE 5 and 6 (JERK times JERK_FACTOR,
+    an SP move's FORCE_JERK), 0 in VP_MODE 0, as VP_DEMAND_ACCEL (D).
+P VP_DEMAND_SPEED r 0 -1e15 1e15 =The profiler's demand speed (C: its page), user units/s:
+    the speed the running move loaded with as the profiler was given it (SPEED or FORCE_SPEED
+    after SPEED_FACTOR, V_LIMIT and INTERP_FACTOR; SPEED written mid-move re-plans it), not
+    the speed now (VP_SPEED); 0 while CANCEL or RAPIDSTOP ramps it to rest; as
+    VP_DEMAND_ACCEL otherwise (D).
 P VP_ERROR r 0 0 10 =Reads 0: the error of VP_MODE 6's profiler, which the emulator's profiler
     never raises (its codes are for a VPU fed bad demands, which the table's ranges refuse
     first) (D).
@@ -164,8 +170,10 @@ K COMBINE_CONTROL 3 7 =COMBINE_CONTROL(mode, source_1, source_2[, n1, d1, n2, d2
     denominator or another mode: Parameter out of range (D) (combine.py).
 K COMPENSATE_ENC 0 0 -{_RESERVED}
 K MOVEABSSPCONT 1 1 -its page gives no behaviour ("under development")
-K MOVEADD 1 1 -a move superimposed on the running one with its own S-ramped profiler: not
-    modelled yet (ADDAX of a virtual axis's MOVE does the same and is modelled)
+K MOVEADD 1 1 -a move superimposed on the running one (C: its page; ADDAX of a virtual
+    axis's MOVE does that and is modelled). The page leaves open what its "own S-ramped VPU"
+    ramps with when FORCE_JERK and JERK are unset (VP_MODE 0 has no jerk), what MOVEADD does
+    on an idle axis, and whether a second MOVEADD adds to or queues behind the first
 K MOVESPCONT 1 1 -its page gives no behaviour ("under development")
 K MOVETEST 1 9 =MOVETEST(1, dist0, accel0, speed0, dwell0, dist1, accel1, speed1, dwell1)
     cycles MOVE(dist0), a dwell of dwell0 ms, MOVE(-dist1), dwell1 ms, each move at its own

@@ -1,5 +1,5 @@
 """Readings of the running profile that the TrioBASIC help added after the MC405's token
-table: REMAIN_TIME and STOPPING_DISTANCE (helpwords.NEWER_WORDS).
+table: REMAIN_TIME, STOPPING_DISTANCE, MOVE_FORCE_* and VP_DEMAND_* (helpwords.NEWER_WORDS).
 
 - REMAIN_TIME: the seconds until the moves the axis holds are done (C: its page, "all the
   MOVES loaded in the buffer"): the running run's end tick less now, plus, for each
@@ -18,6 +18,14 @@ table: REMAIN_TIME and STOPPING_DISTANCE (helpwords.NEWER_WORDS).
   p/2)) (p the S-curve's jerk share, 0 linear) covering v T / 2; for a path, along it (in
   the base's user units, on every axis of the group: D); while a stop runs, what is left
   of it; 0 at rest and on links (D).
+- VP_DEMAND_SPEED, VP_DEMAND_ACCEL, VP_DEMAND_DECEL, VP_DEMAND_JERK: the demands the
+  velocity profiler is running the move in force on (C: their pages, "demand", user units
+  per s, s^2, s^3). The pages do not say loaded rates or the rate now (VP_SPEED and VP_ACCEL
+  read that), so D: the rates the move now running loaded with, as the profiler was given
+  them (SPEED or FORCE_SPEED after SPEED_FACTOR, V_LIMIT and INTERP_FACTOR; its ACCEL or
+  FORCE_ACCEL; the run's DECEL; its jerk limit, 0 in VP_MODE 0), in the base axis's user
+  units, on every axis of its group; the demand speed 0 while a CANCEL/RAPIDSTOP ramps it
+  to rest; all 0 with no move running, on links and CAMs (their own profile).
 """
 
 from __future__ import annotations
@@ -30,7 +38,8 @@ from .profiles_sp import stop_jerk
 from .runs import Run, ramp_shares, single_profile
 
 READS = frozenset({"REMAIN_TIME", "STOPPING_DISTANCE", "MOVE_FORCE_SPEED", "MOVE_FORCE_ACCEL",
-                   "MOVE_FORCE_DECEL"})
+                   "MOVE_FORCE_DECEL", "VP_DEMAND_SPEED", "VP_DEMAND_ACCEL",
+                   "VP_DEMAND_DECEL", "VP_DEMAND_JERK"})
 _FORCED = ("MOVE_FORCE_SPEED", "MOVE_FORCE_ACCEL", "MOVE_FORCE_DECEL")
 
 
@@ -42,6 +51,9 @@ def read(m: Host, name: str, axis: int) -> float:
             return -1.0
         values = run.forced.get(current_move(m, run))
         return values[_FORCED.index(name)] if values is not None else -1.0
+    if name.startswith("VP_DEMAND_"):
+        return _demand(m, run, name) if run is not None and run.started \
+            and run.preset is None else 0.0
     if name == "REMAIN_TIME":
         if run is None or not run.started:
             return 0.0
@@ -63,6 +75,19 @@ def read(m: Host, name: str, axis: int) -> float:
     p = share or 0.0
     time = v / (down * (1 - p / 2))
     return v * time / 2 / run.units
+
+
+def _demand(m: Host, run: Run, name: str) -> float:
+    """The demand the running move loaded with, in the base axis's user units."""
+    if name == "VP_DEMAND_SPEED":
+        value = 0.0 if run.stopping else run.speeds[current_move(m, run)]
+    elif name == "VP_DEMAND_ACCEL":
+        value = run.accels[current_move(m, run)]
+    elif name == "VP_DEMAND_DECEL":
+        value = run.decel
+    else:
+        value = run.jerk
+    return value / run.units
 
 
 def _ticks_from_rest(m: Host, run: Run) -> int:
